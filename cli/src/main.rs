@@ -1,0 +1,140 @@
+//! `gloc`: the one binary. Parses the command line and hands each subcommand
+//! to its module; all language knowledge lives in the library crates.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Args, Parser, Subcommand};
+
+mod check;
+mod compile;
+mod run;
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "gloc",
+    version,
+    about = "Scripting toolchain for the Slocum glider: GLOC, GBASIC, simulator, LSP and DAP"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Check GLOC or GBASIC files and print every diagnostic.
+    Check(CheckArgs),
+    /// Compile a GBASIC file to GLOC.
+    Compile(CompileArgs),
+    /// Run a script: on recorded sensor values (--replay) or in the simulator.
+    Run(RunArgs),
+    /// Start the language server on stdio.
+    Lsp,
+    /// Start the debug adapter (stdio, or a TCP port on 127.0.0.1).
+    Dap(DapArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct CheckArgs {
+    /// `.gloc` or `.gbas` files.
+    #[arg(required = true)]
+    pub files: Vec<PathBuf>,
+    /// Print registers, labels, instructions and the worst-case instructions per cycle.
+    #[arg(long)]
+    pub stats: bool,
+    /// A masterdata file or a `.cac` sensor list replacing the embedded list.
+    #[arg(long, value_name = "FILE")]
+    pub masterdata: Option<PathBuf>,
+}
+
+#[derive(Args, Debug)]
+pub struct CompileArgs {
+    /// The GBASIC source.
+    pub file: PathBuf,
+    /// Where to write the GLOC (default: the source with `.gloc`).
+    #[arg(short = 'o', long = "output", value_name = "OUT")]
+    pub output: Option<PathBuf>,
+    /// Optimize.
+    #[arg(short = 'O')]
+    pub optimize: bool,
+    /// Also write the source map (`OUT.map.json`).
+    #[arg(long)]
+    pub emit_map: bool,
+    #[arg(long, value_name = "FILE")]
+    pub masterdata: Option<PathBuf>,
+}
+
+#[derive(Args, Debug)]
+pub struct RunArgs {
+    /// A `.gloc` or `.gbas` script (default: the paper's Fig. 2 script).
+    pub script: Option<PathBuf>,
+    /// Replay recorded sensor values (CSV: a header of sensor names, one row per cycle) instead of simulating.
+    #[arg(long, value_name = "IN.csv")]
+    pub replay: Option<PathBuf>,
+    /// With --replay: write the sensors the script stored, one row per cycle.
+    #[arg(long, value_name = "OUT.csv")]
+    pub out: Option<PathBuf>,
+    /// Per-cycle instruction budget (a script that runs longer traps with "cycle overrun").
+    #[arg(long, value_name = "N")]
+    pub cycle_budget: Option<u64>,
+    /// Mission file (`.mi`); default: the embedded Fig. 2 mission.
+    #[arg(long, value_name = "M.mi")]
+    pub mission: Option<PathBuf>,
+    #[arg(long, value_name = "FILE")]
+    pub masterdata: Option<PathBuf>,
+    /// Temperature profile CSV (`depth_m,temp_degC`); default: the built-in summer shelf profile.
+    #[arg(long, value_name = "T.csv")]
+    pub profile: Option<PathBuf>,
+    /// Simulated duration, e.g. `90m`, `6h`, `30d`.
+    #[arg(long, conflicts_with = "cycles")]
+    pub duration: Option<String>,
+    /// Number of control cycles to simulate.
+    #[arg(long)]
+    pub cycles: Option<u64>,
+    /// Seed for sensor noise.
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Log file: `.csv`, or Slocum ASCII (`.dba`).
+    #[arg(long, value_name = "FILE")]
+    pub log: Option<PathBuf>,
+    /// Write an SVG flight profile.
+    #[arg(long, value_name = "FILE.svg")]
+    pub plot: Option<PathBuf>,
+    /// Compile a GBASIC script with the optimizer.
+    #[arg(short = 'O')]
+    pub optimize: bool,
+}
+
+#[derive(Args, Debug)]
+pub struct DapArgs {
+    /// Listen on 127.0.0.1:PORT instead of stdio.
+    #[arg(long)]
+    pub port: Option<u16>,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Check(args) => check::main(args),
+        Command::Compile(args) => compile::main(args),
+        Command::Run(args) => run::main(args),
+        Command::Lsp => gloc_lsp_main(),
+        Command::Dap(args) => gloc_dap_main(args),
+    };
+    match result {
+        Ok(code) => code,
+        Err(error) => {
+            eprintln!("error: {error:#}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn gloc_lsp_main() -> anyhow::Result<ExitCode> {
+    anyhow::bail!("the language server is not built yet")
+}
+
+fn gloc_dap_main(_args: DapArgs) -> anyhow::Result<ExitCode> {
+    anyhow::bail!("the debug adapter is not built yet")
+}

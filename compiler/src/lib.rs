@@ -1,0 +1,1 @@
+//! The GBASIC compiler (filled by the compiler work).

@@ -1,0 +1,1 @@
+//! The debug adapter (filled by the DAP work).

@@ -1,0 +1,1 @@
+//! The glider simulator (filled by the simulator work).

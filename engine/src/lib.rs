@@ -1,0 +1,10 @@
+//! gloc-engine: the pure core of gloc. Sensor lists ("Masterdata"), the GLOC
+//! language (parser, printer, safety checker) and the interpreter.
+//!
+//! Nothing here does network IO, starts threads or knows about LSP or DAP.
+#![deny(clippy::unwrap_used)]
+
+pub mod diagnostic;
+pub mod sensors;
+
+pub use diagnostic::{Diagnostic, Label, LineIndex, Severity, Span};

@@ -1,0 +1,190 @@
+//! Sensor lists ("Masterdata"): index ⇄ name, units, default and description.
+//!
+//! A sensor's index is a property of the loaded list, never a constant: the
+//! 2008 firmware puts `m_depth` at 444, later lists elsewhere. Names match
+//! case-insensitively (the paper writes `SCI_RUHP_BEHS`).
+
+use std::collections::HashMap;
+
+/// Index of a sensor in the active sensor list.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct SensorId(pub u32);
+
+impl SensorId {
+    pub fn index(self) -> usize {
+        self.0 as usize
+    }
+}
+
+/// Who may write a sensor from a script, derived from its name's prefix.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Access {
+    /// `m_` (measured) and `x_` (computed by the glider): a store is an error.
+    ReadOnly,
+    /// `f_` (factory settings): a store is allowed with a warning.
+    Factory,
+    /// Everything else (`c_`, `u_`, `sci_`, …).
+    Writable,
+}
+
+impl Access {
+    pub fn of_name(name: &str) -> Access {
+        let lower = name.to_ascii_lowercase();
+        if lower.starts_with("m_") || lower.starts_with("x_") {
+            Access::ReadOnly
+        } else if lower.starts_with("f_") {
+            Access::Factory
+        } else {
+            Access::Writable
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sensor {
+    pub name: String,
+    pub units: String,
+    /// The default from the masterdata file; `None` means unset (0.0 at run time).
+    pub default: Option<f64>,
+    pub description: Option<String>,
+    /// `#! min = …; max = …` metadata, when the file gave it.
+    pub min: Option<f64>,
+    pub max: Option<f64>,
+    /// 1-based line in the file this sensor came from (0 for the embedded list).
+    pub line: u32,
+}
+
+impl Sensor {
+    pub fn access(&self) -> Access {
+        Access::of_name(&self.name)
+    }
+
+    pub fn initial_value(&self) -> f64 {
+        self.default.unwrap_or(0.0)
+    }
+}
+
+/// A sensor list. Indices are positions in `sensors`.
+#[derive(Clone, Debug, Default)]
+pub struct SensorList {
+    sensors: Vec<Sensor>,
+    /// Lower-cased name → index.
+    by_name: HashMap<String, SensorId>,
+}
+
+impl SensorList {
+    /// Builds a list from sensors in index order. A later duplicate name keeps
+    /// its index but name lookups find the first.
+    pub fn from_sensors(sensors: Vec<Sensor>) -> SensorList {
+        let mut by_name = HashMap::with_capacity(sensors.len());
+        for (index, sensor) in sensors.iter().enumerate() {
+            by_name
+                .entry(sensor.name.to_ascii_lowercase())
+                .or_insert(SensorId(index as u32));
+        }
+        SensorList { sensors, by_name }
+    }
+
+    /// The list compiled into the binary: the 1,385 sensors of the 2008
+    /// firmware list (`813b137d.cac`) in its index order, then the hook
+    /// behavior's sensors 1385 `sci_ruhp_dive_depth`, 1386
+    /// `sci_ruhp_climb_depth`, 1387 `sci_ruhp_behs`.
+    pub fn embedded() -> SensorList {
+        let descriptions = embedded_descriptions();
+        let sensors = EMBEDDED_SENSORS
+            .lines()
+            .filter_map(|line| {
+                let mut fields = line.split_whitespace();
+                let _index = fields.next()?;
+                let name = fields.next()?;
+                let units = fields.next().unwrap_or("nodim");
+                Some(Sensor {
+                    name: name.to_string(),
+                    units: units.to_string(),
+                    default: None,
+                    description: descriptions.get(name).map(|text| text.to_string()),
+                    min: None,
+                    max: None,
+                    line: 0,
+                })
+            })
+            .collect();
+        SensorList::from_sensors(sensors)
+    }
+
+    pub fn len(&self) -> usize {
+        self.sensors.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.sensors.is_empty()
+    }
+
+    pub fn get(&self, id: SensorId) -> Option<&Sensor> {
+        self.sensors.get(id.index())
+    }
+
+    /// Case-insensitive lookup by name.
+    pub fn lookup(&self, name: &str) -> Option<SensorId> {
+        if name.bytes().any(|byte| byte.is_ascii_uppercase()) {
+            self.by_name.get(&name.to_ascii_lowercase()).copied()
+        } else {
+            self.by_name.get(name).copied()
+        }
+    }
+
+    pub fn name(&self, id: SensorId) -> Option<&str> {
+        self.get(id).map(|sensor| sensor.name.as_str())
+    }
+
+    pub fn iter(&self) -> impl Iterator<Item = (SensorId, &Sensor)> {
+        self.sensors
+            .iter()
+            .enumerate()
+            .map(|(index, sensor)| (SensorId(index as u32), sensor))
+    }
+
+    /// Initial values of every sensor, indexed by `SensorId`.
+    pub fn initial_values(&self) -> Vec<f64> {
+        self.sensors.iter().map(Sensor::initial_value).collect()
+    }
+}
+
+/// `INDEX NAME UNITS`, one sensor a line, taken from `813b137d.cac`.
+const EMBEDDED_SENSORS: &str = include_str!("../data/sensors-2008.txt");
+/// `NAME: description`, in our own words.
+const EMBEDDED_DESCRIPTIONS: &str = include_str!("../data/descriptions.txt");
+
+fn embedded_descriptions() -> HashMap<&'static str, &'static str> {
+    EMBEDDED_DESCRIPTIONS
+        .lines()
+        .filter_map(|line| {
+            let (name, text) = line.split_once(':')?;
+            Some((name.trim(), text.trim()))
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn embedded_list_has_the_paper_indices() {
+        let list = SensorList::embedded();
+        assert_eq!(list.len(), 1388);
+        assert_eq!(list.lookup("m_depth"), Some(SensorId(444)));
+        assert_eq!(list.lookup("m_pressure"), Some(SensorId(443)));
+        assert_eq!(list.lookup("SCI_RUHP_BEHS"), Some(SensorId(1387)));
+        assert_eq!(list.name(SensorId(1385)), Some("sci_ruhp_dive_depth"));
+    }
+
+    #[test]
+    fn access_follows_the_prefix() {
+        assert_eq!(Access::of_name("M_DEPTH"), Access::ReadOnly);
+        assert_eq!(Access::of_name("x_mission_num"), Access::ReadOnly);
+        assert_eq!(Access::of_name("f_max_working_depth"), Access::Factory);
+        assert_eq!(Access::of_name("c_pitch"), Access::Writable);
+        assert_eq!(Access::of_name("sci_ruhp_behs"), Access::Writable);
+    }
+}

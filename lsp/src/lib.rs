@@ -1,0 +1,1 @@
+//! The language server (filled by the LSP work).

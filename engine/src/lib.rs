@@ -5,6 +5,10 @@
 #![deny(clippy::unwrap_used)]
 
 pub mod diagnostic;
+pub mod gloc;
+pub mod program;
 pub mod sensors;
+pub mod suggest;
+pub mod vm;
 
 pub use diagnostic::{Diagnostic, Label, LineIndex, Severity, Span};

@@ -1,0 +1,138 @@
+//! The GLOC language: [`parse`] (never fails), [`print`] (canonical text) and
+//! [`check`] (the safety checker, which builds the resolved [`Program`]).
+//!
+//! [`Program`]: crate::program::Program
+
+pub mod ast;
+mod cfg;
+mod checker;
+mod parser;
+mod printer;
+
+use std::fmt;
+use std::sync::Arc;
+
+use crate::diagnostic::Diagnostic;
+use crate::program::{Pc, Program};
+use crate::sensors::SensorList;
+
+pub use checker::{MAX_LABELS, MAX_MEMORY, MAX_REGISTERS};
+
+/// The result of [`parse`]: a tree for every line and the syntax diagnostics.
+#[derive(Clone, Debug, Default)]
+pub struct Parsed {
+    pub file: ast::File,
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+/// Parses GLOC text. Never fails; problems are diagnostics.
+pub fn parse(text: &str) -> Parsed {
+    let (file, diagnostics) = parser::parse_file(text);
+    Parsed { file, diagnostics }
+}
+
+/// Prints a file canonically (`\n` line ends, a final newline).
+pub fn print(file: &ast::File) -> String {
+    printer::print_file(file)
+}
+
+/// What a caller knows that the checker cannot see.
+#[derive(Clone, Debug, Default)]
+pub struct CheckOptions {
+    /// Loops with a known trip count (the GBASIC compiler's `for` loops).
+    pub loop_bounds: Vec<LoopBound>,
+}
+
+/// Control jumps back to `label` from inside its loop at most
+/// `max_iterations` times each time the loop is entered. The label names the
+/// loop header (the first instruction of the loop); nested loops each need
+/// their own bound.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LoopBound {
+    pub label: u32,
+    pub max_iterations: u64,
+}
+
+/// The result of [`check`].
+#[derive(Clone, Debug)]
+pub struct Checked {
+    /// `Some` exactly when no diagnostic is an error.
+    pub program: Option<Arc<Program>>,
+    /// The parse diagnostics followed by the checker's, in that order.
+    pub diagnostics: Vec<Diagnostic>,
+    pub stats: Stats,
+}
+
+/// Sizes of the script and its worst case per control cycle.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Stats {
+    /// `nregs`.
+    pub registers: u32,
+    /// `nblbs`.
+    pub labels: u32,
+    /// `nmem`.
+    pub memory: u32,
+    /// Lines after the header (what `ninstr` counts: labels included).
+    pub statements: u32,
+    /// Executable instructions (labels not counted).
+    pub instructions: u32,
+    /// `None` when errors prevented the control-flow analysis.
+    pub worst_case: Option<WorstCase>,
+}
+
+/// The most instructions a control cycle can execute (labels are not executed
+/// and do not count; the `yield` that ends the cycle does).
+#[derive(Clone, Debug, PartialEq)]
+pub struct WorstCase {
+    /// The first cycle, from pc 0.
+    pub from_start: Bound,
+    /// Each reachable `yield` (its pc), and the worst cycle that starts after it.
+    pub from_yields: Vec<(Pc, Bound)>,
+    /// The largest of all the above.
+    pub max: Bound,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Bound {
+    Finite(u64),
+    /// A loop without a `yield` (and without a known bound) lies on the way.
+    Unbounded,
+}
+
+impl Bound {
+    fn plus(self, amount: u64) -> Bound {
+        match self {
+            Bound::Finite(value) => Bound::Finite(value.saturating_add(amount)),
+            Bound::Unbounded => Bound::Unbounded,
+        }
+    }
+
+    fn plus_bound(self, other: Bound) -> Bound {
+        match other {
+            Bound::Finite(amount) => self.plus(amount),
+            Bound::Unbounded => Bound::Unbounded,
+        }
+    }
+
+    fn times(self, factor: u64) -> Bound {
+        match self {
+            Bound::Finite(value) => Bound::Finite(value.saturating_mul(factor)),
+            Bound::Unbounded => Bound::Unbounded,
+        }
+    }
+}
+
+impl fmt::Display for Bound {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Bound::Finite(value) => write!(f, "{value}"),
+            Bound::Unbounded => f.write_str("unbounded"),
+        }
+    }
+}
+
+/// Validates a parsed file against its header and the sensor list and builds
+/// the program. The diagnostics include the parse diagnostics.
+pub fn check(parsed: &Parsed, sensors: &SensorList, options: &CheckOptions) -> Checked {
+    checker::check_parsed(parsed, sensors, options)
+}

@@ -135,6 +135,14 @@ fn gloc_lsp_main() -> anyhow::Result<ExitCode> {
     anyhow::bail!("the language server is not built yet")
 }
 
-fn gloc_dap_main(_args: DapArgs) -> anyhow::Result<ExitCode> {
-    anyhow::bail!("the debug adapter is not built yet")
+fn gloc_dap_main(args: DapArgs) -> anyhow::Result<ExitCode> {
+    use anyhow::Context as _;
+    match args.port {
+        None => gloc_dap::serve_stdio().context("debug adapter on stdio")?,
+        Some(port) => gloc_dap::serve_tcp(port, |address| {
+            eprintln!("gloc dap: listening on {address}");
+        })
+        .with_context(|| format!("debug adapter on 127.0.0.1:{port}"))?,
+    }
+    Ok(ExitCode::SUCCESS)
 }

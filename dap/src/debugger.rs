@@ -1,0 +1,875 @@
+//! The debugger proper, independent of the wire protocol: breakpoints, cycle-level and
+//! statement-level stepping, and exact reverse execution from snapshots plus replay.
+//!
+//! Time is a `Clock` (cycle, steps taken in that cycle), totally ordered. The world is
+//! deterministic, so any earlier clock can be reached again by restoring the nearest
+//! snapshot at or before it and replaying, re-applying the user's edits (setVariable)
+//! from a journal at the clocks where they were made.
+
+use std::collections::{BTreeMap, HashMap};
+
+use crate::expr::{self, Names, Number};
+use crate::program::DebugInfo;
+use crate::target::{Notice, Phase, StepEvent, Target, TrapKind};
+
+/// A point in a run: the cycle, and how many steps were taken in it (0 = its boundary).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct Clock {
+    pub cycle: u64,
+    pub steps: u64,
+}
+
+/// What the user asked the run to do.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RunMode {
+    Continue,
+    /// To the next cycle boundary.
+    Next,
+    /// One statement (or one instruction with `instruction` granularity).
+    StepIn {
+        instruction: bool,
+    },
+    /// To the end of the script's share of the cycle.
+    StepOut,
+}
+
+/// Why the run stopped, in DAP terms.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Stop {
+    /// DAP `StoppedEvent.reason`.
+    pub reason: &'static str,
+    pub description: String,
+    pub text: Option<String>,
+    pub hit_breakpoint_ids: Vec<i64>,
+}
+
+/// Where a forward run is after a slice of work.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Progress {
+    Running,
+    Stopped(Stop),
+    Ended { summary: String },
+}
+
+/// Something to tell the user (DAP `output` events).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Output {
+    pub category: &'static str,
+    pub text: String,
+    pub line: Option<u32>,
+}
+
+#[derive(Clone, Debug)]
+pub struct LineBreakpoint {
+    pub id: i64,
+    pub line: u32,
+    pub condition: Option<String>,
+    pub hit_condition: Option<HitCondition>,
+    pub log_message: Option<String>,
+    pub hits: u64,
+}
+
+#[derive(Clone, Debug)]
+pub enum CycleBreakpointKind {
+    At(u64),
+    Every(u64),
+}
+
+#[derive(Clone, Debug)]
+pub struct CycleBreakpoint {
+    pub id: i64,
+    pub kind: CycleBreakpointKind,
+    pub condition: Option<String>,
+    pub hit_condition: Option<HitCondition>,
+    pub hits: u64,
+}
+
+#[derive(Clone, Debug)]
+pub struct DataBreakpoint {
+    pub id: i64,
+    pub sensor: usize,
+    pub condition: Option<String>,
+    pub hit_condition: Option<HitCondition>,
+    pub hits: u64,
+}
+
+#[derive(Clone, Debug)]
+pub struct InstructionBreakpoint {
+    pub id: i64,
+    pub pc: usize,
+    pub condition: Option<String>,
+    pub hit_condition: Option<HitCondition>,
+    pub hits: u64,
+}
+
+/// `N` / `== N` (the N-th hit), `> N`, `>= N`, `< N`, `<= N`, `% N` (every N-th).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum HitCondition {
+    Equal(u64),
+    Greater(u64),
+    GreaterEqual(u64),
+    Less(u64),
+    LessEqual(u64),
+    Every(u64),
+}
+
+impl HitCondition {
+    pub fn parse(text: &str) -> Result<HitCondition, String> {
+        let text = text.trim();
+        let (operator, rest) = ["==", ">=", "<=", ">", "<", "%", "="]
+            .iter()
+            .find_map(|operator| text.strip_prefix(operator).map(|rest| (*operator, rest)))
+            .unwrap_or(("==", text));
+        let count: u64 = rest.trim().parse().map_err(|_| {
+            format!("hit count `{text}` is not `N`, `>= N`, `> N`, `< N`, `<= N` or `% N`")
+        })?;
+        Ok(match operator {
+            ">=" => HitCondition::GreaterEqual(count),
+            "<=" => HitCondition::LessEqual(count),
+            ">" => HitCondition::Greater(count),
+            "<" => HitCondition::Less(count),
+            "%" if count == 0 => return Err("`% 0` would never stop".into()),
+            "%" => HitCondition::Every(count),
+            _ => HitCondition::Equal(count),
+        })
+    }
+
+    fn holds(self, hits: u64) -> bool {
+        match self {
+            HitCondition::Equal(count) => hits == count,
+            HitCondition::Greater(count) => hits > count,
+            HitCondition::GreaterEqual(count) => hits >= count,
+            HitCondition::Less(count) => hits < count,
+            HitCondition::LessEqual(count) => hits <= count,
+            HitCondition::Every(count) => hits.is_multiple_of(count),
+        }
+    }
+}
+
+/// Which runtime failures stop the run (DAP exception filters).
+#[derive(Clone, Copy, Debug)]
+pub struct ExceptionFilters {
+    pub overrun: bool,
+    pub trap: bool,
+    pub abend: bool,
+}
+
+impl Default for ExceptionFilters {
+    fn default() -> Self {
+        ExceptionFilters {
+            overrun: true,
+            trap: true,
+            abend: true,
+        }
+    }
+}
+
+/// A change the user made to a paused world, replayed when history passes its clock.
+#[derive(Clone, Debug)]
+pub enum Edit {
+    Register(usize, Number),
+    Variable(String, Number),
+    Sensor(usize, f64),
+}
+
+/// How much reverse history to keep.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct HistoryConfig {
+    /// Snapshots kept at most; when full, every other one is dropped and the spacing
+    /// doubles, so memory is bounded and replay stays proportional to the spacing.
+    pub max_snapshots: usize,
+    /// Initial spacing between snapshots, in cycles.
+    pub interval: u64,
+}
+
+impl Default for HistoryConfig {
+    fn default() -> Self {
+        HistoryConfig {
+            max_snapshots: 256,
+            interval: 16,
+        }
+    }
+}
+
+struct History<T> {
+    config: HistoryConfig,
+    interval: u64,
+    snapshots: BTreeMap<Clock, T>,
+    journal: Vec<(Clock, Edit)>,
+}
+
+pub struct Debugger<T: Target> {
+    pub target: T,
+    pub info: DebugInfo,
+    clock: Clock,
+    /// The clock the run started at (the entry point), the floor of reverse execution.
+    origin: Clock,
+    pub line_breakpoints: Vec<LineBreakpoint>,
+    pub cycle_breakpoints: Vec<CycleBreakpoint>,
+    pub data_breakpoints: Vec<DataBreakpoint>,
+    pub instruction_breakpoints: Vec<InstructionBreakpoint>,
+    pub filters: ExceptionFilters,
+    /// Values of the watched sensors at the last boundary (or stop).
+    baseline: HashMap<usize, f64>,
+    history: Option<History<T>>,
+    outputs: Vec<Output>,
+    pause_requested: bool,
+    ended: Option<String>,
+    /// Set when an abend was reported as a stop; the next resume ends the session.
+    pending_end: Option<String>,
+    pub trap: Option<String>,
+}
+
+enum Check {
+    /// A real run: hit counts advance, logpoints print.
+    Live,
+    /// A replay looking for breakpoint hits (reverse continue): no side effects.
+    Probe,
+}
+
+impl<T: Target> Debugger<T> {
+    pub fn new(target: T, info: DebugInfo, history: Option<HistoryConfig>) -> Debugger<T> {
+        let clock = Clock {
+            cycle: target.cycle(),
+            steps: 0,
+        };
+        let history = history.map(|config| {
+            let mut snapshots = BTreeMap::new();
+            snapshots.insert(clock, target.clone());
+            History {
+                config,
+                interval: config.interval.max(1),
+                snapshots,
+                journal: Vec::new(),
+            }
+        });
+        Debugger {
+            target,
+            info,
+            clock,
+            origin: clock,
+            line_breakpoints: Vec::new(),
+            cycle_breakpoints: Vec::new(),
+            data_breakpoints: Vec::new(),
+            instruction_breakpoints: Vec::new(),
+            filters: ExceptionFilters::default(),
+            baseline: HashMap::new(),
+            history,
+            outputs: Vec::new(),
+            pause_requested: false,
+            ended: None,
+            pending_end: None,
+            trap: None,
+        }
+    }
+
+    pub fn clock(&self) -> Clock {
+        self.clock
+    }
+
+    pub fn has_history(&self) -> bool {
+        self.history.is_some()
+    }
+
+    pub fn snapshot_count(&self) -> usize {
+        self.history
+            .as_ref()
+            .map_or(0, |history| history.snapshots.len())
+    }
+
+    pub fn take_outputs(&mut self) -> Vec<Output> {
+        std::mem::take(&mut self.outputs)
+    }
+
+    pub fn request_pause(&mut self) {
+        self.pause_requested = true;
+    }
+
+    pub fn ended(&self) -> Option<&str> {
+        self.ended.as_deref()
+    }
+
+    /// Re-reads the watched sensors so a data breakpoint fires on the next change only.
+    pub fn reset_baseline(&mut self) {
+        self.baseline = self
+            .data_breakpoints
+            .iter()
+            .map(|breakpoint| (breakpoint.sensor, self.target.sensor(breakpoint.sensor)))
+            .collect();
+    }
+
+    /// Runs forward for at most `budget` steps.
+    pub fn run(&mut self, mode: RunMode, start: Clock, budget: u64) -> Progress {
+        if let Some(summary) = self.pending_end.take() {
+            self.ended = Some(summary.clone());
+            return Progress::Ended { summary };
+        }
+        if let Some(summary) = &self.ended {
+            return Progress::Ended {
+                summary: summary.clone(),
+            };
+        }
+        for _ in 0..budget {
+            let event = self.step_world();
+            self.collect_notices();
+            if let Some(progress) = self.after_step(&event, mode, start, Check::Live) {
+                if let Progress::Stopped(_) = progress {
+                    self.pause_requested = false;
+                }
+                return progress;
+            }
+        }
+        Progress::Running
+    }
+
+    fn step_world(&mut self) -> StepEvent {
+        let event = self.target.step();
+        if event == StepEvent::CycleBegan {
+            self.clock = Clock {
+                cycle: self.target.cycle(),
+                steps: 0,
+            };
+            self.take_snapshot();
+        } else {
+            self.clock.steps += 1;
+        }
+        event
+    }
+
+    fn collect_notices(&mut self) {
+        let line = self.current_line();
+        for notice in self.target.take_notices() {
+            let (category, text) = match notice {
+                Notice::Print(text) => ("stdout", text),
+                Notice::Behavior(text) => ("console", format!("behavior: {text}")),
+                Notice::Abend(text) => ("important", format!("abend: {text}")),
+            };
+            self.outputs.push(Output {
+                category,
+                text: format!("{text}\n"),
+                line,
+            });
+        }
+    }
+
+    pub fn current_line(&self) -> Option<u32> {
+        if self.target.phase() == Phase::ScriptDone || self.trap.is_some() {
+            // The script is at its yield: show the line of the instruction before.
+            return self
+                .info
+                .line(self.target.pc().saturating_sub(1))
+                .or_else(|| self.info.line(self.target.pc()));
+        }
+        self.info.line(self.target.pc())
+    }
+
+    /// Decides whether the run stops after one step.
+    fn after_step(
+        &mut self,
+        event: &StepEvent,
+        mode: RunMode,
+        start: Clock,
+        check: Check,
+    ) -> Option<Progress> {
+        match event {
+            StepEvent::Trapped { kind, message } => {
+                let line = self.info.line(self.target.pc());
+                let where_ = line
+                    .map(|line| format!(" at line {line}"))
+                    .unwrap_or_default();
+                let text = format!("{message}{where_} (cycle {})", self.clock.cycle);
+                self.trap = Some(text.clone());
+                if let Check::Live = check {
+                    self.outputs.push(Output {
+                        category: "stderr",
+                        text: format!("script trap: {text}\n"),
+                        line,
+                    });
+                }
+                let wanted = match kind {
+                    TrapKind::CycleOverrun => self.filters.overrun,
+                    TrapKind::Runtime => self.filters.trap,
+                };
+                if wanted {
+                    let filter = match kind {
+                        TrapKind::CycleOverrun => "overrun",
+                        TrapKind::Runtime => "trap",
+                    };
+                    return Some(Progress::Stopped(Stop {
+                        reason: "exception",
+                        description: format!("Paused on {filter}: {message}"),
+                        text: Some(text),
+                        hit_breakpoint_ids: Vec::new(),
+                    }));
+                }
+                return None;
+            }
+            StepEvent::MissionEnded { summary, abend } => {
+                if *abend && self.filters.abend {
+                    self.pending_end = Some(summary.clone());
+                    return Some(Progress::Stopped(Stop {
+                        reason: "exception",
+                        description: "Paused on abend".into(),
+                        text: Some(summary.clone()),
+                        hit_breakpoint_ids: Vec::new(),
+                    }));
+                }
+                self.ended = Some(summary.clone());
+                return Some(Progress::Ended {
+                    summary: summary.clone(),
+                });
+            }
+            _ => {}
+        }
+        let phase = self.target.phase();
+        if *event == StepEvent::CycleBegan {
+            if let Check::Live = check {
+                if self.pause_requested {
+                    return Some(stopped(
+                        "pause",
+                        "Paused at the cycle boundary".into(),
+                        Vec::new(),
+                    ));
+                }
+            }
+            let cycle = self.clock.cycle;
+            let mut hit = Vec::new();
+            for index in 0..self.cycle_breakpoints.len() {
+                let matches = match self.cycle_breakpoints[index].kind {
+                    CycleBreakpointKind::At(at) => cycle == at,
+                    CycleBreakpointKind::Every(every) => every > 0 && cycle.is_multiple_of(every),
+                };
+                if matches {
+                    let breakpoint = &self.cycle_breakpoints[index];
+                    let (id, condition, hit_condition) = (
+                        breakpoint.id,
+                        breakpoint.condition.clone(),
+                        breakpoint.hit_condition,
+                    );
+                    if self.passes(condition.as_deref(), hit_condition, &check, |debugger| {
+                        &mut debugger.cycle_breakpoints[index].hits
+                    }) {
+                        hit.push(id);
+                    }
+                }
+            }
+            if !hit.is_empty() {
+                return Some(stopped(
+                    "function breakpoint",
+                    format!("Paused at cycle {cycle}"),
+                    hit,
+                ));
+            }
+            let mut changed = Vec::new();
+            for index in 0..self.data_breakpoints.len() {
+                let sensor = self.data_breakpoints[index].sensor;
+                let value = self.target.sensor(sensor);
+                let before = self.baseline.get(&sensor).copied();
+                let differs = before.is_some_and(|before| before.to_bits() != value.to_bits());
+                if differs {
+                    let breakpoint = &self.data_breakpoints[index];
+                    let (id, condition, hit_condition) = (
+                        breakpoint.id,
+                        breakpoint.condition.clone(),
+                        breakpoint.hit_condition,
+                    );
+                    if self.passes(condition.as_deref(), hit_condition, &check, |debugger| {
+                        &mut debugger.data_breakpoints[index].hits
+                    }) {
+                        let name = self.target.sensor_name(sensor).unwrap_or("?").to_string();
+                        let before = before.unwrap_or(value);
+                        changed.push((id, format!("{name}: {before:?} → {value:?}")));
+                    }
+                }
+            }
+            for breakpoint in &self.data_breakpoints {
+                self.baseline
+                    .insert(breakpoint.sensor, self.target.sensor(breakpoint.sensor));
+            }
+            if !changed.is_empty() {
+                let text = changed
+                    .iter()
+                    .map(|(_, text)| text.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ");
+                return Some(Progress::Stopped(Stop {
+                    reason: "data breakpoint",
+                    description: format!("Paused at cycle {cycle}: {text}"),
+                    text: Some(text),
+                    hit_breakpoint_ids: changed.into_iter().map(|(id, _)| id).collect(),
+                }));
+            }
+            if mode == RunMode::Next && cycle > start.cycle {
+                return Some(stopped("step", format!("Cycle {cycle}"), Vec::new()));
+            }
+        }
+        let script_can_run =
+            matches!(phase, Phase::Boundary | Phase::InScript) && self.trap.is_none();
+        if script_can_run {
+            let pc = self.target.pc();
+            let mut hit = Vec::new();
+            for index in 0..self.instruction_breakpoints.len() {
+                if self.instruction_breakpoints[index].pc == pc {
+                    let breakpoint = &self.instruction_breakpoints[index];
+                    let (id, condition, hit_condition) = (
+                        breakpoint.id,
+                        breakpoint.condition.clone(),
+                        breakpoint.hit_condition,
+                    );
+                    if self.passes(condition.as_deref(), hit_condition, &check, |debugger| {
+                        &mut debugger.instruction_breakpoints[index].hits
+                    }) {
+                        hit.push(id);
+                    }
+                }
+            }
+            if !hit.is_empty() {
+                return Some(stopped(
+                    "instruction breakpoint",
+                    format!("Paused at instruction {pc}"),
+                    hit,
+                ));
+            }
+            if self.info.is_statement_start(pc) {
+                let line = self.info.line(pc);
+                let mut hit = Vec::new();
+                for index in 0..self.line_breakpoints.len() {
+                    if Some(self.line_breakpoints[index].line) != line {
+                        continue;
+                    }
+                    let breakpoint = &self.line_breakpoints[index];
+                    let (id, condition, hit_condition, log_message) = (
+                        breakpoint.id,
+                        breakpoint.condition.clone(),
+                        breakpoint.hit_condition,
+                        breakpoint.log_message.clone(),
+                    );
+                    if let (Some(message), Check::Probe) = (&log_message, &check) {
+                        let _ = message;
+                        continue;
+                    }
+                    if self.passes(condition.as_deref(), hit_condition, &check, |debugger| {
+                        &mut debugger.line_breakpoints[index].hits
+                    }) {
+                        if let Some(message) = log_message {
+                            let text = self.interpolate(&message);
+                            self.outputs.push(Output {
+                                category: "console",
+                                text: format!("{text}\n"),
+                                line,
+                            });
+                        } else {
+                            hit.push(id);
+                        }
+                    }
+                }
+                if !hit.is_empty() {
+                    let line = line.unwrap_or(0);
+                    return Some(stopped("breakpoint", format!("Paused on line {line}"), hit));
+                }
+            }
+        }
+        match mode {
+            RunMode::StepIn { instruction: true } => Some(stopped(
+                "step",
+                "Stepped one instruction".into(),
+                Vec::new(),
+            )),
+            RunMode::StepIn { instruction: false } => {
+                let at_statement = script_can_run && self.info.is_statement_start(self.target.pc());
+                if at_statement || *event == StepEvent::CycleBegan || phase == Phase::ScriptDone {
+                    Some(stopped("step", "Stepped one statement".into(), Vec::new()))
+                } else {
+                    None
+                }
+            }
+            RunMode::StepOut => {
+                if matches!(event, StepEvent::Yielded | StepEvent::Halted) {
+                    Some(stopped(
+                        "step",
+                        format!("End of the script's share of cycle {}", self.clock.cycle),
+                        Vec::new(),
+                    ))
+                } else {
+                    None
+                }
+            }
+            _ => None,
+        }
+    }
+
+    /// Checks a condition and a hit count; on a live run a true condition counts a hit.
+    fn passes(
+        &mut self,
+        condition: Option<&str>,
+        hit_condition: Option<HitCondition>,
+        check: &Check,
+        hits: impl FnOnce(&mut Self) -> &mut u64,
+    ) -> bool {
+        if let Some(condition) = condition.filter(|text| !text.trim().is_empty()) {
+            match expr::evaluate(condition, &Scope { debugger: self }) {
+                Ok(value) if value.is_true() => {}
+                Ok(_) => return false,
+                Err(message) => {
+                    // A broken condition stops, as in other debuggers, and says why.
+                    if let Check::Live = check {
+                        self.outputs.push(Output {
+                            category: "stderr",
+                            text: format!("breakpoint condition `{condition}`: {message}\n"),
+                            line: None,
+                        });
+                    }
+                    return true;
+                }
+            }
+        }
+        match check {
+            Check::Probe => true,
+            Check::Live => {
+                let counter = hits(self);
+                *counter += 1;
+                let count = *counter;
+                hit_condition.is_none_or(|hit_condition| hit_condition.holds(count))
+            }
+        }
+    }
+
+    /// Replaces `{expression}` in a logpoint message by its value.
+    pub fn interpolate(&self, message: &str) -> String {
+        let mut out = String::new();
+        let mut rest = message;
+        while let Some(open) = rest.find('{') {
+            out.push_str(&rest[..open]);
+            let Some(close) = rest[open..].find('}') else {
+                out.push_str(&rest[open..]);
+                return out;
+            };
+            let expression = &rest[open + 1..open + close];
+            match self.evaluate(expression) {
+                Ok(value) => out.push_str(&value.to_string()),
+                Err(message) => out.push_str(&format!("<{message}>")),
+            }
+            rest = &rest[open + close + 1..];
+        }
+        out.push_str(rest);
+        out
+    }
+
+    pub fn evaluate(&self, expression: &str) -> Result<Number, String> {
+        expr::evaluate(expression, &Scope { debugger: self })
+    }
+
+    // -----------------------------------------------------------------------------------
+    // Edits
+
+    /// Applies a user edit now and records it so replays reproduce it. An edit in the
+    /// past rewrites the future: later journal entries and snapshots are dropped.
+    pub fn edit(&mut self, edit: Edit) -> Result<(), String> {
+        apply(&mut self.target, &edit)?;
+        let clock = self.clock;
+        if let Some(history) = &mut self.history {
+            history.journal.retain(|(at, _)| *at <= clock);
+            history.journal.push((clock, edit));
+            let later: Vec<Clock> = history
+                .snapshots
+                .range(clock..)
+                .map(|(at, _)| *at)
+                .filter(|at| *at > clock)
+                .collect();
+            for at in later {
+                history.snapshots.remove(&at);
+            }
+        }
+        self.reset_baseline();
+        Ok(())
+    }
+
+    // -----------------------------------------------------------------------------------
+    // History
+
+    fn take_snapshot(&mut self) {
+        let clock = self.clock;
+        let Some(history) = &mut self.history else {
+            return;
+        };
+        if !clock.cycle.is_multiple_of(history.interval) || history.snapshots.contains_key(&clock) {
+            return;
+        }
+        history.snapshots.insert(clock, self.target.clone());
+        if history.snapshots.len() > history.config.max_snapshots.max(2) {
+            history.interval *= 2;
+            let interval = history.interval;
+            let origin = self.origin;
+            history.snapshots.retain(|at, _| {
+                *at == origin || (at.steps == 0 && at.cycle.is_multiple_of(interval))
+            });
+        }
+    }
+
+    /// Moves the world to `target` (≤ the present): restore, then replay with the
+    /// journal. No breakpoint fires and nothing is printed during the replay.
+    fn travel_to(&mut self, target: Clock) -> Result<(), String> {
+        let Some(history) = &self.history else {
+            return Err("reverse debugging is off (launch with \"history\": true)".into());
+        };
+        let Some((&at, snapshot)) = history.snapshots.range(..=target).next_back() else {
+            return Err("that point is older than the kept history".into());
+        };
+        let journal: Vec<(Clock, Edit)> = history
+            .journal
+            .iter()
+            .filter(|(clock, _)| *clock >= at && *clock <= target)
+            .cloned()
+            .collect();
+        self.target = snapshot.clone();
+        self.clock = at;
+        self.trap = None;
+        self.ended = None;
+        self.pending_end = None;
+        let mut edits = journal.into_iter().peekable();
+        loop {
+            while let Some((_, edit)) = edits.next_if(|(clock, _)| *clock == self.clock) {
+                apply(&mut self.target, &edit)?;
+            }
+            if self.clock >= target {
+                break;
+            }
+            let event = self.step_world();
+            if let StepEvent::Trapped { message, .. } = &event {
+                self.trap = Some(message.clone());
+            }
+            if let StepEvent::MissionEnded { summary, .. } = &event {
+                self.ended = Some(summary.clone());
+                break;
+            }
+        }
+        self.target.take_notices();
+        self.reset_baseline();
+        Ok(())
+    }
+
+    /// Back to the previous cycle boundary (undoes one `next`).
+    pub fn step_back(&mut self) -> Result<Stop, String> {
+        let target = if self.clock.steps == 0 {
+            if self.clock <= self.origin {
+                return Ok(stopped_body(
+                    "step",
+                    "Already at the start of the run".into(),
+                ));
+            }
+            Clock {
+                cycle: self.clock.cycle - 1,
+                steps: 0,
+            }
+        } else {
+            Clock {
+                cycle: self.clock.cycle,
+                steps: 0,
+            }
+        };
+        let target = target.max(self.origin);
+        self.travel_to(target)?;
+        Ok(stopped_body(
+            "step",
+            format!("Back to cycle {}", self.clock.cycle),
+        ))
+    }
+
+    /// Back to the most recent breakpoint hit before now, or the start of the history.
+    pub fn reverse_continue(&mut self) -> Result<Stop, String> {
+        let Some(history) = &self.history else {
+            return Err("reverse debugging is off (launch with \"history\": true)".into());
+        };
+        let present = self.clock;
+        let starts: Vec<Clock> = history
+            .snapshots
+            .range(..present)
+            .map(|(at, _)| *at)
+            .collect();
+        let mut segment_end = present;
+        for &segment_start in starts.iter().rev() {
+            self.travel_to(segment_start)?;
+            let mut found: Option<(Clock, Stop)> = None;
+            while self.clock < segment_end {
+                let event = self.step_world();
+                if let StepEvent::MissionEnded { .. } = event {
+                    break;
+                }
+                if let Some(Progress::Stopped(stop)) =
+                    self.after_step(&event, RunMode::Continue, segment_start, Check::Probe)
+                {
+                    if self.clock < segment_end {
+                        found = Some((self.clock, stop));
+                    }
+                }
+                if matches!(event, StepEvent::Trapped { .. }) {
+                    self.trap = None;
+                }
+            }
+            if let Some((clock, stop)) = found {
+                self.travel_to(clock)?;
+                self.outputs.clear();
+                return Ok(stop);
+            }
+            segment_end = segment_start;
+        }
+        let origin = self.origin;
+        self.travel_to(origin)?;
+        self.outputs.clear();
+        Ok(stopped_body(
+            "entry",
+            "Reached the start of the history".into(),
+        ))
+    }
+}
+
+fn stopped(reason: &'static str, description: String, hit_breakpoint_ids: Vec<i64>) -> Progress {
+    Progress::Stopped(Stop {
+        reason,
+        description,
+        text: None,
+        hit_breakpoint_ids,
+    })
+}
+
+fn stopped_body(reason: &'static str, description: String) -> Stop {
+    Stop {
+        reason,
+        description,
+        text: None,
+        hit_breakpoint_ids: Vec::new(),
+    }
+}
+
+fn apply<T: Target>(target: &mut T, edit: &Edit) -> Result<(), String> {
+    match edit {
+        Edit::Register(index, value) => target.set_register(*index, *value),
+        Edit::Variable(name, value) => target.set_variable(name, *value),
+        Edit::Sensor(index, value) => target.set_sensor(*index, *value),
+    }
+}
+
+/// Name lookup for expressions: variable, then register `rN`, then sensor.
+struct Scope<'a, T: Target> {
+    debugger: &'a Debugger<T>,
+}
+
+impl<T: Target> Names for Scope<'_, T> {
+    fn lookup(&self, name: &str) -> Option<Number> {
+        let target = &self.debugger.target;
+        if let Some(value) = target.variable(name) {
+            return Some(value);
+        }
+        if let Some(index) = name
+            .strip_prefix(['r', 'R'])
+            .and_then(|digits| digits.parse::<usize>().ok())
+        {
+            if let Some(value) = target.registers().get(index) {
+                return Some(*value);
+            }
+        }
+        target
+            .sensor_index(name)
+            .map(|index| Number::Float(target.sensor(index)))
+    }
+}

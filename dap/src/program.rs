@@ -1,0 +1,113 @@
+//! Static debug information about the loaded script: which source line each GLOC
+//! instruction comes from, where statements start, and the GLOC text for disassembly.
+
+use std::collections::BTreeSet;
+use std::path::PathBuf;
+
+/// The source language the user debugs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Language {
+    Gbasic,
+    Gloc,
+}
+
+#[derive(Clone, Debug)]
+pub struct DebugInfo {
+    pub path: PathBuf,
+    pub language: Language,
+    /// 1-based source line of each instruction (`None`: generated code with no line).
+    pub line_of_pc: Vec<Option<u32>>,
+    /// The GLOC text of each instruction, for `disassemble`.
+    pub instruction_text: Vec<String>,
+    lines_with_code: BTreeSet<u32>,
+}
+
+impl DebugInfo {
+    pub fn new(
+        path: PathBuf,
+        language: Language,
+        line_of_pc: Vec<Option<u32>>,
+        instruction_text: Vec<String>,
+    ) -> DebugInfo {
+        let lines_with_code = line_of_pc.iter().flatten().copied().collect();
+        DebugInfo {
+            path,
+            language,
+            line_of_pc,
+            instruction_text,
+            lines_with_code,
+        }
+    }
+
+    pub fn instruction_count(&self) -> usize {
+        self.line_of_pc.len()
+    }
+
+    pub fn line(&self, pc: usize) -> Option<u32> {
+        self.line_of_pc.get(pc).copied().flatten()
+    }
+
+    /// True when `pc` opens a statement: its line differs from the previous
+    /// instruction's, or a jump can land on it with the same line (we treat every first
+    /// instruction of a run of one line as the statement start).
+    pub fn is_statement_start(&self, pc: usize) -> bool {
+        match self.line(pc) {
+            None => false,
+            Some(line) => pc == 0 || self.line(pc - 1) != Some(line),
+        }
+    }
+
+    /// Moves a requested breakpoint line to the nearest line with code: the first one at
+    /// or after it, else the last one before it.
+    pub fn resolve_line(&self, requested: u32) -> Option<u32> {
+        self.lines_with_code
+            .range(requested..)
+            .next()
+            .or_else(|| self.lines_with_code.range(..requested).next_back())
+            .copied()
+    }
+
+    pub fn lines_with_code(&self) -> impl Iterator<Item = u32> + '_ {
+        self.lines_with_code.iter().copied()
+    }
+
+    pub fn is_same_source(&self, path: &str) -> bool {
+        let requested = PathBuf::from(path);
+        if requested == self.path {
+            return true;
+        }
+        match (requested.canonicalize(), self.path.canonicalize()) {
+            (Ok(a), Ok(b)) => a == b,
+            _ => false,
+        }
+    }
+
+    pub fn source_name(&self) -> String {
+        self.path
+            .file_name()
+            .map(|name| name.to_string_lossy().into_owned())
+            .unwrap_or_else(|| self.path.display().to_string())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lines_move_to_the_nearest_line_with_code() {
+        let info = DebugInfo::new(
+            PathBuf::from("a.gbas"),
+            Language::Gbasic,
+            vec![Some(2), Some(2), Some(3), None, Some(6)],
+            vec![String::new(); 5],
+        );
+        assert_eq!(info.resolve_line(1), Some(2));
+        assert_eq!(info.resolve_line(4), Some(6));
+        assert_eq!(info.resolve_line(9), Some(6));
+        assert!(info.is_statement_start(0));
+        assert!(!info.is_statement_start(1));
+        assert!(info.is_statement_start(2));
+        assert!(!info.is_statement_start(3));
+    }
+}

@@ -1,0 +1,1275 @@
+//! One debug session: dispatches requests on their `command` string, keeps the launch
+//! state, and runs the world in slices so `pause` and `disconnect` are heard mid-run.
+
+use std::io;
+use std::path::PathBuf;
+
+use serde::Deserialize;
+use serde_json::{json, Value};
+
+use crate::debugger::{
+    Clock, CycleBreakpoint, CycleBreakpointKind, DataBreakpoint, Debugger, Edit, ExceptionFilters,
+    HistoryConfig, HitCondition, InstructionBreakpoint, LineBreakpoint, Progress, RunMode, Stop,
+};
+use crate::expr::Number;
+use crate::program::Language;
+use crate::protocol::{Request, Writer};
+use crate::target::{Named, Phase, Target};
+use crate::types::*;
+use crate::world::{self, LaunchConfig, World};
+
+pub const THREAD_ID: i64 = 1;
+const FRAME_ID: i64 = 1;
+const SCOPE_VARIABLES: i64 = 1;
+const SCOPE_REGISTERS: i64 = 2;
+const SCOPE_SENSORS: i64 = 3;
+const SCOPE_VEHICLE: i64 = 4;
+const ALL_SENSORS: i64 = 5;
+/// Steps run between two looks at the incoming queue while running.
+const SLICE_STEPS: u64 = 50_000;
+
+/// The launch attributes the adapter accepts (`editors/vscode/package.json` declares
+/// the same names; a test keeps them in step).
+pub const LAUNCH_ATTRIBUTES: &[&str] = &[
+    "program",
+    "mission",
+    "masterdata",
+    "profile",
+    "seed",
+    "stopOnEntry",
+    "cycleBudget",
+    "maxCycles",
+    "history",
+];
+
+#[derive(Debug, Default, Deserialize, Clone)]
+#[serde(default, rename_all = "camelCase")]
+pub struct LaunchArguments {
+    pub program: Option<String>,
+    pub mission: Option<String>,
+    pub masterdata: Option<String>,
+    pub profile: Option<String>,
+    pub seed: Option<u64>,
+    pub stop_on_entry: Option<bool>,
+    pub cycle_budget: Option<u64>,
+    pub max_cycles: Option<u64>,
+    /// `true`/`false`, or the number of snapshots to keep (0 = off).
+    pub history: Option<Value>,
+    #[serde(rename = "__restart")]
+    pub restart: Option<Value>,
+}
+
+/// Whether the main loop goes on after a request.
+#[derive(Debug, PartialEq, Eq)]
+pub enum Flow {
+    Continue,
+    Exit,
+}
+
+struct Running {
+    mode: RunMode,
+    start: Clock,
+}
+
+struct Launched {
+    debugger: Debugger<World>,
+    arguments: LaunchArguments,
+    running: Option<Running>,
+    stop_on_entry: bool,
+}
+
+/// Breakpoints as the client last sent them, kept so `restart` can re-apply them.
+#[derive(Default)]
+struct Requested {
+    sources: Vec<(String, Vec<SourceBreakpoint>)>,
+    functions: Vec<FunctionBreakpoint>,
+    data: Vec<crate::types::DataBreakpoint>,
+    instructions: Vec<crate::types::InstructionBreakpoint>,
+    filters: Option<Vec<String>>,
+}
+
+pub struct Session {
+    writer: Writer,
+    initialized: bool,
+    launched: Option<Launched>,
+    requested: Requested,
+    next_breakpoint_id: i64,
+}
+
+fn exception_filters() -> Vec<ExceptionBreakpointsFilter> {
+    vec![
+        ExceptionBreakpointsFilter {
+            filter: "trap".into(),
+            label: "Runtime traps".into(),
+            description: Some(
+                "Stop when the script traps (division by zero, bad jump, ...)".into(),
+            ),
+            default: Some(true),
+        },
+        ExceptionBreakpointsFilter {
+            filter: "overrun".into(),
+            label: "Cycle overrun".into(),
+            description: Some(
+                "Stop when the script exceeds its per-cycle instruction budget".into(),
+            ),
+            default: Some(true),
+        },
+        ExceptionBreakpointsFilter {
+            filter: "abend".into(),
+            label: "Abend".into(),
+            description: Some("Stop when the mission aborts".into()),
+            default: Some(true),
+        },
+    ]
+}
+
+fn capabilities() -> Capabilities {
+    Capabilities {
+        supports_configuration_done_request: Some(true),
+        supports_function_breakpoints: Some(true),
+        supports_conditional_breakpoints: Some(true),
+        supports_hit_conditional_breakpoints: Some(true),
+        supports_evaluate_for_hovers: Some(true),
+        exception_breakpoint_filters: Some(exception_filters()),
+        supports_set_variable: Some(true),
+        supports_restart_request: Some(true),
+        supports_log_points: Some(true),
+        supports_terminate_request: Some(true),
+        supports_data_breakpoints: Some(true),
+        supports_disassemble_request: Some(true),
+        supports_stepping_granularity: Some(true),
+        supports_instruction_breakpoints: Some(true),
+        supports_breakpoint_locations_request: Some(true),
+        supports_exception_info_request: Some(true),
+        // Announced after launch with a `capabilities` event when history is on.
+        supports_step_back: None,
+    }
+}
+
+fn arguments<T: for<'de> Deserialize<'de>>(request: &Request) -> Result<T, String> {
+    serde_json::from_value(request.arguments.clone())
+        .map_err(|error| format!("invalid arguments for `{}`: {error}", request.command))
+}
+
+impl Session {
+    pub fn new(writer: Writer) -> Session {
+        Session {
+            writer,
+            initialized: false,
+            launched: None,
+            requested: Requested::default(),
+            next_breakpoint_id: 1,
+        }
+    }
+
+    pub fn is_running(&self) -> bool {
+        self.launched
+            .as_ref()
+            .is_some_and(|launched| launched.running.is_some())
+    }
+
+    /// Answers a frame that is not a usable request. Without a recoverable `seq` no
+    /// response can name its request (the schema requires `request_seq` ≥ 1), so the
+    /// error goes to the client's console as an `output` event instead.
+    pub fn respond_malformed(
+        &mut self,
+        request_seq: i64,
+        command: &str,
+        message: &str,
+    ) -> io::Result<()> {
+        if request_seq >= 1 {
+            return self.writer.respond_error(request_seq, command, message);
+        }
+        self.writer.event(
+            "output",
+            OutputEventBody {
+                category: "important".into(),
+                output: format!("gloc dap: ignored a malformed message: {message}\n"),
+                source: None,
+                line: None,
+                data: None,
+            },
+        )
+    }
+
+    /// Handles one request; an error in the request becomes an error response.
+    pub fn handle(&mut self, request: Request) -> io::Result<Flow> {
+        match self.dispatch(&request) {
+            Ok(flow) => Ok(flow),
+            Err(message) => {
+                self.writer
+                    .respond_error(request.seq, &request.command, &message)?;
+                Ok(Flow::Continue)
+            }
+        }
+    }
+
+    fn dispatch(&mut self, request: &Request) -> Result<Flow, String> {
+        let io_error = |error: io::Error| format!("cannot write to the client: {error}");
+        match request.command.as_str() {
+            "initialize" => {
+                let _: InitializeArguments = arguments(request)?;
+                self.initialized = true;
+                self.writer
+                    .respond(request, capabilities())
+                    .map_err(io_error)?;
+            }
+            "launch" => {
+                if !self.initialized {
+                    return Err("send `initialize` before `launch`".into());
+                }
+                if self.launched.is_some() {
+                    return Err(
+                        "a program is already running; `restart` or `disconnect` first".into(),
+                    );
+                }
+                let launch: LaunchArguments = arguments(request)?;
+                self.launch(launch)?;
+                self.writer.respond(request, ()).map_err(io_error)?;
+                if self
+                    .launched
+                    .as_ref()
+                    .is_some_and(|launched| launched.debugger.has_history())
+                {
+                    self.writer
+                        .event(
+                            "capabilities",
+                            json!({ "capabilities": { "supportsStepBack": true } }),
+                        )
+                        .map_err(io_error)?;
+                }
+                self.writer.event("initialized", ()).map_err(io_error)?;
+            }
+            "attach" => return Err("`attach` is not supported: use `launch`".into()),
+            "disconnect" => {
+                let _: DisconnectArguments = arguments(request)?;
+                self.writer.respond(request, ()).map_err(io_error)?;
+                return Ok(Flow::Exit);
+            }
+            "terminate" => {
+                self.writer.respond(request, ()).map_err(io_error)?;
+                if let Some(launched) = &mut self.launched {
+                    launched.running = None;
+                }
+                self.writer.event("terminated", ()).map_err(io_error)?;
+            }
+            "setBreakpoints" => {
+                let arguments: SetBreakpointsArguments = arguments(request)?;
+                let breakpoints = self.set_breakpoints(arguments)?;
+                self.writer
+                    .respond(request, json!({ "breakpoints": breakpoints }))
+                    .map_err(io_error)?;
+            }
+            "setFunctionBreakpoints" => {
+                let arguments: SetFunctionBreakpointsArguments = arguments(request)?;
+                self.requested.functions = arguments.breakpoints;
+                let breakpoints = self.apply_function_breakpoints();
+                self.writer
+                    .respond(request, json!({ "breakpoints": breakpoints }))
+                    .map_err(io_error)?;
+            }
+            "setExceptionBreakpoints" => {
+                let arguments: SetExceptionBreakpointsArguments = arguments(request)?;
+                for filter in &arguments.filters {
+                    if !["trap", "overrun", "abend"].contains(&filter.as_str()) {
+                        return Err(format!(
+                            "unknown exception filter `{filter}` (known: trap, overrun, abend)"
+                        ));
+                    }
+                }
+                self.requested.filters = Some(arguments.filters);
+                self.apply_filters();
+                self.writer.respond(request, ()).map_err(io_error)?;
+            }
+            "setInstructionBreakpoints" => {
+                let arguments: SetInstructionBreakpointsArguments = arguments(request)?;
+                self.requested.instructions = arguments.breakpoints;
+                let breakpoints = self.apply_instruction_breakpoints();
+                self.writer
+                    .respond(request, json!({ "breakpoints": breakpoints }))
+                    .map_err(io_error)?;
+            }
+            "dataBreakpointInfo" => {
+                let arguments: DataBreakpointInfoArguments = arguments(request)?;
+                let launched = self.launched_mut()?;
+                let target = &launched.debugger.target;
+                let in_sensor_scope = matches!(
+                    arguments.variables_reference,
+                    None | Some(SCOPE_SENSORS) | Some(ALL_SENSORS)
+                );
+                let sensor = if in_sensor_scope {
+                    target.sensor_index(arguments.name.trim())
+                } else {
+                    None
+                };
+                let body = match sensor {
+                    Some(index) => {
+                        let name = target.sensor_name(index).unwrap_or_default().to_string();
+                        json!({
+                            "dataId": format!("sensor:{name}"),
+                            "description": format!("{name} changes (checked at each cycle boundary)"),
+                            "accessTypes": ["write"],
+                            "canPersist": true,
+                        })
+                    }
+                    None => json!({
+                        "dataId": null,
+                        "description": format!("`{}` is not a sensor: only sensors can be watched", arguments.name),
+                    }),
+                };
+                self.writer.respond(request, body).map_err(io_error)?;
+            }
+            "setDataBreakpoints" => {
+                let arguments: SetDataBreakpointsArguments = arguments(request)?;
+                self.requested.data = arguments.breakpoints;
+                let breakpoints = self.apply_data_breakpoints();
+                self.writer
+                    .respond(request, json!({ "breakpoints": breakpoints }))
+                    .map_err(io_error)?;
+            }
+            "breakpointLocations" => {
+                let arguments: BreakpointLocationsArguments = arguments(request)?;
+                let launched = self.launched_mut()?;
+                let info = &launched.debugger.info;
+                let end = arguments.end_line.unwrap_or(arguments.line);
+                let same = arguments
+                    .source
+                    .path
+                    .as_deref()
+                    .is_some_and(|path| info.is_same_source(path));
+                let lines: Vec<Value> = if same {
+                    info.lines_with_code()
+                        .filter(|line| {
+                            i64::from(*line) >= arguments.line && i64::from(*line) <= end
+                        })
+                        .map(|line| json!({ "line": line }))
+                        .collect()
+                } else {
+                    Vec::new()
+                };
+                self.writer
+                    .respond(request, json!({ "breakpoints": lines }))
+                    .map_err(io_error)?;
+            }
+            "configurationDone" => {
+                let launched = self.launched_mut()?;
+                if launched.stop_on_entry {
+                    self.writer.respond(request, ()).map_err(io_error)?;
+                    self.send_stop(Stop {
+                        reason: "entry",
+                        description: "Paused on entry".into(),
+                        text: None,
+                        hit_breakpoint_ids: Vec::new(),
+                    })
+                    .map_err(io_error)?;
+                } else {
+                    let start = launched.debugger.clock();
+                    launched.running = Some(Running {
+                        mode: RunMode::Continue,
+                        start,
+                    });
+                    self.writer.respond(request, ()).map_err(io_error)?;
+                }
+            }
+            "threads" => {
+                self.writer
+                    .respond(
+                        request,
+                        json!({ "threads": [{ "id": THREAD_ID, "name": "script" }] }),
+                    )
+                    .map_err(io_error)?;
+            }
+            "continue" | "next" | "stepIn" | "stepOut" => {
+                let arguments: StepArguments = arguments(request)?;
+                let instruction = arguments.granularity.as_deref() == Some("instruction");
+                let mode = match request.command.as_str() {
+                    "continue" => RunMode::Continue,
+                    "next" => RunMode::Next,
+                    "stepIn" => RunMode::StepIn { instruction },
+                    _ => RunMode::StepOut,
+                };
+                let launched = self.launched_mut()?;
+                if launched.running.is_some() {
+                    return Err("the program is already running; `pause` first".into());
+                }
+                let language = launched.debugger.info.language;
+                let mode = match mode {
+                    // In GLOC a statement is an instruction.
+                    RunMode::StepIn { .. } if language == Language::Gloc => {
+                        RunMode::StepIn { instruction: true }
+                    }
+                    other => other,
+                };
+                let start = launched.debugger.clock();
+                launched.running = Some(Running { mode, start });
+                let body = if mode == RunMode::Continue {
+                    json!({ "allThreadsContinued": true })
+                } else {
+                    Value::Null
+                };
+                self.writer.respond(request, body).map_err(io_error)?;
+            }
+            "pause" => {
+                let launched = self.launched_mut()?;
+                if launched.running.is_some() {
+                    launched.debugger.request_pause();
+                    self.writer.respond(request, ()).map_err(io_error)?;
+                } else {
+                    self.writer.respond(request, ()).map_err(io_error)?;
+                    self.send_stop(Stop {
+                        reason: "pause",
+                        description: "Paused".into(),
+                        text: None,
+                        hit_breakpoint_ids: Vec::new(),
+                    })
+                    .map_err(io_error)?;
+                }
+            }
+            "stepBack" | "reverseContinue" => {
+                let launched = self.launched_mut()?;
+                if launched.running.is_some() {
+                    return Err("the program is running; `pause` first".into());
+                }
+                let stop = if request.command == "stepBack" {
+                    launched.debugger.step_back()?
+                } else {
+                    launched.debugger.reverse_continue()?
+                };
+                self.writer.respond(request, ()).map_err(io_error)?;
+                self.send_stop(stop).map_err(io_error)?;
+            }
+            "stackTrace" => {
+                let _: StackTraceArguments = arguments(request)?;
+                let launched = self.launched_mut()?;
+                let frame = stack_frame(&launched.debugger);
+                self.writer
+                    .respond(request, json!({ "stackFrames": [frame], "totalFrames": 1 }))
+                    .map_err(io_error)?;
+            }
+            "scopes" => {
+                let _: ScopesArguments = arguments(request)?;
+                let launched = self.launched_mut()?;
+                let target = &launched.debugger.target;
+                let scopes = vec![
+                    scope(
+                        "Variables",
+                        Some("locals"),
+                        SCOPE_VARIABLES,
+                        target.variables().len(),
+                    ),
+                    scope(
+                        "Registers",
+                        Some("registers"),
+                        SCOPE_REGISTERS,
+                        target.registers().len(),
+                    ),
+                    scope(
+                        "Sensors",
+                        None,
+                        SCOPE_SENSORS,
+                        target.touched_sensors().len() + 1,
+                    ),
+                    scope("Vehicle", None, SCOPE_VEHICLE, target.vehicle().len()),
+                ];
+                self.writer
+                    .respond(request, json!({ "scopes": scopes }))
+                    .map_err(io_error)?;
+            }
+            "variables" => {
+                let arguments: VariablesArguments = arguments(request)?;
+                let launched = self.launched_mut()?;
+                let variables = variables(&launched.debugger, &arguments)?;
+                self.writer
+                    .respond(request, json!({ "variables": variables }))
+                    .map_err(io_error)?;
+            }
+            "setVariable" => {
+                let arguments: SetVariableArguments = arguments(request)?;
+                let launched = self.launched_mut()?;
+                let value = set_variable(&mut launched.debugger, &arguments)?;
+                self.writer
+                    .respond(request, json!({ "value": value }))
+                    .map_err(io_error)?;
+            }
+            "evaluate" => {
+                let arguments: EvaluateArguments = arguments(request)?;
+                let launched = self.launched_mut()?;
+                let value = launched.debugger.evaluate(&arguments.expression)?;
+                self.writer
+                    .respond(
+                        request,
+                        json!({ "result": value.to_string(), "type": value.type_name(), "variablesReference": 0 }),
+                    )
+                    .map_err(io_error)?;
+            }
+            "exceptionInfo" => {
+                let launched = self.launched_mut()?;
+                let Some(trap) = launched.debugger.trap.clone() else {
+                    return Err("the program is not stopped on an exception".into());
+                };
+                self.writer
+                    .respond(request, json!({ "exceptionId": "trap", "description": trap, "breakMode": "always" }))
+                    .map_err(io_error)?;
+            }
+            "disassemble" => {
+                let arguments: DisassembleArguments = arguments(request)?;
+                let launched = self.launched_mut()?;
+                let instructions = disassemble(&launched.debugger, &arguments)?;
+                self.writer
+                    .respond(request, json!({ "instructions": instructions }))
+                    .map_err(io_error)?;
+            }
+            "loadedSources" => {
+                let launched = self.launched_mut()?;
+                let source = source_of(&launched.debugger);
+                self.writer
+                    .respond(request, json!({ "sources": [source] }))
+                    .map_err(io_error)?;
+            }
+            "restart" => {
+                let launched = self.launched_mut()?;
+                let mut arguments = launched.arguments.clone();
+                if let Some(new) = request.arguments.get("arguments") {
+                    arguments = serde_json::from_value(new.clone())
+                        .map_err(|error| format!("invalid arguments for `restart`: {error}"))?;
+                }
+                self.launched = None;
+                self.launch(arguments)?;
+                self.writer.respond(request, ()).map_err(io_error)?;
+                let launched = self.launched_mut()?;
+                if launched.stop_on_entry {
+                    self.send_stop(Stop {
+                        reason: "entry",
+                        description: "Restarted: paused on entry".into(),
+                        text: None,
+                        hit_breakpoint_ids: Vec::new(),
+                    })
+                    .map_err(io_error)?;
+                } else {
+                    let start = launched.debugger.clock();
+                    launched.running = Some(Running {
+                        mode: RunMode::Continue,
+                        start,
+                    });
+                }
+            }
+            other => return Err(format!("unknown command `{other}`")),
+        }
+        Ok(Flow::Continue)
+    }
+
+    fn launched_mut(&mut self) -> Result<&mut Launched, String> {
+        self.launched
+            .as_mut()
+            .ok_or_else(|| "no program is loaded: send `launch` first".to_string())
+    }
+
+    // Interim: `World` is uninhabited until the simulator is merged.
+    #[allow(unreachable_code, unused_variables)]
+    fn launch(&mut self, arguments: LaunchArguments) -> Result<(), String> {
+        let program = arguments
+            .program
+            .clone()
+            .filter(|program| !program.trim().is_empty())
+            .ok_or(
+                "the launch configuration needs `program`: the .gbas or .gloc script to debug",
+            )?;
+        let history = match &arguments.history {
+            None | Some(Value::Null) | Some(Value::Bool(true)) => Some(HistoryConfig::default()),
+            Some(Value::Bool(false)) => None,
+            Some(Value::Number(number)) => match number.as_u64() {
+                Some(0) => None,
+                Some(count) => Some(HistoryConfig {
+                    max_snapshots: usize::try_from(count).unwrap_or(usize::MAX).max(2),
+                    ..HistoryConfig::default()
+                }),
+                None => {
+                    return Err(
+                        "`history` must be true, false or a positive number of snapshots".into(),
+                    )
+                }
+            },
+            Some(_) => {
+                return Err(
+                    "`history` must be true, false or a positive number of snapshots".into(),
+                )
+            }
+        };
+        let config = LaunchConfig {
+            program: PathBuf::from(program),
+            mission: arguments.mission.clone().map(PathBuf::from),
+            masterdata: arguments.masterdata.clone().map(PathBuf::from),
+            profile: arguments.profile.clone().map(PathBuf::from),
+            seed: arguments.seed,
+            cycle_budget: arguments.cycle_budget,
+            max_cycles: arguments.max_cycles,
+        };
+        let (world, info) = world::launch(&config)?;
+        let debugger = Debugger::new(world, info, history);
+        self.launched = Some(Launched {
+            debugger,
+            stop_on_entry: arguments.stop_on_entry.unwrap_or(false),
+            arguments,
+            running: None,
+        });
+        // Re-apply what the client set before (restart keeps breakpoints).
+        let sources = std::mem::take(&mut self.requested.sources);
+        for (path, breakpoints) in &sources {
+            let _ = self.apply_source_breakpoints(path, breakpoints);
+        }
+        self.requested.sources = sources;
+        self.apply_function_breakpoints();
+        self.apply_data_breakpoints();
+        self.apply_instruction_breakpoints();
+        self.apply_filters();
+        Ok(())
+    }
+
+    fn new_id(&mut self) -> i64 {
+        let id = self.next_breakpoint_id;
+        self.next_breakpoint_id += 1;
+        id
+    }
+
+    fn set_breakpoints(
+        &mut self,
+        arguments: SetBreakpointsArguments,
+    ) -> Result<Vec<Breakpoint>, String> {
+        let path = arguments
+            .source
+            .path
+            .clone()
+            .ok_or("`setBreakpoints` needs `source.path`")?;
+        let mut breakpoints = arguments.breakpoints.unwrap_or_default();
+        if breakpoints.is_empty() {
+            if let Some(lines) = arguments.lines {
+                breakpoints = lines
+                    .into_iter()
+                    .map(|line| SourceBreakpoint {
+                        line,
+                        ..SourceBreakpoint::default()
+                    })
+                    .collect();
+            }
+        }
+        self.requested.sources.retain(|(known, _)| *known != path);
+        self.requested
+            .sources
+            .push((path.clone(), breakpoints.clone()));
+        Ok(self.apply_source_breakpoints(&path, &breakpoints))
+    }
+
+    fn apply_source_breakpoints(
+        &mut self,
+        path: &str,
+        requested: &[SourceBreakpoint],
+    ) -> Vec<Breakpoint> {
+        let mut ids = Vec::new();
+        for _ in requested {
+            ids.push(self.new_id());
+        }
+        let Some(launched) = &mut self.launched else {
+            return requested
+                .iter()
+                .zip(ids)
+                .map(|(breakpoint, id)| Breakpoint {
+                    id: Some(id),
+                    verified: false,
+                    line: Some(breakpoint.line),
+                    message: Some("the program is not launched yet".into()),
+                    reason: Some("pending".into()),
+                    ..Breakpoint::default()
+                })
+                .collect();
+        };
+        let debugger = &mut launched.debugger;
+        let same_source = debugger.info.is_same_source(path);
+        let source = source_of(debugger);
+        // Replace this source's breakpoints (there is one source per session).
+        if same_source {
+            debugger.line_breakpoints.clear();
+        }
+        let mut out = Vec::new();
+        for (breakpoint, id) in requested.iter().zip(ids) {
+            if !same_source {
+                out.push(Breakpoint {
+                    id: Some(id),
+                    verified: false,
+                    line: Some(breakpoint.line),
+                    message: Some(format!("{path} is not the program being debugged")),
+                    reason: Some("failed".into()),
+                    ..Breakpoint::default()
+                });
+                continue;
+            }
+            let line = u32::try_from(breakpoint.line)
+                .ok()
+                .and_then(|line| debugger.info.resolve_line(line));
+            let hit_condition = match breakpoint
+                .hit_condition
+                .as_deref()
+                .filter(|text| !text.trim().is_empty())
+            {
+                Some(text) => match HitCondition::parse(text) {
+                    Ok(condition) => Some(condition),
+                    Err(message) => {
+                        out.push(Breakpoint {
+                            id: Some(id),
+                            verified: false,
+                            line: Some(breakpoint.line),
+                            message: Some(message),
+                            reason: Some("failed".into()),
+                            ..Breakpoint::default()
+                        });
+                        continue;
+                    }
+                },
+                None => None,
+            };
+            match line {
+                Some(line) => {
+                    debugger.line_breakpoints.push(LineBreakpoint {
+                        id,
+                        line,
+                        condition: breakpoint.condition.clone(),
+                        hit_condition,
+                        log_message: breakpoint.log_message.clone(),
+                        hits: 0,
+                    });
+                    out.push(Breakpoint {
+                        id: Some(id),
+                        verified: true,
+                        line: Some(i64::from(line)),
+                        source: Some(source.clone()),
+                        ..Breakpoint::default()
+                    });
+                }
+                None => out.push(Breakpoint {
+                    id: Some(id),
+                    verified: false,
+                    line: Some(breakpoint.line),
+                    message: Some("no code in this file".into()),
+                    reason: Some("failed".into()),
+                    ..Breakpoint::default()
+                }),
+            }
+        }
+        out
+    }
+
+    fn apply_function_breakpoints(&mut self) -> Vec<Breakpoint> {
+        let requested = self.requested.functions.clone();
+        let mut out = Vec::new();
+        let mut accepted = Vec::new();
+        for breakpoint in &requested {
+            let id = self.new_id();
+            let words: Vec<&str> = breakpoint.name.split_whitespace().collect();
+            let kind = match words.as_slice() {
+                [word, number] if word.eq_ignore_ascii_case("cycle") => {
+                    number.parse().ok().map(CycleBreakpointKind::At)
+                }
+                [word, number] if word.eq_ignore_ascii_case("every") => number
+                    .parse()
+                    .ok()
+                    .filter(|every| *every > 0)
+                    .map(CycleBreakpointKind::Every),
+                _ => None,
+            };
+            let hit_condition = breakpoint
+                .hit_condition
+                .as_deref()
+                .filter(|text| !text.trim().is_empty())
+                .map(HitCondition::parse)
+                .transpose();
+            match (kind, hit_condition) {
+                (Some(kind), Ok(hit_condition)) => {
+                    accepted.push(CycleBreakpoint {
+                        id,
+                        kind,
+                        condition: breakpoint.condition.clone(),
+                        hit_condition,
+                        hits: 0,
+                    });
+                    out.push(Breakpoint { id: Some(id), verified: true, ..Breakpoint::default() });
+                }
+                (_, Err(message)) => out.push(Breakpoint {
+                    id: Some(id),
+                    verified: false,
+                    message: Some(message),
+                    reason: Some("failed".into()),
+                    ..Breakpoint::default()
+                }),
+                (None, _) => out.push(Breakpoint {
+                    id: Some(id),
+                    verified: false,
+                    message: Some(format!(
+                        "`{}` is not a cycle breakpoint: write `cycle N` (stop at cycle N) or `every N` (every N cycles)",
+                        breakpoint.name
+                    )),
+                    reason: Some("failed".into()),
+                    ..Breakpoint::default()
+                }),
+            }
+        }
+        if let Some(launched) = &mut self.launched {
+            launched.debugger.cycle_breakpoints = accepted;
+        }
+        out
+    }
+
+    fn apply_data_breakpoints(&mut self) -> Vec<Breakpoint> {
+        let requested = self.requested.data.clone();
+        let mut out = Vec::new();
+        let mut accepted = Vec::new();
+        for breakpoint in &requested {
+            let id = self.new_id();
+            let name = breakpoint
+                .data_id
+                .strip_prefix("sensor:")
+                .unwrap_or(&breakpoint.data_id);
+            let sensor = self
+                .launched
+                .as_ref()
+                .and_then(|launched| launched.debugger.target.sensor_index(name));
+            let hit_condition = breakpoint
+                .hit_condition
+                .as_deref()
+                .filter(|text| !text.trim().is_empty())
+                .map(HitCondition::parse)
+                .transpose();
+            match (sensor, hit_condition) {
+                (Some(sensor), Ok(hit_condition)) => {
+                    accepted.push(DataBreakpoint {
+                        id,
+                        sensor,
+                        condition: breakpoint.condition.clone(),
+                        hit_condition,
+                        hits: 0,
+                    });
+                    out.push(Breakpoint {
+                        id: Some(id),
+                        verified: true,
+                        ..Breakpoint::default()
+                    });
+                }
+                (_, Err(message)) => out.push(Breakpoint {
+                    id: Some(id),
+                    verified: false,
+                    message: Some(message),
+                    reason: Some("failed".into()),
+                    ..Breakpoint::default()
+                }),
+                (None, _) => out.push(Breakpoint {
+                    id: Some(id),
+                    verified: false,
+                    message: Some(format!("`{name}` is not a sensor")),
+                    reason: Some("failed".into()),
+                    ..Breakpoint::default()
+                }),
+            }
+        }
+        if let Some(launched) = &mut self.launched {
+            launched.debugger.data_breakpoints = accepted;
+            launched.debugger.reset_baseline();
+        }
+        out
+    }
+
+    fn apply_instruction_breakpoints(&mut self) -> Vec<Breakpoint> {
+        let requested = self.requested.instructions.clone();
+        let mut out = Vec::new();
+        let mut accepted = Vec::new();
+        let count = self
+            .launched
+            .as_ref()
+            .map_or(0, |launched| launched.debugger.info.instruction_count());
+        for breakpoint in &requested {
+            let id = self.new_id();
+            let pc = parse_address(&breakpoint.instruction_reference)
+                .and_then(|base| base.checked_add(breakpoint.offset.unwrap_or(0)))
+                .and_then(|pc| usize::try_from(pc).ok())
+                .filter(|pc| *pc < count);
+            let hit_condition = breakpoint
+                .hit_condition
+                .as_deref()
+                .filter(|text| !text.trim().is_empty())
+                .map(HitCondition::parse)
+                .transpose();
+            match (pc, hit_condition) {
+                (Some(pc), Ok(hit_condition)) => {
+                    accepted.push(InstructionBreakpoint {
+                        id,
+                        pc,
+                        condition: breakpoint.condition.clone(),
+                        hit_condition,
+                        hits: 0,
+                    });
+                    out.push(Breakpoint {
+                        id: Some(id),
+                        verified: true,
+                        instruction_reference: Some(address(pc)),
+                        ..Breakpoint::default()
+                    });
+                }
+                (_, Err(message)) => out.push(Breakpoint {
+                    id: Some(id),
+                    verified: false,
+                    message: Some(message),
+                    reason: Some("failed".into()),
+                    ..Breakpoint::default()
+                }),
+                (None, _) => out.push(Breakpoint {
+                    id: Some(id),
+                    verified: false,
+                    message: Some(format!(
+                        "`{}` is not an instruction of the program",
+                        breakpoint.instruction_reference
+                    )),
+                    reason: Some("failed".into()),
+                    ..Breakpoint::default()
+                }),
+            }
+        }
+        if let Some(launched) = &mut self.launched {
+            launched.debugger.instruction_breakpoints = accepted;
+        }
+        out
+    }
+
+    fn apply_filters(&mut self) {
+        let Some(filters) = &self.requested.filters else {
+            return;
+        };
+        let has = |name: &str| filters.iter().any(|filter| filter == name);
+        let chosen = ExceptionFilters {
+            trap: has("trap"),
+            overrun: has("overrun"),
+            abend: has("abend"),
+        };
+        if let Some(launched) = &mut self.launched {
+            launched.debugger.filters = chosen;
+        }
+    }
+
+    /// Runs one slice of a forward run and reports a stop or the end.
+    pub fn run_slice(&mut self) -> io::Result<Flow> {
+        let Some(launched) = &mut self.launched else {
+            return Ok(Flow::Continue);
+        };
+        let Some(running) = &launched.running else {
+            return Ok(Flow::Continue);
+        };
+        let progress = launched
+            .debugger
+            .run(running.mode, running.start, SLICE_STEPS);
+        if !matches!(progress, Progress::Running) {
+            launched.running = None;
+        }
+        self.flush_outputs()?;
+        match progress {
+            Progress::Running => {}
+            Progress::Stopped(stop) => self.send_stop(stop)?,
+            Progress::Ended { summary } => {
+                self.writer.event(
+                    "output",
+                    OutputEventBody {
+                        category: "console".into(),
+                        output: format!("{summary}\n"),
+                        source: None,
+                        line: None,
+                        data: None,
+                    },
+                )?;
+                self.writer.event("exited", json!({ "exitCode": 0 }))?;
+                self.writer.event("terminated", ())?;
+            }
+        }
+        Ok(Flow::Continue)
+    }
+
+    fn flush_outputs(&mut self) -> io::Result<()> {
+        let Some(launched) = &mut self.launched else {
+            return Ok(());
+        };
+        let outputs = launched.debugger.take_outputs();
+        let source = source_of(&launched.debugger);
+        for output in outputs {
+            self.writer.event(
+                "output",
+                OutputEventBody {
+                    category: output.category.into(),
+                    output: output.text,
+                    source: output.line.map(|_| source.clone()),
+                    line: output.line.map(i64::from),
+                    data: None,
+                },
+            )?;
+        }
+        Ok(())
+    }
+
+    fn send_stop(&mut self, stop: Stop) -> io::Result<()> {
+        self.flush_outputs()?;
+        if let Some(launched) = &mut self.launched {
+            launched.debugger.reset_baseline();
+        }
+        self.writer.event(
+            "stopped",
+            StoppedEventBody {
+                reason: stop.reason.into(),
+                description: Some(stop.description),
+                thread_id: THREAD_ID,
+                text: stop.text,
+                all_threads_stopped: true,
+                hit_breakpoint_ids: if stop.hit_breakpoint_ids.is_empty() {
+                    None
+                } else {
+                    Some(stop.hit_breakpoint_ids)
+                },
+            },
+        )
+    }
+}
+
+fn address(pc: usize) -> String {
+    format!("0x{pc:x}")
+}
+
+fn parse_address(text: &str) -> Option<i64> {
+    let text = text.trim();
+    match text.strip_prefix("0x").or_else(|| text.strip_prefix("0X")) {
+        Some(hex) => i64::from_str_radix(hex, 16).ok(),
+        None => text.parse().ok(),
+    }
+}
+
+fn source_of(debugger: &Debugger<World>) -> Source {
+    Source {
+        name: Some(debugger.info.source_name()),
+        path: Some(debugger.info.path.display().to_string()),
+    }
+}
+
+fn stack_frame(debugger: &Debugger<World>) -> StackFrame {
+    let target = &debugger.target;
+    let pc = if target.phase() == Phase::ScriptDone || debugger.trap.is_some() {
+        target.pc().saturating_sub(1)
+    } else {
+        target.pc()
+    };
+    let instruction = debugger
+        .info
+        .instruction_text
+        .get(pc)
+        .cloned()
+        .unwrap_or_default();
+    let line = debugger.current_line().unwrap_or(1);
+    let phase = match target.phase() {
+        Phase::Boundary => "boundary",
+        Phase::InScript => "script",
+        Phase::ScriptDone => "after yield",
+        Phase::Ended => "ended",
+    };
+    StackFrame {
+        id: FRAME_ID,
+        name: format!(
+            "cycle {} ({phase}) · {pc}: {instruction}",
+            debugger.clock().cycle
+        ),
+        source: Some(source_of(debugger)),
+        line: i64::from(line),
+        column: 1,
+        instruction_pointer_reference: Some(address(pc)),
+    }
+}
+
+fn scope(name: &str, hint: Option<&str>, reference: i64, count: usize) -> Scope {
+    Scope {
+        name: name.into(),
+        presentation_hint: hint.map(str::to_string),
+        variables_reference: reference,
+        named_variables: Some(count as i64),
+        expensive: false,
+    }
+}
+
+fn plain(named: Named) -> Variable {
+    Variable {
+        evaluate_name: Some(named.name.clone()),
+        name: named.name,
+        value: named.value,
+        ty: Some(named.ty.into()),
+        variables_reference: 0,
+        named_variables: None,
+    }
+}
+
+fn sensor_variable(target: &World, index: usize) -> Variable {
+    let name = target.sensor_name(index).unwrap_or("?").to_string();
+    Variable {
+        evaluate_name: Some(name.clone()),
+        name,
+        value: format!("{:?}", target.sensor(index)),
+        ty: Some(format!("sensor {index}")),
+        variables_reference: 0,
+        named_variables: None,
+    }
+}
+
+fn variables(
+    debugger: &Debugger<World>,
+    arguments: &VariablesArguments,
+) -> Result<Vec<Variable>, String> {
+    let target = &debugger.target;
+    let all: Vec<Variable> = match arguments.variables_reference {
+        SCOPE_VARIABLES => target.variables().into_iter().map(plain).collect(),
+        SCOPE_REGISTERS => target
+            .registers()
+            .into_iter()
+            .enumerate()
+            .map(|(index, value)| Variable {
+                name: format!("r{index}"),
+                value: value.to_string(),
+                ty: Some(value.type_name().into()),
+                variables_reference: 0,
+                named_variables: None,
+                evaluate_name: Some(format!("r{index}")),
+            })
+            .collect(),
+        SCOPE_SENSORS => {
+            let mut list: Vec<Variable> = target
+                .touched_sensors()
+                .into_iter()
+                .map(|index| sensor_variable(target, index))
+                .collect();
+            list.push(Variable {
+                name: "All sensors".into(),
+                value: format!("{} sensors", target.sensor_count()),
+                ty: None,
+                variables_reference: ALL_SENSORS,
+                named_variables: Some(target.sensor_count() as i64),
+                evaluate_name: None,
+            });
+            list
+        }
+        SCOPE_VEHICLE => target.vehicle().into_iter().map(plain).collect(),
+        ALL_SENSORS => {
+            let start = usize::try_from(arguments.start.unwrap_or(0)).unwrap_or(0);
+            let count = match arguments.count {
+                Some(count) if count > 0 => usize::try_from(count).unwrap_or(usize::MAX),
+                _ => target.sensor_count(),
+            };
+            let end = start.saturating_add(count).min(target.sensor_count());
+            return Ok((start.min(end)..end)
+                .map(|index| sensor_variable(target, index))
+                .collect());
+        }
+        other => return Err(format!("unknown variablesReference {other}")),
+    };
+    let start = usize::try_from(arguments.start.unwrap_or(0))
+        .unwrap_or(0)
+        .min(all.len());
+    let count = match arguments.count {
+        Some(count) if count > 0 => usize::try_from(count).unwrap_or(usize::MAX),
+        _ => all.len(),
+    };
+    Ok(all.into_iter().skip(start).take(count).collect())
+}
+
+fn set_variable(
+    debugger: &mut Debugger<World>,
+    arguments: &SetVariableArguments,
+) -> Result<String, String> {
+    let value = match Number::parse(&arguments.value) {
+        Some(value) => value,
+        None => debugger
+            .evaluate(&arguments.value)
+            .map_err(|message| format!("`{}` is not a value: {message}", arguments.value))?,
+    };
+    match arguments.variables_reference {
+        SCOPE_VARIABLES => {
+            debugger.edit(Edit::Variable(arguments.name.clone(), value))?;
+            debugger
+                .target
+                .variable(&arguments.name)
+                .map(|value| value.to_string())
+                .ok_or_else(|| format!("no variable `{}`", arguments.name))
+        }
+        SCOPE_REGISTERS => {
+            let index = arguments
+                .name
+                .strip_prefix('r')
+                .and_then(|digits| digits.parse::<usize>().ok())
+                .ok_or_else(|| format!("`{}` is not a register", arguments.name))?;
+            debugger.edit(Edit::Register(index, value))?;
+            debugger
+                .target
+                .registers()
+                .get(index)
+                .map(|value| value.to_string())
+                .ok_or_else(|| format!("no register `{}`", arguments.name))
+        }
+        SCOPE_SENSORS | ALL_SENSORS => {
+            let index = debugger
+                .target
+                .sensor_index(&arguments.name)
+                .ok_or_else(|| format!("`{}` is not a sensor", arguments.name))?;
+            debugger.edit(Edit::Sensor(index, value.as_f64()))?;
+            Ok(format!("{:?}", debugger.target.sensor(index)))
+        }
+        SCOPE_VEHICLE => Err("the Vehicle scope is read-only; set a sensor instead".into()),
+        other => Err(format!("unknown variablesReference {other}")),
+    }
+}
+
+fn disassemble(
+    debugger: &Debugger<World>,
+    arguments: &DisassembleArguments,
+) -> Result<Vec<DisassembledInstruction>, String> {
+    let base = parse_address(&arguments.memory_reference).ok_or_else(|| {
+        format!(
+            "`{}` is not an instruction address",
+            arguments.memory_reference
+        )
+    })?;
+    let first = base
+        .saturating_add(arguments.offset.unwrap_or(0))
+        .saturating_add(arguments.instruction_offset.unwrap_or(0));
+    let count = arguments.instruction_count.clamp(0, 100_000);
+    let source = source_of(debugger);
+    let mut out = Vec::new();
+    let mut last_line = None;
+    for pc in first..first.saturating_add(count) {
+        let valid = usize::try_from(pc)
+            .ok()
+            .filter(|pc| *pc < debugger.info.instruction_count());
+        match valid {
+            Some(pc) => {
+                let line = debugger.info.line(pc);
+                let new_line = line != last_line;
+                last_line = line;
+                out.push(DisassembledInstruction {
+                    address: address(pc),
+                    instruction: debugger.info.instruction_text[pc].clone(),
+                    symbol: None,
+                    location: if new_line { Some(source.clone()) } else { None },
+                    line: line.map(i64::from),
+                    presentation_hint: None,
+                });
+            }
+            None => out.push(DisassembledInstruction {
+                address: if pc < 0 {
+                    format!("-0x{:x}", pc.unsigned_abs())
+                } else {
+                    format!("0x{pc:x}")
+                },
+                instruction: String::new(),
+                symbol: None,
+                location: None,
+                line: None,
+                presentation_hint: Some("invalid".into()),
+            }),
+        }
+    }
+    Ok(out)
+}

@@ -1,0 +1,96 @@
+//! What the debugger needs from the thing it debugs: a deterministic, cloneable world
+//! (script + simulated vehicle) that advances one small step at a time.
+//!
+//! The debugger logic (breakpoints, stepping, history) is written against this trait so
+//! that it never depends on how the simulator phases a cycle; `world` implements it over
+//! the GLOC engine and the simulator.
+
+use crate::expr::Number;
+
+/// Where a run is inside a control cycle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Phase {
+    /// The sensors are updated and the script has not run yet in this cycle.
+    Boundary,
+    /// The script is part way through its share of the cycle.
+    InScript,
+    /// The script yielded (or is dead); the vehicle has not moved yet.
+    ScriptDone,
+    /// The mission is over: nothing more can run.
+    Ended,
+}
+
+/// What one `Target::step` did.
+#[derive(Clone, Debug, PartialEq)]
+pub enum StepEvent {
+    /// One instruction ran; the script goes on in this cycle.
+    Executed,
+    /// The script yielded: its share of the cycle is done.
+    Yielded,
+    /// The script halted for good; the vehicle flies on.
+    Halted,
+    /// The script stopped on a runtime error (it stays stopped; the vehicle flies on).
+    Trapped { kind: TrapKind, message: String },
+    /// The vehicle finished the cycle and the next one began (the run is at a boundary).
+    CycleBegan,
+    /// The mission ended (completed, aborted or out of cycles); `summary` says how.
+    MissionEnded { summary: String, abend: bool },
+}
+
+/// Runtime failures the user can choose to stop on (DAP exception filters).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TrapKind {
+    /// The script used up its per-cycle instruction budget.
+    CycleOverrun,
+    /// Any other runtime trap (division by zero, bad jump, ...).
+    Runtime,
+}
+
+/// Something the world wants the user to see, in order.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Notice {
+    /// A line the script printed.
+    Print(String),
+    /// The set of active behaviors changed (a description of the change).
+    Behavior(String),
+    /// The mission aborted: the reason.
+    Abend(String),
+}
+
+/// A named value in one of the scopes the debugger shows.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Named {
+    pub name: String,
+    pub value: String,
+    pub ty: &'static str,
+}
+
+pub trait Target: Clone {
+    /// The current control cycle (the boundary opening it has been passed).
+    fn cycle(&self) -> u64;
+    fn phase(&self) -> Phase;
+    /// The next instruction the script would run.
+    fn pc(&self) -> usize;
+    /// Advances by one instruction or, when the script is done for this cycle, by the rest
+    /// of the cycle up to the next boundary.
+    fn step(&mut self) -> StepEvent;
+    /// Takes what was printed or changed since the last call.
+    fn take_notices(&mut self) -> Vec<Notice>;
+
+    fn registers(&self) -> Vec<Number>;
+    fn set_register(&mut self, index: usize, value: Number) -> Result<(), String>;
+    /// Source-level variables (GBASIC names through the source map), in declaration order.
+    fn variables(&self) -> Vec<Named>;
+    fn variable(&self, name: &str) -> Option<Number>;
+    fn set_variable(&mut self, name: &str, value: Number) -> Result<(), String>;
+
+    fn sensor_count(&self) -> usize;
+    fn sensor_name(&self, index: usize) -> Option<&str>;
+    fn sensor_index(&self, name: &str) -> Option<usize>;
+    fn sensor(&self, index: usize) -> f64;
+    fn set_sensor(&mut self, index: usize, value: f64) -> Result<(), String>;
+    /// The sensors the script loads or stores, in first-use order.
+    fn touched_sensors(&self) -> Vec<usize>;
+    /// Cycle, mission time, depth, pitch, active behaviors, energy.
+    fn vehicle(&self) -> Vec<Named>;
+}

@@ -1,0 +1,336 @@
+//! The subset of DAP argument and body types the adapter uses, as serde structs.
+//!
+//! Arguments deserialize leniently (`#[serde(default)]`: a missing field is its default,
+//! so absent, `null` and `{}` arguments all work); bodies never serialize `null`
+//! (`skip_serializing_if = "Option::is_none"` on every optional field), because the
+//! official schema rejects `null` where it expects a string or number.
+
+use serde::{Deserialize, Serialize};
+use serde_json::Value;
+
+// ---------------------------------------------------------------------------------------
+// Arguments (client → adapter)
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(default, rename_all = "camelCase")]
+pub struct InitializeArguments {
+    pub client_id: Option<String>,
+    pub adapter_id: Option<String>,
+    pub lines_start_at1: Option<bool>,
+    pub columns_start_at1: Option<bool>,
+}
+
+#[derive(Debug, Default, Deserialize, Clone)]
+#[serde(default, rename_all = "camelCase")]
+pub struct SourceArgument {
+    pub path: Option<String>,
+    pub name: Option<String>,
+    pub source_reference: Option<i64>,
+}
+
+#[derive(Debug, Default, Deserialize, Clone)]
+#[serde(default, rename_all = "camelCase")]
+pub struct SourceBreakpoint {
+    pub line: i64,
+    pub column: Option<i64>,
+    pub condition: Option<String>,
+    pub hit_condition: Option<String>,
+    pub log_message: Option<String>,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(default, rename_all = "camelCase")]
+pub struct SetBreakpointsArguments {
+    pub source: SourceArgument,
+    pub breakpoints: Option<Vec<SourceBreakpoint>>,
+    pub lines: Option<Vec<i64>>,
+}
+
+#[derive(Debug, Default, Deserialize, Clone)]
+#[serde(default, rename_all = "camelCase")]
+pub struct FunctionBreakpoint {
+    pub name: String,
+    pub condition: Option<String>,
+    pub hit_condition: Option<String>,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(default, rename_all = "camelCase")]
+pub struct SetFunctionBreakpointsArguments {
+    pub breakpoints: Vec<FunctionBreakpoint>,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(default, rename_all = "camelCase")]
+pub struct SetExceptionBreakpointsArguments {
+    pub filters: Vec<String>,
+}
+
+#[derive(Debug, Default, Deserialize, Clone)]
+#[serde(default, rename_all = "camelCase")]
+pub struct InstructionBreakpoint {
+    pub instruction_reference: String,
+    pub offset: Option<i64>,
+    pub condition: Option<String>,
+    pub hit_condition: Option<String>,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(default, rename_all = "camelCase")]
+pub struct SetInstructionBreakpointsArguments {
+    pub breakpoints: Vec<InstructionBreakpoint>,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(default, rename_all = "camelCase")]
+pub struct DataBreakpointInfoArguments {
+    pub variables_reference: Option<i64>,
+    pub name: String,
+}
+
+#[derive(Debug, Default, Deserialize, Clone)]
+#[serde(default, rename_all = "camelCase")]
+pub struct DataBreakpoint {
+    pub data_id: String,
+    pub access_type: Option<String>,
+    pub condition: Option<String>,
+    pub hit_condition: Option<String>,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(default, rename_all = "camelCase")]
+pub struct SetDataBreakpointsArguments {
+    pub breakpoints: Vec<DataBreakpoint>,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(default, rename_all = "camelCase")]
+pub struct StepArguments {
+    pub thread_id: i64,
+    pub granularity: Option<String>,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(default, rename_all = "camelCase")]
+pub struct StackTraceArguments {
+    pub thread_id: i64,
+    pub start_frame: Option<i64>,
+    pub levels: Option<i64>,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(default, rename_all = "camelCase")]
+pub struct ScopesArguments {
+    pub frame_id: i64,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(default, rename_all = "camelCase")]
+pub struct VariablesArguments {
+    pub variables_reference: i64,
+    pub filter: Option<String>,
+    pub start: Option<i64>,
+    pub count: Option<i64>,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(default, rename_all = "camelCase")]
+pub struct SetVariableArguments {
+    pub variables_reference: i64,
+    pub name: String,
+    pub value: String,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(default, rename_all = "camelCase")]
+pub struct EvaluateArguments {
+    pub expression: String,
+    pub frame_id: Option<i64>,
+    pub context: Option<String>,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(default, rename_all = "camelCase")]
+pub struct DisassembleArguments {
+    pub memory_reference: String,
+    pub offset: Option<i64>,
+    pub instruction_offset: Option<i64>,
+    pub instruction_count: i64,
+    pub resolve_symbols: Option<bool>,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(default, rename_all = "camelCase")]
+pub struct BreakpointLocationsArguments {
+    pub source: SourceArgument,
+    pub line: i64,
+    pub end_line: Option<i64>,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(default, rename_all = "camelCase")]
+pub struct DisconnectArguments {
+    pub restart: Option<bool>,
+    pub terminate_debuggee: Option<bool>,
+}
+
+// ---------------------------------------------------------------------------------------
+// Bodies and their parts (adapter → client)
+
+#[derive(Debug, Default, Serialize, Clone)]
+#[serde(rename_all = "camelCase")]
+pub struct Capabilities {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub supports_configuration_done_request: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub supports_function_breakpoints: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub supports_conditional_breakpoints: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub supports_hit_conditional_breakpoints: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub supports_evaluate_for_hovers: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub exception_breakpoint_filters: Option<Vec<ExceptionBreakpointsFilter>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub supports_step_back: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub supports_set_variable: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub supports_restart_request: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub supports_log_points: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub supports_terminate_request: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub supports_data_breakpoints: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub supports_disassemble_request: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub supports_stepping_granularity: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub supports_instruction_breakpoints: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub supports_breakpoint_locations_request: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub supports_exception_info_request: Option<bool>,
+}
+
+#[derive(Debug, Serialize, Clone)]
+#[serde(rename_all = "camelCase")]
+pub struct ExceptionBreakpointsFilter {
+    pub filter: String,
+    pub label: String,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub description: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub default: Option<bool>,
+}
+
+#[derive(Debug, Serialize, Clone, Default)]
+#[serde(rename_all = "camelCase")]
+pub struct Source {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub path: Option<String>,
+}
+
+#[derive(Debug, Serialize, Clone, Default)]
+#[serde(rename_all = "camelCase")]
+pub struct Breakpoint {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub id: Option<i64>,
+    pub verified: bool,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub message: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub source: Option<Source>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub line: Option<i64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub instruction_reference: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
+}
+
+#[derive(Debug, Serialize, Clone)]
+#[serde(rename_all = "camelCase")]
+pub struct StackFrame {
+    pub id: i64,
+    pub name: String,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub source: Option<Source>,
+    pub line: i64,
+    pub column: i64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub instruction_pointer_reference: Option<String>,
+}
+
+#[derive(Debug, Serialize, Clone)]
+#[serde(rename_all = "camelCase")]
+pub struct Scope {
+    pub name: String,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub presentation_hint: Option<String>,
+    pub variables_reference: i64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub named_variables: Option<i64>,
+    pub expensive: bool,
+}
+
+#[derive(Debug, Serialize, Clone)]
+#[serde(rename_all = "camelCase")]
+pub struct Variable {
+    pub name: String,
+    pub value: String,
+    #[serde(rename = "type", skip_serializing_if = "Option::is_none")]
+    pub ty: Option<String>,
+    pub variables_reference: i64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub named_variables: Option<i64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub evaluate_name: Option<String>,
+}
+
+#[derive(Debug, Serialize, Clone)]
+#[serde(rename_all = "camelCase")]
+pub struct DisassembledInstruction {
+    pub address: String,
+    pub instruction: String,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub symbol: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub location: Option<Source>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub line: Option<i64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub presentation_hint: Option<String>,
+}
+
+#[derive(Debug, Serialize, Clone)]
+#[serde(rename_all = "camelCase")]
+pub struct StoppedEventBody {
+    pub reason: String,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub description: Option<String>,
+    pub thread_id: i64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub text: Option<String>,
+    pub all_threads_stopped: bool,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub hit_breakpoint_ids: Option<Vec<i64>>,
+}
+
+#[derive(Debug, Serialize, Clone)]
+#[serde(rename_all = "camelCase")]
+pub struct OutputEventBody {
+    pub category: String,
+    pub output: String,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub source: Option<Source>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub line: Option<i64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub data: Option<Value>,
+}

@@ -132,7 +132,10 @@ fn main() -> ExitCode {
 }
 
 fn gloc_lsp_main() -> anyhow::Result<ExitCode> {
-    anyhow::bail!("the language server is not built yet")
+    match gloc_lsp::run_stdio()? {
+        gloc_lsp::Ending::Clean => Ok(ExitCode::SUCCESS),
+        gloc_lsp::Ending::WithoutShutdown => Ok(ExitCode::from(1)),
+    }
 }
 
 fn gloc_dap_main(args: DapArgs) -> anyhow::Result<ExitCode> {

@@ -4,6 +4,7 @@
 //! Nothing here does network IO, starts threads or knows about LSP or DAP.
 #![deny(clippy::unwrap_used)]
 
+pub mod config;
 pub mod diagnostic;
 pub mod gloc;
 pub mod program;

@@ -1,0 +1,245 @@
+//! `gloc.toml`: per-project settings (masterdata path, cycle budget, mission),
+//! found by walking up from a script. Shared by the CLI, the language server
+//! and the debug adapter so that all three see the same project.
+//!
+//! The file is small and flat:
+//!
+//! ```toml
+//! masterdata = "config/masterdata.mi"   # or a .cac file; relative to gloc.toml
+//! cycle_budget = 2000                    # instructions per control cycle
+//! mission = "missions/yo.mi"             # the mission the debugger flies
+//! ```
+//!
+//! Parsing is pure ([`Config::parse`] takes text and returns a [`Diagnostic`]
+//! with a byte span into that text on error); [`Config::find`] and
+//! [`Config::discover`] are the only functions that touch the file system.
+
+use std::path::{Path, PathBuf};
+
+use serde::Deserialize;
+
+use crate::diagnostic::{Diagnostic, Span};
+
+/// The file name looked for in a script's folder and every folder above it.
+pub const FILE_NAME: &str = "gloc.toml";
+
+/// Code of every problem in a `gloc.toml` (syntax, unknown key, wrong type).
+pub const CODE_BAD_CONFIG: &str = "E0901";
+/// Code of a `gloc.toml` that cannot be read at all.
+pub const CODE_UNREADABLE_CONFIG: &str = "E0902";
+
+/// Settings from a `gloc.toml`. Every field is optional; a missing file is the
+/// same as an empty one. Paths are absolute (resolved against the folder that
+/// holds the file).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Config {
+    /// The `gloc.toml` these settings came from, if any.
+    pub path: Option<PathBuf>,
+    /// A masterdata or `.cac` file replacing the embedded sensor list.
+    pub masterdata: Option<PathBuf>,
+    /// Per-control-cycle instruction budget for running scripts.
+    pub cycle_budget: Option<u64>,
+    /// The mission (`.mi`) the debugger and `gloc run` fly.
+    pub mission: Option<PathBuf>,
+}
+
+/// A `gloc.toml` that could not be used: where it is, and what is wrong.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ConfigError {
+    pub path: PathBuf,
+    /// The file's text when it could be read (for rendering the diagnostic).
+    pub text: Option<String>,
+    pub diagnostic: Box<Diagnostic>,
+}
+
+impl std::fmt::Display for ConfigError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match &self.text {
+            Some(text) => {
+                let index = crate::diagnostic::LineIndex::new(text);
+                let (line, column) = index.line_col(text, self.diagnostic.span.start as usize);
+                write!(
+                    f,
+                    "{}:{line}:{column}: {}",
+                    self.path.display(),
+                    self.diagnostic.message
+                )
+            }
+            None => write!(f, "{}: {}", self.path.display(), self.diagnostic.message),
+        }
+    }
+}
+
+impl std::error::Error for ConfigError {}
+
+/// The file as written; kept private so the public type can hold resolved paths.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawConfig {
+    masterdata: Option<String>,
+    cycle_budget: Option<u64>,
+    mission: Option<String>,
+}
+
+impl Config {
+    /// The nearest `gloc.toml` in `start` (a file's folder, or the file itself)
+    /// or any folder above it.
+    pub fn find(start: &Path) -> Option<PathBuf> {
+        let first = if start.is_dir() {
+            Some(start)
+        } else {
+            start.parent()
+        };
+        first?
+            .ancestors()
+            .map(|folder| folder.join(FILE_NAME))
+            .find(|candidate| candidate.is_file())
+    }
+
+    /// Parses the text of a `gloc.toml` that lives in `folder`. Errors carry a
+    /// byte span into `text`.
+    pub fn parse(text: &str, folder: &Path) -> Result<Config, Box<Diagnostic>> {
+        let raw: RawConfig = toml::from_str(text).map_err(|error| {
+            let span = error
+                .span()
+                .map(|range| Span::new(range.start, range.end))
+                .unwrap_or_default();
+            let message = error.message().trim().to_string();
+            Box::new(
+                Diagnostic::error(
+                    CODE_BAD_CONFIG,
+                    span,
+                    format!("invalid gloc.toml: {message}"),
+                )
+                .with_help("the keys are `masterdata` (a path), `cycle_budget` (a positive integer) and `mission` (a path)"),
+            )
+        })?;
+        if raw.cycle_budget == Some(0) {
+            let at = text.find("cycle_budget").unwrap_or(0);
+            return Err(Box::new(Diagnostic::error(
+                CODE_BAD_CONFIG,
+                Span::new(at, at + "cycle_budget".len()),
+                "invalid gloc.toml: `cycle_budget` must be at least 1",
+            )));
+        }
+        let resolve = |value: Option<String>| value.map(|relative| folder.join(relative));
+        Ok(Config {
+            path: Some(folder.join(FILE_NAME)),
+            masterdata: resolve(raw.masterdata),
+            cycle_budget: raw.cycle_budget,
+            mission: resolve(raw.mission),
+        })
+    }
+
+    /// Reads and parses one `gloc.toml`.
+    pub fn load(path: &Path) -> Result<Config, ConfigError> {
+        let text = std::fs::read_to_string(path).map_err(|error| ConfigError {
+            path: path.to_path_buf(),
+            text: None,
+            diagnostic: Box::new(Diagnostic::error(
+                CODE_UNREADABLE_CONFIG,
+                Span::default(),
+                format!("cannot read gloc.toml: {error}"),
+            )),
+        })?;
+        let folder = path.parent().unwrap_or(Path::new("."));
+        match Config::parse(&text, folder) {
+            Ok(mut config) => {
+                config.path = Some(path.to_path_buf());
+                Ok(config)
+            }
+            Err(diagnostic) => Err(ConfigError {
+                path: path.to_path_buf(),
+                text: Some(text),
+                diagnostic,
+            }),
+        }
+    }
+
+    /// The settings that apply to a script: the nearest `gloc.toml` above it,
+    /// or the defaults when there is none.
+    pub fn discover(script: &Path) -> Result<Config, ConfigError> {
+        match Config::find(script) {
+            Some(path) => Config::load(&path),
+            None => Ok(Config::default()),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_every_key_and_resolves_paths_against_the_folder() {
+        let text = "masterdata = \"md/masterdata.mi\"\ncycle_budget = 500\nmission = \"m/yo.mi\"\n";
+        let config = Config::parse(text, Path::new("/project")).expect("valid config");
+        assert_eq!(
+            config.masterdata,
+            Some(PathBuf::from("/project/md/masterdata.mi"))
+        );
+        assert_eq!(config.cycle_budget, Some(500));
+        assert_eq!(config.mission, Some(PathBuf::from("/project/m/yo.mi")));
+    }
+
+    #[test]
+    fn an_empty_file_is_the_default() {
+        let config = Config::parse("", Path::new("/p")).expect("empty is valid");
+        assert_eq!(config.masterdata, None);
+        assert_eq!(config.cycle_budget, None);
+    }
+
+    #[test]
+    fn an_unknown_key_points_at_the_key() {
+        let text = "cycle_budget = 5\nmasterdta = \"x\"\n";
+        let error = Config::parse(text, Path::new("/p")).expect_err("unknown key");
+        assert_eq!(error.code, CODE_BAD_CONFIG);
+        assert_eq!(&text[error.span.range()], "masterdta");
+        assert!(error.message.contains("masterdta"), "{}", error.message);
+    }
+
+    #[test]
+    fn a_wrong_type_and_a_zero_budget_are_errors() {
+        let text = "cycle_budget = \"many\"\n";
+        let error = Config::parse(text, Path::new("/p")).expect_err("string budget");
+        assert_eq!(&text[error.span.range()], "\"many\"");
+        let error = Config::parse("cycle_budget = 0", Path::new("/p")).expect_err("zero");
+        assert_eq!(error.span, Span::new(0, 12));
+    }
+
+    #[test]
+    fn syntax_errors_do_not_panic_and_have_a_span() {
+        for text in [
+            "masterdata = ",
+            "[[[",
+            "cycle_budget = -1",
+            "\u{0}\u{1}",
+            "a = 'é",
+        ] {
+            let error = Config::parse(text, Path::new("/p")).expect_err(text);
+            assert!(error.span.end as usize <= text.len(), "{text:?}");
+        }
+    }
+
+    #[test]
+    fn discover_walks_up_and_reports_bad_files_with_line_and_column() {
+        let root = std::env::temp_dir().join(format!("gloc-config-test-{}", std::process::id()));
+        let nested = root.join("a").join("b");
+        std::fs::create_dir_all(&nested).expect("temp dir");
+        std::fs::write(root.join(FILE_NAME), "cycle_budget = 77\n").expect("write");
+        let script = nested.join("s.gloc");
+        let config = Config::discover(&script).expect("found");
+        assert_eq!(config.cycle_budget, Some(77));
+        assert_eq!(config.path, Some(root.join(FILE_NAME)));
+
+        std::fs::write(root.join("a").join(FILE_NAME), "\nmission = 3\n").expect("write");
+        let error = Config::discover(&script).expect_err("bad nearer file");
+        assert!(
+            error.to_string().ends_with(
+                "gloc.toml:2:11: invalid gloc.toml: invalid type: integer `3`, expected a string"
+            ),
+            "{error}"
+        );
+        std::fs::remove_dir_all(&root).expect("cleanup");
+    }
+}

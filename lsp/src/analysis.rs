@@ -1,0 +1,177 @@
+//! What the server knows about one version of a document, in a shape shared by
+//! both languages. The language adapters (`gloc_lang`, `gbasic_lang`) fill it
+//! from the core crates; the protocol features (`features`) only read it.
+//! Everything here is in byte offsets; `position` converts at the edge.
+
+use std::sync::Arc;
+
+use gloc_engine::sensors::{SensorId, SensorList};
+use gloc_engine::{Diagnostic, Span};
+
+/// The project settings an analysis depends on.
+#[derive(Clone, Debug)]
+pub struct Context {
+    pub sensors: Arc<SensorList>,
+    /// Instructions per control cycle a script may use, when configured.
+    pub cycle_budget: Option<u64>,
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct Analysis {
+    pub diagnostics: Vec<Diagnostic>,
+    /// Labels, variables and constants with every place they are used.
+    pub symbols: Vec<Symbol>,
+    /// Classified pieces of the text, sorted by start, not overlapping.
+    pub tokens: Vec<Token>,
+    /// Foldable regions (label sections, blocks), as byte spans.
+    pub folds: Vec<Span>,
+    pub hints: Vec<Hint>,
+    /// The compiled GLOC of a GBASIC document without errors.
+    pub compiled: Option<String>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SymbolKind {
+    Label,
+    Variable,
+    Array,
+    Constant,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Symbol {
+    pub name: String,
+    pub kind: SymbolKind,
+    /// The name where it is defined (`None` for a label only jumped to).
+    pub definition: Option<Span>,
+    /// The whole defining line or section (for document symbols).
+    pub extent: Span,
+    /// Every other place the name is used (not the definition).
+    pub references: Vec<Span>,
+    /// A type or a short description (`integer`, `float array(10)`, …).
+    pub detail: String,
+    /// Whether a rename may change it: GLOC labels are numbers and renaming
+    /// one renumbers it; GBASIC names are identifiers.
+    pub renamable: bool,
+}
+
+impl Symbol {
+    /// The definition and every reference.
+    pub fn occurrences(&self) -> impl Iterator<Item = Span> + '_ {
+        self.definition
+            .into_iter()
+            .chain(self.references.iter().copied())
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TokenKind {
+    Keyword,
+    /// A GLOC header directive (`nregs`, `nblbs`, `ninstr`, `nmem`).
+    Directive,
+    Function,
+    Variable,
+    Constant,
+    Register,
+    Label,
+    Number,
+    String,
+    Comment,
+    Operator,
+    SensorRead,
+    SensorWrite,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Token {
+    pub span: Span,
+    pub kind: TokenKind,
+    /// The sensor a `SensorRead`/`SensorWrite` token names (by name or by index).
+    pub sensor: Option<SensorId>,
+}
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Hint {
+    /// Where the hint is shown (after this byte).
+    pub offset: usize,
+    pub label: String,
+    pub tooltip: Option<String>,
+    pub padding_left: bool,
+}
+
+/// A completion candidate, before it becomes an LSP item.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Completion {
+    pub label: String,
+    pub kind: CompletionKind,
+    pub detail: Option<String>,
+    pub documentation: Option<String>,
+    /// A snippet (with `$1` placeholders) to insert instead of the label.
+    pub snippet: Option<String>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CompletionKind {
+    Sensor,
+    Keyword,
+    Instruction,
+    Variable,
+    Constant,
+    Label,
+    Function,
+    Register,
+}
+
+/// A built-in function's or instruction's signature, for signature help.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Signature {
+    pub label: String,
+    pub documentation: String,
+    /// Byte ranges of each parameter within `label`.
+    pub parameters: Vec<(usize, usize)>,
+    pub active_parameter: usize,
+}
+
+impl Analysis {
+    /// The token covering `offset` (a cursor right after a token counts).
+    pub fn token_at(&self, offset: usize) -> Option<&Token> {
+        let index = self
+            .tokens
+            .partition_point(|token| (token.span.end as usize) < offset);
+        let token = self.tokens.get(index)?;
+        token.span.contains(offset).then_some(token)
+    }
+
+    /// The symbol with an occurrence covering `offset`.
+    pub fn symbol_at(&self, offset: usize) -> Option<(&Symbol, Span)> {
+        self.symbols.iter().find_map(|symbol| {
+            symbol
+                .occurrences()
+                .find(|span| span.contains(offset))
+                .map(|span| (symbol, span))
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn token_at_finds_the_token_under_or_just_before_the_cursor() {
+        let token = |start, end| Token {
+            span: Span::new(start, end),
+            kind: TokenKind::Number,
+            sensor: None,
+        };
+        let analysis = Analysis {
+            tokens: vec![token(0, 3), token(5, 7)],
+            ..Analysis::default()
+        };
+        assert_eq!(analysis.token_at(0).map(|t| t.span), Some(Span::new(0, 3)));
+        assert_eq!(analysis.token_at(3).map(|t| t.span), Some(Span::new(0, 3)));
+        assert_eq!(analysis.token_at(4), None);
+        assert_eq!(analysis.token_at(7).map(|t| t.span), Some(Span::new(5, 7)));
+        assert_eq!(analysis.token_at(8), None);
+    }
+}

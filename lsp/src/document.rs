@@ -1,0 +1,177 @@
+//! An open document: its text as a rope (for incremental edits), a flat copy
+//! for the core (which takes `&str`), its language and version.
+
+use std::path::PathBuf;
+
+use ropey::Rope;
+use tower_lsp_server::ls_types::{TextDocumentContentChangeEvent, Uri};
+
+use crate::position;
+
+/// The languages the server answers for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Language {
+    Gloc,
+    Gbasic,
+    /// A `gloc.toml`: the server only reports its problems.
+    Config,
+}
+
+impl Language {
+    /// From the client's `languageId`, falling back to the file extension.
+    pub fn detect(language_id: &str, uri: &Uri) -> Option<Language> {
+        match language_id.to_ascii_lowercase().as_str() {
+            "gloc" => return Some(Language::Gloc),
+            "gbasic" | "gbas" => return Some(Language::Gbasic),
+            _ => {}
+        }
+        let path = uri.path().as_str().to_ascii_lowercase();
+        if path.ends_with(".gloc") {
+            Some(Language::Gloc)
+        } else if path.ends_with(".gbas") || path.ends_with(".gbasic") {
+            Some(Language::Gbasic)
+        } else if path.ends_with("/gloc.toml") || path == "gloc.toml" {
+            Some(Language::Config)
+        } else {
+            None
+        }
+    }
+}
+
+#[derive(Debug)]
+pub struct Document {
+    pub uri: Uri,
+    pub language: Language,
+    pub version: i32,
+    rope: Rope,
+    /// `rope` as one string, rebuilt after each batch of edits.
+    text: String,
+}
+
+impl Document {
+    pub fn new(uri: Uri, language: Language, version: i32, text: &str) -> Document {
+        Document {
+            uri,
+            language,
+            version,
+            rope: Rope::from_str(text),
+            text: text.to_string(),
+        }
+    }
+
+    pub fn text(&self) -> &str {
+        &self.text
+    }
+
+    pub fn rope(&self) -> &Rope {
+        &self.rope
+    }
+
+    /// The file this document is, when its URI is a `file:` URI.
+    pub fn path(&self) -> Option<PathBuf> {
+        if self.uri.scheme().as_str().eq_ignore_ascii_case("file") {
+            self.uri.to_file_path().map(|path| path.into_owned())
+        } else {
+            None
+        }
+    }
+
+    /// Applies one `didChange` batch in order. A change with a range replaces
+    /// that range (clamped to the document); one without replaces everything.
+    pub fn apply_changes(&mut self, version: i32, changes: Vec<TextDocumentContentChangeEvent>) {
+        for change in changes {
+            match change.range {
+                Some(range) => {
+                    let start = position::char_index_of(&self.rope, range.start)
+                        .unwrap_or(self.rope.len_chars());
+                    let end = position::char_index_of(&self.rope, range.end)
+                        .unwrap_or(self.rope.len_chars())
+                        .max(start);
+                    self.rope.remove(start..end);
+                    self.rope.insert(start, &change.text);
+                }
+                None => self.rope = Rope::from_str(&change.text),
+            }
+        }
+        self.text = self.rope.to_string();
+        self.version = version;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use tower_lsp_server::ls_types::{Position, Range};
+
+    fn change(range: Option<(u32, u32, u32, u32)>, text: &str) -> TextDocumentContentChangeEvent {
+        TextDocumentContentChangeEvent {
+            range: range.map(|(l1, c1, l2, c2)| Range {
+                start: Position {
+                    line: l1,
+                    character: c1,
+                },
+                end: Position {
+                    line: l2,
+                    character: c2,
+                },
+            }),
+            range_length: None,
+            text: text.to_string(),
+        }
+    }
+
+    fn uri(text: &str) -> Uri {
+        text.parse().expect("uri")
+    }
+
+    #[test]
+    fn incremental_edits_with_non_ascii_text() {
+        let mut document = Document::new(
+            uri("file:///a.gbas"),
+            Language::Gbasic,
+            1,
+            "x = 1 ' 𝄞é\ny = 2\n",
+        );
+        // Replace "é" (UTF-16 column 10..11 after the 2-unit '𝄞').
+        document.apply_changes(2, vec![change(Some((0, 10, 0, 11)), "ü")]);
+        assert_eq!(document.text(), "x = 1 ' 𝄞ü\ny = 2\n");
+        // Insert across lines, then delete a line break.
+        document.apply_changes(
+            3,
+            vec![
+                change(Some((1, 0, 1, 0)), "z = 3\n"),
+                change(Some((0, 11, 1, 0)), " "),
+            ],
+        );
+        assert_eq!(document.text(), "x = 1 ' 𝄞ü z = 3\ny = 2\n");
+        assert_eq!(document.version, 3);
+    }
+
+    #[test]
+    fn out_of_range_edits_are_clamped_and_full_replacement_works() {
+        let mut document = Document::new(uri("file:///a.gloc"), Language::Gloc, 1, "ab");
+        document.apply_changes(2, vec![change(Some((5, 0, 9, 9)), "!")]);
+        assert_eq!(document.text(), "ab!");
+        document.apply_changes(3, vec![change(Some((0, 2, 0, 1)), "?")]);
+        assert_eq!(document.text(), "ab?!");
+        document.apply_changes(4, vec![change(None, "new")]);
+        assert_eq!(document.text(), "new");
+    }
+
+    #[test]
+    fn language_from_id_or_extension() {
+        assert_eq!(
+            Language::detect("gloc", &uri("untitled:1")),
+            Some(Language::Gloc)
+        );
+        assert_eq!(
+            Language::detect("plaintext", &uri("file:///x/y.GBAS")),
+            Some(Language::Gbasic)
+        );
+        assert_eq!(
+            Language::detect("toml", &uri("file:///x/gloc.toml")),
+            Some(Language::Config)
+        );
+        assert_eq!(Language::detect("rust", &uri("file:///x/y.rs")), None);
+    }
+}

@@ -1,0 +1,620 @@
+//! LSP features over the language-neutral [`Analysis`]: each function takes a
+//! document and its analysis and returns protocol types. Positions go through
+//! `position` only.
+
+use std::collections::HashMap;
+
+use gloc_engine::{Severity, Span};
+use ropey::Rope;
+use serde_json::Value;
+use tower_lsp_server::jsonrpc;
+use tower_lsp_server::ls_types::*;
+
+use crate::analysis::{Analysis, CompletionKind, Context, SymbolKind as Kind, TokenKind};
+use crate::document::{Document, Language};
+use crate::lang;
+use crate::position::{end_position, offset_of, position_of, range_of};
+use crate::server::COMPILED_GLOC_COMMAND;
+
+/// Semantic token types, in legend order.
+const TOKEN_TYPES: [SemanticTokenType; 10] = [
+    SemanticTokenType::KEYWORD,
+    SemanticTokenType::MACRO,
+    SemanticTokenType::FUNCTION,
+    SemanticTokenType::VARIABLE,
+    SemanticTokenType::NUMBER,
+    SemanticTokenType::STRING,
+    SemanticTokenType::COMMENT,
+    SemanticTokenType::OPERATOR,
+    SemanticTokenType::PROPERTY,
+    SemanticTokenType::new("label"),
+];
+/// Semantic token modifiers, in legend order (bit positions).
+const TOKEN_MODIFIERS: [SemanticTokenModifier; 4] = [
+    SemanticTokenModifier::READONLY,
+    SemanticTokenModifier::MODIFICATION,
+    SemanticTokenModifier::DEFAULT_LIBRARY,
+    SemanticTokenModifier::new("register"),
+];
+
+pub fn capabilities() -> ServerCapabilities {
+    ServerCapabilities {
+        position_encoding: Some(PositionEncodingKind::UTF16),
+        text_document_sync: Some(TextDocumentSyncCapability::Options(
+            TextDocumentSyncOptions {
+                open_close: Some(true),
+                change: Some(TextDocumentSyncKind::INCREMENTAL),
+                save: Some(TextDocumentSyncSaveOptions::Supported(true)),
+                ..TextDocumentSyncOptions::default()
+            },
+        )),
+        completion_provider: Some(CompletionOptions {
+            trigger_characters: Some(vec![" ".into(), ",".into(), "(".into()]),
+            ..CompletionOptions::default()
+        }),
+        hover_provider: Some(HoverProviderCapability::Simple(true)),
+        signature_help_provider: Some(SignatureHelpOptions {
+            trigger_characters: Some(vec!["(".into(), ",".into()]),
+            retrigger_characters: None,
+            work_done_progress_options: WorkDoneProgressOptions::default(),
+        }),
+        definition_provider: Some(OneOf::Left(true)),
+        references_provider: Some(OneOf::Left(true)),
+        document_highlight_provider: Some(OneOf::Left(true)),
+        rename_provider: Some(OneOf::Right(RenameOptions {
+            prepare_provider: Some(true),
+            work_done_progress_options: WorkDoneProgressOptions::default(),
+        })),
+        document_symbol_provider: Some(OneOf::Left(true)),
+        folding_range_provider: Some(FoldingRangeProviderCapability::Simple(true)),
+        semantic_tokens_provider: Some(SemanticTokensServerCapabilities::SemanticTokensOptions(
+            SemanticTokensOptions {
+                legend: SemanticTokensLegend {
+                    token_types: TOKEN_TYPES.to_vec(),
+                    token_modifiers: TOKEN_MODIFIERS.to_vec(),
+                },
+                full: Some(SemanticTokensFullOptions::Bool(true)),
+                range: None,
+                work_done_progress_options: WorkDoneProgressOptions::default(),
+            },
+        )),
+        inlay_hint_provider: Some(OneOf::Left(true)),
+        code_action_provider: Some(CodeActionProviderCapability::Options(CodeActionOptions {
+            code_action_kinds: Some(vec![CodeActionKind::QUICKFIX]),
+            ..CodeActionOptions::default()
+        })),
+        document_formatting_provider: Some(OneOf::Left(true)),
+        execute_command_provider: Some(ExecuteCommandOptions {
+            commands: vec![COMPILED_GLOC_COMMAND.to_string()],
+            work_done_progress_options: WorkDoneProgressOptions::default(),
+        }),
+        ..ServerCapabilities::default()
+    }
+}
+
+pub fn diagnostics(document: &Document, analysis: &Analysis) -> Vec<Diagnostic> {
+    diagnostics_for(document.rope(), &document.uri, &analysis.diagnostics)
+}
+
+/// Converts core diagnostics; labels become related information in the same file.
+pub fn diagnostics_for(
+    rope: &Rope,
+    uri: &Uri,
+    diagnostics: &[gloc_engine::Diagnostic],
+) -> Vec<Diagnostic> {
+    diagnostics
+        .iter()
+        .map(|diagnostic| {
+            let mut message = diagnostic.message.clone();
+            if let Some(help) = &diagnostic.help {
+                message.push_str("\nhelp: ");
+                message.push_str(help);
+            }
+            let related: Vec<DiagnosticRelatedInformation> = diagnostic
+                .labels
+                .iter()
+                .map(|label| DiagnosticRelatedInformation {
+                    location: Location {
+                        uri: uri.clone(),
+                        range: range_of(rope, label.span),
+                    },
+                    message: label.message.clone(),
+                })
+                .collect();
+            Diagnostic {
+                range: range_of(rope, diagnostic.span),
+                severity: Some(match diagnostic.severity {
+                    Severity::Error => DiagnosticSeverity::ERROR,
+                    Severity::Warning => DiagnosticSeverity::WARNING,
+                    Severity::Note => DiagnosticSeverity::INFORMATION,
+                }),
+                code: Some(NumberOrString::String(diagnostic.code.to_string())),
+                source: Some("gloc".to_string()),
+                message,
+                related_information: (!related.is_empty()).then_some(related),
+                ..Diagnostic::default()
+            }
+        })
+        .collect()
+}
+
+pub fn completion(
+    document: &Document,
+    analysis: &Analysis,
+    context: &Context,
+    position: Position,
+) -> Option<CompletionResponse> {
+    let offset = offset_of(document.rope(), position);
+    let completions = lang::completions(
+        document.language,
+        document.text(),
+        offset,
+        analysis,
+        context,
+    );
+    let items = completions
+        .into_iter()
+        .map(|completion| CompletionItem {
+            label: completion.label,
+            kind: Some(match completion.kind {
+                CompletionKind::Sensor => CompletionItemKind::FIELD,
+                CompletionKind::Keyword => CompletionItemKind::KEYWORD,
+                CompletionKind::Instruction => CompletionItemKind::OPERATOR,
+                CompletionKind::Variable => CompletionItemKind::VARIABLE,
+                CompletionKind::Constant => CompletionItemKind::CONSTANT,
+                CompletionKind::Label => CompletionItemKind::REFERENCE,
+                CompletionKind::Function => CompletionItemKind::FUNCTION,
+                CompletionKind::Register => CompletionItemKind::VARIABLE,
+            }),
+            detail: completion.detail,
+            documentation: completion.documentation.map(|text| {
+                Documentation::MarkupContent(MarkupContent {
+                    kind: MarkupKind::Markdown,
+                    value: text,
+                })
+            }),
+            insert_text_format: completion
+                .snippet
+                .as_ref()
+                .map(|_| InsertTextFormat::SNIPPET),
+            insert_text: completion.snippet,
+            ..CompletionItem::default()
+        })
+        .collect();
+    Some(CompletionResponse::List(CompletionList {
+        is_incomplete: false,
+        items,
+    }))
+}
+
+pub fn hover(
+    document: &Document,
+    analysis: &Analysis,
+    context: &Context,
+    position: Position,
+) -> Option<Hover> {
+    let offset = offset_of(document.rope(), position);
+    let token = analysis.token_at(offset)?;
+    let word = &document.text()[token.span.range()];
+    let markdown = match token.kind {
+        TokenKind::SensorRead | TokenKind::SensorWrite => {
+            let id = token.sensor?;
+            lang::sensor_markdown(&context.sensors, id)
+        }
+        TokenKind::Label | TokenKind::Variable | TokenKind::Constant => {
+            let (symbol, _) = analysis.symbol_at(offset)?;
+            let what = match symbol.kind {
+                Kind::Label => "label",
+                Kind::Variable => "variable",
+                Kind::Array => "array",
+                Kind::Constant => "constant",
+            };
+            let uses = symbol.references.len();
+            let mut text = format!("{what} `{}`", symbol.name);
+            if !symbol.detail.is_empty() {
+                text.push_str(&format!(": {}", symbol.detail));
+            }
+            text.push_str(&format!(
+                "\n\n{uses} use{}",
+                if uses == 1 { "" } else { "s" }
+            ));
+            if symbol.definition.is_none() {
+                text.push_str("; never defined");
+            }
+            text
+        }
+        _ => lang::word_markdown(document.language, word, token.kind)?,
+    };
+    Some(Hover {
+        contents: HoverContents::Markup(MarkupContent {
+            kind: MarkupKind::Markdown,
+            value: markdown,
+        }),
+        range: Some(range_of(document.rope(), token.span)),
+    })
+}
+
+pub fn signature_help(document: &Document, position: Position) -> Option<SignatureHelp> {
+    let offset = offset_of(document.rope(), position);
+    let signature = lang::signature(document.language, document.text(), offset)?;
+    let utf16 = |byte: usize| {
+        signature.label[..byte.min(signature.label.len())]
+            .encode_utf16()
+            .count() as u32
+    };
+    Some(SignatureHelp {
+        signatures: vec![SignatureInformation {
+            label: signature.label.clone(),
+            documentation: Some(Documentation::MarkupContent(MarkupContent {
+                kind: MarkupKind::Markdown,
+                value: signature.documentation.clone(),
+            })),
+            parameters: Some(
+                signature
+                    .parameters
+                    .iter()
+                    .map(|(start, end)| ParameterInformation {
+                        label: ParameterLabel::LabelOffsets([utf16(*start), utf16(*end)]),
+                        documentation: None,
+                    })
+                    .collect(),
+            ),
+            active_parameter: Some(signature.active_parameter as u32),
+        }],
+        active_signature: Some(0),
+        active_parameter: Some(signature.active_parameter as u32),
+    })
+}
+
+pub fn definition(
+    document: &Document,
+    analysis: &Analysis,
+    position: Position,
+) -> Option<GotoDefinitionResponse> {
+    let offset = offset_of(document.rope(), position);
+    let (symbol, _) = analysis.symbol_at(offset)?;
+    let definition = symbol.definition?;
+    Some(GotoDefinitionResponse::Scalar(Location {
+        uri: document.uri.clone(),
+        range: range_of(document.rope(), definition),
+    }))
+}
+
+pub fn references(
+    document: &Document,
+    analysis: &Analysis,
+    position: Position,
+    include_declaration: bool,
+) -> Option<Vec<Location>> {
+    let offset = offset_of(document.rope(), position);
+    let (symbol, _) = analysis.symbol_at(offset)?;
+    let spans: Vec<Span> = if include_declaration {
+        symbol.occurrences().collect()
+    } else {
+        symbol.references.clone()
+    };
+    Some(
+        spans
+            .into_iter()
+            .map(|span| Location {
+                uri: document.uri.clone(),
+                range: range_of(document.rope(), span),
+            })
+            .collect(),
+    )
+}
+
+pub fn highlights(
+    document: &Document,
+    analysis: &Analysis,
+    position: Position,
+) -> Option<Vec<DocumentHighlight>> {
+    let offset = offset_of(document.rope(), position);
+    let (symbol, _) = analysis.symbol_at(offset)?;
+    let mut highlights: Vec<DocumentHighlight> = symbol
+        .definition
+        .iter()
+        .map(|span| DocumentHighlight {
+            range: range_of(document.rope(), *span),
+            kind: Some(DocumentHighlightKind::WRITE),
+        })
+        .collect();
+    highlights.extend(symbol.references.iter().map(|span| DocumentHighlight {
+        range: range_of(document.rope(), *span),
+        kind: Some(DocumentHighlightKind::READ),
+    }));
+    Some(highlights)
+}
+
+pub fn prepare_rename(
+    document: &Document,
+    analysis: &Analysis,
+    position: Position,
+) -> Option<PrepareRenameResponse> {
+    let offset = offset_of(document.rope(), position);
+    let (symbol, span) = analysis.symbol_at(offset)?;
+    if !symbol.renamable {
+        return None;
+    }
+    Some(PrepareRenameResponse::RangeWithPlaceholder {
+        range: range_of(document.rope(), span),
+        placeholder: document.text()[span.range()].to_string(),
+    })
+}
+
+/// The edit renaming the symbol under the cursor, `Ok(None)` when there is no
+/// symbol there, or why the new name is not allowed.
+pub fn rename(
+    document: &Document,
+    analysis: &Analysis,
+    position: Position,
+    new_name: &str,
+) -> Result<Option<WorkspaceEdit>, String> {
+    let offset = offset_of(document.rope(), position);
+    let Some((symbol, _)) = analysis.symbol_at(offset) else {
+        return Ok(None);
+    };
+    if !symbol.renamable {
+        return Err(format!("`{}` cannot be renamed", symbol.name));
+    }
+    let new_name = new_name.trim();
+    lang::check_new_name(document.language, symbol, new_name, analysis)?;
+    let edits = symbol
+        .occurrences()
+        .map(|span| TextEdit {
+            range: range_of(document.rope(), span),
+            new_text: new_name.to_string(),
+        })
+        .collect();
+    Ok(Some(WorkspaceEdit {
+        changes: Some(HashMap::from([(document.uri.clone(), edits)])),
+        ..WorkspaceEdit::default()
+    }))
+}
+
+#[allow(deprecated)] // `DocumentSymbol::deprecated` must still be written out.
+pub fn document_symbols(document: &Document, analysis: &Analysis) -> DocumentSymbolResponse {
+    let rope = document.rope();
+    let symbols = analysis
+        .symbols
+        .iter()
+        .filter_map(|symbol| {
+            let definition = symbol.definition?;
+            let extent = symbol.extent.cover(definition);
+            Some(DocumentSymbol {
+                name: symbol.name.clone(),
+                detail: (!symbol.detail.is_empty()).then(|| symbol.detail.clone()),
+                kind: match symbol.kind {
+                    Kind::Label => SymbolKind::FUNCTION,
+                    Kind::Variable => SymbolKind::VARIABLE,
+                    Kind::Array => SymbolKind::ARRAY,
+                    Kind::Constant => SymbolKind::CONSTANT,
+                },
+                tags: None,
+                deprecated: None,
+                range: range_of(rope, extent),
+                selection_range: range_of(rope, definition),
+                children: None,
+            })
+        })
+        .collect();
+    DocumentSymbolResponse::Nested(symbols)
+}
+
+pub fn folding_ranges(document: &Document, analysis: &Analysis) -> Vec<FoldingRange> {
+    let rope = document.rope();
+    analysis
+        .folds
+        .iter()
+        .filter_map(|span| {
+            let start = position_of(rope, span.start as usize);
+            let end = position_of(rope, span.end as usize);
+            (end.line > start.line).then_some(FoldingRange {
+                start_line: start.line,
+                start_character: None,
+                end_line: end.line,
+                end_character: None,
+                kind: Some(FoldingRangeKind::Region),
+                collapsed_text: None,
+            })
+        })
+        .collect()
+}
+
+pub fn semantic_tokens(
+    document: &Document,
+    analysis: &Analysis,
+    context: &Context,
+) -> SemanticTokens {
+    let rope = document.rope();
+    let mut data = Vec::with_capacity(analysis.tokens.len());
+    let (mut previous_line, mut previous_start) = (0u32, 0u32);
+    for token in &analysis.tokens {
+        let start = position_of(rope, token.span.start as usize);
+        let end = position_of(rope, token.span.end as usize);
+        // Our tokens never span lines; a client cannot show one that does.
+        if end.line != start.line || end.character <= start.character {
+            continue;
+        }
+        let read_only = token
+            .sensor
+            .and_then(|id| context.sensors.get(id))
+            .map(|sensor| sensor.access() == gloc_engine::sensors::Access::ReadOnly);
+        let (token_type, modifiers) = token_style(token.kind, read_only);
+        let delta_line = start.line - previous_line;
+        let delta_start = if delta_line == 0 {
+            start.character - previous_start
+        } else {
+            start.character
+        };
+        data.push(SemanticToken {
+            delta_line,
+            delta_start,
+            length: end.character - start.character,
+            token_type,
+            token_modifiers_bitset: modifiers,
+        });
+        previous_line = start.line;
+        previous_start = start.character;
+    }
+    SemanticTokens {
+        result_id: None,
+        data,
+    }
+}
+
+/// (index into `TOKEN_TYPES`, modifier bits).
+fn token_style(kind: TokenKind, read_only_sensor: Option<bool>) -> (u32, u32) {
+    const READONLY: u32 = 1;
+    const MODIFICATION: u32 = 2;
+    const DEFAULT_LIBRARY: u32 = 4;
+    const REGISTER: u32 = 8;
+    let read_only = if read_only_sensor == Some(true) {
+        READONLY
+    } else {
+        0
+    };
+    match kind {
+        TokenKind::Keyword => (0, 0),
+        TokenKind::Directive => (1, 0),
+        TokenKind::Function => (2, DEFAULT_LIBRARY),
+        TokenKind::Variable => (3, 0),
+        TokenKind::Constant => (3, READONLY),
+        TokenKind::Register => (3, REGISTER),
+        TokenKind::Number => (4, 0),
+        TokenKind::String => (5, 0),
+        TokenKind::Comment => (6, 0),
+        TokenKind::Operator => (7, 0),
+        TokenKind::SensorRead => (8, DEFAULT_LIBRARY | read_only),
+        TokenKind::SensorWrite => (8, DEFAULT_LIBRARY | MODIFICATION),
+        TokenKind::Label => (9, 0),
+    }
+}
+
+pub fn inlay_hints(document: &Document, analysis: &Analysis, range: Range) -> Vec<InlayHint> {
+    let rope = document.rope();
+    let first = offset_of(rope, range.start);
+    let last = offset_of(rope, range.end);
+    analysis
+        .hints
+        .iter()
+        .filter(|hint| hint.offset >= first && hint.offset <= last)
+        .map(|hint| InlayHint {
+            position: position_of(rope, hint.offset),
+            label: InlayHintLabel::String(hint.label.clone()),
+            kind: None,
+            text_edits: None,
+            tooltip: hint.tooltip.clone().map(InlayHintTooltip::String),
+            padding_left: Some(hint.padding_left),
+            padding_right: None,
+            data: None,
+        })
+        .collect()
+}
+
+/// Quick fixes carried by the diagnostics that touch `range`.
+pub fn code_actions(document: &Document, analysis: &Analysis, range: Range) -> CodeActionResponse {
+    let rope = document.rope();
+    let wanted = Span::new(offset_of(rope, range.start), offset_of(rope, range.end));
+    let converted = diagnostics(document, analysis);
+    let mut actions = Vec::new();
+    for (diagnostic, lsp_diagnostic) in analysis.diagnostics.iter().zip(converted) {
+        let touches = diagnostic.span.start <= wanted.end && wanted.start <= diagnostic.span.end;
+        if !touches {
+            continue;
+        }
+        for fix in &diagnostic.fixes {
+            let edit = TextEdit {
+                range: range_of(rope, fix.span),
+                new_text: fix.replacement.clone(),
+            };
+            actions.push(CodeActionOrCommand::CodeAction(CodeAction {
+                title: fix.title.clone(),
+                kind: Some(CodeActionKind::QUICKFIX),
+                diagnostics: Some(vec![lsp_diagnostic.clone()]),
+                edit: Some(WorkspaceEdit {
+                    changes: Some(HashMap::from([(document.uri.clone(), vec![edit])])),
+                    ..WorkspaceEdit::default()
+                }),
+                is_preferred: Some(diagnostic.fixes.len() == 1),
+                ..CodeAction::default()
+            }));
+        }
+    }
+    actions
+}
+
+/// The edit that formats the document: only the changed lines are replaced,
+/// so the cursor stays where it is elsewhere.
+pub fn formatting(document: &Document) -> Option<Vec<TextEdit>> {
+    let text = document.text();
+    let formatted = lang::format(document.language, text)?;
+    if formatted == text {
+        return Some(Vec::new());
+    }
+    let old_lines: Vec<&str> = text.split_inclusive('\n').collect();
+    let new_lines: Vec<&str> = formatted.split_inclusive('\n').collect();
+    let common_prefix = old_lines
+        .iter()
+        .zip(&new_lines)
+        .take_while(|(old, new)| old == new)
+        .count();
+    let common_suffix = old_lines[common_prefix..]
+        .iter()
+        .rev()
+        .zip(new_lines[common_prefix..].iter().rev())
+        .take_while(|(old, new)| old == new)
+        .count();
+    let start: usize = old_lines[..common_prefix]
+        .iter()
+        .map(|line| line.len())
+        .sum();
+    let end: usize = text.len()
+        - old_lines[old_lines.len() - common_suffix..]
+            .iter()
+            .map(|line| line.len())
+            .sum::<usize>();
+    let replacement: String = new_lines[common_prefix..new_lines.len() - common_suffix].concat();
+    let rope = document.rope();
+    let end_position = if end == text.len() {
+        end_position(rope)
+    } else {
+        position_of(rope, end)
+    };
+    Some(vec![TextEdit {
+        range: Range {
+            start: position_of(rope, start),
+            end: end_position,
+        },
+        new_text: replacement,
+    }])
+}
+
+/// The answer to `gloc.compiledGloc`: the GLOC text (a GLOC document is its
+/// own GLOC), or an error saying why there is none (the program has errors).
+pub fn compiled_gloc(document: &Document, analysis: &Analysis) -> jsonrpc::Result<Value> {
+    match document.language {
+        Language::Gbasic => {}
+        Language::Gloc => return Ok(Value::String(document.text().to_string())),
+        Language::Config => {
+            return Err(jsonrpc::Error::invalid_params(
+                "`gloc.compiledGloc` takes a GBASIC document, not gloc.toml",
+            ))
+        }
+    }
+    match &analysis.compiled {
+        Some(gloc) => Ok(Value::String(gloc.clone())),
+        None => {
+            let errors = analysis
+                .diagnostics
+                .iter()
+                .filter(|diagnostic| diagnostic.is_error())
+                .count();
+            Err(jsonrpc::Error::invalid_params(format!(
+                "the program has {errors} error{}; fix {} to see its GLOC",
+                if errors == 1 { "" } else { "s" },
+                if errors == 1 { "it" } else { "them" }
+            )))
+        }
+    }
+}

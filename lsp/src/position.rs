@@ -1,0 +1,159 @@
+//! The one place that converts between the core's byte offsets ([`Span`]) and
+//! LSP positions (0-based line, UTF-16 code units within the line).
+//!
+//! Every conversion clamps instead of failing: a client may send a position
+//! past the end of a line or of the document (the spec says to use the line's
+//! end), or in the middle of a surrogate pair; the core may hand us an offset
+//! inside a multi-byte character. None of these may crash the server.
+
+use gloc_engine::Span;
+use ropey::Rope;
+use tower_lsp_server::ls_types::{Position, Range};
+
+/// The LSP position of a byte offset.
+pub fn position_of(rope: &Rope, byte_offset: usize) -> Position {
+    let byte_offset = byte_offset.min(rope.len_bytes());
+    // `byte_to_char` rounds down to the character containing the byte.
+    let char_index = rope.byte_to_char(byte_offset);
+    let line = rope.char_to_line(char_index);
+    let line_start_utf16 = rope.char_to_utf16_cu(rope.line_to_char(line));
+    let character = rope.char_to_utf16_cu(char_index) - line_start_utf16;
+    Position {
+        line: to_u32(line),
+        character: to_u32(character),
+    }
+}
+
+/// The byte offset of an LSP position, clamped to the document and to the
+/// position's line (never past its line break).
+pub fn offset_of(rope: &Rope, position: Position) -> usize {
+    char_index_of(rope, position).map_or(rope.len_bytes(), |index| rope.char_to_byte(index))
+}
+
+/// The character index of an LSP position (what the rope edits by), clamped
+/// like [`offset_of`]. `None` when the line is past the end of the document.
+pub fn char_index_of(rope: &Rope, position: Position) -> Option<usize> {
+    let line = position.line as usize;
+    if line >= rope.len_lines() {
+        return None;
+    }
+    let line_start = rope.line_to_char(line);
+    let line_end = line_start + line_length_without_break(rope, line);
+    let line_start_utf16 = rope.char_to_utf16_cu(line_start);
+    let line_end_utf16 = rope.char_to_utf16_cu(line_end);
+    let wanted_utf16 = (line_start_utf16 + position.character as usize).min(line_end_utf16);
+    // Inside a surrogate pair `utf16_cu_to_char` gives the character that
+    // contains it, i.e. rounds down: the same rule as for bytes.
+    Some(rope.utf16_cu_to_char(wanted_utf16))
+}
+
+/// The LSP range of a span.
+pub fn range_of(rope: &Rope, span: Span) -> Range {
+    Range {
+        start: position_of(rope, span.start as usize),
+        end: position_of(rope, span.end as usize),
+    }
+}
+
+/// The span of an LSP range (start and end clamped; never inverted).
+pub fn span_of(rope: &Rope, range: Range) -> Span {
+    Span::new(offset_of(rope, range.start), offset_of(rope, range.end))
+}
+
+/// The position just past the last character (for whole-document edits).
+pub fn end_position(rope: &Rope) -> Position {
+    position_of(rope, rope.len_bytes())
+}
+
+/// Number of characters on a line, not counting its `\n`, `\r\n` or `\r`.
+fn line_length_without_break(rope: &Rope, line: usize) -> usize {
+    let slice = rope.line(line);
+    let mut length = slice.len_chars();
+    if length > 0 && slice.char(length - 1) == '\n' {
+        length -= 1;
+    }
+    if length > 0 && slice.char(length - 1) == '\r' {
+        length -= 1;
+    }
+    length
+}
+
+fn to_u32(value: usize) -> u32 {
+    u32::try_from(value).unwrap_or(u32::MAX)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pos(line: u32, character: u32) -> Position {
+        Position { line, character }
+    }
+
+    #[test]
+    fn ascii_offsets_and_positions_agree() {
+        let rope = Rope::from_str("ab\ncd\n");
+        assert_eq!(position_of(&rope, 0), pos(0, 0));
+        assert_eq!(position_of(&rope, 4), pos(1, 1));
+        assert_eq!(position_of(&rope, 6), pos(2, 0));
+        assert_eq!(offset_of(&rope, pos(1, 1)), 4);
+    }
+
+    #[test]
+    fn non_ascii_counts_utf16_code_units() {
+        // 'é' is 2 bytes / 1 UTF-16 unit; '𝄞' is 4 bytes / 2 UTF-16 units.
+        let text = "é𝄞x\n";
+        let rope = Rope::from_str(text);
+        let x = text.find('x').expect("x");
+        assert_eq!(x, 6);
+        assert_eq!(position_of(&rope, x), pos(0, 3));
+        assert_eq!(offset_of(&rope, pos(0, 3)), 6);
+        assert_eq!(offset_of(&rope, pos(0, 1)), 2);
+        // Inside the surrogate pair: rounds down to the start of '𝄞'.
+        assert_eq!(offset_of(&rope, pos(0, 2)), 2);
+        // A byte offset inside 'é' rounds down too.
+        assert_eq!(position_of(&rope, 1), pos(0, 0));
+    }
+
+    #[test]
+    fn positions_past_the_end_are_clamped() {
+        let rope = Rope::from_str("ab\r\ncd");
+        // Past the end of line 0 stops before "\r\n".
+        assert_eq!(offset_of(&rope, pos(0, 99)), 2);
+        assert_eq!(offset_of(&rope, pos(1, 99)), 6);
+        assert_eq!(offset_of(&rope, pos(7, 0)), 6);
+        assert_eq!(position_of(&rope, 999), pos(1, 2));
+        assert_eq!(end_position(&rope), pos(1, 2));
+    }
+
+    #[test]
+    fn carriage_return_alone_is_a_line_break() {
+        let rope = Rope::from_str("a\rb");
+        assert_eq!(position_of(&rope, 2), pos(1, 0));
+        assert_eq!(offset_of(&rope, pos(1, 1)), 3);
+    }
+
+    #[test]
+    fn unicode_line_separators_are_not_line_breaks() {
+        // U+2028 is a line break for some tools but not for LSP.
+        let rope = Rope::from_str("a\u{2028}b\nc");
+        assert_eq!(position_of(&rope, "a\u{2028}b".len()), pos(0, 3));
+        assert_eq!(rope.len_lines(), 2);
+    }
+
+    #[test]
+    fn round_trip_on_every_char_boundary() {
+        let text = "label 0\n  loads 444,r0 # ü m_depth ✓\r\n𝄞𝄞\rend";
+        let rope = Rope::from_str(text);
+        for (offset, _) in text.char_indices().chain([(text.len(), ' ')]) {
+            let position = position_of(&rope, offset);
+            let back = offset_of(&rope, position);
+            // Line breaks: the offset of "\n" in "\r\n" maps to the line end.
+            if text[..offset].ends_with('\r') && text[offset..].starts_with('\n') {
+                assert_eq!(back, offset - 1);
+            } else {
+                assert_eq!(back, offset, "offset {offset} → {position:?}");
+            }
+        }
+    }
+}

@@ -1,0 +1,673 @@
+//! The protocol shell: receives LSP messages, keeps the open documents, asks
+//! the language adapters for answers and converts them with `features`.
+//!
+//! Ordering: the server runs with `concurrency_level(1)` and every handler
+//! mutates state before its first `.await`, so a request always sees every
+//! edit sent before it. State sits behind a `std` mutex that is never held
+//! across an `.await`. Round trips to the client (`workspace/configuration`)
+//! run in spawned tasks, never inside a handler.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard};
+
+use gloc_engine::config::{Config, ConfigError};
+use gloc_engine::sensors::SensorList;
+use gloc_engine::Diagnostic;
+use serde_json::Value;
+use tower_lsp_server::jsonrpc::{Error, Result};
+use tower_lsp_server::ls_types::*;
+use tower_lsp_server::{Client, LanguageServer};
+
+use crate::analysis::{Analysis, Context};
+use crate::document::{Document, Language};
+use crate::{features, lang};
+
+/// The command that returns the compiled GLOC of a GBASIC document.
+pub const COMPILED_GLOC_COMMAND: &str = "gloc.compiledGloc";
+
+pub struct Backend {
+    client: Client,
+    state: Arc<Mutex<State>>,
+    shutdown_requested: Arc<AtomicBool>,
+}
+
+/// Overrides from the client (`initializationOptions`, `didChangeConfiguration`
+/// or `workspace/configuration`, section `gloc`); they win over `gloc.toml`.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Settings {
+    pub masterdata: Option<PathBuf>,
+    pub cycle_budget: Option<u64>,
+}
+
+struct Open {
+    document: Document,
+    analysis: Arc<Analysis>,
+    context: Context,
+}
+
+#[derive(Default)]
+struct State {
+    documents: HashMap<Uri, Open>,
+    settings: Settings,
+    /// Loaded sensor lists by path (a failure is kept as its message).
+    sensor_lists: HashMap<PathBuf, std::result::Result<Arc<SensorList>, String>>,
+    embedded: Option<Arc<SensorList>>,
+    client_supports_configuration: bool,
+    /// `gloc.toml` files that currently have problems (so clearing works).
+    config_files_with_problems: Vec<PathBuf>,
+}
+
+/// Diagnostics to send once the state lock is released.
+struct Publish {
+    uri: Uri,
+    diagnostics: Vec<tower_lsp_server::ls_types::Diagnostic>,
+    version: Option<i32>,
+}
+
+impl Backend {
+    pub fn new(client: Client, shutdown_requested: Arc<AtomicBool>) -> Backend {
+        Backend {
+            client,
+            state: Arc::new(Mutex::new(State::default())),
+            shutdown_requested,
+        }
+    }
+}
+
+fn lock(state: &Mutex<State>) -> MutexGuard<'_, State> {
+    // A panic while holding the lock must not take the server down with it.
+    state
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner())
+}
+
+async fn send(client: &Client, publishes: Vec<Publish>) {
+    for publish in publishes {
+        client
+            .publish_diagnostics(publish.uri, publish.diagnostics, publish.version)
+            .await;
+    }
+}
+
+impl State {
+    fn embedded(&mut self) -> Arc<SensorList> {
+        self.embedded
+            .get_or_insert_with(|| Arc::new(SensorList::embedded()))
+            .clone()
+    }
+
+    /// The `gloc.toml` that applies to a document, preferring the editor's
+    /// unsaved text when the file is open.
+    fn config_for(&self, path: Option<&Path>) -> std::result::Result<Config, ConfigError> {
+        let Some(config_path) = path.and_then(Config::find) else {
+            return Ok(Config::default());
+        };
+        let open_text = self.documents.values().find_map(|open| {
+            (open.document.language == Language::Config
+                && open.document.path().as_deref() == Some(config_path.as_path()))
+            .then(|| open.document.text().to_string())
+        });
+        match open_text {
+            Some(text) => {
+                let folder = config_path.parent().unwrap_or(Path::new("."));
+                Config::parse(&text, folder)
+                    .map(|mut config| {
+                        config.path = Some(config_path.clone());
+                        config
+                    })
+                    .map_err(|diagnostic| ConfigError {
+                        path: config_path.clone(),
+                        text: Some(text),
+                        diagnostic,
+                    })
+            }
+            None => Config::load(&config_path),
+        }
+    }
+
+    fn sensor_list(&mut self, path: &Path) -> std::result::Result<Arc<SensorList>, String> {
+        if let Some(loaded) = self.sensor_lists.get(path) {
+            return loaded.clone();
+        }
+        let loaded = lang::load_sensor_list(path).map(Arc::new);
+        self.sensor_lists.insert(path.to_path_buf(), loaded.clone());
+        loaded
+    }
+
+    /// Resolves settings for a document. Returns the context plus problems to
+    /// report on the script itself (an unreadable masterdata file).
+    fn context_for(&mut self, path: Option<PathBuf>) -> (Context, Vec<Diagnostic>) {
+        let config = self.config_for(path.as_deref()).unwrap_or_default();
+        let masterdata = self.settings.masterdata.clone().or(config.masterdata);
+        let cycle_budget = self.settings.cycle_budget.or(config.cycle_budget);
+        let mut problems = Vec::new();
+        let sensors = match masterdata {
+            None => self.embedded(),
+            Some(masterdata) => match self.sensor_list(&masterdata) {
+                Ok(list) => list,
+                Err(message) => {
+                    problems.push(
+                        Diagnostic::error(
+                            "E0903",
+                            gloc_engine::Span::default(),
+                            format!(
+                                "cannot load the sensor list {}: {message}; using the embedded 2008 list",
+                                masterdata.display()
+                            ),
+                        )
+                        .with_help("fix `masterdata` in gloc.toml or the editor's gloc settings"),
+                    );
+                    self.embedded()
+                }
+            },
+        };
+        (
+            Context {
+                sensors,
+                cycle_budget,
+            },
+            problems,
+        )
+    }
+
+    /// (Re)analyses one open document and returns what to publish for it.
+    fn refresh(&mut self, uri: &Uri) -> Vec<Publish> {
+        let Some(open) = self.documents.get(uri) else {
+            return Vec::new();
+        };
+        if open.document.language == Language::Config {
+            return self.refresh_config_files();
+        }
+        let document_language = open.document.language;
+        let (context, problems) = self.context_for(open.document.path());
+        let Some(open) = self.documents.get_mut(uri) else {
+            return Vec::new();
+        };
+        let mut analysis = lang::analyze(document_language, open.document.text(), &context);
+        analysis.diagnostics.extend(problems);
+        open.analysis = Arc::new(analysis);
+        open.context = context;
+        let mut publishes = vec![Publish {
+            uri: uri.clone(),
+            diagnostics: features::diagnostics(&open.document, &open.analysis),
+            version: Some(open.document.version),
+        }];
+        publishes.extend(self.refresh_config_files());
+        publishes
+    }
+
+    /// Publishes the problems of every `gloc.toml` that applies to an open
+    /// script or is open itself, and clears files that became valid.
+    fn refresh_config_files(&mut self) -> Vec<Publish> {
+        let mut config_paths: Vec<PathBuf> = self
+            .documents
+            .values()
+            .filter_map(|open| match open.document.language {
+                Language::Config => open.document.path(),
+                _ => open.document.path().as_deref().and_then(Config::find),
+            })
+            .collect();
+        config_paths.sort();
+        config_paths.dedup();
+        let mut publishes = Vec::new();
+        let mut with_problems = Vec::new();
+        for config_path in config_paths {
+            let Some(uri) = Uri::from_file_path(&config_path) else {
+                continue;
+            };
+            let error = self.config_for(Some(&config_path)).err();
+            let open = self.documents.get(&uri);
+            let diagnostics = match (&error, open) {
+                (Some(error), Some(open)) => features::diagnostics_for(
+                    open.document.rope(),
+                    &uri,
+                    &[(*error.diagnostic).clone()],
+                ),
+                (Some(error), None) => {
+                    let rope = ropey::Rope::from_str(error.text.as_deref().unwrap_or(""));
+                    features::diagnostics_for(&rope, &uri, &[(*error.diagnostic).clone()])
+                }
+                (None, _) => Vec::new(),
+            };
+            let was_reported = self.config_files_with_problems.contains(&config_path);
+            if error.is_some() {
+                with_problems.push(config_path.clone());
+            }
+            if error.is_some() || was_reported {
+                publishes.push(Publish {
+                    uri,
+                    diagnostics,
+                    version: open.map(|open| open.document.version),
+                });
+            }
+        }
+        self.config_files_with_problems = with_problems;
+        publishes
+    }
+
+    fn refresh_all(&mut self) -> Vec<Publish> {
+        let uris: Vec<Uri> = self.documents.keys().cloned().collect();
+        let mut publishes = Vec::new();
+        for uri in uris {
+            publishes.extend(self.refresh(&uri));
+        }
+        publishes
+    }
+}
+
+impl Backend {
+    /// Runs `answer` on an open document's latest analysis; unknown documents
+    /// get `None` (never an error: clients race `didClose` with requests).
+    fn with_document<T>(
+        &self,
+        uri: &Uri,
+        answer: impl FnOnce(&Document, &Analysis, &Context) -> Option<T>,
+    ) -> Option<T> {
+        let state = lock(&self.state);
+        let open = state.documents.get(uri)?;
+        if open.document.language == Language::Config {
+            return None;
+        }
+        answer(&open.document, &open.analysis, &open.context)
+    }
+
+    /// Fetches `workspace/configuration` in the background and re-analyses.
+    fn fetch_client_settings(&self) {
+        let client = self.client.clone();
+        let state = self.state.clone();
+        if !lock(&state).client_supports_configuration {
+            return;
+        }
+        tokio::spawn(async move {
+            let items = vec![ConfigurationItem {
+                scope_uri: None,
+                section: Some("gloc".to_string()),
+            }];
+            let Ok(values) = client.configuration(items).await else {
+                return;
+            };
+            let Some(value) = values.into_iter().next() else {
+                return;
+            };
+            let publishes = {
+                let mut state = lock(&state);
+                let settings = settings_from(&value);
+                if settings == state.settings {
+                    return;
+                }
+                state.settings = settings;
+                state.sensor_lists.clear();
+                state.refresh_all()
+            };
+            send(&client, publishes).await;
+        });
+    }
+}
+
+/// Reads `{ "masterdata": "...", "cycleBudget": N }`, also when wrapped in
+/// `{ "gloc": { … } }`. Unknown keys and wrong types are ignored.
+pub fn settings_from(value: &Value) -> Settings {
+    let section = value.get("gloc").unwrap_or(value);
+    Settings {
+        masterdata: section
+            .get("masterdata")
+            .and_then(Value::as_str)
+            .filter(|text| !text.trim().is_empty())
+            .map(PathBuf::from),
+        cycle_budget: section
+            .get("cycleBudget")
+            .or_else(|| section.get("cycle_budget"))
+            .and_then(Value::as_u64)
+            .filter(|budget| *budget > 0),
+    }
+}
+
+/// Why the transport replaced a message (see `transport`).
+#[derive(serde::Deserialize)]
+pub struct InvalidMessage {
+    reason: String,
+}
+
+impl Backend {
+    /// A request the client sent broken: answer it with an error.
+    pub async fn invalid_request(&self, params: InvalidMessage) -> Result<()> {
+        Err(Error {
+            code: tower_lsp_server::jsonrpc::ErrorCode::InvalidRequest,
+            message: params.reason.into(),
+            data: None,
+        })
+    }
+
+    /// Any other broken message: tell the client's log and carry on.
+    pub async fn invalid_notification(&self, params: InvalidMessage) {
+        self.client
+            .log_message(
+                MessageType::ERROR,
+                format!("gloc: ignored a malformed message: {}", params.reason),
+            )
+            .await;
+    }
+}
+
+impl LanguageServer for Backend {
+    async fn initialize(&self, params: InitializeParams) -> Result<InitializeResult> {
+        {
+            let mut state = lock(&self.state);
+            state.client_supports_configuration = params
+                .capabilities
+                .workspace
+                .as_ref()
+                .and_then(|workspace| workspace.configuration)
+                .unwrap_or(false);
+            if let Some(options) = &params.initialization_options {
+                state.settings = settings_from(options);
+            }
+        }
+        Ok(InitializeResult {
+            capabilities: features::capabilities(),
+            server_info: Some(ServerInfo {
+                name: "gloc".to_string(),
+                version: Some(env!("CARGO_PKG_VERSION").to_string()),
+            }),
+            offset_encoding: None,
+        })
+    }
+
+    async fn initialized(&self, _: InitializedParams) {
+        self.fetch_client_settings();
+    }
+
+    async fn shutdown(&self) -> Result<()> {
+        self.shutdown_requested.store(true, Ordering::SeqCst);
+        Ok(())
+    }
+
+    async fn did_open(&self, params: DidOpenTextDocumentParams) {
+        let item = params.text_document;
+        let Some(language) = Language::detect(&item.language_id, &item.uri) else {
+            return;
+        };
+        let publishes = {
+            let mut state = lock(&self.state);
+            let document = Document::new(item.uri.clone(), language, item.version, &item.text);
+            let context = Context {
+                sensors: state.embedded(),
+                cycle_budget: None,
+            };
+            state.documents.insert(
+                item.uri.clone(),
+                Open {
+                    document,
+                    analysis: Arc::new(Analysis::default()),
+                    context,
+                },
+            );
+            if language == Language::Config {
+                state.sensor_lists.clear();
+                state.refresh_all()
+            } else {
+                state.refresh(&item.uri)
+            }
+        };
+        send(&self.client, publishes).await;
+    }
+
+    async fn did_change(&self, params: DidChangeTextDocumentParams) {
+        let uri = params.text_document.uri;
+        let publishes = {
+            let mut state = lock(&self.state);
+            let Some(open) = state.documents.get_mut(&uri) else {
+                return;
+            };
+            open.document
+                .apply_changes(params.text_document.version, params.content_changes);
+            if open.document.language == Language::Config {
+                state.sensor_lists.clear();
+                state.refresh_all()
+            } else {
+                state.refresh(&uri)
+            }
+        };
+        send(&self.client, publishes).await;
+    }
+
+    async fn did_save(&self, params: DidSaveTextDocumentParams) {
+        let publishes = {
+            let mut state = lock(&self.state);
+            let is_config = state
+                .documents
+                .get(&params.text_document.uri)
+                .is_some_and(|open| open.document.language == Language::Config);
+            if !is_config {
+                return;
+            }
+            state.sensor_lists.clear();
+            state.refresh_all()
+        };
+        send(&self.client, publishes).await;
+    }
+
+    async fn did_close(&self, params: DidCloseTextDocumentParams) {
+        let uri = params.text_document.uri;
+        let publishes = {
+            let mut state = lock(&self.state);
+            let Some(open) = state.documents.remove(&uri) else {
+                return;
+            };
+            let mut publishes = vec![Publish {
+                uri: uri.clone(),
+                diagnostics: Vec::new(),
+                version: None,
+            }];
+            if open.document.language == Language::Config {
+                publishes.extend(state.refresh_all());
+            }
+            publishes
+        };
+        send(&self.client, publishes).await;
+    }
+
+    async fn did_change_configuration(&self, params: DidChangeConfigurationParams) {
+        let publishes = {
+            let mut state = lock(&self.state);
+            if params.settings.is_object()
+                && !params
+                    .settings
+                    .as_object()
+                    .is_some_and(|map| map.is_empty())
+            {
+                state.settings = settings_from(&params.settings);
+            }
+            state.sensor_lists.clear();
+            state.refresh_all()
+        };
+        send(&self.client, publishes).await;
+        self.fetch_client_settings();
+    }
+
+    async fn did_change_watched_files(&self, _: DidChangeWatchedFilesParams) {
+        let publishes = {
+            let mut state = lock(&self.state);
+            state.sensor_lists.clear();
+            state.refresh_all()
+        };
+        send(&self.client, publishes).await;
+    }
+
+    async fn completion(&self, params: CompletionParams) -> Result<Option<CompletionResponse>> {
+        let position = params.text_document_position;
+        Ok(self.with_document(
+            &position.text_document.uri,
+            |document, analysis, context| {
+                features::completion(document, analysis, context, position.position)
+            },
+        ))
+    }
+
+    async fn hover(&self, params: HoverParams) -> Result<Option<Hover>> {
+        let position = params.text_document_position_params;
+        Ok(self.with_document(
+            &position.text_document.uri,
+            |document, analysis, context| {
+                features::hover(document, analysis, context, position.position)
+            },
+        ))
+    }
+
+    async fn signature_help(&self, params: SignatureHelpParams) -> Result<Option<SignatureHelp>> {
+        let position = params.text_document_position_params;
+        Ok(
+            self.with_document(&position.text_document.uri, |document, _, _| {
+                features::signature_help(document, position.position)
+            }),
+        )
+    }
+
+    async fn goto_definition(
+        &self,
+        params: GotoDefinitionParams,
+    ) -> Result<Option<GotoDefinitionResponse>> {
+        let position = params.text_document_position_params;
+        Ok(
+            self.with_document(&position.text_document.uri, |document, analysis, _| {
+                features::definition(document, analysis, position.position)
+            }),
+        )
+    }
+
+    async fn references(&self, params: ReferenceParams) -> Result<Option<Vec<Location>>> {
+        let position = params.text_document_position;
+        let include_declaration = params.context.include_declaration;
+        Ok(
+            self.with_document(&position.text_document.uri, |document, analysis, _| {
+                features::references(document, analysis, position.position, include_declaration)
+            }),
+        )
+    }
+
+    async fn document_highlight(
+        &self,
+        params: DocumentHighlightParams,
+    ) -> Result<Option<Vec<DocumentHighlight>>> {
+        let position = params.text_document_position_params;
+        Ok(
+            self.with_document(&position.text_document.uri, |document, analysis, _| {
+                features::highlights(document, analysis, position.position)
+            }),
+        )
+    }
+
+    async fn prepare_rename(
+        &self,
+        params: TextDocumentPositionParams,
+    ) -> Result<Option<PrepareRenameResponse>> {
+        Ok(
+            self.with_document(&params.text_document.uri, |document, analysis, _| {
+                features::prepare_rename(document, analysis, params.position)
+            }),
+        )
+    }
+
+    async fn rename(&self, params: RenameParams) -> Result<Option<WorkspaceEdit>> {
+        let position = params.text_document_position;
+        let outcome = self.with_document(&position.text_document.uri, |document, analysis, _| {
+            Some(features::rename(
+                document,
+                analysis,
+                position.position,
+                &params.new_name,
+            ))
+        });
+        match outcome {
+            None => Ok(None),
+            Some(Ok(edit)) => Ok(edit),
+            Some(Err(message)) => Err(Error::invalid_params(message)),
+        }
+    }
+
+    async fn document_symbol(
+        &self,
+        params: DocumentSymbolParams,
+    ) -> Result<Option<DocumentSymbolResponse>> {
+        Ok(
+            self.with_document(&params.text_document.uri, |document, analysis, _| {
+                Some(features::document_symbols(document, analysis))
+            }),
+        )
+    }
+
+    async fn folding_range(&self, params: FoldingRangeParams) -> Result<Option<Vec<FoldingRange>>> {
+        Ok(
+            self.with_document(&params.text_document.uri, |document, analysis, _| {
+                Some(features::folding_ranges(document, analysis))
+            }),
+        )
+    }
+
+    async fn semantic_tokens_full(
+        &self,
+        params: SemanticTokensParams,
+    ) -> Result<Option<SemanticTokensResult>> {
+        Ok(
+            self.with_document(&params.text_document.uri, |document, analysis, context| {
+                Some(SemanticTokensResult::Tokens(features::semantic_tokens(
+                    document, analysis, context,
+                )))
+            }),
+        )
+    }
+
+    async fn inlay_hint(&self, params: InlayHintParams) -> Result<Option<Vec<InlayHint>>> {
+        Ok(
+            self.with_document(&params.text_document.uri, |document, analysis, _| {
+                Some(features::inlay_hints(document, analysis, params.range))
+            }),
+        )
+    }
+
+    async fn code_action(&self, params: CodeActionParams) -> Result<Option<CodeActionResponse>> {
+        Ok(
+            self.with_document(&params.text_document.uri, |document, analysis, _| {
+                Some(features::code_actions(document, analysis, params.range))
+            }),
+        )
+    }
+
+    async fn formatting(&self, params: DocumentFormattingParams) -> Result<Option<Vec<TextEdit>>> {
+        Ok(
+            self.with_document(&params.text_document.uri, |document, _, _| {
+                features::formatting(document)
+            }),
+        )
+    }
+
+    async fn execute_command(&self, params: ExecuteCommandParams) -> Result<Option<LSPAny>> {
+        if params.command != COMPILED_GLOC_COMMAND {
+            return Err(Error::invalid_params(format!(
+                "unknown command `{}`; this server knows `{COMPILED_GLOC_COMMAND}`",
+                params.command
+            )));
+        }
+        let uri = params
+            .arguments
+            .first()
+            .and_then(|argument| {
+                argument
+                    .as_str()
+                    .or_else(|| argument.get("uri").and_then(Value::as_str))
+            })
+            .and_then(|text| text.parse::<Uri>().ok())
+            .ok_or_else(|| {
+                Error::invalid_params(format!(
+                    "`{COMPILED_GLOC_COMMAND}` takes one argument: the URI of an open GBASIC document"
+                ))
+            })?;
+        let state = lock(&self.state);
+        let open = state.documents.get(&uri).ok_or_else(|| {
+            Error::invalid_params(format!("`{}` is not open in the server", uri.as_str()))
+        })?;
+        features::compiled_gloc(&open.document, &open.analysis).map(Some)
+    }
+}

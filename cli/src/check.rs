@@ -1,7 +1,118 @@
-//! `gloc check`.
+//! `gloc check FILE…`: parse and check each file, print every diagnostic
+//! rustc-style, and with `--stats` the sizes and worst case per cycle.
 
+use std::path::Path;
 use std::process::ExitCode;
 
-pub fn main(_args: crate::CheckArgs) -> anyhow::Result<ExitCode> {
-    anyhow::bail!("`gloc check` is not built yet")
+use anyhow::Context;
+use gloc_engine::gloc::{self, Bound, CheckOptions, Stats};
+use gloc_engine::sensors::{load_sensor_file, SensorList, SensorOrder};
+
+use crate::render::{SourceFile, Tally};
+
+pub fn main(args: crate::CheckArgs) -> anyhow::Result<ExitCode> {
+    let mut tally = Tally::default();
+    let sensors = match &args.masterdata {
+        Some(path) => match load_sensors(path, &mut tally)? {
+            Some(list) => list,
+            None => return Ok(ExitCode::FAILURE),
+        },
+        None => SensorList::embedded(),
+    };
+    for path in &args.files {
+        let display = path.display().to_string();
+        let text = match std::fs::read(path) {
+            Ok(bytes) => String::from_utf8_lossy(&bytes).into_owned(),
+            Err(error) => {
+                println!("{display}: error: cannot read the file: {error}");
+                tally.errors += 1;
+                continue;
+            }
+        };
+        let is_gbas = path
+            .extension()
+            .is_some_and(|extension| extension.eq_ignore_ascii_case("gbas"));
+        if is_gbas {
+            check_gbas(&display, &mut tally);
+            continue;
+        }
+        let source = SourceFile::new(&display, &text);
+        let parsed = gloc::parse(&text);
+        let checked = gloc::check(&parsed, &sensors, &CheckOptions::default());
+        for diagnostic in &checked.diagnostics {
+            print!("{}", source.render(diagnostic));
+        }
+        tally.add(&checked.diagnostics);
+        if args.stats {
+            print_stats(&source, &checked.stats, checked.program.as_deref());
+        }
+    }
+    if tally.errors > 0 || tally.warnings > 0 {
+        println!(
+            "{} error{}, {} warning{}",
+            tally.errors,
+            if tally.errors == 1 { "" } else { "s" },
+            tally.warnings,
+            if tally.warnings == 1 { "" } else { "s" }
+        );
+    }
+    Ok(if tally.errors > 0 {
+        ExitCode::FAILURE
+    } else {
+        ExitCode::SUCCESS
+    })
+}
+
+/// Loads `--masterdata`: prints its diagnostics; `None` when it has errors.
+pub fn load_sensors(path: &Path, tally: &mut Tally) -> anyhow::Result<Option<SensorList>> {
+    let loaded = load_sensor_file(path, SensorOrder::FileOrder)
+        .with_context(|| format!("cannot read the sensor list `{}`", path.display()))?;
+    let display = path.display().to_string();
+    let source = SourceFile::new(&display, &loaded.text);
+    for diagnostic in &loaded.diagnostics {
+        print!("{}", source.render(diagnostic));
+    }
+    let before = tally.errors;
+    tally.add(&loaded.diagnostics);
+    Ok((tally.errors == before).then_some(loaded.list))
+}
+
+/// GBASIC files are checked by the compiler crate.
+fn check_gbas(display: &str, tally: &mut Tally) {
+    println!(
+        "{display}: error: checking GBASIC needs the GBASIC compiler, which is not built in yet"
+    );
+    tally.errors += 1;
+}
+
+fn print_stats(
+    source: &SourceFile,
+    stats: &Stats,
+    program: Option<&gloc_engine::program::Program>,
+) {
+    println!("{}:", source.path);
+    println!("  registers     {}", stats.registers);
+    println!("  labels        {}", stats.labels);
+    println!("  memory        {}", stats.memory);
+    println!(
+        "  instructions  {} (ninstr; {} executable, labels excluded)",
+        stats.statements, stats.instructions
+    );
+    let Some(worst) = &stats.worst_case else {
+        println!("  worst case    not computed (fix the errors first)");
+        return;
+    };
+    let per_cycle = match worst.max {
+        Bound::Finite(count) => format!("{count} instructions per cycle"),
+        Bound::Unbounded => "unbounded (a loop without `yield` lies on the way)".to_string(),
+    };
+    println!("  worst case    {per_cycle}");
+    println!("    {:<30}{}", "from the start", worst.from_start);
+    for (pc, bound) in &worst.from_yields {
+        let line = program.map_or(0, |program| program.line(*pc));
+        println!(
+            "    {:<30}{bound}",
+            format!("after the yield on line {line}")
+        );
+    }
 }

@@ -8,6 +8,8 @@ use clap::{Args, Parser, Subcommand};
 
 mod check;
 mod compile;
+pub mod render;
+mod replay;
 mod run;
 
 #[derive(Parser, Debug)]

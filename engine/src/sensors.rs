@@ -6,6 +6,10 @@
 
 use std::collections::HashMap;
 
+mod files;
+
+pub use files::{load_sensor_file, parse_cac, parse_masterdata, LoadedSensorList, SensorOrder};
+
 /// Index of a sensor in the active sensor list.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct SensorId(pub u32);
@@ -70,6 +74,29 @@ pub struct SensorList {
     sensors: Vec<Sensor>,
     /// Lower-cased name → index.
     by_name: HashMap<String, SensorId>,
+    /// `behavior:` sections of a masterdata file (defaults for the simulator).
+    behaviors: Vec<BehaviorDefaults>,
+}
+
+/// A `behavior: NAME` section of a masterdata file: the default `b_arg:`s.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BehaviorDefaults {
+    pub name: String,
+    /// 1-based line of the `behavior:` line.
+    pub line: u32,
+    pub args: Vec<BehaviorArg>,
+}
+
+/// One `b_arg: NAME(UNITS) [DEFAULT] [# comment]` line.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BehaviorArg {
+    pub name: String,
+    pub units: String,
+    pub default: Option<f64>,
+    pub description: Option<String>,
+    pub min: Option<f64>,
+    pub max: Option<f64>,
+    pub line: u32,
 }
 
 impl SensorList {
@@ -82,7 +109,22 @@ impl SensorList {
                 .entry(sensor.name.to_ascii_lowercase())
                 .or_insert(SensorId(index as u32));
         }
-        SensorList { sensors, by_name }
+        SensorList {
+            sensors,
+            by_name,
+            behaviors: Vec::new(),
+        }
+    }
+
+    /// Attaches the `behavior:` default sections read from a masterdata file.
+    pub fn with_behaviors(mut self, behaviors: Vec<BehaviorDefaults>) -> SensorList {
+        self.behaviors = behaviors;
+        self
+    }
+
+    /// The `behavior:` default sections (empty for `.cac` files and the embedded list).
+    pub fn behavior_defaults(&self) -> &[BehaviorDefaults] {
+        &self.behaviors
     }
 
     /// The list compiled into the binary: the 1,385 sensors of the 2008

@@ -60,6 +60,9 @@ pub fn check_parsed(parsed: &Parsed, sensors: &SensorList, options: &CheckOption
     stats.instructions = program.instrs.len().saturating_sub(1) as u32;
     let has_errors = checker.diagnostics.iter().any(Diagnostic::is_error);
     if has_errors || header.incomplete() {
+        checker
+            .diagnostics
+            .sort_by_key(|diagnostic| diagnostic.span.start);
         return Checked {
             program: None,
             diagnostics: checker.diagnostics,
@@ -70,6 +73,9 @@ pub fn check_parsed(parsed: &Parsed, sensors: &SensorList, options: &CheckOption
     checker.diagnostics.extend(analysis.diagnostics);
     stats.worst_case = Some(analysis.worst_case);
     let has_errors = checker.diagnostics.iter().any(Diagnostic::is_error);
+    checker
+        .diagnostics
+        .sort_by_key(|diagnostic| diagnostic.span.start);
     Checked {
         program: (!has_errors).then(|| Arc::new(program)),
         diagnostics: checker.diagnostics,

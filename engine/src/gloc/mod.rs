@@ -58,7 +58,7 @@ pub struct LoopBound {
 pub struct Checked {
     /// `Some` exactly when no diagnostic is an error.
     pub program: Option<Arc<Program>>,
-    /// The parse diagnostics followed by the checker's, in that order.
+    /// The parse diagnostics and the checker's, sorted by position.
     pub diagnostics: Vec<Diagnostic>,
     pub stats: Stats,
 }

@@ -1,0 +1,520 @@
+//! Readers for sensor-list files: the masterdata text file (`sensor:` lines
+//! plus `behavior:` default sections) and the `.cac` sensor-list cache
+//! (`s: T|F INDEX COLUMN BYTES NAME UNITS`).
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use crate::diagnostic::{Diagnostic, Span};
+use crate::sensors::{BehaviorArg, BehaviorDefaults, Sensor, SensorList};
+
+/// How sensor indices follow from a masterdata file.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SensorOrder {
+    /// Indices follow the file (firmware before 2014; the paper's era).
+    #[default]
+    FileOrder,
+    /// Indices follow the names sorted after upper-casing (firmware 2014 and later).
+    SortedByName,
+}
+
+/// A sensor list read from a file, with what went wrong reading it.
+#[derive(Clone, Debug)]
+pub struct LoadedSensorList {
+    pub list: SensorList,
+    pub diagnostics: Vec<Diagnostic>,
+    /// The file's text (lossily decoded), for rendering the diagnostics.
+    pub text: String,
+}
+
+/// Reads a masterdata or `.cac` file: `.cac` by extension, or by content
+/// when the first meaningful line starts with `s:`.
+pub fn load_sensor_file(path: &Path, order: SensorOrder) -> std::io::Result<LoadedSensorList> {
+    let bytes = std::fs::read(path)?;
+    let text = String::from_utf8_lossy(&bytes).into_owned();
+    let is_cac = path
+        .extension()
+        .is_some_and(|extension| extension.eq_ignore_ascii_case("cac"))
+        || text
+            .lines()
+            .map(str::trim)
+            .find(|line| !line.is_empty())
+            .is_some_and(|line| line.starts_with("s:"));
+    let (list, diagnostics) = if is_cac {
+        parse_cac(&text)
+    } else {
+        parse_masterdata(&text, order)
+    };
+    Ok(LoadedSensorList {
+        list,
+        diagnostics,
+        text,
+    })
+}
+
+/// Parses a masterdata file. Never fails: malformed lines are diagnostics
+/// and are skipped.
+pub fn parse_masterdata(text: &str, order: SensorOrder) -> (SensorList, Vec<Diagnostic>) {
+    let mut diagnostics = Vec::new();
+    let mut sensors: Vec<Sensor> = Vec::new();
+    let mut sensor_spans: Vec<Span> = Vec::new();
+    let mut behaviors: Vec<BehaviorDefaults> = Vec::new();
+    let mut first_line_of: HashMap<String, (u32, Span)> = HashMap::new();
+    // What a following `# …` line continues: a sensor, a b_arg, or nothing.
+    let mut continues: Option<Continuation> = None;
+    let mut offset = 0usize;
+    for (index, raw) in text.split_inclusive('\n').enumerate() {
+        let line_number = index as u32 + 1;
+        let line = raw.trim_end_matches(['\n', '\r']);
+        let base = offset;
+        offset += raw.len();
+        let indent = line.len() - line.trim_start().len();
+        let trimmed = line.trim();
+        if trimmed.is_empty() {
+            continues = None;
+            continue;
+        }
+        if is_preprocessor(trimmed) {
+            continue;
+        }
+        if let Some(comment) = trimmed.strip_prefix('#') {
+            if let Some(target) = continues {
+                let entry = match target {
+                    Continuation::Sensor(at) => sensors
+                        .get_mut(at)
+                        .map(|sensor| (&mut sensor.description, &mut sensor.min, &mut sensor.max)),
+                    Continuation::Arg(behavior, arg) => behaviors
+                        .get_mut(behavior)
+                        .and_then(|behavior| behavior.args.get_mut(arg))
+                        .map(|arg| (&mut arg.description, &mut arg.min, &mut arg.max)),
+                };
+                if let Some((description, min, max)) = entry {
+                    apply_comment(comment, description, min, max);
+                }
+            }
+            continue;
+        }
+        let keyword_end = trimmed.find(':').unwrap_or(0);
+        let keyword = &trimmed[..keyword_end];
+        let body_start = base + indent + keyword_end + 1;
+        match keyword {
+            "sensor" => {
+                continues = None;
+                match entry_line(&trimmed[keyword_end + 1..], body_start) {
+                    Ok(entry) => {
+                        let span = entry.name_span;
+                        let key = entry.name.to_ascii_lowercase();
+                        if let Some((first_line, first_span)) = first_line_of.get(&key) {
+                            diagnostics.push(
+                                Diagnostic::warning(
+                                    "W0203",
+                                    span,
+                                    format!(
+                                        "sensor `{}` is declared again (first on line {first_line}); \
+                                         lookups by name use line {first_line}",
+                                        entry.name
+                                    ),
+                                )
+                                .with_label(*first_span, "first declared here"),
+                            );
+                        } else {
+                            first_line_of.insert(key, (line_number, span));
+                        }
+                        let mut sensor = Sensor {
+                            name: entry.name,
+                            units: entry.units,
+                            default: entry.default,
+                            description: None,
+                            min: None,
+                            max: None,
+                            line: line_number,
+                        };
+                        if let Some(comment) = entry.comment {
+                            apply_comment(
+                                comment,
+                                &mut sensor.description,
+                                &mut sensor.min,
+                                &mut sensor.max,
+                            );
+                        }
+                        sensors.push(sensor);
+                        sensor_spans.push(span);
+                        continues = Some(Continuation::Sensor(sensors.len() - 1));
+                    }
+                    Err(diagnostic) => diagnostics.push(*diagnostic),
+                }
+            }
+            "behavior" => {
+                let name = trimmed[keyword_end + 1..]
+                    .split('#')
+                    .next()
+                    .unwrap_or("")
+                    .trim();
+                continues = None;
+                if name.is_empty() {
+                    diagnostics.push(Diagnostic::error(
+                        "E0201",
+                        Span::new(base + indent, base + line.len()),
+                        "expected a behavior name after `behavior:`",
+                    ));
+                    continue;
+                }
+                behaviors.push(BehaviorDefaults {
+                    name: name.to_string(),
+                    line: line_number,
+                    args: Vec::new(),
+                });
+            }
+            "b_arg" => {
+                continues = None;
+                let Some(behavior_index) = behaviors.len().checked_sub(1) else {
+                    diagnostics.push(Diagnostic::warning(
+                        "W0204",
+                        Span::new(base + indent, base + line.len()),
+                        "`b_arg:` outside a `behavior:` section is ignored",
+                    ));
+                    continue;
+                };
+                match entry_line(&trimmed[keyword_end + 1..], body_start) {
+                    Ok(entry) => {
+                        let mut arg = BehaviorArg {
+                            name: entry.name,
+                            units: entry.units,
+                            default: entry.default,
+                            description: None,
+                            min: None,
+                            max: None,
+                            line: line_number,
+                        };
+                        if let Some(comment) = entry.comment {
+                            apply_comment(
+                                comment,
+                                &mut arg.description,
+                                &mut arg.min,
+                                &mut arg.max,
+                            );
+                        }
+                        let behavior = &mut behaviors[behavior_index];
+                        behavior.args.push(arg);
+                        continues =
+                            Some(Continuation::Arg(behavior_index, behavior.args.len() - 1));
+                    }
+                    Err(diagnostic) => diagnostics.push(*diagnostic),
+                }
+            }
+            _ => {
+                continues = None;
+                diagnostics.push(
+                    Diagnostic::warning(
+                        "W0204",
+                        Span::new(base + indent, base + line.len()),
+                        "line ignored: a masterdata line starts with `sensor:`, `behavior:`, `b_arg:` or `#`",
+                    ),
+                );
+            }
+        }
+    }
+    if sensors.is_empty() {
+        diagnostics.push(
+            Diagnostic::error("E0207", Span::new(0, 0), "no `sensor:` lines found")
+                .with_help("a masterdata line reads `sensor: NAME(UNITS) [DEFAULT] [# comment]`"),
+        );
+    }
+    if order == SensorOrder::SortedByName {
+        // Stable, so duplicate names keep their file order.
+        sensors.sort_by_cached_key(|sensor| sensor.name.to_ascii_uppercase());
+    }
+    (
+        SensorList::from_sensors(sensors).with_behaviors(behaviors),
+        diagnostics,
+    )
+}
+
+/// Parses a `.cac` sensor list. Indices come from the file and must be
+/// 0, 1, 2, … without gaps or repeats.
+pub fn parse_cac(text: &str) -> (SensorList, Vec<Diagnostic>) {
+    let mut diagnostics = Vec::new();
+    let mut slots: Vec<Option<Sensor>> = Vec::new();
+    let mut spans: Vec<Span> = Vec::new();
+    let mut first_line_of: HashMap<String, (u32, Span)> = HashMap::new();
+    let mut offset = 0usize;
+    for (index, raw) in text.split_inclusive('\n').enumerate() {
+        let line_number = index as u32 + 1;
+        let line = raw.trim_end_matches(['\n', '\r']);
+        let base = offset;
+        offset += raw.len();
+        if line.trim().is_empty() {
+            continue;
+        }
+        let fields = fields_with_offsets(line);
+        let field_span = |position: usize| {
+            fields.get(position).map_or(
+                Span::new(base + line.len(), base + line.len()),
+                |(at, field)| Span::new(base + at, base + at + field.len()),
+            )
+        };
+        let field = |position: usize| fields.get(position).map(|(_, field)| *field);
+        if field(0) != Some("s:") {
+            diagnostics.push(
+                Diagnostic::error(
+                    "E0205",
+                    field_span(0),
+                    "expected a `.cac` line starting with `s:`",
+                )
+                .with_help("a `.cac` line reads `s: T|F INDEX COLUMN BYTES NAME UNITS`"),
+            );
+            continue;
+        }
+        let problem = if !matches!(field(1), Some("T" | "F")) {
+            Some((1, "expected `T` or `F` (logged or not)"))
+        } else if field(2)
+            .and_then(|value| value.parse::<u32>().ok())
+            .is_none()
+        {
+            Some((2, "expected the sensor index, a whole number"))
+        } else if field(3)
+            .and_then(|value| value.parse::<i64>().ok())
+            .is_none()
+        {
+            Some((3, "expected the column number (or -1)"))
+        } else if !matches!(field(4), Some("1" | "2" | "4" | "8")) {
+            Some((4, "expected the byte size: 1, 2, 4 or 8"))
+        } else if field(5).is_none() {
+            Some((5, "expected the sensor name"))
+        } else {
+            None
+        };
+        if let Some((position, message)) = problem {
+            diagnostics.push(
+                Diagnostic::error("E0205", field_span(position), message)
+                    .with_help("a `.cac` line reads `s: T|F INDEX COLUMN BYTES NAME UNITS`"),
+            );
+            continue;
+        }
+        let sensor_index = field(2)
+            .and_then(|value| value.parse::<u32>().ok())
+            .unwrap_or(0) as usize;
+        let name = field(5).unwrap_or_default().to_string();
+        let units = field(6).unwrap_or("nodim").to_string();
+        if sensor_index > 1_000_000 {
+            diagnostics.push(Diagnostic::error(
+                "E0206",
+                field_span(2),
+                format!("sensor index {sensor_index} is implausibly large"),
+            ));
+            continue;
+        }
+        if slots.len() <= sensor_index {
+            slots.resize(sensor_index + 1, None);
+            spans.resize(sensor_index + 1, Span::default());
+        }
+        if slots[sensor_index].is_some() {
+            diagnostics.push(
+                Diagnostic::error(
+                    "E0206",
+                    field_span(2),
+                    format!("sensor index {sensor_index} appears twice"),
+                )
+                .with_label(spans[sensor_index], "first used here"),
+            );
+            continue;
+        }
+        let name_span = field_span(5);
+        let key = name.to_ascii_lowercase();
+        if let Some((first_line, first_span)) = first_line_of.get(&key) {
+            diagnostics.push(
+                Diagnostic::warning(
+                    "W0203",
+                    name_span,
+                    format!("sensor `{name}` is listed again (first on line {first_line})"),
+                )
+                .with_label(*first_span, "first listed here"),
+            );
+        } else {
+            first_line_of.insert(key, (line_number, name_span));
+        }
+        spans[sensor_index] = field_span(2);
+        slots[sensor_index] = Some(Sensor {
+            name,
+            units,
+            default: None,
+            description: None,
+            min: None,
+            max: None,
+            line: line_number,
+        });
+    }
+    if let Some(missing) = slots.iter().position(Option::is_none) {
+        diagnostics.push(Diagnostic::error(
+            "E0206",
+            Span::new(0, 0),
+            format!("sensor index {missing} is missing: indices must run 0, 1, 2, … without gaps"),
+        ));
+    }
+    if slots.is_empty() {
+        diagnostics.push(Diagnostic::error(
+            "E0207",
+            Span::new(0, 0),
+            "no `s:` lines found",
+        ));
+    }
+    let sensors: Vec<Sensor> = slots.into_iter().flatten().collect();
+    (SensorList::from_sensors(sensors), diagnostics)
+}
+
+#[derive(Clone, Copy)]
+enum Continuation {
+    Sensor(usize),
+    Arg(usize, usize),
+}
+
+/// `NAME(UNITS) [DEFAULT] [# comment]` after `sensor:` or `b_arg:`.
+struct Entry<'a> {
+    name: String,
+    name_span: Span,
+    units: String,
+    default: Option<f64>,
+    comment: Option<&'a str>,
+}
+
+fn entry_line(body: &str, base: usize) -> Result<Entry<'_>, Box<Diagnostic>> {
+    let (code, comment) = match body.find('#') {
+        Some(at) => (&body[..at], Some(&body[at + 1..])),
+        None => (body, None),
+    };
+    let name_start = code.len() - code.trim_start().len();
+    let help = "a masterdata line reads `sensor: NAME(UNITS) [DEFAULT] [# comment]`";
+    let Some(open) = code.find('(') else {
+        let end = code.trim_end().len().max(name_start);
+        return Err(Box::new(
+            Diagnostic::error(
+                "E0201",
+                Span::new(base + name_start, base + end),
+                "expected `NAME(UNITS)`: the units in parentheses are missing",
+            )
+            .with_help(help),
+        ));
+    };
+    let Some(close) = code[open..].find(')').map(|at| open + at) else {
+        return Err(Box::new(
+            Diagnostic::error(
+                "E0201",
+                Span::new(base + open, base + code.trim_end().len().max(open + 1)),
+                "expected `)` after the units",
+            )
+            .with_help(help),
+        ));
+    };
+    let name = code[name_start..open].trim();
+    let name_span = Span::new(base + name_start, base + open);
+    if name.is_empty()
+        || !name
+            .bytes()
+            .all(|byte| byte.is_ascii_alphanumeric() || byte == b'_')
+    {
+        return Err(Box::new(
+            Diagnostic::error(
+                "E0201",
+                name_span,
+                format!("`{name}` is not a sensor name (letters, digits and `_`)"),
+            )
+            .with_help(help),
+        ));
+    }
+    let units = code[open + 1..close].trim().to_string();
+    let rest = &code[close + 1..];
+    let default_text = rest.trim();
+    let default = if default_text.is_empty() {
+        None
+    } else {
+        let first = default_text.split_whitespace().next().unwrap_or("");
+        let at = close + 1 + (rest.len() - rest.trim_start().len());
+        match first.parse::<f64>() {
+            Ok(value) if default_text.split_whitespace().count() == 1 => Some(value),
+            _ => {
+                return Err(Box::new(
+                    Diagnostic::error(
+                        "E0202",
+                        Span::new(base + at, base + at + default_text.len()),
+                        format!("expected a number as the default, found `{default_text}`"),
+                    )
+                    .with_help(help),
+                ))
+            }
+        }
+    };
+    Ok(Entry {
+        name: name.to_string(),
+        name_span,
+        units,
+        default,
+        comment,
+    })
+}
+
+/// A comment after or below an entry: `#! key = value; …` metadata, or text
+/// that becomes (part of) the description.
+fn apply_comment(
+    comment: &str,
+    description: &mut Option<String>,
+    min: &mut Option<f64>,
+    max: &mut Option<f64>,
+) {
+    if let Some(metadata) = comment.strip_prefix('!') {
+        for pair in metadata.split(';') {
+            let Some((key, value)) = pair.split_once('=') else {
+                continue;
+            };
+            let value = value.trim().parse::<f64>().ok();
+            match key.trim() {
+                "min" => *min = value.or(*min),
+                "max" => *max = value.or(*max),
+                _ => {}
+            }
+        }
+        return;
+    }
+    let text = comment.trim();
+    if text.is_empty() {
+        return;
+    }
+    match description {
+        Some(existing) => {
+            existing.push(' ');
+            existing.push_str(text);
+        }
+        None => *description = Some(text.to_string()),
+    }
+}
+
+fn is_preprocessor(line: &str) -> bool {
+    let Some(rest) = line.strip_prefix('#') else {
+        return false;
+    };
+    let word = rest.split_whitespace().next().unwrap_or("");
+    // `#if` must be followed by whitespace to tell it from a comment "#iffy".
+    matches!(
+        word,
+        "if" | "ifdef" | "ifndef" | "else" | "elif" | "endif" | "define" | "undef" | "include"
+    ) && !rest.starts_with(' ')
+}
+
+/// Whitespace-separated fields with their byte offsets in `line`.
+fn fields_with_offsets(line: &str) -> Vec<(usize, &str)> {
+    let mut fields = Vec::new();
+    let mut start = None;
+    for (at, character) in line.char_indices() {
+        match (character.is_whitespace(), start) {
+            (true, Some(from)) => {
+                fields.push((from, &line[from..at]));
+                start = None;
+            }
+            (false, None) => start = Some(at),
+            _ => {}
+        }
+    }
+    if let Some(from) = start {
+        fields.push((from, &line[from..]));
+    }
+    fields
+}

@@ -108,6 +108,12 @@ pub struct Completion {
     pub documentation: Option<String>,
     /// A snippet (with `$1` placeholders) to insert instead of the label.
     pub snippet: Option<String>,
+    /// Plain text to insert instead of the label (a GLOC sensor index).
+    pub insert_text: Option<String>,
+    /// What the client matches typed text against, when not the label.
+    pub filter_text: Option<String>,
+    /// Sort key, when not the label (to rank in-scope names first).
+    pub sort_text: Option<String>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

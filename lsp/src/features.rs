@@ -177,7 +177,9 @@ pub fn completion(
                 .snippet
                 .as_ref()
                 .map(|_| InsertTextFormat::SNIPPET),
-            insert_text: completion.snippet,
+            insert_text: completion.snippet.or(completion.insert_text),
+            filter_text: completion.filter_text,
+            sort_text: completion.sort_text,
             ..CompletionItem::default()
         })
         .collect();

@@ -1,42 +1,554 @@
-//! GLOC: analysis, completion, hover text and formatting, all from `gloc-engine`.
+//! GLOC: analysis, completion, hover text, signatures and formatting, all
+//! read off `gloc_engine::gloc` (parser, checker, instruction table).
 
+use std::collections::BTreeMap;
 use std::path::Path;
 
-use gloc_engine::sensors::SensorList;
+use gloc_engine::gloc::ast::{
+    DirectiveKind, File, Line, LineKind, Opcode, OperandKind, OperandShape, Origin,
+};
+use gloc_engine::gloc::{self, Bound, CheckOptions};
+use gloc_engine::sensors::{SensorId, SensorList};
+use gloc_engine::{Diagnostic, Span};
 
-use crate::analysis::{Analysis, Completion, Context, Signature, Symbol, TokenKind};
+use crate::analysis::{
+    Analysis, Completion, CompletionKind, Context, Hint, Signature, Symbol, SymbolKind, Token,
+    TokenKind,
+};
+use crate::lang;
 
-pub fn analyze(_text: &str, _context: &Context) -> Analysis {
-    Analysis::default()
+/// Code of the warning that the worst case exceeds the configured budget.
+pub const CODE_OVER_BUDGET: &str = "W0904";
+
+pub fn analyze(text: &str, context: &Context) -> Analysis {
+    let parsed = gloc::parse(text);
+    let checked = gloc::check(&parsed, &context.sensors, &CheckOptions::default());
+    let file = &parsed.file;
+    let mut analysis = Analysis {
+        diagnostics: checked.diagnostics,
+        ..Analysis::default()
+    };
+    add_yield_fixes(
+        text,
+        file,
+        checked.stats.statements,
+        &mut analysis.diagnostics,
+    );
+    collect_tokens(text, file, context, &mut analysis);
+    collect_labels(file, &mut analysis);
+    if let (Some(worst_case), Some(program)) = (&checked.stats.worst_case, &checked.program) {
+        if let Some(first) = file
+            .statements()
+            .find(|line| matches!(line.kind, LineKind::Instruction(_)))
+        {
+            analysis.hints.push(cycle_hint(
+                first.span.end as usize,
+                "first cycle",
+                worst_case.from_start,
+                context,
+            ));
+        }
+        for (pc, bound) in &worst_case.from_yields {
+            let span = program.span(*pc);
+            analysis
+                .hints
+                .push(cycle_hint(span.end as usize, "next cycle", *bound, context));
+        }
+        if let (Some(budget), Bound::Finite(max)) = (context.cycle_budget, worst_case.max) {
+            if max > budget {
+                let span = file
+                    .statements()
+                    .next()
+                    .map_or(Span::default(), |line| line.span);
+                analysis.diagnostics.push(
+                    Diagnostic::warning(
+                        CODE_OVER_BUDGET,
+                        span,
+                        format!("a control cycle may execute {max} instructions, more than the cycle budget of {budget}"),
+                    )
+                    .with_help("add a `yield` on the longest path, or raise `cycle_budget` in gloc.toml"),
+                );
+            }
+        }
+    }
+    analysis
+}
+
+fn cycle_hint(offset: usize, which: &str, bound: Bound, context: &Context) -> Hint {
+    let label = match bound {
+        Bound::Finite(count) => format!("{which} ≤ {count} instr"),
+        Bound::Unbounded => format!("{which}: unbounded"),
+    };
+    let budget = context.cycle_budget.map_or_else(
+        || {
+            format!(
+                "(the budget is {} by default)",
+                gloc_engine::vm::DEFAULT_CYCLE_BUDGET
+            )
+        },
+        |budget| format!("(the budget is {budget}, from the project settings)"),
+    );
+    Hint {
+        offset,
+        label,
+        tooltip: Some(format!(
+            "Worst-case number of instructions executed in the control cycle that starts here, the ending `yield` included {budget}."
+        )),
+        padding_left: true,
+    }
+}
+
+/// "Insert `yield` in this loop" for the loops the checker flags.
+fn add_yield_fixes(text: &str, file: &File, statements: u32, diagnostics: &mut [Diagnostic]) {
+    let ninstr = file.directive(DirectiveKind::Ninstr);
+    for diagnostic in diagnostics.iter_mut() {
+        if diagnostic.code != "W0111" && diagnostic.code != "E0111" {
+            continue;
+        }
+        // Before the jump back when the checker names it, else before the loop's first line.
+        let anchor = diagnostic
+            .labels
+            .first()
+            .map_or(diagnostic.span, |label| label.span);
+        let line_start = text[..anchor.start as usize]
+            .rfind('\n')
+            .map_or(0, |at| at + 1);
+        let indent: String = text[line_start..]
+            .chars()
+            .take_while(|character| *character == ' ' || *character == '\t')
+            .collect();
+        diagnostic.fixes.push(gloc_engine::diagnostic::Fix {
+            title: "insert `yield` in this loop".to_string(),
+            span: Span::new(line_start, line_start),
+            replacement: format!("{indent}yield\n"),
+        });
+        // Keep the header true: one more statement.
+        if let Some(ninstr) = ninstr.filter(|directive| directive.value == u64::from(statements)) {
+            diagnostic.fixes.push(gloc_engine::diagnostic::Fix {
+                title: "update `ninstr`".to_string(),
+                span: ninstr.value_span,
+                replacement: (ninstr.value + 1).to_string(),
+            });
+        }
+    }
+}
+
+fn collect_tokens(text: &str, file: &File, context: &Context, analysis: &mut Analysis) {
+    for line in &file.lines {
+        match &line.kind {
+            LineKind::Blank | LineKind::Invalid { .. } => {}
+            LineKind::Directive(directive) => {
+                push(analysis, directive.keyword_span, TokenKind::Directive, None);
+                push(analysis, directive.value_span, TokenKind::Number, None);
+            }
+            LineKind::Label(label) => {
+                let keyword_start = line.span.start as usize
+                    + (text[line.span.range()].len() - text[line.span.range()].trim_start().len());
+                push(
+                    analysis,
+                    Span::new(keyword_start, keyword_start + 5),
+                    TokenKind::Keyword,
+                    None,
+                );
+                push(analysis, label.number_span, TokenKind::Label, None);
+            }
+            LineKind::Instruction(instruction) => {
+                push(analysis, instruction.opcode_span, TokenKind::Keyword, None);
+                let shapes = instruction.opcode.signature();
+                for (operand, shape) in instruction.operands.iter().zip(shapes) {
+                    let (kind, sensor) = match (&operand.kind, shape) {
+                        (OperandKind::Register(_), _) => (TokenKind::Register, None),
+                        (OperandKind::Integer(index), OperandShape::Sensor) => {
+                            let id = u32::try_from(*index).ok().map(SensorId);
+                            let known = id.filter(|id| context.sensors.get(*id).is_some());
+                            if let Some(id) = known {
+                                let name = context.sensors.name(id).unwrap_or_default();
+                                analysis.hints.push(Hint {
+                                    offset: operand.span.end as usize,
+                                    label: format!(":{name}"),
+                                    tooltip: None,
+                                    padding_left: false,
+                                });
+                            }
+                            let kind = if instruction.opcode == Opcode::Stores {
+                                TokenKind::SensorWrite
+                            } else {
+                                TokenKind::SensorRead
+                            };
+                            (kind, known)
+                        }
+                        (OperandKind::Integer(_), OperandShape::Label) => (TokenKind::Label, None),
+                        (OperandKind::Text(_), _) => (TokenKind::String, None),
+                        _ => (TokenKind::Number, None),
+                    };
+                    push(analysis, operand.span, kind, sensor);
+                }
+            }
+        }
+        if let Some(comment) = &line.comment {
+            let line_text = &text[line.span.range()];
+            if let Some(at) = line_text.rfind(comment.trim_end()) {
+                let start = line.span.start as usize + at;
+                push(
+                    analysis,
+                    Span::new(start, start + comment.trim_end().len()),
+                    TokenKind::Comment,
+                    None,
+                );
+            }
+        }
+    }
+}
+
+fn push(analysis: &mut Analysis, span: Span, kind: TokenKind, sensor: Option<SensorId>) {
+    if !span.is_empty() {
+        analysis.tokens.push(Token { span, kind, sensor });
+    }
+}
+
+/// Labels: each number's definition, the jumps to it, and its section.
+fn collect_labels(file: &File, analysis: &mut Analysis) {
+    let mut labels: BTreeMap<u32, Symbol> = BTreeMap::new();
+    let label_lines: Vec<&Line> = file
+        .lines
+        .iter()
+        .filter(|line| matches!(line.kind, LineKind::Label(_)))
+        .collect();
+    for (index, line) in label_lines.iter().enumerate() {
+        let LineKind::Label(label) = &line.kind else {
+            continue;
+        };
+        // The section runs to the last statement before the next label.
+        let section_end = file
+            .lines
+            .iter()
+            .filter(|other| other.span.start > line.span.start)
+            .take_while(|other| {
+                label_lines
+                    .get(index + 1)
+                    .is_none_or(|next| other.span.start < next.span.start)
+            })
+            .filter(|other| other.kind.is_statement())
+            .last()
+            .map_or(line.span.end, |last| last.span.end);
+        let section = Span::new(line.span.start as usize, section_end as usize);
+        analysis.folds.push(section);
+        let symbol = labels
+            .entry(label.number)
+            .or_insert_with(|| new_label(label.number));
+        if symbol.definition.is_none() {
+            symbol.definition = Some(label.number_span);
+            symbol.extent = section;
+        } else {
+            // A duplicate definition (the checker reports it) still renames along.
+            symbol.references.push(label.number_span);
+        }
+    }
+    for line in &file.lines {
+        let LineKind::Instruction(instruction) = &line.kind else {
+            continue;
+        };
+        for (operand, shape) in instruction
+            .operands
+            .iter()
+            .zip(instruction.opcode.signature())
+        {
+            if let (OperandKind::Integer(number), OperandShape::Label) = (&operand.kind, shape) {
+                if let Ok(number) = u32::try_from(*number) {
+                    labels
+                        .entry(number)
+                        .or_insert_with(|| new_label(number))
+                        .references
+                        .push(operand.span);
+                }
+            }
+        }
+    }
+    analysis.symbols.extend(labels.into_values());
+    analysis.tokens.sort_by_key(|token| token.span.start);
+}
+
+fn new_label(number: u32) -> Symbol {
+    Symbol {
+        name: number.to_string(),
+        kind: SymbolKind::Label,
+        definition: None,
+        extent: Span::default(),
+        references: Vec::new(),
+        detail: format!("label {number}"),
+        renamable: true,
+    }
+}
+
+/// Renaming a GLOC label renumbers it: the new name must be a free label number.
+pub fn check_new_name(symbol: &Symbol, new_name: &str, analysis: &Analysis) -> Result<(), String> {
+    let Ok(number) = new_name.parse::<u32>() else {
+        return Err(format!(
+            "GLOC labels are numbers; `{new_name}` is not a label number"
+        ));
+    };
+    if symbol.name == number.to_string() {
+        return Ok(());
+    }
+    let taken = analysis.symbols.iter().any(|other| {
+        other.kind == SymbolKind::Label
+            && other.name == number.to_string()
+            && other.definition.is_some()
+    });
+    if taken {
+        return Err(format!("label {number} already exists"));
+    }
+    Ok(())
 }
 
 pub fn completions(
-    _text: &str,
-    _offset: usize,
-    _analysis: &Analysis,
-    _context: &Context,
+    text: &str,
+    offset: usize,
+    analysis: &Analysis,
+    context: &Context,
 ) -> Vec<Completion> {
-    Vec::new()
+    let line_start = text[..offset.min(text.len())]
+        .rfind('\n')
+        .map_or(0, |at| at + 1);
+    let Some(before) = text.get(line_start..offset) else {
+        return Vec::new();
+    };
+    if before.contains('#') {
+        return Vec::new();
+    }
+    let trimmed = before.trim_start();
+    let Some((word, operands)) = trimmed.split_once(char::is_whitespace) else {
+        return first_word_completions();
+    };
+    let word = word.to_ascii_lowercase();
+    if word == "label" {
+        return Vec::new();
+    }
+    let Some(opcode) = Opcode::from_name(&word) else {
+        return Vec::new();
+    };
+    let operand_index = operands.matches(',').count();
+    let Some(shape) = opcode.signature().get(operand_index) else {
+        return Vec::new();
+    };
+    match shape {
+        OperandShape::Register | OperandShape::Address => register_completions(text),
+        OperandShape::Sensor => {
+            sensor_index_completions(&context.sensors, opcode == Opcode::Stores)
+        }
+        OperandShape::Label => analysis
+            .symbols
+            .iter()
+            .filter(|symbol| symbol.kind == SymbolKind::Label && symbol.definition.is_some())
+            .map(|symbol| Completion {
+                label: symbol.name.clone(),
+                kind: CompletionKind::Label,
+                detail: Some(format!(
+                    "label {} ({} jumps)",
+                    symbol.name,
+                    symbol.references.len()
+                )),
+                documentation: None,
+                snippet: None,
+                insert_text: None,
+                filter_text: None,
+                sort_text: None,
+            })
+            .collect(),
+        OperandShape::Integer | OperandShape::Number | OperandShape::Text => Vec::new(),
+    }
 }
 
-pub fn word_markdown(_word: &str, _kind: TokenKind) -> Option<String> {
-    None
+fn first_word_completions() -> Vec<Completion> {
+    let mut items: Vec<Completion> = Opcode::ALL
+        .iter()
+        .map(|opcode| Completion {
+            label: opcode.name().to_string(),
+            kind: CompletionKind::Instruction,
+            detail: Some(opcode.usage()),
+            documentation: Some(instruction_markdown(*opcode)),
+            snippet: Some(snippet(*opcode)),
+            insert_text: None,
+            filter_text: None,
+            sort_text: None,
+        })
+        .collect();
+    items.push(keyword(
+        "label",
+        "label ${1:0}",
+        "`label N`: a jump target (labels are numbers).",
+    ));
+    for (name, documentation) in DIRECTIVES {
+        items.push(keyword(name, &format!("{name} ${{1:0}}"), documentation));
+    }
+    items
 }
 
-pub fn signature(_text: &str, _offset: usize) -> Option<Signature> {
-    None
+fn keyword(label: &str, snippet: &str, documentation: &str) -> Completion {
+    Completion {
+        label: label.to_string(),
+        kind: CompletionKind::Keyword,
+        detail: None,
+        documentation: Some(documentation.to_string()),
+        snippet: Some(snippet.to_string()),
+        insert_text: None,
+        filter_text: None,
+        sort_text: None,
+    }
 }
 
-pub fn check_new_name(
-    _symbol: &Symbol,
-    _new_name: &str,
-    _analysis: &Analysis,
-) -> Result<(), String> {
-    Err("not yet".into())
+/// `cbr ${1:r0},${2:0},${3:0}`: a snippet with one placeholder per operand.
+fn snippet(opcode: Opcode) -> String {
+    let operands: Vec<String> = opcode
+        .signature()
+        .iter()
+        .enumerate()
+        .map(|(index, shape)| {
+            let placeholder = match shape {
+                OperandShape::Register | OperandShape::Address => "r0",
+                OperandShape::Sensor | OperandShape::Label | OperandShape::Integer => "0",
+                OperandShape::Number => "0.0",
+                OperandShape::Text => "\\\"text\\\"",
+            };
+            format!("${{{}:{placeholder}}}", index + 1)
+        })
+        .collect();
+    if operands.is_empty() {
+        opcode.name().to_string()
+    } else {
+        format!("{} {}", opcode.name(), operands.join(","))
+    }
 }
 
-pub fn format(_text: &str) -> Option<String> {
-    None
+const DIRECTIVES: [(&str, &str); 5] = [
+    (
+        "nregs",
+        "`nregs N`: the script uses registers `r0` to `r(N-1)`.",
+    ),
+    (
+        "nblbs",
+        "`nblbs N`: the script uses labels `0` to `N-1` (the paper's spelling).",
+    ),
+    ("nlbls", "`nlbls N`: same as `nblbs`."),
+    (
+        "ninstr",
+        "`ninstr N`: the number of lines after the header, labels included.",
+    ),
+    (
+        "nmem",
+        "`nmem N`: cells of array memory for `loadm`/`storem` (default 0).",
+    ),
+];
+
+fn register_completions(text: &str) -> Vec<Completion> {
+    let parsed = gloc::parse(text);
+    let count = parsed
+        .file
+        .directive(DirectiveKind::Nregs)
+        .map_or(8, |directive| directive.value.min(256));
+    (0..count)
+        .map(|register| Completion {
+            label: format!("r{register}"),
+            kind: CompletionKind::Register,
+            detail: Some("register".to_string()),
+            documentation: None,
+            snippet: None,
+            insert_text: None,
+            filter_text: None,
+            sort_text: Some(format!("{register:05}")),
+        })
+        .collect()
+}
+
+/// Sensors by name, inserting the index (GLOC names sensors by number).
+fn sensor_index_completions(list: &SensorList, store: bool) -> Vec<Completion> {
+    lang::sensor_completions(list, store)
+        .into_iter()
+        .filter_map(|mut item| {
+            let id = list.lookup(&item.label)?;
+            item.filter_text = Some(format!("{} {}", item.label, id.0));
+            item.insert_text = Some(id.0.to_string());
+            item.label = format!("{} {}", id.0, item.label);
+            Some(item)
+        })
+        .collect()
+}
+
+pub fn word_markdown(word: &str, kind: TokenKind) -> Option<String> {
+    let lower = word.to_ascii_lowercase();
+    match kind {
+        TokenKind::Keyword if lower == "label" => Some(
+            "`label N`: a jump target. Labels are numbers; `jumpi`, `cbr` and `jump` go to them."
+                .to_string(),
+        ),
+        TokenKind::Keyword => Opcode::from_name(&lower).map(instruction_markdown),
+        TokenKind::Directive => DIRECTIVES
+            .iter()
+            .find(|(name, _)| *name == lower)
+            .map(|(_, documentation)| documentation.to_string()),
+        TokenKind::Register => Some(format!(
+            "register `{lower}`: holds an integer or a float; starts as integer 0."
+        )),
+        _ => None,
+    }
+}
+
+fn instruction_markdown(opcode: Opcode) -> String {
+    let origin = match opcode.origin() {
+        Origin::Paper => "from the paper (Woithe & Kremer, Fig. 2)",
+        Origin::Ours => "a gloc extension",
+    };
+    let operands: Vec<&str> = opcode
+        .signature()
+        .iter()
+        .map(|shape| shape.describe())
+        .collect();
+    let mut text = format!(
+        "```gloc\n{}\n```\n{}\n\n",
+        opcode.usage(),
+        opcode.semantics()
+    );
+    if !operands.is_empty() {
+        text.push_str(&format!("Operands: {}.\n\n", operands.join("; ")));
+    }
+    text.push_str(&format!("*{origin}*"));
+    text
+}
+
+/// The operand shape of the instruction under the cursor.
+pub fn signature(text: &str, offset: usize) -> Option<Signature> {
+    let line_start = text[..offset.min(text.len())]
+        .rfind('\n')
+        .map_or(0, |at| at + 1);
+    let before = text.get(line_start..offset)?;
+    if before.contains('#') {
+        return None;
+    }
+    let (word, operands) = before.trim_start().split_once(char::is_whitespace)?;
+    let opcode = Opcode::from_name(&word.to_ascii_lowercase())?;
+    let shapes = opcode.signature();
+    if shapes.is_empty() {
+        return None;
+    }
+    let usage = opcode.usage();
+    let mut parameters = Vec::new();
+    let mut position = opcode.name().len() + 1;
+    for piece in usage[position..].split(',') {
+        parameters.push((position, position + piece.len()));
+        position += piece.len() + 1;
+    }
+    let active_parameter = operands.matches(',').count().min(shapes.len() - 1);
+    Some(Signature {
+        label: usage,
+        documentation: opcode.semantics().to_string(),
+        parameters,
+        active_parameter,
+    })
+}
+
+/// Canonical GLOC (the engine's printer); unparseable lines are kept verbatim.
+pub fn format(text: &str) -> Option<String> {
+    Some(gloc::print(&gloc::parse(text).file))
 }
 
 pub fn load_sensor_list(path: &Path) -> Result<SensorList, String> {

@@ -148,6 +148,9 @@ pub fn sensor_completions(list: &SensorList, only_writable: bool) -> Vec<Complet
             )),
             documentation: Some(sensor_markdown(list, id)),
             snippet: None,
+            insert_text: None,
+            filter_text: None,
+            sort_text: None,
         })
         .collect()
 }

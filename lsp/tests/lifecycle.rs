@@ -249,7 +249,13 @@ async fn incremental_edits_with_non_ascii_text_keep_utf16_positions() {
             json!({ "textDocument": { "uri": uri } }),
         )
         .await;
-    assert_eq!(client.diagnostics(uri).await["diagnostics"], json!([]));
+    let last = client.latest_diagnostics(uri).await;
+    assert_eq!(last["diagnostics"], json!([]));
+    assert_eq!(
+        last["version"],
+        Value::Null,
+        "a close clears without a version"
+    );
     let closed = client
         .request_raw(
             "workspace/executeCommand",

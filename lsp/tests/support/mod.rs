@@ -186,6 +186,13 @@ impl TestClient {
     pub async fn latest_diagnostics(&mut self, uri: &str) -> Value {
         self.request("textDocument/hover", at("file:///never/opened.gloc", 0, 0))
             .await;
+        // Notifications travel apart from responses inside the server, so one
+        // sent before that answer may still arrive after it: wait for quiet.
+        while let Ok(message) =
+            tokio::time::timeout(Duration::from_millis(150), self.read_message()).await
+        {
+            self.handle(message).await;
+        }
         let mut latest = Value::Null;
         while let Some(position) = self.notifications.iter().position(|message| {
             message["method"] == "textDocument/publishDiagnostics"

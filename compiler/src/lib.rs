@@ -1,1 +1,137 @@
-//! The GBASIC compiler (filled by the compiler work).
+//! gloc-compiler: GBASIC, the paper's BASIC-like language, compiled to GLOC text.
+//!
+//! Stages: [`parser::parse`] (never fails) → [`check::check`] (types and names) →
+//! [`codegen::generate`] (the paper's numbering scheme) → optionally
+//! [`optimize::optimize`] → GLOC text plus a [`SourceMap`]. Pure: no IO, no threads.
+#![deny(clippy::unwrap_used)]
+
+pub mod analysis;
+pub mod ast;
+pub mod check;
+pub mod codegen;
+pub mod codes;
+pub mod ir;
+pub mod lexer;
+
+pub mod optimize;
+pub mod parser;
+pub mod source_map;
+pub mod typed;
+
+use gloc_engine::sensors::SensorList;
+use gloc_engine::Diagnostic;
+
+pub use analysis::{analyze, Analysis, Block, SymbolKind, SymbolInfo};
+pub use codegen::{ForBound, Storage};
+
+pub use source_map::{Origin, SourceMap};
+
+/// How to compile.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct CompileOptions {
+    /// Run the optimizer (`-O`).
+    pub optimize: bool,
+}
+
+/// Register, label and instruction counts of one build (for `-O` figures).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct CodeStats {
+    /// GLOC lines after the header (labels included, as `ninstr` counts).
+    pub lines: u32,
+    /// Executable instructions (label lines not counted).
+    pub instructions: u32,
+    pub registers: u32,
+    pub labels: u32,
+    pub memory: u32,
+}
+
+/// The result of compiling GBASIC. `gloc_text` and `source_map` are `None` when
+/// there is an error; diagnostics always point into the GBASIC text.
+#[derive(Clone, Debug, Default)]
+pub struct Compiled {
+    pub gloc_text: Option<String>,
+    pub source_map: Option<SourceMap>,
+    pub diagnostics: Vec<Diagnostic>,
+    pub stats: Option<CodeStats>,
+    /// Trip counts of `for` loops with constant limits, keyed by the GLOC label of
+    /// the loop's test, for the GLOC checker.
+    pub for_bounds: Vec<ForBound>,
+}
+
+impl Compiled {
+    pub fn has_errors(&self) -> bool {
+        self.diagnostics.iter().any(Diagnostic::is_error)
+    }
+}
+
+/// Compiles a GBASIC program against a sensor list.
+pub fn compile(text: &str, sensors: &SensorList, options: &CompileOptions) -> Compiled {
+    let parsed = parser::parse(text);
+    let checked = check::check(&parsed.program, sensors);
+    let mut diagnostics = parsed.diagnostics;
+    diagnostics.extend(checked.diagnostics);
+    diagnostics.sort_by_key(|diagnostic| (diagnostic.span.start, diagnostic.span.end));
+    if diagnostics.iter().any(Diagnostic::is_error) {
+        return Compiled {
+            diagnostics,
+            ..Compiled::default()
+        };
+    }
+    let generated = codegen::generate(&checked.program, &checked.symbols);
+    let mut code = generated.code;
+    let mut for_bounds = generated.for_bounds;
+    if options.optimize {
+        for_bounds = optimize::optimize(&mut code, &for_bounds);
+    }
+    if let Some(diagnostic) = too_large(&code) {
+        diagnostics.push(diagnostic);
+        return Compiled {
+            diagnostics,
+            ..Compiled::default()
+        };
+    }
+    let source_map = SourceMap::build(&code, &generated.storage, &checked.symbols, text);
+    let stats = CodeStats {
+        lines: code.instrs.len() as u32,
+        instructions: code
+            .instrs
+            .iter()
+            .filter(|instr| !matches!(instr, ir::Instr::Label(_)))
+            .count() as u32,
+        registers: code.register_count,
+        labels: code.label_count,
+        memory: code.memory_size,
+    };
+    Compiled {
+        gloc_text: Some(code.to_gloc()),
+        source_map: Some(source_map),
+        diagnostics,
+        stats: Some(stats),
+        for_bounds,
+    }
+}
+
+/// GLOC's loader limits (registers, labels, memory); a program beyond them is refused
+/// here with a GBASIC diagnostic rather than later with a GLOC one.
+fn too_large(code: &ir::Code) -> Option<Diagnostic> {
+    const MAX_REGISTERS: u32 = 1 << 16;
+    const MAX_LABELS: u32 = 1 << 20;
+    const MAX_MEMORY: u32 = 1 << 20;
+    let what = if code.register_count > MAX_REGISTERS {
+        format!("{} registers (the limit is {MAX_REGISTERS})", code.register_count)
+    } else if code.label_count > MAX_LABELS {
+        format!("{} labels (the limit is {MAX_LABELS})", code.label_count)
+    } else if code.memory_size > MAX_MEMORY {
+        format!("{} memory cells (the limit is {MAX_MEMORY})", code.memory_size)
+    } else {
+        return None;
+    };
+    Some(
+        Diagnostic::error(
+            codes::TOO_LARGE,
+            gloc_engine::Span::default(),
+            format!("the program needs {what}"),
+        )
+        .with_help("split the program or use smaller arrays; `-O` reuses registers"),
+    )
+}

@@ -1,0 +1,218 @@
+//! What the language server needs from a GBASIC text in one call: diagnostics,
+//! symbols with definitions, references and types, sensors read and written, block
+//! ranges for folding, and the compiled GLOC. Byte offsets throughout.
+
+use gloc_engine::sensors::SensorList;
+use gloc_engine::{Diagnostic, Span};
+
+use crate::ast;
+use crate::parser::{BUILTINS, KEYWORDS};
+use crate::typed::Ty;
+use crate::{check, compile, parser, CompileOptions, SourceMap};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SymbolKind {
+    Variable,
+    Array,
+    Constant,
+    Label,
+    Sensor,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct SymbolInfo {
+    pub name: String,
+    pub kind: SymbolKind,
+    /// `None` for labels (they have no type).
+    pub ty: Option<Ty>,
+    /// A one-line description for hover, e.g. `dim depths(40) as float`.
+    pub detail: String,
+    /// Where it is declared (`None` for sensors and undefined labels).
+    pub definition: Option<Span>,
+    pub references: Vec<Span>,
+    /// For sensors: the spans where the program writes it (a subset of `references`).
+    pub writes: Vec<Span>,
+    /// For sensors: the index in the active sensor list.
+    pub sensor_index: Option<u32>,
+}
+
+/// A foldable block: `if … endif`, `while … wend`, `do … loop`, `for … next`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Block {
+    pub kind: &'static str,
+    /// From the opening keyword to the end of the closing line.
+    pub span: Span,
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct Analysis {
+    pub diagnostics: Vec<Diagnostic>,
+    pub symbols: Vec<SymbolInfo>,
+    pub blocks: Vec<Block>,
+    /// The compiled GLOC (unoptimized unless asked), `None` when there are errors.
+    pub gloc_text: Option<String>,
+    pub source_map: Option<SourceMap>,
+}
+
+impl Analysis {
+    /// The symbol defined or referenced at byte `offset`.
+    pub fn symbol_at(&self, offset: usize) -> Option<&SymbolInfo> {
+        self.symbols.iter().find(|symbol| {
+            symbol.definition.is_some_and(|span| span.contains(offset))
+                || symbol.references.iter().any(|span| span.contains(offset))
+        })
+    }
+
+    /// Sensors the program reads, with the spans of the reads.
+    pub fn sensors_read(&self) -> impl Iterator<Item = &SymbolInfo> {
+        self.symbols
+            .iter()
+            .filter(|symbol| symbol.kind == SymbolKind::Sensor && symbol.references.len() > symbol.writes.len())
+    }
+
+    /// Sensors the program writes.
+    pub fn sensors_written(&self) -> impl Iterator<Item = &SymbolInfo> {
+        self.symbols
+            .iter()
+            .filter(|symbol| symbol.kind == SymbolKind::Sensor && !symbol.writes.is_empty())
+    }
+}
+
+/// GBASIC's keywords, for completion and highlighting.
+pub fn keywords() -> &'static [&'static str] {
+    KEYWORDS
+}
+
+/// GBASIC's built-in functions with a one-line signature each.
+pub fn builtins() -> &'static [(&'static str, &'static str)] {
+    const SIGNATURES: &[(&str, &str)] = &[
+        ("abs", "abs(x): |x|, same type as x"),
+        ("sqrt", "sqrt(x): square root, a float"),
+        ("min", "min(a, b): the smaller; float if either is"),
+        ("max", "max(a, b): the larger; float if either is"),
+        ("int", "int(x): float to integer, truncating toward zero"),
+        ("float", "float(x): integer to float"),
+    ];
+    debug_assert_eq!(SIGNATURES.len(), BUILTINS.len());
+    SIGNATURES
+}
+
+pub fn analyze(text: &str, sensors: &SensorList, options: &CompileOptions) -> Analysis {
+    let parsed = parser::parse(text);
+    let checked = check::check(&parsed.program, sensors);
+    let compiled = compile(text, sensors, options);
+    let mut symbols = Vec::new();
+    for variable in &checked.symbols.variables {
+        let (kind, detail) = match variable.size {
+            Some(size) => (
+                SymbolKind::Array,
+                format!("dim {}({size}) as {}", variable.name, variable.ty.name()),
+            ),
+            None => (
+                SymbolKind::Variable,
+                format!("dim {} as {}", variable.name, variable.ty.name()),
+            ),
+        };
+        symbols.push(SymbolInfo {
+            name: variable.name.clone(),
+            kind,
+            ty: Some(variable.ty),
+            detail,
+            definition: Some(variable.definition),
+            references: variable.references.clone(),
+            writes: Vec::new(),
+            sensor_index: None,
+        });
+    }
+    for constant in &checked.symbols.constants {
+        symbols.push(SymbolInfo {
+            name: constant.name.clone(),
+            kind: SymbolKind::Constant,
+            ty: Some(constant.ty),
+            detail: format!("const {} = {}", constant.name, constant.value),
+            definition: Some(constant.definition),
+            references: constant.references.clone(),
+            writes: Vec::new(),
+            sensor_index: None,
+        });
+    }
+    for (number, label) in checked.symbols.labels.iter().enumerate() {
+        symbols.push(SymbolInfo {
+            name: label.name.clone(),
+            kind: SymbolKind::Label,
+            ty: None,
+            detail: format!("label: {} (GLOC label {number})", label.name),
+            definition: label.definition,
+            references: label.references.clone(),
+            writes: Vec::new(),
+            sensor_index: None,
+        });
+    }
+    for sensor in &checked.symbols.sensors {
+        let units = sensors
+            .get(gloc_engine::sensors::SensorId(sensor.sensor))
+            .map_or(String::new(), |info| info.units.clone());
+        let mut references: Vec<Span> = sensor.reads.iter().chain(&sensor.writes).copied().collect();
+        references.sort_by_key(|span| span.start);
+        symbols.push(SymbolInfo {
+            name: sensor.name.clone(),
+            kind: SymbolKind::Sensor,
+            ty: Some(Ty::Float),
+            detail: format!("sensor {} ({units}), index {}", sensor.name, sensor.sensor),
+            definition: None,
+            references,
+            writes: sensor.writes.clone(),
+            sensor_index: Some(sensor.sensor),
+        });
+    }
+    let mut blocks = Vec::new();
+    collect_blocks(&parsed.program.body, &mut blocks);
+    Analysis {
+        diagnostics: compiled.diagnostics,
+        symbols,
+        blocks,
+        gloc_text: compiled.gloc_text,
+        source_map: compiled.source_map,
+    }
+}
+
+fn collect_blocks(body: &[ast::Stmt], blocks: &mut Vec<Block>) {
+    for stmt in body {
+        let (kind, end) = match &stmt.kind {
+            ast::StmtKind::If {
+                arms,
+                else_body,
+                end_span,
+            } => {
+                for arm in arms {
+                    collect_blocks(&arm.body, blocks);
+                }
+                if let Some(body) = else_body {
+                    collect_blocks(body, blocks);
+                }
+                ("if", *end_span)
+            }
+            ast::StmtKind::While { body, end_span, .. } => {
+                collect_blocks(body, blocks);
+                ("while", *end_span)
+            }
+            ast::StmtKind::Do { body, end_span, .. } => {
+                collect_blocks(body, blocks);
+                ("do", *end_span)
+            }
+            ast::StmtKind::For { body, end_span, .. } => {
+                collect_blocks(body, blocks);
+                ("for", *end_span)
+            }
+            _ => continue,
+        };
+        if let Some(end) = end {
+            blocks.push(Block {
+                kind,
+                span: stmt.span.cover(end),
+            });
+        }
+    }
+    blocks.sort_by_key(|block| block.span.start);
+}

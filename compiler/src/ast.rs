@@ -1,0 +1,225 @@
+//! The untyped GBASIC syntax tree, as written (names keep their spelling and span).
+
+use gloc_engine::Span;
+
+/// A name as written; `key` is the lower-cased spelling used for lookups.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Name {
+    pub text: String,
+    pub key: String,
+    pub span: Span,
+}
+
+impl Name {
+    pub fn new(text: &str, span: Span) -> Name {
+        Name {
+            text: text.to_string(),
+            key: text.to_ascii_lowercase(),
+            span,
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TypeName {
+    Integer,
+    Float,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum Literal {
+    Int(i64),
+    Float(f64),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BinaryOp {
+    Add,
+    Sub,
+    Mul,
+    /// `/`: always float division.
+    Div,
+    /// `\`: integer division.
+    IntDiv,
+    Mod,
+    Eq,
+    Ne,
+    Lt,
+    Le,
+    Gt,
+    Ge,
+    And,
+    Or,
+}
+
+impl BinaryOp {
+    pub fn symbol(self) -> &'static str {
+        match self {
+            BinaryOp::Add => "+",
+            BinaryOp::Sub => "-",
+            BinaryOp::Mul => "*",
+            BinaryOp::Div => "/",
+            BinaryOp::IntDiv => "\\",
+            BinaryOp::Mod => "mod",
+            BinaryOp::Eq => "=",
+            BinaryOp::Ne => "<>",
+            BinaryOp::Lt => "<",
+            BinaryOp::Le => "<=",
+            BinaryOp::Gt => ">",
+            BinaryOp::Ge => ">=",
+            BinaryOp::And => "and",
+            BinaryOp::Or => "or",
+        }
+    }
+
+    pub fn is_comparison(self) -> bool {
+        matches!(
+            self,
+            BinaryOp::Eq | BinaryOp::Ne | BinaryOp::Lt | BinaryOp::Le | BinaryOp::Gt | BinaryOp::Ge
+        )
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum UnaryOp {
+    Neg,
+    Not,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum ExprKind {
+    Literal(Literal),
+    Name(Name),
+    /// `name(args)`: an array element or a built-in call; the checker decides.
+    Call { name: Name, args: Vec<Expr> },
+    Unary { op: UnaryOp, operand: Box<Expr> },
+    Binary { op: BinaryOp, left: Box<Expr>, right: Box<Expr> },
+    /// A syntax error stood here; already reported.
+    Error,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Expr {
+    pub kind: ExprKind,
+    pub span: Span,
+}
+
+/// The left side of an assignment.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Target {
+    Name(Name),
+    Element { name: Name, index: Expr },
+}
+
+impl Target {
+    pub fn name(&self) -> &Name {
+        match self {
+            Target::Name(name) | Target::Element { name, .. } => name,
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum PrintItem {
+    Expr(Expr),
+    Text { text: String, span: Span },
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LoopKind {
+    For,
+    Do,
+    While,
+}
+
+impl LoopKind {
+    pub fn keyword(self) -> &'static str {
+        match self {
+            LoopKind::For => "for",
+            LoopKind::Do => "do",
+            LoopKind::While => "while",
+        }
+    }
+}
+
+/// `while`/`until` on a `do` loop.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DoCondition {
+    pub until: bool,
+    pub expr: Expr,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct IfArm {
+    pub condition: Expr,
+    pub body: Vec<Stmt>,
+    /// The span of the `if`/`elseif` keyword through `then`.
+    pub span: Span,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum StmtKind {
+    Dim {
+        name: Name,
+        size: Option<ArraySize>,
+        ty: TypeName,
+    },
+    Const {
+        name: Name,
+        value: Literal,
+    },
+    Assign {
+        target: Target,
+        value: Expr,
+    },
+    If {
+        arms: Vec<IfArm>,
+        else_body: Option<Vec<Stmt>>,
+        /// Span of the closing `endif`, if any.
+        end_span: Option<Span>,
+    },
+    Label(Name),
+    Goto(Name),
+    While {
+        condition: Expr,
+        body: Vec<Stmt>,
+        end_span: Option<Span>,
+    },
+    Do {
+        pre: Option<DoCondition>,
+        body: Vec<Stmt>,
+        post: Option<DoCondition>,
+        end_span: Option<Span>,
+    },
+    For {
+        variable: Name,
+        from: Expr,
+        to: Expr,
+        step: Option<Expr>,
+        body: Vec<Stmt>,
+        end_span: Option<Span>,
+    },
+    Exit(LoopKind),
+    Yield,
+    End,
+    Print(Vec<PrintItem>),
+}
+
+/// An array size: an integer literal or the name of an integer constant.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ArraySize {
+    Literal { value: i64, span: Span },
+    Const(Name),
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Stmt {
+    pub kind: StmtKind,
+    /// The statement's first line (for a block: its header line).
+    pub span: Span,
+}
+
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Program {
+    pub body: Vec<Stmt>,
+}

@@ -1,0 +1,1219 @@
+//! The GBASIC type checker: resolves names (declarations are global and hoisted, as
+//! the program is one flat scope with `goto`), checks types, and builds the typed tree
+//! and the symbol table. Every error is reported once; an expression already wrong
+//! has type `Error`, which matches anything.
+
+use std::collections::HashMap;
+
+use gloc_engine::sensors::{Access, SensorId, SensorList};
+use gloc_engine::{Diagnostic, Span};
+
+use crate::ast::{self, BinaryOp, Literal, LoopKind, TypeName, UnaryOp};
+use crate::codes;
+use crate::parser::{BUILTINS, KEYWORDS};
+use crate::typed::{self, Builtin, ExprKind, LabelId, Place, Symbols, Ty, VarId};
+
+/// A type-checked program.
+#[derive(Clone, Debug, Default)]
+pub struct Checked {
+    pub program: typed::Program,
+    pub symbols: Symbols,
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+pub fn check(program: &ast::Program, sensors: &SensorList) -> Checked {
+    let mut checker = Checker {
+        sensors,
+        symbols: Symbols::default(),
+        diagnostics: Vec::new(),
+        names: HashMap::new(),
+        labels: HashMap::new(),
+        sensor_uses: HashMap::new(),
+        loops: Vec::new(),
+        constant_values: Vec::new(),
+    };
+    checker.declare_constants(&program.body);
+    checker.declare_rest(&program.body);
+    let body = checker.check_block(&program.body);
+    checker.warn_unused();
+    Checked {
+        program: typed::Program { body },
+        symbols: checker.symbols,
+        diagnostics: checker.diagnostics,
+    }
+}
+
+#[derive(Clone, Copy, Debug)]
+enum Symbol {
+    Variable(VarId),
+    Constant(usize),
+}
+
+struct Checker<'a> {
+    sensors: &'a SensorList,
+    symbols: Symbols,
+    diagnostics: Vec<Diagnostic>,
+    /// Lower-cased name → variable or constant.
+    names: HashMap<String, Symbol>,
+    labels: HashMap<String, LabelId>,
+    /// Sensor index → position in `symbols.sensors`.
+    sensor_uses: HashMap<u32, usize>,
+    /// Loops open around the statement being checked.
+    loops: Vec<LoopKind>,
+    /// Values of `symbols.constants`, by the same index.
+    constant_values: Vec<Literal>,
+}
+
+fn literal_ty(value: &Literal) -> Ty {
+    match value {
+        Literal::Int(_) => Ty::Integer,
+        Literal::Float(_) => Ty::Float,
+    }
+}
+
+/// GBASIC prints floats as Rust's `{:?}` does: always with a point or an exponent.
+pub fn format_float(value: f64) -> String {
+    format!("{value:?}")
+}
+
+impl<'a> Checker<'a> {
+    fn error(&mut self, diagnostic: Diagnostic) {
+        self.diagnostics.push(diagnostic);
+    }
+
+    /// Reports a declaration whose name is taken; returns true when it is free.
+    fn name_is_free(&mut self, name: &ast::Name) -> bool {
+        if let Some(existing) = self.names.get(&name.key).copied() {
+            let first = match existing {
+                Symbol::Variable(id) => self.symbols.variables[id.0].definition,
+                Symbol::Constant(index) => self.symbols.constants[index].definition,
+            };
+            self.error(
+                Diagnostic::error(
+                    codes::DUPLICATE,
+                    name.span,
+                    format!("`{}` is declared twice", name.text),
+                )
+                .with_label(first, "first declared here")
+                .with_help("rename one of them"),
+            );
+            return false;
+        }
+        if BUILTINS.contains(&name.key.as_str()) || KEYWORDS.contains(&name.key.as_str()) {
+            self.error(
+                Diagnostic::error(
+                    codes::DUPLICATE,
+                    name.span,
+                    format!("`{}` is the name of a built-in function", name.text),
+                )
+                .with_help("choose another name"),
+            );
+            return false;
+        }
+        if let Some(sensor) = self.sensors.lookup(&name.key) {
+            let sensor_name = self.sensors.name(sensor).unwrap_or("").to_string();
+            self.error(
+                Diagnostic::error(
+                    codes::DUPLICATE,
+                    name.span,
+                    format!("`{}` is the name of the sensor `{sensor_name}`", name.text),
+                )
+                .with_help("sensors are used by name without a declaration; choose another name"),
+            );
+            return false;
+        }
+        true
+    }
+
+    fn declare_constants(&mut self, body: &[ast::Stmt]) {
+        for stmt in body {
+            if let ast::StmtKind::Const { name, value } = &stmt.kind {
+                if self.name_is_free(name) {
+                    let index = self.symbols.constants.len();
+                    self.symbols.constants.push(typed::Constant {
+                        name: name.text.clone(),
+                        ty: literal_ty(value),
+                        value: match value {
+                            Literal::Int(value) => value.to_string(),
+                            Literal::Float(value) => format_float(*value),
+                        },
+                        definition: name.span,
+                        references: Vec::new(),
+                    });
+                    self.names.insert(name.key.clone(), Symbol::Constant(index));
+                    self.constant_values.push(value.clone());
+                }
+            }
+            for_each_child_block(stmt, |block| self.declare_constants(block));
+        }
+    }
+
+    fn declare_rest(&mut self, body: &[ast::Stmt]) {
+        for stmt in body {
+            match &stmt.kind {
+                ast::StmtKind::Dim { name, size, ty } => {
+                    let size = match size {
+                        None => None,
+                        Some(size) => match self.array_size(size) {
+                            Some(size) => Some(size),
+                            None => continue,
+                        },
+                    };
+                    if self.name_is_free(name) {
+                        let id = VarId(self.symbols.variables.len());
+                        self.symbols.variables.push(typed::Variable {
+                            name: name.text.clone(),
+                            ty: match ty {
+                                TypeName::Integer => Ty::Integer,
+                                TypeName::Float => Ty::Float,
+                            },
+                            size,
+                            definition: name.span,
+                            references: Vec::new(),
+                        });
+                        self.names.insert(name.key.clone(), Symbol::Variable(id));
+                    }
+                }
+                ast::StmtKind::Label(name) => match self.labels.get(&name.key).copied() {
+                    Some(id) => {
+                        let first = self.symbols.labels[id.0].definition.unwrap_or_default();
+                        self.error(
+                            Diagnostic::error(
+                                codes::DUPLICATE_LABEL,
+                                name.span,
+                                format!("the label `{}` is defined twice", name.text),
+                            )
+                            .with_label(first, "first defined here")
+                            .with_help("rename one of the labels"),
+                        );
+                    }
+                    None => {
+                        let id = LabelId(self.symbols.labels.len());
+                        self.symbols.labels.push(typed::Label {
+                            name: name.text.clone(),
+                            definition: Some(name.span),
+                            references: Vec::new(),
+                        });
+                        self.labels.insert(name.key.clone(), id);
+                    }
+                },
+                _ => {}
+            }
+            for_each_child_block(stmt, |block| self.declare_rest(block));
+        }
+    }
+
+    fn array_size(&mut self, size: &ast::ArraySize) -> Option<usize> {
+        let (value, span) = match size {
+            ast::ArraySize::Literal { value, span } => (*value, *span),
+            ast::ArraySize::Const(name) => match self.names.get(&name.key).copied() {
+                Some(Symbol::Constant(index)) => {
+                    self.symbols.constants[index].references.push(name.span);
+                    match self.constant_values[index] {
+                        Literal::Int(value) => (value, name.span),
+                        Literal::Float(_) => {
+                            self.error(Diagnostic::error(
+                                codes::BAD_ARRAY_SIZE,
+                                name.span,
+                                format!("the array size `{}` is a float constant", name.text),
+                            ));
+                            return None;
+                        }
+                    }
+                }
+                _ => {
+                    self.error(
+                        Diagnostic::error(
+                            codes::BAD_ARRAY_SIZE,
+                            name.span,
+                            format!("`{}` is not a constant declared with `const`", name.text),
+                        )
+                        .with_help("an array size is an integer literal or a `const`"),
+                    );
+                    return None;
+                }
+            },
+        };
+        if value < 1 || value > MAX_ARRAY_SIZE {
+            self.error(Diagnostic::error(
+                codes::BAD_ARRAY_SIZE,
+                span,
+                format!("an array size must be between 1 and {MAX_ARRAY_SIZE}, not {value}"),
+            ));
+            return None;
+        }
+        usize::try_from(value).ok()
+    }
+
+    fn warn_unused(&mut self) {
+        let mut warnings = Vec::new();
+        for variable in &self.symbols.variables {
+            if variable.references.is_empty() {
+                warnings.push(
+                    Diagnostic::warning(
+                        codes::UNUSED,
+                        variable.definition,
+                        format!("the variable `{}` is never used", variable.name),
+                    )
+                    .with_help("remove the declaration"),
+                );
+            }
+        }
+        self.diagnostics.extend(warnings);
+    }
+
+    fn use_sensor(&mut self, sensor: SensorId, span: Span, write: bool) {
+        let position = match self.sensor_uses.get(&sensor.0) {
+            Some(position) => *position,
+            None => {
+                let position = self.symbols.sensors.len();
+                self.symbols.sensors.push(typed::SensorUse {
+                    sensor: sensor.0,
+                    name: self.sensors.name(sensor).unwrap_or("").to_string(),
+                    reads: Vec::new(),
+                    writes: Vec::new(),
+                });
+                self.sensor_uses.insert(sensor.0, position);
+                position
+            }
+        };
+        let entry = &mut self.symbols.sensors[position];
+        if write {
+            entry.writes.push(span);
+        } else {
+            entry.reads.push(span);
+        }
+    }
+
+    /// The closest declared name or sensor to `key`, for "did you mean".
+    fn suggest(&self, key: &str) -> Option<String> {
+        let limit = (key.len() / 3).max(1);
+        let mut best: Option<(usize, String)> = None;
+        let mut consider = |candidate: &str| {
+            let distance = edit_distance(key, &candidate.to_ascii_lowercase());
+            if distance <= limit && best.as_ref().is_none_or(|(best_distance, _)| distance < *best_distance) {
+                best = Some((distance, candidate.to_string()));
+            }
+        };
+        for variable in &self.symbols.variables {
+            consider(&variable.name);
+        }
+        for constant in &self.symbols.constants {
+            consider(&constant.name);
+        }
+        for (_, sensor) in self.sensors.iter() {
+            consider(&sensor.name);
+        }
+        best.map(|(_, name)| name)
+    }
+
+    fn undeclared(&mut self, name: &ast::Name) {
+        let mut diagnostic = Diagnostic::error(
+            codes::UNDECLARED,
+            name.span,
+            format!("`{}` is not declared and is not a sensor", name.text),
+        );
+        match self.suggest(&name.key) {
+            Some(suggestion) => {
+                diagnostic = diagnostic
+                    .with_help(format!("did you mean `{suggestion}`?"))
+                    .with_fix(format!("replace with `{suggestion}`"), name.span, suggestion);
+            }
+            None => {
+                diagnostic = diagnostic.with_help(format!(
+                    "declare it with `dim {} as integer` (or `as float`)",
+                    name.text
+                ));
+            }
+        }
+        self.error(diagnostic);
+    }
+
+    fn check_block(&mut self, body: &[ast::Stmt]) -> Vec<typed::Stmt> {
+        body.iter().filter_map(|stmt| self.check_stmt(stmt)).collect()
+    }
+
+    fn check_stmt(&mut self, stmt: &ast::Stmt) -> Option<typed::Stmt> {
+        let kind = match &stmt.kind {
+            ast::StmtKind::Dim { .. } | ast::StmtKind::Const { .. } => return None,
+            ast::StmtKind::Assign { target, value } => {
+                let place = self.check_place(target);
+                let value = self.check_expr(value);
+                let value = self.coerce_for_place(&place, value);
+                typed::StmtKind::Assign { place, value }
+            }
+            ast::StmtKind::If {
+                arms, else_body, ..
+            } => {
+                let arms = arms
+                    .iter()
+                    .map(|arm| typed::IfArm {
+                        condition: self.check_condition(&arm.condition),
+                        body: self.check_block(&arm.body),
+                        span: arm.span,
+                    })
+                    .collect();
+                let else_body = else_body.as_ref().map(|body| self.check_block(body));
+                typed::StmtKind::If { arms, else_body }
+            }
+            ast::StmtKind::Label(name) => {
+                let id = self.labels.get(&name.key).copied()?;
+                // A duplicate label was reported; only the first definition counts.
+                if self.symbols.labels[id.0].definition != Some(name.span) {
+                    return None;
+                }
+                typed::StmtKind::Label(id)
+            }
+            ast::StmtKind::Goto(name) => match self.labels.get(&name.key).copied() {
+                Some(id) => {
+                    self.symbols.labels[id.0].references.push(name.span);
+                    typed::StmtKind::Goto(id)
+                }
+                None => {
+                    let mut diagnostic = Diagnostic::error(
+                        codes::UNDEFINED_LABEL,
+                        name.span,
+                        format!("there is no label `{}`", name.text),
+                    );
+                    let limit = (name.key.len() / 3).max(1);
+                    let closest = self
+                        .symbols
+                        .labels
+                        .iter()
+                        .map(|label| (edit_distance(&name.key, &label.name.to_ascii_lowercase()), &label.name))
+                        .filter(|(distance, _)| *distance <= limit)
+                        .min_by_key(|(distance, _)| *distance)
+                        .map(|(_, label)| label.clone());
+                    diagnostic = match closest {
+                        Some(label) => diagnostic
+                            .with_help(format!("did you mean `{label}`?"))
+                            .with_fix(format!("replace with `{label}`"), name.span, label),
+                        None => diagnostic.with_help(format!("define it with `label: {}`", name.text)),
+                    };
+                    self.error(diagnostic);
+                    return None;
+                }
+            },
+            ast::StmtKind::While {
+                condition, body, ..
+            } => {
+                let condition = self.check_condition(condition);
+                self.loops.push(LoopKind::While);
+                let body = self.check_block(body);
+                self.loops.pop();
+                typed::StmtKind::While { condition, body }
+            }
+            ast::StmtKind::Do {
+                pre, body, post, ..
+            } => {
+                let pre = pre
+                    .as_ref()
+                    .map(|condition| (condition.until, self.check_condition(&condition.expr)));
+                self.loops.push(LoopKind::Do);
+                let body = self.check_block(body);
+                self.loops.pop();
+                let post = post
+                    .as_ref()
+                    .map(|condition| (condition.until, self.check_condition(&condition.expr)));
+                typed::StmtKind::Do { pre, body, post }
+            }
+            ast::StmtKind::For {
+                variable,
+                from,
+                to,
+                step,
+                body,
+                end_span,
+            } => return self.check_for(stmt, variable, from, to, step.as_ref(), body, *end_span),
+            ast::StmtKind::Exit(kind) => {
+                if !self.loops.contains(kind) {
+                    let word = kind.keyword();
+                    self.error(
+                        Diagnostic::error(
+                            codes::EXIT_OUTSIDE_LOOP,
+                            stmt.span,
+                            format!("`exit {word}` is not inside a `{word}` loop"),
+                        )
+                        .with_help("use `goto` to leave other blocks"),
+                    );
+                    return None;
+                }
+                typed::StmtKind::Exit(*kind)
+            }
+            ast::StmtKind::Yield => typed::StmtKind::Yield,
+            ast::StmtKind::End => typed::StmtKind::End,
+            ast::StmtKind::Print(items) => typed::StmtKind::Print(
+                items
+                    .iter()
+                    .map(|item| match item {
+                        ast::PrintItem::Text { text, .. } => typed::PrintItem::Text(text.clone()),
+                        ast::PrintItem::Expr(expr) => typed::PrintItem::Expr(self.check_expr(expr)),
+                    })
+                    .collect(),
+            ),
+        };
+        Some(typed::Stmt {
+            kind,
+            span: stmt.span,
+        })
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn check_for(
+        &mut self,
+        stmt: &ast::Stmt,
+        variable: &ast::Name,
+        from: &ast::Expr,
+        to: &ast::Expr,
+        step: Option<&ast::Expr>,
+        body: &[ast::Stmt],
+        end_span: Option<Span>,
+    ) -> Option<typed::Stmt> {
+        let var_id = match self.names.get(&variable.key).copied() {
+            Some(Symbol::Variable(id)) if self.symbols.variables[id.0].size.is_none() => {
+                self.symbols.variables[id.0].references.push(variable.span);
+                Some(id)
+            }
+            Some(_) => {
+                self.error(
+                    Diagnostic::error(
+                        codes::WRONG_KIND,
+                        variable.span,
+                        format!("the loop variable `{}` must be a scalar variable", variable.text),
+                    )
+                    .with_help("declare a variable with `dim NAME as integer`"),
+                );
+                None
+            }
+            None => {
+                if self.sensors.lookup(&variable.key).is_some() {
+                    self.error(
+                        Diagnostic::error(
+                            codes::WRONG_KIND,
+                            variable.span,
+                            format!("the sensor `{}` cannot count a `for` loop", variable.text),
+                        )
+                        .with_help("count with a variable and assign the sensor in the body"),
+                    );
+                } else {
+                    self.undeclared(variable);
+                }
+                None
+            }
+        };
+        let var_ty = var_id.map_or(Ty::Error, |id| self.symbols.variables[id.0].ty);
+        let coerce_bound = |checker: &mut Self, expr: &ast::Expr| {
+            let value = checker.check_expr(expr);
+            checker.coerce(value, var_ty, "this `for` bound")
+        };
+        let from = coerce_bound(self, from);
+        let to = coerce_bound(self, to);
+        let step = step.map(|step| coerce_bound(self, step));
+        self.loops.push(LoopKind::For);
+        let body_typed = self.check_block(body);
+        self.loops.pop();
+        let var_id = var_id?;
+        let step_value = match &step {
+            None => Some(Literal::Int(1)),
+            Some(step) => constant_of(step),
+        };
+        if let Some(step_value) = &step_value {
+            let is_zero = match step_value {
+                Literal::Int(value) => *value == 0,
+                Literal::Float(value) => *value == 0.0,
+            };
+            if is_zero {
+                let span = step.as_ref().map_or(stmt.span, |step| step.span);
+                self.error(
+                    Diagnostic::warning(codes::ZERO_STEP, span, "a `for` loop with step 0 never ends")
+                        .with_help("use a non-zero step"),
+                );
+            }
+        }
+        let trip_count = match (constant_of(&from), constant_of(&to), step_value) {
+            (Some(from), Some(to), Some(step))
+                if !assigns_variable(&body_typed, var_id) && !holds_label(&body_typed) =>
+            {
+                trip_count(&from, &to, &step)
+            }
+            _ => None,
+        };
+        Some(typed::Stmt {
+            kind: typed::StmtKind::For {
+                variable: var_id,
+                from,
+                to,
+                step,
+                body: body_typed,
+                trip_count,
+                next_span: end_span.unwrap_or(stmt.span),
+            },
+            span: stmt.span,
+        })
+    }
+
+    fn check_place(&mut self, target: &ast::Target) -> Place {
+        let name = target.name();
+        match self.names.get(&name.key).copied() {
+            Some(Symbol::Constant(index)) => {
+                self.symbols.constants[index].references.push(name.span);
+                self.error(
+                    Diagnostic::error(
+                        codes::WRONG_KIND,
+                        name.span,
+                        format!("`{}` is a constant and cannot be assigned", name.text),
+                    )
+                    .with_label(self.symbols.constants[index].definition, "declared with `const` here")
+                    .with_help("declare it with `dim` to change it"),
+                );
+                Place::Error
+            }
+            Some(Symbol::Variable(id)) => {
+                self.symbols.variables[id.0].references.push(name.span);
+                let size = self.symbols.variables[id.0].size;
+                match (target, size) {
+                    (ast::Target::Name(_), None) => Place::Variable(id),
+                    (ast::Target::Element { index, .. }, Some(size)) => {
+                        let index = self.check_index(index, size);
+                        Place::Element { array: id, index }
+                    }
+                    (ast::Target::Name(_), Some(_)) => {
+                        self.error(
+                            Diagnostic::error(
+                                codes::WRONG_KIND,
+                                name.span,
+                                format!("`{}` is an array; assign one element", name.text),
+                            )
+                            .with_help(format!("write `{}(INDEX) = …`", name.text)),
+                        );
+                        Place::Error
+                    }
+                    (ast::Target::Element { .. }, None) => {
+                        self.error(Diagnostic::error(
+                            codes::WRONG_KIND,
+                            name.span,
+                            format!("`{}` is not an array", name.text),
+                        ));
+                        Place::Error
+                    }
+                }
+            }
+            None => match self.sensors.lookup(&name.key) {
+                Some(sensor) => {
+                    self.use_sensor(sensor, name.span, true);
+                    if let ast::Target::Element { .. } = target {
+                        self.error(Diagnostic::error(
+                            codes::WRONG_KIND,
+                            name.span,
+                            format!("the sensor `{}` is not an array", name.text),
+                        ));
+                        return Place::Error;
+                    }
+                    let sensor_name = self.sensors.name(sensor).unwrap_or("").to_string();
+                    match Access::of_name(&sensor_name) {
+                        Access::ReadOnly => {
+                            self.error(
+                                Diagnostic::error(
+                                    codes::READ_ONLY_SENSOR,
+                                    name.span,
+                                    format!("the sensor `{sensor_name}` is read-only"),
+                                )
+                                .with_help(
+                                    "`m_` (measured) and `x_` (computed) sensors are written by the glider; write a `c_`, `u_` or `sci_` sensor instead",
+                                ),
+                            );
+                            Place::Error
+                        }
+                        Access::Factory => {
+                            self.error(
+                                Diagnostic::warning(
+                                    codes::FACTORY_SENSOR,
+                                    name.span,
+                                    format!("`{sensor_name}` is a factory setting"),
+                                )
+                                .with_help("change `f_` sensors only if you know the consequence"),
+                            );
+                            Place::Sensor(sensor)
+                        }
+                        Access::Writable => Place::Sensor(sensor),
+                    }
+                }
+                None => {
+                    self.undeclared(name);
+                    if let ast::Target::Element { index, .. } = target {
+                        self.check_expr(index);
+                    }
+                    Place::Error
+                }
+            },
+        }
+    }
+
+    fn place_ty(&self, place: &Place) -> Ty {
+        match place {
+            Place::Variable(id) | Place::Element { array: id, .. } => self.symbols.variables[id.0].ty,
+            Place::Sensor(_) => Ty::Float,
+            Place::Error => Ty::Error,
+        }
+    }
+
+    fn coerce_for_place(&mut self, place: &Place, value: typed::Expr) -> typed::Expr {
+        match place {
+            // A sensor takes integers as they are (the paper's Fig. 2 stores `loadi 128`).
+            Place::Sensor(_) => value,
+            _ => {
+                let ty = self.place_ty(place);
+                self.coerce(value, ty, "this assignment")
+            }
+        }
+    }
+
+    /// Converts `value` to `ty`: integer widens to float; float to integer is an error.
+    fn coerce(&mut self, value: typed::Expr, ty: Ty, context: &str) -> typed::Expr {
+        match (value.ty, ty) {
+            (Ty::Integer, Ty::Float) => to_float(value),
+            (Ty::Float, Ty::Integer) => {
+                self.error(
+                    Diagnostic::error(
+                        codes::TYPE_MISMATCH,
+                        value.span,
+                        format!("{context} needs an integer, but this is a float"),
+                    )
+                    .with_help("convert with `int(…)`, which truncates toward zero"),
+                );
+                typed::Expr {
+                    kind: ExprKind::Error,
+                    ty: Ty::Error,
+                    span: value.span,
+                }
+            }
+            _ => value,
+        }
+    }
+
+    fn check_condition(&mut self, expr: &ast::Expr) -> typed::Expr {
+        let value = self.check_expr(expr);
+        if value.ty == Ty::Float {
+            self.error(
+                Diagnostic::error(
+                    codes::TYPE_MISMATCH,
+                    value.span,
+                    "a condition must be an integer, but this is a float",
+                )
+                .with_help("compare it, e.g. `… <> 0.0`"),
+            );
+            return typed::Expr {
+                kind: ExprKind::Error,
+                ty: Ty::Error,
+                span: value.span,
+            };
+        }
+        value
+    }
+
+    fn check_index(&mut self, index: &ast::Expr, size: usize) -> typed::Expr {
+        let index = self.check_expr(index);
+        let index = self.coerce(index, Ty::Integer, "an array index");
+        if let Some(Literal::Int(value)) = constant_of(&index) {
+            if value < 0 || value as u64 >= size as u64 {
+                self.error(
+                    Diagnostic::error(
+                        codes::INDEX_OUT_OF_BOUNDS,
+                        index.span,
+                        format!("index {value} is out of bounds: the array has {size} elements (0 to {})", size - 1),
+                    )
+                    .with_help(format!("use an index from 0 to {}", size - 1)),
+                );
+            }
+        }
+        index
+    }
+
+    fn check_expr(&mut self, expr: &ast::Expr) -> typed::Expr {
+        let error = |span| typed::Expr {
+            kind: ExprKind::Error,
+            ty: Ty::Error,
+            span,
+        };
+        let span = expr.span;
+        match &expr.kind {
+            ast::ExprKind::Error => error(span),
+            ast::ExprKind::Literal(Literal::Int(value)) => typed::Expr {
+                kind: ExprKind::Int(*value),
+                ty: Ty::Integer,
+                span,
+            },
+            ast::ExprKind::Literal(Literal::Float(value)) => typed::Expr {
+                kind: ExprKind::Float(*value),
+                ty: Ty::Float,
+                span,
+            },
+            ast::ExprKind::Name(name) => match self.names.get(&name.key).copied() {
+                Some(Symbol::Constant(index)) => {
+                    self.symbols.constants[index].references.push(name.span);
+                    match self.constant_values[index] {
+                        Literal::Int(value) => typed::Expr {
+                            kind: ExprKind::Int(value),
+                            ty: Ty::Integer,
+                            span,
+                        },
+                        Literal::Float(value) => typed::Expr {
+                            kind: ExprKind::Float(value),
+                            ty: Ty::Float,
+                            span,
+                        },
+                    }
+                }
+                Some(Symbol::Variable(id)) => {
+                    self.symbols.variables[id.0].references.push(name.span);
+                    let variable = &self.symbols.variables[id.0];
+                    if variable.size.is_some() {
+                        let text = format!("`{}` is an array; read one element", name.text);
+                        let help = format!("write `{}(INDEX)`", name.text);
+                        self.error(Diagnostic::error(codes::WRONG_KIND, span, text).with_help(help));
+                        return error(span);
+                    }
+                    typed::Expr {
+                        kind: ExprKind::Variable(id),
+                        ty: variable.ty,
+                        span,
+                    }
+                }
+                None => match self.sensors.lookup(&name.key) {
+                    Some(sensor) => {
+                        self.use_sensor(sensor, span, false);
+                        typed::Expr {
+                            kind: ExprKind::Sensor(sensor),
+                            ty: Ty::Float,
+                            span,
+                        }
+                    }
+                    None => {
+                        if BUILTINS.contains(&name.key.as_str()) {
+                            self.error(
+                                Diagnostic::error(
+                                    codes::WRONG_KIND,
+                                    span,
+                                    format!("`{}` is a built-in function", name.text),
+                                )
+                                .with_help(format!("call it: `{}(…)`", name.text)),
+                            );
+                        } else {
+                            self.undeclared(name);
+                        }
+                        error(span)
+                    }
+                },
+            },
+            ast::ExprKind::Call { name, args } => self.check_call(expr, name, args),
+            ast::ExprKind::Unary { op, operand } => {
+                let operand = self.check_expr(operand);
+                match op {
+                    UnaryOp::Neg => typed::Expr {
+                        ty: operand.ty,
+                        kind: ExprKind::Neg(Box::new(operand)),
+                        span,
+                    },
+                    UnaryOp::Not => {
+                        let operand = self.require_integer(operand, "`not`");
+                        typed::Expr {
+                            kind: ExprKind::Not(Box::new(operand)),
+                            ty: Ty::Integer,
+                            span,
+                        }
+                    }
+                }
+            }
+            ast::ExprKind::Binary { op, left, right } => {
+                let left = self.check_expr(left);
+                let right = self.check_expr(right);
+                self.check_binary(*op, left, right, span)
+            }
+        }
+    }
+
+    fn require_integer(&mut self, value: typed::Expr, what: &str) -> typed::Expr {
+        if value.ty == Ty::Float {
+            self.error(
+                Diagnostic::error(
+                    codes::TYPE_MISMATCH,
+                    value.span,
+                    format!("{what} needs an integer, but this is a float"),
+                )
+                .with_help("convert with `int(…)` or compare the float"),
+            );
+            return typed::Expr {
+                kind: ExprKind::Error,
+                ty: Ty::Error,
+                span: value.span,
+            };
+        }
+        value
+    }
+
+    fn check_binary(&mut self, op: BinaryOp, left: typed::Expr, right: typed::Expr, span: Span) -> typed::Expr {
+        let either_error = left.ty == Ty::Error || right.ty == Ty::Error;
+        let operand_ty = if left.ty == Ty::Float || right.ty == Ty::Float {
+            Ty::Float
+        } else {
+            Ty::Integer
+        };
+        let (left, right, result_ty) = match op {
+            BinaryOp::Add | BinaryOp::Sub | BinaryOp::Mul | BinaryOp::Mod => {
+                (widen(left, operand_ty), widen(right, operand_ty), operand_ty)
+            }
+            BinaryOp::Div => (widen(left, Ty::Float), widen(right, Ty::Float), Ty::Float),
+            BinaryOp::IntDiv => {
+                let what = "`\\` (integer division)";
+                let left = self.require_integer(left, what);
+                let right = self.require_integer(right, what);
+                (left, right, Ty::Integer)
+            }
+            BinaryOp::Eq | BinaryOp::Ne | BinaryOp::Lt | BinaryOp::Le | BinaryOp::Gt | BinaryOp::Ge => {
+                (widen(left, operand_ty), widen(right, operand_ty), Ty::Integer)
+            }
+            BinaryOp::And | BinaryOp::Or => {
+                let what = format!("`{}`", op.symbol());
+                let left = self.require_integer(left, &what);
+                let right = self.require_integer(right, &what);
+                (left, right, Ty::Integer)
+            }
+        };
+        if matches!(op, BinaryOp::IntDiv | BinaryOp::Mod) && operand_ty == Ty::Integer {
+            if let Some(Literal::Int(0)) = constant_of(&right) {
+                self.error(Diagnostic::error(
+                    codes::DIVISION_BY_ZERO,
+                    right.span,
+                    "integer division by zero",
+                ));
+            }
+        }
+        let ty = if either_error && !op.is_comparison() { Ty::Error } else { result_ty };
+        typed::Expr {
+            kind: ExprKind::Binary {
+                op,
+                left: Box::new(left),
+                right: Box::new(right),
+            },
+            ty,
+            span,
+        }
+    }
+
+    fn check_call(&mut self, expr: &ast::Expr, name: &ast::Name, args: &[ast::Expr]) -> typed::Expr {
+        let span = expr.span;
+        let error = typed::Expr {
+            kind: ExprKind::Error,
+            ty: Ty::Error,
+            span,
+        };
+        match self.names.get(&name.key).copied() {
+            Some(Symbol::Variable(id)) => {
+                self.symbols.variables[id.0].references.push(name.span);
+                let size = self.symbols.variables[id.0].size;
+                let ty = self.symbols.variables[id.0].ty;
+                let Some(size) = size else {
+                    self.error(Diagnostic::error(
+                        codes::WRONG_KIND,
+                        name.span,
+                        format!("`{}` is not an array", name.text),
+                    ));
+                    return error;
+                };
+                if args.len() != 1 {
+                    self.error(Diagnostic::error(
+                        codes::BAD_ARGUMENTS,
+                        span,
+                        format!("an array takes one index, not {}", args.len()),
+                    ));
+                    return error;
+                }
+                let index = self.check_index(&args[0], size);
+                return typed::Expr {
+                    kind: ExprKind::Element {
+                        array: id,
+                        index: Box::new(index),
+                    },
+                    ty,
+                    span,
+                };
+            }
+            Some(Symbol::Constant(index)) => {
+                self.symbols.constants[index].references.push(name.span);
+                self.error(Diagnostic::error(
+                    codes::WRONG_KIND,
+                    name.span,
+                    format!("`{}` is a constant, not an array or a function", name.text),
+                ));
+                return error;
+            }
+            None => {}
+        }
+        let Some(builtin) = Builtin::of_name(&name.key) else {
+            if self.sensors.lookup(&name.key).is_some() {
+                self.error(Diagnostic::error(
+                    codes::WRONG_KIND,
+                    name.span,
+                    format!("the sensor `{}` is not an array or a function", name.text),
+                ));
+            } else {
+                let mut diagnostic = Diagnostic::error(
+                    codes::UNDECLARED,
+                    name.span,
+                    format!("`{}` is not an array or a built-in function", name.text),
+                );
+                let limit = (name.key.len() / 3).max(1);
+                let closest = BUILTINS
+                    .iter()
+                    .map(|builtin| (edit_distance(&name.key, builtin), *builtin))
+                    .chain(
+                        self.symbols
+                            .variables
+                            .iter()
+                            .filter(|variable| variable.size.is_some())
+                            .map(|variable| (edit_distance(&name.key, &variable.name.to_ascii_lowercase()), variable.name.as_str())),
+                    )
+                    .filter(|(distance, _)| *distance <= limit)
+                    .min_by_key(|(distance, _)| *distance)
+                    .map(|(_, name)| name.to_string());
+                diagnostic = match closest {
+                    Some(suggestion) => diagnostic
+                        .with_help(format!("did you mean `{suggestion}`?"))
+                        .with_fix(format!("replace with `{suggestion}`"), name.span, suggestion),
+                    None => diagnostic.with_help("the built-ins are abs, sqrt, min, max, int and float"),
+                };
+                self.error(diagnostic);
+            }
+            for arg in args {
+                self.check_expr(arg);
+            }
+            return error;
+        };
+        let args: Vec<typed::Expr> = args.iter().map(|arg| self.check_expr(arg)).collect();
+        if args.len() != builtin.arity() {
+            self.error(Diagnostic::error(
+                codes::BAD_ARGUMENTS,
+                span,
+                format!(
+                    "`{}` takes {} argument{}, not {}",
+                    name.key,
+                    builtin.arity(),
+                    if builtin.arity() == 1 { "" } else { "s" },
+                    args.len()
+                ),
+            ));
+            return error;
+        }
+        let any_error = args.iter().any(|arg| arg.ty == Ty::Error);
+        let any_float = args.iter().any(|arg| arg.ty == Ty::Float);
+        let (args, ty) = match builtin {
+            Builtin::Abs => {
+                let ty = args[0].ty;
+                (args, ty)
+            }
+            Builtin::Min | Builtin::Max => {
+                let ty = if any_float { Ty::Float } else { Ty::Integer };
+                (args.into_iter().map(|arg| widen(arg, ty)).collect(), ty)
+            }
+            Builtin::Sqrt => (args.into_iter().map(|arg| widen(arg, Ty::Float)).collect(), Ty::Float),
+            Builtin::Float => {
+                // `float(x)` of a float is the float itself.
+                let mut args = args;
+                let arg = args.remove(0);
+                let arg = widen(arg, Ty::Float);
+                return typed::Expr {
+                    kind: arg.kind,
+                    ty: if any_error { Ty::Error } else { Ty::Float },
+                    span,
+                };
+            }
+            Builtin::Int => {
+                // `int(x)` of an integer is the integer itself.
+                if args[0].ty == Ty::Integer {
+                    let mut args = args;
+                    let arg = args.remove(0);
+                    return typed::Expr {
+                        kind: arg.kind,
+                        ty: Ty::Integer,
+                        span,
+                    };
+                }
+                (args, Ty::Integer)
+            }
+        };
+        typed::Expr {
+            kind: ExprKind::Call { builtin, args },
+            ty: if any_error { Ty::Error } else { ty },
+            span,
+        }
+    }
+}
+
+/// The largest array GBASIC accepts (memory cells are allocated at load).
+pub const MAX_ARRAY_SIZE: i64 = 1 << 20;
+
+fn to_float(value: typed::Expr) -> typed::Expr {
+    let span = value.span;
+    match value.kind {
+        // A literal converts at compile time: `15` in a float context is `15.0`.
+        ExprKind::Int(number) => typed::Expr {
+            kind: ExprKind::Float(number as f64),
+            ty: Ty::Float,
+            span,
+        },
+        _ => typed::Expr {
+            kind: ExprKind::ToFloat(Box::new(value)),
+            ty: Ty::Float,
+            span,
+        },
+    }
+}
+
+fn widen(value: typed::Expr, ty: Ty) -> typed::Expr {
+    if value.ty == Ty::Integer && ty == Ty::Float {
+        to_float(value)
+    } else {
+        value
+    }
+}
+
+/// The value of a constant expression (literals, constants, `-` and `+ - *` on them).
+pub fn constant_of(expr: &typed::Expr) -> Option<Literal> {
+    match &expr.kind {
+        ExprKind::Int(value) => Some(Literal::Int(*value)),
+        ExprKind::Float(value) => Some(Literal::Float(*value)),
+        ExprKind::Neg(operand) => match constant_of(operand)? {
+            Literal::Int(value) => value.checked_neg().map(Literal::Int),
+            Literal::Float(value) => Some(Literal::Float(-value)),
+        },
+        ExprKind::ToFloat(operand) => match constant_of(operand)? {
+            Literal::Int(value) => Some(Literal::Float(value as f64)),
+            Literal::Float(value) => Some(Literal::Float(value)),
+        },
+        ExprKind::Binary { op, left, right } => {
+            match (constant_of(left)?, constant_of(right)?) {
+                (Literal::Int(a), Literal::Int(b)) => match op {
+                    BinaryOp::Add => a.checked_add(b).map(Literal::Int),
+                    BinaryOp::Sub => a.checked_sub(b).map(Literal::Int),
+                    BinaryOp::Mul => a.checked_mul(b).map(Literal::Int),
+                    _ => None,
+                },
+                (Literal::Float(a), Literal::Float(b)) => match op {
+                    BinaryOp::Add => Some(Literal::Float(a + b)),
+                    BinaryOp::Sub => Some(Literal::Float(a - b)),
+                    BinaryOp::Mul => Some(Literal::Float(a * b)),
+                    _ => None,
+                },
+                _ => None,
+            }
+        }
+        _ => None,
+    }
+}
+
+/// How often `for v = from to to step step` runs its body, computed with the same
+/// arithmetic the machine uses; `None` past a million iterations or on overflow.
+fn trip_count(from: &Literal, to: &Literal, step: &Literal) -> Option<u64> {
+    const LIMIT: u64 = 1_000_000;
+    let mut count = 0u64;
+    match (from, to, step) {
+        (Literal::Int(from), Literal::Int(to), Literal::Int(step)) => {
+            if *step == 0 {
+                return None;
+            }
+            let mut value = *from;
+            while (*step > 0 && value <= *to) || (*step < 0 && value >= *to) {
+                count += 1;
+                if count > LIMIT {
+                    return None;
+                }
+                value = value.checked_add(*step)?;
+            }
+        }
+        (Literal::Float(from), Literal::Float(to), Literal::Float(step)) => {
+            if *step == 0.0 || !step.is_finite() {
+                return None;
+            }
+            let mut value = *from;
+            while (*step > 0.0 && value <= *to) || (*step < 0.0 && value >= *to) {
+                count += 1;
+                if count > LIMIT {
+                    return None;
+                }
+                value += *step;
+            }
+        }
+        _ => return None,
+    }
+    Some(count)
+}
+
+fn assigns_variable(body: &[typed::Stmt], variable: VarId) -> bool {
+    body.iter().any(|stmt| match &stmt.kind {
+        typed::StmtKind::Assign {
+            place: Place::Variable(id),
+            ..
+        } => *id == variable,
+        typed::StmtKind::For {
+            variable: inner, body, ..
+        } => *inner == variable || assigns_variable(body, variable),
+        typed::StmtKind::If { arms, else_body } => {
+            arms.iter().any(|arm| assigns_variable(&arm.body, variable))
+                || else_body.as_ref().is_some_and(|body| assigns_variable(body, variable))
+        }
+        typed::StmtKind::While { body, .. } | typed::StmtKind::Do { body, .. } => {
+            assigns_variable(body, variable)
+        }
+        _ => false,
+    })
+}
+
+fn holds_label(body: &[typed::Stmt]) -> bool {
+    body.iter().any(|stmt| match &stmt.kind {
+        typed::StmtKind::Label(_) => true,
+        typed::StmtKind::For { body, .. }
+        | typed::StmtKind::While { body, .. }
+        | typed::StmtKind::Do { body, .. } => holds_label(body),
+        typed::StmtKind::If { arms, else_body } => {
+            arms.iter().any(|arm| holds_label(&arm.body))
+                || else_body.as_ref().is_some_and(|body| holds_label(body))
+        }
+        _ => false,
+    })
+}
+
+fn for_each_child_block(stmt: &ast::Stmt, mut visit: impl FnMut(&[ast::Stmt])) {
+    match &stmt.kind {
+        ast::StmtKind::If {
+            arms, else_body, ..
+        } => {
+            for arm in arms {
+                visit(&arm.body);
+            }
+            if let Some(body) = else_body {
+                visit(body);
+            }
+        }
+        ast::StmtKind::While { body, .. }
+        | ast::StmtKind::Do { body, .. }
+        | ast::StmtKind::For { body, .. } => visit(body),
+        _ => {}
+    }
+}
+
+/// Levenshtein distance on bytes (names are ASCII).
+pub fn edit_distance(a: &str, b: &str) -> usize {
+    let a = a.as_bytes();
+    let b = b.as_bytes();
+    let mut previous: Vec<usize> = (0..=b.len()).collect();
+    let mut current = vec![0; b.len() + 1];
+    for (i, &byte_a) in a.iter().enumerate() {
+        current[0] = i + 1;
+        for (j, &byte_b) in b.iter().enumerate() {
+            let cost = usize::from(byte_a != byte_b);
+            current[j + 1] = (previous[j] + cost).min(previous[j + 1] + 1).min(current[j] + 1);
+        }
+        std::mem::swap(&mut previous, &mut current);
+    }
+    previous[b.len()]
+}

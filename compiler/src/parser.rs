@@ -1,0 +1,1221 @@
+//! The GBASIC parser: recursive descent over lines. It never fails: a syntax error is
+//! reported once and parsing resumes at the next line; an unclosed block is reported at
+//! its opening line.
+
+use gloc_engine::{Diagnostic, Span};
+
+use crate::ast::*;
+use crate::codes;
+use crate::lexer::{lex, Token, TokenKind};
+
+/// The result of parsing: always a tree, plus the syntax errors found.
+#[derive(Clone, Debug, Default)]
+pub struct Parsed {
+    pub program: Program,
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+/// Words that cannot name a variable, constant or label.
+pub const KEYWORDS: &[&str] = &[
+    "and", "as", "const", "dim", "do", "else", "elseif", "end", "endif", "exit", "float", "for",
+    "goto", "if", "integer", "label", "let", "loop", "mod", "next", "not", "or", "print", "rem",
+    "step", "then", "to", "until", "wend", "while", "yield",
+];
+
+/// Built-in functions (also reserved as names).
+pub const BUILTINS: &[&str] = &["abs", "sqrt", "min", "max", "int", "float"];
+
+pub fn parse(text: &str) -> Parsed {
+    let mut parser = Parser {
+        text,
+        tokens: lex(text),
+        pos: 0,
+        diagnostics: Vec::new(),
+        open: Vec::new(),
+    };
+    let mut body = Vec::new();
+    loop {
+        match parser.parse_block(&mut body) {
+            BlockEnd::Eof => break,
+            BlockEnd::Closer(closer) => {
+                // No block is open here, so the closer is stray.
+                let token = parser.peek().clone();
+                let (message, help) = stray_closer_message(closer);
+                parser.diagnostics.push(
+                    Diagnostic::error(codes::STRAY_CLOSER, parser.line_span_from(token.span), message)
+                        .with_help(help),
+                );
+                parser.skip_line();
+            }
+        }
+    }
+    Parsed {
+        program: Program { body },
+        diagnostics: parser.diagnostics,
+    }
+}
+
+/// A word that ends (or continues) a block.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Closer {
+    EndIf,
+    Else,
+    ElseIf,
+    Wend,
+    Loop,
+    Next,
+}
+
+impl Closer {
+    fn owner(self) -> BlockKind {
+        match self {
+            Closer::EndIf | Closer::Else | Closer::ElseIf => BlockKind::If,
+            Closer::Wend => BlockKind::While,
+            Closer::Loop => BlockKind::Do,
+            Closer::Next => BlockKind::For,
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum BlockKind {
+    If,
+    While,
+    Do,
+    For,
+}
+
+impl BlockKind {
+    fn closer_word(self) -> &'static str {
+        match self {
+            BlockKind::If => "endif",
+            BlockKind::While => "wend",
+            BlockKind::Do => "loop",
+            BlockKind::For => "next",
+        }
+    }
+
+    fn opener_word(self) -> &'static str {
+        match self {
+            BlockKind::If => "if",
+            BlockKind::While => "while",
+            BlockKind::Do => "do",
+            BlockKind::For => "for",
+        }
+    }
+}
+
+enum BlockEnd {
+    Eof,
+    /// The current line starts with this closer; nothing of it is consumed.
+    Closer(Closer),
+}
+
+struct Parser<'a> {
+    text: &'a str,
+    tokens: Vec<Token>,
+    pos: usize,
+    diagnostics: Vec<Diagnostic>,
+    /// Blocks open around the current position, innermost last.
+    open: Vec<BlockKind>,
+}
+
+fn stray_closer_message(closer: Closer) -> (String, String) {
+    let word = match closer {
+        Closer::EndIf => "endif",
+        Closer::Else => "else",
+        Closer::ElseIf => "elseif",
+        Closer::Wend => "wend",
+        Closer::Loop => "loop",
+        Closer::Next => "next",
+    };
+    let opener = closer.owner().opener_word();
+    (
+        format!("`{word}` without a matching `{opener}`"),
+        format!("remove this line, or open the block with `{opener}` above it"),
+    )
+}
+
+impl<'a> Parser<'a> {
+    fn peek(&self) -> &Token {
+        &self.tokens[self.pos.min(self.tokens.len() - 1)]
+    }
+
+    fn peek_at(&self, ahead: usize) -> &Token {
+        &self.tokens[(self.pos + ahead).min(self.tokens.len() - 1)]
+    }
+
+    fn bump(&mut self) -> Token {
+        let token = self.peek().clone();
+        if self.pos < self.tokens.len() - 1 {
+            self.pos += 1;
+        }
+        token
+    }
+
+    fn slice(&self, span: Span) -> &'a str {
+        self.text.get(span.range()).unwrap_or("")
+    }
+
+    fn word_at(&self, ahead: usize) -> Option<String> {
+        let token = self.peek_at(ahead);
+        (token.kind == TokenKind::Ident).then(|| self.slice(token.span).to_ascii_lowercase())
+    }
+
+    fn at_word(&self, word: &str) -> bool {
+        self.word_at(0).as_deref() == Some(word)
+    }
+
+    fn eat_word(&mut self, word: &str) -> bool {
+        if self.at_word(word) {
+            self.bump();
+            true
+        } else {
+            false
+        }
+    }
+
+    fn at_line_end(&self) -> bool {
+        matches!(self.peek().kind, TokenKind::Newline | TokenKind::Eof)
+    }
+
+    fn skip_line(&mut self) {
+        while !self.at_line_end() {
+            self.bump();
+        }
+        if self.peek().kind == TokenKind::Newline {
+            self.bump();
+        }
+    }
+
+    /// From `span` to the end of its line's last token, for messages about a whole line.
+    fn line_span_from(&self, span: Span) -> Span {
+        let mut end = span.end;
+        let mut index = self.pos;
+        while let Some(token) = self.tokens.get(index) {
+            if matches!(token.kind, TokenKind::Newline | TokenKind::Eof) {
+                break;
+            }
+            end = end.max(token.span.end);
+            index += 1;
+        }
+        Span {
+            start: span.start,
+            end,
+        }
+    }
+
+    fn describe(&self, token: &Token) -> String {
+        match token.kind {
+            TokenKind::Newline => "the end of the line".to_string(),
+            TokenKind::Eof => "the end of the file".to_string(),
+            TokenKind::Str { .. } => "a string".to_string(),
+            _ => format!("`{}`", self.slice(token.span)),
+        }
+    }
+
+    fn error_here(&mut self, expected: &str) {
+        let token = self.peek().clone();
+        let found = self.describe(&token);
+        self.diagnostics.push(Diagnostic::error(
+            codes::SYNTAX,
+            token.span,
+            format!("expected {expected}, found {found}"),
+        ));
+    }
+
+    /// Ends a statement: anything left on the line is an error (reported once).
+    fn finish_line(&mut self) {
+        if !self.at_line_end() {
+            let token = self.peek().clone();
+            let found = self.describe(&token);
+            let span = self.line_span_from(token.span);
+            self.diagnostics.push(
+                Diagnostic::error(
+                    codes::SYNTAX,
+                    span,
+                    format!("unexpected {found} after the end of the statement"),
+                )
+                .with_help("put each statement on its own line"),
+            );
+        }
+        self.skip_line();
+    }
+
+    /// The closer that starts the current line, if any.
+    fn closer_here(&self) -> Option<Closer> {
+        match self.word_at(0)?.as_str() {
+            "endif" => Some(Closer::EndIf),
+            "end" if self.word_at(1).as_deref() == Some("if") => Some(Closer::EndIf),
+            "else" => Some(Closer::Else),
+            "elseif" => Some(Closer::ElseIf),
+            "wend" => Some(Closer::Wend),
+            "loop" => Some(Closer::Loop),
+            "next" => Some(Closer::Next),
+            _ => None,
+        }
+    }
+
+    /// Parses statements into `body` until end of file or a closer. A closer that
+    /// belongs to an enclosing block stops the block; one that belongs to no open block
+    /// is reported and skipped.
+    fn parse_block(&mut self, body: &mut Vec<Stmt>) -> BlockEnd {
+        loop {
+            while self.peek().kind == TokenKind::Newline {
+                self.bump();
+            }
+            if self.peek().kind == TokenKind::Eof {
+                return BlockEnd::Eof;
+            }
+            if let Some(closer) = self.closer_here() {
+                if self.open.contains(&closer.owner()) || self.open.is_empty() {
+                    return BlockEnd::Closer(closer);
+                }
+                let token = self.peek().clone();
+                let (message, help) = stray_closer_message(closer);
+                self.diagnostics.push(
+                    Diagnostic::error(codes::STRAY_CLOSER, self.line_span_from(token.span), message)
+                        .with_help(help),
+                );
+                self.skip_line();
+                continue;
+            }
+            if let Some(stmt) = self.parse_statement() {
+                body.push(stmt);
+            }
+        }
+    }
+
+    /// Parses a nested block of `kind` opened at `open_span`; returns the closer found
+    /// (not consumed) or `None` after reporting the missing closer.
+    fn parse_nested(
+        &mut self,
+        kind: BlockKind,
+        open_span: Span,
+        body: &mut Vec<Stmt>,
+    ) -> Option<Closer> {
+        self.open.push(kind);
+        let end = self.parse_block(body);
+        self.open.pop();
+        match end {
+            BlockEnd::Closer(closer) if closer.owner() == kind => Some(closer),
+            _ => {
+                let word = kind.closer_word();
+                let opener = kind.opener_word();
+                let found = match end {
+                    BlockEnd::Eof => "the end of the file".to_string(),
+                    BlockEnd::Closer(_) => {
+                        let token = self.peek().clone();
+                        format!("{} first", self.describe(&token))
+                    }
+                };
+                self.diagnostics.push(
+                    Diagnostic::error(
+                        codes::MISSING_CLOSER,
+                        open_span,
+                        format!("this `{opener}` has no `{word}`: found {found}"),
+                    )
+                    .with_help(format!("add `{word}` where the `{opener}` block ends")),
+                );
+                None
+            }
+        }
+    }
+
+    fn parse_statement(&mut self) -> Option<Stmt> {
+        let start = self.peek().span;
+        let word = self.word_at(0);
+        let result = match word.as_deref() {
+            Some("rem") => {
+                self.skip_line();
+                return None;
+            }
+            Some("if") => return self.parse_if(),
+            Some("while") => return self.parse_while(),
+            Some("do") => return self.parse_do(),
+            Some("for") => return self.parse_for(),
+            _ => self.parse_simple(),
+        };
+        match result {
+            Some(kind) => {
+                let span = self.statement_span(start);
+                self.finish_line();
+                Some(Stmt { kind, span })
+            }
+            None => {
+                self.skip_line();
+                None
+            }
+        }
+    }
+
+    /// From `start` to the end of the last consumed token.
+    fn statement_span(&self, start: Span) -> Span {
+        let end = self
+            .pos
+            .checked_sub(1)
+            .and_then(|index| self.tokens.get(index))
+            .map_or(start.end, |token| token.span.end);
+        Span::new(start.start as usize, (end as usize).max(start.end as usize))
+    }
+
+    /// A statement that fits on one line (everything but block statements).
+    fn parse_simple(&mut self) -> Option<StmtKind> {
+        let token = self.peek().clone();
+        if token.kind != TokenKind::Ident {
+            self.error_here("a statement");
+            return None;
+        }
+        let word = self.slice(token.span).to_ascii_lowercase();
+        match word.as_str() {
+            "dim" => self.parse_dim(),
+            "const" => self.parse_const(),
+            "let" => {
+                self.bump();
+                self.parse_assignment()
+            }
+            "label" => {
+                self.bump();
+                if self.peek().kind == TokenKind::Colon {
+                    self.bump();
+                } else {
+                    self.error_here("`:` after `label`");
+                    return None;
+                }
+                let name = self.parse_name("a label name")?;
+                Some(StmtKind::Label(name))
+            }
+            "goto" => {
+                self.bump();
+                let name = self.parse_name("a label name after `goto`")?;
+                Some(StmtKind::Goto(name))
+            }
+            "exit" => {
+                self.bump();
+                let kind = match self.word_at(0).as_deref() {
+                    Some("for") => LoopKind::For,
+                    Some("do") => LoopKind::Do,
+                    Some("while") => LoopKind::While,
+                    _ => {
+                        self.error_here("`for`, `do` or `while` after `exit`");
+                        return None;
+                    }
+                };
+                self.bump();
+                Some(StmtKind::Exit(kind))
+            }
+            "yield" => {
+                self.bump();
+                Some(StmtKind::Yield)
+            }
+            "end" => {
+                self.bump();
+                Some(StmtKind::End)
+            }
+            "print" => {
+                self.bump();
+                self.parse_print()
+            }
+            "if" | "while" | "do" | "for" => {
+                self.diagnostics.push(
+                    Diagnostic::error(
+                        codes::SYNTAX,
+                        token.span,
+                        format!("a `{word}` block cannot follow `then` on the same line"),
+                    )
+                    .with_help("start the block on its own line after `then`"),
+                );
+                None
+            }
+            _ if KEYWORDS.contains(&word.as_str()) => {
+                self.diagnostics.push(Diagnostic::error(
+                    codes::SYNTAX,
+                    token.span,
+                    format!("`{word}` cannot start a statement"),
+                ));
+                None
+            }
+            _ => self.parse_assignment(),
+        }
+    }
+
+    fn parse_name(&mut self, expected: &str) -> Option<Name> {
+        let token = self.peek().clone();
+        if token.kind != TokenKind::Ident {
+            self.error_here(expected);
+            return None;
+        }
+        let text = self.slice(token.span);
+        let key = text.to_ascii_lowercase();
+        if KEYWORDS.contains(&key.as_str()) {
+            self.diagnostics.push(
+                Diagnostic::error(
+                    codes::KEYWORD_AS_NAME,
+                    token.span,
+                    format!("`{text}` is a keyword and cannot be used as a name"),
+                )
+                .with_help("choose another name"),
+            );
+            return None;
+        }
+        self.bump();
+        Some(Name::new(text, token.span))
+    }
+
+    fn parse_type(&mut self) -> Option<TypeName> {
+        if self.eat_word("integer") {
+            Some(TypeName::Integer)
+        } else if self.eat_word("float") {
+            Some(TypeName::Float)
+        } else {
+            self.error_here("`integer` or `float`");
+            None
+        }
+    }
+
+    fn parse_dim(&mut self) -> Option<StmtKind> {
+        self.bump();
+        let name = self.parse_name("a variable name after `dim`")?;
+        let mut size = None;
+        if self.peek().kind == TokenKind::LParen {
+            self.bump();
+            let token = self.peek().clone();
+            size = Some(match token.kind {
+                TokenKind::Int => {
+                    self.bump();
+                    let value = self.int_value(&token)?;
+                    ArraySize::Literal {
+                        value,
+                        span: token.span,
+                    }
+                }
+                TokenKind::Ident => ArraySize::Const(self.parse_name("an array size")?),
+                _ => {
+                    self.error_here("an array size (an integer or a constant)");
+                    return None;
+                }
+            });
+            if self.peek().kind != TokenKind::RParen {
+                self.error_here("`)` after the array size");
+                return None;
+            }
+            self.bump();
+        }
+        if !self.eat_word("as") {
+            self.error_here("`as integer` or `as float`");
+            return None;
+        }
+        let ty = self.parse_type()?;
+        Some(StmtKind::Dim { name, size, ty })
+    }
+
+    fn parse_const(&mut self) -> Option<StmtKind> {
+        self.bump();
+        let name = self.parse_name("a constant name after `const`")?;
+        if self.peek().kind != TokenKind::Eq {
+            self.error_here("`=` after the constant's name");
+            return None;
+        }
+        self.bump();
+        let negative = if self.peek().kind == TokenKind::Minus {
+            self.bump();
+            true
+        } else {
+            false
+        };
+        let token = self.peek().clone();
+        let value = match token.kind {
+            TokenKind::Int => {
+                self.bump();
+                let value = self.int_value(&token)?;
+                Literal::Int(if negative { -value } else { value })
+            }
+            TokenKind::Float => {
+                self.bump();
+                let value = self.float_value(&token)?;
+                Literal::Float(if negative { -value } else { value })
+            }
+            _ => {
+                self.error_here("a number (a constant's value is a literal)");
+                return None;
+            }
+        };
+        Some(StmtKind::Const { name, value })
+    }
+
+    fn int_value(&mut self, token: &Token) -> Option<i64> {
+        match self.slice(token.span).parse::<i64>() {
+            Ok(value) => Some(value),
+            Err(_) => {
+                self.diagnostics.push(
+                    Diagnostic::error(
+                        codes::BAD_NUMBER,
+                        token.span,
+                        "this integer does not fit in 64 bits",
+                    )
+                    .with_help("write it as a float, e.g. `1e20`"),
+                );
+                None
+            }
+        }
+    }
+
+    fn float_value(&mut self, token: &Token) -> Option<f64> {
+        match self.slice(token.span).parse::<f64>() {
+            Ok(value) if value.is_finite() => Some(value),
+            _ => {
+                self.diagnostics.push(Diagnostic::error(
+                    codes::BAD_NUMBER,
+                    token.span,
+                    "this number is not a finite float",
+                ));
+                None
+            }
+        }
+    }
+
+    fn parse_assignment(&mut self) -> Option<StmtKind> {
+        let name = self.parse_name("a statement")?;
+        let target = if self.peek().kind == TokenKind::LParen {
+            self.bump();
+            let index = self.parse_expr()?;
+            if self.peek().kind != TokenKind::RParen {
+                self.error_here("`)` after the index");
+                return None;
+            }
+            self.bump();
+            Target::Element { name, index }
+        } else {
+            Target::Name(name)
+        };
+        if self.peek().kind != TokenKind::Eq {
+            let token = self.peek().clone();
+            if token.kind == TokenKind::Colon {
+                let name = target.name().text.clone();
+                self.diagnostics.push(
+                    Diagnostic::error(codes::SYNTAX, token.span, "expected `=`, found `:`")
+                        .with_help(format!("a label is written `label: {name}`")),
+                );
+                return None;
+            }
+            self.error_here("`=` (an assignment)");
+            return None;
+        }
+        self.bump();
+        let value = self.parse_expr()?;
+        Some(StmtKind::Assign { target, value })
+    }
+
+    fn parse_print(&mut self) -> Option<StmtKind> {
+        let mut items = Vec::new();
+        if self.at_line_end() || self.at_word("else") {
+            return Some(StmtKind::Print(items));
+        }
+        loop {
+            let token = self.peek().clone();
+            if let TokenKind::Str { terminated } = token.kind {
+                if !terminated {
+                    self.diagnostics.push(
+                        Diagnostic::error(codes::SYNTAX, token.span, "this string has no closing `\"`")
+                            .with_help("close the string on the same line"),
+                    );
+                    return None;
+                }
+                self.bump();
+                let raw = self.slice(token.span);
+                let inner = raw.get(1..raw.len().saturating_sub(1)).unwrap_or("");
+                items.push(PrintItem::Text {
+                    text: inner.replace("\"\"", "\""),
+                    span: token.span,
+                });
+            } else {
+                items.push(PrintItem::Expr(self.parse_expr()?));
+            }
+            if self.peek().kind == TokenKind::Comma {
+                self.bump();
+            } else {
+                break;
+            }
+        }
+        Some(StmtKind::Print(items))
+    }
+
+    fn parse_if(&mut self) -> Option<Stmt> {
+        let if_token = self.bump();
+        let condition = self.parse_condition_then(if_token.span);
+        let header_span = self.statement_span(if_token.span);
+        let Some(condition) = condition else {
+            // Keep the block structure so a later `endif` is not reported as stray.
+            self.skip_line();
+            let mut ignored = Vec::new();
+            self.parse_if_rest(header_span, &mut ignored);
+            return None;
+        };
+        if !self.at_line_end() {
+            // One-line form: `if c then statement [else statement]`.
+            let body_start = self.peek().span;
+            let kind = self.parse_simple();
+            let mut body = Vec::new();
+            if let Some(kind) = kind {
+                body.push(Stmt {
+                    kind,
+                    span: self.statement_span(body_start),
+                });
+            } else {
+                self.skip_line();
+                return None;
+            }
+            let mut else_body = None;
+            if self.eat_word("else") {
+                let else_start = self.peek().span;
+                let kind = self.parse_simple();
+                match kind {
+                    Some(kind) => {
+                        else_body = Some(vec![Stmt {
+                            kind,
+                            span: self.statement_span(else_start),
+                        }])
+                    }
+                    None => {
+                        self.skip_line();
+                        return None;
+                    }
+                }
+            }
+            let span = self.statement_span(if_token.span);
+            self.finish_line();
+            return Some(Stmt {
+                kind: StmtKind::If {
+                    arms: vec![IfArm {
+                        condition,
+                        body,
+                        span: header_span,
+                    }],
+                    else_body,
+                    end_span: None,
+                },
+                span,
+            });
+        }
+        self.skip_line();
+        let mut arms = vec![IfArm {
+            condition,
+            body: Vec::new(),
+            span: header_span,
+        }];
+        let (else_body, end_span) = self.parse_if_rest(header_span, &mut arms);
+        Some(Stmt {
+            kind: StmtKind::If {
+                arms,
+                else_body,
+                end_span,
+            },
+            span: header_span,
+        })
+    }
+
+    /// Parses an `if` block's bodies after its header line: `elseif` arms, `else` and
+    /// `endif`. The first arm's body is filled in `arms[0]` when there is one.
+    fn parse_if_rest(
+        &mut self,
+        open_span: Span,
+        arms: &mut Vec<IfArm>,
+    ) -> (Option<Vec<Stmt>>, Option<Span>) {
+        let mut body = Vec::new();
+        let mut else_body: Option<Vec<Stmt>> = None;
+        loop {
+            let closer = self.parse_nested(BlockKind::If, open_span, &mut body);
+            let target = if let Some(else_body) = else_body.as_mut() {
+                else_body
+            } else if let Some(arm) = arms.last_mut() {
+                &mut arm.body
+            } else {
+                &mut Vec::new()
+            };
+            target.append(&mut body);
+            let Some(closer) = closer else {
+                return (else_body, None);
+            };
+            let token = self.peek().clone();
+            match closer {
+                Closer::EndIf => {
+                    let first = self.bump();
+                    let mut span = first.span;
+                    if self.at_word("if") {
+                        span = span.cover(self.bump().span);
+                    }
+                    self.finish_line();
+                    return (else_body, Some(span));
+                }
+                Closer::Else => {
+                    self.bump();
+                    if else_body.is_some() {
+                        self.diagnostics.push(Diagnostic::error(
+                            codes::SYNTAX,
+                            token.span,
+                            "a second `else` in the same `if`",
+                        ));
+                    }
+                    self.finish_line();
+                    else_body = Some(Vec::new());
+                }
+                Closer::ElseIf => {
+                    self.bump();
+                    if else_body.is_some() {
+                        self.diagnostics.push(
+                            Diagnostic::error(codes::SYNTAX, token.span, "`elseif` after `else`")
+                                .with_help("move this arm above the `else`"),
+                        );
+                    }
+                    let condition = self.parse_condition_then(token.span);
+                    let span = self.statement_span(token.span);
+                    self.finish_line();
+                    if let (Some(condition), None) = (condition, else_body.as_ref()) {
+                        arms.push(IfArm {
+                            condition,
+                            body: Vec::new(),
+                            span,
+                        });
+                    }
+                }
+                _ => return (else_body, None),
+            }
+        }
+    }
+
+    /// `COND then` after `if`/`elseif`.
+    fn parse_condition_then(&mut self, keyword: Span) -> Option<Expr> {
+        if self.at_line_end() {
+            self.diagnostics.push(Diagnostic::error(
+                codes::SYNTAX,
+                keyword,
+                "expected a condition after this keyword",
+            ));
+            return None;
+        }
+        let condition = self.parse_expr()?;
+        if !self.eat_word("then") {
+            let token = self.peek().clone();
+            let found = self.describe(&token);
+            self.diagnostics.push(
+                Diagnostic::error(codes::SYNTAX, token.span, format!("expected `then`, found {found}"))
+                    .with_help("end the condition with `then`"),
+            );
+            return None;
+        }
+        Some(condition)
+    }
+
+    fn parse_while(&mut self) -> Option<Stmt> {
+        let keyword = self.bump();
+        let condition = if self.at_line_end() {
+            self.error_here("a condition after `while`");
+            None
+        } else {
+            self.parse_expr()
+        };
+        let header_span = self.statement_span(keyword.span);
+        if condition.is_some() {
+            self.finish_line();
+        } else {
+            self.skip_line();
+        }
+        let mut body = Vec::new();
+        let closer = self.parse_nested(BlockKind::While, header_span, &mut body);
+        let end_span = match closer {
+            Some(_) => {
+                let token = self.bump();
+                self.finish_line();
+                Some(token.span)
+            }
+            None => None,
+        };
+        Some(Stmt {
+            kind: StmtKind::While {
+                condition: condition?,
+                body,
+                end_span,
+            },
+            span: header_span,
+        })
+    }
+
+    fn parse_do_condition(&mut self) -> Result<Option<DoCondition>, ()> {
+        let until = if self.eat_word("while") {
+            false
+        } else if self.eat_word("until") {
+            true
+        } else {
+            return Ok(None);
+        };
+        match self.parse_expr() {
+            Some(expr) => Ok(Some(DoCondition { until, expr })),
+            None => Err(()),
+        }
+    }
+
+    fn parse_do(&mut self) -> Option<Stmt> {
+        let keyword = self.bump();
+        let pre = self.parse_do_condition();
+        let header_span = self.statement_span(keyword.span);
+        if pre.is_ok() {
+            self.finish_line();
+        } else {
+            self.skip_line();
+        }
+        let mut body = Vec::new();
+        let closer = self.parse_nested(BlockKind::Do, header_span, &mut body);
+        let mut post = Ok(None);
+        let end_span = match closer {
+            Some(_) => {
+                let token = self.bump();
+                post = self.parse_do_condition();
+                let span = self.statement_span(token.span);
+                if post.is_ok() {
+                    self.finish_line();
+                } else {
+                    self.skip_line();
+                }
+                Some(span)
+            }
+            None => None,
+        };
+        let (Ok(pre), Ok(post)) = (pre, post) else {
+            return None;
+        };
+        if let (Some(_), Some(post)) = (&pre, &post) {
+            self.diagnostics.push(
+                Diagnostic::error(
+                    codes::SYNTAX,
+                    post.expr.span,
+                    "a `do` loop has a condition at both ends",
+                )
+                .with_help("keep the condition either after `do` or after `loop`"),
+            );
+            return None;
+        }
+        Some(Stmt {
+            kind: StmtKind::Do {
+                pre,
+                body,
+                post,
+                end_span,
+            },
+            span: header_span,
+        })
+    }
+
+    fn parse_for(&mut self) -> Option<Stmt> {
+        let keyword = self.bump();
+        let header = self.parse_for_header();
+        let header_span = self.statement_span(keyword.span);
+        if header.is_some() {
+            self.finish_line();
+        } else {
+            self.skip_line();
+        }
+        let mut body = Vec::new();
+        let closer = self.parse_nested(BlockKind::For, header_span, &mut body);
+        let mut end_span = None;
+        if closer.is_some() {
+            let token = self.bump();
+            let mut span = token.span;
+            if !self.at_line_end() {
+                if let Some(name) = self.parse_name("the loop variable after `next`") {
+                    span = span.cover(name.span);
+                    if let Some((variable, ..)) = &header {
+                        if name.key != variable.key {
+                            self.diagnostics.push(
+                                Diagnostic::error(
+                                    codes::BAD_NEXT,
+                                    name.span,
+                                    format!(
+                                        "`next {}` does not match the loop variable `{}`",
+                                        name.text, variable.text
+                                    ),
+                                )
+                                .with_label(variable.span, "the innermost `for` counts this variable")
+                                .with_help(format!("write `next {}` or just `next`", variable.text))
+                                .with_fix(
+                                    format!("replace with `{}`", variable.text),
+                                    name.span,
+                                    variable.text.clone(),
+                                ),
+                            );
+                        }
+                    }
+                } else {
+                    self.skip_line();
+                    end_span = Some(span);
+                }
+            }
+            if end_span.is_none() {
+                self.finish_line();
+                end_span = Some(span);
+            }
+        }
+        let (variable, from, to, step) = header?;
+        Some(Stmt {
+            kind: StmtKind::For {
+                variable,
+                from,
+                to,
+                step,
+                body,
+                end_span,
+            },
+            span: header_span,
+        })
+    }
+
+    fn parse_for_header(&mut self) -> Option<(Name, Expr, Expr, Option<Expr>)> {
+        let variable = self.parse_name("the loop variable after `for`")?;
+        if self.peek().kind != TokenKind::Eq {
+            self.error_here("`=` after the loop variable");
+            return None;
+        }
+        self.bump();
+        let from = self.parse_expr()?;
+        if !self.eat_word("to") {
+            self.error_here("`to`");
+            return None;
+        }
+        let to = self.parse_expr()?;
+        let step = if self.eat_word("step") {
+            Some(self.parse_expr()?)
+        } else {
+            None
+        };
+        Some((variable, from, to, step))
+    }
+
+    // Expressions, loosest first: or, and, not, comparison, + -, mod, \, * /, unary -.
+
+    fn parse_expr(&mut self) -> Option<Expr> {
+        self.parse_or()
+    }
+
+    fn binary(op: BinaryOp, left: Expr, right: Expr) -> Expr {
+        Expr {
+            span: left.span.cover(right.span),
+            kind: ExprKind::Binary {
+                op,
+                left: Box::new(left),
+                right: Box::new(right),
+            },
+        }
+    }
+
+    fn parse_or(&mut self) -> Option<Expr> {
+        let mut left = self.parse_and()?;
+        while self.eat_word("or") {
+            let right = self.parse_and()?;
+            left = Self::binary(BinaryOp::Or, left, right);
+        }
+        Some(left)
+    }
+
+    fn parse_and(&mut self) -> Option<Expr> {
+        let mut left = self.parse_not()?;
+        while self.eat_word("and") {
+            let right = self.parse_not()?;
+            left = Self::binary(BinaryOp::And, left, right);
+        }
+        Some(left)
+    }
+
+    fn parse_not(&mut self) -> Option<Expr> {
+        if self.at_word("not") {
+            let keyword = self.bump();
+            let operand = self.parse_not()?;
+            return Some(Expr {
+                span: keyword.span.cover(operand.span),
+                kind: ExprKind::Unary {
+                    op: UnaryOp::Not,
+                    operand: Box::new(operand),
+                },
+            });
+        }
+        self.parse_comparison()
+    }
+
+    fn parse_comparison(&mut self) -> Option<Expr> {
+        let mut left = self.parse_additive()?;
+        loop {
+            let op = match self.peek().kind {
+                TokenKind::Eq => BinaryOp::Eq,
+                TokenKind::Ne => BinaryOp::Ne,
+                TokenKind::Lt => BinaryOp::Lt,
+                TokenKind::Le => BinaryOp::Le,
+                TokenKind::Gt => BinaryOp::Gt,
+                TokenKind::Ge => BinaryOp::Ge,
+                _ => return Some(left),
+            };
+            self.bump();
+            let right = self.parse_additive()?;
+            left = Self::binary(op, left, right);
+        }
+    }
+
+    fn parse_additive(&mut self) -> Option<Expr> {
+        let mut left = self.parse_mod()?;
+        loop {
+            let op = match self.peek().kind {
+                TokenKind::Plus => BinaryOp::Add,
+                TokenKind::Minus => BinaryOp::Sub,
+                _ => return Some(left),
+            };
+            self.bump();
+            let right = self.parse_mod()?;
+            left = Self::binary(op, left, right);
+        }
+    }
+
+    fn parse_mod(&mut self) -> Option<Expr> {
+        let mut left = self.parse_int_div()?;
+        while self.eat_word("mod") {
+            let right = self.parse_int_div()?;
+            left = Self::binary(BinaryOp::Mod, left, right);
+        }
+        Some(left)
+    }
+
+    fn parse_int_div(&mut self) -> Option<Expr> {
+        let mut left = self.parse_multiplicative()?;
+        while self.peek().kind == TokenKind::Backslash {
+            self.bump();
+            let right = self.parse_multiplicative()?;
+            left = Self::binary(BinaryOp::IntDiv, left, right);
+        }
+        Some(left)
+    }
+
+    fn parse_multiplicative(&mut self) -> Option<Expr> {
+        let mut left = self.parse_unary()?;
+        loop {
+            let op = match self.peek().kind {
+                TokenKind::Star => BinaryOp::Mul,
+                TokenKind::Slash => BinaryOp::Div,
+                _ => return Some(left),
+            };
+            self.bump();
+            let right = self.parse_unary()?;
+            left = Self::binary(op, left, right);
+        }
+    }
+
+    fn parse_unary(&mut self) -> Option<Expr> {
+        match self.peek().kind {
+            TokenKind::Minus => {
+                let minus = self.bump();
+                let operand = self.parse_unary()?;
+                Some(Expr {
+                    span: minus.span.cover(operand.span),
+                    kind: ExprKind::Unary {
+                        op: UnaryOp::Neg,
+                        operand: Box::new(operand),
+                    },
+                })
+            }
+            TokenKind::Plus => {
+                self.bump();
+                self.parse_unary()
+            }
+            _ => self.parse_primary(),
+        }
+    }
+
+    fn parse_primary(&mut self) -> Option<Expr> {
+        let token = self.peek().clone();
+        match token.kind {
+            TokenKind::Int => {
+                self.bump();
+                let value = self.int_value(&token)?;
+                Some(Expr {
+                    kind: ExprKind::Literal(Literal::Int(value)),
+                    span: token.span,
+                })
+            }
+            TokenKind::Float => {
+                self.bump();
+                let value = self.float_value(&token)?;
+                Some(Expr {
+                    kind: ExprKind::Literal(Literal::Float(value)),
+                    span: token.span,
+                })
+            }
+            TokenKind::LParen => {
+                self.bump();
+                let inner = self.parse_expr()?;
+                if self.peek().kind != TokenKind::RParen {
+                    self.error_here("`)`");
+                    return None;
+                }
+                let close = self.bump();
+                Some(Expr {
+                    kind: inner.kind,
+                    span: token.span.cover(close.span),
+                })
+            }
+            TokenKind::Ident => {
+                let text = self.slice(token.span);
+                let key = text.to_ascii_lowercase();
+                let is_call = self.peek_at(1).kind == TokenKind::LParen;
+                // `int(` and `float(` are calls; other keywords are not names.
+                if KEYWORDS.contains(&key.as_str()) && !(is_call && key == "float") {
+                    self.error_here("an expression");
+                    return None;
+                }
+                self.bump();
+                let name = Name::new(text, token.span);
+                if !is_call {
+                    return Some(Expr {
+                        span: name.span,
+                        kind: ExprKind::Name(name),
+                    });
+                }
+                self.bump();
+                let mut args = Vec::new();
+                if self.peek().kind != TokenKind::RParen {
+                    loop {
+                        args.push(self.parse_expr()?);
+                        if self.peek().kind == TokenKind::Comma {
+                            self.bump();
+                        } else {
+                            break;
+                        }
+                    }
+                }
+                if self.peek().kind != TokenKind::RParen {
+                    self.error_here("`,` or `)`");
+                    return None;
+                }
+                let close = self.bump();
+                Some(Expr {
+                    span: token.span.cover(close.span),
+                    kind: ExprKind::Call { name, args },
+                })
+            }
+            TokenKind::Str { .. } => {
+                self.diagnostics.push(
+                    Diagnostic::error(codes::SYNTAX, token.span, "a string cannot be used in an expression")
+                        .with_help("strings are only allowed as `print` items"),
+                );
+                None
+            }
+            TokenKind::Unknown => {
+                let text = self.slice(token.span).to_string();
+                self.diagnostics.push(Diagnostic::error(
+                    codes::BAD_CHARACTER,
+                    token.span,
+                    format!("unexpected character `{text}`"),
+                ));
+                None
+            }
+            _ => {
+                self.error_here("an expression");
+                None
+            }
+        }
+    }
+}

@@ -66,9 +66,9 @@ impl Analysis {
 
     /// Sensors the program reads, with the spans of the reads.
     pub fn sensors_read(&self) -> impl Iterator<Item = &SymbolInfo> {
-        self.symbols
-            .iter()
-            .filter(|symbol| symbol.kind == SymbolKind::Sensor && symbol.references.len() > symbol.writes.len())
+        self.symbols.iter().filter(|symbol| {
+            symbol.kind == SymbolKind::Sensor && symbol.references.len() > symbol.writes.len()
+        })
     }
 
     /// Sensors the program writes.
@@ -153,7 +153,8 @@ pub fn analyze(text: &str, sensors: &SensorList, options: &CompileOptions) -> An
         let units = sensors
             .get(gloc_engine::sensors::SensorId(sensor.sensor))
             .map_or(String::new(), |info| info.units.clone());
-        let mut references: Vec<Span> = sensor.reads.iter().chain(&sensor.writes).copied().collect();
+        let mut references: Vec<Span> =
+            sensor.reads.iter().chain(&sensor.writes).copied().collect();
         references.sort_by_key(|span| span.start);
         symbols.push(SymbolInfo {
             name: sensor.name.clone(),

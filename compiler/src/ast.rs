@@ -91,9 +91,19 @@ pub enum ExprKind {
     Literal(Literal),
     Name(Name),
     /// `name(args)`: an array element or a built-in call; the checker decides.
-    Call { name: Name, args: Vec<Expr> },
-    Unary { op: UnaryOp, operand: Box<Expr> },
-    Binary { op: BinaryOp, left: Box<Expr>, right: Box<Expr> },
+    Call {
+        name: Name,
+        args: Vec<Expr>,
+    },
+    Unary {
+        op: UnaryOp,
+        operand: Box<Expr>,
+    },
+    Binary {
+        op: BinaryOp,
+        left: Box<Expr>,
+        right: Box<Expr>,
+    },
     /// A syntax error stood here; already reported.
     Error,
 }

@@ -234,7 +234,7 @@ impl<'a> Checker<'a> {
                 }
             },
         };
-        if value < 1 || value > MAX_ARRAY_SIZE {
+        if !(1..=MAX_ARRAY_SIZE).contains(&value) {
             self.error(Diagnostic::error(
                 codes::BAD_ARRAY_SIZE,
                 span,
@@ -291,7 +291,11 @@ impl<'a> Checker<'a> {
         let mut best: Option<(usize, String)> = None;
         let mut consider = |candidate: &str| {
             let distance = edit_distance(key, &candidate.to_ascii_lowercase());
-            if distance <= limit && best.as_ref().is_none_or(|(best_distance, _)| distance < *best_distance) {
+            if distance <= limit
+                && best
+                    .as_ref()
+                    .is_none_or(|(best_distance, _)| distance < *best_distance)
+            {
                 best = Some((distance, candidate.to_string()));
             }
         };
@@ -317,7 +321,11 @@ impl<'a> Checker<'a> {
             Some(suggestion) => {
                 diagnostic = diagnostic
                     .with_help(format!("did you mean `{suggestion}`?"))
-                    .with_fix(format!("replace with `{suggestion}`"), name.span, suggestion);
+                    .with_fix(
+                        format!("replace with `{suggestion}`"),
+                        name.span,
+                        suggestion,
+                    );
             }
             None => {
                 diagnostic = diagnostic.with_help(format!(
@@ -330,7 +338,9 @@ impl<'a> Checker<'a> {
     }
 
     fn check_block(&mut self, body: &[ast::Stmt]) -> Vec<typed::Stmt> {
-        body.iter().filter_map(|stmt| self.check_stmt(stmt)).collect()
+        body.iter()
+            .filter_map(|stmt| self.check_stmt(stmt))
+            .collect()
     }
 
     fn check_stmt(&mut self, stmt: &ast::Stmt) -> Option<typed::Stmt> {
@@ -380,7 +390,12 @@ impl<'a> Checker<'a> {
                         .symbols
                         .labels
                         .iter()
-                        .map(|label| (edit_distance(&name.key, &label.name.to_ascii_lowercase()), &label.name))
+                        .map(|label| {
+                            (
+                                edit_distance(&name.key, &label.name.to_ascii_lowercase()),
+                                &label.name,
+                            )
+                        })
                         .filter(|(distance, _)| *distance <= limit)
                         .min_by_key(|(distance, _)| *distance)
                         .map(|(_, label)| label.clone());
@@ -388,7 +403,9 @@ impl<'a> Checker<'a> {
                         Some(label) => diagnostic
                             .with_help(format!("did you mean `{label}`?"))
                             .with_fix(format!("replace with `{label}`"), name.span, label),
-                        None => diagnostic.with_help(format!("define it with `label: {}`", name.text)),
+                        None => {
+                            diagnostic.with_help(format!("define it with `label: {}`", name.text))
+                        }
                     };
                     self.error(diagnostic);
                     return None;
@@ -479,7 +496,10 @@ impl<'a> Checker<'a> {
                     Diagnostic::error(
                         codes::WRONG_KIND,
                         variable.span,
-                        format!("the loop variable `{}` must be a scalar variable", variable.text),
+                        format!(
+                            "the loop variable `{}` must be a scalar variable",
+                            variable.text
+                        ),
                     )
                     .with_help("declare a variable with `dim NAME as integer`"),
                 );
@@ -525,8 +545,12 @@ impl<'a> Checker<'a> {
             if is_zero {
                 let span = step.as_ref().map_or(stmt.span, |step| step.span);
                 self.error(
-                    Diagnostic::warning(codes::ZERO_STEP, span, "a `for` loop with step 0 never ends")
-                        .with_help("use a non-zero step"),
+                    Diagnostic::warning(
+                        codes::ZERO_STEP,
+                        span,
+                        "a `for` loop with step 0 never ends",
+                    )
+                    .with_help("use a non-zero step"),
                 );
             }
         }
@@ -563,7 +587,10 @@ impl<'a> Checker<'a> {
                         name.span,
                         format!("`{}` is a constant and cannot be assigned", name.text),
                     )
-                    .with_label(self.symbols.constants[index].definition, "declared with `const` here")
+                    .with_label(
+                        self.symbols.constants[index].definition,
+                        "declared with `const` here",
+                    )
                     .with_help("declare it with `dim` to change it"),
                 );
                 Place::Error
@@ -651,7 +678,9 @@ impl<'a> Checker<'a> {
 
     fn place_ty(&self, place: &Place) -> Ty {
         match place {
-            Place::Variable(id) | Place::Element { array: id, .. } => self.symbols.variables[id.0].ty,
+            Place::Variable(id) | Place::Element { array: id, .. } => {
+                self.symbols.variables[id.0].ty
+            }
             Place::Sensor(_) => Ty::Float,
             Place::Error => Ty::Error,
         }
@@ -770,7 +799,9 @@ impl<'a> Checker<'a> {
                     if variable.size.is_some() {
                         let text = format!("`{}` is an array; read one element", name.text);
                         let help = format!("write `{}(INDEX)`", name.text);
-                        self.error(Diagnostic::error(codes::WRONG_KIND, span, text).with_help(help));
+                        self.error(
+                            Diagnostic::error(codes::WRONG_KIND, span, text).with_help(help),
+                        );
                         return error(span);
                     }
                     typed::Expr {
@@ -851,7 +882,13 @@ impl<'a> Checker<'a> {
         value
     }
 
-    fn check_binary(&mut self, op: BinaryOp, left: typed::Expr, right: typed::Expr, span: Span) -> typed::Expr {
+    fn check_binary(
+        &mut self,
+        op: BinaryOp,
+        left: typed::Expr,
+        right: typed::Expr,
+        span: Span,
+    ) -> typed::Expr {
         let either_error = left.ty == Ty::Error || right.ty == Ty::Error;
         let operand_ty = if left.ty == Ty::Float || right.ty == Ty::Float {
             Ty::Float
@@ -859,9 +896,11 @@ impl<'a> Checker<'a> {
             Ty::Integer
         };
         let (left, right, result_ty) = match op {
-            BinaryOp::Add | BinaryOp::Sub | BinaryOp::Mul | BinaryOp::Mod => {
-                (widen(left, operand_ty), widen(right, operand_ty), operand_ty)
-            }
+            BinaryOp::Add | BinaryOp::Sub | BinaryOp::Mul | BinaryOp::Mod => (
+                widen(left, operand_ty),
+                widen(right, operand_ty),
+                operand_ty,
+            ),
             BinaryOp::Div => (widen(left, Ty::Float), widen(right, Ty::Float), Ty::Float),
             BinaryOp::IntDiv => {
                 let what = "`\\` (integer division)";
@@ -869,9 +908,16 @@ impl<'a> Checker<'a> {
                 let right = self.require_integer(right, what);
                 (left, right, Ty::Integer)
             }
-            BinaryOp::Eq | BinaryOp::Ne | BinaryOp::Lt | BinaryOp::Le | BinaryOp::Gt | BinaryOp::Ge => {
-                (widen(left, operand_ty), widen(right, operand_ty), Ty::Integer)
-            }
+            BinaryOp::Eq
+            | BinaryOp::Ne
+            | BinaryOp::Lt
+            | BinaryOp::Le
+            | BinaryOp::Gt
+            | BinaryOp::Ge => (
+                widen(left, operand_ty),
+                widen(right, operand_ty),
+                Ty::Integer,
+            ),
             BinaryOp::And | BinaryOp::Or => {
                 let what = format!("`{}`", op.symbol());
                 let left = self.require_integer(left, &what);
@@ -888,7 +934,11 @@ impl<'a> Checker<'a> {
                 ));
             }
         }
-        let ty = if either_error && !op.is_comparison() { Ty::Error } else { result_ty };
+        let ty = if either_error && !op.is_comparison() {
+            Ty::Error
+        } else {
+            result_ty
+        };
         typed::Expr {
             kind: ExprKind::Binary {
                 op,
@@ -900,7 +950,12 @@ impl<'a> Checker<'a> {
         }
     }
 
-    fn check_call(&mut self, expr: &ast::Expr, name: &ast::Name, args: &[ast::Expr]) -> typed::Expr {
+    fn check_call(
+        &mut self,
+        expr: &ast::Expr,
+        name: &ast::Name,
+        args: &[ast::Expr],
+    ) -> typed::Expr {
         let span = expr.span;
         let error = typed::Expr {
             kind: ExprKind::Error,
@@ -971,7 +1026,12 @@ impl<'a> Checker<'a> {
                             .variables
                             .iter()
                             .filter(|variable| variable.size.is_some())
-                            .map(|variable| (edit_distance(&name.key, &variable.name.to_ascii_lowercase()), variable.name.as_str())),
+                            .map(|variable| {
+                                (
+                                    edit_distance(&name.key, &variable.name.to_ascii_lowercase()),
+                                    variable.name.as_str(),
+                                )
+                            }),
                     )
                     .filter(|(distance, _)| *distance <= limit)
                     .min_by_key(|(distance, _)| *distance)
@@ -979,8 +1039,14 @@ impl<'a> Checker<'a> {
                 diagnostic = match closest {
                     Some(suggestion) => diagnostic
                         .with_help(format!("did you mean `{suggestion}`?"))
-                        .with_fix(format!("replace with `{suggestion}`"), name.span, suggestion),
-                    None => diagnostic.with_help("the built-ins are abs, sqrt, min, max, int and float"),
+                        .with_fix(
+                            format!("replace with `{suggestion}`"),
+                            name.span,
+                            suggestion,
+                        ),
+                    None => {
+                        diagnostic.with_help("the built-ins are abs, sqrt, min, max, int and float")
+                    }
                 };
                 self.error(diagnostic);
             }
@@ -1015,7 +1081,10 @@ impl<'a> Checker<'a> {
                 let ty = if any_float { Ty::Float } else { Ty::Integer };
                 (args.into_iter().map(|arg| widen(arg, ty)).collect(), ty)
             }
-            Builtin::Sqrt => (args.into_iter().map(|arg| widen(arg, Ty::Float)).collect(), Ty::Float),
+            Builtin::Sqrt => (
+                args.into_iter().map(|arg| widen(arg, Ty::Float)).collect(),
+                Ty::Float,
+            ),
             Builtin::Float => {
                 // `float(x)` of a float is the float itself.
                 let mut args = args;
@@ -1090,23 +1159,21 @@ pub fn constant_of(expr: &typed::Expr) -> Option<Literal> {
             Literal::Int(value) => Some(Literal::Float(value as f64)),
             Literal::Float(value) => Some(Literal::Float(value)),
         },
-        ExprKind::Binary { op, left, right } => {
-            match (constant_of(left)?, constant_of(right)?) {
-                (Literal::Int(a), Literal::Int(b)) => match op {
-                    BinaryOp::Add => a.checked_add(b).map(Literal::Int),
-                    BinaryOp::Sub => a.checked_sub(b).map(Literal::Int),
-                    BinaryOp::Mul => a.checked_mul(b).map(Literal::Int),
-                    _ => None,
-                },
-                (Literal::Float(a), Literal::Float(b)) => match op {
-                    BinaryOp::Add => Some(Literal::Float(a + b)),
-                    BinaryOp::Sub => Some(Literal::Float(a - b)),
-                    BinaryOp::Mul => Some(Literal::Float(a * b)),
-                    _ => None,
-                },
+        ExprKind::Binary { op, left, right } => match (constant_of(left)?, constant_of(right)?) {
+            (Literal::Int(a), Literal::Int(b)) => match op {
+                BinaryOp::Add => a.checked_add(b).map(Literal::Int),
+                BinaryOp::Sub => a.checked_sub(b).map(Literal::Int),
+                BinaryOp::Mul => a.checked_mul(b).map(Literal::Int),
                 _ => None,
-            }
-        }
+            },
+            (Literal::Float(a), Literal::Float(b)) => match op {
+                BinaryOp::Add => Some(Literal::Float(a + b)),
+                BinaryOp::Sub => Some(Literal::Float(a - b)),
+                BinaryOp::Mul => Some(Literal::Float(a * b)),
+                _ => None,
+            },
+            _ => None,
+        },
         _ => None,
     }
 }
@@ -1155,11 +1222,15 @@ fn assigns_variable(body: &[typed::Stmt], variable: VarId) -> bool {
             ..
         } => *id == variable,
         typed::StmtKind::For {
-            variable: inner, body, ..
+            variable: inner,
+            body,
+            ..
         } => *inner == variable || assigns_variable(body, variable),
         typed::StmtKind::If { arms, else_body } => {
             arms.iter().any(|arm| assigns_variable(&arm.body, variable))
-                || else_body.as_ref().is_some_and(|body| assigns_variable(body, variable))
+                || else_body
+                    .as_ref()
+                    .is_some_and(|body| assigns_variable(body, variable))
         }
         typed::StmtKind::While { body, .. } | typed::StmtKind::Do { body, .. } => {
             assigns_variable(body, variable)
@@ -1211,7 +1282,9 @@ pub fn edit_distance(a: &str, b: &str) -> usize {
         current[0] = i + 1;
         for (j, &byte_b) in b.iter().enumerate() {
             let cost = usize::from(byte_a != byte_b);
-            current[j + 1] = (previous[j] + cost).min(previous[j + 1] + 1).min(current[j] + 1);
+            current[j + 1] = (previous[j] + cost)
+                .min(previous[j + 1] + 1)
+                .min(current[j] + 1);
         }
         std::mem::swap(&mut previous, &mut current);
     }

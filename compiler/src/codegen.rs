@@ -61,7 +61,8 @@ pub fn generate(program: &typed::Program, symbols: &Symbols) -> Generated {
     generator.code.memory_size = memory;
     // Registers start as integer 0; float variables start as 0.0.
     for (index, variable) in symbols.variables.iter().enumerate() {
-        if let (Storage::Register { register }, Ty::Float) = (generator.storage[index], variable.ty) {
+        if let (Storage::Register { register }, Ty::Float) = (generator.storage[index], variable.ty)
+        {
             generator.span = variable.definition;
             generator.emit(Instr::LoadD {
                 value: 0.0,
@@ -220,9 +221,23 @@ impl Generator {
                 body,
                 trip_count,
                 next_span,
-            } => self.for_loop(stmt.span, *variable, from, to, step.as_ref(), body, *trip_count, *next_span),
+            } => self.for_loop(
+                stmt.span,
+                *variable,
+                from,
+                to,
+                step.as_ref(),
+                body,
+                *trip_count,
+                *next_span,
+            ),
             typed::StmtKind::Exit(kind) => {
-                let exit = self.loops.iter().rev().find(|open| open.kind == *kind).map(|open| open.exit);
+                let exit = self
+                    .loops
+                    .iter()
+                    .rev()
+                    .find(|open| open.kind == *kind)
+                    .map(|open| open.exit);
                 if let Some(exit) = exit {
                     self.emit(Instr::Jumpi(exit));
                 }
@@ -294,7 +309,10 @@ impl Generator {
             None => {
                 self.span = span;
                 let register = self.fresh();
-                self.emit(Instr::LoadI { value: 1, dst: register });
+                self.emit(Instr::LoadI {
+                    value: 1,
+                    dst: register,
+                });
                 (register, Some(true))
             }
             Some(step) => {
@@ -327,24 +345,65 @@ impl Generator {
                 // A step of unknown sign: (step >= 0 and v <= limit) or (step < 0 and v >= limit).
                 let zero = self.fresh();
                 if step.is_some_and(|step| step.ty == Ty::Float) {
-                    self.emit(Instr::LoadD { value: 0.0, dst: zero });
+                    self.emit(Instr::LoadD {
+                        value: 0.0,
+                        dst: zero,
+                    });
                 } else {
-                    self.emit(Instr::LoadI { value: 0, dst: zero });
+                    self.emit(Instr::LoadI {
+                        value: 0,
+                        dst: zero,
+                    });
                 }
                 let upward = self.fresh();
-                self.emit(Instr::Binary { op: Op2::CmpGe, a: step_register, b: zero, dst: upward });
+                self.emit(Instr::Binary {
+                    op: Op2::CmpGe,
+                    a: step_register,
+                    b: zero,
+                    dst: upward,
+                });
                 let below = self.fresh();
-                self.emit(Instr::Binary { op: Op2::CmpLe, a: counter, b: limit, dst: below });
+                self.emit(Instr::Binary {
+                    op: Op2::CmpLe,
+                    a: counter,
+                    b: limit,
+                    dst: below,
+                });
                 let first = self.fresh();
-                self.emit(Instr::Binary { op: Op2::And, a: upward, b: below, dst: first });
+                self.emit(Instr::Binary {
+                    op: Op2::And,
+                    a: upward,
+                    b: below,
+                    dst: first,
+                });
                 let downward = self.fresh();
-                self.emit(Instr::Binary { op: Op2::CmpLt, a: step_register, b: zero, dst: downward });
+                self.emit(Instr::Binary {
+                    op: Op2::CmpLt,
+                    a: step_register,
+                    b: zero,
+                    dst: downward,
+                });
                 let above = self.fresh();
-                self.emit(Instr::Binary { op: Op2::CmpGe, a: counter, b: limit, dst: above });
+                self.emit(Instr::Binary {
+                    op: Op2::CmpGe,
+                    a: counter,
+                    b: limit,
+                    dst: above,
+                });
                 let second = self.fresh();
-                self.emit(Instr::Binary { op: Op2::And, a: downward, b: above, dst: second });
+                self.emit(Instr::Binary {
+                    op: Op2::And,
+                    a: downward,
+                    b: above,
+                    dst: second,
+                });
                 let condition = self.fresh();
-                self.emit(Instr::Binary { op: Op2::Or, a: first, b: second, dst: condition });
+                self.emit(Instr::Binary {
+                    op: Op2::Or,
+                    a: first,
+                    b: second,
+                    dst: condition,
+                });
                 condition
             }
         };
@@ -396,7 +455,10 @@ impl Generator {
                 let address = self.address(*array, index);
                 let value = self.expr(value);
                 self.span = span;
-                self.emit(Instr::StoreM { src: value, addr: address });
+                self.emit(Instr::StoreM {
+                    src: value,
+                    addr: address,
+                });
             }
             Place::Error => {}
         }
@@ -416,30 +478,69 @@ impl Generator {
         let index = self.expr(index);
         self.span = span;
         let zero = self.fresh();
-        self.emit(Instr::LoadI { value: 0, dst: zero });
+        self.emit(Instr::LoadI {
+            value: 0,
+            dst: zero,
+        });
         let below = self.fresh();
-        self.emit(Instr::Binary { op: Op2::CmpLt, a: index, b: zero, dst: below });
+        self.emit(Instr::Binary {
+            op: Op2::CmpLt,
+            a: index,
+            b: zero,
+            dst: below,
+        });
         let limit = self.fresh();
-        self.emit(Instr::LoadI { value: i64::from(size), dst: limit });
+        self.emit(Instr::LoadI {
+            value: i64::from(size),
+            dst: limit,
+        });
         let above = self.fresh();
-        self.emit(Instr::Binary { op: Op2::CmpGe, a: index, b: limit, dst: above });
+        self.emit(Instr::Binary {
+            op: Op2::CmpGe,
+            a: index,
+            b: limit,
+            dst: above,
+        });
         let outside = self.fresh();
-        self.emit(Instr::Binary { op: Op2::Or, a: below, b: above, dst: outside });
+        self.emit(Instr::Binary {
+            op: Op2::Or,
+            a: below,
+            b: above,
+            dst: outside,
+        });
         let bad = self.label();
         let good = self.label();
-        self.emit(Instr::Cbr { cond: outside, on_true: bad, on_false: good });
+        self.emit(Instr::Cbr {
+            cond: outside,
+            on_true: bad,
+            on_false: good,
+        });
         self.emit(Instr::Label(bad));
         let trap = self.fresh();
-        self.emit(Instr::LoadI { value: -1, dst: trap });
-        self.emit(Instr::LoadM { addr: Addr::Reg(trap), dst: trap });
+        self.emit(Instr::LoadI {
+            value: -1,
+            dst: trap,
+        });
+        self.emit(Instr::LoadM {
+            addr: Addr::Reg(trap),
+            dst: trap,
+        });
         self.emit(Instr::Label(good));
         if base == 0 {
             return Addr::Reg(index);
         }
         let base_register = self.fresh();
-        self.emit(Instr::LoadI { value: i64::from(base), dst: base_register });
+        self.emit(Instr::LoadI {
+            value: i64::from(base),
+            dst: base_register,
+        });
         let address = self.fresh();
-        self.emit(Instr::Binary { op: Op2::Add, a: index, b: base_register, dst: address });
+        self.emit(Instr::Binary {
+            op: Op2::Add,
+            a: index,
+            b: base_register,
+            dst: address,
+        });
         Addr::Reg(address)
     }
 
@@ -462,7 +563,10 @@ impl Generator {
             },
             ExprKind::Sensor(sensor) => {
                 let dst = self.fresh();
-                self.emit(Instr::LoadS { sensor: sensor.0, dst });
+                self.emit(Instr::LoadS {
+                    sensor: sensor.0,
+                    dst,
+                });
                 dst
             }
             ExprKind::Element { array, index } => {
@@ -473,7 +577,11 @@ impl Generator {
                 if expr.ty == Ty::Float {
                     // Cells never written hold integer 0; reading a float array gives 0.0.
                     let float = self.fresh();
-                    self.emit(Instr::Unary { op: Op1::I2d, src: dst, dst: float });
+                    self.emit(Instr::Unary {
+                        op: Op1::I2d,
+                        src: dst,
+                        dst: float,
+                    });
                     return float;
                 }
                 dst
@@ -503,7 +611,15 @@ impl Generator {
                         let a = self.truth(left, a);
                         let b = self.truth(right, b);
                         self.span = expr.span;
-                        (if *op == BinaryOp::And { Op2::And } else { Op2::Or }, a, b)
+                        (
+                            if *op == BinaryOp::And {
+                                Op2::And
+                            } else {
+                                Op2::Or
+                            },
+                            a,
+                            b,
+                        )
                     }
                 };
                 let dst = self.fresh();
@@ -517,12 +633,38 @@ impl Generator {
                 let first = registers.first().copied().unwrap_or(dst);
                 let second = registers.get(1).copied().unwrap_or(first);
                 let instr = match builtin {
-                    Builtin::Abs => Instr::Unary { op: Op1::Abs, src: first, dst },
-                    Builtin::Sqrt => Instr::Unary { op: Op1::Sqrt, src: first, dst },
-                    Builtin::Int => Instr::Unary { op: Op1::D2i, src: first, dst },
-                    Builtin::Float => Instr::Unary { op: Op1::I2d, src: first, dst },
-                    Builtin::Min => Instr::Binary { op: Op2::Min, a: first, b: second, dst },
-                    Builtin::Max => Instr::Binary { op: Op2::Max, a: first, b: second, dst },
+                    Builtin::Abs => Instr::Unary {
+                        op: Op1::Abs,
+                        src: first,
+                        dst,
+                    },
+                    Builtin::Sqrt => Instr::Unary {
+                        op: Op1::Sqrt,
+                        src: first,
+                        dst,
+                    },
+                    Builtin::Int => Instr::Unary {
+                        op: Op1::D2i,
+                        src: first,
+                        dst,
+                    },
+                    Builtin::Float => Instr::Unary {
+                        op: Op1::I2d,
+                        src: first,
+                        dst,
+                    },
+                    Builtin::Min => Instr::Binary {
+                        op: Op2::Min,
+                        a: first,
+                        b: second,
+                        dst,
+                    },
+                    Builtin::Max => Instr::Binary {
+                        op: Op2::Max,
+                        a: first,
+                        b: second,
+                        dst,
+                    },
                 };
                 self.emit(instr);
                 dst
@@ -543,7 +685,9 @@ impl Generator {
     fn truth(&mut self, expr: &typed::Expr, value: Reg) -> Reg {
         let is_truth = match &expr.kind {
             ExprKind::Not(_) => true,
-            ExprKind::Binary { op, .. } => op.is_comparison() || matches!(op, BinaryOp::And | BinaryOp::Or),
+            ExprKind::Binary { op, .. } => {
+                op.is_comparison() || matches!(op, BinaryOp::And | BinaryOp::Or)
+            }
             ExprKind::Int(value) => *value == 0 || *value == 1,
             _ => false,
         };
@@ -552,9 +696,17 @@ impl Generator {
         }
         self.span = expr.span;
         let zero = self.fresh();
-        self.emit(Instr::LoadI { value: 0, dst: zero });
+        self.emit(Instr::LoadI {
+            value: 0,
+            dst: zero,
+        });
         let truth = self.fresh();
-        self.emit(Instr::Binary { op: Op2::CmpNe, a: value, b: zero, dst: truth });
+        self.emit(Instr::Binary {
+            op: Op2::CmpNe,
+            a: value,
+            b: zero,
+            dst: truth,
+        });
         truth
     }
 }

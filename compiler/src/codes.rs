@@ -53,3 +53,5 @@ pub const FACTORY_SENSOR: &str = "W2101";
 pub const UNUSED: &str = "W2102";
 /// A `for` loop whose constant step is zero never ends.
 pub const ZERO_STEP: &str = "W2301";
+/// The worst case per control cycle exceeds the cycle budget.
+pub const OVER_BUDGET: &str = "W2302";

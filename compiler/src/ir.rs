@@ -87,20 +87,54 @@ impl Op1 {
 pub enum Instr {
     Label(Lbl),
     /// dst := sensor
-    LoadS { sensor: u32, dst: Reg },
+    LoadS {
+        sensor: u32,
+        dst: Reg,
+    },
     /// sensor := src
-    StoreS { src: Reg, sensor: u32 },
-    LoadI { value: i64, dst: Reg },
-    LoadD { value: f64, dst: Reg },
-    Mov { src: Reg, dst: Reg },
-    Binary { op: Op2, a: Reg, b: Reg, dst: Reg },
-    Unary { op: Op1, src: Reg, dst: Reg },
-    Cbr { cond: Reg, on_true: Lbl, on_false: Lbl },
+    StoreS {
+        src: Reg,
+        sensor: u32,
+    },
+    LoadI {
+        value: i64,
+        dst: Reg,
+    },
+    LoadD {
+        value: f64,
+        dst: Reg,
+    },
+    Mov {
+        src: Reg,
+        dst: Reg,
+    },
+    Binary {
+        op: Op2,
+        a: Reg,
+        b: Reg,
+        dst: Reg,
+    },
+    Unary {
+        op: Op1,
+        src: Reg,
+        dst: Reg,
+    },
+    Cbr {
+        cond: Reg,
+        on_true: Lbl,
+        on_false: Lbl,
+    },
     Jumpi(Lbl),
     Yield,
     Halt,
-    LoadM { addr: Addr, dst: Reg },
-    StoreM { src: Reg, addr: Addr },
+    LoadM {
+        addr: Addr,
+        dst: Reg,
+    },
+    StoreM {
+        src: Reg,
+        addr: Addr,
+    },
     Write(Reg),
     Writes(String),
     Print(Reg),
@@ -154,11 +188,10 @@ impl Instr {
                 *b = map(*b);
             }
             Instr::Cbr { cond, .. } => *cond = map(*cond),
-            Instr::LoadM { addr, .. } => {
-                if let Addr::Reg(reg) = addr {
-                    *reg = map(*reg);
-                }
-            }
+            Instr::LoadM {
+                addr: Addr::Reg(reg),
+                ..
+            } => *reg = map(*reg),
             Instr::StoreM { src, addr } => {
                 *src = map(*src);
                 if let Addr::Reg(reg) = addr {

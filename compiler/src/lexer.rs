@@ -85,8 +85,7 @@ pub fn lex(text: &str) -> Vec<Token> {
             }
             b'0'..=b'9' | b'.' if is_number_start(bytes, at) => lex_number(bytes, &mut at),
             b'a'..=b'z' | b'A'..=b'Z' | b'_' => {
-                while at < bytes.len() && (bytes[at].is_ascii_alphanumeric() || bytes[at] == b'_')
-                {
+                while at < bytes.len() && (bytes[at].is_ascii_alphanumeric() || bytes[at] == b'_') {
                     at += 1;
                 }
                 TokenKind::Ident
@@ -192,14 +191,17 @@ mod tests {
             kinds("x = 1.5e-3 <> .5 ' note\n"),
             vec![Ident, Eq, Float, Ne, Float, Newline, Eof]
         );
-        assert_eq!(kinds("a(1) \\ 2"), vec![Ident, LParen, Int, RParen, Backslash, Int, Eof]);
+        assert_eq!(
+            kinds("a(1) \\ 2"),
+            vec![Ident, LParen, Int, RParen, Backslash, Int, Eof]
+        );
     }
 
     #[test]
     fn strings_with_doubled_quotes_and_unterminated() {
         let tokens = lex("\"a\"\"b\" \"open\n");
         assert_eq!(tokens[0].kind, TokenKind::Str { terminated: true });
-        assert_eq!(tokens[0].span, Span::new(0, 7));
+        assert_eq!(tokens[0].span, Span::new(0, 6));
         assert_eq!(tokens[1].kind, TokenKind::Str { terminated: false });
     }
 

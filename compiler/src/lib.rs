@@ -12,6 +12,7 @@ pub mod codegen;
 pub mod codes;
 pub mod ir;
 pub mod lexer;
+pub mod loader;
 
 pub mod optimize;
 pub mod parser;
@@ -21,9 +22,10 @@ pub mod typed;
 use gloc_engine::sensors::SensorList;
 use gloc_engine::Diagnostic;
 
-pub use analysis::{analyze, Analysis, Block, SymbolKind, SymbolInfo};
+pub use analysis::{analyze, Analysis, Block, SymbolInfo, SymbolKind};
 pub use codegen::{ForBound, Storage};
 
+pub use loader::{load_script, Language, LoadOptions, LoadedScript};
 pub use source_map::{Origin, SourceMap};
 
 /// How to compile.
@@ -118,11 +120,17 @@ fn too_large(code: &ir::Code) -> Option<Diagnostic> {
     const MAX_LABELS: u32 = 1 << 20;
     const MAX_MEMORY: u32 = 1 << 20;
     let what = if code.register_count > MAX_REGISTERS {
-        format!("{} registers (the limit is {MAX_REGISTERS})", code.register_count)
+        format!(
+            "{} registers (the limit is {MAX_REGISTERS})",
+            code.register_count
+        )
     } else if code.label_count > MAX_LABELS {
         format!("{} labels (the limit is {MAX_LABELS})", code.label_count)
     } else if code.memory_size > MAX_MEMORY {
-        format!("{} memory cells (the limit is {MAX_MEMORY})", code.memory_size)
+        format!(
+            "{} memory cells (the limit is {MAX_MEMORY})",
+            code.memory_size
+        )
     } else {
         return None;
     };

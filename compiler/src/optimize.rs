@@ -24,6 +24,7 @@ pub fn optimize(code: &mut Code, for_bounds: &[ForBound]) -> Vec<ForBound> {
         thread_jumps(&mut body);
         remove_unreachable(&mut body);
         remove_dead(&mut body);
+        remove_untargeted_labels(&mut body);
         if body == before {
             break;
         }
@@ -183,27 +184,31 @@ fn fold_and_propagate(body: &mut [(Instr, Span)]) {
                 cond,
                 on_true,
                 on_false,
-            } => constants.get(cond).map(|value| {
-                Instr::Jumpi(if value.is_true() { *on_true } else { *on_false })
-            }),
+            } => constants
+                .get(cond)
+                .map(|value| Instr::Jumpi(if value.is_true() { *on_true } else { *on_false })),
             Instr::LoadM {
                 addr: Addr::Reg(reg),
                 dst,
             } => match constants.get(reg) {
-                Some(Const::Int(at)) if *at >= 0 && *at <= i64::from(u32::MAX) => Some(Instr::LoadM {
-                    addr: Addr::At(*at as u32),
-                    dst: *dst,
-                }),
+                Some(Const::Int(at)) if *at >= 0 && *at <= i64::from(u32::MAX) => {
+                    Some(Instr::LoadM {
+                        addr: Addr::At(*at as u32),
+                        dst: *dst,
+                    })
+                }
                 _ => None,
             },
             Instr::StoreM {
                 src,
                 addr: Addr::Reg(reg),
             } => match constants.get(reg) {
-                Some(Const::Int(at)) if *at >= 0 && *at <= i64::from(u32::MAX) => Some(Instr::StoreM {
-                    src: *src,
-                    addr: Addr::At(*at as u32),
-                }),
+                Some(Const::Int(at)) if *at >= 0 && *at <= i64::from(u32::MAX) => {
+                    Some(Instr::StoreM {
+                        src: *src,
+                        addr: Addr::At(*at as u32),
+                    })
+                }
                 _ => None,
             },
             _ => None,
@@ -294,6 +299,19 @@ fn thread_jumps(body: &mut Vec<(Instr, Span)>) {
                 _ => break,
             }
         }
+        // Of several labels in a row, always use the first, so the others go.
+        let Some(mut position) = positions.get(&current).copied() else {
+            return current;
+        };
+        while position > 0 {
+            match &body[position - 1].0 {
+                Instr::Label(label) => {
+                    current = *label;
+                    position -= 1;
+                }
+                _ => break,
+            }
+        }
         current
     };
     let resolved: Vec<Option<Instr>> = body
@@ -344,6 +362,15 @@ fn thread_jumps(body: &mut Vec<(Instr, Span)>) {
         }
         index += 1;
     }
+}
+
+/// Drops labels nothing jumps to, so the blocks around them merge for folding.
+fn remove_untargeted_labels(body: &mut Vec<(Instr, Span)>) {
+    let targeted: HashSet<Lbl> = body.iter().flat_map(|(instr, _)| instr.targets()).collect();
+    body.retain(|(instr, _)| match instr {
+        Instr::Label(label) => targeted.contains(label),
+        _ => true,
+    });
 }
 
 /// Successor instruction indices of each instruction (`body.len()` = off the end).
@@ -495,7 +522,9 @@ fn allocate_registers(body: &mut [(Instr, Span)]) -> u32 {
     };
     // Registers live at the start hold the machine's initial 0 together.
     if let Some(entry) = live.live_in.first() {
-        let live_at_entry: Vec<u32> = (0..registers as u32).filter(|reg| has(entry, Reg(*reg))).collect();
+        let live_at_entry: Vec<u32> = (0..registers as u32)
+            .filter(|reg| has(entry, Reg(*reg)))
+            .collect();
         for (position, a) in live_at_entry.iter().enumerate() {
             for b in &live_at_entry[position + 1..] {
                 add_edge(*a, *b);
@@ -551,7 +580,11 @@ fn allocate_registers(body: &mut [(Instr, Span)]) -> u32 {
                 }
             })
             .find(|candidate| !taken.contains(candidate));
-        let chosen = preferred.unwrap_or_else(|| (0..).find(|candidate| !taken.contains(candidate)).unwrap_or(0));
+        let chosen = preferred.unwrap_or_else(|| {
+            (0..)
+                .find(|candidate| !taken.contains(candidate))
+                .unwrap_or(0)
+        });
         color[reg as usize] = Some(chosen);
     }
     let map = |reg: Reg| Reg(color[reg.0 as usize].unwrap_or(reg.0));
@@ -559,7 +592,12 @@ fn allocate_registers(body: &mut [(Instr, Span)]) -> u32 {
         instr.map_uses(map);
         instr.map_def(map);
     }
-    color.iter().flatten().map(|value| value + 1).max().unwrap_or(0)
+    color
+        .iter()
+        .flatten()
+        .map(|value| value + 1)
+        .max()
+        .unwrap_or(0)
 }
 
 /// Drops labels nothing jumps to and numbers the rest 0, 1, 2… in order.

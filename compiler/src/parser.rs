@@ -42,8 +42,12 @@ pub fn parse(text: &str) -> Parsed {
                 let token = parser.peek().clone();
                 let (message, help) = stray_closer_message(closer);
                 parser.diagnostics.push(
-                    Diagnostic::error(codes::STRAY_CLOSER, parser.line_span_from(token.span), message)
-                        .with_help(help),
+                    Diagnostic::error(
+                        codes::STRAY_CLOSER,
+                        parser.line_span_from(token.span),
+                        message,
+                    )
+                    .with_help(help),
                 );
                 parser.skip_line();
             }
@@ -274,8 +278,12 @@ impl<'a> Parser<'a> {
                 let token = self.peek().clone();
                 let (message, help) = stray_closer_message(closer);
                 self.diagnostics.push(
-                    Diagnostic::error(codes::STRAY_CLOSER, self.line_span_from(token.span), message)
-                        .with_help(help),
+                    Diagnostic::error(
+                        codes::STRAY_CLOSER,
+                        self.line_span_from(token.span),
+                        message,
+                    )
+                    .with_help(help),
                 );
                 self.skip_line();
                 continue;
@@ -616,8 +624,12 @@ impl<'a> Parser<'a> {
             if let TokenKind::Str { terminated } = token.kind {
                 if !terminated {
                     self.diagnostics.push(
-                        Diagnostic::error(codes::SYNTAX, token.span, "this string has no closing `\"`")
-                            .with_help("close the string on the same line"),
+                        Diagnostic::error(
+                            codes::SYNTAX,
+                            token.span,
+                            "this string has no closing `\"`",
+                        )
+                        .with_help("close the string on the same line"),
                     );
                     return None;
                 }
@@ -798,8 +810,12 @@ impl<'a> Parser<'a> {
             let token = self.peek().clone();
             let found = self.describe(&token);
             self.diagnostics.push(
-                Diagnostic::error(codes::SYNTAX, token.span, format!("expected `then`, found {found}"))
-                    .with_help("end the condition with `then`"),
+                Diagnostic::error(
+                    codes::SYNTAX,
+                    token.span,
+                    format!("expected `then`, found {found}"),
+                )
+                .with_help("end the condition with `then`"),
             );
             return None;
         }
@@ -934,7 +950,10 @@ impl<'a> Parser<'a> {
                                         name.text, variable.text
                                     ),
                                 )
-                                .with_label(variable.span, "the innermost `for` counts this variable")
+                                .with_label(
+                                    variable.span,
+                                    "the innermost `for` counts this variable",
+                                )
                                 .with_help(format!("write `next {}` or just `next`", variable.text))
                                 .with_fix(
                                     format!("replace with `{}`", variable.text),
@@ -1198,8 +1217,12 @@ impl<'a> Parser<'a> {
             }
             TokenKind::Str { .. } => {
                 self.diagnostics.push(
-                    Diagnostic::error(codes::SYNTAX, token.span, "a string cannot be used in an expression")
-                        .with_help("strings are only allowed as `print` items"),
+                    Diagnostic::error(
+                        codes::SYNTAX,
+                        token.span,
+                        "a string cannot be used in an expression",
+                    )
+                    .with_help("strings are only allowed as `print` items"),
                 );
                 None
             }

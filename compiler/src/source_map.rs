@@ -59,7 +59,12 @@ pub struct SourceMap {
 }
 
 impl SourceMap {
-    pub(crate) fn build(code: &Code, storage: &[Storage], symbols: &Symbols, text: &str) -> SourceMap {
+    pub(crate) fn build(
+        code: &Code,
+        storage: &[Storage],
+        symbols: &Symbols,
+        text: &str,
+    ) -> SourceMap {
         let index = LineIndex::new(text);
         let header_lines = code.line_of_instr(0) as u32;
         let lines = code
@@ -116,7 +121,10 @@ impl SourceMap {
     /// Where the executed instruction `pc` came from. A GLOC `Program` numbers its
     /// instructions without the label lines; this counts the same way.
     pub fn origin_of_pc(&self, pc: u32) -> Option<&Origin> {
-        self.lines.iter().filter(|origin| !origin.is_label).nth(pc as usize)
+        self.lines
+            .iter()
+            .filter(|origin| !origin.is_label)
+            .nth(pc as usize)
     }
 
     /// The first pc (labels not counted) whose GBASIC line is `line` or later, for
@@ -149,6 +157,7 @@ impl SourceMap {
     }
 
     pub fn to_json(&self) -> String {
-        serde_json::to_string_pretty(self).unwrap_or_else(|error| format!("{{\"error\":\"{error}\"}}"))
+        serde_json::to_string_pretty(self)
+            .unwrap_or_else(|error| format!("{{\"error\":\"{error}\"}}"))
     }
 }

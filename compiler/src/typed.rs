@@ -73,13 +73,23 @@ pub enum ExprKind {
     Float(f64),
     Variable(VarId),
     Sensor(SensorId),
-    Element { array: VarId, index: Box<Expr> },
+    Element {
+        array: VarId,
+        index: Box<Expr>,
+    },
     Neg(Box<Expr>),
     /// Logical not: 1 when the operand is 0, else 0.
     Not(Box<Expr>),
     /// Both operands have the operation's operand type (already converted).
-    Binary { op: BinaryOp, left: Box<Expr>, right: Box<Expr> },
-    Call { builtin: Builtin, args: Vec<Expr> },
+    Binary {
+        op: BinaryOp,
+        left: Box<Expr>,
+        right: Box<Expr>,
+    },
+    Call {
+        builtin: Builtin,
+        args: Vec<Expr>,
+    },
     /// Integer to float (implicit widening or `float()`).
     ToFloat(Box<Expr>),
     Error,

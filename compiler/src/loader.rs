@@ -1,0 +1,209 @@
+//! One loader for both languages, used by `gloc check`, `gloc run`, the language
+//! server and the debug adapter: text in, a runnable `Program` out, with every
+//! diagnostic pointing into the script's own text. GBASIC is compiled in memory and
+//! its GLOC checked with the loop bounds the compiler knows; a GLOC diagnostic on
+//! compiled code is moved to the GBASIC line it came from.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use gloc_engine::gloc::{self, CheckOptions, LoopBound, Stats};
+use gloc_engine::program::{Pc, Program};
+use gloc_engine::sensors::SensorList;
+use gloc_engine::vm::TrapKind;
+use gloc_engine::{Diagnostic, LineIndex, Span};
+
+use crate::{compile, CodeStats, CompileOptions, SourceMap};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Language {
+    Gbasic,
+    Gloc,
+}
+
+impl Language {
+    /// By file extension: `.gbas` (or `.bas`) is GBASIC, anything else GLOC.
+    pub fn of_path(path: &Path) -> Language {
+        match path
+            .extension()
+            .and_then(|extension| extension.to_str())
+            .map(str::to_ascii_lowercase)
+            .as_deref()
+        {
+            Some("gbas") | Some("bas") => Language::Gbasic,
+            _ => Language::Gloc,
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct LoadOptions {
+    /// Compile GBASIC with `-O`.
+    pub optimize: bool,
+    /// The per-cycle instruction budget the script will run under: a worst case per
+    /// cycle above it is reported as a warning. `None`: the machine's default.
+    pub cycle_budget: Option<u64>,
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct LoadedScript {
+    /// `Some` exactly when no diagnostic is an error.
+    pub program: Option<Arc<Program>>,
+    /// The GLOC that was checked (the compiled text for GBASIC, the script for GLOC).
+    pub gloc_text: Option<String>,
+    /// GBASIC only: compiled GLOC → GBASIC.
+    pub source_map: Option<SourceMap>,
+    /// All point into the script's own text, sorted by position.
+    pub diagnostics: Vec<Diagnostic>,
+    /// The GLOC checker's figures (worst case per cycle and sizes).
+    pub stats: Option<Stats>,
+    /// GBASIC only: the compiler's size figures.
+    pub compile_stats: Option<CodeStats>,
+}
+
+impl LoadedScript {
+    pub fn has_errors(&self) -> bool {
+        self.diagnostics.iter().any(Diagnostic::is_error)
+    }
+
+    /// The span in the script's own text of the instruction at `pc` (for traps and
+    /// the debugger).
+    pub fn span_of_pc(&self, pc: Pc) -> Option<Span> {
+        match &self.source_map {
+            Some(map) => map.origin_of_pc(pc.0).map(|origin| origin.span()),
+            None => self.program.as_ref().map(|program| program.span(pc)),
+        }
+    }
+
+    /// A trap described for the script's author. Compiled GBASIC checks array
+    /// indices by reading memory address -1 when an index is outside its array (no
+    /// other compiled access can reach a negative address), so that trap is named
+    /// for what it is.
+    pub fn trap_message(&self, kind: &TrapKind) -> String {
+        match kind {
+            TrapKind::MemoryOutOfBounds { address: -1, .. } if self.source_map.is_some() => {
+                "array index out of bounds".to_string()
+            }
+            _ => kind.to_string(),
+        }
+    }
+
+    /// The 1-based line in the script's own text of the instruction at `pc`.
+    pub fn line_of_pc(&self, pc: Pc) -> Option<u32> {
+        match &self.source_map {
+            Some(map) => map.origin_of_pc(pc.0).map(|origin| origin.line),
+            None => self.program.as_ref().map(|program| program.line(pc)),
+        }
+    }
+}
+
+pub fn load_script(
+    text: &str,
+    language: Language,
+    sensors: &SensorList,
+    options: &LoadOptions,
+) -> LoadedScript {
+    match language {
+        Language::Gloc => {
+            let checked = gloc::check(&gloc::parse(text), sensors, &CheckOptions::default());
+            let mut diagnostics = checked.diagnostics;
+            if let Some(warning) = budget_warning(&checked.stats, options, Span::default()) {
+                diagnostics.push(warning);
+            }
+            LoadedScript {
+                program: checked.program,
+                gloc_text: Some(text.to_string()),
+                source_map: None,
+                diagnostics,
+                stats: Some(checked.stats),
+                compile_stats: None,
+            }
+        }
+        Language::Gbasic => load_gbasic(text, sensors, options),
+    }
+}
+
+fn load_gbasic(text: &str, sensors: &SensorList, options: &LoadOptions) -> LoadedScript {
+    let compiled = compile(
+        text,
+        sensors,
+        &CompileOptions {
+            optimize: options.optimize,
+        },
+    );
+    let (Some(gloc_text), Some(source_map)) = (compiled.gloc_text, compiled.source_map) else {
+        return LoadedScript {
+            diagnostics: compiled.diagnostics,
+            ..LoadedScript::default()
+        };
+    };
+    let check_options = CheckOptions {
+        loop_bounds: compiled
+            .for_bounds
+            .iter()
+            .map(|bound| LoopBound {
+                label: bound.header.0,
+                max_iterations: bound.trip_count,
+            })
+            .collect(),
+    };
+    let checked = gloc::check(&gloc::parse(&gloc_text), sensors, &check_options);
+    let gloc_index = LineIndex::new(&gloc_text);
+    let mut diagnostics = compiled.diagnostics;
+    for diagnostic in checked.diagnostics {
+        diagnostics.push(translate(diagnostic, &gloc_text, &gloc_index, &source_map));
+    }
+    let end_of_text = Span::new(text.len(), text.len());
+    if let Some(warning) = budget_warning(&checked.stats, options, end_of_text) {
+        diagnostics.push(warning);
+    }
+    diagnostics.sort_by_key(|diagnostic| (diagnostic.span.start, diagnostic.span.end));
+    LoadedScript {
+        program: checked.program,
+        gloc_text: Some(gloc_text),
+        source_map: Some(source_map),
+        diagnostics,
+        stats: Some(checked.stats),
+        compile_stats: compiled.stats,
+    }
+}
+
+/// Moves a diagnostic on the compiled GLOC to the GBASIC text it came from. Its
+/// fixes edit GLOC, so they are dropped.
+fn translate(
+    mut diagnostic: Diagnostic,
+    gloc_text: &str,
+    index: &LineIndex,
+    map: &SourceMap,
+) -> Diagnostic {
+    let gloc_line = index.line_col(gloc_text, diagnostic.span.start as usize).0 as u32;
+    let to_script = |span: Span| {
+        let line = index.line_col(gloc_text, span.start as usize).0 as u32;
+        map.origin_of_gloc_line(line)
+            .map_or(Span::default(), |origin| origin.span())
+    };
+    diagnostic.span = to_script(diagnostic.span);
+    for label in &mut diagnostic.labels {
+        label.span = to_script(label.span);
+    }
+    diagnostic.fixes.clear();
+    diagnostic.message = format!("{} (compiled GLOC line {gloc_line})", diagnostic.message);
+    diagnostic
+}
+
+fn budget_warning(stats: &Stats, options: &LoadOptions, span: Span) -> Option<Diagnostic> {
+    let budget = options.cycle_budget?;
+    match stats.worst_case.as_ref()?.max {
+        gloc::Bound::Finite(worst) if worst > budget => Some(
+            Diagnostic::warning(
+                crate::codes::OVER_BUDGET,
+                span,
+                format!(
+                    "a control cycle may execute {worst} instructions, more than the budget of {budget}"
+                ),
+            )
+            .with_help("add a `yield` inside long loops, or raise the budget"),
+        ),
+        _ => None,
+    }
+}

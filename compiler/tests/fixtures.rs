@@ -1,0 +1,124 @@
+//! Fixture tests: `tests/fixtures/gbasic/ok/*.gbas` compile to the `.gloc` beside
+//! them (written by hand), and `err/*.gbas` give exactly the diagnostics in the
+//! `.err` beside them (`LINE:COL CODE message`, then `  help: …`). Set
+//! `GLOC_BLESS=1` to print what the compiler produced instead of comparing.
+
+use std::path::{Path, PathBuf};
+
+use gloc_compiler::{compile, load_script, CompileOptions, Language, LoadOptions};
+use gloc_engine::sensors::SensorList;
+use gloc_engine::LineIndex;
+
+fn fixture_dir(kind: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../tests/fixtures/gbasic")
+        .join(kind)
+}
+
+fn sources(dir: &Path) -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .expect("fixture folder exists")
+        .map(|entry| entry.expect("readable entry").path())
+        .filter(|path| {
+            path.extension()
+                .is_some_and(|extension| extension == "gbas")
+        })
+        .collect();
+    files.sort();
+    assert!(!files.is_empty(), "no fixtures in {}", dir.display());
+    files
+}
+
+fn render(text: &str, diagnostics: &[gloc_engine::Diagnostic]) -> String {
+    let index = LineIndex::new(text);
+    let mut rendered = String::new();
+    for diagnostic in diagnostics {
+        let (line, column) = index.line_col(text, diagnostic.span.start as usize);
+        rendered.push_str(&format!(
+            "{line}:{column} {} {}\n",
+            diagnostic.code, diagnostic.message
+        ));
+        if let Some(help) = &diagnostic.help {
+            rendered.push_str(&format!("  help: {help}\n"));
+        }
+    }
+    rendered
+}
+
+#[test]
+fn ok_fixtures_compile_to_their_gloc_and_pass_the_gloc_checker() {
+    let sensors = SensorList::embedded();
+    for path in sources(&fixture_dir("ok")) {
+        let text = std::fs::read_to_string(&path).expect("readable fixture");
+        let compiled = compile(&text, &sensors, &CompileOptions::default());
+        assert!(
+            !compiled.has_errors(),
+            "{}: {}",
+            path.display(),
+            render(&text, &compiled.diagnostics)
+        );
+        let gloc = compiled.gloc_text.expect("no errors, so GLOC");
+        if std::env::var_os("GLOC_BLESS").is_some() {
+            println!("== {}\n{gloc}", path.display());
+            continue;
+        }
+        let expected = std::fs::read_to_string(path.with_extension("gloc"))
+            .expect("expected .gloc beside the fixture");
+        assert_eq!(gloc, expected, "{}", path.display());
+        for optimize in [false, true] {
+            let loaded = load_script(
+                &text,
+                Language::Gbasic,
+                &sensors,
+                &LoadOptions {
+                    optimize,
+                    cycle_budget: None,
+                },
+            );
+            assert!(
+                loaded.program.is_some(),
+                "{} (optimize {optimize}): {}",
+                path.display(),
+                render(&text, &loaded.diagnostics)
+            );
+        }
+    }
+}
+
+#[test]
+fn err_fixtures_give_their_diagnostics_and_no_gloc() {
+    let sensors = SensorList::embedded();
+    for path in sources(&fixture_dir("err")) {
+        let text = std::fs::read_to_string(&path).expect("readable fixture");
+        let compiled = compile(&text, &sensors, &CompileOptions::default());
+        assert!(
+            compiled.gloc_text.is_none(),
+            "{} compiled despite errors",
+            path.display()
+        );
+        let rendered = render(&text, &compiled.diagnostics);
+        if std::env::var_os("GLOC_BLESS").is_some() {
+            println!("== {}\n{rendered}", path.display());
+            continue;
+        }
+        let expected = std::fs::read_to_string(path.with_extension("err"))
+            .expect("expected .err beside the fixture");
+        assert_eq!(rendered, expected, "{}", path.display());
+        for diagnostic in &compiled.diagnostics {
+            assert!(
+                diagnostic.span.end as usize <= text.len(),
+                "{}: span out of bounds",
+                path.display()
+            );
+        }
+    }
+}
+
+#[test]
+fn the_paper_figure_3_example_is_figure_3() {
+    // examples/fig3.gbas must be the paper's Fig. 3 exactly (line numbers removed).
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/fig3.gbas");
+    let text = std::fs::read_to_string(path).expect("examples/fig3.gbas");
+    let fig3 = "label: state1\nif m_depth > 15.0 then\n  SCI_RUHP_BEHS = 128\n  goto state2\nendif\nyield\ngoto state1\nlabel: state2\nif m_depth < 5.0 then\n  SCI_RUHP_BEHS = 0\n  goto state3\nendif\nyield\ngoto state2\nlabel: state3\nyield\ngoto state3\n";
+    assert_eq!(text, fig3);
+}

@@ -130,7 +130,9 @@ impl SensorList {
     /// The list compiled into the binary: the 1,385 sensors of the 2008
     /// firmware list (`813b137d.cac`) in its index order, then the hook
     /// behavior's sensors 1385 `sci_ruhp_dive_depth`, 1386
-    /// `sci_ruhp_climb_depth`, 1387 `sci_ruhp_behs`.
+    /// `sci_ruhp_climb_depth`, 1387 `sci_ruhp_behs`, then 1388
+    /// `m_coulomb_amphr_total` (charge used, published by the simulator; the
+    /// 2008 firmware had no coulomb counter).
     pub fn embedded() -> SensorList {
         let descriptions = embedded_descriptions();
         let sensors = EMBEDDED_SENSORS
@@ -214,7 +216,8 @@ mod tests {
     #[test]
     fn embedded_list_has_the_paper_indices() {
         let list = SensorList::embedded();
-        assert_eq!(list.len(), 1388);
+        assert_eq!(list.len(), 1389);
+        assert_eq!(list.lookup("m_coulomb_amphr_total"), Some(SensorId(1388)));
         assert_eq!(list.lookup("m_depth"), Some(SensorId(444)));
         assert_eq!(list.lookup("m_pressure"), Some(SensorId(443)));
         assert_eq!(list.lookup("SCI_RUHP_BEHS"), Some(SensorId(1387)));

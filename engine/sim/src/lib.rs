@@ -1,1 +1,35 @@
-//! The glider simulator (filled by the simulator work).
+//! gloc-sim: a glider simulator that flies whole missions much faster than
+//! real time, with the GLOC engine as one behavior of the layered control.
+//!
+//! - [`mission`]: `.mi` and `.ma` files.
+//! - [`behaviors`]: the behavior stack (abend, surface, yo, dive_to, climb_to,
+//!   hook, the script behavior, …) and per-actuator arbitration.
+//! - [`flight`]: the kinematic vertical-plane model and the power model.
+//! - [`environment`]: water depth, temperature profile, seeded noise.
+//! - [`simulation`]: the sensor array and the control cycle, in phases.
+//! - [`log`] and [`plot`]: CSV / Slocum ASCII logs and the SVG flight profile.
+//!
+//! Pure and deterministic: no IO except what a caller asks for (loading a
+//! mission, writing a log), no threads, and the same seed gives the same run.
+#![deny(clippy::unwrap_used)]
+
+pub mod behaviors;
+pub mod environment;
+pub mod flight;
+pub mod log;
+pub mod mission;
+pub mod plot;
+pub mod simulation;
+
+pub use environment::TemperatureProfile;
+pub use mission::Mission;
+pub use simulation::{EndReason, MissionEnd, Phase, SimConfig, SimError, SimHost, Simulation};
+
+/// The embedded default mission: the paper's Fig. 2 scenario (also
+/// `examples/fig2.mi`).
+pub const DEFAULT_MISSION: &str = include_str!("../data/fig2.mi");
+
+/// The default mission, parsed.
+pub fn default_mission() -> Mission {
+    Mission::parse("fig2.mi", DEFAULT_MISSION)
+}

@@ -1,0 +1,1142 @@
+//! The behavior stack: each mission behavior's state machine and the actuator
+//! commands it asks for.
+//!
+//! Behaviors are stepped **bottom-up** once per control cycle, as the paper
+//! describes layered control: the lowest-priority behavior runs first and each
+//! higher one may overwrite what the lower ones commanded, so for each actuator
+//! the highest-priority behavior that commands it wins. A behavior's
+//! `start_when` "idle" conditions look at what the behaviors below it have
+//! commanded so far in this cycle.
+
+use crate::mission::{BehaviorSpec, Mission};
+
+/// The behaviors the simulator knows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum BehaviorKind {
+    Abend,
+    Surface,
+    Yo,
+    DiveTo,
+    ClimbTo,
+    PrepareToDive,
+    SensorsIn,
+    Sample,
+    GotoList,
+    GotoWpt,
+    SetHeading,
+    /// The hook behavior: spawns climb_to / dive_to from `sci_ruhp_behs`.
+    Hook,
+    /// The GLOC script behavior.
+    Gloc,
+    /// A `behavior:` the simulator does not know (warned about, ignored).
+    Unknown,
+}
+
+const NAMES: &[(&str, BehaviorKind)] = &[
+    ("abend", BehaviorKind::Abend),
+    ("surface", BehaviorKind::Surface),
+    ("yo", BehaviorKind::Yo),
+    ("dive_to", BehaviorKind::DiveTo),
+    ("climb_to", BehaviorKind::ClimbTo),
+    ("prepare_to_dive", BehaviorKind::PrepareToDive),
+    ("sensors_in", BehaviorKind::SensorsIn),
+    ("sample", BehaviorKind::Sample),
+    ("goto_list", BehaviorKind::GotoList),
+    ("goto_wpt", BehaviorKind::GotoWpt),
+    ("set_heading", BehaviorKind::SetHeading),
+    ("hook", BehaviorKind::Hook),
+    ("gloc", BehaviorKind::Gloc),
+];
+
+/// Arguments every behavior with a start/stop state machine accepts.
+const COMMON: &[(&str, f64)] = &[
+    ("start_when", 0.0),
+    ("stop_when", 0.0),
+    ("when_secs", 0.0),
+    ("when_wpt_dist", 10.0),
+    ("end_action", 0.0),
+];
+
+/// Defaults from the masterdata behavior sections (domain notes §2.3).
+const ABEND: &[(&str, f64)] = &[
+    ("overdepth", 10000.0),
+    ("overdepth_sample_time", 15.0),
+    ("overtime", -1.0),
+    ("undervolts", 10.0),
+    ("samedepth_for", 1800.0),
+    ("samedepth_for_sample_time", 30.0),
+    ("stalled_for", 1800.0),
+    ("stalled_for_sample_time", 30.0),
+    ("no_cop_tickle_for", 48600.0),
+    ("no_comms_tickle_for", 72.0),
+    ("max_wpt_distance", -1.0),
+    ("chk_sensor_reasonableness", 1.0),
+    ("reqd_spare_heap", 10000.0),
+    ("leakdetect_sample_time", 60.0),
+    ("vacuum_min", 4.0),
+    ("vacuum_max", 12.0),
+    ("vacuum_sample_time", 30.0),
+    ("oil_volume_sample_time", 30.0),
+    ("remaining_charge_min", 10.0),
+    ("unreasonable_settings", 1.0),
+    ("eng_pressure_mul", 1.1),
+    ("eng_pressure_div", 1.0),
+    ("eng_pressure_sample_time", 30.0),
+    ("max_allowable_busy_cpu_cycles", 3.0),
+];
+
+const SURFACE: &[(&str, f64)] = &[
+    ("start_when", 12.0),
+    ("when_secs", 1200.0),
+    ("end_action", 1.0),
+    ("gps_wait_time", 300.0),
+    ("keystroke_wait_time", 300.0),
+    ("c_use_bpump", 2.0),
+    ("c_bpump_value", 1000.0),
+    ("c_use_pitch", 3.0),
+    ("c_pitch_value", 0.4538),
+    ("c_stop_when_air_pump", 1.0),
+    ("c_use_thruster", 0.0),
+    ("c_thruster_value", 0.0),
+    ("report_all", 0.0),
+    ("strobe_on", 0.0),
+    ("printout_cycle_time", 60.0),
+    ("sensor_input_wait_time", 60.0),
+    ("end_wpt_dist", 0.0),
+    ("when_utc_min", -1.0),
+    ("when_utc_hour", -1.0),
+    ("when_utc_day", -1.0),
+    ("when_utc_month", -1.0),
+    ("when_utc_on_surface", 0.0),
+    ("gps_postfix_wait_time", 60.0),
+];
+
+const YO: &[(&str, f64)] = &[
+    ("start_when", 2.0),
+    ("end_action", 2.0),
+    ("start_diving", 1.0),
+    ("num_half_cycles_to_do", -1.0),
+    ("d_target_depth", 12.0),
+    ("d_target_altitude", 5.0),
+    ("d_use_bpump", 2.0),
+    ("d_bpump_value", -260.0),
+    ("d_use_pitch", 3.0),
+    ("d_pitch_value", -0.4538),
+    ("d_stop_when_hover_for", 180.0),
+    ("d_stop_when_stalled_for", 240.0),
+    ("d_use_thruster", 0.0),
+    ("d_thruster_value", 0.0),
+    ("d_depth_rate_method", 3.0),
+    ("d_wait_for_pitch", 1.0),
+    ("d_wait_for_ballast", 100.0),
+    ("d_delta_bpump", 25.0),
+    ("d_time_ratio", 1.1),
+    ("d_max_thermal_charge_depth", 10.0),
+    ("c_target_depth", 3.0),
+    ("c_target_altitude", -1.0),
+    ("c_use_bpump", 2.0),
+    ("c_bpump_value", 260.0),
+    ("c_use_pitch", 3.0),
+    ("c_pitch_value", 0.4538),
+    ("c_stop_when_hover_for", 180.0),
+    ("c_stop_when_stalled_for", 240.0),
+    ("c_use_thruster", 0.0),
+    ("c_thruster_value", 0.0),
+    ("c_depth_rate_method", 3.0),
+    ("c_wait_for_pitch", 1.0),
+    ("c_wait_for_ballast", 100.0),
+    ("c_delta_bpump", 25.0),
+    ("c_time_ratio", 1.1),
+    ("initial_inflection", 1.0),
+];
+
+const DIVE_CLIMB: &[(&str, f64)] = &[
+    ("target_depth", 10.0),
+    ("target_altitude", -1.0),
+    ("use_bpump", 2.0),
+    ("bpump_value", 260.0),
+    ("use_pitch", 3.0),
+    ("pitch_value", 0.4538),
+    ("stop_when_hover_for", 180.0),
+    ("stop_when_stalled_for", 240.0),
+    ("initial_inflection", 1.0),
+    ("use_thruster", 0.0),
+    ("thruster_value", 0.0),
+    ("depth_rate_method", 3.0),
+    ("wait_for_pitch", 1.0),
+    ("wait_for_ballast", 100.0),
+    ("delta_bpump", 25.0),
+    ("time_ratio", 1.1),
+];
+
+const PREPARE_TO_DIVE: &[(&str, f64)] =
+    &[("wait_time", 720.0), ("max_thermal_charge_time", 1200.0)];
+
+const SENSORS_IN: &[(&str, f64)] = &[
+    ("c_att_time", 0.0),
+    ("c_pressure_time", 0.0),
+    ("c_alt_time", 0.0),
+    ("u_battery_time", 60.0),
+    ("u_vacuum_time", 60.0),
+    ("c_profile_on", 0.0),
+    ("c_gps_on", 0.0),
+    ("c_science_all_on", 0.0),
+    ("u_leak_time", 60.0),
+];
+
+const SAMPLE: &[(&str, f64)] = &[
+    ("sensor_type", 0.0),
+    ("state_to_sample", 1.0),
+    ("sample_time_after_state_change", 15.0),
+    ("intersample_time", 0.0),
+    ("nth_yo_to_sample", 1.0),
+    ("intersample_depth", -1.0),
+    ("min_depth", -5.0),
+    ("max_depth", 2000.0),
+];
+
+const GOTO_LIST: &[(&str, f64)] = &[
+    ("num_waypoints", 0.0),
+    ("num_legs_to_run", -1.0),
+    ("initial_wpt", -2.0),
+    ("list_stop_when", 7.0),
+    ("list_when_wpt_dist", 10.0),
+    ("list_when_secs", 0.0),
+    ("wpt_units", 0.0),
+];
+
+const GOTO_WPT: &[(&str, f64)] = &[("wpt_units", 0.0), ("wpt_x", 0.0), ("wpt_y", 0.0)];
+
+const SET_HEADING: &[(&str, f64)] = &[("use_heading", 1.0), ("heading_value", 0.0)];
+
+/// Our hook behavior's own defaults, used when the `sci_ruhp_*_depth` sensors
+/// are not positive.
+const HOOK: &[(&str, f64)] = &[
+    ("dive_target_depth", 20.0),
+    ("dive_target_altitude", -1.0),
+    ("climb_target_depth", 3.0),
+    ("bpump_value", 260.0),
+    ("pitch_value", 0.4538),
+];
+
+impl BehaviorKind {
+    /// Case-insensitive: `.ma` files write `Yo` and `Goto_list`.
+    pub fn from_name(name: &str) -> Option<BehaviorKind> {
+        NAMES
+            .iter()
+            .find(|(known, _)| known.eq_ignore_ascii_case(name))
+            .map(|&(_, kind)| kind)
+    }
+
+    pub fn name(self) -> &'static str {
+        NAMES
+            .iter()
+            .find(|(_, kind)| *kind == self)
+            .map(|(name, _)| *name)
+            .unwrap_or("unknown")
+    }
+
+    pub fn all_names() -> String {
+        NAMES
+            .iter()
+            .map(|(name, _)| *name)
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+
+    fn own_args(self) -> &'static [(&'static str, f64)] {
+        match self {
+            BehaviorKind::Abend => ABEND,
+            BehaviorKind::Surface => SURFACE,
+            BehaviorKind::Yo => YO,
+            BehaviorKind::DiveTo | BehaviorKind::ClimbTo => DIVE_CLIMB,
+            BehaviorKind::PrepareToDive => PREPARE_TO_DIVE,
+            BehaviorKind::SensorsIn => SENSORS_IN,
+            BehaviorKind::Sample => SAMPLE,
+            BehaviorKind::GotoList => GOTO_LIST,
+            BehaviorKind::GotoWpt => GOTO_WPT,
+            BehaviorKind::SetHeading => SET_HEADING,
+            BehaviorKind::Hook => HOOK,
+            BehaviorKind::Gloc | BehaviorKind::Unknown => &[],
+        }
+    }
+
+    pub fn known_args(self) -> KnownArgs {
+        KnownArgs(self)
+    }
+
+    /// The default of an argument: the behavior's own table first, then the
+    /// arguments every behavior shares.
+    pub fn default_arg(self, name: &str) -> f64 {
+        let defaults = match (self, name) {
+            (BehaviorKind::ClimbTo, "bpump_value") => return 260.0,
+            (BehaviorKind::DiveTo, "bpump_value") => return -260.0,
+            (BehaviorKind::DiveTo, "pitch_value") => return -0.4538,
+            (BehaviorKind::DiveTo, "stop_when_hover_for") => return 180.0,
+            (BehaviorKind::ClimbTo, "stop_when_hover_for") => return -1.0,
+            (BehaviorKind::SetHeading, "stop_when") => return 5.0,
+            (BehaviorKind::Gloc, "stop_when") => return 5.0,
+            (BehaviorKind::Hook, "stop_when") => return 5.0,
+            _ => self.own_args(),
+        };
+        defaults
+            .iter()
+            .chain(COMMON)
+            .find(|(known, _)| *known == name)
+            .map(|&(_, value)| value)
+            .unwrap_or(0.0)
+    }
+}
+
+/// The argument names a behavior accepts (case-insensitive).
+#[derive(Clone, Copy, Debug)]
+pub struct KnownArgs(BehaviorKind);
+
+impl KnownArgs {
+    pub fn contains(&self, name: &str) -> bool {
+        let lower = name.to_ascii_lowercase();
+        let kind = self.0;
+        if kind == BehaviorKind::Abend {
+            // abend has no start/stop state machine, but real files give it none anyway.
+            return ABEND.iter().any(|(known, _)| *known == lower);
+        }
+        if kind == BehaviorKind::GotoList && is_waypoint_arg(&lower) {
+            return true;
+        }
+        kind.own_args()
+            .iter()
+            .chain(COMMON)
+            .any(|(known, _)| *known == lower)
+    }
+}
+
+/// `wpt_x_N` / `wpt_y_N` of a goto_list.
+fn is_waypoint_arg(name: &str) -> bool {
+    let rest = name
+        .strip_prefix("wpt_x_")
+        .or_else(|| name.strip_prefix("wpt_y_"));
+    rest.is_some_and(|digits| !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit()))
+}
+
+/// What a behavior is doing, as the glider numbers it in `cc_behavior_state`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BehaviorState {
+    WaitingForActivation = 2,
+    Active = 3,
+    Complete = 4,
+}
+
+/// Why an `abend` aborted the mission.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AbortReason {
+    Overdepth,
+    Overtime,
+    Samedepth,
+    Undervolts,
+}
+
+impl AbortReason {
+    /// The glider's name for the abort (`MS_ABORT_OVERDEPTH`).
+    pub fn glider_name(self) -> &'static str {
+        match self {
+            AbortReason::Overdepth => "MS_ABORT_OVERDEPTH",
+            AbortReason::Overtime => "MS_ABORT_OVERTIME",
+            AbortReason::Samedepth => "MS_ABORT_SAMEDEPTH",
+            AbortReason::Undervolts => "MS_ABORT_UNDERVOLTS",
+        }
+    }
+}
+
+/// Buoyancy (cc, > 0 goes up) and pitch (rad, > 0 nose up) commands, with
+/// the index of the behavior that won each.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Commands {
+    pub buoyancy: Option<(f64, usize)>,
+    pub pitch: Option<(f64, usize)>,
+    pub heading: Option<(f64, usize)>,
+}
+
+impl Commands {
+    /// "Stack idle": neither the up/down actuator nor pitch is commanded (the
+    /// simulator flies in the vertical plane, so heading is left out).
+    pub fn stack_idle(&self) -> bool {
+        self.buoyancy.is_none() || self.pitch.is_none()
+    }
+
+    fn command_vertical(&mut self, buoyancy: f64, pitch: f64, owner: usize) {
+        self.buoyancy = Some((buoyancy, owner));
+        self.pitch = Some((pitch, owner));
+    }
+}
+
+/// What a behavior sees of the world while it steps.
+pub struct World<'a> {
+    /// Seconds since the mission started.
+    pub time: f64,
+    pub depth: f64,
+    pub depth_rate: f64,
+    pub altitude: f64,
+    /// Mission time when the glider was last at the surface (its last "comms").
+    pub last_surface_time: f64,
+    /// Depth below which the glider counts as surfaced (`u_reqd_depth_at_surface`).
+    pub surface_depth: f64,
+    pub sensors: &'a mut [f64],
+    pub hook_sensors: HookSensors,
+    pub commands: &'a mut Commands,
+}
+
+/// Where the hook behavior's sensors sit in the active list (absent ones are `None`).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct HookSensors {
+    pub behs: Option<usize>,
+    pub dive_depth: Option<usize>,
+    pub climb_depth: Option<usize>,
+}
+
+impl World<'_> {
+    fn read(&self, index: Option<usize>) -> f64 {
+        index
+            .and_then(|index| self.sensors.get(index).copied())
+            .unwrap_or(0.0)
+    }
+}
+
+/// What a step asks of the mission.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Outcome {
+    Continue,
+    Abort(AbortReason),
+    /// A surface behavior with `end_action` 0 finished: the mission is over.
+    MissionComplete,
+}
+
+/// Something a behavior did this cycle, for the debugger's output and the plot.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BehaviorEvent {
+    pub behavior: usize,
+    pub kind: EventKind,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum EventKind {
+    Started,
+    Completed,
+    /// A yo or the hook turned (depth at the turn).
+    Inflection {
+        depth: f64,
+    },
+}
+
+/// One behavior of the running mission.
+#[derive(Clone, Debug)]
+pub struct Behavior {
+    pub kind: BehaviorKind,
+    /// `yo`, `surface`, … as written in the mission.
+    pub name: String,
+    pub state: BehaviorState,
+    start_when: i64,
+    stop_when: i64,
+    when_secs: f64,
+    end_action: i64,
+    last_start: f64,
+    last_end: f64,
+    logic: Logic,
+}
+
+#[derive(Clone, Debug)]
+enum Logic {
+    Abend(Abend),
+    Surface(Surface),
+    Yo(Yo),
+    Single(DiveClimb),
+    PrepareToDive {
+        wait_time: f64,
+        gps_fix_time: f64,
+        since: f64,
+    },
+    SetHeading {
+        heading: Option<f64>,
+    },
+    Hook(Hook),
+    /// The script: run by the simulation itself at this place.
+    Script,
+    /// Accepted, commands nothing (sensors_in, sample, goto_list, goto_wpt).
+    Passive,
+}
+
+impl Behavior {
+    /// Builds the runtime behavior from its mission spec. `param` dereferences
+    /// b_arg values ≥ 1,000,000 to `u_mission_param_a…x`, as the glider does.
+    pub fn from_spec(
+        spec: &BehaviorSpec,
+        param: &dyn Fn(f64) -> f64,
+        gps_fix_time: f64,
+    ) -> Behavior {
+        let kind = spec.kind;
+        let arg = |name: &str| param(spec.arg(name).unwrap_or_else(|| kind.default_arg(name)));
+        let logic = match kind {
+            BehaviorKind::Abend => Logic::Abend(Abend {
+                overdepth: arg("overdepth"),
+                overdepth_sample_time: arg("overdepth_sample_time"),
+                overtime: arg("overtime"),
+                samedepth_for: arg("samedepth_for"),
+                samedepth_sample_time: arg("samedepth_for_sample_time"),
+                undervolts: arg("undervolts"),
+                last_overdepth_check: f64::NEG_INFINITY,
+                last_samedepth_sample: f64::NEG_INFINITY,
+                samedepth_reference: f64::NAN,
+                samedepth_since: 0.0,
+            }),
+            BehaviorKind::Surface => Logic::Surface(Surface {
+                bpump_value: arg("c_bpump_value").abs(),
+                pitch_value: pitch_for(arg("c_use_pitch"), arg("c_pitch_value"), Direction::Climb),
+                wait: arg("gps_wait_time").max(0.0)
+                    + if arg("end_action") as i64 == 1 {
+                        arg("keystroke_wait_time").max(0.0)
+                    } else {
+                        0.0
+                    },
+                surfaced_at: None,
+            }),
+            BehaviorKind::Yo => Logic::Yo(Yo {
+                dive: DiveClimb {
+                    direction: Direction::Dive,
+                    target_depth: arg("d_target_depth"),
+                    target_altitude: arg("d_target_altitude"),
+                    bpump_value: arg("d_bpump_value"),
+                    pitch_value: pitch_for(
+                        arg("d_use_pitch"),
+                        arg("d_pitch_value"),
+                        Direction::Dive,
+                    ),
+                    hover_for: arg("d_stop_when_hover_for"),
+                    hover_since: None,
+                },
+                climb: DiveClimb {
+                    direction: Direction::Climb,
+                    target_depth: arg("c_target_depth"),
+                    target_altitude: arg("c_target_altitude"),
+                    bpump_value: arg("c_bpump_value"),
+                    pitch_value: pitch_for(
+                        arg("c_use_pitch"),
+                        arg("c_pitch_value"),
+                        Direction::Climb,
+                    ),
+                    hover_for: arg("c_stop_when_hover_for"),
+                    hover_since: None,
+                },
+                start_diving: arg("start_diving") != 0.0,
+                half_cycles_to_do: arg("num_half_cycles_to_do") as i64,
+                diving: true,
+                half_cycles_done: 0,
+            }),
+            BehaviorKind::DiveTo | BehaviorKind::ClimbTo => {
+                let direction = if kind == BehaviorKind::DiveTo {
+                    Direction::Dive
+                } else {
+                    Direction::Climb
+                };
+                Logic::Single(DiveClimb {
+                    direction,
+                    target_depth: arg("target_depth"),
+                    target_altitude: arg("target_altitude"),
+                    bpump_value: arg("bpump_value"),
+                    pitch_value: pitch_for(arg("use_pitch"), arg("pitch_value"), direction),
+                    hover_for: arg("stop_when_hover_for"),
+                    hover_since: None,
+                })
+            }
+            BehaviorKind::PrepareToDive => Logic::PrepareToDive {
+                wait_time: arg("wait_time"),
+                gps_fix_time,
+                since: 0.0,
+            },
+            BehaviorKind::SetHeading => Logic::SetHeading {
+                heading: (arg("use_heading") as i64 == 1).then(|| arg("heading_value")),
+            },
+            BehaviorKind::Hook => Logic::Hook(Hook {
+                default_dive_depth: arg("dive_target_depth"),
+                dive_target_altitude: arg("dive_target_altitude"),
+                default_climb_depth: arg("climb_target_depth"),
+                bpump_value: arg("bpump_value").abs(),
+                pitch_value: arg("pitch_value").abs(),
+                running: None,
+                hover_since: None,
+            }),
+            BehaviorKind::Gloc => Logic::Script,
+            BehaviorKind::SensorsIn
+            | BehaviorKind::Sample
+            | BehaviorKind::GotoList
+            | BehaviorKind::GotoWpt
+            | BehaviorKind::Unknown => Logic::Passive,
+        };
+        Behavior {
+            kind,
+            name: spec.name.to_ascii_lowercase(),
+            state: BehaviorState::WaitingForActivation,
+            start_when: arg("start_when") as i64,
+            stop_when: arg("stop_when") as i64,
+            when_secs: arg("when_secs"),
+            end_action: arg("end_action") as i64,
+            last_start: 0.0,
+            last_end: 0.0,
+            logic,
+        }
+    }
+
+    /// A script behavior inserted by the simulator (the mission had none).
+    pub fn script() -> Behavior {
+        Behavior {
+            kind: BehaviorKind::Gloc,
+            name: "gloc".to_string(),
+            state: BehaviorState::WaitingForActivation,
+            start_when: 0,
+            stop_when: 5,
+            when_secs: 0.0,
+            end_action: 0,
+            last_start: 0.0,
+            last_end: 0.0,
+            logic: Logic::Script,
+        }
+    }
+
+    pub fn is_active(&self) -> bool {
+        self.state == BehaviorState::Active
+    }
+
+    /// Steps the behavior's state machine and, when active, its logic.
+    /// For the script behavior this only manages activation; the simulation
+    /// runs the script itself when `is_active()`.
+    pub fn step(
+        &mut self,
+        index: usize,
+        world: &mut World<'_>,
+        events: &mut Vec<BehaviorEvent>,
+    ) -> Outcome {
+        if let Logic::Abend(abend) = &mut self.logic {
+            // abend is always on: it has no start/stop state machine.
+            self.state = BehaviorState::Active;
+            return abend.check(world);
+        }
+        match self.state {
+            BehaviorState::Complete => return Outcome::Continue,
+            BehaviorState::WaitingForActivation => {
+                if !self.condition(self.start_when, world, Edge::Start) {
+                    return Outcome::Continue;
+                }
+                self.state = BehaviorState::Active;
+                self.last_start = world.time;
+                self.logic.activate(world);
+                events.push(BehaviorEvent {
+                    behavior: index,
+                    kind: EventKind::Started,
+                });
+            }
+            BehaviorState::Active => {}
+        }
+        if self.stop_when != 0 && self.condition(self.stop_when, world, Edge::Stop) {
+            return self.complete(index, world, events);
+        }
+        match self.logic.step(index, world, events) {
+            Step::Running => Outcome::Continue,
+            Step::Done => self.complete(index, world, events),
+        }
+    }
+
+    fn complete(
+        &mut self,
+        index: usize,
+        world: &World<'_>,
+        events: &mut Vec<BehaviorEvent>,
+    ) -> Outcome {
+        self.last_end = world.time;
+        events.push(BehaviorEvent {
+            behavior: index,
+            kind: EventKind::Completed,
+        });
+        // end_action: 0 quit, 1 (wait for ^C, none comes in a simulation) and 2 resume.
+        if self.end_action == 0 {
+            self.state = BehaviorState::Complete;
+            if self.kind == BehaviorKind::Surface {
+                return Outcome::MissionComplete;
+            }
+        } else {
+            self.state = BehaviorState::WaitingForActivation;
+        }
+        Outcome::Continue
+    }
+
+    /// start_when / stop_when codes (domain notes §2.2). Codes the simulator
+    /// does not model (waypoints, UTC, hovering, …) never hold; loading warns.
+    fn condition(&self, code: i64, world: &World<'_>, edge: Edge) -> bool {
+        let commands = &*world.commands;
+        match code {
+            0 => edge == Edge::Start,
+            1 => commands.stack_idle(),
+            2 => commands.pitch.is_none(),
+            3 => commands.heading.is_none(),
+            4 => commands.buoyancy.is_none(),
+            5 => false,
+            6 => world.time - self.last_end >= self.when_secs,
+            9 => world.time - self.last_start >= self.when_secs,
+            10 => world.time - self.last_start >= self.when_secs && commands.buoyancy.is_none(),
+            12 => world.time - world.last_surface_time >= self.when_secs,
+            _ => false,
+        }
+    }
+}
+
+/// The start_when/stop_when codes the simulator models.
+pub fn condition_is_modelled(code: i64) -> bool {
+    matches!(code, 0..=6 | 9 | 10 | 12)
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Edge {
+    Start,
+    Stop,
+}
+
+enum Step {
+    Running,
+    Done,
+}
+
+impl Logic {
+    fn activate(&mut self, world: &World<'_>) {
+        match self {
+            Logic::Yo(yo) => {
+                yo.diving = yo.start_diving;
+                yo.half_cycles_done = 0;
+                yo.dive.hover_since = None;
+                yo.climb.hover_since = None;
+            }
+            Logic::Single(single) => single.hover_since = None,
+            Logic::Surface(surface) => surface.surfaced_at = None,
+            Logic::PrepareToDive { since, .. } => *since = world.time,
+            Logic::Hook(hook) => hook.running = None,
+            _ => {}
+        }
+    }
+
+    fn step(
+        &mut self,
+        index: usize,
+        world: &mut World<'_>,
+        events: &mut Vec<BehaviorEvent>,
+    ) -> Step {
+        match self {
+            Logic::Yo(yo) => yo.step(index, world, events),
+            Logic::Single(single) => {
+                if single.step(index, world) {
+                    Step::Done
+                } else {
+                    Step::Running
+                }
+            }
+            Logic::Surface(surface) => surface.step(index, world),
+            Logic::PrepareToDive {
+                wait_time,
+                gps_fix_time,
+                since,
+            } => {
+                // Hold at the surface until the (simulated) GPS fix or the wait runs out.
+                if world.time - *since >= wait_time.min(*gps_fix_time) {
+                    return Step::Done;
+                }
+                world
+                    .commands
+                    .command_vertical(1000.0, NOMINAL_PITCH, index);
+                Step::Running
+            }
+            Logic::SetHeading { heading } => {
+                if let Some(heading) = heading {
+                    world.commands.heading = Some((*heading, index));
+                }
+                Step::Running
+            }
+            Logic::Hook(hook) => {
+                hook.step(index, world, events);
+                Step::Running
+            }
+            Logic::Script | Logic::Passive | Logic::Abend(_) => Step::Running,
+        }
+    }
+}
+
+/// The glider's nominal pitch, 26° (`f_nominal_pitch`).
+pub const NOMINAL_PITCH: f64 = 0.4538;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Direction {
+    Dive,
+    Climb,
+}
+
+/// The pitch a dive or climb asks for. `use_pitch` 3 gives the angle in
+/// radians; the other modes (battery position, pumped fluid) fly the nominal
+/// pitch. The sign always follows the direction (< 0 dives).
+fn pitch_for(use_pitch: f64, value: f64, direction: Direction) -> f64 {
+    let magnitude = if use_pitch as i64 == 3 && value.abs() > 0.01 {
+        value.abs().min(1.2)
+    } else {
+        NOMINAL_PITCH
+    };
+    match direction {
+        Direction::Dive => -magnitude,
+        Direction::Climb => magnitude,
+    }
+}
+
+#[derive(Clone, Debug)]
+struct Abend {
+    overdepth: f64,
+    overdepth_sample_time: f64,
+    overtime: f64,
+    samedepth_for: f64,
+    samedepth_sample_time: f64,
+    undervolts: f64,
+    last_overdepth_check: f64,
+    last_samedepth_sample: f64,
+    samedepth_reference: f64,
+    samedepth_since: f64,
+}
+
+impl Abend {
+    fn check(&mut self, world: &mut World<'_>) -> Outcome {
+        if self.overdepth >= 0.0
+            && world.time - self.last_overdepth_check >= self.overdepth_sample_time
+        {
+            self.last_overdepth_check = world.time;
+            if world.depth > self.overdepth {
+                return Outcome::Abort(AbortReason::Overdepth);
+            }
+        }
+        if self.overtime >= 0.0 && world.time > self.overtime {
+            return Outcome::Abort(AbortReason::Overtime);
+        }
+        if self.samedepth_for >= 0.0
+            && world.time - self.last_samedepth_sample >= self.samedepth_sample_time
+        {
+            self.last_samedepth_sample = world.time;
+            // A glider at the surface is not stuck: only count time below it.
+            let submerged = world.depth > world.surface_depth;
+            let same = (world.depth - self.samedepth_reference).abs() < SAMEDEPTH_TOLERANCE;
+            if !submerged || !same {
+                self.samedepth_reference = world.depth;
+                self.samedepth_since = world.time;
+            } else if world.time - self.samedepth_since >= self.samedepth_for {
+                return Outcome::Abort(AbortReason::Samedepth);
+            }
+        }
+        let _ = self.undervolts;
+        Outcome::Continue
+    }
+}
+
+/// Depth change (m) below which two samedepth samples count as "the same depth".
+const SAMEDEPTH_TOLERANCE: f64 = 0.5;
+
+#[derive(Clone, Debug)]
+struct Surface {
+    bpump_value: f64,
+    pitch_value: f64,
+    /// Seconds to stay at the surface (GPS, and the keystroke wait for end_action 1).
+    wait: f64,
+    surfaced_at: Option<f64>,
+}
+
+impl Surface {
+    fn step(&mut self, index: usize, world: &mut World<'_>) -> Step {
+        world
+            .commands
+            .command_vertical(self.bpump_value, self.pitch_value, index);
+        match self.surfaced_at {
+            None if world.depth <= world.surface_depth => {
+                self.surfaced_at = Some(world.time);
+                Step::Running
+            }
+            Some(at) if world.time - at >= self.wait => Step::Done,
+            _ => Step::Running,
+        }
+    }
+}
+
+/// A dive_to or climb_to, standing alone or as a sub-behavior of yo or hook.
+#[derive(Clone, Debug)]
+struct DiveClimb {
+    direction: Direction,
+    target_depth: f64,
+    target_altitude: f64,
+    bpump_value: f64,
+    pitch_value: f64,
+    hover_for: f64,
+    hover_since: Option<f64>,
+}
+
+/// A vertical speed (m/s) below which the glider counts as hovering.
+const HOVER_RATE: f64 = 0.02;
+
+impl DiveClimb {
+    /// Commands the dive or climb unless it is done; true when done.
+    fn step(&mut self, index: usize, world: &mut World<'_>) -> bool {
+        if self.reached(world) || self.hovered(world) {
+            return true;
+        }
+        let buoyancy = match self.direction {
+            Direction::Dive => -self.bpump_value.abs(),
+            Direction::Climb => self.bpump_value.abs(),
+        };
+        world
+            .commands
+            .command_vertical(buoyancy, self.pitch_value, index);
+        false
+    }
+
+    fn reached(&self, world: &World<'_>) -> bool {
+        reached(
+            self.direction,
+            self.target_depth,
+            self.target_altitude,
+            world,
+        )
+    }
+
+    fn hovered(&mut self, world: &World<'_>) -> bool {
+        if self.hover_for < 0.0 {
+            return false;
+        }
+        if world.depth_rate.abs() >= HOVER_RATE || world.depth <= world.surface_depth {
+            self.hover_since = None;
+            return false;
+        }
+        let since = *self.hover_since.get_or_insert(world.time);
+        world.time - since >= self.hover_for
+    }
+}
+
+fn reached(
+    direction: Direction,
+    target_depth: f64,
+    target_altitude: f64,
+    world: &World<'_>,
+) -> bool {
+    match direction {
+        Direction::Dive => {
+            world.depth >= target_depth
+                || (target_altitude > 0.0 && world.altitude <= target_altitude)
+        }
+        Direction::Climb => {
+            world.depth <= target_depth
+                || (target_altitude > 0.0 && world.altitude >= target_altitude)
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+struct Yo {
+    dive: DiveClimb,
+    climb: DiveClimb,
+    start_diving: bool,
+    half_cycles_to_do: i64,
+    diving: bool,
+    half_cycles_done: i64,
+}
+
+impl Yo {
+    fn step(
+        &mut self,
+        index: usize,
+        world: &mut World<'_>,
+        events: &mut Vec<BehaviorEvent>,
+    ) -> Step {
+        // At most one turn per cycle: a half-cycle that is done at once (the
+        // glider is already past the next target) waits for the next cycle.
+        let leg = if self.diving {
+            &mut self.dive
+        } else {
+            &mut self.climb
+        };
+        if !leg.step(index, world) {
+            return Step::Running;
+        }
+        self.half_cycles_done += 1;
+        events.push(BehaviorEvent {
+            behavior: index,
+            kind: EventKind::Inflection { depth: world.depth },
+        });
+        if self.half_cycles_to_do > 0 && self.half_cycles_done >= self.half_cycles_to_do {
+            return Step::Done;
+        }
+        self.diving = !self.diving;
+        let next = if self.diving {
+            &mut self.dive
+        } else {
+            &mut self.climb
+        };
+        next.hover_since = None;
+        next.step(index, world);
+        Step::Running
+    }
+}
+
+/// Bit of `sci_ruhp_behs` that runs a climb_to (the paper's value 128).
+pub const HOOK_CLIMB_BIT: i64 = 128;
+/// Bit of `sci_ruhp_behs` that runs a dive_to (our choice).
+pub const HOOK_DIVE_BIT: i64 = 64;
+
+#[derive(Clone, Debug)]
+struct Hook {
+    default_dive_depth: f64,
+    dive_target_altitude: f64,
+    default_climb_depth: f64,
+    bpump_value: f64,
+    pitch_value: f64,
+    running: Option<Direction>,
+    hover_since: Option<f64>,
+}
+
+impl Hook {
+    /// Reads `sci_ruhp_behs` each cycle. Bit 128 wins over bit 64 (climbing is
+    /// the safe side). When the sub-behavior reaches its depth the hook clears
+    /// its bit, so a script can see that it is done, and commands nothing.
+    fn step(&mut self, index: usize, world: &mut World<'_>, events: &mut Vec<BehaviorEvent>) {
+        let flags = world.read(world.hook_sensors.behs);
+        let flags = if flags.is_finite() { flags as i64 } else { 0 };
+        let wanted = if flags & HOOK_CLIMB_BIT != 0 {
+            Some(Direction::Climb)
+        } else if flags & HOOK_DIVE_BIT != 0 {
+            Some(Direction::Dive)
+        } else {
+            None
+        };
+        let Some(direction) = wanted else {
+            self.running = None;
+            return;
+        };
+        if self.running != Some(direction) {
+            self.running = Some(direction);
+            self.hover_since = None;
+        }
+        let (bit, sensor, default, altitude) = match direction {
+            Direction::Climb => (
+                HOOK_CLIMB_BIT,
+                world.hook_sensors.climb_depth,
+                self.default_climb_depth,
+                -1.0,
+            ),
+            Direction::Dive => (
+                HOOK_DIVE_BIT,
+                world.hook_sensors.dive_depth,
+                self.default_dive_depth,
+                self.dive_target_altitude,
+            ),
+        };
+        let from_sensor = world.read(sensor);
+        let target = if from_sensor > 0.0 && from_sensor.is_finite() {
+            from_sensor
+        } else {
+            default
+        };
+        if reached(direction, target, altitude, world) {
+            if let Some(behs) = world.hook_sensors.behs {
+                world.sensors[behs] = (flags & !bit) as f64;
+            }
+            self.running = None;
+            events.push(BehaviorEvent {
+                behavior: index,
+                kind: EventKind::Inflection { depth: world.depth },
+            });
+            return;
+        }
+        let (buoyancy, pitch) = match direction {
+            Direction::Climb => (self.bpump_value, self.pitch_value),
+            Direction::Dive => (-self.bpump_value, -self.pitch_value),
+        };
+        world.commands.command_vertical(buoyancy, pitch, index);
+    }
+}
+
+/// Builds the runtime stack of a mission (highest priority first), inserting
+/// the script behavior directly below the safety behaviors (abend, surface)
+/// when the mission has none and `with_script` is `ScriptPlacement::Insert`.
+pub fn build_stack(
+    mission: &Mission,
+    param: &dyn Fn(f64) -> f64,
+    gps_fix_time: f64,
+    placement: ScriptPlacement,
+) -> Vec<Behavior> {
+    let mut stack: Vec<Behavior> = crate::mission::known_behaviors(mission)
+        .map(|spec| Behavior::from_spec(spec, param, gps_fix_time))
+        .collect();
+    let has_script = stack
+        .iter()
+        .any(|behavior| behavior.kind == BehaviorKind::Gloc);
+    if placement == ScriptPlacement::Insert && !has_script {
+        let at = stack
+            .iter()
+            .take_while(|behavior| {
+                matches!(behavior.kind, BehaviorKind::Abend | BehaviorKind::Surface)
+            })
+            .count();
+        stack.insert(at, Behavior::script());
+    }
+    stack
+}
+
+/// Whether a script runs in this simulation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ScriptPlacement {
+    /// There is a script: insert its behavior if the mission has none.
+    Insert,
+    /// No script: a `behavior: gloc` in the mission stays idle.
+    None,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_are_case_insensitive() {
+        assert_eq!(
+            BehaviorKind::from_name("Goto_list"),
+            Some(BehaviorKind::GotoList)
+        );
+        assert_eq!(BehaviorKind::from_name("YO"), Some(BehaviorKind::Yo));
+        assert_eq!(BehaviorKind::from_name("drift"), None);
+    }
+
+    #[test]
+    fn known_args_cover_common_and_waypoints() {
+        assert!(BehaviorKind::Yo.known_args().contains("D_TARGET_DEPTH"));
+        assert!(BehaviorKind::Yo.known_args().contains("start_when"));
+        assert!(BehaviorKind::GotoList.known_args().contains("wpt_x_3"));
+        assert!(!BehaviorKind::GotoList.known_args().contains("wpt_x_"));
+        assert!(!BehaviorKind::Abend.known_args().contains("start_when"));
+        assert_eq!(BehaviorKind::DiveTo.default_arg("bpump_value"), -260.0);
+        assert_eq!(BehaviorKind::Surface.default_arg("start_when"), 12.0);
+        assert_eq!(BehaviorKind::Yo.default_arg("when_secs"), 0.0);
+    }
+
+    #[test]
+    fn script_is_inserted_below_abend_and_surface() {
+        let mission = Mission::parse(
+            "m.mi",
+            "behavior: abend\nbehavior: surface\nbehavior: surface\nbehavior: hook\nbehavior: yo\n",
+        );
+        let stack = build_stack(&mission, &|value| value, 60.0, ScriptPlacement::Insert);
+        let kinds: Vec<_> = stack.iter().map(|behavior| behavior.kind).collect();
+        assert_eq!(
+            kinds,
+            vec![
+                BehaviorKind::Abend,
+                BehaviorKind::Surface,
+                BehaviorKind::Surface,
+                BehaviorKind::Gloc,
+                BehaviorKind::Hook,
+                BehaviorKind::Yo
+            ]
+        );
+    }
+}

@@ -1,0 +1,287 @@
+//! The kinematic vertical-plane flight model and the power model.
+//!
+//! Not hydrodynamics: the buoyancy pump moves at a fixed rate toward the
+//! commanded volume, the vertical speed follows the pumped volume (full
+//! volume = the nominal dive or climb rate) with a short lag, pitch slews
+//! toward its command, and the horizontal speed follows from the glide angle.
+//! An inflection therefore takes time (the pump's travel) and overshoots the
+//! target depth by about `rate × (inflection / 4 + lag)`, close to 1 m with the
+//! defaults, as real shallow gliders do (domain notes §3).
+
+/// Flight constants. Defaults from real shallow gliders (domain notes §3).
+#[derive(Clone, Debug, PartialEq)]
+pub struct FlightParams {
+    /// Sub-cycle integration step (s).
+    pub step: f64,
+    /// Vertical speed at full dive volume (m/s).
+    pub dive_rate: f64,
+    /// Vertical speed at full climb volume (m/s).
+    pub climb_rate: f64,
+    /// Pumped volume at which the glider flies at full rate (cc).
+    pub pump_max: f64,
+    /// Pump speed (cc/s): a full swing ±`pump_max` takes `2 pump_max / pump_rate`.
+    pub pump_rate: f64,
+    /// Time constant of the vertical speed following the pumped volume (s).
+    pub speed_lag: f64,
+    /// Pitch slew rate of the battery (rad/s).
+    pub pitch_rate: f64,
+    /// Angle of attack added to the pitch for the glide angle (rad).
+    pub angle_of_attack: f64,
+    /// Cap on the horizontal speed (m/s) while the pitch is near level.
+    pub max_speed: f64,
+}
+
+impl Default for FlightParams {
+    fn default() -> FlightParams {
+        FlightParams {
+            step: 0.5,
+            dive_rate: 0.15,
+            climb_rate: 0.15,
+            pump_max: 230.0,
+            // 460 cc in 20 s: a 20-second pump swing per inflection.
+            pump_rate: 23.0,
+            speed_lag: 1.5,
+            pitch_rate: 0.05,
+            angle_of_attack: 2f64.to_radians(),
+            max_speed: 0.4,
+        }
+    }
+}
+
+/// Power and battery constants (mousebrains/GliderSimulator energy.json).
+#[derive(Clone, Debug, PartialEq)]
+pub struct EnergyParams {
+    /// Hotel power while diving (W).
+    pub dive_power: f64,
+    /// Hotel power while climbing or at the surface (W).
+    pub climb_power: f64,
+    /// Pumping oil out (going up): J per cc at the surface …
+    pub pump_out_j_per_cc: f64,
+    /// … plus J per cc per metre of depth.
+    pub pump_out_j_per_cc_m: f64,
+    /// Letting oil in (going down): J per cc.
+    pub pump_in_j_per_cc: f64,
+    /// Moving the pitch battery: J per radian of pitch change.
+    pub pitch_j_per_rad: f64,
+    /// Battery capacity (Wh).
+    pub battery_wh: f64,
+    /// Battery voltage full and empty (V).
+    pub volts_full: f64,
+    pub volts_empty: f64,
+}
+
+impl Default for EnergyParams {
+    fn default() -> EnergyParams {
+        EnergyParams {
+            dive_power: 1.31,
+            climb_power: 1.00,
+            pump_out_j_per_cc: 2.49,
+            pump_out_j_per_cc_m: 0.0123,
+            pump_in_j_per_cc: 0.1,
+            // 540 J per battery shift, one shift swings ±26°.
+            pitch_j_per_rad: 540.0 / (2.0 * 0.4538),
+            battery_wh: 3381.0,
+            volts_full: 15.0,
+            volts_empty: 10.0,
+        }
+    }
+}
+
+/// The vehicle's state between steps. `Copy`: snapshots are cheap.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Vehicle {
+    /// m, 0 at the surface, > 0 below.
+    pub depth: f64,
+    /// m/s, > 0 going down.
+    pub depth_rate: f64,
+    /// rad, > 0 nose up.
+    pub pitch: f64,
+    /// cc, > 0 goes up.
+    pub ballast: f64,
+    /// Horizontal speed through the water (m/s).
+    pub speed: f64,
+    /// Horizontal distance flown (m).
+    pub distance: f64,
+    /// Energy used since the start (J).
+    pub energy_joules: f64,
+    /// Charge used since the start (Ah).
+    pub amp_hours: f64,
+    /// Inflections so far (sign changes of the pumped volume).
+    pub inflections: u64,
+    /// Sign of the last non-zero pumped volume (0 before any).
+    ballast_sign: i8,
+}
+
+impl Vehicle {
+    /// Battery voltage for the energy used so far.
+    pub fn battery_volts(&self, energy: &EnergyParams) -> f64 {
+        let used = self.energy_joules / (energy.battery_wh * 3600.0);
+        (energy.volts_full - (energy.volts_full - energy.volts_empty) * used.min(1.0))
+            .max(energy.volts_empty)
+    }
+
+    /// Flies `duration` seconds toward the commanded buoyancy (cc, > 0 up) and
+    /// pitch (rad) in water `water_depth` deep.
+    pub fn fly(
+        &mut self,
+        duration: f64,
+        buoyancy: f64,
+        pitch: f64,
+        water_depth: f64,
+        flight: &FlightParams,
+        energy: &EnergyParams,
+    ) {
+        let target_ballast = buoyancy.clamp(-flight.pump_max, flight.pump_max);
+        let mut remaining = duration;
+        while remaining > 1e-9 {
+            let dt = remaining.min(flight.step);
+            remaining -= dt;
+            self.substep(dt, target_ballast, pitch, water_depth, flight, energy);
+        }
+    }
+
+    fn substep(
+        &mut self,
+        dt: f64,
+        target_ballast: f64,
+        target_pitch: f64,
+        water_depth: f64,
+        flight: &FlightParams,
+        energy: &EnergyParams,
+    ) {
+        let volts = self.battery_volts(energy);
+        let mut joules = 0.0;
+
+        // Pump.
+        let pump_step =
+            (target_ballast - self.ballast).clamp(-flight.pump_rate * dt, flight.pump_rate * dt);
+        if pump_step > 0.0 {
+            joules += pump_step
+                * (energy.pump_out_j_per_cc + energy.pump_out_j_per_cc_m * self.depth.max(0.0));
+        } else {
+            joules += -pump_step * energy.pump_in_j_per_cc;
+        }
+        self.ballast += pump_step;
+        if self.ballast != 0.0 {
+            let sign = if self.ballast > 0.0 { 1 } else { -1 };
+            if self.ballast_sign != 0 && sign != self.ballast_sign {
+                self.inflections += 1;
+            }
+            self.ballast_sign = sign;
+        }
+
+        // Pitch battery.
+        let pitch_step =
+            (target_pitch - self.pitch).clamp(-flight.pitch_rate * dt, flight.pitch_rate * dt);
+        joules += pitch_step.abs() * energy.pitch_j_per_rad;
+        self.pitch += pitch_step;
+
+        // Vertical speed follows the pumped volume with a lag.
+        let fraction = (self.ballast / flight.pump_max).clamp(-1.0, 1.0);
+        let wanted_rate = if fraction < 0.0 {
+            -fraction * flight.dive_rate
+        } else {
+            -fraction * flight.climb_rate
+        };
+        let blend = (dt / flight.speed_lag.max(dt)).min(1.0);
+        self.depth_rate += (wanted_rate - self.depth_rate) * blend;
+        self.depth += self.depth_rate * dt;
+        if self.depth <= 0.0 {
+            // Floating: the surface stops the climb.
+            self.depth = 0.0;
+            self.depth_rate = self.depth_rate.max(0.0);
+        }
+        if self.depth >= water_depth {
+            // On the bottom.
+            self.depth = water_depth;
+            self.depth_rate = self.depth_rate.min(0.0);
+        }
+
+        // Horizontal speed from the glide angle.
+        let glide = self.pitch.abs() + flight.angle_of_attack;
+        self.speed = if self.depth_rate == 0.0 {
+            0.0
+        } else {
+            (self.depth_rate.abs() / glide.tan()).min(flight.max_speed)
+        };
+        self.distance += self.speed * dt;
+
+        // Hotel load.
+        let hotel = if self.depth_rate > 0.0 {
+            energy.dive_power
+        } else {
+            energy.climb_power
+        };
+        joules += hotel * dt;
+        self.energy_joules += joules;
+        self.amp_hours += joules / volts / 3600.0;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn fly_for(vehicle: &mut Vehicle, seconds: f64, buoyancy: f64, pitch: f64) {
+        vehicle.fly(
+            seconds,
+            buoyancy,
+            pitch,
+            100.0,
+            &FlightParams::default(),
+            &EnergyParams::default(),
+        );
+    }
+
+    #[test]
+    fn reaches_the_nominal_dive_rate() {
+        let mut vehicle = Vehicle::default();
+        fly_for(&mut vehicle, 100.0, -260.0, -0.4538);
+        // Full volume (clipped to 230 cc) gives the dive rate, 0.15 m/s.
+        assert!(
+            (vehicle.depth_rate - 0.15).abs() < 1e-6,
+            "{}",
+            vehicle.depth_rate
+        );
+        assert!((vehicle.pitch + 0.4538).abs() < 1e-9);
+        // Horizontal speed: 0.15 / tan(26° + 2°) ≈ 0.282 m/s.
+        assert!((vehicle.speed - 0.15 / (0.4538f64 + 2f64.to_radians()).tan()).abs() < 1e-6);
+        assert!(vehicle.energy_joules > 100.0 * 1.31);
+    }
+
+    #[test]
+    fn an_inflection_overshoots_about_a_metre() {
+        let mut vehicle = Vehicle::default();
+        fly_for(&mut vehicle, 200.0, -260.0, -0.4538);
+        let turn_at = vehicle.depth;
+        let mut deepest = turn_at;
+        for _ in 0..200 {
+            fly_for(&mut vehicle, 0.5, 260.0, 0.4538);
+            deepest = deepest.max(vehicle.depth);
+        }
+        // Expected: 0.15 m/s × (20 s / 4 + 1.5 s) ≈ 0.98 m, by hand from the
+        // pump's linear swing and the speed lag.
+        let overshoot = deepest - turn_at;
+        assert!((0.7..1.3).contains(&overshoot), "overshoot {overshoot}");
+        assert!(vehicle.depth < turn_at - 10.0, "climbing again");
+        assert_eq!(vehicle.inflections, 1);
+    }
+
+    #[test]
+    fn surface_and_bottom_clip() {
+        let mut vehicle = Vehicle::default();
+        fly_for(&mut vehicle, 60.0, 260.0, 0.4538);
+        assert_eq!(vehicle.depth, 0.0);
+        let mut vehicle = Vehicle::default();
+        vehicle.fly(
+            2000.0,
+            -260.0,
+            -0.4538,
+            40.0,
+            &FlightParams::default(),
+            &EnergyParams::default(),
+        );
+        assert_eq!(vehicle.depth, 40.0);
+        assert_eq!(vehicle.depth_rate, 0.0);
+    }
+}

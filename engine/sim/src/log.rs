@@ -1,0 +1,311 @@
+//! Run logs: CSV, and Slocum's ASCII format (`.dba`) as the glider's own
+//! `dbd2asc` writes it, so existing glider tools read our runs.
+//!
+//! One row per control cycle, formatted into a reused buffer and streamed to
+//! the writer: logging allocates nothing per cycle and keeps no history.
+
+use std::io::{self, Write};
+
+use gloc_engine::sensors::{SensorId, SensorList};
+
+/// The log formats.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LogFormat {
+    Csv,
+    /// Slocum ASCII (`dbd_label:` header, names, units, bytes, rows).
+    Dba,
+}
+
+impl LogFormat {
+    /// From a file name's extension: `.csv` or `.dba` (case-insensitive).
+    pub fn from_path(path: &std::path::Path) -> Option<LogFormat> {
+        let extension = path.extension()?.to_str()?.to_ascii_lowercase();
+        match extension.as_str() {
+            "csv" => Some(LogFormat::Csv),
+            "dba" => Some(LogFormat::Dba),
+            _ => None,
+        }
+    }
+}
+
+/// What a pilot looks at first, in this order. Sensors absent from the active
+/// list are left out.
+pub const DEFAULT_LOG_SENSORS: &[&str] = &[
+    "m_present_time",
+    "m_cycle_number",
+    "m_depth",
+    "m_pressure",
+    "m_depth_rate",
+    "m_pitch",
+    "m_altitude",
+    "m_water_depth",
+    "m_speed",
+    "m_ballast_pumped",
+    "c_ballast_pumped",
+    "c_pitch",
+    "m_battery",
+    "m_coulomb_amphr_total",
+    "m_tot_num_inflections",
+    "sci_water_temp",
+    "sci_water_pressure",
+    "sci_ruhp_behs",
+    "sci_ruhp_dive_depth",
+    "sci_ruhp_climb_depth",
+];
+
+/// Resolves the default set plus `extra` sensors (for example those the
+/// script stores), without duplicates.
+pub fn default_columns(list: &SensorList, extra: &[SensorId]) -> Vec<SensorId> {
+    let mut columns: Vec<SensorId> = DEFAULT_LOG_SENSORS
+        .iter()
+        .filter_map(|name| list.lookup(name))
+        .collect();
+    for id in extra {
+        if !columns.contains(id) {
+            columns.push(*id);
+        }
+    }
+    columns
+}
+
+/// Resolves a comma-separated list of sensor names. Unknown names are an
+/// error naming them.
+pub fn parse_columns(list: &SensorList, names: &str) -> Result<Vec<SensorId>, String> {
+    let mut columns = Vec::new();
+    let mut unknown = Vec::new();
+    for name in names
+        .split(',')
+        .map(str::trim)
+        .filter(|name| !name.is_empty())
+    {
+        match list.lookup(name) {
+            Some(id) if !columns.contains(&id) => columns.push(id),
+            Some(_) => {}
+            None => unknown.push(name.to_string()),
+        }
+    }
+    if !unknown.is_empty() {
+        return Err(format!(
+            "unknown sensor(s) for the log: {}",
+            unknown.join(", ")
+        ));
+    }
+    if columns.is_empty() {
+        return Err("the list of sensors to log is empty".to_string());
+    }
+    Ok(columns)
+}
+
+/// Header facts of a `.dba` file.
+#[derive(Clone, Debug)]
+pub struct DbaHeader {
+    /// E.g. `gloc_sim-2010-144-0-0`.
+    pub filename: String,
+    pub mission_name: String,
+    /// `fileopen_time:` as the glider writes it, `Mon_May_24_00:00:00_2010`.
+    pub fileopen_time: String,
+}
+
+/// Streams one row per cycle.
+pub struct LogWriter<W: Write> {
+    out: W,
+    format: LogFormat,
+    columns: Vec<SensorId>,
+    line: Vec<u8>,
+    rows: u64,
+}
+
+impl<W: Write> LogWriter<W> {
+    /// Writes the header. `header` is needed for `.dba` only.
+    pub fn new(
+        mut out: W,
+        format: LogFormat,
+        columns: Vec<SensorId>,
+        list: &SensorList,
+        header: &DbaHeader,
+    ) -> io::Result<LogWriter<W>> {
+        let name = |id: &SensorId| list.name(*id).unwrap_or("unknown").to_string();
+        match format {
+            LogFormat::Csv => {
+                let names: Vec<String> = columns.iter().map(name).collect();
+                writeln!(out, "{}", names.join(","))?;
+            }
+            LogFormat::Dba => {
+                writeln!(out, "dbd_label: DBD_ASC(dinkum_binary_data_ascii)file")?;
+                writeln!(out, "encoding_ver: 2")?;
+                writeln!(out, "num_ascii_tags: 14")?;
+                writeln!(out, "all_sensors: 0")?;
+                writeln!(out, "filename: {}", header.filename)?;
+                writeln!(out, "the8x3_filename: 00000000")?;
+                writeln!(out, "filename_extension: dbd")?;
+                writeln!(out, "filename_label: {}-dbd(00000000)", header.filename)?;
+                writeln!(out, "mission_name: {}", header.mission_name)?;
+                writeln!(out, "fileopen_time: {}", header.fileopen_time)?;
+                writeln!(out, "sensors_per_cycle: {}", columns.len())?;
+                writeln!(out, "num_label_lines: 3")?;
+                writeln!(out, "num_segments: 1")?;
+                writeln!(out, "segment_filename_0: {}", header.filename)?;
+                let mut names = String::new();
+                let mut units = String::new();
+                let mut bytes = String::new();
+                for id in &columns {
+                    let sensor = list.get(*id);
+                    names.push_str(&name(id));
+                    names.push(' ');
+                    units.push_str(sensor.map(|s| s.units.as_str()).unwrap_or("nodim"));
+                    units.push(' ');
+                    // Times need doubles; everything else fits a 4-byte float
+                    // as the glider logs it.
+                    let is_time = sensor.is_some_and(|s| s.units == "timestamp");
+                    bytes.push_str(if is_time { "8 " } else { "4 " });
+                }
+                writeln!(out, "{names}")?;
+                writeln!(out, "{units}")?;
+                writeln!(out, "{bytes}")?;
+            }
+        }
+        Ok(LogWriter {
+            out,
+            format,
+            columns,
+            line: Vec::with_capacity(512),
+            rows: 0,
+        })
+    }
+
+    pub fn columns(&self) -> &[SensorId] {
+        &self.columns
+    }
+
+    /// Writes one row from the sensor array.
+    pub fn write_row(&mut self, sensors: &[f64]) -> io::Result<()> {
+        self.line.clear();
+        let separator = match self.format {
+            LogFormat::Csv => b',',
+            LogFormat::Dba => b' ',
+        };
+        for (position, id) in self.columns.iter().enumerate() {
+            if position > 0 {
+                self.line.push(separator);
+            }
+            let value = sensors.get(id.index()).copied().unwrap_or(f64::NAN);
+            write_number(&mut self.line, value);
+        }
+        if self.format == LogFormat::Dba {
+            // dbd2asc ends every data row with a space.
+            self.line.push(b' ');
+        }
+        self.line.push(b'\n');
+        self.rows += 1;
+        self.out.write_all(&self.line)
+    }
+
+    pub fn rows(&self) -> u64 {
+        self.rows
+    }
+
+    pub fn finish(mut self) -> io::Result<W> {
+        self.out.flush()?;
+        Ok(self.out)
+    }
+}
+
+/// Shortest text that reads back as the same f64 (`NaN` for not-a-number,
+/// as dbd2asc writes it), without allocating.
+fn write_number(buffer: &mut Vec<u8>, value: f64) {
+    if value.is_nan() {
+        buffer.extend_from_slice(b"NaN");
+    } else if value == value.trunc() && value.abs() < 1e15 {
+        // Whole numbers print without a point, as dbd2asc does.
+        let _ = write!(buffer, "{}", value as i64);
+    } else {
+        let _ = write!(buffer, "{value}");
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use gloc_engine::sensors::Sensor;
+
+    fn list() -> SensorList {
+        let sensor = |name: &str, units: &str| Sensor {
+            name: name.to_string(),
+            units: units.to_string(),
+            default: None,
+            description: None,
+            min: None,
+            max: None,
+            line: 0,
+        };
+        SensorList::from_sensors(vec![
+            sensor("m_present_time", "timestamp"),
+            sensor("m_depth", "m"),
+            sensor("sci_ruhp_behs", "enum"),
+        ])
+    }
+
+    fn header() -> DbaHeader {
+        DbaHeader {
+            filename: "gloc-2010-144-0-0".to_string(),
+            mission_name: "FIG2.MI".to_string(),
+            fileopen_time: "Mon_May_24_00:00:00_2010".to_string(),
+        }
+    }
+
+    #[test]
+    fn csv_has_a_header_and_one_row_per_call() {
+        let list = list();
+        let columns = default_columns(&list, &[]);
+        let mut writer =
+            LogWriter::new(Vec::new(), LogFormat::Csv, columns, &list, &header()).expect("header");
+        writer
+            .write_row(&[1274659200.0, 15.25, 128.0])
+            .expect("row");
+        writer
+            .write_row(&[1274659204.0, f64::NAN, 0.0])
+            .expect("row");
+        let text = String::from_utf8(writer.finish().expect("flush")).expect("utf8");
+        assert_eq!(
+            text,
+            "m_present_time,m_depth,sci_ruhp_behs\n1274659200,15.25,128\n1274659204,NaN,0\n"
+        );
+    }
+
+    #[test]
+    fn dba_has_the_dinkum_header_and_label_lines() {
+        let list = list();
+        let columns = default_columns(&list, &[]);
+        let mut writer =
+            LogWriter::new(Vec::new(), LogFormat::Dba, columns, &list, &header()).expect("header");
+        writer.write_row(&[1274659200.5, 0.0, 0.0]).expect("row");
+        let text = String::from_utf8(writer.finish().expect("flush")).expect("utf8");
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines[0], "dbd_label: DBD_ASC(dinkum_binary_data_ascii)file");
+        assert_eq!(lines[2], "num_ascii_tags: 14");
+        // 14 tag lines, then names, units, bytes, then the data.
+        assert!(lines[..14].iter().all(|line| line.contains(": ")));
+        assert_eq!(lines[10], "sensors_per_cycle: 3");
+        assert_eq!(lines[14], "m_present_time m_depth sci_ruhp_behs ");
+        assert_eq!(lines[15], "timestamp m enum ");
+        assert_eq!(lines[16], "8 4 4 ");
+        assert_eq!(lines[17], "1274659200.5 0 0 ");
+        assert_eq!(lines.len(), 18);
+    }
+
+    #[test]
+    fn columns_parse_by_name_and_report_unknown() {
+        let list = list();
+        assert_eq!(
+            parse_columns(&list, "M_DEPTH, sci_ruhp_behs,m_depth").expect("ok"),
+            vec![SensorId(1), SensorId(2)]
+        );
+        let error = parse_columns(&list, "m_depth,m_dpeth").expect_err("unknown");
+        assert!(error.contains("m_dpeth"), "{error}");
+        assert_eq!(
+            LogFormat::from_path(std::path::Path::new("a.DBA")),
+            Some(LogFormat::Dba)
+        );
+        assert_eq!(LogFormat::from_path(std::path::Path::new("a.txt")), None);
+    }
+}

@@ -1,0 +1,923 @@
+//! Mission files (`.mi`) and mission argument files (`.ma`): parsing and loading.
+//!
+//! Parsing never fails: it returns what it understood plus diagnostics. Each
+//! diagnostic carries the index of the source file it belongs to, so a caller
+//! can name the file, line and column. Unknown behaviors and arguments are
+//! warnings and are ignored; a missing `.ma` file or a malformed line is an
+//! error, and a mission with errors must not be flown.
+
+use std::path::{Path, PathBuf};
+
+use gloc_engine::{Diagnostic, LineIndex, Span};
+
+use crate::behaviors::BehaviorKind;
+
+/// One text a mission was read from: the `.mi` file, then each `.ma` it loaded.
+#[derive(Clone, Debug)]
+pub struct SourceFile {
+    pub path: PathBuf,
+    pub text: String,
+}
+
+/// Where something was written: a source file (index into [`Mission::sources`]) and a span.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Location {
+    pub file: usize,
+    pub span: Span,
+}
+
+/// A diagnostic about one of the mission's source files.
+#[derive(Clone, Debug)]
+pub struct MissionDiagnostic {
+    pub file: usize,
+    pub diagnostic: Diagnostic,
+}
+
+/// `sensor: NAME(UNITS) VALUE`: a sensor's initial value for this mission.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SensorSetting {
+    pub name: String,
+    pub units: String,
+    pub value: f64,
+    pub at: Location,
+}
+
+/// `b_arg: NAME(UNITS) VALUE`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Arg {
+    pub name: String,
+    pub units: String,
+    pub value: f64,
+    pub at: Location,
+}
+
+/// One `behavior:` block, with the arguments of its `.ma` file merged in.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BehaviorSpec {
+    pub kind: BehaviorKind,
+    /// The name as written.
+    pub name: String,
+    pub args: Vec<Arg>,
+    pub at: Location,
+}
+
+impl BehaviorSpec {
+    /// The argument's value as written in the mission, or `None`.
+    pub fn arg(&self, name: &str) -> Option<f64> {
+        self.args
+            .iter()
+            .rev()
+            .find(|arg| arg.name.eq_ignore_ascii_case(name))
+            .map(|arg| arg.value)
+    }
+}
+
+/// A parsed mission.
+#[derive(Clone, Debug, Default)]
+pub struct Mission {
+    /// The mission's name as the glider writes it in logs (`FIG2.MI`).
+    pub name: String,
+    pub sources: Vec<SourceFile>,
+    pub sensor_settings: Vec<SensorSetting>,
+    /// Highest priority first.
+    pub behaviors: Vec<BehaviorSpec>,
+    pub diagnostics: Vec<MissionDiagnostic>,
+}
+
+impl Mission {
+    /// Reads a `.mi` file and every `.ma` file it names (`../mafiles/` beside the
+    /// mission's folder, as on the glider). Never fails: an unreadable mission file
+    /// gives a mission with one error.
+    pub fn load(path: &Path) -> Mission {
+        Mission::load_with(path, &mut |path: &Path| std::fs::read_to_string(path))
+    }
+
+    /// As [`Mission::load`], reading files through `read` (for tests and editors).
+    pub fn load_with(
+        path: &Path,
+        read: &mut dyn FnMut(&Path) -> std::io::Result<String>,
+    ) -> Mission {
+        match read(path) {
+            Ok(text) => {
+                let mafiles = path
+                    .parent()
+                    .map(|folder| folder.join("..").join("mafiles"));
+                parse_mission(path, text, mafiles.as_deref(), read)
+            }
+            Err(error) => {
+                let mut mission = Mission {
+                    name: mission_name(path),
+                    ..Mission::default()
+                };
+                mission.sources.push(SourceFile {
+                    path: path.to_path_buf(),
+                    text: String::new(),
+                });
+                mission.diagnostics.push(MissionDiagnostic {
+                    file: 0,
+                    diagnostic: Diagnostic::error(
+                        "S0001",
+                        Span::default(),
+                        format!("cannot read mission file `{}`: {error}", path.display()),
+                    ),
+                });
+                mission
+            }
+        }
+    }
+
+    /// Parses mission text that loads no `.ma` files (an `args_from_file` is an error).
+    pub fn parse(path: impl Into<PathBuf>, text: impl Into<String>) -> Mission {
+        let path = path.into();
+        parse_mission(&path, text.into(), None, &mut |path: &Path| {
+            Err(std::io::Error::new(
+                std::io::ErrorKind::NotFound,
+                format!("no mafiles folder for `{}`", path.display()),
+            ))
+        })
+    }
+
+    pub fn has_errors(&self) -> bool {
+        self.diagnostics
+            .iter()
+            .any(|entry| entry.diagnostic.is_error())
+    }
+
+    /// `path:line:col: severity[code]: message`, one line per diagnostic, for
+    /// plain-text output and test messages.
+    pub fn render_plain(&self) -> String {
+        let mut out = String::new();
+        for entry in &self.diagnostics {
+            out.push_str(&self.render_one(entry));
+            out.push('\n');
+        }
+        out
+    }
+
+    /// One diagnostic as `path:line:col: severity[code]: message`.
+    pub fn render_one(&self, entry: &MissionDiagnostic) -> String {
+        let (path, line, column) = self.line_col(entry.file, entry.diagnostic.span);
+        let diagnostic = &entry.diagnostic;
+        let mut text = format!(
+            "{}:{line}:{column}: {}[{}]: {}",
+            path.display(),
+            diagnostic.severity,
+            diagnostic.code,
+            diagnostic.message
+        );
+        if let Some(help) = &diagnostic.help {
+            text.push_str(&format!(" (help: {help})"));
+        }
+        text
+    }
+
+    /// The file, 1-based line and column of a span in one of the sources.
+    pub fn line_col(&self, file: usize, span: Span) -> (&Path, usize, usize) {
+        match self.sources.get(file) {
+            Some(source) => {
+                let index = LineIndex::new(&source.text);
+                let (line, column) = index.line_col(&source.text, span.start as usize);
+                (source.path.as_path(), line, column)
+            }
+            None => (Path::new("<mission>"), 1, 1),
+        }
+    }
+}
+
+/// The glider's name for a mission: the file name, upper-cased (`FIG2.MI`).
+fn mission_name(path: &Path) -> String {
+    path.file_name()
+        .map(|name| name.to_string_lossy().to_ascii_uppercase())
+        .unwrap_or_else(|| "MISSION.MI".to_string())
+}
+
+/// Splits a text into lines with their byte offsets, without the line end
+/// (`\n` or `\r\n`) and with any `#` comment removed.
+fn code_lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
+    let mut offset = 0;
+    text.split_inclusive('\n').map(move |raw| {
+        let start = offset;
+        offset += raw.len();
+        let line = raw.trim_end_matches(['\n', '\r']);
+        let code = match line.find('#') {
+            Some(at) => &line[..at],
+            None => line,
+        };
+        (start, code)
+    })
+}
+
+/// A word of a line with its absolute byte offset.
+#[derive(Clone, Copy)]
+struct Word<'a> {
+    text: &'a str,
+    start: usize,
+}
+
+impl Word<'_> {
+    fn span(self) -> Span {
+        Span::new(self.start, self.start + self.text.len())
+    }
+}
+
+fn words(line_start: usize, line: &str) -> Vec<Word<'_>> {
+    let mut out = Vec::new();
+    let mut word_start = None;
+    for (at, character) in line.char_indices() {
+        if character.is_whitespace() {
+            if let Some(start) = word_start.take() {
+                out.push(Word {
+                    text: &line[start..at],
+                    start: line_start + start,
+                });
+            }
+        } else if word_start.is_none() {
+            word_start = Some(at);
+        }
+    }
+    if let Some(start) = word_start {
+        out.push(Word {
+            text: &line[start..],
+            start: line_start + start,
+        });
+    }
+    out
+}
+
+/// Parses `NAME(UNITS) VALUE` after a `sensor:` or `b_arg:` keyword.
+/// `rest` are the words after the keyword; `end` is where the line ends (for
+/// "missing" errors).
+// One error per malformed line, built once: its size does not matter here.
+#[allow(clippy::result_large_err)]
+fn parse_setting(
+    keyword: Word<'_>,
+    rest: &[Word<'_>],
+    end: usize,
+) -> Result<(String, String, f64), Diagnostic> {
+    let Some(first) = rest.first() else {
+        return Err(Diagnostic::error(
+            "S0010",
+            Span::new(end, end),
+            format!("expected `NAME(UNITS) VALUE` after `{}`", keyword.text),
+        )
+        .with_help("write for example `b_arg: overdepth(m) 30`"));
+    };
+    // The name and units are one word `name(units)`, but tolerate a space
+    // before the parenthesis as some hand-written files have.
+    let (name_units, value_words) = if !first.text.contains('(')
+        && rest.get(1).is_some_and(|next| next.text.starts_with('('))
+    {
+        let joined_end = rest[1].start + rest[1].text.len();
+        (
+            (
+                first.text.to_string() + rest[1].text,
+                first.start,
+                joined_end,
+            ),
+            &rest[2..],
+        )
+    } else {
+        (
+            (
+                first.text.to_string(),
+                first.start,
+                first.start + first.text.len(),
+            ),
+            &rest[1..],
+        )
+    };
+    let (text, start, name_end) = name_units;
+    let Some(open) = text.find('(') else {
+        return Err(Diagnostic::error(
+            "S0011",
+            Span::new(start, name_end),
+            format!("`{text}` has no units: expected `NAME(UNITS)`"),
+        )
+        .with_help(format!("write the units in parentheses, e.g. `{text}(m)`")));
+    };
+    let name = &text[..open];
+    if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
+        return Err(Diagnostic::error(
+            "S0012",
+            Span::new(start, start + open.max(1)),
+            format!("`{name}` is not a valid name: use letters, digits and `_`"),
+        ));
+    }
+    let Some(close) = text[open..].find(')').map(|at| at + open) else {
+        return Err(Diagnostic::error(
+            "S0011",
+            Span::new(start + open, name_end),
+            "unclosed `(` in the units: expected `)`",
+        ));
+    };
+    if close + 1 != text.len() {
+        return Err(Diagnostic::error(
+            "S0013",
+            Span::new(start + close + 1, name_end),
+            "unexpected text after the units: expected whitespace and a value",
+        ));
+    }
+    let units = &text[open + 1..close];
+    let Some(value_word) = value_words.first() else {
+        return Err(Diagnostic::error(
+            "S0014",
+            Span::new(end, end),
+            format!("`{name}` has no value: expected a number after `{text}`"),
+        ));
+    };
+    let value = parse_number(value_word.text).ok_or_else(|| {
+        Diagnostic::error(
+            "S0015",
+            value_word.span(),
+            format!("`{}` is not a number", value_word.text),
+        )
+        .with_help("write a decimal number such as `30`, `-1` or `0.4538`")
+    })?;
+    if let Some(extra) = value_words.get(1) {
+        return Err(Diagnostic::error(
+            "S0013",
+            extra.span(),
+            format!(
+                "unexpected `{}` after the value (start a comment with `#`)",
+                extra.text
+            ),
+        ));
+    }
+    Ok((name.to_string(), units.to_string(), value))
+}
+
+fn parse_number(text: &str) -> Option<f64> {
+    // Rust accepts `inf` and `NaN`; a mission value must be a finite number.
+    let value: f64 = text.parse().ok()?;
+    value.is_finite().then_some(value)
+}
+
+/// The `.ma` file an `args_from_file` loads: the behavior's 8.3 prefix plus the number.
+pub fn ma_file_name(behavior: &str, number: i64) -> String {
+    let lower = behavior.to_ascii_lowercase();
+    let digits = number.to_string();
+    // The glider truncates the behavior name so that prefix + number fits 8 characters.
+    let keep = 8usize.saturating_sub(digits.len()).max(1);
+    let prefix: String = lower.chars().take(keep).collect();
+    format!("{prefix}{digits}.ma")
+}
+
+struct Parser<'a> {
+    mission: Mission,
+    read: &'a mut dyn FnMut(&Path) -> std::io::Result<String>,
+    mafiles: Option<PathBuf>,
+}
+
+fn parse_mission(
+    path: &Path,
+    text: String,
+    mafiles: Option<&Path>,
+    read: &mut dyn FnMut(&Path) -> std::io::Result<String>,
+) -> Mission {
+    let mut parser = Parser {
+        mission: Mission {
+            name: mission_name(path),
+            ..Mission::default()
+        },
+        read,
+        mafiles: mafiles.map(Path::to_path_buf),
+    };
+    parser.mission.sources.push(SourceFile {
+        path: path.to_path_buf(),
+        text,
+    });
+    parser.parse_mi();
+    parser.mission
+}
+
+impl Parser<'_> {
+    fn error(&mut self, file: usize, diagnostic: Diagnostic) {
+        self.mission
+            .diagnostics
+            .push(MissionDiagnostic { file, diagnostic });
+    }
+
+    fn parse_mi(&mut self) {
+        let text = self.mission.sources[0].text.clone();
+        if text.contains('\0') {
+            let at = text.find('\0').unwrap_or(0);
+            self.error(
+                0,
+                Diagnostic::error(
+                    "S0002",
+                    Span::new(at, at + 1),
+                    "this is not a text file (it contains a NUL byte)",
+                ),
+            );
+            return;
+        }
+        for (line_start, code) in code_lines(&text) {
+            let words = words(line_start, code);
+            let Some(&keyword) = words.first() else {
+                continue;
+            };
+            let end = line_start + code.trim_end().len();
+            match keyword.text.to_ascii_lowercase().as_str() {
+                "sensor:" => match parse_setting(keyword, &words[1..], end) {
+                    Ok((name, units, value)) => self.mission.sensor_settings.push(SensorSetting {
+                        name,
+                        units,
+                        value,
+                        at: Location {
+                            file: 0,
+                            span: Span::new(keyword.start, end),
+                        },
+                    }),
+                    Err(diagnostic) => self.error(0, diagnostic),
+                },
+                "behavior:" => self.begin_behavior(&words, end),
+                "b_arg:" => match parse_setting(keyword, &words[1..], end) {
+                    Ok((name, units, value)) => {
+                        let at = Location {
+                            file: 0,
+                            span: Span::new(keyword.start, end),
+                        };
+                        self.add_arg(0, keyword, name, units, value, at);
+                    }
+                    Err(diagnostic) => self.error(0, diagnostic),
+                },
+                _ => self.error(
+                    0,
+                    Diagnostic::error(
+                        "S0003",
+                        keyword.span(),
+                        format!(
+                            "unexpected `{}`: expected `sensor:`, `behavior:` or `b_arg:`",
+                            keyword.text
+                        ),
+                    )
+                    .with_help("comment the line out with `#` if it is a note"),
+                ),
+            }
+        }
+    }
+
+    /// The behavior being filled, or `None` after an unknown behavior.
+    fn current(&mut self) -> Option<&mut BehaviorSpec> {
+        self.mission.behaviors.last_mut()
+    }
+
+    fn begin_behavior(&mut self, words: &[Word<'_>], end: usize) {
+        let keyword = words[0];
+        let Some(name) = words.get(1) else {
+            self.error(
+                0,
+                Diagnostic::error(
+                    "S0016",
+                    Span::new(end, end),
+                    "expected a behavior name after `behavior:`",
+                ),
+            );
+            self.mission.behaviors.push(unknown_spec(keyword));
+            return;
+        };
+        if let Some(extra) = words.get(2) {
+            self.error(
+                0,
+                Diagnostic::error(
+                    "S0013",
+                    extra.span(),
+                    format!("unexpected `{}` after the behavior name", extra.text),
+                ),
+            );
+        }
+        let at = Location {
+            file: 0,
+            span: Span::new(keyword.start, name.start + name.text.len()),
+        };
+        match BehaviorKind::from_name(name.text) {
+            Some(kind) => self.mission.behaviors.push(BehaviorSpec {
+                kind,
+                name: name.text.to_string(),
+                args: Vec::new(),
+                at,
+            }),
+            None => {
+                self.error(
+                    0,
+                    Diagnostic::warning(
+                        "S0101",
+                        name.span(),
+                        format!(
+                            "unknown behavior `{}`: it is ignored with its arguments",
+                            name.text
+                        ),
+                    )
+                    .with_help(format!("known behaviors: {}", BehaviorKind::all_names())),
+                );
+                self.mission.behaviors.push(unknown_spec(keyword));
+            }
+        }
+    }
+
+    fn add_arg(
+        &mut self,
+        file: usize,
+        keyword: Word<'_>,
+        name: String,
+        units: String,
+        value: f64,
+        at: Location,
+    ) {
+        let Some(current) = self.current() else {
+            self.error(
+                file,
+                Diagnostic::error(
+                    "S0017",
+                    keyword.span(),
+                    "`b_arg:` before any `behavior:` line",
+                )
+                .with_help("put the argument under the behavior it belongs to"),
+            );
+            return;
+        };
+        let kind = current.kind;
+        if kind == BehaviorKind::Unknown {
+            return;
+        }
+        let behavior_name = current.name.clone();
+        if name.eq_ignore_ascii_case("args_from_file") {
+            if file != 0 {
+                self.error(
+                    file,
+                    Diagnostic::warning(
+                        "S0102",
+                        at.span,
+                        "`args_from_file` inside a `.ma` file is ignored",
+                    ),
+                );
+                return;
+            }
+            if value >= 0.0 {
+                self.load_ma(&behavior_name, kind, value, at);
+            }
+            return;
+        }
+        if !kind.known_args().contains(&name) {
+            self.error(
+                file,
+                Diagnostic::warning(
+                    "S0103",
+                    at.span,
+                    format!(
+                        "unknown argument `{name}` for behavior `{behavior_name}`: it is ignored"
+                    ),
+                ),
+            );
+            return;
+        }
+        if let Some(current) = self.current() {
+            current.args.push(Arg {
+                name,
+                units,
+                value,
+                at,
+            });
+        }
+    }
+
+    fn load_ma(&mut self, behavior: &str, kind: BehaviorKind, value: f64, at: Location) {
+        let number = value as i64;
+        let file_name = ma_file_name(behavior, number);
+        let Some(folder) = self.mafiles.clone() else {
+            self.error(
+                at.file,
+                Diagnostic::error(
+                    "S0004",
+                    at.span,
+                    format!(
+                        "`args_from_file` needs `{file_name}`, but this mission has no mafiles folder"
+                    ),
+                ),
+            );
+            return;
+        };
+        let path = folder.join(&file_name);
+        let text = match (self.read)(&path) {
+            Ok(text) => text,
+            Err(error) => {
+                self.error(
+                    at.file,
+                    Diagnostic::error(
+                        "S0004",
+                        at.span,
+                        format!(
+                            "cannot read mission argument file `{}`: {error}",
+                            path.display()
+                        ),
+                    )
+                    .with_help(format!(
+                        "the glider looks for `mafiles/{file_name}` beside the `missions` folder"
+                    )),
+                );
+                return;
+            }
+        };
+        let file = self.mission.sources.len();
+        self.mission.sources.push(SourceFile { path, text });
+        self.parse_ma(file, kind, behavior);
+    }
+
+    fn parse_ma(&mut self, file: usize, kind: BehaviorKind, behavior: &str) {
+        let text = self.mission.sources[file].text.clone();
+        #[derive(PartialEq)]
+        enum Section {
+            Outside,
+            Args,
+            Waypoints,
+        }
+        let mut section = Section::Outside;
+        let mut saw_name = false;
+        let mut last_end = 0;
+        for (line_start, code) in code_lines(&text) {
+            let words = words(line_start, code);
+            let Some(&first) = words.first() else {
+                continue;
+            };
+            last_end = line_start + code.trim_end().len();
+            let lower = first.text.to_ascii_lowercase();
+            match lower.as_str() {
+                "<start:b_arg>" | "<start:waypoints>" if section != Section::Outside => {
+                    self.error(
+                        file,
+                        Diagnostic::error(
+                            "S0021",
+                            first.span(),
+                            format!("`{}` inside another section: close it first", first.text),
+                        ),
+                    );
+                }
+                "<start:b_arg>" => section = Section::Args,
+                "<start:waypoints>" => section = Section::Waypoints,
+                "<end:b_arg>" if section == Section::Args => section = Section::Outside,
+                "<end:waypoints>" if section == Section::Waypoints => section = Section::Outside,
+                "<end:b_arg>" | "<end:waypoints>" => self.error(
+                    file,
+                    Diagnostic::error(
+                        "S0022",
+                        first.span(),
+                        format!("`{}` without a matching start", first.text),
+                    ),
+                ),
+                _ if lower.starts_with("behavior_name=") && section == Section::Outside => {
+                    saw_name = true;
+                    let named = &first.text["behavior_name=".len()..];
+                    if BehaviorKind::from_name(named) != Some(kind) {
+                        self.error(
+                            file,
+                            Diagnostic::warning(
+                                "S0104",
+                                first.span(),
+                                format!(
+                                    "this file is for behavior `{named}`, but behavior `{behavior}` loads it"
+                                ),
+                            ),
+                        );
+                    }
+                }
+                "b_arg:" if section == Section::Args => {
+                    match parse_setting(first, &words[1..], last_end) {
+                        Ok((name, units, value)) => {
+                            let at = Location {
+                                file,
+                                span: Span::new(first.start, last_end),
+                            };
+                            self.add_arg(file, first, name, units, value, at);
+                        }
+                        Err(diagnostic) => self.error(file, diagnostic),
+                    }
+                }
+                _ if section == Section::Waypoints => {
+                    // `lon lat` in DDDMM.MMMM; accepted and checked, not flown
+                    // (horizontal position is not modelled).
+                    let numbers_ok = words.len() == 2
+                        && words.iter().all(|word| parse_number(word.text).is_some());
+                    if !numbers_ok {
+                        self.error(
+                            file,
+                            Diagnostic::error(
+                                "S0023",
+                                first.span(),
+                                "expected a waypoint `LON LAT` (DDDMM.MMMM DDMM.MMMM)",
+                            ),
+                        );
+                    }
+                }
+                _ => self.error(
+                    file,
+                    Diagnostic::error(
+                        "S0024",
+                        first.span(),
+                        format!(
+                            "unexpected `{}`: expected `behavior_name=`, `<start:b_arg>`, `b_arg:` or `<end:b_arg>`",
+                            first.text
+                        ),
+                    ),
+                ),
+            }
+        }
+        if section != Section::Outside {
+            self.error(
+                file,
+                Diagnostic::error(
+                    "S0025",
+                    Span::new(last_end, last_end),
+                    "the file ends inside a section: expected `<end:b_arg>` or `<end:waypoints>`",
+                ),
+            );
+        }
+        if !saw_name {
+            self.error(
+                file,
+                Diagnostic::warning(
+                    "S0105",
+                    Span::default(),
+                    format!("no `behavior_name=` line (loaded for `{behavior}`)"),
+                ),
+            );
+        }
+    }
+}
+
+fn unknown_spec(keyword: Word<'_>) -> BehaviorSpec {
+    BehaviorSpec {
+        kind: BehaviorKind::Unknown,
+        name: String::new(),
+        args: Vec::new(),
+        at: Location {
+            file: 0,
+            span: keyword.span(),
+        },
+    }
+}
+
+/// Removes the placeholders that unknown `behavior:` blocks leave (they keep
+/// later `b_arg:` lines from attaching to the previous behavior).
+pub(crate) fn known_behaviors(mission: &Mission) -> impl Iterator<Item = &BehaviorSpec> {
+    mission
+        .behaviors
+        .iter()
+        .filter(|spec| spec.kind != BehaviorKind::Unknown)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn errors(mission: &Mission) -> Vec<String> {
+        mission
+            .diagnostics
+            .iter()
+            .map(|entry| mission.render_one(entry))
+            .collect()
+    }
+
+    #[test]
+    fn parses_sensors_behaviors_and_args() {
+        let mission = Mission::parse(
+            "m.mi",
+            "# comment\nsensor: u_cycle_time(sec) 4.0 # four\nbehavior: abend\n  b_arg: overdepth(m) 30\nbehavior: yo\n\tb_arg: d_target_depth(m) 25\n",
+        );
+        assert!(mission.diagnostics.is_empty(), "{:?}", errors(&mission));
+        assert_eq!(mission.name, "M.MI");
+        assert_eq!(mission.sensor_settings[0].name, "u_cycle_time");
+        assert_eq!(mission.sensor_settings[0].value, 4.0);
+        assert_eq!(mission.behaviors.len(), 2);
+        assert_eq!(mission.behaviors[0].kind, BehaviorKind::Abend);
+        assert_eq!(mission.behaviors[0].arg("overdepth"), Some(30.0));
+        assert_eq!(mission.behaviors[1].arg("d_target_depth"), Some(25.0));
+    }
+
+    #[test]
+    fn malformed_value_gives_line_and_column() {
+        let mission = Mission::parse(
+            "bad.mi",
+            "behavior: abend\n    b_arg: overdepth(m) thirty\n",
+        );
+        let messages = errors(&mission);
+        assert_eq!(messages.len(), 1, "{messages:?}");
+        // `thirty` starts at column 25 of line 2 (4 spaces + `b_arg: ` + `overdepth(m) `).
+        assert!(
+            messages[0].starts_with("bad.mi:2:25: error[S0015]: `thirty` is not a number"),
+            "{}",
+            messages[0]
+        );
+        assert!(mission.has_errors());
+    }
+
+    #[test]
+    fn missing_units_and_unexpected_lines_are_errors() {
+        let mission = Mission::parse(
+            "bad.mi",
+            "behavior: yo\nb_arg: d_target_depth 25\nfly fast\n",
+        );
+        let messages = errors(&mission);
+        assert_eq!(messages.len(), 2, "{messages:?}");
+        assert!(
+            messages[0].starts_with("bad.mi:2:8: error[S0011]"),
+            "{}",
+            messages[0]
+        );
+        assert!(
+            messages[1].starts_with("bad.mi:3:1: error[S0003]"),
+            "{}",
+            messages[1]
+        );
+    }
+
+    #[test]
+    fn unknown_behavior_and_argument_are_warnings_with_line() {
+        let mission = Mission::parse(
+            "w.mi",
+            "behavior: yo\n  b_arg: bogus(m) 1\nbehavior: teleport\n  b_arg: where(m) 3\nbehavior: abend\n  b_arg: overdepth(m) 30\n",
+        );
+        let messages = errors(&mission);
+        assert_eq!(messages.len(), 2, "{messages:?}");
+        assert!(messages[0].starts_with("w.mi:2:3: warning[S0103]: unknown argument `bogus`"));
+        assert!(messages[1].starts_with("w.mi:3:11: warning[S0101]: unknown behavior `teleport`"));
+        assert!(!mission.has_errors());
+        let kinds: Vec<_> = known_behaviors(&mission).map(|spec| spec.kind).collect();
+        assert_eq!(kinds, vec![BehaviorKind::Yo, BehaviorKind::Abend]);
+        // The argument under the unknown behavior did not attach to `yo`.
+        assert_eq!(mission.behaviors[0].args.len(), 0);
+    }
+
+    #[test]
+    fn ma_file_names_follow_the_8_3_rule() {
+        assert_eq!(ma_file_name("yo", 10), "yo10.ma");
+        assert_eq!(ma_file_name("goto_list", 10), "goto_l10.ma");
+        assert_eq!(ma_file_name("surface", 11), "surfac11.ma");
+        assert_eq!(ma_file_name("sample", 13), "sample13.ma");
+        assert_eq!(ma_file_name("set_heading", 5), "set_hea5.ma");
+    }
+
+    #[test]
+    fn missing_ma_file_is_an_error_naming_it() {
+        let mission = Mission::load_with(Path::new("/m/missions/x.mi"), &mut |path: &Path| {
+            if path.ends_with("x.mi") {
+                Ok("behavior: yo\n  b_arg: args_from_file(enum) 12\n".to_string())
+            } else {
+                Err(std::io::Error::new(
+                    std::io::ErrorKind::NotFound,
+                    "not found",
+                ))
+            }
+        });
+        let messages = errors(&mission);
+        assert_eq!(messages.len(), 1, "{messages:?}");
+        assert!(messages[0].contains("error[S0004]"), "{}", messages[0]);
+        assert!(
+            messages[0].contains("/m/missions/../mafiles/yo12.ma"),
+            "{}",
+            messages[0]
+        );
+        assert!(
+            messages[0].starts_with("/m/missions/x.mi:2:3"),
+            "{}",
+            messages[0]
+        );
+    }
+
+    #[test]
+    fn ma_args_merge_and_bad_ma_lines_name_the_ma_file() {
+        let mission = Mission::load_with(Path::new("/m/missions/x.mi"), &mut |path: &Path| {
+            if path.ends_with("x.mi") {
+                Ok("behavior: yo\n  b_arg: args_from_file(enum) 3\n".to_string())
+            } else {
+                Ok("behavior_name=Yo\n<start:b_arg>\n b_arg: d_target_depth(m) 17\n b_arg: c_target_depth(m) x\n<end:b_arg>\n".to_string())
+            }
+        });
+        let messages = errors(&mission);
+        assert_eq!(messages.len(), 1, "{messages:?}");
+        assert!(
+            messages[0].starts_with("/m/missions/../mafiles/yo3.ma:4:27: error[S0015]"),
+            "{}",
+            messages[0]
+        );
+        assert_eq!(mission.behaviors[0].arg("d_target_depth"), Some(17.0));
+    }
+
+    #[test]
+    fn garbage_never_panics() {
+        for text in [
+            "\0\u{1}\u{2}",
+            "b_arg:",
+            "sensor: (",
+            "sensor: a(",
+            "behavior:",
+            "sensor: x(m) 1 2",
+            "b_arg: a(m) 1",
+            "\u{feff}é(",
+            "behavior: yo\nb_arg: a(b)c 1",
+        ] {
+            let mission = Mission::parse("g.mi", text);
+            let _ = mission.render_plain();
+            assert!(mission.has_errors(), "{text:?} should be an error");
+        }
+    }
+}

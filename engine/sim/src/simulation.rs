@@ -1,0 +1,882 @@
+//! The simulation: sensor array, behavior stack, script, vehicle and water,
+//! advanced one control cycle at a time in phases a debugger can stop between.
+//!
+//! A cycle is three phases:
+//! 1. [`Simulation::begin_cycle`]: the clock advances, the measured sensors are
+//!    published, and the behaviors *below* the script step (layered control
+//!    runs bottom-up). This is the **cycle boundary** a debugger stops at: the
+//!    script has not run yet in this cycle.
+//! 2. The script's share: [`Simulation::run_script`] (to its `yield`), or
+//!    [`Simulation::script_step`] one instruction at a time.
+//! 3. [`Simulation::finish_cycle`]: the rest of the script's share if any, the
+//!    behaviors above the script, arbitration, and the flight model.
+//!
+//! [`Simulation::step_cycle`] does all three. Everything is `Clone` and
+//! deterministic from the seed, so a debugger can snapshot and replay.
+//! Nothing here allocates per cycle in steady state: per-cycle outputs live in
+//! buffers that are cleared, not freed.
+
+use std::sync::Arc;
+
+use gloc_engine::program::Program;
+use gloc_engine::sensors::{SensorId, SensorList};
+use gloc_engine::vm::{CycleEnd, Host, Machine, MachineConfig, Status, Trap};
+
+use crate::behaviors::{
+    build_stack, condition_is_modelled, AbortReason, Behavior, BehaviorEvent, BehaviorKind,
+    Commands, HookSensors, Outcome, ScriptPlacement, World,
+};
+use crate::environment::{Rng, TemperatureProfile};
+use crate::flight::{EnergyParams, FlightParams, Vehicle};
+use crate::mission::Mission;
+
+/// Settings of a run that are not in the mission.
+#[derive(Clone, Debug)]
+pub struct SimConfig {
+    pub seed: u64,
+    /// Water depth (m). `None`: the mission's `s_water_depth_avg`, else 40 m.
+    pub water_depth: Option<f64>,
+    /// `None`: the built-in summer shelf profile, shaped by the mission's
+    /// `s_water_temp_surface`, `s_water_temp_bottom`, `s_water_temp_depth_inft`
+    /// and `s_water_temp_depth_infb` when it sets them.
+    pub profile: Option<TemperatureProfile>,
+    pub flight: FlightParams,
+    pub energy: EnergyParams,
+    /// Per-cycle instruction budget of the script.
+    pub cycle_budget: u64,
+    /// Seconds at the surface until the simulated GPS has a fix.
+    pub gps_fix_time: f64,
+    /// `m_present_time` at the start (Unix seconds). Fixed by default so that
+    /// runs are reproducible.
+    pub start_time: f64,
+    /// Standard deviation of the CTD temperature noise (°C).
+    pub temperature_noise: f64,
+    /// Standard deviation of the CTD pressure noise (bar).
+    pub pressure_noise: f64,
+}
+
+impl Default for SimConfig {
+    fn default() -> SimConfig {
+        SimConfig {
+            seed: 1,
+            water_depth: None,
+            profile: None,
+            flight: FlightParams::default(),
+            energy: EnergyParams::default(),
+            cycle_budget: gloc_engine::vm::DEFAULT_CYCLE_BUDGET,
+            gps_fix_time: 60.0,
+            // 2010-05-24 00:00:00 UTC, the paper's era.
+            start_time: 1_274_659_200.0,
+            temperature_noise: 0.01,
+            pressure_noise: 0.001,
+        }
+    }
+}
+
+/// Water depth when neither the run nor the mission gives one (m).
+pub const DEFAULT_WATER_DEPTH: f64 = 40.0;
+
+/// Why a simulation cannot start.
+#[derive(Debug, thiserror::Error)]
+pub enum SimError {
+    #[error("the mission has errors:\n{0}")]
+    MissionErrors(String),
+    #[error("the mission has no behaviors")]
+    EmptyMission,
+}
+
+/// How the mission ended (or is ending).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum EndReason {
+    /// A surface behavior with `end_action` 0 finished.
+    Completed,
+    /// abend aborted the mission; the glider climbs to the surface.
+    Aborted(AbortReason),
+}
+
+impl std::fmt::Display for EndReason {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            EndReason::Completed => f.write_str("completed (surfaced with end_action quit)"),
+            EndReason::Aborted(reason) => write!(f, "aborted: {}", reason.glider_name()),
+        }
+    }
+}
+
+/// The end of the mission and when it was decided.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MissionEnd {
+    pub reason: EndReason,
+    pub cycle: u64,
+    /// Mission seconds.
+    pub time: f64,
+    /// Depth when it was decided.
+    pub depth: f64,
+}
+
+/// Where the cycle stands.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Phase {
+    /// Between cycles: `begin_cycle` comes next.
+    BetweenCycles,
+    /// At the cycle boundary: sensors published, the script's share not started.
+    Boundary,
+    /// The script has executed some instructions of this cycle's share.
+    ScriptRunning,
+    /// The script's share is over (yield, halt, trap, or no script).
+    ScriptDone,
+    /// The simulation is over: the mission ended and the glider is at the surface.
+    Finished,
+}
+
+/// Indices of the sensors the simulator publishes or reads, resolved by name
+/// once at construction. `None`: the active list lacks the sensor, and it is
+/// simply not published.
+#[derive(Clone, Copy, Debug, Default)]
+struct SensorSlots {
+    present_time: Option<usize>,
+    cycle_number: Option<usize>,
+    depth: Option<usize>,
+    pressure: Option<usize>,
+    depth_rate: Option<usize>,
+    pitch: Option<usize>,
+    altitude: Option<usize>,
+    water_depth: Option<usize>,
+    battery: Option<usize>,
+    coulomb: Option<usize>,
+    speed: Option<usize>,
+    ballast: Option<usize>,
+    inflections: Option<usize>,
+    water_temp: Option<usize>,
+    water_pressure: Option<usize>,
+    sci_present_time: Option<usize>,
+    c_pitch: Option<usize>,
+    c_ballast: Option<usize>,
+    hook: HookSensors,
+}
+
+impl SensorSlots {
+    fn resolve(list: &SensorList) -> SensorSlots {
+        let find = |name: &str| list.lookup(name).map(SensorId::index);
+        SensorSlots {
+            present_time: find("m_present_time"),
+            cycle_number: find("m_cycle_number"),
+            depth: find("m_depth"),
+            pressure: find("m_pressure"),
+            depth_rate: find("m_depth_rate"),
+            pitch: find("m_pitch"),
+            altitude: find("m_altitude"),
+            water_depth: find("m_water_depth"),
+            battery: find("m_battery"),
+            coulomb: find("m_coulomb_amphr_total"),
+            speed: find("m_speed"),
+            ballast: find("m_ballast_pumped"),
+            inflections: find("m_tot_num_inflections"),
+            water_temp: find("sci_water_temp"),
+            water_pressure: find("sci_water_pressure"),
+            sci_present_time: find("sci_m_present_time"),
+            c_pitch: find("c_pitch"),
+            c_ballast: find("c_ballast_pumped"),
+            hook: HookSensors {
+                behs: find("sci_ruhp_behs"),
+                dive_depth: find("sci_ruhp_dive_depth"),
+                climb_depth: find("sci_ruhp_climb_depth"),
+            },
+        }
+    }
+}
+
+/// Sensor values the simulator gives before the mission's `sensor:` lines when
+/// the sensor list has no default of its own.
+const SIM_DEFAULTS: &[(&str, f64)] = &[
+    ("u_cycle_time", 4.0),
+    ("u_reqd_depth_at_surface", 2.0),
+    ("f_nominal_pitch", 0.4538),
+    ("f_nominal_dive_rate", 0.15),
+    ("m_battery", 15.0),
+];
+
+/// The script behavior's machine and what it did.
+#[derive(Clone, Debug)]
+struct Script {
+    machine: Machine,
+    /// The last end of a share (for the summary and the debugger).
+    last_end: Option<CycleEnd>,
+}
+
+/// A running simulation. See the module documentation for the phases.
+#[derive(Clone, Debug)]
+pub struct Simulation {
+    sensor_list: Arc<SensorList>,
+    mission_name: String,
+    sensors: Vec<f64>,
+    slots: SensorSlots,
+    behaviors: Vec<Behavior>,
+    /// Index of the script behavior in `behaviors` (top first), if it runs.
+    script_index: Option<usize>,
+    script: Option<Script>,
+    vehicle: Vehicle,
+    flight: FlightParams,
+    energy: EnergyParams,
+    profile: TemperatureProfile,
+    water_depth: f64,
+    cycle_time: f64,
+    surface_depth: f64,
+    start_time: f64,
+    temperature_noise: f64,
+    pressure_noise: f64,
+    rng: Rng,
+    /// Cycles begun so far; the current cycle's number while one is under way.
+    cycle: u64,
+    /// Mission seconds at the start of the current cycle.
+    time: f64,
+    phase: Phase,
+    commands: Commands,
+    last_surface_time: f64,
+    end: Option<MissionEnd>,
+    /// Per-cycle outputs (cleared each cycle, capacity kept).
+    printed: String,
+    stored: Vec<SensorId>,
+    events: Vec<BehaviorEvent>,
+    warnings: Vec<String>,
+    min_depth: f64,
+    max_depth: f64,
+}
+
+impl Simulation {
+    /// Sets up a mission. `script` is the checked program of the `gloc`
+    /// behavior; without one, a `behavior: gloc` in the mission stays idle.
+    pub fn new(
+        mission: &Mission,
+        sensor_list: Arc<SensorList>,
+        script: Option<Arc<Program>>,
+        config: &SimConfig,
+    ) -> Result<Simulation, SimError> {
+        if mission.has_errors() {
+            return Err(SimError::MissionErrors(mission.render_plain()));
+        }
+        let mut warnings = Vec::new();
+        let mut sensors = sensor_list.initial_values();
+        for &(name, value) in SIM_DEFAULTS {
+            if let Some(id) = sensor_list.lookup(name) {
+                if sensor_list
+                    .get(id)
+                    .is_some_and(|sensor| sensor.default.is_none())
+                {
+                    sensors[id.index()] = value;
+                }
+            }
+        }
+        let mut mission_set = |name: &str| -> Option<f64> {
+            mission
+                .sensor_settings
+                .iter()
+                .rev()
+                .find(|setting| setting.name.eq_ignore_ascii_case(name))
+                .map(|setting| setting.value)
+        };
+        for setting in &mission.sensor_settings {
+            match sensor_list.lookup(&setting.name) {
+                Some(id) => sensors[id.index()] = setting.value,
+                None => {
+                    let (path, line, column) = mission.line_col(setting.at.file, setting.at.span);
+                    warnings.push(format!(
+                        "{}:{line}:{column}: warning: sensor `{}` is not in the sensor list; the setting is ignored",
+                        path.display(),
+                        setting.name
+                    ));
+                }
+            }
+        }
+        let water_depth = config
+            .water_depth
+            .or_else(|| mission_set("s_water_depth_avg").filter(|depth| *depth > 0.0))
+            .unwrap_or(DEFAULT_WATER_DEPTH);
+        let profile = match &config.profile {
+            Some(profile) => profile.clone(),
+            None => shelf_profile(&mut mission_set),
+        };
+        let read = |name: &str, fallback: f64| {
+            sensor_list
+                .lookup(name)
+                .map(|id| sensors[id.index()])
+                .filter(|value| *value > 0.0)
+                .unwrap_or(fallback)
+        };
+        let cycle_time = read("u_cycle_time", 4.0);
+        let surface_depth = read("u_reqd_depth_at_surface", 2.0);
+
+        // b_arg values ≥ 1,000,000 name u_mission_param_a … _x.
+        let param_values: Vec<Option<f64>> = (b'a'..=b'x')
+            .map(|letter| {
+                sensor_list
+                    .lookup(&format!("u_mission_param_{}", letter as char))
+                    .map(|id| sensors[id.index()])
+            })
+            .collect();
+        let param = |value: f64| -> f64 {
+            if value >= 1_000_000.0 {
+                let slot = (value - 1_000_000.0) as usize;
+                param_values.get(slot).copied().flatten().unwrap_or(value)
+            } else {
+                value
+            }
+        };
+        let placement = if script.is_some() {
+            ScriptPlacement::Insert
+        } else {
+            ScriptPlacement::None
+        };
+        let behaviors = build_stack(mission, &param, config.gps_fix_time, placement);
+        if behaviors.is_empty() {
+            return Err(SimError::EmptyMission);
+        }
+        for spec in crate::mission::known_behaviors(mission) {
+            for name in ["start_when", "stop_when"] {
+                if let Some(code) = spec.arg(name) {
+                    if !condition_is_modelled(code as i64) {
+                        let (path, line, column) = mission.line_col(spec.at.file, spec.at.span);
+                        warnings.push(format!(
+                            "{}:{line}:{column}: warning: {} {name} {code} is not modelled by the simulator: it never holds",
+                            path.display(),
+                            spec.name
+                        ));
+                    }
+                }
+            }
+        }
+        let slots = SensorSlots::resolve(&sensor_list);
+        if behaviors
+            .iter()
+            .any(|behavior| behavior.kind == BehaviorKind::Hook)
+            && slots.hook.behs.is_none()
+        {
+            warnings.push(
+                "warning: the sensor list has no `sci_ruhp_behs`: the hook behavior will command nothing"
+                    .to_string(),
+            );
+        }
+        let script_index = match script {
+            Some(_) => behaviors
+                .iter()
+                .position(|behavior| behavior.kind == BehaviorKind::Gloc),
+            None => None,
+        };
+        let script = script.map(|program| Script {
+            machine: Machine::new(
+                program,
+                MachineConfig {
+                    cycle_budget: config.cycle_budget,
+                },
+            ),
+            last_end: None,
+        });
+        // Floating at the surface, pump full out.
+        let mut vehicle = Vehicle::default();
+        vehicle.ballast = config.flight.pump_max;
+        Ok(Simulation {
+            sensor_list,
+            mission_name: mission.name.clone(),
+            sensors,
+            slots,
+            behaviors,
+            script_index,
+            script,
+            vehicle,
+            flight: config.flight.clone(),
+            energy: config.energy.clone(),
+            profile,
+            water_depth,
+            cycle_time,
+            surface_depth,
+            start_time: config.start_time,
+            temperature_noise: config.temperature_noise,
+            pressure_noise: config.pressure_noise,
+            rng: Rng::new(config.seed),
+            cycle: 0,
+            time: 0.0,
+            phase: Phase::BetweenCycles,
+            commands: Commands::default(),
+            last_surface_time: 0.0,
+            end: None,
+            printed: String::with_capacity(256),
+            stored: Vec::with_capacity(16),
+            events: Vec::with_capacity(16),
+            warnings,
+            min_depth: 0.0,
+            max_depth: 0.0,
+        })
+    }
+
+    /// Runs one whole control cycle. False once the simulation is finished.
+    pub fn step_cycle(&mut self) -> bool {
+        if !self.begin_cycle() {
+            return false;
+        }
+        self.run_script();
+        self.finish_cycle();
+        true
+    }
+
+    /// Phase 1: advance the clock, publish the measured sensors, step the
+    /// behaviors below the script. False (and nothing done) once finished.
+    /// Calling it again at the boundary is a no-op.
+    pub fn begin_cycle(&mut self) -> bool {
+        match self.phase {
+            Phase::Finished => return false,
+            Phase::BetweenCycles => {}
+            _ => return true,
+        }
+        self.time = self.cycle as f64 * self.cycle_time;
+        self.printed.clear();
+        self.stored.clear();
+        self.events.clear();
+        self.commands = Commands::default();
+        if self.vehicle.depth <= SURFACED_DEPTH {
+            self.last_surface_time = self.time;
+        }
+        self.publish();
+        let below = match self.script_index {
+            Some(index) => index + 1,
+            None => 0,
+        };
+        self.step_behaviors(below, self.behaviors.len());
+        self.phase = Phase::Boundary;
+        if self.script_index.is_none() {
+            self.phase = Phase::ScriptDone;
+        }
+        true
+    }
+
+    /// Phase 2: the script's share of this cycle, to its `yield` (or halt,
+    /// trap, overrun). `None` when no script runs this cycle (none loaded, its
+    /// behavior not active, already halted or trapped, the mission aborting).
+    pub fn run_script(&mut self) -> Option<CycleEnd> {
+        if !self.enter_script() {
+            return None;
+        }
+        let end = {
+            let (machine, mut host) = self.script_parts()?;
+            machine.run_cycle(&mut host)
+        };
+        self.end_script_share(end);
+        Some(end)
+    }
+
+    /// Executes one script instruction (for a debugger). `None`: the share
+    /// goes on; `Some(end)`: the share is over (or there is none to run:
+    /// then `Some(CycleEnd::Yielded)`).
+    pub fn script_step(&mut self) -> Option<CycleEnd> {
+        if !self.enter_script() {
+            return Some(CycleEnd::Yielded);
+        }
+        let step = {
+            let (machine, mut host) = self.script_parts()?;
+            machine.step(&mut host)
+        };
+        match step {
+            None => {
+                self.phase = Phase::ScriptRunning;
+                None
+            }
+            Some(end) => {
+                self.end_script_share(end);
+                Some(end)
+            }
+        }
+    }
+
+    /// The script's machine and a [`Host`] view of the sensor array, for a
+    /// debugger that inspects or drives the machine itself. Prefer
+    /// [`Simulation::script_step`] to step, so the cycle's phase stays right.
+    pub fn script_parts(&mut self) -> Option<(&mut Machine, SimHost<'_>)> {
+        let script = self.script.as_mut()?;
+        Some((
+            &mut script.machine,
+            SimHost {
+                sensors: &mut self.sensors,
+                printed: &mut self.printed,
+                stored: &mut self.stored,
+            },
+        ))
+    }
+
+    /// Phase 3: the rest of the script's share (if a debugger left it
+    /// unfinished), the behaviors above the script, arbitration, and the
+    /// flight model for one cycle.
+    pub fn finish_cycle(&mut self) {
+        if self.phase == Phase::Finished {
+            return;
+        }
+        if self.phase == Phase::BetweenCycles && !self.begin_cycle() {
+            return;
+        }
+        if self.phase != Phase::ScriptDone {
+            self.run_script();
+        }
+        if let Some(index) = self.script_index {
+            self.step_behaviors(0, index);
+        }
+        let aborting = matches!(
+            self.end,
+            Some(MissionEnd {
+                reason: EndReason::Aborted(_),
+                ..
+            })
+        );
+        let (buoyancy, pitch) = if aborting {
+            // An abort surfaces the glider whatever the behaviors want.
+            (self.flight.pump_max, crate::behaviors::NOMINAL_PITCH)
+        } else {
+            (
+                self.commands
+                    .buoyancy
+                    .map(|(value, _)| value)
+                    .unwrap_or(self.vehicle.ballast),
+                self.commands
+                    .pitch
+                    .map(|(value, _)| value)
+                    .unwrap_or(self.vehicle.pitch),
+            )
+        };
+        if let Some(index) = self.slots.c_pitch {
+            self.sensors[index] = pitch;
+        }
+        if let Some(index) = self.slots.c_ballast {
+            self.sensors[index] = buoyancy;
+        }
+        self.vehicle.fly(
+            self.cycle_time,
+            buoyancy,
+            pitch,
+            self.water_depth,
+            &self.flight,
+            &self.energy,
+        );
+        self.min_depth = self.min_depth.min(self.vehicle.depth);
+        self.max_depth = self.max_depth.max(self.vehicle.depth);
+        self.cycle += 1;
+        self.phase = match self.end {
+            Some(end) if !matches!(end.reason, EndReason::Aborted(_)) => Phase::Finished,
+            Some(_) if self.vehicle.depth <= SURFACED_DEPTH => Phase::Finished,
+            _ => Phase::BetweenCycles,
+        };
+    }
+
+    fn enter_script(&mut self) -> bool {
+        match self.phase {
+            Phase::Boundary | Phase::ScriptRunning => {}
+            _ => return false,
+        }
+        let Some(index) = self.script_index else {
+            self.phase = Phase::ScriptDone;
+            return false;
+        };
+        if self.phase == Phase::Boundary {
+            // The script behavior's own state machine (start_when/stop_when).
+            self.step_behaviors(index, index + 1);
+        }
+        let runnable = self.end.is_none()
+            && self.behaviors[index].is_active()
+            && self
+                .script
+                .as_ref()
+                .is_some_and(|script| script.machine.status() == Status::Running);
+        if !runnable {
+            self.phase = Phase::ScriptDone;
+        }
+        runnable
+    }
+
+    fn end_script_share(&mut self, end: CycleEnd) {
+        if let Some(script) = self.script.as_mut() {
+            script.last_end = Some(end);
+        }
+        self.phase = Phase::ScriptDone;
+    }
+
+    /// Steps behaviors `from..to` (indices top first) bottom-up.
+    fn step_behaviors(&mut self, from: usize, to: usize) {
+        if self.end.is_some() {
+            return;
+        }
+        let mut world = World {
+            time: self.time,
+            depth: self.vehicle.depth,
+            depth_rate: self.vehicle.depth_rate,
+            altitude: (self.water_depth - self.vehicle.depth).max(0.0),
+            last_surface_time: self.last_surface_time,
+            surface_depth: self.surface_depth,
+            sensors: &mut self.sensors,
+            hook_sensors: self.slots.hook,
+            commands: &mut self.commands,
+        };
+        for index in (from..to).rev() {
+            let outcome = self.behaviors[index].step(index, &mut world, &mut self.events);
+            let reason = match outcome {
+                Outcome::Continue => continue,
+                Outcome::Abort(reason) => EndReason::Aborted(reason),
+                Outcome::MissionComplete => EndReason::Completed,
+            };
+            self.end = Some(MissionEnd {
+                reason,
+                cycle: self.cycle,
+                time: self.time,
+                depth: self.vehicle.depth,
+            });
+            return;
+        }
+    }
+
+    /// Writes the measured sensors for the start of this cycle.
+    fn publish(&mut self) {
+        let vehicle = self.vehicle;
+        let slots = self.slots;
+        let present = self.start_time + self.time;
+        let altitude = (self.water_depth - vehicle.depth).max(0.0);
+        let temperature =
+            self.profile.temperature(vehicle.depth) + self.temperature_noise * self.rng.normal();
+        let pressure = vehicle.depth / 10.0 + self.pressure_noise * self.rng.normal();
+        let volts = vehicle.battery_volts(&self.energy);
+        let sensors = &mut self.sensors;
+        let mut put = |slot: Option<usize>, value: f64| {
+            if let Some(index) = slot {
+                sensors[index] = value;
+            }
+        };
+        put(slots.present_time, present);
+        put(slots.sci_present_time, present);
+        put(slots.cycle_number, self.cycle as f64);
+        put(slots.depth, vehicle.depth);
+        put(slots.pressure, vehicle.depth / 10.0);
+        put(slots.depth_rate, vehicle.depth_rate);
+        put(slots.pitch, vehicle.pitch);
+        put(slots.altitude, altitude);
+        put(slots.water_depth, self.water_depth);
+        put(slots.battery, volts);
+        put(slots.coulomb, vehicle.amp_hours);
+        put(slots.speed, vehicle.speed);
+        put(slots.ballast, vehicle.ballast);
+        put(slots.inflections, vehicle.inflections as f64);
+        put(slots.water_temp, temperature);
+        put(slots.water_pressure, pressure.max(0.0));
+    }
+
+    // ----- accessors -----
+
+    /// The cycle under way, or the next one between cycles (0-based).
+    pub fn cycle(&self) -> u64 {
+        self.cycle
+    }
+
+    /// Cycles completed.
+    pub fn cycles_done(&self) -> u64 {
+        match self.phase {
+            Phase::BetweenCycles | Phase::Finished => self.cycle,
+            _ => self.cycle,
+        }
+    }
+
+    /// Mission seconds at the start of the current cycle (between cycles: of the next).
+    pub fn time(&self) -> f64 {
+        match self.phase {
+            Phase::BetweenCycles | Phase::Finished => self.cycle as f64 * self.cycle_time,
+            _ => self.time,
+        }
+    }
+
+    /// `m_present_time` (Unix seconds) matching [`Simulation::time`].
+    pub fn present_time(&self) -> f64 {
+        self.start_time + self.time()
+    }
+
+    pub fn cycle_time(&self) -> f64 {
+        self.cycle_time
+    }
+
+    pub fn phase(&self) -> Phase {
+        self.phase
+    }
+
+    pub fn is_finished(&self) -> bool {
+        self.phase == Phase::Finished
+    }
+
+    pub fn depth(&self) -> f64 {
+        self.vehicle.depth
+    }
+
+    pub fn pitch(&self) -> f64 {
+        self.vehicle.pitch
+    }
+
+    pub fn vehicle(&self) -> &Vehicle {
+        &self.vehicle
+    }
+
+    pub fn water_depth(&self) -> f64 {
+        self.water_depth
+    }
+
+    pub fn energy_joules(&self) -> f64 {
+        self.vehicle.energy_joules
+    }
+
+    pub fn amp_hours(&self) -> f64 {
+        self.vehicle.amp_hours
+    }
+
+    /// (shallowest, deepest) depth flown so far.
+    pub fn depth_range(&self) -> (f64, f64) {
+        (self.min_depth, self.max_depth)
+    }
+
+    /// How the mission ended, once it has.
+    pub fn end(&self) -> Option<MissionEnd> {
+        self.end
+    }
+
+    /// The behaviors, highest priority first.
+    pub fn behaviors(&self) -> &[Behavior] {
+        &self.behaviors
+    }
+
+    /// Names of the active behaviors, highest priority first.
+    pub fn active_behaviors(&self) -> impl Iterator<Item = &str> {
+        self.behaviors
+            .iter()
+            .filter(|behavior| behavior.is_active())
+            .map(|behavior| behavior.name.as_str())
+    }
+
+    /// This cycle's commands so far (the winners, with the behavior index).
+    pub fn commands(&self) -> &Commands {
+        &self.commands
+    }
+
+    /// What behaviors did this cycle (starts, completions, turns).
+    pub fn events(&self) -> &[BehaviorEvent] {
+        &self.events
+    }
+
+    /// The sensor array, indexed by `SensorId`.
+    pub fn sensors(&self) -> &[f64] {
+        &self.sensors
+    }
+
+    pub fn sensor(&self, id: SensorId) -> Option<f64> {
+        self.sensors.get(id.index()).copied()
+    }
+
+    /// Sets a sensor (a debugger injecting a value). False when out of range.
+    pub fn set_sensor(&mut self, id: SensorId, value: f64) -> bool {
+        match self.sensors.get_mut(id.index()) {
+            Some(slot) => {
+                *slot = value;
+                true
+            }
+            None => false,
+        }
+    }
+
+    pub fn sensor_list(&self) -> &Arc<SensorList> {
+        &self.sensor_list
+    }
+
+    pub fn mission_name(&self) -> &str {
+        &self.mission_name
+    }
+
+    /// Lines the script printed this cycle.
+    pub fn printed(&self) -> impl Iterator<Item = &str> {
+        self.printed.lines()
+    }
+
+    /// Sensors the script stored this cycle, in first-store order.
+    pub fn stored(&self) -> &[SensorId] {
+        &self.stored
+    }
+
+    pub fn machine(&self) -> Option<&Machine> {
+        self.script.as_ref().map(|script| &script.machine)
+    }
+
+    /// How the script's last share ended.
+    pub fn script_last_end(&self) -> Option<CycleEnd> {
+        self.script.as_ref().and_then(|script| script.last_end)
+    }
+
+    /// The trap that stopped the script, if one did.
+    pub fn script_trap(&self) -> Option<Trap> {
+        match self.script.as_ref()?.machine.status() {
+            Status::Trapped(trap) => Some(trap),
+            _ => None,
+        }
+    }
+
+    /// Setup warnings (unknown sensors, unmodelled conditions, missing hook sensors).
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
+    }
+}
+
+/// Depth at or above which the glider counts as floating at the surface (m).
+const SURFACED_DEPTH: f64 = 0.3;
+
+fn shelf_profile(mission_set: &mut dyn FnMut(&str) -> Option<f64>) -> TemperatureProfile {
+    let TemperatureProfile::Shelf {
+        surface,
+        bottom,
+        center,
+        width,
+    } = TemperatureProfile::default()
+    else {
+        return TemperatureProfile::default();
+    };
+    let surface = mission_set("s_water_temp_surface").unwrap_or(surface);
+    let bottom = mission_set("s_water_temp_bottom").unwrap_or(bottom);
+    // TWR's simulator sets the top and bottom of the thermocline; the tanh
+    // spans about ±2 widths between them.
+    let (center, width) = match (
+        mission_set("s_water_temp_depth_inft"),
+        mission_set("s_water_temp_depth_infb"),
+    ) {
+        (Some(top), Some(bottom_depth)) if bottom_depth > top => {
+            ((top + bottom_depth) / 2.0, (bottom_depth - top) / 4.0)
+        }
+        _ => (center, width),
+    };
+    TemperatureProfile::Shelf {
+        surface,
+        bottom,
+        center,
+        width,
+    }
+}
+
+/// The script's view of the world: the sensor array, and this cycle's output.
+pub struct SimHost<'a> {
+    sensors: &'a mut [f64],
+    printed: &'a mut String,
+    stored: &'a mut Vec<SensorId>,
+}
+
+impl Host for SimHost<'_> {
+    fn load_sensor(&mut self, sensor: SensorId) -> f64 {
+        self.sensors.get(sensor.index()).copied().unwrap_or(0.0)
+    }
+
+    fn store_sensor(&mut self, sensor: SensorId, value: f64) {
+        if let Some(slot) = self.sensors.get_mut(sensor.index()) {
+            *slot = value;
+            if !self.stored.contains(&sensor) {
+                self.stored.push(sensor);
+            }
+        }
+    }
+
+    fn print_line(&mut self, line: &str) {
+        self.printed.push_str(line);
+        self.printed.push('\n');
+    }
+}

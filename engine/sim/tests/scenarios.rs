@@ -1,0 +1,349 @@
+//! Whole-mission scenarios, checked on the run's own CSV log.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use gloc_engine::gloc::{self, CheckOptions};
+use gloc_engine::program::Program;
+use gloc_engine::sensors::SensorList;
+use gloc_sim::behaviors::AbortReason;
+use gloc_sim::log::{default_columns, DbaHeader, LogFormat, LogWriter};
+use gloc_sim::{default_mission, EndReason, Mission, SimConfig, Simulation};
+
+const FIG2: &str = include_str!("../../../examples/fig2.gloc");
+
+fn compile(text: &str, list: &SensorList) -> Arc<Program> {
+    let checked = gloc::check(&gloc::parse(text), list, &CheckOptions::default());
+    match checked.program {
+        Some(program) => program,
+        None => panic!("script does not check: {:?}", checked.diagnostics),
+    }
+}
+
+/// The log of a run, parsed back: column names and rows.
+struct Log {
+    names: Vec<String>,
+    rows: Vec<Vec<f64>>,
+}
+
+impl Log {
+    fn column(&self, name: &str) -> Vec<f64> {
+        let at = self
+            .names
+            .iter()
+            .position(|known| known == name)
+            .unwrap_or_else(|| panic!("no column {name} in {:?}", self.names));
+        self.rows.iter().map(|row| row[at]).collect()
+    }
+}
+
+/// Runs a mission with a script until it finishes (or `max_cycles`), logging
+/// the default sensor set to CSV in memory, and parses the log back.
+fn run_logged(mission: &Mission, script: &str, max_cycles: u64) -> (Simulation, Log) {
+    let list = Arc::new(SensorList::embedded());
+    let program = compile(script, &list);
+    let mut sim = Simulation::new(mission, list.clone(), Some(program), &SimConfig::default())
+        .expect("mission starts");
+    let columns = default_columns(&list, &[]);
+    let header = DbaHeader {
+        filename: "test".to_string(),
+        mission_name: mission.name.clone(),
+        fileopen_time: "now".to_string(),
+    };
+    let mut writer =
+        LogWriter::new(Vec::new(), LogFormat::Csv, columns, &list, &header).expect("header");
+    for _ in 0..max_cycles {
+        if !sim.begin_cycle() {
+            break;
+        }
+        // The log records the sensors as the cycle's behaviors saw them.
+        writer.write_row(sim.sensors()).expect("row");
+        sim.run_script();
+        sim.finish_cycle();
+    }
+    let text = String::from_utf8(writer.finish().expect("flush")).expect("utf8");
+    let mut lines = text.lines();
+    let names = lines
+        .next()
+        .expect("header line")
+        .split(',')
+        .map(str::to_string)
+        .collect();
+    let rows = lines
+        .map(|line| {
+            line.split(',')
+                .map(|cell| cell.parse::<f64>().expect("number"))
+                .collect()
+        })
+        .collect();
+    (sim, Log { names, rows })
+}
+
+/// Depths at which the vertical direction turns: alternately a deepest point
+/// (dive turn) and a shallowest point (climb turn), starting with a dive.
+fn turns(depths: &[f64]) -> Vec<f64> {
+    let mut turns = Vec::new();
+    let mut diving = true;
+    let mut extreme = depths[0];
+    for &depth in depths {
+        if diving {
+            if depth > extreme {
+                extreme = depth;
+            } else if depth < extreme - 0.5 {
+                turns.push(extreme);
+                diving = false;
+                extreme = depth;
+            }
+        } else if depth < extreme {
+            extreme = depth;
+        } else if depth > extreme + 0.5 {
+            turns.push(extreme);
+            diving = true;
+            extreme = depth;
+        }
+    }
+    turns
+}
+
+#[test]
+fn fig2_scenario_on_the_default_mission() {
+    let (sim, log) = run_logged(&default_mission(), FIG2, 5000);
+    let depths = log.column("m_depth");
+    let turns = turns(&depths);
+    // Reasoning (dive and climb 0.15 m/s, 4 s cycles, ~1 m overshoot): the
+    // script sees m_depth > 15 first at 15.0–15.6 m and sets bit 128; the
+    // hook below it reads the flag the next cycle (+0.6 m), and the turn
+    // overshoots about 1 m: 16–17.5 m. Climbing, the script clears the flag
+    // below 5 m (4.4–5 m), the yo's dive_to takes over a cycle later
+    // (−0.6 m), overshoot ~1 m: about 2.8–3.6 m.
+    assert!(turns.len() >= 7, "turns: {turns:?}");
+    assert!(
+        (15.0..19.0).contains(&turns[0]),
+        "first dive turns at {}",
+        turns[0]
+    );
+    assert!(
+        (2.0..5.0).contains(&turns[1]),
+        "the climb turns at {}",
+        turns[1]
+    );
+    // Then the yo resumes: 25 m plus about 1 m of overshoot, and climbs to
+    // 2 m minus about 1 m, three times.
+    for dive in [turns[2], turns[4], turns[6]] {
+        assert!(
+            (24.5..27.0).contains(&dive),
+            "yo dive turns at {dive} ({turns:?})"
+        );
+    }
+    for climb in [turns[3], turns[5]] {
+        assert!(
+            (0.5..2.1).contains(&climb),
+            "yo climb turns at {climb} ({turns:?})"
+        );
+    }
+    // The script's flag, in the log (rows are written at the cycle boundary,
+    // before the script runs): 128 appears in the row after the first cycle
+    // deeper than 15 m.
+    let flags = log.column("sci_ruhp_behs");
+    let first_set = flags
+        .iter()
+        .position(|&flag| flag == 128.0)
+        .expect("flag set");
+    assert!(depths[first_set - 1] > 15.0 && depths[first_set - 2] <= 15.0);
+    // The yo did its six half cycles, the stack went idle, surface ended it.
+    let end = sim.end().expect("mission ended");
+    assert_eq!(end.reason, EndReason::Completed);
+    assert!(sim.is_finished());
+    assert!(sim.depth() < 0.5);
+    // Energy is used and published.
+    let charge = log.column("m_coulomb_amphr_total");
+    assert!(charge.windows(2).all(|pair| pair[1] >= pair[0]));
+    assert!(*charge.last().expect("rows") > 0.0);
+}
+
+/// Drives the hook to 100 m every cycle.
+const DIVE_TO_100: &str = "nregs 2\nnblbs 1\nninstr 7\nlabel 0\nloadd 100.0,r0\nstores r0,1385\nloadi 64,r1\nstores r1,1387\nyield\njumpi 0\n";
+
+#[test]
+fn a_script_cannot_override_abend() {
+    let (sim, log) = run_logged(&default_mission(), DIVE_TO_100, 5000);
+    let end = sim.end().expect("mission ended");
+    assert_eq!(end.reason, EndReason::Aborted(AbortReason::Overdepth));
+    let deepest = log.column("m_depth").into_iter().fold(0.0, f64::max);
+    // abend checks every 4 s (0.6 m of travel), then the turn overshoots ~1 m:
+    // the glider never passes about 31.6 m.
+    assert!(deepest > 30.0 && deepest < 33.0, "deepest {deepest}");
+    // The abort surfaced the glider and ended the run.
+    assert!(sim.is_finished());
+    assert!(sim.depth() <= 0.3);
+    // The script kept asking for 100 m until the abort.
+    let flags = log.column("sci_ruhp_behs");
+    assert_eq!(flags[flags.len() / 2], 64.0);
+}
+
+#[test]
+fn hook_with_flags_clear_commands_nothing() {
+    // A script that never touches the hook: the yo alone flies the mission.
+    let idle = "nregs 0\nnblbs 1\nninstr 3\nlabel 0\nyield\njumpi 0\n";
+    let (sim, log) = run_logged(&default_mission(), idle, 5000);
+    let turns = turns(&log.column("m_depth"));
+    assert!((24.5..27.0).contains(&turns[0]), "{turns:?}");
+    assert_eq!(sim.end().map(|end| end.reason), Some(EndReason::Completed));
+}
+
+#[test]
+fn nsb3_loads_without_errors_and_flies() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/comet/missions/nsb3.mi");
+    let mission = Mission::load(&path);
+    let errors: Vec<String> = mission
+        .diagnostics
+        .iter()
+        .map(|entry| mission.render_one(entry))
+        .collect();
+    assert!(errors.is_empty(), "{errors:#?}");
+    // nsb3.mi plus the 8 .ma files it names.
+    assert_eq!(mission.sources.len(), 9);
+    assert_eq!(mission.behaviors.len(), 12);
+    let yo = mission
+        .behaviors
+        .iter()
+        .find(|spec| spec.name == "yo")
+        .expect("yo");
+    assert_eq!(yo.arg("d_target_depth"), Some(50.0));
+    assert_eq!(yo.arg("d_target_altitude"), Some(4.0));
+    // It flies: in 40 m of water the yo turns on the altimeter (4 m).
+    let list = Arc::new(SensorList::embedded());
+    let mut sim = Simulation::new(&mission, list, None, &SimConfig::default()).expect("starts");
+    let mut deepest: f64 = 0.0;
+    for _ in 0..2000 {
+        sim.step_cycle();
+        deepest = deepest.max(sim.depth());
+    }
+    assert!(deepest > 34.0 && deepest < 38.0, "deepest {deepest}");
+    assert!(sim.end().is_none());
+}
+
+#[test]
+fn the_shared_nsb3_copy_matches_when_present() {
+    let shared = Path::new("/work/shared/data/comet/missions/nsb3.mi");
+    if !shared.exists() {
+        return;
+    }
+    let mission = Mission::load(shared);
+    assert!(!mission.has_errors(), "{}", mission.render_plain());
+}
+
+#[test]
+fn malformed_mission_file_gives_line_and_column() {
+    let folder = std::env::temp_dir().join(format!("gloc-sim-test-{}", std::process::id()));
+    std::fs::create_dir_all(&folder).expect("temp dir");
+    let path = folder.join("bad.mi");
+    std::fs::write(
+        &path,
+        "behavior: abend\n  b_arg: overdepth(m) 30\n  b_arg: overtime(s 60\n",
+    )
+    .expect("write");
+    let mission = Mission::load(&path);
+    let text = mission.render_plain();
+    assert!(mission.has_errors());
+    // `overtime(s` starts at column 10 of line 3.
+    assert!(
+        text.contains("bad.mi:3:10: error[S0011]: unclosed `(`")
+            || text.contains("bad.mi:3:18: error[S0011]"),
+        "{text}"
+    );
+    let error = Simulation::new(
+        &mission,
+        Arc::new(SensorList::embedded()),
+        None,
+        &SimConfig::default(),
+    )
+    .expect_err("refuses to fly");
+    assert!(error.to_string().contains("bad.mi:3:"), "{error}");
+    let _ = std::fs::remove_dir_all(&folder);
+}
+
+#[test]
+fn runs_are_deterministic_and_snapshots_replay() {
+    let list = Arc::new(SensorList::embedded());
+    let program = compile(FIG2, &list);
+    let config = SimConfig {
+        seed: 42,
+        ..SimConfig::default()
+    };
+    let mut first = Simulation::new(
+        &default_mission(),
+        list.clone(),
+        Some(program.clone()),
+        &config,
+    )
+    .expect("starts");
+    for _ in 0..100 {
+        first.step_cycle();
+    }
+    let snapshot = first.clone();
+    let mut replay = snapshot.clone();
+    for _ in 0..200 {
+        first.step_cycle();
+        replay.step_cycle();
+        assert_eq!(first.sensors(), replay.sensors());
+    }
+    let mut other = Simulation::new(
+        &default_mission(),
+        list,
+        Some(program),
+        &SimConfig { seed: 43, ..config },
+    )
+    .expect("starts");
+    for _ in 0..300 {
+        other.step_cycle();
+    }
+    // Another seed changes the CTD noise, not the flight.
+    let temp = first
+        .sensor_list()
+        .lookup("sci_water_temp")
+        .expect("sensor");
+    assert_ne!(first.sensor(temp), other.sensor(temp));
+    assert_eq!(first.depth(), other.depth());
+}
+
+#[test]
+fn phases_let_a_debugger_step_the_script() {
+    let list = Arc::new(SensorList::embedded());
+    let program = compile(FIG2, &list);
+    let mut sim = Simulation::new(
+        &default_mission(),
+        list.clone(),
+        Some(program),
+        &SimConfig::default(),
+    )
+    .expect("starts");
+    let behs = list.lookup("sci_ruhp_behs").expect("hook sensor");
+    // Fly to the first cycle where the script will act.
+    loop {
+        assert!(sim.begin_cycle());
+        if sim.depth() > 15.0 {
+            break;
+        }
+        sim.finish_cycle();
+    }
+    let cycle = sim.cycle();
+    assert_eq!(sim.sensor(behs), Some(0.0));
+    // Step the script one instruction at a time up to its yield.
+    let mut steps = 0;
+    while sim.script_step().is_none() {
+        steps += 1;
+        assert!(steps < 100);
+    }
+    // The last cycle ended at the `yield` under label 4, so this share starts
+    // with its `jumpi 0`, then loads, loadd, cmpgt, cbr, loadi, stores, jumpi,
+    // loads, loadd, cmplt, cbr: 12 instructions before the yield.
+    assert_eq!(steps, 12);
+    assert_eq!(sim.sensor(behs), Some(128.0));
+    assert_eq!(sim.stored(), &[behs]);
+    sim.finish_cycle();
+    assert_eq!(sim.cycle(), cycle + 1);
+    // The active behaviors are named, highest first.
+    let active: Vec<&str> = sim.active_behaviors().collect();
+    assert_eq!(active, vec!["abend", "gloc", "hook", "yo"]);
+}

@@ -33,7 +33,7 @@ pub fn main(args: crate::CheckArgs) -> anyhow::Result<ExitCode> {
             .extension()
             .is_some_and(|extension| extension.eq_ignore_ascii_case("gbas"));
         if is_gbas {
-            check_gbas(&display, &mut tally);
+            check_gbas(&display, &text, &sensors, args.stats, &mut tally);
             continue;
         }
         let source = SourceFile::new(&display, &text);
@@ -44,7 +44,10 @@ pub fn main(args: crate::CheckArgs) -> anyhow::Result<ExitCode> {
         }
         tally.add(&checked.diagnostics);
         if args.stats {
-            print_stats(&source, &checked.stats, checked.program.as_deref());
+            let program = checked.program.as_deref();
+            print_stats(&source, &checked.stats, &|pc| {
+                program.map_or(0, |program| program.line(pc))
+            });
         }
     }
     if tally.errors > 0 || tally.warnings > 0 {
@@ -77,18 +80,33 @@ pub fn load_sensors(path: &Path, tally: &mut Tally) -> anyhow::Result<Option<Sen
     Ok((tally.errors == before).then_some(loaded.list))
 }
 
-/// GBASIC files are checked by the compiler crate.
-fn check_gbas(display: &str, tally: &mut Tally) {
-    println!(
-        "{display}: error: checking GBASIC needs the GBASIC compiler, which is not built in yet"
+/// GBASIC files are compiled in memory and their GLOC checked (with the `for`
+/// loop bounds the compiler knows); diagnostics point at the GBASIC text.
+fn check_gbas(display: &str, text: &str, sensors: &SensorList, stats: bool, tally: &mut Tally) {
+    let loaded = gloc_compiler::load_script(
+        text,
+        gloc_compiler::Language::Gbasic,
+        sensors,
+        &gloc_compiler::LoadOptions::default(),
     );
-    tally.errors += 1;
+    let source = SourceFile::new(display, text);
+    for diagnostic in &loaded.diagnostics {
+        print!("{}", source.render(diagnostic));
+    }
+    tally.add(&loaded.diagnostics);
+    if stats {
+        if let Some(checked_stats) = &loaded.stats {
+            print_stats(&source, checked_stats, &|pc| {
+                loaded.line_of_pc(pc).unwrap_or(0)
+            });
+        }
+    }
 }
 
 fn print_stats(
     source: &SourceFile,
     stats: &Stats,
-    program: Option<&gloc_engine::program::Program>,
+    line_of_pc: &dyn Fn(gloc_engine::program::Pc) -> u32,
 ) {
     println!("{}:", source.path);
     println!("  registers     {}", stats.registers);
@@ -109,7 +127,7 @@ fn print_stats(
     println!("  worst case    {per_cycle}");
     println!("    {:<30}{}", "from the start", worst.from_start);
     for (pc, bound) in &worst.from_yields {
-        let line = program.map_or(0, |program| program.line(*pc));
+        let line = line_of_pc(*pc);
         println!(
             "    {:<30}{bound}",
             format!("after the yield on line {line}")

@@ -1,7 +1,133 @@
-//! `gloc compile`.
+//! `gloc compile FILE.gbas [-o OUT.gloc] [-O] [--emit-map]`, and the script loader
+//! `gloc check` and `gloc run` share for `.gloc` and `.gbas` files.
 
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-pub fn main(_args: crate::CompileArgs) -> anyhow::Result<ExitCode> {
-    anyhow::bail!("`gloc compile` is not built yet")
+use anyhow::Context;
+use gloc_compiler::{load_script, Language, LoadOptions, LoadedScript};
+use gloc_engine::sensors::SensorList;
+
+use crate::render::{SourceFile, Tally};
+
+pub fn main(args: crate::CompileArgs) -> anyhow::Result<ExitCode> {
+    let mut tally = Tally::default();
+    let sensors = match &args.masterdata {
+        Some(path) => match crate::check::load_sensors(path, &mut tally)? {
+            Some(list) => list,
+            None => return Ok(ExitCode::FAILURE),
+        },
+        None => SensorList::embedded(),
+    };
+    let bytes = std::fs::read(&args.file)
+        .with_context(|| format!("cannot read the GBASIC file `{}`", args.file.display()))?;
+    let text = String::from_utf8_lossy(&bytes).into_owned();
+    let display = args.file.display().to_string();
+    let loaded = load_script(
+        &text,
+        Language::Gbasic,
+        &sensors,
+        &LoadOptions {
+            optimize: args.optimize,
+            cycle_budget: None,
+        },
+    );
+    let source = SourceFile::new(&display, &text);
+    for diagnostic in &loaded.diagnostics {
+        eprint!("{}", source.render(diagnostic));
+    }
+    tally.add(&loaded.diagnostics);
+    // The compiled GLOC must also pass the GLOC checker (a loop with neither `yield`
+    // nor a way out is refused there); its findings are shown on the GBASIC lines.
+    let (false, Some(gloc_text), Some(source_map)) =
+        (loaded.has_errors(), &loaded.gloc_text, &loaded.source_map)
+    else {
+        eprintln!(
+            "{display}: {} error{}: no GLOC written",
+            tally.errors,
+            if tally.errors == 1 { "" } else { "s" }
+        );
+        return Ok(ExitCode::FAILURE);
+    };
+    let output = args
+        .output
+        .clone()
+        .unwrap_or_else(|| args.file.with_extension("gloc"));
+    std::fs::write(&output, gloc_text)
+        .with_context(|| format!("cannot write `{}`", output.display()))?;
+    if args.emit_map {
+        let map_path = map_path(&output);
+        std::fs::write(&map_path, source_map.to_json())
+            .with_context(|| format!("cannot write `{}`", map_path.display()))?;
+    }
+    if let Some(stats) = loaded.compile_stats {
+        eprintln!(
+            "{display} → {}: {} lines ({} instructions), {} registers, {} labels{}",
+            output.display(),
+            stats.lines,
+            stats.instructions,
+            stats.registers,
+            stats.labels,
+            if stats.memory > 0 {
+                format!(", {} memory cells", stats.memory)
+            } else {
+                String::new()
+            }
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `OUT.gloc` → `OUT.map.json`.
+fn map_path(output: &Path) -> PathBuf {
+    let mut name = output
+        .file_stem()
+        .map(|stem| stem.to_os_string())
+        .unwrap_or_default();
+    name.push(".map.json");
+    output.with_file_name(name)
+}
+
+/// Reads and loads a `.gloc` or `.gbas` script for `gloc check` / `gloc run`, and
+/// renders its diagnostics (to stderr). The script is always returned so the caller
+/// can tell errors (no program) from success.
+pub struct CliScript {
+    pub display: String,
+    pub text: String,
+    pub loaded: LoadedScript,
+}
+
+impl CliScript {
+    /// Renders every diagnostic with `print` (stdout for `check`, stderr for `run`).
+    pub fn render_all(&self, print: impl Fn(&str)) {
+        let source = SourceFile::new(&self.display, &self.text);
+        for diagnostic in &self.loaded.diagnostics {
+            print(&source.render(diagnostic));
+        }
+    }
+
+    /// `path:line:col` of the instruction at `pc`, in the script's own text.
+    pub fn location_of_pc(&self, pc: gloc_engine::program::Pc) -> String {
+        let source = SourceFile::new(&self.display, &self.text);
+        match self.loaded.span_of_pc(pc) {
+            Some(span) => source.location(span.start as usize),
+            None => self.display.clone(),
+        }
+    }
+}
+
+pub fn read_script(
+    path: &Path,
+    sensors: &SensorList,
+    options: &LoadOptions,
+) -> anyhow::Result<CliScript> {
+    let bytes = std::fs::read(path)
+        .with_context(|| format!("cannot read the script `{}`", path.display()))?;
+    let text = String::from_utf8_lossy(&bytes).into_owned();
+    let loaded = load_script(&text, Language::of_path(path), sensors, options);
+    Ok(CliScript {
+        display: path.display().to_string(),
+        text,
+        loaded,
+    })
 }

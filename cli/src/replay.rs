@@ -15,8 +15,6 @@ use std::process::ExitCode;
 use std::sync::Arc;
 
 use anyhow::{bail, Context};
-use gloc_engine::gloc::{self, CheckOptions};
-use gloc_engine::program::Program;
 use gloc_engine::sensors::{SensorId, SensorList};
 use gloc_engine::suggest;
 use gloc_engine::vm::{CycleEnd, Host, Machine, MachineConfig, DEFAULT_CYCLE_BUDGET};
@@ -51,46 +49,41 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         },
         None => SensorList::embedded(),
     };
-    let Some(program) = load_script(args.script.as_deref(), &sensors)? else {
+    let Some(script) = load_script(args.script.as_deref(), &sensors, args.optimize)? else {
         return Ok(ExitCode::FAILURE);
     };
     let config = MachineConfig {
         cycle_budget: args.cycle_budget.unwrap_or(DEFAULT_CYCLE_BUDGET),
     };
-    replay(&program, &sensors, &replay_path, args.out.as_ref(), config)
+    replay(&script, &sensors, &replay_path, args.out.as_ref(), config)
 }
 
-/// Parses and checks the script, printing diagnostics to stderr. `None`
-/// when it has errors.
-fn load_script(path: Option<&Path>, sensors: &SensorList) -> anyhow::Result<Option<Arc<Program>>> {
-    let (display, text) = match path {
-        Some(path) => {
-            if path
-                .extension()
-                .is_some_and(|extension| extension.eq_ignore_ascii_case("gbas"))
-            {
-                bail!(
-                    "running GBASIC needs the GBASIC compiler, which is not built in yet; \
-                     compile `{}` to GLOC first",
-                    path.display()
-                );
-            }
-            let bytes = std::fs::read(path)
-                .with_context(|| format!("cannot read the script `{}`", path.display()))?;
-            (
-                path.display().to_string(),
-                String::from_utf8_lossy(&bytes).into_owned(),
-            )
-        }
-        None => ("<fig2.gloc>".to_string(), FIG2.to_string()),
+/// Loads the script (`.gloc`, or `.gbas` compiled in memory), printing
+/// diagnostics to stderr. `None` when it has errors.
+fn load_script(
+    path: Option<&Path>,
+    sensors: &SensorList,
+    optimize: bool,
+) -> anyhow::Result<Option<crate::compile::CliScript>> {
+    let options = gloc_compiler::LoadOptions {
+        optimize,
+        cycle_budget: None,
     };
-    let parsed = gloc::parse(&text);
-    let checked = gloc::check(&parsed, sensors, &CheckOptions::default());
-    let source = SourceFile::new(&display, &text);
-    for diagnostic in &checked.diagnostics {
-        eprint!("{}", source.render(diagnostic));
-    }
-    Ok(checked.program)
+    let script = match path {
+        Some(path) => crate::compile::read_script(path, sensors, &options)?,
+        None => crate::compile::CliScript {
+            display: "<fig2.gloc>".to_string(),
+            text: FIG2.to_string(),
+            loaded: gloc_compiler::load_script(
+                FIG2,
+                gloc_compiler::Language::Gloc,
+                sensors,
+                &options,
+            ),
+        },
+    };
+    script.render_all(|text| eprint!("{text}"));
+    Ok(script.loaded.program.is_some().then_some(script))
 }
 
 /// The replay host: the sensor array, what the script stored this cycle,
@@ -130,7 +123,7 @@ impl Host for ReplayHost<'_> {
 }
 
 fn replay(
-    program: &Arc<Program>,
+    script: &crate::compile::CliScript,
     sensors: &SensorList,
     in_path: &Path,
     out_path: Option<&PathBuf>,
@@ -182,6 +175,9 @@ fn replay(
             })?))
         }
         None => None,
+    };
+    let Some(program) = script.loaded.program.as_ref() else {
+        bail!("the script has errors");
     };
     let stored = &program.stored_sensors;
     let mut out_column = vec![usize::MAX; sensors.len()];
@@ -251,8 +247,10 @@ fn replay(
                 if !trapped {
                     trapped = true;
                     eprintln!(
-                        "trap in cycle {cycle}: {} at pc {} (line {}); the script stops, the replay goes on",
-                        trap.kind, trap.pc.0, trap.line
+                        "{}: trap in cycle {cycle}: {} (pc {}); the script stops, the replay goes on",
+                        script.location_of_pc(trap.pc),
+                        script.loaded.trap_message(&trap.kind),
+                        trap.pc.0
                     );
                 }
             }

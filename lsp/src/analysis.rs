@@ -36,6 +36,8 @@ pub enum SymbolKind {
     Variable,
     Array,
     Constant,
+    /// A sensor named in GBASIC (never defined in the document, not renamable).
+    Sensor,
 }
 
 #[derive(Clone, Debug, PartialEq)]

@@ -13,7 +13,7 @@ use tower_lsp_server::ls_types::*;
 use crate::analysis::{Analysis, CompletionKind, Context, SymbolKind as Kind, TokenKind};
 use crate::document::{Document, Language};
 use crate::lang;
-use crate::position::{end_position, offset_of, position_of, range_of};
+use crate::position::{end_position, offset_of, position_of, range_of, span_of};
 use crate::server::COMPILED_GLOC_COMMAND;
 
 /// Semantic token types, in legend order.
@@ -210,6 +210,7 @@ pub fn hover(
                 Kind::Variable => "variable",
                 Kind::Array => "array",
                 Kind::Constant => "constant",
+                Kind::Sensor => "sensor",
             };
             let uses = symbol.references.len();
             let mut text = format!("{what} `{}`", symbol.name);
@@ -349,6 +350,7 @@ pub fn prepare_rename(
 pub fn rename(
     document: &Document,
     analysis: &Analysis,
+    context: &Context,
     position: Position,
     new_name: &str,
 ) -> Result<Option<WorkspaceEdit>, String> {
@@ -360,7 +362,7 @@ pub fn rename(
         return Err(format!("`{}` cannot be renamed", symbol.name));
     }
     let new_name = new_name.trim();
-    lang::check_new_name(document.language, symbol, new_name, analysis)?;
+    lang::check_new_name(document.language, symbol, new_name, analysis, context)?;
     let edits = symbol
         .occurrences()
         .map(|span| TextEdit {
@@ -391,6 +393,7 @@ pub fn document_symbols(document: &Document, analysis: &Analysis) -> DocumentSym
                     Kind::Variable => SymbolKind::VARIABLE,
                     Kind::Array => SymbolKind::ARRAY,
                     Kind::Constant => SymbolKind::CONSTANT,
+                    Kind::Sensor => SymbolKind::FIELD,
                 },
                 tags: None,
                 deprecated: None,
@@ -517,7 +520,7 @@ pub fn inlay_hints(document: &Document, analysis: &Analysis, range: Range) -> Ve
 /// Quick fixes carried by the diagnostics that touch `range`.
 pub fn code_actions(document: &Document, analysis: &Analysis, range: Range) -> CodeActionResponse {
     let rope = document.rope();
-    let wanted = Span::new(offset_of(rope, range.start), offset_of(rope, range.end));
+    let wanted = span_of(rope, range);
     let converted = diagnostics(document, analysis);
     let mut actions = Vec::new();
     for (diagnostic, lsp_diagnostic) in analysis.diagnostics.iter().zip(converted) {

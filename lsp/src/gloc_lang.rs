@@ -2,7 +2,6 @@
 //! read off `gloc_engine::gloc` (parser, checker, instruction table).
 
 use std::collections::BTreeMap;
-use std::path::Path;
 
 use gloc_engine::gloc::ast::{
     DirectiveKind, File, Line, LineKind, Opcode, OperandKind, OperandShape, Origin,
@@ -549,11 +548,4 @@ pub fn signature(text: &str, offset: usize) -> Option<Signature> {
 /// Canonical GLOC (the engine's printer); unparseable lines are kept verbatim.
 pub fn format(text: &str) -> Option<String> {
     Some(gloc::print(&gloc::parse(text).file))
-}
-
-pub fn load_sensor_list(path: &Path) -> Result<SensorList, String> {
-    Err(format!(
-        "{}: sensor list files are not supported yet",
-        path.display()
-    ))
 }

@@ -5,8 +5,8 @@
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;
 
-use gloc_engine::sensors::{Access, SensorId, SensorList};
-use gloc_engine::{Diagnostic, Span};
+use gloc_engine::sensors::{load_sensor_file, Access, SensorId, SensorList, SensorOrder};
+use gloc_engine::{Diagnostic, LineIndex, Span};
 
 use crate::analysis::{
     Analysis, Completion, CompletionKind, Context, Signature, Symbol, TokenKind,
@@ -73,10 +73,11 @@ pub fn check_new_name(
     symbol: &Symbol,
     new_name: &str,
     analysis: &Analysis,
+    context: &Context,
 ) -> Result<(), String> {
     match language {
         Language::Gloc => gloc_lang::check_new_name(symbol, new_name, analysis),
-        Language::Gbasic => gbasic_lang::check_new_name(symbol, new_name, analysis),
+        Language::Gbasic => gbasic_lang::check_new_name(symbol, new_name, analysis, context),
         Language::Config => Err("nothing to rename in gloc.toml".to_string()),
     }
 }
@@ -93,9 +94,28 @@ pub fn format(language: Language, text: &str) -> Option<String> {
     .flatten()
 }
 
-/// Loads a masterdata or `.cac` file.
+/// Loads a masterdata or `.cac` file (indices in file order, the paper's
+/// era). A file with errors is refused with the first one, located.
 pub fn load_sensor_list(path: &Path) -> Result<SensorList, String> {
-    gloc_lang::load_sensor_list(path)
+    let loaded =
+        load_sensor_file(path, SensorOrder::FileOrder).map_err(|error| error.to_string())?;
+    if let Some(error) = loaded
+        .diagnostics
+        .iter()
+        .find(|diagnostic| diagnostic.is_error())
+    {
+        let index = LineIndex::new(&loaded.text);
+        let (line, column) = index.line_col(&loaded.text, error.span.start as usize);
+        return Err(format!(
+            "{}:{line}:{column}: {}",
+            path.display(),
+            error.message
+        ));
+    }
+    if loaded.list.is_empty() {
+        return Err(format!("{} holds no sensors", path.display()));
+    }
+    Ok(loaded.list)
 }
 
 /// Markdown describing a sensor: name, index, units, default, access, description.

@@ -4,9 +4,6 @@
 //! `gloc-engine` and `gloc-compiler` for every answer and converts byte spans
 //! to LSP positions in one module (`position`).
 
-// Interim: the language adapters fill these types once the core APIs land.
-#![allow(dead_code)]
-
 mod analysis;
 mod document;
 mod features;

@@ -572,14 +572,18 @@ impl LanguageServer for Backend {
 
     async fn rename(&self, params: RenameParams) -> Result<Option<WorkspaceEdit>> {
         let position = params.text_document_position;
-        let outcome = self.with_document(&position.text_document.uri, |document, analysis, _| {
-            Some(features::rename(
-                document,
-                analysis,
-                position.position,
-                &params.new_name,
-            ))
-        });
+        let outcome = self.with_document(
+            &position.text_document.uri,
+            |document, analysis, context| {
+                Some(features::rename(
+                    document,
+                    analysis,
+                    context,
+                    position.position,
+                    &params.new_name,
+                ))
+            },
+        );
         match outcome {
             None => Ok(None),
             Some(Ok(edit)) => Ok(edit),

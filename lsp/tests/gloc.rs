@@ -576,3 +576,66 @@ async fn client_settings_override_gloc_toml() {
     }
     assert!(message.contains("budget of 11"), "{message}");
 }
+
+#[tokio::test]
+async fn masterdata_from_gloc_toml_changes_sensor_indices_and_bad_files_are_reported() {
+    let root = std::env::temp_dir().join(format!("gloc-lsp-masterdata-{}", std::process::id()));
+    std::fs::create_dir_all(&root).expect("dir");
+    std::fs::write(
+        root.join("masterdata.mi"),
+        "sensor: m_depth(m) 0   # out, depth\nsensor: c_target(m) 5.0  # in\n",
+    )
+    .expect("write");
+    std::fs::write(root.join("gloc.toml"), "masterdata = \"masterdata.mi\"\n").expect("write");
+    let uri = format!("file://{}/a.gloc", root.display());
+    let mut client = TestClient::initialized().await;
+    let text = "nregs 1\nnblbs 0\nninstr 3\nloads 0,r0\nstores r0,1\nyield\n";
+    let published = client.open(&uri, "gloc", text).await;
+    assert_eq!(published["diagnostics"], json!([]));
+    let hover = client.request("textDocument/hover", at(&uri, 3, 6)).await;
+    assert!(
+        hover["contents"]["value"]
+            .as_str()
+            .expect("md")
+            .starts_with("**m_depth** (m)\n\nsensor 0 · read-only"),
+        "{hover}"
+    );
+    let hover = client.request("textDocument/hover", at(&uri, 4, 10)).await;
+    assert!(
+        hover["contents"]["value"]
+            .as_str()
+            .expect("md")
+            .contains("default 5.0"),
+        "{hover}"
+    );
+    client
+        .notify(
+            "textDocument/didClose",
+            json!({ "textDocument": { "uri": uri } }),
+        )
+        .await;
+
+    // A masterdata path that does not exist: the script says so and uses the embedded list.
+    std::fs::write(root.join("gloc.toml"), "masterdata = \"missing.mi\"\n").expect("write");
+    client
+        .notify("workspace/didChangeWatchedFiles", json!({ "changes": [] }))
+        .await;
+    let published = client
+        .open(&format!("file://{}/b.gloc", root.display()), "gloc", text)
+        .await;
+    let problem = published["diagnostics"]
+        .as_array()
+        .expect("d")
+        .iter()
+        .find(|d| d["code"] == "E0903")
+        .cloned()
+        .expect("E0903");
+    assert!(
+        problem["message"]
+            .as_str()
+            .expect("m")
+            .contains("missing.mi"),
+        "{problem}"
+    );
+    std::fs::remove_dir_all(&root).expect("cleanup");
+}

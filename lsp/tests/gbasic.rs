@@ -1,0 +1,527 @@
+//! Protocol tests of every feature on GBASIC documents. The program is the
+//! paper's Fig. 3; its compiled GLOC must be the paper's Fig. 2.
+
+mod support;
+
+use serde_json::{json, Value};
+use support::{at, TestClient};
+
+const FIG3: &str = "label: state1\nif m_depth > 15.0 then\n  SCI_RUHP_BEHS = 128\n  goto state2\nendif\nyield\ngoto state1\nlabel: state2\nif m_depth < 5.0 then\n  SCI_RUHP_BEHS = 0\n  goto state3\nendif\nyield\ngoto state2\nlabel: state3\nyield\ngoto state3\n";
+
+const FIG2: &str = "nregs 8\nnblbs 7\nninstr 27\nlabel 0\nloads 444,r0\nloadd 15.0,r1\ncmpgt r0,r1,r2\ncbr r2,3,4\nlabel 3\nloadi 128,r3\nstores r3,1387\njumpi 1\nlabel 4\nyield\njumpi 0\nlabel 1\nloads 444,r4\nloadd 5.0,r5\ncmplt r4,r5,r6\ncbr r6,5,6\nlabel 5\nloadi 0,r7\nstores r7,1387\njumpi 2\nlabel 6\nyield\njumpi 1\nlabel 2\nyield\njumpi 2\n";
+
+const URI: &str = "file:///project/fig3.gbas";
+
+async fn fig3() -> TestClient {
+    let mut client = TestClient::initialized().await;
+    let published = client.open(URI, "gbasic", FIG3).await;
+    assert_eq!(published["diagnostics"], json!([]), "Fig. 3 is clean");
+    client
+}
+
+fn range(l1: u32, c1: u32, l2: u32, c2: u32) -> Value {
+    json!({ "start": { "line": l1, "character": c1 }, "end": { "line": l2, "character": c2 } })
+}
+
+fn labels(result: &Value) -> Vec<String> {
+    result["items"]
+        .as_array()
+        .expect("items")
+        .iter()
+        .map(|item| item["label"].as_str().expect("label").to_string())
+        .collect()
+}
+
+async fn change(client: &mut TestClient, uri: &str, version: i32, text: &str) {
+    client
+        .notify("textDocument/didChange", json!({ "textDocument": { "uri": uri, "version": version }, "contentChanges": [{ "text": text }] }))
+        .await;
+}
+
+#[tokio::test]
+async fn compiled_gloc_command_returns_fig2() {
+    let mut client = fig3().await;
+    let gloc = client
+        .request(
+            "workspace/executeCommand",
+            json!({ "command": "gloc.compiledGloc", "arguments": [URI] }),
+        )
+        .await;
+    assert_eq!(gloc, json!(FIG2));
+    let by_object = client
+        .request(
+            "workspace/executeCommand",
+            json!({ "command": "gloc.compiledGloc", "arguments": [{ "uri": URI }] }),
+        )
+        .await;
+    assert_eq!(by_object, json!(FIG2));
+    change(&mut client, URI, 2, "x = 1\n").await;
+    let error = client
+        .request_raw(
+            "workspace/executeCommand",
+            json!({ "command": "gloc.compiledGloc", "arguments": [URI] }),
+        )
+        .await;
+    assert_eq!(error["error"]["code"], -32602);
+    assert_eq!(
+        error["error"]["message"],
+        "the program has 1 error; fix it to see its GLOC"
+    );
+}
+
+#[tokio::test]
+async fn diagnostics_and_quick_fixes() {
+    let mut client = TestClient::initialized().await;
+    let uri = "file:///p/bad.gbas";
+    let text = "dim count as integer\ncount = count + 1\nif m_dpth > 3.0 then\n  m_depth = 1\nendif\nx = 2\nyield\n";
+    let published = client.open(uri, "gbasic", text).await;
+    let diagnostics = published["diagnostics"].as_array().expect("d").clone();
+    let codes: Vec<&str> = diagnostics
+        .iter()
+        .map(|d| d["code"].as_str().expect("code"))
+        .collect();
+    assert_eq!(codes, ["E2101", "E2105", "E2101"], "{diagnostics:#?}");
+    assert_eq!(diagnostics[0]["range"], range(2, 3, 2, 9));
+    assert_eq!(diagnostics[1]["range"]["start"]["line"], 3);
+
+    // "did you mean `m_depth`?"
+    let actions = client
+        .request("textDocument/codeAction", json!({ "textDocument": { "uri": uri }, "range": range(2, 4, 2, 4), "context": { "diagnostics": [] } }))
+        .await;
+    assert_eq!(actions[0]["title"], "replace with `m_depth`");
+    assert_eq!(
+        actions[0]["edit"]["changes"][uri][0],
+        json!({ "range": range(2, 3, 2, 9), "newText": "m_depth" })
+    );
+    // "declare `x` with dim", as integer or float, inserted above the line.
+    let actions = client
+        .request("textDocument/codeAction", json!({ "textDocument": { "uri": uri }, "range": range(5, 0, 5, 1), "context": { "diagnostics": [] } }))
+        .await;
+    let titles: Vec<&str> = actions
+        .as_array()
+        .expect("a")
+        .iter()
+        .map(|a| a["title"].as_str().expect("t"))
+        .collect();
+    assert_eq!(
+        titles,
+        [
+            "declare `x` with `dim x as integer`",
+            "declare `x` with `dim x as float`"
+        ]
+    );
+    assert_eq!(
+        actions[0]["edit"]["changes"][uri][0],
+        json!({ "range": range(5, 0, 5, 0), "newText": "dim x as integer\n" })
+    );
+
+    // A loop without `yield` is found on the compiled GLOC and reported on GBASIC lines.
+    let spin = "file:///p/spin.gbas";
+    let published = client
+        .open(
+            spin,
+            "gbasic",
+            "dim n as integer\nwhile 1\n  n = n + 1\nwend\n",
+        )
+        .await;
+    let diagnostic = published["diagnostics"]
+        .as_array()
+        .expect("d")
+        .iter()
+        .find(|d| d["code"] == "E0111" || d["code"] == "W0111")
+        .cloned()
+        .expect("loop without yield");
+    let actions = client
+        .request("textDocument/codeAction", json!({ "textDocument": { "uri": spin }, "range": diagnostic["range"], "context": { "diagnostics": [diagnostic] } }))
+        .await;
+    let insert = actions
+        .as_array()
+        .expect("a")
+        .iter()
+        .find(|a| a["title"] == "insert `yield` in this loop")
+        .cloned()
+        .expect("insert yield");
+    assert_eq!(
+        insert["edit"]["changes"][spin][0],
+        json!({ "range": range(3, 0, 3, 0), "newText": "  yield\n" })
+    );
+    change(
+        &mut client,
+        spin,
+        2,
+        "dim n as integer\nwhile 1\n  n = n + 1\n  yield\nwend\n",
+    )
+    .await;
+    assert_eq!(
+        client.latest_diagnostics(spin).await["diagnostics"],
+        json!([])
+    );
+
+    // Two places: a duplicate label points at the first.
+    let published = client
+        .open(
+            "file:///p/dup.gbas",
+            "gbasic",
+            "label: a\nyield\nlabel: a\ngoto a\n",
+        )
+        .await;
+    let duplicate = &published["diagnostics"][0];
+    assert_eq!(duplicate["code"], "E2104");
+    assert_eq!(
+        duplicate["relatedInformation"][0]["location"]["range"]["start"]["line"],
+        0
+    );
+}
+
+#[tokio::test]
+async fn completion_in_statements_expressions_and_after_goto() {
+    let mut client = fig3().await;
+    // `goto st|` on line 3 → the labels.
+    let result = client
+        .request("textDocument/completion", at(URI, 3, 9))
+        .await;
+    assert_eq!(labels(&result), ["state1", "state2", "state3"]);
+    // Start of the statement on line 2 (`  SCI_RUHP_BEHS = 128`): a store target.
+    let result = client
+        .request("textDocument/completion", at(URI, 2, 4))
+        .await;
+    let items = labels(&result);
+    assert!(items.contains(&"sci_ruhp_behs".to_string()) && items.contains(&"c_pitch".to_string()));
+    assert!(
+        !items.contains(&"m_depth".to_string()),
+        "read-only sensors are no store targets"
+    );
+    assert!(items.contains(&"dim".to_string()) && items.contains(&"while".to_string()));
+    // In the condition of line 1 (`if m_de|`): every sensor, built-ins.
+    let result = client
+        .request("textDocument/completion", at(URI, 1, 8))
+        .await;
+    let items = result["items"].as_array().expect("items");
+    let depth = items
+        .iter()
+        .find(|i| i["label"] == "m_depth")
+        .expect("m_depth");
+    assert_eq!(depth["detail"], "sensor 444 (m), read-only");
+    let abs = items.iter().find(|i| i["label"] == "abs").expect("abs");
+    assert_eq!(abs["insertText"], "abs($1)");
+    assert_eq!(abs["insertTextFormat"], 2);
+    // Declared variables come first and carry their type.
+    change(
+        &mut client,
+        URI,
+        2,
+        "dim depth_sum as float\ndepth_sum = depth_sum + \n",
+    )
+    .await;
+    let result = client
+        .request("textDocument/completion", at(URI, 1, 24))
+        .await;
+    let sum = result["items"]
+        .as_array()
+        .expect("items")
+        .iter()
+        .find(|i| i["label"] == "depth_sum")
+        .cloned()
+        .expect("variable");
+    assert_eq!(sum["detail"], "dim depth_sum as float");
+    assert_eq!(sum["sortText"], "0depth_sum");
+    // After `as`: the types.
+    change(&mut client, URI, 3, "dim n as \n").await;
+    assert_eq!(
+        labels(
+            &client
+                .request("textDocument/completion", at(URI, 0, 9))
+                .await
+        ),
+        ["integer", "float"]
+    );
+}
+
+#[tokio::test]
+async fn hover_on_sensors_variables_keywords_and_builtins() {
+    let mut client = TestClient::initialized().await;
+    let uri = "file:///p/h.gbas";
+    let text = "dim n as integer\nn = abs(n) + 1\nif m_depth > 1.0 then\n  SCI_RUHP_BEHS = n\nendif\nyield\n";
+    client.open(uri, "gbasic", text).await;
+    let hover = client.request("textDocument/hover", at(uri, 2, 5)).await;
+    assert!(hover["contents"]["value"]
+        .as_str()
+        .expect("md")
+        .starts_with("**m_depth** (m)\n\nsensor 444 · read-only"));
+    let hover = client.request("textDocument/hover", at(uri, 3, 4)).await;
+    assert!(hover["contents"]["value"]
+        .as_str()
+        .expect("md")
+        .starts_with("**sci_ruhp_behs** (enum)\n\nsensor 1387 · writable"));
+    let hover = client.request("textDocument/hover", at(uri, 1, 0)).await;
+    assert_eq!(
+        hover["contents"]["value"],
+        "variable `n`: dim n as integer\n\n3 uses"
+    );
+    let hover = client.request("textDocument/hover", at(uri, 5, 2)).await;
+    assert!(hover["contents"]["value"]
+        .as_str()
+        .expect("md")
+        .starts_with("Ends the script's share of this 4-second control cycle"));
+    let hover = client.request("textDocument/hover", at(uri, 1, 5)).await;
+    assert_eq!(
+        hover["contents"]["value"],
+        "```gbasic\nabs(x): |x|, same type as x\n```"
+    );
+}
+
+#[tokio::test]
+async fn navigation_and_rename_of_labels_and_variables() {
+    let mut client = fig3().await;
+    // `goto state2` (line 3) → `label: state2` (line 7).
+    let definition = client
+        .request("textDocument/definition", at(URI, 3, 8))
+        .await;
+    assert_eq!(
+        definition,
+        json!({ "uri": URI, "range": range(7, 7, 7, 13) })
+    );
+    let references = client
+        .request("textDocument/references", json!({ "textDocument": { "uri": URI }, "position": { "line": 7, "character": 8 }, "context": { "includeDeclaration": false } }))
+        .await;
+    let lines: Vec<u64> = references
+        .as_array()
+        .expect("l")
+        .iter()
+        .map(|l| l["range"]["start"]["line"].as_u64().expect("line"))
+        .collect();
+    assert_eq!(lines, [3, 13]);
+    let highlights = client
+        .request("textDocument/documentHighlight", at(URI, 13, 6))
+        .await;
+    assert_eq!(highlights.as_array().expect("h").len(), 3);
+    let prepared = client
+        .request("textDocument/prepareRename", at(URI, 13, 6))
+        .await;
+    assert_eq!(
+        prepared,
+        json!({ "range": range(13, 5, 13, 11), "placeholder": "state2" })
+    );
+    let edit = client
+        .request("textDocument/rename", json!({ "textDocument": { "uri": URI }, "position": { "line": 13, "character": 6 }, "newName": "climbing" }))
+        .await;
+    let edits = edit["changes"][URI].as_array().expect("edits");
+    assert_eq!(edits.len(), 3);
+    assert!(edits.iter().all(|e| e["newText"] == "climbing"));
+    for (bad, why) in [
+        ("goto", "keyword"),
+        ("state1", "already declared"),
+        ("m_depth", "sensor name"),
+        ("9lives", "not a valid name"),
+    ] {
+        let refused = client
+            .request_raw("textDocument/rename", json!({ "textDocument": { "uri": URI }, "position": { "line": 13, "character": 6 }, "newName": bad }))
+            .await;
+        assert!(
+            refused["error"]["message"]
+                .as_str()
+                .expect("m")
+                .contains(why),
+            "{bad}: {refused}"
+        );
+    }
+    // Sensors are not renamable; variables are.
+    assert_eq!(
+        client
+            .request("textDocument/prepareRename", at(URI, 1, 5))
+            .await,
+        Value::Null
+    );
+    change(
+        &mut client,
+        URI,
+        2,
+        "dim n as integer\nn = n + 1\nprint n\nyield\n",
+    )
+    .await;
+    let edit = client
+        .request("textDocument/rename", json!({ "textDocument": { "uri": URI }, "position": { "line": 2, "character": 6 }, "newName": "count" }))
+        .await;
+    let mut changed: Vec<Value> = edit["changes"][URI].as_array().expect("edits").clone();
+    changed.sort_by_key(|e| {
+        (
+            e["range"]["start"]["line"].as_u64(),
+            e["range"]["start"]["character"].as_u64(),
+        )
+    });
+    let ranges: Vec<Value> = changed.iter().map(|e| e["range"].clone()).collect();
+    assert_eq!(
+        ranges,
+        [
+            range(0, 4, 0, 5),
+            range(1, 0, 1, 1),
+            range(1, 4, 1, 5),
+            range(2, 6, 2, 7)
+        ]
+    );
+}
+
+#[tokio::test]
+async fn symbols_folding_tokens_hints_formatting_and_signatures() {
+    let mut client = fig3().await;
+    let document = json!({ "textDocument": { "uri": URI } });
+    let symbols = client
+        .request("textDocument/documentSymbol", document.clone())
+        .await;
+    let names: Vec<(&str, u64)> = symbols
+        .as_array()
+        .expect("s")
+        .iter()
+        .map(|s| {
+            (
+                s["name"].as_str().expect("n"),
+                s["kind"].as_u64().expect("k"),
+            )
+        })
+        .collect();
+    assert_eq!(names, [("state1", 12), ("state2", 12), ("state3", 12)]);
+    assert_eq!(
+        symbols[0]["range"],
+        range(0, 0, 6, 11),
+        "label state1's section"
+    );
+
+    let folds = client
+        .request("textDocument/foldingRange", document.clone())
+        .await;
+    let mut spans: Vec<(u64, u64)> = folds
+        .as_array()
+        .expect("f")
+        .iter()
+        .map(|f| {
+            (
+                f["startLine"].as_u64().expect("s"),
+                f["endLine"].as_u64().expect("e"),
+            )
+        })
+        .collect();
+    spans.sort();
+    assert_eq!(spans, [(0, 6), (1, 4), (7, 13), (8, 11), (14, 16)]);
+
+    let tokens = client
+        .request("textDocument/semanticTokens/full", document.clone())
+        .await;
+    let data: Vec<u64> = tokens["data"]
+        .as_array()
+        .expect("d")
+        .iter()
+        .map(|v| v.as_u64().expect("n"))
+        .collect();
+    let decoded = decode(&data);
+    // `if m_depth > 15.0 then`: keyword, sensor read (readonly), operator, number, keyword.
+    let line1: Vec<_> = decoded
+        .iter()
+        .filter(|t| t.0 == 1)
+        .map(|t| (t.1, t.2, t.3, t.4))
+        .collect();
+    assert_eq!(
+        line1,
+        [
+            (0, 2, 0, 0),
+            (3, 7, 8, 1 | 4),
+            (11, 1, 7, 0),
+            (13, 4, 4, 0),
+            (18, 4, 0, 0)
+        ]
+    );
+    // `  SCI_RUHP_BEHS = 128`: a sensor written.
+    assert_eq!(
+        decoded
+            .iter()
+            .find(|t| t.0 == 2)
+            .map(|t| (t.1, t.2, t.3, t.4)),
+        Some((2, 13, 8, 2 | 4))
+    );
+    // `goto state2`: keyword, label.
+    let line3: Vec<_> = decoded.iter().filter(|t| t.0 == 3).map(|t| t.3).collect();
+    assert_eq!(line3, [0, 9]);
+
+    let hints = client
+        .request(
+            "textDocument/inlayHint",
+            json!({ "textDocument": { "uri": URI }, "range": range(0, 0, 17, 0) }),
+        )
+        .await;
+    let hints: Vec<(u64, String)> = hints
+        .as_array()
+        .expect("h")
+        .iter()
+        .map(|h| {
+            (
+                h["position"]["line"].as_u64().expect("l"),
+                h["label"].as_str().expect("l").to_string(),
+            )
+        })
+        .collect();
+    // Same figures as Fig. 2 (first cycle 15, worst 16), shown on GBASIC lines.
+    // The first cycle starts at the first statement that runs: the `if` on line 1.
+    assert!(
+        hints.contains(&(1, "first cycle ≤ 15 instr".to_string())),
+        "{hints:?}"
+    );
+    assert!(
+        hints.contains(&(5, "next cycle ≤ 16 instr".to_string())),
+        "{hints:?}"
+    );
+    assert_eq!(
+        hints
+            .iter()
+            .filter(|h| h.1.starts_with("next cycle"))
+            .count(),
+        3,
+        "{hints:?}"
+    );
+
+    change(
+        &mut client,
+        URI,
+        2,
+        "while 1\nif m_depth > 1.0 then\nyield\nelse\n      yield\nendif\nwend\n",
+    )
+    .await;
+    let edits = client
+        .request("textDocument/formatting", json!({ "textDocument": { "uri": URI }, "options": { "tabSize": 2, "insertSpaces": true } }))
+        .await;
+    assert_eq!(
+        edits,
+        json!([{ "range": range(1, 0, 6, 0), "newText": "  if m_depth > 1.0 then\n    yield\n  else\n    yield\n  endif\n" }])
+    );
+
+    change(
+        &mut client,
+        URI,
+        3,
+        "dim a as float\na = max(1.0, sqrt(2.0), \n",
+    )
+    .await;
+    let help = client
+        .request("textDocument/signatureHelp", at(URI, 1, 23))
+        .await;
+    assert_eq!(help["signatures"][0]["label"], "max(a, b)");
+    assert_eq!(help["activeParameter"], 1);
+    assert_eq!(
+        help["signatures"][0]["documentation"]["value"],
+        "the larger; float if either is"
+    );
+}
+
+fn decode(data: &[u64]) -> Vec<(u64, u64, u64, u64, u64)> {
+    let mut line = 0;
+    let mut start = 0;
+    data.chunks(5)
+        .map(|chunk| {
+            if chunk[0] > 0 {
+                line += chunk[0];
+                start = chunk[1];
+            } else {
+                start += chunk[1];
+            }
+            (line, start, chunk[2], chunk[3], chunk[4])
+        })
+        .collect()
+}

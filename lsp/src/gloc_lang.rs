@@ -3,10 +3,11 @@
 
 use std::collections::BTreeMap;
 
+use gloc_compiler::loader::{load_script, Language, LoadOptions};
 use gloc_engine::gloc::ast::{
     DirectiveKind, File, Line, LineKind, Opcode, OperandKind, OperandShape, Origin,
 };
-use gloc_engine::gloc::{self, Bound, CheckOptions};
+use gloc_engine::gloc::{self, Bound};
 use gloc_engine::sensors::{SensorId, SensorList};
 use gloc_engine::{Diagnostic, Span};
 
@@ -16,26 +17,33 @@ use crate::analysis::{
 };
 use crate::lang;
 
-/// Code of the warning that the worst case exceeds the configured budget.
-pub const CODE_OVER_BUDGET: &str = "W0904";
-
 pub fn analyze(text: &str, context: &Context) -> Analysis {
     let parsed = gloc::parse(text);
-    let checked = gloc::check(&parsed, &context.sensors, &CheckOptions::default());
+    // The shared loader gives exactly what `gloc check` reports (the checker's
+    // diagnostics plus the cycle-budget warning) and the checked program.
+    let loaded = load_script(
+        text,
+        Language::Gloc,
+        &context.sensors,
+        &LoadOptions {
+            optimize: false,
+            cycle_budget: context.cycle_budget,
+        },
+    );
     let file = &parsed.file;
     let mut analysis = Analysis {
-        diagnostics: checked.diagnostics,
+        diagnostics: loaded.diagnostics,
         ..Analysis::default()
     };
-    add_yield_fixes(
-        text,
-        file,
-        checked.stats.statements,
-        &mut analysis.diagnostics,
-    );
+    let statements = loaded.stats.as_ref().map_or(0, |stats| stats.statements);
+    add_yield_fixes(text, file, statements, &mut analysis.diagnostics);
     collect_tokens(text, file, context, &mut analysis);
     collect_labels(file, &mut analysis);
-    if let (Some(worst_case), Some(program)) = (&checked.stats.worst_case, &checked.program) {
+    let worst_case = loaded
+        .stats
+        .as_ref()
+        .and_then(|stats| stats.worst_case.as_ref());
+    if let (Some(worst_case), Some(program)) = (worst_case, &loaded.program) {
         if let Some(first) = file
             .statements()
             .find(|line| matches!(line.kind, LineKind::Instruction(_)))
@@ -52,22 +60,6 @@ pub fn analyze(text: &str, context: &Context) -> Analysis {
             analysis
                 .hints
                 .push(cycle_hint(span.end as usize, "next cycle", *bound, context));
-        }
-        if let (Some(budget), Bound::Finite(max)) = (context.cycle_budget, worst_case.max) {
-            if max > budget {
-                let span = file
-                    .statements()
-                    .next()
-                    .map_or(Span::default(), |line| line.span);
-                analysis.diagnostics.push(
-                    Diagnostic::warning(
-                        CODE_OVER_BUDGET,
-                        span,
-                        format!("a control cycle may execute {max} instructions, more than the cycle budget of {budget}"),
-                    )
-                    .with_help("add a `yield` on the longest path, or raise `cycle_budget` in gloc.toml"),
-                );
-            }
         }
     }
     analysis

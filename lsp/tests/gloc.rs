@@ -486,12 +486,12 @@ async fn gloc_toml_sets_the_cycle_budget_and_bad_files_are_diagnostics() {
     let mut client = TestClient::initialized().await;
     let published = client.open(&script_uri, "gloc", FIG2).await;
     let warning = &published["diagnostics"][0];
-    assert_eq!(warning["code"], "W0904");
+    assert_eq!(warning["code"], "W2302");
     assert!(
         warning["message"]
             .as_str()
             .expect("m")
-            .contains("16 instructions, more than the cycle budget of 10"),
+            .contains("16 instructions, more than the budget of 10"),
         "{warning}"
     );
 
@@ -529,7 +529,7 @@ async fn gloc_toml_sets_the_cycle_budget_and_bad_files_are_diagnostics() {
     );
     assert_eq!(
         client.latest_diagnostics(&script_uri).await["diagnostics"][0]["code"],
-        "W0904"
+        "W2302"
     );
     std::fs::remove_dir_all(&root).expect("cleanup");
 }

@@ -1,0 +1,235 @@
+//! The thermocline tracker (`examples/thermocline.gbas` with `examples/thermocline.mi`)
+//! flown in the simulator: its turns must follow the thermocline that the same
+//! algorithm finds on the noise-free profile, computed here independently.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use gloc_compiler::{load_script, Language, LoadOptions};
+use gloc_engine::sensors::SensorList;
+use gloc_sim::{Mission, SimConfig, Simulation, TemperatureProfile};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+/// One cycle's record.
+struct Sample {
+    depth: f64,
+    climb_depth: f64,
+    dive_depth: f64,
+}
+
+struct Flight {
+    samples: Vec<Sample>,
+    printed: Vec<String>,
+    ended: bool,
+}
+
+fn fly(profile: Option<TemperatureProfile>, cycles: usize, optimize: bool) -> Flight {
+    let sensors = Arc::new(SensorList::embedded());
+    let text =
+        std::fs::read_to_string(root().join("examples/thermocline.gbas")).expect("the tracker");
+    let loaded = load_script(
+        &text,
+        Language::Gbasic,
+        &sensors,
+        &LoadOptions {
+            optimize,
+            cycle_budget: None,
+        },
+    );
+    assert!(loaded.program.is_some(), "{:?}", loaded.diagnostics);
+    let mission = Mission::load(&root().join("examples/thermocline.mi"));
+    assert!(!mission.has_errors(), "{}", mission.render_plain());
+    let config = SimConfig {
+        profile,
+        ..SimConfig::default()
+    };
+    let mut sim = Simulation::new(
+        &mission,
+        Arc::clone(&sensors),
+        loaded.program.clone(),
+        &config,
+    )
+    .expect("simulation");
+    let climb = sensors.lookup("sci_ruhp_climb_depth").expect("hook sensor");
+    let dive = sensors.lookup("sci_ruhp_dive_depth").expect("hook sensor");
+    let mut samples = Vec::with_capacity(cycles);
+    let mut printed = Vec::new();
+    let mut ended = false;
+    for _ in 0..cycles {
+        if !sim.step_cycle() {
+            ended = true;
+            break;
+        }
+        printed.extend(sim.printed().map(str::to_string));
+        assert!(
+            sim.script_trap().is_none(),
+            "the tracker trapped: {:?}",
+            sim.script_trap()
+        );
+        samples.push(Sample {
+            depth: sim.depth(),
+            climb_depth: sim.sensor(climb).unwrap_or(0.0),
+            dive_depth: sim.sensor(dive).unwrap_or(0.0),
+        });
+    }
+    Flight {
+        samples,
+        printed,
+        ended,
+    }
+}
+
+/// Turning points of a depth record: (cycle, depth, is_bottom). A turn is taken
+/// once the glider has come back 0.5 m from its extreme.
+fn turns(samples: &[Sample]) -> Vec<(usize, f64, bool)> {
+    let mut turns = Vec::new();
+    let mut descending = true;
+    let mut extreme = samples.first().map_or(0.0, |sample| sample.depth);
+    let mut at = 0;
+    for (cycle, sample) in samples.iter().enumerate() {
+        let depth = sample.depth;
+        if descending {
+            if depth > extreme {
+                extreme = depth;
+                at = cycle;
+            } else if depth < extreme - 0.5 {
+                turns.push((at, extreme, true));
+                descending = false;
+                extreme = depth;
+                at = cycle;
+            }
+        } else if depth < extreme {
+            extreme = depth;
+            at = cycle;
+        } else if depth > extreme + 0.5 {
+            turns.push((at, extreme, false));
+            descending = true;
+            extreme = depth;
+            at = cycle;
+        }
+    }
+    turns
+}
+
+/// Petillo's bounds on a noise-free profile, written independently of the script:
+/// 1 m bins 0..=deepest (bin i averaged as T(i + 0.5)), |dT/dz| between
+/// neighbours, the mean of those, and the span of the depths (i + 1) where the
+/// derivative exceeds the mean; never shallower than 2 m, at least 2 m thick.
+fn true_bounds(profile: &TemperatureProfile, deepest_bin: usize) -> (f64, f64) {
+    let averages: Vec<f64> = (0..=deepest_bin)
+        .map(|bin| profile.temperature(bin as f64 + 0.5))
+        .collect();
+    let gradients: Vec<f64> = averages
+        .windows(2)
+        .map(|pair| (pair[1] - pair[0]).abs())
+        .collect();
+    let mean = gradients.iter().sum::<f64>() / gradients.len() as f64;
+    let above: Vec<usize> = (0..gradients.len())
+        .filter(|&index| gradients[index] > mean)
+        .collect();
+    let upper = (above[0] + 1) as f64;
+    let lower = (above[above.len() - 1] + 1) as f64;
+    let upper = upper.max(2.0);
+    (upper, lower.max(upper + 2.0))
+}
+
+#[test]
+fn twelve_hours_on_the_built_in_profile_turn_at_the_true_bounds() {
+    // 12 hours of 4-second cycles.
+    let flight = fly(None, 12 * 3600 / 4, false);
+    assert!(
+        !flight.ended,
+        "the mission ended early: {:?}",
+        flight.printed.last()
+    );
+    let turns = turns(&flight.samples);
+    let (first_cycle, first_depth, first_is_bottom) = turns[0];
+    assert!(
+        first_is_bottom && first_depth > 30.0,
+        "the first leg is a full-depth dive: {turns:?}"
+    );
+    // The bins the first dive filled.
+    let deepest_bin = flight.samples[..=first_cycle]
+        .iter()
+        .map(|sample| sample.depth.floor() as usize)
+        .max()
+        .unwrap_or(0);
+    let (upper, lower) = true_bounds(&TemperatureProfile::default(), deepest_bin);
+    assert!(
+        (8.0..=14.0).contains(&upper) && (18.0..=24.0).contains(&lower),
+        "true bounds {upper}–{lower}"
+    );
+    let later = &turns[1..];
+    assert!(
+        later.len() > 100,
+        "too few turns in 12 hours: {}",
+        later.len()
+    );
+    let close = later
+        .iter()
+        .filter(|(_, depth, is_bottom)| {
+            let bound = if *is_bottom { lower } else { upper };
+            (depth - bound).abs() <= 2.0
+        })
+        .count();
+    let share = close as f64 / later.len() as f64;
+    println!(
+        "true bounds {upper}–{lower} m; {close} of {} turns within 2 m ({:.1}%)",
+        later.len(),
+        share * 100.0
+    );
+    assert!(
+        share >= 0.9,
+        "only {close} of {} turns within 2 m of {upper}/{lower}: {later:?}",
+        later.len()
+    );
+}
+
+#[test]
+fn the_amadeus_profile_gives_bounds_of_about_3_and_13_m() {
+    let path = root().join("../shared/data/amadeus_2014-07-24_temp_profile.csv");
+    let Ok(text) = std::fs::read_to_string(&path) else {
+        println!("skipped: {} is not there", path.display());
+        return;
+    };
+    let profile = TemperatureProfile::from_csv(&path, &text).expect("the amadeus profile parses");
+    // Three hours are plenty for the first profile and several turns.
+    let flight = fly(Some(profile), 3 * 3600 / 4, false);
+    let turns = turns(&flight.samples);
+    assert!(turns.len() > 4, "{turns:?}");
+    // The bounds the script settles on once a few legs have filled its bins.
+    let last = flight.samples.last().expect("samples");
+    println!(
+        "amadeus: climb to {} m, dive to {} m",
+        last.climb_depth, last.dive_depth
+    );
+    assert!(
+        (2.0..=4.0).contains(&last.climb_depth),
+        "upper bound {}",
+        last.climb_depth
+    );
+    assert!(
+        (12.0..=14.0).contains(&last.dive_depth),
+        "lower bound {}",
+        last.dive_depth
+    );
+}
+
+#[test]
+fn the_tracker_flies_the_same_with_and_without_optimization() {
+    let cycles = 2 * 3600 / 4;
+    let plain = fly(None, cycles, false);
+    let optimized = fly(None, cycles, true);
+    assert_eq!(plain.printed, optimized.printed);
+    let depths = |flight: &Flight| {
+        flight
+            .samples
+            .iter()
+            .map(|sample| sample.depth.to_bits())
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(depths(&plain), depths(&optimized));
+}

@@ -215,8 +215,6 @@ pub struct Debugger<T: Target> {
     outputs: Vec<Output>,
     pause_requested: bool,
     ended: Option<String>,
-    /// Set when an abend was reported as a stop; the next resume ends the session.
-    pending_end: Option<String>,
     pub trap: Option<String>,
 }
 
@@ -258,7 +256,6 @@ impl<T: Target> Debugger<T> {
             outputs: Vec::new(),
             pause_requested: false,
             ended: None,
-            pending_end: None,
             trap: None,
         }
     }
@@ -300,10 +297,6 @@ impl<T: Target> Debugger<T> {
 
     /// Runs forward for at most `budget` steps.
     pub fn run(&mut self, mode: RunMode, start: Clock, budget: u64) -> Progress {
-        if let Some(summary) = self.pending_end.take() {
-            self.ended = Some(summary.clone());
-            return Progress::Ended { summary };
-        }
         if let Some(summary) = &self.ended {
             return Progress::Ended {
                 summary: summary.clone(),
@@ -311,7 +304,15 @@ impl<T: Target> Debugger<T> {
         }
         for _ in 0..budget {
             let event = self.step_world();
-            self.collect_notices();
+            let abend = self.collect_notices();
+            if let (Some(reason), true) = (abend, self.filters.abend) {
+                return Progress::Stopped(Stop {
+                    reason: "exception",
+                    description: "Paused on abend".into(),
+                    text: Some(reason),
+                    hit_breakpoint_ids: Vec::new(),
+                });
+            }
             if let Some(progress) = self.after_step(&event, mode, start, Check::Live) {
                 if let Progress::Stopped(_) = progress {
                     self.pause_requested = false;
@@ -336,13 +337,18 @@ impl<T: Target> Debugger<T> {
         event
     }
 
-    fn collect_notices(&mut self) {
+    /// Turns the world's notices into output; returns the abort reason if one happened.
+    fn collect_notices(&mut self) -> Option<String> {
         let line = self.current_line();
+        let mut abend = None;
         for notice in self.target.take_notices() {
             let (category, text) = match notice {
                 Notice::Print(text) => ("stdout", text),
                 Notice::Behavior(text) => ("console", format!("behavior: {text}")),
-                Notice::Abend(text) => ("important", format!("abend: {text}")),
+                Notice::Abend(text) => {
+                    abend = Some(text.clone());
+                    ("important", format!("abend: {text}"))
+                }
             };
             self.outputs.push(Output {
                 category,
@@ -350,17 +356,24 @@ impl<T: Target> Debugger<T> {
                 line,
             });
         }
+        abend
+    }
+
+    /// The pc to show: the next instruction, except after the script's share when
+    /// it is the `yield` just executed (a trap leaves pc on the trapping instruction).
+    pub fn shown_pc(&self) -> usize {
+        let pc = self.target.pc();
+        if self.target.phase() == Phase::ScriptDone && self.target.script_alive() {
+            pc.saturating_sub(1)
+        } else {
+            pc
+        }
     }
 
     pub fn current_line(&self) -> Option<u32> {
-        if self.target.phase() == Phase::ScriptDone || self.trap.is_some() {
-            // The script is at its yield: show the line of the instruction before.
-            return self
-                .info
-                .line(self.target.pc().saturating_sub(1))
-                .or_else(|| self.info.line(self.target.pc()));
-        }
-        self.info.line(self.target.pc())
+        self.info
+            .line(self.shown_pc())
+            .or_else(|| self.info.line(self.target.pc()))
     }
 
     /// Decides whether the run stops after one step.
@@ -404,16 +417,7 @@ impl<T: Target> Debugger<T> {
                 }
                 return None;
             }
-            StepEvent::MissionEnded { summary, abend } => {
-                if *abend && self.filters.abend {
-                    self.pending_end = Some(summary.clone());
-                    return Some(Progress::Stopped(Stop {
-                        reason: "exception",
-                        description: "Paused on abend".into(),
-                        text: Some(summary.clone()),
-                        hit_breakpoint_ids: Vec::new(),
-                    }));
-                }
+            StepEvent::MissionEnded { summary } => {
                 self.ended = Some(summary.clone());
                 return Some(Progress::Ended {
                     summary: summary.clone(),
@@ -504,7 +508,7 @@ impl<T: Target> Debugger<T> {
             }
         }
         let script_can_run =
-            matches!(phase, Phase::Boundary | Phase::InScript) && self.trap.is_none();
+            matches!(phase, Phase::Boundary | Phase::InScript) && self.target.script_alive();
         if script_can_run {
             let pc = self.target.pc();
             let mut hit = Vec::new();
@@ -725,7 +729,6 @@ impl<T: Target> Debugger<T> {
         self.clock = at;
         self.trap = None;
         self.ended = None;
-        self.pending_end = None;
         let mut edits = journal.into_iter().peekable();
         loop {
             while let Some((_, edit)) = edits.next_if(|(clock, _)| *clock == self.clock) {

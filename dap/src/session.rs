@@ -564,8 +564,6 @@ impl Session {
             .ok_or_else(|| "no program is loaded: send `launch` first".to_string())
     }
 
-    // Interim: `World` is uninhabited until the simulator is merged.
-    #[allow(unreachable_code, unused_variables)]
     fn launch(&mut self, arguments: LaunchArguments) -> Result<(), String> {
         let program = arguments
             .program
@@ -1052,11 +1050,7 @@ fn source_of(debugger: &Debugger<World>) -> Source {
 
 fn stack_frame(debugger: &Debugger<World>) -> StackFrame {
     let target = &debugger.target;
-    let pc = if target.phase() == Phase::ScriptDone || debugger.trap.is_some() {
-        target.pc().saturating_sub(1)
-    } else {
-        target.pc()
-    };
+    let pc = debugger.shown_pc();
     let instruction = debugger
         .info
         .instruction_text

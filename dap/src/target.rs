@@ -33,8 +33,9 @@ pub enum StepEvent {
     Trapped { kind: TrapKind, message: String },
     /// The vehicle finished the cycle and the next one began (the run is at a boundary).
     CycleBegan,
-    /// The mission ended (completed, aborted or out of cycles); `summary` says how.
-    MissionEnded { summary: String, abend: bool },
+    /// The mission ended (completed, aborted and surfaced, or out of cycles); `summary`
+    /// says how.
+    MissionEnded { summary: String },
 }
 
 /// Runtime failures the user can choose to stop on (DAP exception filters).
@@ -53,7 +54,8 @@ pub enum Notice {
     Print(String),
     /// The set of active behaviors changed (a description of the change).
     Behavior(String),
-    /// The mission aborted: the reason.
+    /// The mission aborted (abend): the reason. The glider surfaces; the run goes on
+    /// until it is up.
     Abend(String),
 }
 
@@ -69,8 +71,10 @@ pub trait Target: Clone {
     /// The current control cycle (the boundary opening it has been passed).
     fn cycle(&self) -> u64;
     fn phase(&self) -> Phase;
-    /// The next instruction the script would run.
+    /// The next instruction the script would run (after a trap: the one that trapped).
     fn pc(&self) -> usize;
+    /// False once the script halted or trapped (the vehicle flies on).
+    fn script_alive(&self) -> bool;
     /// Advances by one instruction or, when the script is done for this cycle, by the rest
     /// of the cycle up to the next boundary.
     fn step(&mut self) -> StepEvent;

@@ -1,13 +1,21 @@
-//! The debugged world: the GLOC interpreter inside the glider simulator.
-//!
-//! Interim: the engine and simulator are not merged yet, so no world can be built and
-//! `launch` says so. `World` is uninhabited until then.
+//! The debugged world: the GLOC interpreter as one behavior inside the glider
+//! simulator, advanced through the simulator's phases (boundary, script share, rest of
+//! the cycle) one instruction or one cycle remainder at a time.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use gloc_compiler::{load_script, Language as ScriptLanguage, LoadOptions, Storage};
+use gloc_engine::program::{Pc, Reg, Value};
+use gloc_engine::sensors::{SensorId, SensorList, SensorOrder};
+use gloc_engine::vm::{CycleEnd, TrapKind as VmTrapKind};
+use gloc_engine::{Diagnostic, LineIndex};
+use gloc_sim::behaviors::EventKind;
+use gloc_sim::{EndReason, Mission, Phase as SimPhase, SimConfig, Simulation, TemperatureProfile};
 
 use crate::expr::Number;
-use crate::program::DebugInfo;
-use crate::target::{Named, Notice, Phase, StepEvent, Target};
+use crate::program::{DebugInfo, Language};
+use crate::target::{Named, Notice, Phase, StepEvent, Target, TrapKind};
 
 /// What `launch` needs, already checked for types by the session.
 #[derive(Clone, Debug, Default)]
@@ -21,66 +29,499 @@ pub struct LaunchConfig {
     pub max_cycles: Option<u64>,
 }
 
+/// A GBASIC variable and where it lives.
 #[derive(Clone, Debug)]
-pub enum World {}
+struct VariableSlot {
+    name: String,
+    float: bool,
+    storage: Storage,
+}
 
+/// What never changes during a run; shared by every snapshot.
+#[derive(Debug)]
+struct Fixed {
+    variables: Vec<VariableSlot>,
+    touched: Vec<usize>,
+    max_cycles: Option<u64>,
+    sensor_list: Arc<SensorList>,
+}
+
+#[derive(Clone, Debug)]
+pub struct World {
+    sim: Simulation,
+    fixed: Arc<Fixed>,
+    /// Printed lines of this cycle already reported.
+    printed_reported: usize,
+    /// Behavior events of this cycle already reported.
+    events_reported: usize,
+    abend_reported: bool,
+    notices: Vec<Notice>,
+}
+
+/// Loads the script, the sensor list, the mission and the profile, and opens cycle 0.
 pub fn launch(config: &LaunchConfig) -> Result<(World, DebugInfo), String> {
-    Err(format!(
-        "cannot launch {}: the simulator is not part of this build yet",
-        config.program.display()
-    ))
+    let path = &config.program;
+    let text = std::fs::read_to_string(path)
+        .map_err(|error| format!("cannot read the program {}: {error}", path.display()))?;
+    let sensor_list = match &config.masterdata {
+        None => SensorList::embedded(),
+        Some(masterdata) => load_sensor_list(masterdata)?,
+    };
+    let script_language = ScriptLanguage::of_path(path);
+    let loaded = load_script(
+        &text,
+        script_language,
+        &sensor_list,
+        &LoadOptions {
+            optimize: false,
+            cycle_budget: config.cycle_budget,
+        },
+    );
+    let Some(program) = loaded.program.clone() else {
+        let errors: Vec<String> = loaded
+            .diagnostics
+            .iter()
+            .filter(|diagnostic| diagnostic.is_error())
+            .map(|diagnostic| render(path, &text, diagnostic))
+            .collect();
+        return Err(format!("{} has errors:\n{}", path.display(), errors.join("\n")));
+    };
+    let mission = match &config.mission {
+        None => gloc_sim::default_mission(),
+        Some(mission_path) => {
+            if !mission_path.exists() {
+                return Err(format!("cannot read the mission {}: no such file", mission_path.display()));
+            }
+            Mission::load(mission_path)
+        }
+    };
+    let profile = match &config.profile {
+        None => None,
+        Some(profile_path) => {
+            let profile_text = std::fs::read_to_string(profile_path)
+                .map_err(|error| format!("cannot read the profile {}: {error}", profile_path.display()))?;
+            Some(TemperatureProfile::from_csv(profile_path, &profile_text).map_err(|error| error.to_string())?)
+        }
+    };
+    let defaults = SimConfig::default();
+    let sim_config = SimConfig {
+        seed: config.seed.unwrap_or(defaults.seed),
+        profile,
+        cycle_budget: config.cycle_budget.unwrap_or(defaults.cycle_budget),
+        ..defaults
+    };
+    let sensor_list = Arc::new(sensor_list);
+    let mut sim = Simulation::new(&mission, sensor_list.clone(), Some(program.clone()), &sim_config)
+        .map_err(|error| error.to_string())?;
+    let mut notices: Vec<Notice> = sim.warnings().iter().map(|warning| Notice::Behavior(warning.clone())).collect();
+    if !sim.begin_cycle() {
+        return Err("the mission ended before its first cycle".into());
+    }
+    let mut touched: Vec<usize> = Vec::new();
+    for sensor in program.loaded_sensors.iter().chain(&program.stored_sensors) {
+        if !touched.contains(&sensor.index()) {
+            touched.push(sensor.index());
+        }
+    }
+    let variables = loaded
+        .source_map
+        .as_ref()
+        .map(|map| {
+            map.variables
+                .iter()
+                .map(|variable| VariableSlot {
+                    name: variable.name.clone(),
+                    float: variable.ty.name() == "float",
+                    storage: variable.storage,
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    let gloc_text = loaded.gloc_text.clone().unwrap_or_default();
+    let gloc_lines: Vec<&str> = gloc_text.lines().collect();
+    let count = program.instrs.len();
+    let (language, line_of_pc, instruction_text) = match &loaded.source_map {
+        Some(map) => {
+            let origins: Vec<_> = map.lines.iter().filter(|origin| !origin.is_label).collect();
+            let lines = (0..count).map(|pc| origins.get(pc).map(|origin| origin.line)).collect();
+            let texts = (0..count)
+                .map(|pc| match origins.get(pc) {
+                    Some(origin) => gloc_line_text(&gloc_lines, origin.gloc_line),
+                    None => "halt    # end of script".to_string(),
+                })
+                .collect();
+            (Language::Gbasic, lines, texts)
+        }
+        None => {
+            let lines = (0..count)
+                .map(|pc| Some(program.line(Pc(pc as u32))).filter(|line| *line > 0))
+                .collect::<Vec<_>>();
+            let texts = (0..count)
+                .map(|pc| {
+                    if pc + 1 == count {
+                        "halt    # end of script".to_string()
+                    } else {
+                        gloc_line_text(&gloc_lines, program.line(Pc(pc as u32)))
+                    }
+                })
+                .collect();
+            // The implicit final halt has no line of its own.
+            let mut lines = lines;
+            if let Some(last) = lines.last_mut() {
+                if count > 1 {
+                    *last = None;
+                }
+            }
+            (Language::Gloc, lines, texts)
+        }
+    };
+    let info = DebugInfo::new(path.clone(), language, line_of_pc, instruction_text);
+    let fixed = Arc::new(Fixed {
+        variables,
+        touched,
+        max_cycles: config.max_cycles,
+        sensor_list,
+    });
+    let mut world = World {
+        sim,
+        fixed,
+        printed_reported: 0,
+        events_reported: 0,
+        abend_reported: false,
+        notices: Vec::new(),
+    };
+    world.collect();
+    notices.append(&mut world.notices);
+    world.notices = notices;
+    Ok((world, info))
+}
+
+fn gloc_line_text(lines: &[&str], line: u32) -> String {
+    let text = line
+        .checked_sub(1)
+        .and_then(|index| lines.get(index as usize))
+        .copied()
+        .unwrap_or("");
+    text.split('#').next().unwrap_or("").trim().to_string()
+}
+
+fn load_sensor_list(path: &Path) -> Result<SensorList, String> {
+    let loaded = gloc_engine::sensors::load_sensor_file(path, SensorOrder::FileOrder)
+        .map_err(|error| format!("cannot read the sensor list {}: {error}", path.display()))?;
+    let errors: Vec<String> = loaded
+        .diagnostics
+        .iter()
+        .filter(|diagnostic| diagnostic.is_error())
+        .map(|diagnostic| render(path, &loaded.text, diagnostic))
+        .collect();
+    if !errors.is_empty() {
+        return Err(format!("the sensor list {} has errors:\n{}", path.display(), errors.join("\n")));
+    }
+    Ok(loaded.list)
+}
+
+/// `file:line:column: error[CODE]: message`, as the CLI prints it.
+fn render(path: &Path, text: &str, diagnostic: &Diagnostic) -> String {
+    let index = LineIndex::new(text);
+    let (line, column) = index.line_col(text, diagnostic.span.start as usize);
+    format!(
+        "{}:{line}:{column}: error[{}]: {}",
+        path.display(),
+        diagnostic.code,
+        diagnostic.message
+    )
+}
+
+impl World {
+    /// Turns this cycle's new prints, behavior events and an abort into notices.
+    fn collect(&mut self) {
+        let printed: Vec<String> = self.sim.printed().skip(self.printed_reported).map(str::to_string).collect();
+        self.printed_reported += printed.len();
+        self.notices.extend(printed.into_iter().map(Notice::Print));
+        let events = self.sim.events();
+        for event in &events[self.events_reported.min(events.len())..] {
+            let name = self
+                .sim
+                .behaviors()
+                .get(event.behavior)
+                .map(|behavior| behavior.name.clone())
+                .unwrap_or_else(|| format!("behavior {}", event.behavior));
+            let text = match event.kind {
+                EventKind::Started => format!("{name} started"),
+                EventKind::Completed => format!("{name} completed"),
+                EventKind::Inflection { depth } => format!("{name} turned at {depth:.2} m"),
+            };
+            self.notices.push(Notice::Behavior(format!("cycle {}: {text}", self.sim.cycle())));
+        }
+        self.events_reported = events.len();
+        if !self.abend_reported {
+            if let Some(end) = self.sim.end() {
+                if let EndReason::Aborted(_) = end.reason {
+                    self.abend_reported = true;
+                    self.notices.push(Notice::Abend(format!(
+                        "{} at cycle {} ({:.1} s, depth {:.2} m)",
+                        end.reason, end.cycle, end.time, end.depth
+                    )));
+                }
+            }
+        }
+    }
+
+    fn summary(&self, cut_short: bool) -> String {
+        let (shallowest, deepest) = self.sim.depth_range();
+        let how = match (self.sim.end(), cut_short) {
+            (_, true) => format!("stopped after maxCycles = {}", self.sim.cycle()),
+            (Some(end), false) => format!("mission {}", end.reason),
+            (None, false) => "mission ended".to_string(),
+        };
+        let script = match self.sim.script_trap() {
+            Some(trap) => format!("; script trapped: {trap}"),
+            None => match self.sim.script_last_end() {
+                Some(CycleEnd::Halted) => "; script halted".to_string(),
+                _ => String::new(),
+            },
+        };
+        format!(
+            "{}: {how} after {} cycles ({:.0} s); depth {:.2}–{:.2} m; energy {:.0} J{script}",
+            self.sim.mission_name(),
+            self.sim.cycle(),
+            self.sim.time(),
+            shallowest,
+            deepest,
+            self.sim.energy_joules(),
+        )
+    }
+
+    fn machine_value(&self, storage: Storage) -> Option<Value> {
+        let machine = self.sim.machine()?;
+        match storage {
+            Storage::Register { register } => machine.registers().get(register as usize).copied(),
+            Storage::Memory { base, .. } => machine.memory().get(base as usize).copied(),
+        }
+    }
+}
+
+fn to_number(value: Value) -> Number {
+    match value {
+        Value::Int(value) => Number::Int(value),
+        Value::Float(value) => Number::Float(value),
+    }
+}
+
+fn to_value(number: Number) -> Value {
+    match number {
+        Number::Int(value) => Value::Int(value),
+        Number::Float(value) => Value::Float(value),
+    }
 }
 
 impl Target for World {
     fn cycle(&self) -> u64 {
-        match *self {}
+        self.sim.cycle()
     }
+
     fn phase(&self) -> Phase {
-        match *self {}
+        match self.sim.phase() {
+            SimPhase::Boundary | SimPhase::BetweenCycles => Phase::Boundary,
+            SimPhase::ScriptRunning => Phase::InScript,
+            SimPhase::ScriptDone => Phase::ScriptDone,
+            SimPhase::Finished => Phase::Ended,
+        }
     }
+
     fn pc(&self) -> usize {
-        match *self {}
+        self.sim.machine().map_or(0, |machine| machine.pc().index())
     }
+
+    fn script_alive(&self) -> bool {
+        self.sim.machine().is_some_and(|machine| machine.status() == gloc_engine::vm::Status::Running)
+    }
+
     fn step(&mut self) -> StepEvent {
-        match *self {}
+        let event = match self.sim.phase() {
+            SimPhase::Boundary | SimPhase::ScriptRunning => match self.sim.script_step() {
+                None => StepEvent::Executed,
+                Some(CycleEnd::Yielded) => StepEvent::Yielded,
+                Some(CycleEnd::Halted) => StepEvent::Halted,
+                Some(CycleEnd::Trapped(trap)) => StepEvent::Trapped {
+                    kind: match trap.kind {
+                        VmTrapKind::CycleOverrun { .. } => TrapKind::CycleOverrun,
+                        _ => TrapKind::Runtime,
+                    },
+                    message: trap.kind.to_string(),
+                },
+            },
+            SimPhase::ScriptDone | SimPhase::BetweenCycles => {
+                self.sim.finish_cycle();
+                self.collect();
+                let cut_short = self.fixed.max_cycles.is_some_and(|max| self.sim.cycle() >= max);
+                if self.sim.is_finished() || cut_short {
+                    return StepEvent::MissionEnded {
+                        summary: self.summary(cut_short && !self.sim.is_finished()),
+                    };
+                }
+                self.printed_reported = 0;
+                self.events_reported = 0;
+                self.sim.begin_cycle();
+                StepEvent::CycleBegan
+            }
+            SimPhase::Finished => {
+                return StepEvent::MissionEnded {
+                    summary: self.summary(false),
+                }
+            }
+        };
+        self.collect();
+        event
     }
+
     fn take_notices(&mut self) -> Vec<Notice> {
-        match *self {}
+        std::mem::take(&mut self.notices)
     }
+
     fn registers(&self) -> Vec<Number> {
-        match *self {}
+        self.sim
+            .machine()
+            .map(|machine| machine.registers().iter().copied().map(to_number).collect())
+            .unwrap_or_default()
     }
-    fn set_register(&mut self, _: usize, _: Number) -> Result<(), String> {
-        match *self {}
+
+    fn set_register(&mut self, index: usize, value: Number) -> Result<(), String> {
+        let (machine, _) = self.sim.script_parts().ok_or("no script is running")?;
+        machine
+            .set_register(Reg(index as u32), to_value(value))
+            .map_err(|error| error.to_string())
     }
+
     fn variables(&self) -> Vec<Named> {
-        match *self {}
+        let Some(machine) = self.sim.machine() else {
+            return Vec::new();
+        };
+        self.fixed
+            .variables
+            .iter()
+            .map(|variable| match variable.storage {
+                Storage::Register { register } => {
+                    let value = machine.registers().get(register as usize).copied().unwrap_or_default();
+                    Named {
+                        name: variable.name.clone(),
+                        value: value.to_string(),
+                        ty: if variable.float { "float" } else { "integer" },
+                    }
+                }
+                Storage::Memory { base, size } => {
+                    let cells: Vec<String> = machine
+                        .memory()
+                        .iter()
+                        .skip(base as usize)
+                        .take(size as usize)
+                        .map(Value::to_string)
+                        .collect();
+                    Named {
+                        name: variable.name.clone(),
+                        value: format!("[{}]", cells.join(", ")),
+                        ty: if variable.float { "float array" } else { "integer array" },
+                    }
+                }
+            })
+            .collect()
     }
-    fn variable(&self, _: &str) -> Option<Number> {
-        match *self {}
+
+    fn variable(&self, name: &str) -> Option<Number> {
+        let variable = self
+            .fixed
+            .variables
+            .iter()
+            .find(|variable| variable.name.eq_ignore_ascii_case(name))?;
+        match variable.storage {
+            Storage::Register { .. } => self.machine_value(variable.storage).map(to_number),
+            // An array has no single value in an expression.
+            Storage::Memory { .. } => None,
+        }
     }
-    fn set_variable(&mut self, _: &str, _: Number) -> Result<(), String> {
-        match *self {}
+
+    fn set_variable(&mut self, name: &str, value: Number) -> Result<(), String> {
+        let variable = self
+            .fixed
+            .variables
+            .iter()
+            .find(|variable| variable.name.eq_ignore_ascii_case(name))
+            .cloned()
+            .ok_or_else(|| format!("no variable `{name}`"))?;
+        // Keep the variable's declared type, as an assignment in the script would.
+        let value = if variable.float {
+            Value::Float(value.as_f64())
+        } else {
+            match value {
+                Number::Int(value) => Value::Int(value),
+                Number::Float(value) if value.fract() == 0.0 && value.abs() < 9.0e15 => Value::Int(value as i64),
+                Number::Float(value) => {
+                    return Err(format!("`{name}` is an integer variable; {value:?} is not a whole number"))
+                }
+            }
+        };
+        let (machine, _) = self.sim.script_parts().ok_or("no script is running")?;
+        match variable.storage {
+            Storage::Register { register } => machine.set_register(Reg(register), value),
+            Storage::Memory { base, .. } => machine.set_memory(base, value),
+        }
+        .map_err(|error| error.to_string())
     }
+
     fn sensor_count(&self) -> usize {
-        match *self {}
+        self.fixed.sensor_list.len()
     }
-    fn sensor_name(&self, _: usize) -> Option<&str> {
-        match *self {}
+
+    fn sensor_name(&self, index: usize) -> Option<&str> {
+        self.fixed.sensor_list.name(SensorId(index as u32))
     }
-    fn sensor_index(&self, _: &str) -> Option<usize> {
-        match *self {}
+
+    fn sensor_index(&self, name: &str) -> Option<usize> {
+        self.fixed.sensor_list.lookup(name).map(SensorId::index)
     }
-    fn sensor(&self, _: usize) -> f64 {
-        match *self {}
+
+    fn sensor(&self, index: usize) -> f64 {
+        self.sim.sensors().get(index).copied().unwrap_or(0.0)
     }
-    fn set_sensor(&mut self, _: usize, _: f64) -> Result<(), String> {
-        match *self {}
+
+    fn set_sensor(&mut self, index: usize, value: f64) -> Result<(), String> {
+        if self.sim.set_sensor(SensorId(index as u32), value) {
+            Ok(())
+        } else {
+            Err(format!("there is no sensor {index}"))
+        }
     }
+
     fn touched_sensors(&self) -> Vec<usize> {
-        match *self {}
+        self.fixed.touched.clone()
     }
+
     fn vehicle(&self) -> Vec<Named> {
-        match *self {}
+        let named = |name: &str, value: String, ty: &'static str| Named {
+            name: name.to_string(),
+            value,
+            ty,
+        };
+        let active: Vec<&str> = self.sim.active_behaviors().collect();
+        let phase = match self.sim.phase() {
+            SimPhase::BetweenCycles => "between cycles",
+            SimPhase::Boundary => "cycle boundary",
+            SimPhase::ScriptRunning => "script running",
+            SimPhase::ScriptDone => "script yielded",
+            SimPhase::Finished => "finished",
+        };
+        vec![
+            named("cycle", self.sim.cycle().to_string(), "integer"),
+            named("phase", phase.to_string(), "string"),
+            named("mission time (s)", format!("{:?}", self.sim.time()), "float"),
+            named("m_present_time", format!("{:?}", self.sim.present_time()), "float"),
+            named("depth (m)", format!("{:?}", self.sim.depth()), "float"),
+            named("pitch (rad)", format!("{:?}", self.sim.pitch()), "float"),
+            named("pitch (deg)", format!("{:.2}", self.sim.pitch().to_degrees()), "float"),
+            named("active behaviors", active.join(", "), "string"),
+            named("energy (J)", format!("{:.1}", self.sim.energy_joules()), "float"),
+            named("charge used (Ah)", format!("{:.4}", self.sim.amp_hours()), "float"),
+            named("water depth (m)", format!("{:?}", self.sim.water_depth()), "float"),
+        ]
     }
 }

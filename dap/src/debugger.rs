@@ -295,6 +295,20 @@ impl<T: Target> Debugger<T> {
             .collect();
     }
 
+    /// Checks the breakpoints at the current position, for the start of a run that
+    /// did not stop on entry (a breakpoint on the very first statement must hit).
+    pub fn check_start(&mut self) -> Option<Stop> {
+        match self.after_step(
+            &StepEvent::Executed,
+            RunMode::Continue,
+            self.clock,
+            Check::Live,
+        ) {
+            Some(Progress::Stopped(stop)) => Some(stop),
+            _ => None,
+        }
+    }
+
     /// Runs forward for at most `budget` steps.
     pub fn run(&mut self, mode: RunMode, start: Clock, budget: u64) -> Progress {
         if let Some(summary) = &self.ended {
@@ -342,12 +356,13 @@ impl<T: Target> Debugger<T> {
         let line = self.current_line();
         let mut abend = None;
         for notice in self.target.take_notices() {
-            let (category, text) = match notice {
-                Notice::Print(text) => ("stdout", text),
-                Notice::Behavior(text) => ("console", format!("behavior: {text}")),
+            // Only what the script printed points at a source line.
+            let (category, text, line) = match notice {
+                Notice::Print(text) => ("stdout", text, line),
+                Notice::Behavior(text) => ("console", format!("behavior: {text}"), None),
                 Notice::Abend(text) => {
                     abend = Some(text.clone());
-                    ("important", format!("abend: {text}"))
+                    ("important", format!("abend: {text}"), None)
                 }
             };
             self.outputs.push(Output {
@@ -581,7 +596,7 @@ impl<T: Target> Debugger<T> {
             )),
             RunMode::StepIn { instruction: false } => {
                 let at_statement = script_can_run && self.info.is_statement_start(self.target.pc());
-                if at_statement || *event == StepEvent::CycleBegan || phase == Phase::ScriptDone {
+                if at_statement || *event == StepEvent::CycleBegan {
                     Some(stopped("step", "Stepped one statement".into(), Vec::new()))
                 } else {
                     None

@@ -4,7 +4,7 @@
 use std::io;
 use std::path::PathBuf;
 
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use serde_json::{json, Value};
 
 use crate::debugger::{
@@ -42,21 +42,28 @@ pub const LAUNCH_ATTRIBUTES: &[&str] = &[
     "history",
 ];
 
-#[derive(Debug, Default, Deserialize, Clone)]
+#[derive(Debug, Default, Deserialize, Serialize, Clone)]
 #[serde(default, rename_all = "camelCase")]
 pub struct LaunchArguments {
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub program: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub mission: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub masterdata: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub profile: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub seed: Option<u64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub stop_on_entry: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub cycle_budget: Option<u64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub max_cycles: Option<u64>,
     /// `true`/`false`, or the number of snapshots to keep (0 = off).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub history: Option<Value>,
-    #[serde(rename = "__restart")]
-    pub restart: Option<Value>,
 }
 
 /// Whether the main loop goes on after a request.
@@ -363,12 +370,19 @@ impl Session {
                     })
                     .map_err(io_error)?;
                 } else {
-                    let start = launched.debugger.clock();
-                    launched.running = Some(Running {
-                        mode: RunMode::Continue,
-                        start,
-                    });
+                    let first = launched.debugger.check_start();
+                    if first.is_none() {
+                        let start = launched.debugger.clock();
+                        launched.running = Some(Running {
+                            mode: RunMode::Continue,
+                            start,
+                        });
+                    }
                     self.writer.respond(request, ()).map_err(io_error)?;
+                    self.flush_outputs().map_err(io_error)?;
+                    if let Some(stop) = first {
+                        self.send_stop(stop).map_err(io_error)?;
+                    }
                 }
             }
             "threads" => {

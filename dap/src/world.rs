@@ -84,13 +84,20 @@ pub fn launch(config: &LaunchConfig) -> Result<(World, DebugInfo), String> {
             .filter(|diagnostic| diagnostic.is_error())
             .map(|diagnostic| render(path, &text, diagnostic))
             .collect();
-        return Err(format!("{} has errors:\n{}", path.display(), errors.join("\n")));
+        return Err(format!(
+            "{} has errors:\n{}",
+            path.display(),
+            errors.join("\n")
+        ));
     };
     let mission = match &config.mission {
         None => gloc_sim::default_mission(),
         Some(mission_path) => {
             if !mission_path.exists() {
-                return Err(format!("cannot read the mission {}: no such file", mission_path.display()));
+                return Err(format!(
+                    "cannot read the mission {}: no such file",
+                    mission_path.display()
+                ));
             }
             Mission::load(mission_path)
         }
@@ -98,9 +105,16 @@ pub fn launch(config: &LaunchConfig) -> Result<(World, DebugInfo), String> {
     let profile = match &config.profile {
         None => None,
         Some(profile_path) => {
-            let profile_text = std::fs::read_to_string(profile_path)
-                .map_err(|error| format!("cannot read the profile {}: {error}", profile_path.display()))?;
-            Some(TemperatureProfile::from_csv(profile_path, &profile_text).map_err(|error| error.to_string())?)
+            let profile_text = std::fs::read_to_string(profile_path).map_err(|error| {
+                format!(
+                    "cannot read the profile {}: {error}",
+                    profile_path.display()
+                )
+            })?;
+            Some(
+                TemperatureProfile::from_csv(profile_path, &profile_text)
+                    .map_err(|error| error.to_string())?,
+            )
         }
     };
     let defaults = SimConfig::default();
@@ -111,9 +125,18 @@ pub fn launch(config: &LaunchConfig) -> Result<(World, DebugInfo), String> {
         ..defaults
     };
     let sensor_list = Arc::new(sensor_list);
-    let mut sim = Simulation::new(&mission, sensor_list.clone(), Some(program.clone()), &sim_config)
-        .map_err(|error| error.to_string())?;
-    let mut notices: Vec<Notice> = sim.warnings().iter().map(|warning| Notice::Behavior(warning.clone())).collect();
+    let mut sim = Simulation::new(
+        &mission,
+        sensor_list.clone(),
+        Some(program.clone()),
+        &sim_config,
+    )
+    .map_err(|error| error.to_string())?;
+    let mut notices: Vec<Notice> = sim
+        .warnings()
+        .iter()
+        .map(|warning| Notice::Behavior(warning.clone()))
+        .collect();
     if !sim.begin_cycle() {
         return Err("the mission ended before its first cycle".into());
     }
@@ -143,7 +166,9 @@ pub fn launch(config: &LaunchConfig) -> Result<(World, DebugInfo), String> {
     let (language, line_of_pc, instruction_text) = match &loaded.source_map {
         Some(map) => {
             let origins: Vec<_> = map.lines.iter().filter(|origin| !origin.is_label).collect();
-            let lines = (0..count).map(|pc| origins.get(pc).map(|origin| origin.line)).collect();
+            let lines = (0..count)
+                .map(|pc| origins.get(pc).map(|origin| origin.line))
+                .collect();
             let texts = (0..count)
                 .map(|pc| match origins.get(pc) {
                     Some(origin) => gloc_line_text(&gloc_lines, origin.gloc_line),
@@ -215,7 +240,11 @@ fn load_sensor_list(path: &Path) -> Result<SensorList, String> {
         .map(|diagnostic| render(path, &loaded.text, diagnostic))
         .collect();
     if !errors.is_empty() {
-        return Err(format!("the sensor list {} has errors:\n{}", path.display(), errors.join("\n")));
+        return Err(format!(
+            "the sensor list {} has errors:\n{}",
+            path.display(),
+            errors.join("\n")
+        ));
     }
     Ok(loaded.list)
 }
@@ -235,7 +264,12 @@ fn render(path: &Path, text: &str, diagnostic: &Diagnostic) -> String {
 impl World {
     /// Turns this cycle's new prints, behavior events and an abort into notices.
     fn collect(&mut self) {
-        let printed: Vec<String> = self.sim.printed().skip(self.printed_reported).map(str::to_string).collect();
+        let printed: Vec<String> = self
+            .sim
+            .printed()
+            .skip(self.printed_reported)
+            .map(str::to_string)
+            .collect();
         self.printed_reported += printed.len();
         self.notices.extend(printed.into_iter().map(Notice::Print));
         let events = self.sim.events();
@@ -251,7 +285,10 @@ impl World {
                 EventKind::Completed => format!("{name} completed"),
                 EventKind::Inflection { depth } => format!("{name} turned at {depth:.2} m"),
             };
-            self.notices.push(Notice::Behavior(format!("cycle {}: {text}", self.sim.cycle())));
+            self.notices.push(Notice::Behavior(format!(
+                "cycle {}: {text}",
+                self.sim.cycle()
+            )));
         }
         self.events_reported = events.len();
         if !self.abend_reported {
@@ -334,7 +371,9 @@ impl Target for World {
     }
 
     fn script_alive(&self) -> bool {
-        self.sim.machine().is_some_and(|machine| machine.status() == gloc_engine::vm::Status::Running)
+        self.sim
+            .machine()
+            .is_some_and(|machine| machine.status() == gloc_engine::vm::Status::Running)
     }
 
     fn step(&mut self) -> StepEvent {
@@ -354,7 +393,10 @@ impl Target for World {
             SimPhase::ScriptDone | SimPhase::BetweenCycles => {
                 self.sim.finish_cycle();
                 self.collect();
-                let cut_short = self.fixed.max_cycles.is_some_and(|max| self.sim.cycle() >= max);
+                let cut_short = self
+                    .fixed
+                    .max_cycles
+                    .is_some_and(|max| self.sim.cycle() >= max);
                 if self.sim.is_finished() || cut_short {
                     return StepEvent::MissionEnded {
                         summary: self.summary(cut_short && !self.sim.is_finished()),
@@ -402,7 +444,11 @@ impl Target for World {
             .iter()
             .map(|variable| match variable.storage {
                 Storage::Register { register } => {
-                    let value = machine.registers().get(register as usize).copied().unwrap_or_default();
+                    let value = machine
+                        .registers()
+                        .get(register as usize)
+                        .copied()
+                        .unwrap_or_default();
                     Named {
                         name: variable.name.clone(),
                         value: value.to_string(),
@@ -420,7 +466,11 @@ impl Target for World {
                     Named {
                         name: variable.name.clone(),
                         value: format!("[{}]", cells.join(", ")),
-                        ty: if variable.float { "float array" } else { "integer array" },
+                        ty: if variable.float {
+                            "float array"
+                        } else {
+                            "integer array"
+                        },
                     }
                 }
             })
@@ -454,9 +504,13 @@ impl Target for World {
         } else {
             match value {
                 Number::Int(value) => Value::Int(value),
-                Number::Float(value) if value.fract() == 0.0 && value.abs() < 9.0e15 => Value::Int(value as i64),
+                Number::Float(value) if value.fract() == 0.0 && value.abs() < 9.0e15 => {
+                    Value::Int(value as i64)
+                }
                 Number::Float(value) => {
-                    return Err(format!("`{name}` is an integer variable; {value:?} is not a whole number"))
+                    return Err(format!(
+                        "`{name}` is an integer variable; {value:?} is not a whole number"
+                    ))
                 }
             }
         };
@@ -513,15 +567,39 @@ impl Target for World {
         vec![
             named("cycle", self.sim.cycle().to_string(), "integer"),
             named("phase", phase.to_string(), "string"),
-            named("mission time (s)", format!("{:?}", self.sim.time()), "float"),
-            named("m_present_time", format!("{:?}", self.sim.present_time()), "float"),
+            named(
+                "mission time (s)",
+                format!("{:?}", self.sim.time()),
+                "float",
+            ),
+            named(
+                "m_present_time",
+                format!("{:?}", self.sim.present_time()),
+                "float",
+            ),
             named("depth (m)", format!("{:?}", self.sim.depth()), "float"),
             named("pitch (rad)", format!("{:?}", self.sim.pitch()), "float"),
-            named("pitch (deg)", format!("{:.2}", self.sim.pitch().to_degrees()), "float"),
+            named(
+                "pitch (deg)",
+                format!("{:.2}", self.sim.pitch().to_degrees()),
+                "float",
+            ),
             named("active behaviors", active.join(", "), "string"),
-            named("energy (J)", format!("{:.1}", self.sim.energy_joules()), "float"),
-            named("charge used (Ah)", format!("{:.4}", self.sim.amp_hours()), "float"),
-            named("water depth (m)", format!("{:?}", self.sim.water_depth()), "float"),
+            named(
+                "energy (J)",
+                format!("{:.1}", self.sim.energy_joules()),
+                "float",
+            ),
+            named(
+                "charge used (Ah)",
+                format!("{:.4}", self.sim.amp_hours()),
+                "float",
+            ),
+            named(
+                "water depth (m)",
+                format!("{:?}", self.sim.water_depth()),
+                "float",
+            ),
         ]
     }
 }

@@ -1,0 +1,712 @@
+//! Debugging sessions over the protocol, every message schema-checked. Expected cycles
+//! come from an independent reference run of the simulator (`reference`), which drives
+//! `gloc_sim::Simulation` directly, one whole phase at a time, with no debugger code.
+
+mod support;
+
+use std::sync::Arc;
+
+use gloc_compiler::{load_script, Language, LoadOptions};
+use gloc_engine::sensors::SensorList;
+use gloc_sim::{Mission, SimConfig, Simulation};
+use serde_json::{json, Value};
+use support::Client;
+
+fn fixture(name: &str) -> String {
+    format!("{}/tests/fixtures/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+/// What the script sees at one cycle boundary in the reference run.
+#[derive(Debug, Clone, Copy)]
+struct Boundary {
+    cycle: u64,
+    depth: f64,
+    behs: f64,
+    present_time: f64,
+}
+
+/// Runs `program` under `mission` with the simulator alone and records the sensors at
+/// every cycle boundary (after `begin_cycle`, before the script runs).
+fn reference(program: &str, mission: Option<&str>, cycles: usize) -> Vec<Boundary> {
+    let sensors = SensorList::embedded();
+    let text = std::fs::read_to_string(program).expect("fixture");
+    let language = if program.ends_with(".gbas") {
+        Language::Gbasic
+    } else {
+        Language::Gloc
+    };
+    let loaded = load_script(&text, language, &sensors, &LoadOptions::default());
+    let mission = match mission {
+        Some(path) => Mission::load(std::path::Path::new(path)),
+        None => gloc_sim::default_mission(),
+    };
+    let depth = sensors.lookup("m_depth").expect("m_depth").index();
+    let behs = sensors
+        .lookup("sci_ruhp_behs")
+        .expect("sci_ruhp_behs")
+        .index();
+    let mut sim = Simulation::new(
+        &mission,
+        Arc::new(sensors),
+        loaded.program,
+        &SimConfig::default(),
+    )
+    .expect("reference simulation");
+    let mut boundaries = Vec::new();
+    while boundaries.len() < cycles && sim.begin_cycle() {
+        boundaries.push(Boundary {
+            cycle: sim.cycle(),
+            depth: sim.sensors()[depth],
+            behs: sim.sensors()[behs],
+            present_time: sim.present_time(),
+        });
+        sim.run_script();
+        sim.finish_cycle();
+    }
+    boundaries
+}
+
+fn launch(client: &mut Client, arguments: Value) {
+    let body = client.ok(
+        "initialize",
+        json!({ "adapterID": "gloc", "linesStartAt1": true }),
+    );
+    assert!(
+        body.get("supportsStepBack").is_none(),
+        "stepBack is announced only after launch"
+    );
+    client.ok("launch", arguments.clone());
+    if arguments.get("history") != Some(&json!(false)) {
+        let capabilities = client.event("capabilities");
+        assert_eq!(
+            capabilities["body"]["capabilities"]["supportsStepBack"],
+            true
+        );
+    }
+    client.event("initialized");
+}
+
+fn start(arguments: Value) -> Client {
+    let mut client = Client::start();
+    launch(&mut client, arguments);
+    client
+}
+
+fn stopped(client: &mut Client) -> Value {
+    client.event("stopped")["body"].clone()
+}
+
+/// name → value of a variables container.
+fn values(client: &mut Client, reference: i64) -> Vec<(String, String)> {
+    let body = client.ok("variables", json!({ "variablesReference": reference }));
+    body["variables"]
+        .as_array()
+        .expect("variables")
+        .iter()
+        .map(|variable| {
+            (
+                variable["name"].as_str().unwrap_or_default().to_string(),
+                variable["value"].as_str().unwrap_or_default().to_string(),
+            )
+        })
+        .collect()
+}
+
+fn value(client: &mut Client, reference: i64, name: &str) -> String {
+    values(client, reference)
+        .into_iter()
+        .find(|(known, _)| known == name)
+        .map(|(_, value)| value)
+        .unwrap_or_else(|| panic!("no `{name}` in variables {reference}"))
+}
+
+const SENSORS: i64 = 3;
+const VEHICLE: i64 = 4;
+
+fn cycle(client: &mut Client) -> u64 {
+    value(client, VEHICLE, "cycle")
+        .parse()
+        .expect("cycle number")
+}
+
+fn top_line(client: &mut Client) -> i64 {
+    let body = client.ok("stackTrace", json!({ "threadId": 1 }));
+    body["stackFrames"][0]["line"].as_i64().expect("line")
+}
+
+fn sensor(client: &mut Client, name: &str) -> f64 {
+    value(client, SENSORS, name).parse().expect("a number")
+}
+
+#[test]
+fn stop_on_entry_shows_cycle_zero_at_the_first_statement() {
+    let program = fixture("fig3.gbas");
+    let mut client = start(json!({ "program": program, "stopOnEntry": true }));
+    client.ok("configurationDone", json!({}));
+    let stop = stopped(&mut client);
+    assert_eq!(stop["reason"], "entry");
+    // Line 1 is `label: state1`, which has no code; the first statement is line 2.
+    assert_eq!(top_line(&mut client), 2);
+    assert_eq!(cycle(&mut client), 0);
+    let threads = client.ok("threads", json!({}));
+    assert_eq!(threads["threads"].as_array().map(Vec::len), Some(1));
+    let scopes = client.ok("scopes", json!({ "frameId": 1 }));
+    let names: Vec<&str> = scopes["scopes"]
+        .as_array()
+        .expect("scopes")
+        .iter()
+        .filter_map(|scope| scope["name"].as_str())
+        .collect();
+    assert_eq!(names, ["Variables", "Registers", "Sensors", "Vehicle"]);
+    // The sensors the script touches come first, then the paged container of all.
+    let sensors = values(&mut client, SENSORS);
+    assert_eq!(sensors[0].0, "m_depth");
+    assert_eq!(sensors[1].0, "sci_ruhp_behs");
+    assert_eq!(sensors[2].0, "All sensors");
+    let page = client.ok(
+        "variables",
+        json!({ "variablesReference": 5, "start": 444, "count": 2 }),
+    );
+    assert_eq!(page["variables"][0]["name"], "m_depth");
+    assert_eq!(page["variables"].as_array().map(Vec::len), Some(2));
+}
+
+#[test]
+fn line_breakpoint_in_fig3_hits_in_the_cycle_depth_first_exceeds_15() {
+    let program = fixture("fig3.gbas");
+    let expected = reference(&program, None, 400)
+        .into_iter()
+        .find(|boundary| boundary.depth > 15.0)
+        .expect("the reference run goes below 15 m");
+    let mut client = start(json!({ "program": program }));
+    let body = client.ok(
+        "setBreakpoints",
+        json!({ "source": { "path": program }, "breakpoints": [{ "line": 3 }] }),
+    );
+    assert_eq!(body["breakpoints"][0]["verified"], true);
+    assert_eq!(body["breakpoints"][0]["line"], 3);
+    client.ok("configurationDone", json!({}));
+    let stop = stopped(&mut client);
+    assert_eq!(stop["reason"], "breakpoint");
+    assert_eq!(top_line(&mut client), 3);
+    assert_eq!(cycle(&mut client), expected.cycle);
+    assert_eq!(sensor(&mut client, "m_depth"), expected.depth);
+}
+
+#[test]
+fn breakpoints_move_to_the_next_line_with_code() {
+    let program = fixture("fig3.gbas");
+    let mut client = start(json!({ "program": program, "stopOnEntry": true }));
+    let body = client.ok(
+        "setBreakpoints",
+        json!({ "source": { "path": program }, "breakpoints": [{ "line": 1 }, { "line": 5 }, { "line": 8 }, { "line": 99 }] }),
+    );
+    let lines: Vec<i64> = body["breakpoints"]
+        .as_array()
+        .expect("breakpoints")
+        .iter()
+        .map(|breakpoint| breakpoint["line"].as_i64().unwrap_or(0))
+        .collect();
+    // 1 `label:` → 2; 5 `endif` → 6 `yield`; 8 `label:` → 9; 99 → the last line, 17.
+    assert_eq!(lines, [2, 6, 9, 17]);
+    let other = client.ok(
+        "setBreakpoints",
+        json!({ "source": { "path": "/elsewhere/other.gbas" }, "breakpoints": [{ "line": 2 }] }),
+    );
+    assert_eq!(other["breakpoints"][0]["verified"], false);
+}
+
+#[test]
+fn next_advances_exactly_one_cycle() {
+    let program = fixture("fig3.gbas");
+    let boundaries = reference(&program, None, 10);
+    let mut client = start(json!({ "program": program, "stopOnEntry": true }));
+    client.ok("configurationDone", json!({}));
+    stopped(&mut client);
+    for expected in &boundaries[1..6] {
+        client.ok("next", json!({ "threadId": 1 }));
+        let stop = stopped(&mut client);
+        assert_eq!(stop["reason"], "step");
+        assert_eq!(cycle(&mut client), expected.cycle);
+        let present: f64 = value(&mut client, VEHICLE, "m_present_time")
+            .parse()
+            .expect("time");
+        assert_eq!(present, expected.present_time);
+        // fig2.mi sets u_cycle_time to 4 s: cycle N starts 4·N s after the start.
+        let start = boundaries[0].present_time;
+        assert_eq!(present - start, 4.0 * expected.cycle as f64);
+    }
+}
+
+#[test]
+fn conditional_breakpoint_stops_when_the_condition_first_holds() {
+    let program = fixture("fig3.gbas");
+    let expected = reference(&program, None, 400)
+        .into_iter()
+        .find(|boundary| boundary.depth > 10.0 && boundary.behs == 0.0)
+        .expect("the reference run goes below 10 m");
+    let mut client = start(json!({ "program": program }));
+    client.ok(
+        "setBreakpoints",
+        json!({ "source": { "path": program }, "breakpoints": [{ "line": 2, "condition": "m_depth > 10 and sci_ruhp_behs = 0" }] }),
+    );
+    client.ok("configurationDone", json!({}));
+    assert_eq!(stopped(&mut client)["reason"], "breakpoint");
+    assert_eq!(cycle(&mut client), expected.cycle);
+    let body = client.ok("evaluate", json!({ "expression": "m_depth > 10 and sci_ruhp_behs = 0", "frameId": 1, "context": "watch" }));
+    assert_eq!(body["result"], "1");
+    let body = client.ok(
+        "evaluate",
+        json!({ "expression": "m_depth * 2", "context": "hover" }),
+    );
+    assert_eq!(
+        body["result"]
+            .as_str()
+            .and_then(|text| text.parse::<f64>().ok()),
+        Some(expected.depth * 2.0)
+    );
+    let response = client.request("evaluate", Some(json!({ "expression": "m_dpth > 1" })));
+    assert_eq!(response["success"], false);
+    assert!(response["message"]
+        .as_str()
+        .unwrap_or_default()
+        .contains("m_dpth"));
+}
+
+#[test]
+fn hit_counts_and_logpoints() {
+    let program = fixture("fig3.gbas");
+    let mut client = start(json!({ "program": program }));
+    // Line 7 (`goto state1`) runs at every boundary from cycle 1 on: the 5th hit is cycle 5.
+    client.ok(
+        "setBreakpoints",
+        json!({ "source": { "path": program }, "breakpoints": [
+            { "line": 7, "hitCondition": "5" },
+            { "line": 2, "logMessage": "depth is {m_depth}" }
+        ] }),
+    );
+    client.ok("configurationDone", json!({}));
+    assert_eq!(stopped(&mut client)["reason"], "breakpoint");
+    assert_eq!(cycle(&mut client), 5);
+    let logged: Vec<String> = client
+        .received
+        .iter()
+        .filter(|message| message["event"] == "output" && message["body"]["category"] == "console")
+        .filter_map(|message| message["body"]["output"].as_str().map(str::to_string))
+        .filter(|text| text.starts_with("depth is"))
+        .collect();
+    // Line 2 runs in cycles 0..=4 before the stop at the boundary of cycle 5.
+    assert_eq!(logged.len(), 5, "{logged:?}");
+}
+
+#[test]
+fn data_breakpoint_on_sci_ruhp_behs_stops_after_each_change() {
+    let program = fixture("fig3.gbas");
+    let boundaries = reference(&program, None, 400);
+    let changes: Vec<Boundary> = boundaries
+        .windows(2)
+        .filter(|pair| pair[0].behs != pair[1].behs)
+        .map(|pair| pair[1])
+        .collect();
+    assert!(
+        changes.len() >= 2,
+        "the reference run sets and clears the hook bits: {changes:?}"
+    );
+    let mut client = start(json!({ "program": program }));
+    let info = client.ok(
+        "dataBreakpointInfo",
+        json!({ "variablesReference": SENSORS, "name": "sci_ruhp_behs" }),
+    );
+    let data_id = info["dataId"]
+        .as_str()
+        .expect("a sensor can be watched")
+        .to_string();
+    let body = client.ok(
+        "setDataBreakpoints",
+        json!({ "breakpoints": [{ "dataId": data_id, "accessType": "write" }] }),
+    );
+    assert_eq!(body["breakpoints"][0]["verified"], true);
+    let not_sensor = client.ok(
+        "dataBreakpointInfo",
+        json!({ "variablesReference": 2, "name": "r1" }),
+    );
+    assert_eq!(not_sensor["dataId"], Value::Null);
+    client.ok("configurationDone", json!({}));
+    for change in &changes[..2] {
+        let stop = stopped(&mut client);
+        assert_eq!(stop["reason"], "data breakpoint");
+        assert_eq!(cycle(&mut client), change.cycle);
+        assert_eq!(sensor(&mut client, "sci_ruhp_behs"), change.behs);
+        client.ok("continue", json!({ "threadId": 1 }));
+    }
+}
+
+fn snapshot(client: &mut Client) -> Vec<Vec<(String, String)>> {
+    let mut all = Vec::new();
+    for reference in 1..=4 {
+        all.push(values(client, reference));
+    }
+    let page = client.ok("variables", json!({ "variablesReference": 5 }));
+    all.push(
+        page["variables"]
+            .as_array()
+            .expect("all sensors")
+            .iter()
+            .map(|variable| (variable["name"].to_string(), variable["value"].to_string()))
+            .collect(),
+    );
+    all.push(vec![("line".into(), top_line(client).to_string())]);
+    all
+}
+
+#[test]
+fn step_back_returns_to_the_same_variables_and_sensors() {
+    let program = fixture("fig3.gbas");
+    let mut client = start(json!({ "program": program, "stopOnEntry": true }));
+    client.ok("configurationDone", json!({}));
+    stopped(&mut client);
+    let mut seen = Vec::new();
+    for _ in 0..40 {
+        seen.push(snapshot(&mut client));
+        client.ok("next", json!({ "threadId": 1 }));
+        stopped(&mut client);
+    }
+    // Back through every cycle, each one exactly as it was, sensors included.
+    for expected in seen.iter().rev().take(35) {
+        client.ok("stepBack", json!({ "threadId": 1 }));
+        assert_eq!(stopped(&mut client)["reason"], "step");
+        assert_eq!(&snapshot(&mut client), expected);
+    }
+    // And forward again to the same states.
+    let here = seen.len() - 35;
+    for expected in &seen[here + 1..here + 5] {
+        client.ok("next", json!({ "threadId": 1 }));
+        stopped(&mut client);
+        assert_eq!(&snapshot(&mut client), expected);
+    }
+}
+
+#[test]
+fn step_back_from_inside_a_cycle_returns_to_its_boundary() {
+    let program = fixture("fig3.gbas");
+    let mut client = start(json!({ "program": program, "stopOnEntry": true }));
+    client.ok("configurationDone", json!({}));
+    stopped(&mut client);
+    for _ in 0..3 {
+        client.ok("next", json!({ "threadId": 1 }));
+        stopped(&mut client);
+    }
+    let boundary = snapshot(&mut client);
+    client.ok("stepIn", json!({ "threadId": 1 }));
+    stopped(&mut client);
+    client.ok("stepIn", json!({ "threadId": 1 }));
+    stopped(&mut client);
+    assert_ne!(snapshot(&mut client), boundary);
+    client.ok("stepBack", json!({ "threadId": 1 }));
+    stopped(&mut client);
+    assert_eq!(snapshot(&mut client), boundary);
+}
+
+#[test]
+fn reverse_continue_runs_back_to_the_previous_breakpoint_hit() {
+    let program = fixture("fig3.gbas");
+    let boundaries = reference(&program, None, 400);
+    let first_deep = boundaries
+        .iter()
+        .find(|boundary| boundary.depth > 15.0)
+        .expect("deep");
+    let mut client = start(json!({ "program": program }));
+    client.ok(
+        "setBreakpoints",
+        json!({ "source": { "path": program }, "breakpoints": [{ "line": 3 }] }),
+    );
+    client.ok(
+        "setFunctionBreakpoints",
+        json!({ "breakpoints": [{ "name": "cycle 120" }] }),
+    );
+    client.ok("configurationDone", json!({}));
+    assert_eq!(stopped(&mut client)["reason"], "breakpoint");
+    let at_breakpoint = snapshot(&mut client);
+    client.ok("continue", json!({ "threadId": 1 }));
+    assert_eq!(stopped(&mut client)["reason"], "function breakpoint");
+    assert_eq!(cycle(&mut client), 120);
+    client.ok("reverseContinue", json!({ "threadId": 1 }));
+    assert_eq!(stopped(&mut client)["reason"], "breakpoint");
+    assert_eq!(cycle(&mut client), first_deep.cycle);
+    assert_eq!(snapshot(&mut client), at_breakpoint);
+    // Nothing earlier: back to the start of the run.
+    client.ok("reverseContinue", json!({ "threadId": 1 }));
+    stopped(&mut client);
+    assert_eq!(cycle(&mut client), 0);
+}
+
+#[test]
+fn cycle_breakpoints_every_n() {
+    let program = fixture("fig3.gbas");
+    let mut client = start(json!({ "program": program }));
+    let body = client.ok(
+        "setFunctionBreakpoints",
+        json!({ "breakpoints": [{ "name": "every 50" }, { "name": "main" }] }),
+    );
+    assert_eq!(body["breakpoints"][0]["verified"], true);
+    assert_eq!(body["breakpoints"][1]["verified"], false);
+    client.ok("configurationDone", json!({}));
+    for expected in [50, 100, 150] {
+        assert_eq!(stopped(&mut client)["reason"], "function breakpoint");
+        assert_eq!(cycle(&mut client), expected);
+        client.ok("continue", json!({ "threadId": 1 }));
+    }
+}
+
+#[test]
+fn set_variable_on_a_sensor_changes_the_scripts_course() {
+    let program = fixture("fig3.gbas");
+    let boundaries = reference(&program, None, 5);
+    // Unmodified, the glider is far above 15 m early on and the hook is not commanded.
+    assert!(boundaries[1].depth < 15.0 && boundaries[1].behs == 0.0);
+    let mut client = start(json!({ "program": program, "stopOnEntry": true }));
+    client.ok("configurationDone", json!({}));
+    stopped(&mut client);
+    let body = client.ok(
+        "setVariable",
+        json!({ "variablesReference": SENSORS, "name": "m_depth", "value": "20" }),
+    );
+    assert_eq!(body["value"], "20.0");
+    client.ok("stepOut", json!({ "threadId": 1 }));
+    stopped(&mut client);
+    // The script saw 20 m, took the `then` branch and commanded a climb (bit 128)...
+    assert_eq!(sensor(&mut client, "sci_ruhp_behs"), 128.0);
+    client.ok("next", json!({ "threadId": 1 }));
+    stopped(&mut client);
+    // ...and went on to `state2`: the next cycle resumes at line 14 (`goto state2`), not
+    // at line 7 (`goto state1`) where the unmodified run is.
+    assert_eq!(cycle(&mut client), 1);
+    assert_eq!(top_line(&mut client), 14);
+    // stepBack and forward replays the injected value.
+    client.ok("stepBack", json!({ "threadId": 1 }));
+    stopped(&mut client);
+    assert_eq!(sensor(&mut client, "m_depth"), 20.0);
+    client.ok("next", json!({ "threadId": 1 }));
+    stopped(&mut client);
+    assert_eq!(top_line(&mut client), 14);
+    // Registers and the Vehicle scope.
+    let body = client.ok(
+        "setVariable",
+        json!({ "variablesReference": 2, "name": "r3", "value": "7" }),
+    );
+    assert_eq!(body["value"], "7");
+    let response = client.request(
+        "setVariable",
+        Some(json!({ "variablesReference": VEHICLE, "name": "cycle", "value": "3" })),
+    );
+    assert_eq!(response["success"], false);
+}
+
+#[test]
+fn a_trap_stops_on_the_gbasic_line() {
+    let program = fixture("trap.gbas");
+    let mut client = start(json!({ "program": program }));
+    client.ok("configurationDone", json!({}));
+    let stop = stopped(&mut client);
+    assert_eq!(stop["reason"], "exception");
+    assert!(
+        stop["text"].as_str().unwrap_or_default().contains("line 7"),
+        "{stop}"
+    );
+    assert_eq!(top_line(&mut client), 7);
+    assert_eq!(cycle(&mut client), 3);
+    assert_eq!(value(&mut client, 1, "left"), "0");
+    let info = client.ok("exceptionInfo", json!({ "threadId": 1 }));
+    assert!(
+        info["description"]
+            .as_str()
+            .unwrap_or_default()
+            .contains("zero"),
+        "{info}"
+    );
+    let printed: Vec<String> = client
+        .received
+        .iter()
+        .filter(|message| message["event"] == "output" && message["body"]["category"] == "stdout")
+        .filter_map(|message| message["body"]["output"].as_str().map(str::to_string))
+        .collect();
+    assert_eq!(printed, ["50\n", "100\n"]);
+}
+
+#[test]
+fn trap_filter_off_runs_to_the_end() {
+    let program = fixture("trap.gbas");
+    let mut client = start(json!({ "program": program, "history": false }));
+    client.ok("setExceptionBreakpoints", json!({ "filters": ["overrun"] }));
+    client.ok("configurationDone", json!({}));
+    let ended = client.event("terminated");
+    assert_eq!(ended["event"], "terminated");
+    let bad = client.request(
+        "setExceptionBreakpoints",
+        Some(json!({ "filters": ["nope"] })),
+    );
+    assert_eq!(bad["success"], false);
+}
+
+#[test]
+fn step_in_and_step_out_inside_a_cycle() {
+    let program = fixture("fig3.gbas");
+    let mut client = start(json!({ "program": program, "stopOnEntry": true }));
+    client.ok("configurationDone", json!({}));
+    stopped(&mut client);
+    assert_eq!(top_line(&mut client), 2);
+    // m_depth is 0 at cycle 0: the `if` is false and control goes to `yield` on line 6.
+    client.ok("stepIn", json!({ "threadId": 1 }));
+    stopped(&mut client);
+    assert_eq!(top_line(&mut client), 6);
+    client.ok("stepIn", json!({ "threadId": 1 }));
+    stopped(&mut client);
+    assert_eq!(top_line(&mut client), 7);
+    assert_eq!(cycle(&mut client), 1);
+    // One instruction at a time.
+    client.ok(
+        "stepIn",
+        json!({ "threadId": 1, "granularity": "instruction" }),
+    );
+    stopped(&mut client);
+    let frame = client.ok("stackTrace", json!({ "threadId": 1 }));
+    assert_eq!(
+        frame["stackFrames"][0]["instructionPointerReference"],
+        "0x0"
+    );
+    // stepOut: to the script's yield in this cycle, before the vehicle moves.
+    client.ok("stepOut", json!({ "threadId": 1 }));
+    stopped(&mut client);
+    assert_eq!(top_line(&mut client), 6);
+    assert_eq!(cycle(&mut client), 1);
+    assert_eq!(value(&mut client, VEHICLE, "phase"), "script yielded");
+}
+
+#[test]
+fn disassemble_and_instruction_breakpoints() {
+    let program = fixture("fig3.gbas");
+    let boundaries = reference(&program, None, 400);
+    let first_deep = boundaries
+        .iter()
+        .find(|boundary| boundary.depth > 15.0)
+        .expect("deep");
+    let mut client = start(json!({ "program": program }));
+    let body = client.ok(
+        "disassemble",
+        json!({ "memoryReference": "0x0", "instructionCount": 4 }),
+    );
+    let texts: Vec<&str> = body["instructions"]
+        .as_array()
+        .expect("instructions")
+        .iter()
+        .filter_map(|instruction| instruction["instruction"].as_str())
+        .collect();
+    // The paper's Fig. 2, lines 5–8: what Fig. 3's line 2 compiles to.
+    assert_eq!(
+        texts,
+        [
+            "loads 444,r0",
+            "loadd 15.0,r1",
+            "cmpgt r0,r1,r2",
+            "cbr r2,3,4"
+        ]
+    );
+    // Fig. 2 line 11, `stores r3,1387`, is the 6th instruction (pc 5).
+    let body = client.ok(
+        "setInstructionBreakpoints",
+        json!({ "breakpoints": [{ "instructionReference": "0x5" }] }),
+    );
+    assert_eq!(body["breakpoints"][0]["verified"], true);
+    client.ok("configurationDone", json!({}));
+    assert_eq!(stopped(&mut client)["reason"], "instruction breakpoint");
+    assert_eq!(cycle(&mut client), first_deep.cycle);
+}
+
+#[test]
+fn restart_goes_back_to_entry_with_the_breakpoints() {
+    let program = fixture("fig3.gbas");
+    let mut client = start(json!({ "program": program, "stopOnEntry": true }));
+    client.ok(
+        "setFunctionBreakpoints",
+        json!({ "breakpoints": [{ "name": "cycle 7" }] }),
+    );
+    client.ok("configurationDone", json!({}));
+    stopped(&mut client);
+    client.ok("continue", json!({ "threadId": 1 }));
+    stopped(&mut client);
+    assert_eq!(cycle(&mut client), 7);
+    client.ok("restart", json!({}));
+    assert_eq!(stopped(&mut client)["reason"], "entry");
+    assert_eq!(cycle(&mut client), 0);
+    client.ok("continue", json!({ "threadId": 1 }));
+    stopped(&mut client);
+    assert_eq!(cycle(&mut client), 7);
+}
+
+#[test]
+fn the_mission_end_terminates_with_a_summary() {
+    let program = fixture("fig3.gbas");
+    let cycles = reference(&program, None, usize::MAX).len();
+    let mut client = start(json!({ "program": program }));
+    client.ok("configurationDone", json!({}));
+    client.event("terminated");
+    let summary = client
+        .received
+        .iter()
+        .filter(|message| message["event"] == "output")
+        .filter_map(|message| message["body"]["output"].as_str())
+        .find(|text| text.contains("mission"))
+        .expect("a summary")
+        .to_string();
+    assert!(
+        summary.contains(&format!("after {cycles} cycles")),
+        "{summary} vs {cycles}"
+    );
+    let response = client.request("disconnect", None);
+    assert_eq!(response["success"], true);
+    assert!(client.join());
+}
+
+#[test]
+fn disconnect_mid_run_ends_the_session() {
+    let program = fixture("fig3.gbas");
+    let mission = fixture("endless.mi");
+    let mut client = start(json!({ "program": program, "mission": mission }));
+    client.ok("configurationDone", json!({}));
+    let response = client.request("disconnect", None);
+    assert_eq!(response["success"], true);
+    assert!(client.join(), "the adapter kept running after disconnect");
+}
+
+#[test]
+fn pause_stops_a_running_mission_at_a_boundary() {
+    let program = fixture("fig3.gbas");
+    let mission = fixture("endless.mi");
+    let mut client = start(json!({ "program": program, "mission": mission }));
+    client.ok("configurationDone", json!({}));
+    std::thread::sleep(std::time::Duration::from_millis(50));
+    client.ok("pause", json!({ "threadId": 1 }));
+    let stop = stopped(&mut client);
+    assert_eq!(stop["reason"], "pause");
+    assert_eq!(value(&mut client, VEHICLE, "phase"), "cycle boundary");
+}
+
+#[test]
+fn launch_errors_say_what_is_wrong() {
+    let mut client = Client::start();
+    client.ok("initialize", json!({}));
+    let response = client.request("launch", Some(json!({ "program": "/no/such/file.gbas" })));
+    assert_eq!(response["success"], false);
+    assert!(response["message"]
+        .as_str()
+        .unwrap_or_default()
+        .contains("/no/such/file.gbas"));
+    let bad = std::env::temp_dir().join(format!("gloc-dap-bad-{}.gbas", std::process::id()));
+    std::fs::write(&bad, "if m_dpth > 3 then\nendif\n").expect("temp file");
+    let response = client.request("launch", Some(json!({ "program": bad })));
+    let message = response["message"].as_str().unwrap_or_default().to_string();
+    let _ = std::fs::remove_file(&bad);
+    assert_eq!(response["success"], false);
+    assert!(message.contains(":1:"), "{message}");
+    assert!(message.contains("m_dpth"), "{message}");
+}

@@ -1,0 +1,360 @@
+-- The gloc Neovim plugin: filetypes, the `gloc lsp` language server, the `gloc dap` debug adapter
+-- for nvim-dap, and two commands (:GlocShowCompiled, :GlocRun). A thin client: all knowledge of
+-- GLOC and GBASIC lives in the gloc binary.
+local M = {}
+
+--- Options of `setup()`; every field is optional.
+--- @class gloc.Options
+--- @field gloc_path? string     the gloc binary (default "gloc", looked up on PATH)
+--- @field masterdata? string    a masterdata or .cac file replacing the embedded sensor list
+--- @field root_markers? string[] files that mark a project root (default gloc.toml, .git)
+--- @field lsp? boolean          start the language server (default true)
+--- @field dap? boolean          configure nvim-dap when it is installed (default true)
+--- @field commands? boolean     define :GlocShowCompiled and :GlocRun (default true)
+M.defaults = {
+  gloc_path = "gloc",
+  masterdata = nil,
+  root_markers = { "gloc.toml", ".git" },
+  lsp = true,
+  dap = true,
+  commands = true,
+}
+
+--- The options in force (defaults until `setup()` is called).
+M.options = vim.deepcopy(M.defaults)
+
+M.filetypes = { "gbasic", "gloc" }
+
+--- The LSP command that returns the compiled GLOC of a GBASIC document.
+M.compiled_gloc_command = "gloc.compiledGloc"
+
+local function has(version)
+  return vim.fn.has("nvim-" .. version) == 1
+end
+
+local function expand_path(path)
+  if path == nil or path == "" then
+    return nil
+  end
+  return vim.fn.fnamemodify(vim.fn.expand(path), ":p")
+end
+
+--- A binary path stays bare (looked up on PATH) unless it names a directory.
+local function binary(options)
+  local path = options.gloc_path or "gloc"
+  if path:find("/", 1, true) or path:find("\\", 1, true) or path:sub(1, 1) == "~" then
+    return expand_path(path)
+  end
+  return path
+end
+
+local function notify(message, level)
+  vim.notify("gloc: " .. message, level or vim.log.levels.INFO)
+end
+
+--- The language server configuration shared by every Neovim version.
+--- @param options gloc.Options
+function M.lsp_config(options)
+  local masterdata = expand_path(options.masterdata)
+  return {
+    cmd = { binary(options), "lsp" },
+    filetypes = M.filetypes,
+    root_markers = options.root_markers,
+    init_options = masterdata and { masterdata = masterdata } or vim.empty_dict(),
+    settings = { gloc = masterdata and { masterdata = masterdata } or vim.empty_dict() },
+  }
+end
+
+local function start_lsp_for_buffer(options, bufnr)
+  local config = M.lsp_config(options)
+  local file = vim.api.nvim_buf_get_name(bufnr)
+  local directory = file ~= "" and vim.fs.dirname(file) or vim.fn.getcwd()
+  local marker = vim.fs.find(options.root_markers, { upward = true, path = directory })[1]
+  vim.lsp.start({
+    name = "gloc",
+    cmd = config.cmd,
+    root_dir = marker and vim.fs.dirname(marker) or directory,
+    init_options = config.init_options,
+    settings = config.settings,
+  }, { bufnr = bufnr })
+end
+
+--- Starts `gloc lsp` for GBASIC and GLOC buffers: `vim.lsp.config`/`vim.lsp.enable` on Neovim 0.11
+--- and later, `vim.lsp.start` from a FileType autocommand on 0.8 to 0.10.
+--- @param options gloc.Options
+function M.setup_lsp(options)
+  if vim.lsp.config and vim.lsp.enable then
+    vim.lsp.config("gloc", M.lsp_config(options))
+    vim.lsp.enable("gloc")
+    return
+  end
+  if not vim.lsp.start then
+    notify("the language server needs Neovim 0.8 or later", vim.log.levels.WARN)
+    return
+  end
+  local group = vim.api.nvim_create_augroup("gloc_lsp", { clear = true })
+  vim.api.nvim_create_autocmd("FileType", {
+    group = group,
+    pattern = M.filetypes,
+    callback = function(event)
+      start_lsp_for_buffer(options, event.buf)
+    end,
+  })
+  -- Buffers that were already open when setup() ran.
+  for _, bufnr in ipairs(vim.api.nvim_list_bufs()) do
+    if vim.api.nvim_buf_is_loaded(bufnr) and vim.tbl_contains(M.filetypes, vim.bo[bufnr].filetype) then
+      start_lsp_for_buffer(options, bufnr)
+    end
+  end
+end
+
+--- The nvim-dap launch configurations for GBASIC and GLOC files. The attribute names are those
+--- `gloc dap` accepts (the same as in the VS Code extension's launch.json).
+--- @param options gloc.Options
+function M.dap_configurations(options)
+  local masterdata = expand_path(options.masterdata)
+  return {
+    {
+      type = "gloc",
+      request = "launch",
+      name = "Fly the current script",
+      program = "${file}",
+      stopOnEntry = true,
+      history = true,
+      masterdata = masterdata,
+    },
+    {
+      type = "gloc",
+      request = "launch",
+      name = "Fly the current script with a mission",
+      program = "${file}",
+      mission = function()
+        return vim.fn.input("Mission file: ", vim.fn.getcwd() .. "/", "file")
+      end,
+      stopOnEntry = true,
+      history = true,
+      masterdata = masterdata,
+    },
+  }
+end
+
+--- Registers the `gloc` adapter and configurations with nvim-dap. Returns false, without an error,
+--- when nvim-dap is not installed.
+--- @param options? gloc.Options
+--- @return boolean
+function M.setup_dap(options)
+  options = options or M.options
+  local ok, dap = pcall(require, "dap")
+  if not ok then
+    return false
+  end
+  dap.adapters.gloc = { type = "executable", command = binary(options), args = { "dap" } }
+  local configurations = M.dap_configurations(options)
+  for _, filetype in ipairs(M.filetypes) do
+    dap.configurations[filetype] = configurations
+  end
+  return true
+end
+
+local function gloc_client(bufnr)
+  local get = vim.lsp.get_clients or vim.lsp.get_active_clients
+  return get({ bufnr = bufnr, name = "gloc" })[1]
+end
+
+-- Neovim 0.11 made client methods take `self` (`client:request`); 0.8 to 0.10 need the field call.
+local function client_request(client, method, params, handler, bufnr)
+  if has("0.11") then
+    return client:request(method, params, handler, bufnr)
+  end
+  return client.request(method, params, handler, bufnr)
+end
+
+local function scratch_window(name, filetype)
+  local existing = vim.fn.bufnr(name)
+  local bufnr = existing ~= -1 and existing or vim.api.nvim_create_buf(false, true)
+  if existing == -1 then
+    vim.api.nvim_buf_set_name(bufnr, name)
+    vim.bo[bufnr].buftype = "nofile"
+    vim.bo[bufnr].bufhidden = "hide"
+    vim.bo[bufnr].swapfile = false
+    if filetype then
+      vim.bo[bufnr].filetype = filetype
+    end
+  end
+  if vim.fn.bufwinid(bufnr) == -1 then
+    local current = vim.api.nvim_get_current_win()
+    vim.cmd("vertical belowright sbuffer " .. bufnr)
+    vim.api.nvim_set_current_win(current)
+  end
+  return bufnr
+end
+
+local function set_scratch_lines(bufnr, lines)
+  vim.bo[bufnr].modifiable = true
+  vim.api.nvim_buf_set_lines(bufnr, 0, -1, false, lines)
+  vim.bo[bufnr].modifiable = false
+end
+
+--- The GLOC text in the server's answer, or nil when there is none (the source has errors).
+function M.compiled_text(result)
+  if type(result) == "string" then
+    return result
+  end
+  if type(result) == "table" then
+    return result.gloc or result.text
+  end
+  return nil
+end
+
+--- Asks the language server for the compiled GLOC of GBASIC buffer `bufnr` and shows it in a
+--- read-only split beside it, which follows the source as it changes. `on_done(lines)` is called
+--- after each update (tests use it).
+--- @param bufnr? integer
+--- @param on_done? fun(lines: string[])
+function M.show_compiled(bufnr, on_done)
+  bufnr = (bufnr == nil or bufnr == 0) and vim.api.nvim_get_current_buf() or bufnr
+  if vim.bo[bufnr].filetype ~= "gbasic" then
+    notify(":GlocShowCompiled needs a GBASIC (.gbas) buffer", vim.log.levels.WARN)
+    return
+  end
+  local client = gloc_client(bufnr)
+  if not client then
+    notify("the gloc language server is not attached to this buffer; check :checkhealth vim.lsp", vim.log.levels.ERROR)
+    return
+  end
+  local source_name = vim.api.nvim_buf_get_name(bufnr)
+  local target = scratch_window("gloc://compiled/" .. vim.fn.fnamemodify(source_name, ":t") .. ".gloc", "gloc")
+
+  local function refresh()
+    local params = { command = M.compiled_gloc_command, arguments = { vim.uri_from_bufnr(bufnr) } }
+    client_request(client, "workspace/executeCommand", params, function(err, result)
+      local lines
+      if err then
+        lines = { "# Could not compile " .. vim.fn.fnamemodify(source_name, ":t") .. ": " .. tostring(err.message or err) }
+      else
+        local text = M.compiled_text(result)
+        if text then
+          lines = vim.split(text:gsub("\n$", ""), "\n", { plain = true })
+        else
+          lines = {
+            "# " .. vim.fn.fnamemodify(source_name, ":t") .. " has errors, so there is no GLOC to show.",
+            "# :lua vim.diagnostic.setqflist() lists them; this view updates as you fix them.",
+          }
+        end
+      end
+      if vim.api.nvim_buf_is_valid(target) then
+        set_scratch_lines(target, lines)
+      end
+      if on_done then
+        on_done(lines)
+      end
+    end, bufnr)
+  end
+
+  refresh()
+  local group = vim.api.nvim_create_augroup("gloc_compiled_" .. bufnr, { clear = true })
+  local timer = nil
+  vim.api.nvim_create_autocmd({ "TextChanged", "TextChangedI", "BufWritePost" }, {
+    group = group,
+    buffer = bufnr,
+    callback = function()
+      if not vim.api.nvim_buf_is_valid(target) or vim.fn.bufwinid(target) == -1 then
+        vim.api.nvim_del_augroup_by_id(group)
+        return
+      end
+      if timer then
+        timer:stop()
+      end
+      timer = vim.defer_fn(refresh, 300)
+    end,
+  })
+end
+
+--- Flies the script in buffer `bufnr` with `gloc run FILE --plot FILE.svg`, shows what the run
+--- printed (its summary) in a split, and opens the flight profile with `vim.ui.open` (Neovim 0.10+;
+--- older versions print the SVG's path). `on_done(result)` is called at the end (tests use it).
+--- @param bufnr? integer
+--- @param on_done? fun(result: { code: integer, plot: string, lines: string[] })
+function M.run(bufnr, on_done)
+  bufnr = (bufnr == nil or bufnr == 0) and vim.api.nvim_get_current_buf() or bufnr
+  if not vim.tbl_contains(M.filetypes, vim.bo[bufnr].filetype) then
+    notify(":GlocRun needs a .gbas or .gloc buffer", vim.log.levels.WARN)
+    return
+  end
+  local script = vim.api.nvim_buf_get_name(bufnr)
+  if script == "" then
+    notify("save the script to a file first; gloc run reads it from disk", vim.log.levels.WARN)
+    return
+  end
+  if vim.bo[bufnr].modified then
+    vim.api.nvim_buf_call(bufnr, function()
+      vim.cmd("silent write")
+    end)
+  end
+  local plot = vim.fn.tempname() .. "-" .. vim.fn.fnamemodify(script, ":t:r") .. ".svg"
+  local command = { binary(M.options), "run", script, "--plot", plot }
+  local masterdata = expand_path(M.options.masterdata)
+  if masterdata then
+    vim.list_extend(command, { "--masterdata", masterdata })
+  end
+  if vim.fn.executable(command[1]) == 0 then
+    notify(("cannot run %q: set gloc_path in require('gloc').setup()"):format(command[1]), vim.log.levels.ERROR)
+    return
+  end
+  local output = { "$ " .. table.concat(command, " ") }
+  local function collect(_, data)
+    for _, line in ipairs(data or {}) do
+      if line ~= "" then
+        table.insert(output, line)
+      end
+    end
+  end
+  notify("flying " .. vim.fn.fnamemodify(script, ":t") .. " in the simulator…")
+  vim.fn.jobstart(command, {
+    stdout_buffered = true,
+    stderr_buffered = true,
+    on_stdout = collect,
+    on_stderr = collect,
+    on_exit = function(_, code)
+      local target = scratch_window("gloc://run/" .. vim.fn.fnamemodify(script, ":t"), nil)
+      set_scratch_lines(target, output)
+      if code ~= 0 then
+        notify("gloc run failed (exit status " .. code .. "); see the split for its messages", vim.log.levels.ERROR)
+      elseif vim.fn.filereadable(plot) == 1 then
+        table.insert(output, "Flight profile: " .. plot)
+        set_scratch_lines(target, output)
+        if vim.ui.open then
+          vim.ui.open(plot)
+        end
+      end
+      if on_done then
+        on_done({ code = code, plot = plot, lines = output })
+      end
+    end,
+  })
+end
+
+--- Sets up the plugin. Call it once from your init.lua: `require("gloc").setup({})`.
+--- @param options? gloc.Options
+function M.setup(options)
+  M.options = vim.tbl_deep_extend("force", vim.deepcopy(M.defaults), options or {})
+  -- Also done by ftdetect/gloc.lua; repeated so that plugin managers that load the plugin late
+  -- still get the filetypes.
+  vim.filetype.add({ extension = { gbas = "gbasic", gloc = "gloc" } })
+  if M.options.lsp then
+    M.setup_lsp(M.options)
+  end
+  if M.options.dap then
+    M.setup_dap(M.options)
+  end
+  if M.options.commands then
+    vim.api.nvim_create_user_command("GlocShowCompiled", function()
+      M.show_compiled(0)
+    end, { desc = "Show the compiled GLOC of this GBASIC buffer beside it" })
+    vim.api.nvim_create_user_command("GlocRun", function()
+      M.run(0)
+    end, { desc = "Fly this script in the simulator and open its flight profile" })
+  end
+end
+
+return M

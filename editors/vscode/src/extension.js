@@ -1,0 +1,347 @@
+// @ts-check
+// The VS Code extension: a thin client. It starts `gloc lsp` for diagnostics, completion and the
+// rest, `gloc dap` for debugging, and `gloc run` for "Run mission in simulator". All knowledge of
+// GLOC and GBASIC lives in the gloc binary; this file only wires VS Code to it.
+'use strict';
+
+const childProcess = require('child_process');
+const fs = require('fs');
+const os = require('os');
+const path = require('path');
+const vscode = require('vscode');
+const { LanguageClient } = require('vscode-languageclient/node');
+const helpers = require('./helpers');
+
+/** @type {LanguageClient | undefined} */
+let client;
+
+/**
+ * @param {vscode.ExtensionContext} context
+ */
+async function activate(context) {
+  const runOutput = vscode.window.createOutputChannel('GLOC Run');
+  const serverOutput = vscode.window.createOutputChannel('GLOC Language Server');
+  context.subscriptions.push(runOutput, serverOutput);
+
+  const compiledProvider = new CompiledGlocProvider();
+  context.subscriptions.push(
+    vscode.workspace.registerTextDocumentContentProvider(helpers.COMPILED_SCHEME, compiledProvider),
+    vscode.workspace.onDidChangeTextDocument((event) => compiledProvider.sourceChanged(event.document)),
+    compiledProvider,
+  );
+
+  context.subscriptions.push(
+    vscode.commands.registerCommand('gloc.restartServer', () => restartClient(serverOutput)),
+    vscode.commands.registerCommand('gloc.showCompiledGloc', (/** @type {vscode.Uri | undefined} */ uri) =>
+      showCompiledGloc(uri),
+    ),
+    vscode.commands.registerCommand('gloc.runMission', (/** @type {vscode.Uri | undefined} */ uri) =>
+      runMission(uri, runOutput),
+    ),
+    vscode.debug.registerDebugAdapterDescriptorFactory('gloc', new GlocDebugAdapterFactory()),
+    vscode.debug.registerDebugConfigurationProvider('gloc', new GlocDebugConfigurationProvider()),
+    vscode.workspace.onDidChangeConfiguration((event) => {
+      // The binary and the sensor list are fixed for the life of a server process (the masterdata
+      // travels in initializationOptions), so a change restarts the server.
+      if (event.affectsConfiguration('gloc.path') || event.affectsConfiguration('gloc.masterdata')) {
+        restartClient(serverOutput);
+      }
+    }),
+    { dispose: () => void stopClient() },
+  );
+
+  await startClient(serverOutput);
+}
+
+function deactivate() {
+  return stopClient();
+}
+
+/** The first workspace folder holding `uri`, else the first folder of the window. */
+function workspaceFolderPath(/** @type {vscode.Uri | undefined} */ uri) {
+  const folder = (uri && vscode.workspace.getWorkspaceFolder(uri)) || vscode.workspace.workspaceFolders?.[0];
+  return folder?.uri.scheme === 'file' ? folder.uri.fsPath : undefined;
+}
+
+/** The gloc binary from the `gloc.path` setting. */
+function glocBinary(/** @type {vscode.Uri | undefined} */ uri) {
+  const setting = vscode.workspace.getConfiguration('gloc', uri).get('path', 'gloc');
+  return helpers.resolveBinaryPath(setting, workspaceFolderPath(uri), os.homedir());
+}
+
+/** The masterdata file from the `gloc.masterdata` setting, or undefined for the default list. */
+function masterdataPath(/** @type {vscode.Uri | undefined} */ uri) {
+  const setting = vscode.workspace.getConfiguration('gloc', uri).get('masterdata', '');
+  return helpers.resolveSettingPath(setting, workspaceFolderPath(uri), os.homedir());
+}
+
+/** Offers to open the settings when the gloc binary cannot be started. */
+async function reportMissingBinary(/** @type {string} */ binary, /** @type {string} */ what) {
+  const choice = await vscode.window.showErrorMessage(
+    `GLOC: could not start "${binary}" for ${what}. Install gloc (cargo install --path cli) or set "gloc.path" to the gloc binary.`,
+    'Open Settings',
+  );
+  if (choice === 'Open Settings') {
+    await vscode.commands.executeCommand('workbench.action.openSettings', 'gloc.path');
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Language server
+
+async function startClient(/** @type {vscode.OutputChannel} */ outputChannel) {
+  const binary = glocBinary(undefined);
+  const masterdata = masterdataPath(undefined);
+  /** @type {import('vscode-languageclient/node').ServerOptions} */
+  const serverOptions = { command: binary, args: ['lsp'], options: { cwd: workspaceFolderPath(undefined) } };
+  /** @type {import('vscode-languageclient/node').LanguageClientOptions} */
+  const clientOptions = {
+    // Only real files and unsaved buffers: the read-only "compiled GLOC" views are not scripts
+    // the user edits and must not collect diagnostics of their own.
+    documentSelector: helpers.LANGUAGE_IDS.flatMap((language) => [
+      { scheme: 'file', language },
+      { scheme: 'untitled', language },
+    ]),
+    initializationOptions: masterdata ? { masterdata } : {},
+    synchronize: { configurationSection: 'gloc' },
+    outputChannel,
+  };
+  client = new LanguageClient('gloc', 'GLOC Language Server', serverOptions, clientOptions);
+  try {
+    await client.start();
+  } catch (error) {
+    outputChannel.appendLine(`Could not start "${binary} lsp": ${errorMessage(error)}`);
+    client = undefined;
+    await reportMissingBinary(binary, 'the language server');
+  }
+}
+
+async function stopClient() {
+  const running = client;
+  client = undefined;
+  if (running) {
+    try {
+      await running.stop();
+    } catch {
+      // The server is already gone (it crashed or was never started): nothing left to stop.
+    }
+  }
+}
+
+async function restartClient(/** @type {vscode.OutputChannel} */ outputChannel) {
+  await stopClient();
+  await startClient(outputChannel);
+}
+
+function errorMessage(/** @type {unknown} */ error) {
+  return error instanceof Error ? error.message : String(error);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Show compiled GLOC: a read-only document beside the GBASIC source, refreshed as the user types.
+
+/** @implements {vscode.TextDocumentContentProvider} */
+class CompiledGlocProvider {
+  constructor() {
+    /** @type {vscode.EventEmitter<vscode.Uri>} */
+    this.changed = new vscode.EventEmitter();
+    this.onDidChange = this.changed.event;
+    /** @type {Map<string, NodeJS.Timeout>} */
+    this.pending = new Map();
+  }
+
+  /** The virtual URI of the compiled GLOC of `source`; its query holds the source URI. */
+  static uriFor(/** @type {vscode.Uri} */ source) {
+    return vscode.Uri.from({
+      scheme: helpers.COMPILED_SCHEME,
+      path: helpers.compiledDocumentPath(source.path),
+      query: source.toString(),
+    });
+  }
+
+  /** @param {vscode.Uri} uri */
+  async provideTextDocumentContent(uri) {
+    const source = vscode.Uri.parse(uri.query);
+    const name = path.basename(source.path);
+    if (!client) {
+      return `# The GLOC language server is not running, so ${name} cannot be compiled.\n# Check the "gloc.path" setting, then run "GLOC: Restart language server".\n`;
+    }
+    try {
+      const request = helpers.compiledGlocRequest(client.code2ProtocolConverter.asUri(source));
+      const result = await client.sendRequest('workspace/executeCommand', request);
+      const text = helpers.compiledGlocText(result);
+      if (text === undefined) {
+        return `# ${name} has errors, so there is no GLOC to show.\n# The Problems panel lists them; this view updates as you fix them.\n`;
+      }
+      return text;
+    } catch (error) {
+      return `# Could not compile ${name}: ${errorMessage(error)}\n`;
+    }
+  }
+
+  /** Refreshes an open compiled view shortly after its source changes (debounced). */
+  sourceChanged(/** @type {vscode.TextDocument} */ document) {
+    if (document.languageId !== 'gbasic') {
+      return;
+    }
+    const target = CompiledGlocProvider.uriFor(document.uri);
+    const key = target.toString();
+    if (!vscode.workspace.textDocuments.some((open) => open.uri.toString() === key)) {
+      return;
+    }
+    clearTimeout(this.pending.get(key));
+    this.pending.set(
+      key,
+      setTimeout(() => {
+        this.pending.delete(key);
+        this.changed.fire(target);
+      }, 300),
+    );
+  }
+
+  dispose() {
+    for (const timer of this.pending.values()) {
+      clearTimeout(timer);
+    }
+    this.changed.dispose();
+  }
+}
+
+async function showCompiledGloc(/** @type {vscode.Uri | undefined} */ uri) {
+  const source = uri || vscode.window.activeTextEditor?.document.uri;
+  const document = source && (await vscode.workspace.openTextDocument(source));
+  if (!document || document.languageId !== 'gbasic') {
+    await vscode.window.showWarningMessage('GLOC: "Show compiled GLOC" needs a GBASIC (.gbas) file.');
+    return;
+  }
+  const compiled = await vscode.workspace.openTextDocument(CompiledGlocProvider.uriFor(document.uri));
+  await vscode.languages.setTextDocumentLanguage(compiled, 'gloc');
+  await vscode.window.showTextDocument(compiled, {
+    viewColumn: vscode.ViewColumn.Beside,
+    preserveFocus: true,
+    preview: false,
+  });
+}
+
+// ---------------------------------------------------------------------------------------------
+// Run mission in simulator: `gloc run FILE --plot FILE.svg`, the summary in an output channel,
+// the flight profile opened beside the script.
+
+async function runMission(
+  /** @type {vscode.Uri | undefined} */ uri,
+  /** @type {vscode.OutputChannel} */ output,
+) {
+  const source = uri || vscode.window.activeTextEditor?.document.uri;
+  const document = source && (await vscode.workspace.openTextDocument(source));
+  if (!document || !helpers.LANGUAGE_IDS.includes(document.languageId)) {
+    await vscode.window.showWarningMessage('GLOC: "Run mission in simulator" needs a .gbas or .gloc script.');
+    return;
+  }
+  if (document.uri.scheme !== 'file') {
+    await vscode.window.showWarningMessage('GLOC: save the script to a file first; gloc run reads it from disk.');
+    return;
+  }
+  if (document.isDirty && !(await document.save())) {
+    await vscode.window.showWarningMessage('GLOC: the script was not saved, so it was not run.');
+    return;
+  }
+  const script = document.uri.fsPath;
+  const binary = glocBinary(document.uri);
+  const plotDirectory = fs.mkdtempSync(path.join(os.tmpdir(), 'gloc-run-'));
+  const plot = path.join(plotDirectory, `${path.basename(script, path.extname(script))}.svg`);
+  const args = helpers.runMissionArguments({ script, plot, masterdata: masterdataPath(document.uri) });
+  const cwd = workspaceFolderPath(document.uri) || path.dirname(script);
+
+  output.clear();
+  output.appendLine(`$ ${[binary, ...args].join(' ')}`);
+  output.show(true);
+
+  const outcome = await vscode.window.withProgress(
+    {
+      location: vscode.ProgressLocation.Notification,
+      title: `Flying ${path.basename(script)} in the simulator`,
+      cancellable: true,
+    },
+    (_progress, token) =>
+      /** @type {Promise<{ code: number | null, stderr: string, error?: NodeJS.ErrnoException }>} */ (
+        new Promise((resolve) => {
+          let stderr = '';
+          const child = childProcess.spawn(binary, args, { cwd });
+          child.stdout.on('data', (chunk) => output.append(chunk.toString()));
+          child.stderr.on('data', (chunk) => {
+            stderr += chunk.toString();
+            output.append(chunk.toString());
+          });
+          token.onCancellationRequested(() => child.kill());
+          child.on('error', (error) => resolve({ code: null, stderr, error }));
+          child.on('close', (code) => resolve({ code, stderr }));
+        })
+      ),
+  );
+
+  if (outcome.error) {
+    if (outcome.error.code === 'ENOENT') {
+      await reportMissingBinary(binary, 'gloc run');
+    } else {
+      await vscode.window.showErrorMessage(`GLOC: could not run "${binary}": ${outcome.error.message}`);
+    }
+    return;
+  }
+  if (outcome.code !== 0) {
+    const choice = await vscode.window.showErrorMessage(
+      `GLOC: gloc run failed: ${helpers.firstLines(outcome.stderr, 2) || `exit status ${outcome.code}`}`,
+      'Show Output',
+    );
+    if (choice === 'Show Output') {
+      output.show();
+    }
+    return;
+  }
+  if (!fs.existsSync(plot)) {
+    await vscode.window.showWarningMessage(`GLOC: the run finished but wrote no flight profile at ${plot}.`);
+    return;
+  }
+  output.appendLine(`Flight profile: ${plot}`);
+  await vscode.commands.executeCommand('vscode.open', vscode.Uri.file(plot), {
+    viewColumn: vscode.ViewColumn.Beside,
+    preview: false,
+  });
+}
+
+// ---------------------------------------------------------------------------------------------
+// Debugging: `gloc dap` on stdio.
+
+/** @implements {vscode.DebugAdapterDescriptorFactory} */
+class GlocDebugAdapterFactory {
+  /** @param {vscode.DebugSession} session */
+  createDebugAdapterDescriptor(session) {
+    const folder = session.workspaceFolder?.uri;
+    return new vscode.DebugAdapterExecutable(glocBinary(folder), ['dap'], {
+      cwd: workspaceFolderPath(folder),
+    });
+  }
+}
+
+/** @implements {vscode.DebugConfigurationProvider} */
+class GlocDebugConfigurationProvider {
+  /**
+   * @param {vscode.WorkspaceFolder | undefined} folder
+   * @param {vscode.DebugConfiguration} configuration
+   */
+  async resolveDebugConfiguration(folder, configuration) {
+    const editor = vscode.window.activeTextEditor;
+    const activeDocument = editor?.document.uri.scheme === 'file' ? editor.document : undefined;
+    const completed = helpers.completeLaunchConfiguration(configuration, {
+      activeFile: activeDocument?.uri.fsPath,
+      activeLanguage: activeDocument?.languageId,
+      masterdata: masterdataPath(folder?.uri),
+    });
+    if ('error' in completed) {
+      await vscode.window.showErrorMessage(`GLOC: ${completed.error}`);
+      return undefined;
+    }
+    return /** @type {vscode.DebugConfiguration} */ (completed.configuration);
+  }
+}
+
+module.exports = { activate, deactivate };

@@ -1,0 +1,378 @@
+// Tests of the VS Code extension (editors/vscode): its package.json contributions are consistent
+// with each other and with the files they name, `vsce package` builds a .vsix offline that holds
+// the grammars, and the extension wires the commands, the language client and the debugger to
+// the gloc binary.
+import { test } from 'node:test';
+import assert from 'node:assert/strict';
+import { spawnSync } from 'node:child_process';
+import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import zlib from 'node:zlib';
+import { createRequire } from 'node:module';
+import { fileURLToPath } from 'node:url';
+
+const require = createRequire(import.meta.url);
+const here = path.dirname(fileURLToPath(import.meta.url));
+const extensionDir = path.resolve(here, '../../editors/vscode');
+const manifest = JSON.parse(fs.readFileSync(path.join(extensionDir, 'package.json'), 'utf8'));
+const contributes = manifest.contributes;
+const languageIds = contributes.languages.map((language) => language.id);
+const { createFakeVscode, loadExtension } = require('./helpers/fake-vscode.cjs');
+const helpers = require(path.join(extensionDir, 'src/helpers.js'));
+
+// The launch attributes `gloc dap` accepts (issue 6 and /work/coord/api-dap.md).
+const launchAttributes = [
+  'program',
+  'mission',
+  'masterdata',
+  'profile',
+  'seed',
+  'stopOnEntry',
+  'cycleBudget',
+  'maxCycles',
+  'history',
+];
+
+function readJson(relativePath) {
+  const file = path.join(extensionDir, relativePath);
+  assert.ok(fs.existsSync(file), `${relativePath} is named in package.json but does not exist`);
+  return JSON.parse(fs.readFileSync(file, 'utf8'));
+}
+
+// --- package.json consistency ---------------------------------------------------------------
+
+test('languages: gbasic (.gbas) and gloc (.gloc), each with a language configuration that loads', () => {
+  assert.deepEqual(
+    contributes.languages.map((language) => [language.id, language.extensions]),
+    [
+      ['gbasic', ['.gbas']],
+      ['gloc', ['.gloc']],
+    ],
+  );
+  for (const language of contributes.languages) {
+    const configuration = readJson(language.configuration);
+    assert.ok(configuration.comments.lineComment, `${language.id} has a line comment`);
+    const wordPattern = new RegExp(configuration.wordPattern);
+    assert.equal('sci_ruhp_behs = 1'.match(wordPattern)[0], 'sci_ruhp_behs', `${language.id}: a sensor name is one word`);
+  }
+});
+
+test('gbasic indentation rules indent blocks and dedent their closing keywords', () => {
+  const rules = readJson('language-configuration/gbasic.json').indentationRules;
+  const increase = new RegExp(rules.increaseIndentPattern.pattern, rules.increaseIndentPattern.flags);
+  const decrease = new RegExp(rules.decreaseIndentPattern.pattern, rules.decreaseIndentPattern.flags);
+  for (const line of ['if m_depth > 15.0 then', "  If x Then ' note", 'elseif x then', 'else', 'while x < 3', 'do', 'do until x', 'for i = 0 to 9']) {
+    assert.ok(increase.test(line), `indents after: ${line}`);
+  }
+  for (const line of ['if x then goto s2', 'yield', 'label: state1', 'done = 1', 'format = 2', 'endif']) {
+    assert.ok(!increase.test(line), `does not indent after: ${line}`);
+  }
+  for (const line of ['endif', '  End If', 'else', 'elseif y then', 'wend', 'loop until x', 'next i']) {
+    assert.ok(decrease.test(line), `dedents: ${line}`);
+  }
+  for (const line of ['end', 'nextstate = 1', 'if x then', 'endless = 1']) {
+    assert.ok(!decrease.test(line), `does not dedent: ${line}`);
+  }
+});
+
+test('grammars: one per language, scope names match the grammar files', () => {
+  assert.deepEqual(contributes.grammars.map((grammar) => grammar.language).sort(), [...languageIds].sort());
+  for (const grammar of contributes.grammars) {
+    const file = readJson(grammar.path);
+    assert.equal(file.scopeName, grammar.scopeName, `${grammar.path} declares ${grammar.scopeName}`);
+    assert.equal(grammar.scopeName, `source.${grammar.language}`);
+    for (const include of JSON.stringify(file).matchAll(/"include":"#([^"]+)"/g)) {
+      assert.ok(file.repository[include[1]], `${grammar.path}: #${include[1]} is defined in the repository`);
+    }
+  }
+});
+
+test('snippets: valid JSON for declared languages, including the three shapes the issue asks for', () => {
+  for (const snippet of contributes.snippets) {
+    assert.ok(languageIds.includes(snippet.language));
+    readJson(snippet.path);
+  }
+  const gbasic = readJson('snippets/gbasic.json');
+  const bodies = Object.values(gbasic).map((snippet) => snippet.body.join('\n'));
+  assert.ok(bodies.some((body) => /label: /.test(body) && /goto /.test(body) && /yield/.test(body)), 'a state machine');
+  assert.ok(bodies.some((body) => /^dim .*\(.*\) as/m.test(body) && /^for .* to /m.test(body) && /^next/m.test(body)), 'a for loop over an array');
+  const yo = bodies.find((body) => /sci_ruhp_behs = 64/.test(body));
+  assert.ok(yo, 'a yo through the hook (dive with bit 64)');
+  assert.match(yo, /sci_ruhp_behs = 128/, 'the yo climbs with bit 128');
+  assert.match(yo, /sci_ruhp_dive_depth = /);
+  assert.match(yo, /sci_ruhp_climb_depth = /);
+  assert.match(yo, /sci_ruhp_behs = 0/, 'the yo hands control back to the mission');
+});
+
+test('configuration: gloc.path and gloc.masterdata are string settings', () => {
+  const properties = contributes.configuration.properties;
+  assert.equal(properties['gloc.path'].type, 'string');
+  assert.equal(properties['gloc.path'].default, 'gloc');
+  assert.equal(properties['gloc.masterdata'].type, 'string');
+  assert.deepEqual(properties['gloc.trace.server'].enum, ['off', 'messages', 'verbose']);
+});
+
+test('debuggers: type gloc with exactly the launch attributes gloc dap accepts', () => {
+  assert.equal(contributes.debuggers.length, 1);
+  const debuggerContribution = contributes.debuggers[0];
+  assert.equal(debuggerContribution.type, 'gloc');
+  assert.deepEqual([...debuggerContribution.languages].sort(), [...languageIds].sort());
+  const launch = debuggerContribution.configurationAttributes.launch;
+  assert.deepEqual(Object.keys(launch.properties).sort(), [...launchAttributes].sort());
+  for (const [name, property] of Object.entries(launch.properties)) {
+    assert.ok(['string', 'integer', 'boolean'].includes(property.type), `${name} has a type`);
+    assert.ok(property.description, `${name} has a description for launch.json completion`);
+  }
+  for (const required of launch.required) {
+    assert.ok(launch.properties[required], `required attribute ${required} is declared`);
+  }
+  const configurations = [
+    ...debuggerContribution.initialConfigurations,
+    ...debuggerContribution.configurationSnippets.map((snippet) => snippet.body),
+  ];
+  assert.ok(debuggerContribution.initialConfigurations.length > 0);
+  for (const configuration of configurations) {
+    assert.equal(configuration.type, 'gloc');
+    assert.equal(configuration.request, 'launch');
+    for (const key of Object.keys(configuration)) {
+      assert.ok(['type', 'request', 'name'].includes(key) || launch.properties[key], `${configuration.name}: ${key} is declared`);
+    }
+    for (const required of launch.required) {
+      assert.ok(configuration[required] !== undefined, `${configuration.name}: has ${required}`);
+    }
+  }
+});
+
+test('breakpoints are allowed in both languages', () => {
+  assert.deepEqual(contributes.breakpoints.map((breakpoint) => breakpoint.language).sort(), [...languageIds].sort());
+});
+
+test('commands: every menu entry names a declared command', () => {
+  const declared = new Set(contributes.commands.map((command) => command.command));
+  assert.ok(declared.has('gloc.showCompiledGloc'));
+  assert.ok(declared.has('gloc.runMission'));
+  for (const [menu, entries] of Object.entries(contributes.menus)) {
+    for (const entry of entries) {
+      assert.ok(declared.has(entry.command), `${menu}: ${entry.command} is declared`);
+    }
+  }
+});
+
+test('engines.vscode satisfies what vscode-languageclient needs; main exists', () => {
+  const clientManifest = JSON.parse(
+    fs.readFileSync(path.join(extensionDir, 'node_modules/vscode-languageclient/package.json'), 'utf8'),
+  );
+  assert.equal(clientManifest.version, '9.0.1');
+  assert.equal(manifest.engines.vscode, clientManifest.engines.vscode);
+  assert.ok(fs.existsSync(path.join(extensionDir, manifest.main)));
+  for (const event of manifest.activationEvents) {
+    const [kind, argument] = event.split(':');
+    if (kind === 'onLanguage') {
+      assert.ok(languageIds.includes(argument), `${event} names a declared language`);
+    } else if (kind.startsWith('onDebug')) {
+      assert.equal(argument, 'gloc', `${event} names the gloc debugger`);
+    }
+  }
+});
+
+// --- vsce package -----------------------------------------------------------------------------
+
+/** The entries of a zip archive, read from its central directory: name → contents (Buffer). */
+function zipEntries(file) {
+  const data = fs.readFileSync(file);
+  let end = data.length - 22;
+  while (end >= 0 && data.readUInt32LE(end) !== 0x06054b50) {
+    end -= 1;
+  }
+  assert.ok(end >= 0, `${file} is not a zip archive`);
+  const count = data.readUInt16LE(end + 10);
+  let offset = data.readUInt32LE(end + 16);
+  const entries = new Map();
+  for (let index = 0; index < count; index += 1) {
+    assert.equal(data.readUInt32LE(offset), 0x02014b50, 'central directory entry');
+    const method = data.readUInt16LE(offset + 10);
+    const compressedSize = data.readUInt32LE(offset + 20);
+    const nameLength = data.readUInt16LE(offset + 28);
+    const extraLength = data.readUInt16LE(offset + 30);
+    const commentLength = data.readUInt16LE(offset + 32);
+    const localHeader = data.readUInt32LE(offset + 42);
+    const name = data.toString('utf8', offset + 46, offset + 46 + nameLength);
+    const start = localHeader + 30 + data.readUInt16LE(localHeader + 26) + data.readUInt16LE(localHeader + 28);
+    const raw = data.subarray(start, start + compressedSize);
+    entries.set(name, () => (method === 8 ? zlib.inflateRawSync(raw) : raw));
+    offset += 46 + nameLength + extraLength + commentLength;
+  }
+  return entries;
+}
+
+test('vsce package builds a .vsix offline with grammars, configurations, snippets and the client', () => {
+  const vsce = path.join(extensionDir, 'node_modules/.bin/vsce');
+  assert.ok(fs.existsSync(vsce), `${vsce} is missing: run tests/e2e/setup (npm ci in editors/vscode)`);
+  const out = path.join(fs.mkdtempSync(path.join(os.tmpdir(), 'gloc-vsix-')), 'gloc.vsix');
+  const result = spawnSync(vsce, ['package', '--allow-missing-repository', '--out', out], {
+    cwd: extensionDir,
+    encoding: 'utf8',
+    stdio: ['ignore', 'pipe', 'pipe'],
+  });
+  assert.equal(result.status, 0, `vsce package failed:\n${result.stdout}\n${result.stderr}`);
+  assert.ok(fs.existsSync(out), 'the .vsix exists');
+  const entries = zipEntries(out);
+  for (const name of [
+    'extension/package.json',
+    'extension/src/extension.js',
+    'extension/src/helpers.js',
+    'extension/syntaxes/gbasic.tmLanguage.json',
+    'extension/syntaxes/gloc.tmLanguage.json',
+    'extension/language-configuration/gbasic.json',
+    'extension/language-configuration/gloc.json',
+    'extension/snippets/gbasic.json',
+    'extension/snippets/gloc.json',
+    'extension/node_modules/vscode-languageclient/package.json',
+    'extension/node_modules/vscode-languageclient/lib/node/main.js',
+    'extension.vsixmanifest',
+  ]) {
+    assert.ok(entries.has(name), `${name} is in the .vsix`);
+  }
+  for (const name of entries.keys()) {
+    assert.ok(!name.startsWith('extension/test/'), `test files stay out of the .vsix: ${name}`);
+    assert.ok(!name.startsWith('extension/node_modules/@vscode/vsce'), `dev dependencies stay out: ${name}`);
+  }
+  // The packaged manifest is the one tested above.
+  const packed = JSON.parse(entries.get('extension/package.json')().toString('utf8'));
+  assert.deepEqual(packed.contributes, contributes);
+  const grammar = JSON.parse(entries.get('extension/syntaxes/gbasic.tmLanguage.json')().toString('utf8'));
+  assert.equal(grammar.scopeName, 'source.gbasic');
+});
+
+// --- the extension's glue, driven through a stand-in VS Code ---------------------------------
+
+function activateWithFakes(options) {
+  const fakes = createFakeVscode(options);
+  const extension = loadExtension(path.join(extensionDir, manifest.main), fakes);
+  return { fakes, extension, record: fakes.record };
+}
+
+test('activate registers every contributed command, the debugger and the compiled-GLOC view', async () => {
+  const workspace = fs.mkdtempSync(path.join(os.tmpdir(), 'gloc-ws-'));
+  const { extension, record } = activateWithFakes({
+    workspace,
+    settings: { 'gloc.path': '/opt/gloc/bin/gloc', 'gloc.masterdata': 'data/masterdata' },
+  });
+  await extension.activate({ subscriptions: [] });
+  assert.deepEqual(
+    [...record.commands.keys()].sort(),
+    contributes.commands.map((command) => command.command).sort(),
+  );
+  assert.ok(record.debugFactories.has('gloc'));
+  assert.ok(record.debugProviders.has('gloc'));
+  assert.ok(record.contentProviders.has(helpers.COMPILED_SCHEME));
+
+  // The language client starts `gloc lsp` from gloc.path, for both languages, with the masterdata.
+  assert.equal(record.clients.length, 1);
+  const client = record.clients[0];
+  assert.equal(client.id, 'gloc', 'client id gloc makes gloc.trace.server work');
+  assert.deepEqual([client.serverOptions.command, client.serverOptions.args], ['/opt/gloc/bin/gloc', ['lsp']]);
+  assert.equal(client.serverOptions.transport, undefined, 'no --stdio argument is added');
+  assert.deepEqual(
+    [...new Set(client.clientOptions.documentSelector.map((selector) => selector.language))].sort(),
+    ['gbasic', 'gloc'],
+  );
+  assert.ok(client.clientOptions.documentSelector.every((selector) => ['file', 'untitled'].includes(selector.scheme)));
+  assert.deepEqual(client.clientOptions.initializationOptions, { masterdata: path.join(workspace, 'data/masterdata') });
+
+  // The debugger runs `gloc dap`.
+  const descriptor = record.debugFactories.get('gloc').createDebugAdapterDescriptor({ workspaceFolder: undefined });
+  assert.deepEqual([descriptor.command, descriptor.args], ['/opt/gloc/bin/gloc', ['dap']]);
+  await extension.deactivate();
+});
+
+test('F5 without launch.json flies the active script; a configuration without program is refused', async () => {
+  const workspace = fs.mkdtempSync(path.join(os.tmpdir(), 'gloc-ws-'));
+  const script = path.join(workspace, 'fig3.gbas');
+  const { extension, record } = activateWithFakes({
+    workspace,
+    activeFile: script,
+    documents: { [script]: { languageId: 'gbasic', text: 'yield\n' } },
+  });
+  await extension.activate({ subscriptions: [] });
+  const provider = record.debugProviders.get('gloc');
+  const resolved = await provider.resolveDebugConfiguration(undefined, {});
+  assert.equal(resolved.type, 'gloc');
+  assert.equal(resolved.request, 'launch');
+  assert.equal(resolved.program, script);
+  assert.equal(resolved.stopOnEntry, true);
+  const refused = await provider.resolveDebugConfiguration(undefined, { type: 'gloc', request: 'launch', name: 'x' });
+  assert.equal(refused, undefined);
+  assert.match(record.messages.at(-1).text, /needs "program"/);
+  await extension.deactivate();
+});
+
+test('Show compiled GLOC asks the server with workspace/executeCommand gloc.compiledGloc and opens it beside', async () => {
+  const workspace = fs.mkdtempSync(path.join(os.tmpdir(), 'gloc-ws-'));
+  const script = path.join(workspace, 'fig3.gbas');
+  const { extension, record } = activateWithFakes({
+    workspace,
+    activeFile: script,
+    documents: { [script]: { languageId: 'gbasic', text: 'yield\n' } },
+    onRequest: (method, params) => (method === 'workspace/executeCommand' ? 'nregs 0\n' : null),
+  });
+  await extension.activate({ subscriptions: [] });
+  await record.commands.get('gloc.showCompiledGloc')();
+  assert.equal(record.shown.length, 1);
+  const { document, options } = record.shown[0];
+  assert.equal(options.viewColumn, -2, 'beside the source');
+  assert.equal(document.uri.scheme, helpers.COMPILED_SCHEME);
+  assert.equal(document.languageId, 'gloc');
+  const text = await record.contentProviders.get(helpers.COMPILED_SCHEME).provideTextDocumentContent(document.uri);
+  assert.equal(text, 'nregs 0\n');
+  assert.deepEqual(record.requests, [
+    { method: 'workspace/executeCommand', params: { command: 'gloc.compiledGloc', arguments: [`file://${script}`] } },
+  ]);
+  await extension.deactivate();
+});
+
+test('Run mission with a missing binary says how to fix it', async () => {
+  const workspace = fs.mkdtempSync(path.join(os.tmpdir(), 'gloc-ws-'));
+  const script = path.join(workspace, 'fig3.gbas');
+  fs.writeFileSync(script, 'yield\n');
+  const { extension, record } = activateWithFakes({
+    workspace,
+    activeFile: script,
+    settings: { 'gloc.path': path.join(workspace, 'no-such-gloc') },
+    documents: { [script]: { languageId: 'gbasic', text: 'yield\n' } },
+  });
+  await extension.activate({ subscriptions: [] });
+  await record.commands.get('gloc.runMission')();
+  const error = record.messages.find((entry) => entry.kind === 'error' && /gloc run/.test(entry.text));
+  assert.ok(error, JSON.stringify(record.messages));
+  assert.match(error.text, /gloc\.path/);
+  assert.deepEqual(error.items, ['Open Settings']);
+  await extension.deactivate();
+});
+
+// --- pure helpers ------------------------------------------------------------------------------
+
+test('helpers: setting paths, run arguments and launch defaults', () => {
+  assert.equal(helpers.resolveBinaryPath('', '/ws', '/home/u'), 'gloc');
+  assert.equal(helpers.resolveBinaryPath('gloc', '/ws', '/home/u'), 'gloc', 'a bare name is looked up on PATH');
+  assert.equal(helpers.resolveBinaryPath('target/release/gloc', '/ws', '/home/u'), '/ws/target/release/gloc');
+  assert.equal(helpers.resolveBinaryPath('~/bin/gloc', '/ws', '/home/u'), '/home/u/bin/gloc');
+  assert.equal(helpers.resolveSettingPath('  ', '/ws', '/home/u'), undefined);
+  assert.equal(helpers.resolveSettingPath('/abs/md', '/ws', '/home/u'), '/abs/md');
+  assert.deepEqual(helpers.runMissionArguments({ script: 'a.gbas', plot: '/t/a.svg' }), ['run', 'a.gbas', '--plot', '/t/a.svg']);
+  assert.deepEqual(helpers.runMissionArguments({ script: 'a.gbas', plot: 'p.svg', masterdata: 'm.cac' }), [
+    'run',
+    'a.gbas',
+    '--plot',
+    'p.svg',
+    '--masterdata',
+    'm.cac',
+  ]);
+  assert.deepEqual(helpers.completeLaunchConfiguration({}, { activeFile: 'x.txt', activeLanguage: 'plaintext' }).error !== undefined, true);
+  const kept = helpers.completeLaunchConfiguration(
+    { type: 'gloc', request: 'launch', name: 'n', program: 'p.gloc', masterdata: 'own' },
+    { masterdata: 'setting' },
+  );
+  assert.equal(kept.configuration.masterdata, 'own', 'launch.json wins over the setting');
+});

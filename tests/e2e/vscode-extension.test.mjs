@@ -121,7 +121,8 @@ test('debuggers: type gloc with exactly the launch attributes gloc dap accepts',
   const launch = debuggerContribution.configurationAttributes.launch;
   assert.deepEqual(Object.keys(launch.properties).sort(), [...launchAttributes].sort());
   for (const [name, property] of Object.entries(launch.properties)) {
-    assert.ok(['string', 'integer', 'boolean'].includes(property.type), `${name} has a type`);
+    const types = [property.type].flat();
+    assert.ok(types.length > 0 && types.every((type) => ['string', 'integer', 'boolean'].includes(type)), `${name} has a type`);
     assert.ok(property.description, `${name} has a description for launch.json completion`);
   }
   for (const required of launch.required) {

@@ -171,11 +171,13 @@ class CompiledGlocProvider {
       const result = await client.sendRequest('workspace/executeCommand', request);
       const text = helpers.compiledGlocText(result);
       if (text === undefined) {
-        return `# ${name} has errors, so there is no GLOC to show.\n# The Problems panel lists them; this view updates as you fix them.\n`;
+        return `# gloc lsp answered without GLOC text for ${name}; is the gloc binary older than this extension?\n`;
       }
       return text;
     } catch (error) {
-      return `# Could not compile ${name}: ${errorMessage(error)}\n`;
+      // The server answers a program with errors with an error whose message says so ("the
+      // program has 2 errors; fix them to see its GLOC"); the view updates as they are fixed.
+      return `# ${name}: ${errorMessage(error)}\n# The Problems panel lists the errors; this view updates as you fix them.\n`;
     }
   }
 

@@ -79,24 +79,14 @@ function compiledGlocRequest(documentUri) {
 }
 
 /**
- * The GLOC text in the language server's answer to `compiledGlocRequest`, or `undefined` when the
- * answer holds none (the source has errors, or the document is not GBASIC).
+ * The GLOC text in the language server's answer to `compiledGlocRequest`: a string (see
+ * /work/coord/api-lsp.md; a program with errors is answered with an error, not a result).
+ * `undefined` when the answer is not a string.
  * @param {unknown} result
  * @returns {string | undefined}
  */
 function compiledGlocText(result) {
-  if (typeof result === 'string') {
-    return result;
-  }
-  if (result !== null && typeof result === 'object') {
-    const record = /** @type {Record<string, unknown>} */ (result);
-    for (const key of ['gloc', 'text']) {
-      if (typeof record[key] === 'string') {
-        return /** @type {string} */ (record[key]);
-      }
-    }
-  }
-  return undefined;
+  return typeof result === 'string' ? result : undefined;
 }
 
 /**

@@ -195,13 +195,11 @@ local function set_scratch_lines(bufnr, lines)
   vim.bo[bufnr].modifiable = false
 end
 
---- The GLOC text in the server's answer, or nil when there is none (the source has errors).
+--- The GLOC text in the server's answer (a string), or nil when the answer holds none. A program
+--- with errors is answered with an error whose message says so.
 function M.compiled_text(result)
   if type(result) == "string" then
     return result
-  end
-  if type(result) == "table" then
-    return result.gloc or result.text
   end
   return nil
 end
@@ -229,18 +227,18 @@ function M.show_compiled(bufnr, on_done)
     local params = { command = M.compiled_gloc_command, arguments = { vim.uri_from_bufnr(bufnr) } }
     client_request(client, "workspace/executeCommand", params, function(err, result)
       local lines
-      if err then
-        lines = { "# Could not compile " .. vim.fn.fnamemodify(source_name, ":t") .. ": " .. tostring(err.message or err) }
+      local name = vim.fn.fnamemodify(source_name, ":t")
+      local text = not err and M.compiled_text(result) or nil
+      if text then
+        lines = vim.split((text:gsub("\n$", "")), "\n", { plain = true })
+      elseif err then
+        -- A program with errors is answered with an error whose message says so.
+        lines = {
+          "# " .. name .. ": " .. tostring(err.message or err),
+          "# :lua vim.diagnostic.setqflist() lists the errors; this view updates as you fix them.",
+        }
       else
-        local text = M.compiled_text(result)
-        if text then
-          lines = vim.split(text:gsub("\n$", ""), "\n", { plain = true })
-        else
-          lines = {
-            "# " .. vim.fn.fnamemodify(source_name, ":t") .. " has errors, so there is no GLOC to show.",
-            "# :lua vim.diagnostic.setqflist() lists them; this view updates as you fix them.",
-          }
-        end
+        lines = { "# gloc lsp answered without GLOC text for " .. name .. "; is the gloc binary up to date?" }
       end
       if vim.api.nvim_buf_is_valid(target) then
         set_scratch_lines(target, lines)

@@ -3,17 +3,25 @@
 local H = {}
 
 H.repo = vim.fn.fnamemodify(debug.getinfo(1, "S").source:sub(2), ":p:h:h:h:h:h")
-H.gloc_bin = os.getenv("GLOC_BIN") or (H.repo .. "/target/debug/gloc")
+-- Absolute and without `..` (tests/e2e/run passes tests/e2e/../../target/debug/gloc), as the
+-- plugin resolves paths.
+H.gloc_bin = vim.fn.fnamemodify(os.getenv("GLOC_BIN") or (H.repo .. "/target/debug/gloc"), ":p")
 H.failures = 0
 H.passes = 0
+
+--- One line on stdout (`print` in `nvim -l` puts the line break before a message, not after).
+function H.say(line)
+  io.stdout:write(line, "\n")
+  io.stdout:flush()
+end
 
 function H.check(condition, description, detail)
   if condition then
     H.passes = H.passes + 1
-    print("ok   " .. description)
+    H.say("ok   " .. description)
   else
     H.failures = H.failures + 1
-    print("FAIL " .. description .. (detail and (": " .. vim.inspect(detail)) or ""))
+    H.say("FAIL " .. description .. (detail and (": " .. vim.inspect(detail)) or ""))
   end
   return condition
 end
@@ -92,7 +100,7 @@ function H.finish()
   vim.wait(2000, function()
     return #get() == 0
   end, 50)
-  print(("%d passed, %d failed"):format(H.passes, H.failures))
+  H.say(("%d passed, %d failed"):format(H.passes, H.failures))
   if H.failures == 0 then
     vim.cmd("qall!")
   else

@@ -333,6 +333,38 @@ test('Show compiled GLOC asks the server with workspace/executeCommand gloc.comp
   await extension.deactivate();
 });
 
+test('an open compiled-GLOC view refreshes shortly after its GBASIC source changes', async () => {
+  const workspace = fs.mkdtempSync(path.join(os.tmpdir(), 'gloc-ws-'));
+  const script = path.join(workspace, 'fig3.gbas');
+  const { fakes, extension, record } = activateWithFakes({
+    workspace,
+    activeFile: script,
+    documents: { [script]: { languageId: 'gbasic', text: 'yield\n' } },
+    onRequest: () => 'nregs 0\n',
+  });
+  await extension.activate({ subscriptions: [] });
+  await record.commands.get('gloc.showCompiledGloc')();
+  const compiled = record.shown[0].document;
+  const provider = record.contentProviders.get(helpers.COMPILED_SCHEME);
+  const refreshed = [];
+  provider.onDidChange((uri) => refreshed.push(uri.toString()));
+  const source = fakes.documentFor(fakes.vscode.Uri.file(script));
+  const notify = () => record.changeListeners.forEach((listener) => listener({ document: source }));
+
+  notify(); // the view is not open yet in the editor: nothing to refresh
+  await new Promise((resolve) => setTimeout(resolve, 400));
+  assert.deepEqual(refreshed, []);
+
+  fakes.vscode.workspace.textDocuments.push(compiled);
+  notify();
+  notify();
+  notify(); // three quick edits: one refresh
+  assert.deepEqual(refreshed, [], 'debounced, not at once');
+  await new Promise((resolve) => setTimeout(resolve, 400));
+  assert.deepEqual(refreshed, [compiled.uri.toString()]);
+  await extension.deactivate();
+});
+
 test('Run mission with a missing binary says how to fix it', async () => {
   const workspace = fs.mkdtempSync(path.join(os.tmpdir(), 'gloc-ws-'));
   const script = path.join(workspace, 'fig3.gbas');

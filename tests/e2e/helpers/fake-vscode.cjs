@@ -74,6 +74,7 @@ function createFakeVscode({ settings = {}, workspace, documents = {}, activeFile
     requests: [],
     outputs: new Map(),
     shown: [],
+    changeListeners: [],
   };
   const disposable = { dispose() {} };
   const workspaceFolder = workspace ? { uri: Uri.file(workspace), name: path.basename(workspace), index: 0 } : undefined;
@@ -153,7 +154,10 @@ function createFakeVscode({ settings = {}, workspace, documents = {}, activeFile
         record.contentProviders.set(scheme, provider);
         return disposable;
       },
-      onDidChangeTextDocument: () => disposable,
+      onDidChangeTextDocument(listener) {
+        record.changeListeners.push(listener);
+        return disposable;
+      },
       onDidChangeConfiguration: () => disposable,
       async openTextDocument(uri) {
         return documentFor(uri);
@@ -207,7 +211,7 @@ function createFakeVscode({ settings = {}, workspace, documents = {}, activeFile
     }
   }
 
-  return { vscode, languageClientModule: { LanguageClient }, record };
+  return { vscode, languageClientModule: { LanguageClient }, record, documentFor };
 }
 
 /** Loads the extension's main module with `vscode` and the language client replaced. */

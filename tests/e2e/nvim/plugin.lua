@@ -119,6 +119,25 @@ expect_syntax(31, 8, "glocString", "String") -- "depth # now"
 expect_syntax(31, 16, "glocString", "String") -- the # inside the string is no comment
 expect_syntax(31, 22, "glocComment", "Comment") -- # a comment
 
+-- :checkhealth gloc ---------------------------------------------------------------------------
+local function health_lines()
+  vim.cmd("silent checkhealth gloc")
+  local lines = vim.api.nvim_buf_get_lines(0, 0, -1, false)
+  vim.cmd("bwipeout!")
+  return table.concat(lines, "\n")
+end
+local report = health_lines()
+H.check(report:find("OK " .. vim.fn.exepath(H.gloc_bin) .. ": gloc ", 1, true) ~= nil,
+  ":checkhealth gloc finds the binary and its version", report)
+H.check(report:find("nvim-dap is not installed", 1, true) ~= nil, ":checkhealth gloc reports nvim-dap missing", report)
+local configured = require("gloc").options.gloc_path
+require("gloc").options.gloc_path = "/nonexistent/gloc"
+report = health_lines()
+require("gloc").options.gloc_path = configured
+H.check(report:find('ERROR "/nonexistent/gloc" is not an executable', 1, true) ~= nil,
+  ":checkhealth gloc reports a missing binary with advice", report)
+H.check(report:find("cargo install --path cli", 1, true) ~= nil, ":checkhealth gloc says how to install gloc", report)
+
 -- nvim-dap -------------------------------------------------------------------------------------
 -- nvim-dap cannot be installed offline: setup() already ran with dap = true and must not have
 -- failed; setup_dap() reports the absence with false.

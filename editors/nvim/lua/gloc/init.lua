@@ -48,6 +48,9 @@ local function binary(options)
   return path
 end
 
+--- The gloc binary of `options` (health.lua uses it too).
+M.binary = binary
+
 local function notify(message, level)
   vim.notify("gloc: " .. message, level or vim.log.levels.INFO)
 end

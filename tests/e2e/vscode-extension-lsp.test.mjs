@@ -87,3 +87,42 @@ test('Show compiled GLOC on the paper\'s Fig. 3 shows Fig. 2, through a real glo
     server.kill();
   }
 });
+
+// VS Code's built-in semantic token types and modifiers; anything else must be contributed.
+const standardTokenTypes = ['namespace', 'class', 'enum', 'interface', 'struct', 'typeParameter', 'type', 'parameter', 'variable', 'property', 'enumMember', 'decorator', 'event', 'function', 'method', 'macro', 'label', 'comment', 'string', 'keyword', 'number', 'regexp', 'operator'];
+const standardTokenModifiers = ['declaration', 'definition', 'readonly', 'static', 'deprecated', 'abstract', 'async', 'modification', 'documentation', 'defaultLibrary'];
+
+test('every semantic token type and modifier gloc lsp uses is known to VS Code or contributed', async () => {
+  const workspace = workspaceWith({});
+  const server = spawn(glocBin, ['lsp'], { cwd: workspace, stdio: ['pipe', 'pipe', 'inherit'] });
+  const connection = createProtocolConnection(new StreamMessageReader(server.stdout), new StreamMessageWriter(server.stdin));
+  connection.listen();
+  try {
+    const result = await connection.sendRequest('initialize', { processId: process.pid, rootUri: null, capabilities: {} });
+    const legend = result.capabilities.semanticTokensProvider?.legend;
+    assert.ok(legend, 'gloc lsp offers semantic tokens');
+    const contributedTypes = (manifest.contributes.semanticTokenTypes || []).map((type) => type.id);
+    const contributedModifiers = (manifest.contributes.semanticTokenModifiers || []).map((modifier) => modifier.id);
+    for (const type of legend.tokenTypes) {
+      assert.ok(standardTokenTypes.includes(type) || contributedTypes.includes(type), `token type ${type}`);
+    }
+    for (const modifier of legend.tokenModifiers) {
+      assert.ok(standardTokenModifiers.includes(modifier) || contributedModifiers.includes(modifier), `token modifier ${modifier}`);
+    }
+    // The scope mappings name only types and modifiers that exist.
+    for (const mapping of manifest.contributes.semanticTokenScopes) {
+      for (const selector of Object.keys(mapping.scopes)) {
+        const [type, ...modifiers] = selector.split('.');
+        assert.ok(legend.tokenTypes.includes(type), `${selector}: the server uses ${type}`);
+        for (const modifier of modifiers) {
+          assert.ok(legend.tokenModifiers.includes(modifier), `${selector}: the server uses ${modifier}`);
+        }
+      }
+    }
+    await connection.sendRequest('shutdown');
+    await connection.sendNotification('exit');
+  } finally {
+    connection.dispose();
+    server.kill();
+  }
+});

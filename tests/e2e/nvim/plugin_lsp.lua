@@ -61,6 +61,24 @@ H.check(undeclared ~= nil and undeclared.message:find("undeclared_name", 1, true
   "the undeclared-name diagnostic names it", undeclared)
 H.equal(#diagnostics_on(0) + #diagnostics_on(1) + #diagnostics_on(4), 0, "no diagnostic on the correct lines")
 
+-- Semantic tokens keep the syntax file's colours -------------------------------------------------
+-- Line 1 is `depth = m_depth`; the server marks m_depth a read-only sensor (property, readonly).
+local function semantic_groups(line, column)
+  local groups = {}
+  for _, token in ipairs(vim.inspect_pos(broken, line, column).semantic_tokens) do
+    groups[#groups + 1] = token.opts.hl_group
+  end
+  return groups
+end
+vim.wait(10000, function()
+  return #semantic_groups(1, 9) > 0
+end, 50)
+local groups = semantic_groups(1, 9)
+H.check(vim.tbl_contains(groups, "@lsp.typemod.property.readonly.gbasic"),
+  "gloc lsp's semantic token for m_depth is a read-only property", groups)
+H.equal(vim.api.nvim_get_hl(0, { name = "@lsp.typemod.property.readonly.gbasic", link = true }).link,
+  "gbasicSensorReadOnly", "the read-only sensor token is linked to the syntax group gbasicSensorReadOnly")
+
 -- Completion ------------------------------------------------------------------------------------
 local response = vim.lsp.buf_request_sync(broken, "textDocument/completion", {
   textDocument = { uri = vim.uri_from_bufnr(broken) },

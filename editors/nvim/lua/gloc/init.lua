@@ -335,6 +335,25 @@ function M.run(bufnr, on_done)
   })
 end
 
+--- Links the highlight groups of the language server's semantic tokens to the syntax files'
+--- groups, so a sensor, register or label keeps its colour when the server's tokens arrive
+--- (Neovim 0.9+ paints them over the syntax). `default = true`: a colour scheme or the user wins.
+function M.link_semantic_highlights()
+  local links = {
+    ["@lsp.type.property.gbasic"] = "gbasicSensor",
+    ["@lsp.typemod.property.readonly.gbasic"] = "gbasicSensorReadOnly",
+    ["@lsp.type.label.gbasic"] = "gbasicLabelName",
+    ["@lsp.type.function.gbasic"] = "gbasicBuiltin",
+    ["@lsp.type.property.gloc"] = "glocSensorIndex",
+    ["@lsp.type.label.gloc"] = "glocLabelReference",
+    ["@lsp.typemod.variable.register.gloc"] = "glocRegister",
+    ["@lsp.type.macro.gloc"] = "glocHeader",
+  }
+  for group, target in pairs(links) do
+    vim.api.nvim_set_hl(0, group, { link = target, default = true })
+  end
+end
+
 --- Sets up the plugin. Call it once from your init.lua: `require("gloc").setup({})`.
 --- @param options? gloc.Options
 function M.setup(options)
@@ -344,6 +363,12 @@ function M.setup(options)
   vim.filetype.add({ extension = { gbas = "gbasic", gloc = "gloc" } })
   if M.options.lsp then
     M.setup_lsp(M.options)
+    M.link_semantic_highlights()
+    -- A colour scheme clears highlight groups; link again after each one.
+    vim.api.nvim_create_autocmd("ColorScheme", {
+      group = vim.api.nvim_create_augroup("gloc_semantic_highlights", { clear = true }),
+      callback = M.link_semantic_highlights,
+    })
   end
   if M.options.dap then
     M.setup_dap(M.options)

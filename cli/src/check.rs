@@ -125,11 +125,11 @@ fn print_stats(
         Bound::Unbounded => "unbounded (a loop without `yield` lies on the way)".to_string(),
     };
     println!("  worst case    {per_cycle}");
-    println!("    {:<30}{}", "from the start", worst.from_start);
+    println!("    {:<30} {}", "from the start", worst.from_start);
     for (pc, bound) in &worst.from_yields {
         let line = line_of_pc(*pc);
         println!(
-            "    {:<30}{bound}",
+            "    {:<30} {bound}",
             format!("after the yield on line {line}")
         );
     }

@@ -165,17 +165,13 @@ fn solve(
     cost: &mut [Bound],
     loops: &mut Vec<YieldFreeLoop>,
 ) {
-    let local: HashMap<u32, u32> = members
-        .iter()
-        .enumerate()
-        .map(|(index, &node)| (node, index as u32))
-        .collect();
-    let edge_allowed = |to: u32| Some(to) != removed_header && local.contains_key(&to);
+    let local = LocalIndex::new(members, graph.node_count());
+    let edge_allowed = |to: u32| Some(to) != removed_header && local.get(to).is_some();
     let components = strongly_connected_components(graph, members, &local, &edge_allowed);
     let mut component_of = vec![0u32; members.len()];
     for (index, component) in components.iter().enumerate() {
         for &node in component {
-            component_of[local[&node] as usize] = index as u32;
+            component_of[local.index(node)] = index as u32;
         }
     }
     // Tarjan yields components with their successors first.
@@ -189,7 +185,7 @@ fn solve(
                     has_exit = true;
                     continue;
                 }
-                if component_of[local[&next] as usize] as usize == index {
+                if component_of[local.index(next)] as usize == index {
                     cyclic |= next == node;
                 } else {
                     has_exit = true;
@@ -234,12 +230,56 @@ fn solve(
     }
 }
 
+/// Node → position in a member list: a dense table for the whole program, a
+/// hash map for the small member lists of nested loops.
+enum LocalIndex {
+    Dense(Vec<u32>),
+    Sparse(HashMap<u32, u32>),
+}
+
+impl LocalIndex {
+    const ABSENT: u32 = u32::MAX;
+
+    fn new(members: &[u32], node_count: usize) -> LocalIndex {
+        if members.len() * 8 >= node_count {
+            let mut table = vec![LocalIndex::ABSENT; node_count];
+            for (index, &node) in members.iter().enumerate() {
+                table[node as usize] = index as u32;
+            }
+            LocalIndex::Dense(table)
+        } else {
+            LocalIndex::Sparse(
+                members
+                    .iter()
+                    .enumerate()
+                    .map(|(index, &node)| (node, index as u32))
+                    .collect(),
+            )
+        }
+    }
+
+    fn get(&self, node: u32) -> Option<u32> {
+        match self {
+            LocalIndex::Dense(table) => table
+                .get(node as usize)
+                .copied()
+                .filter(|&index| index != LocalIndex::ABSENT),
+            LocalIndex::Sparse(map) => map.get(&node).copied(),
+        }
+    }
+
+    /// The position of a node known to be a member.
+    fn index(&self, node: u32) -> usize {
+        self.get(node).map_or(0, |index| index as usize)
+    }
+}
+
 /// Tarjan's algorithm without recursion (a 10 MB script must not overflow
 /// the stack). Components come out successors first.
 fn strongly_connected_components(
     graph: &Graph,
     members: &[u32],
-    local: &HashMap<u32, u32>,
+    local: &LocalIndex,
     edge_allowed: &dyn Fn(u32) -> bool,
 ) -> Vec<Vec<u32>> {
     const UNVISITED: u32 = u32::MAX;
@@ -269,7 +309,7 @@ fn strongly_connected_components(
                 if !edge_allowed(next) {
                     continue;
                 }
-                let next = local[&next];
+                let next = local.index(next) as u32;
                 if index_of[next as usize] == UNVISITED {
                     index_of[next as usize] = next_index;
                     lowlink[next as usize] = next_index;

@@ -299,12 +299,20 @@ impl Checker<'_> {
         spans.push(Span::new(end, end));
         lines.push(last_line);
 
+        let has_invalid_lines = parsed
+            .file
+            .lines
+            .iter()
+            .any(|line| matches!(line.kind, LineKind::Invalid { .. }));
         for (pc, label, span) in pending_targets {
             match label_pcs.get(label as usize).copied().flatten() {
                 Some(target) => patch_target(&mut instrs[pc], label, target),
                 None => {
-                    // Out-of-range labels were reported already.
-                    if label_limit.is_some_and(|limit| u64::from(label) < limit) {
+                    // Out-of-range labels were reported already, and a line that
+                    // failed to parse may be the missing `label`: one typo, one error.
+                    if label_limit.is_some_and(|limit| u64::from(label) < limit)
+                        && !has_invalid_lines
+                    {
                         self.diagnostics.push(
                             Diagnostic::error(
                                 "E0104",

@@ -1,0 +1,201 @@
+//! Masterdata and `.cac` readers, on small files written for these tests
+//! (expected values worked out by hand from the files) and, when the shared
+//! data folder is present, on the real 2008 `.cac` list.
+
+use std::path::{Path, PathBuf};
+
+use gloc_engine::sensors::{
+    load_sensor_file, parse_cac, parse_masterdata, SensorId, SensorList, SensorOrder,
+};
+use gloc_engine::{Diagnostic, LineIndex};
+
+fn fixture(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../tests/fixtures/sensors")
+        .join(name)
+}
+
+fn read(name: &str) -> String {
+    std::fs::read_to_string(fixture(name)).expect("fixture exists")
+}
+
+fn located(text: &str, diagnostics: &[Diagnostic]) -> Vec<(&'static str, usize, usize)> {
+    let index = LineIndex::new(text);
+    let mut found: Vec<_> = diagnostics
+        .iter()
+        .map(|diagnostic| {
+            let (line, column) = index.line_col(text, diagnostic.span.start as usize);
+            (diagnostic.code, line, column)
+        })
+        .collect();
+    found.sort_by_key(|(_, line, column)| (*line, *column));
+    found
+}
+
+fn names(list: &SensorList) -> Vec<&str> {
+    list.iter()
+        .map(|(_, sensor)| sensor.name.as_str())
+        .collect()
+}
+
+#[test]
+fn masterdata_edge_cases() {
+    let text = read("edge.masterdata");
+    let (list, diagnostics) = parse_masterdata(&text, SensorOrder::FileOrder);
+    assert_eq!(
+        names(&list),
+        vec![
+            "m_present_time",
+            "m_depth",
+            "m_pressure",
+            "c_pitch",
+            "u_cycle_time",
+            "x_odd_units",
+            "M_DEPTH"
+        ]
+    );
+    // The duplicate (line 15) warns and points at line 6; lookups find the first.
+    assert_eq!(located(&text, &diagnostics), vec![("W0203", 15, 9)]);
+    let first = diagnostics[0].labels[0].span.start as usize;
+    assert_eq!(LineIndex::new(&text).line_col(&text, first), (6, 12));
+    assert_eq!(list.lookup("M_DEPTH"), Some(SensorId(1)));
+
+    let sensor = |name: &str| {
+        list.get(list.lookup(name).expect("listed"))
+            .expect("in range")
+            .clone()
+    };
+    let depth = sensor("m_depth");
+    assert_eq!(depth.line, 6);
+    assert_eq!(depth.default, Some(0.0));
+    assert_eq!(
+        depth.description.as_deref(),
+        Some("out, calculated depth clipped at 0")
+    );
+    assert_eq!(sensor("m_pressure").default, None);
+    let pitch = sensor("c_pitch");
+    assert_eq!((pitch.min, pitch.max), (Some(-0.5), Some(0.5)));
+    assert_eq!(pitch.description, None);
+    let cycle = sensor("u_cycle_time");
+    assert_eq!(cycle.default, Some(4.0));
+    assert_eq!((cycle.min, cycle.max), (Some(2.0), Some(1000.0)));
+    let odd = sensor("x_odd_units");
+    assert_eq!(odd.units, "uW/cm^2/nm");
+    assert_eq!(odd.default, Some(0.001));
+
+    let behaviors = list.behavior_defaults();
+    assert_eq!(behaviors.len(), 2);
+    assert_eq!(behaviors[0].name, "climb_to");
+    assert_eq!(behaviors[0].args.len(), 2);
+    let target = &behaviors[0].args[1];
+    assert_eq!(target.name, "target_depth");
+    assert_eq!(target.default, Some(10.0));
+    assert_eq!((target.min, target.max), (Some(0.0), Some(1000.0)));
+    assert_eq!(behaviors[1].args[0].default, Some(20.0));
+}
+
+#[test]
+fn masterdata_in_firmware_2014_order() {
+    let text = read("edge.masterdata");
+    let (list, _) = parse_masterdata(&text, SensorOrder::SortedByName);
+    // Sorted after upper-casing: C_PITCH < M_DEPTH (twice, file order kept)
+    // < M_PRESENT_TIME < M_PRESSURE ('E' < 'S') < U_CYCLE_TIME < X_ODD_UNITS.
+    assert_eq!(
+        names(&list),
+        vec![
+            "c_pitch",
+            "m_depth",
+            "M_DEPTH",
+            "m_present_time",
+            "m_pressure",
+            "u_cycle_time",
+            "x_odd_units"
+        ]
+    );
+    assert_eq!(list.lookup("m_depth"), Some(SensorId(1)));
+}
+
+#[test]
+fn broken_masterdata_lines_are_located() {
+    let text = read("broken.masterdata");
+    let (list, diagnostics) = parse_masterdata(&text, SensorOrder::FileOrder);
+    assert_eq!(
+        located(&text, &diagnostics),
+        vec![
+            ("E0201", 1, 16), // the `(` with no `)`
+            ("E0201", 2, 9),  // no units at all
+            ("E0202", 3, 20), // `zero` is not a number
+            ("W0204", 5, 1),  // not a masterdata line
+        ]
+    );
+    assert_eq!(names(&list), vec!["c_heading"]);
+    let (list, diagnostics) = parse_masterdata("", SensorOrder::FileOrder);
+    assert!(list.is_empty());
+    assert_eq!(diagnostics[0].code, "E0207");
+}
+
+#[test]
+fn cac_files() {
+    let (list, diagnostics) = parse_cac(&read("small.cac"));
+    assert!(diagnostics.is_empty(), "{diagnostics:?}");
+    assert_eq!(
+        names(&list),
+        vec!["f_max_working_depth", "m_depth", "m_present_time"]
+    );
+    assert_eq!(
+        list.get(SensorId(2)).map(|s| s.units.as_str()),
+        Some("timestamp")
+    );
+
+    let text = read("broken.cac");
+    let (list, diagnostics) = parse_cac(&text);
+    assert_eq!(
+        located(&text, &diagnostics),
+        vec![
+            ("E0206", 1, 1),  // index 1 never arrives
+            ("E0205", 2, 4),  // `X` is neither T nor F
+            ("E0205", 3, 11), // 3 bytes
+            ("W0203", 4, 13), // `a_one` again
+            ("E0206", 5, 6),  // index 2 twice
+            ("E0205", 6, 1),  // not an `s:` line
+        ]
+    );
+    assert_eq!(names(&list), vec!["a_one", "a_one"]);
+}
+
+#[test]
+fn loading_picks_the_reader_by_extension_or_content() {
+    let loaded = load_sensor_file(&fixture("small.cac"), SensorOrder::FileOrder).expect("reads");
+    assert_eq!(loaded.list.len(), 3);
+    let loaded =
+        load_sensor_file(&fixture("edge.masterdata"), SensorOrder::FileOrder).expect("reads");
+    assert_eq!(loaded.list.len(), 7);
+    // A `.cac` list under another name is recognised by its `s:` lines.
+    let copy = std::env::temp_dir().join(format!("gloc-sensors-{}.txt", std::process::id()));
+    std::fs::write(&copy, read("small.cac")).expect("temp file");
+    let loaded = load_sensor_file(&copy, SensorOrder::FileOrder).expect("reads");
+    let _ = std::fs::remove_file(&copy);
+    assert_eq!(loaded.list.len(), 3);
+    assert!(load_sensor_file(Path::new("/no/such/file.cac"), SensorOrder::FileOrder).is_err());
+}
+
+/// The real 2008 list from the shared data folder, which a machine without
+/// that folder does not have (the README's test command must pass there).
+#[test]
+fn the_real_2008_cac_list_matches_the_embedded_list() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/813b137d.cac");
+    let Ok(loaded) = load_sensor_file(&path, SensorOrder::FileOrder) else {
+        eprintln!("skipped: {} is not on this machine", path.display());
+        return;
+    };
+    assert!(loaded.diagnostics.is_empty(), "{:?}", loaded.diagnostics);
+    let list = loaded.list;
+    assert_eq!(list.len(), 1385);
+    assert_eq!(list.lookup("m_depth"), Some(SensorId(444)));
+    assert_eq!(list.lookup("m_pressure"), Some(SensorId(443)));
+    let embedded = SensorList::embedded();
+    for (id, sensor) in list.iter() {
+        let ours = embedded.get(id).expect("embedded has the 2008 list");
+        assert_eq!((&ours.name, &ours.units), (&sensor.name, &sensor.units));
+    }
+}

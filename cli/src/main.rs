@@ -11,6 +11,7 @@ mod compile;
 pub mod render;
 mod replay;
 mod run;
+mod simulate;
 
 #[derive(Parser, Debug)]
 #[command(
@@ -23,6 +24,8 @@ struct Cli {
     command: Command,
 }
 
+// Parsed once per process: the size of the `run` arguments does not matter.
+#[allow(clippy::large_enum_variant)]
 #[derive(Subcommand, Debug)]
 enum Command {
     /// Check GLOC or GBASIC files and print every diagnostic.
@@ -100,6 +103,9 @@ pub struct RunArgs {
     /// Log file: `.csv`, or Slocum ASCII (`.dba`).
     #[arg(long, value_name = "FILE")]
     pub log: Option<PathBuf>,
+    /// Sensors to log, comma-separated (default: what a pilot looks at, plus the sensors the script stores).
+    #[arg(long, value_name = "NAMES")]
+    pub log_sensors: Option<String>,
     /// Write an SVG flight profile.
     #[arg(long, value_name = "FILE.svg")]
     pub plot: Option<PathBuf>,

@@ -7,5 +7,5 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
     if args.replay.is_some() {
         return crate::replay::main(args);
     }
-    anyhow::bail!("`gloc run` without --replay (the simulator) is not built yet")
+    crate::simulate::main(args)
 }

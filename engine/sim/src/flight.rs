@@ -133,10 +133,25 @@ impl Vehicle {
     ) {
         let target_ballast = buoyancy.clamp(-flight.pump_max, flight.pump_max);
         let mut remaining = duration;
+        let mut travelled = 0.0;
         while remaining > 1e-9 {
             let dt = remaining.min(flight.step);
             remaining -= dt;
+            let before = self.depth;
             self.substep(dt, target_ballast, pitch, water_depth, flight, energy);
+            travelled += (self.depth - before).abs();
+        }
+        // Horizontal speed from the glide angle, once per call: the pitch
+        // changes slowly, and a tangent per sub-step was a tenth of the run time.
+        let glide = self.pitch.abs() + flight.angle_of_attack;
+        self.speed = if self.depth_rate == 0.0 {
+            0.0
+        } else {
+            (self.depth_rate.abs() / glide.tan()).min(flight.max_speed)
+        };
+        if duration > 0.0 {
+            let mean_rate = travelled / duration;
+            self.distance += (mean_rate / glide.tan()).min(flight.max_speed) * duration;
         }
     }
 
@@ -196,15 +211,6 @@ impl Vehicle {
             self.depth = water_depth;
             self.depth_rate = self.depth_rate.min(0.0);
         }
-
-        // Horizontal speed from the glide angle.
-        let glide = self.pitch.abs() + flight.angle_of_attack;
-        self.speed = if self.depth_rate == 0.0 {
-            0.0
-        } else {
-            (self.depth_rate.abs() / glide.tan()).min(flight.max_speed)
-        };
-        self.distance += self.speed * dt;
 
         // Hotel load.
         let hotel = if self.depth_rate > 0.0 {

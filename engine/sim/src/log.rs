@@ -111,6 +111,10 @@ pub struct LogWriter<W: Write> {
     out: W,
     format: LogFormat,
     columns: Vec<SensorId>,
+    /// Per column: logged as a double (timestamps) rather than a 4-byte float.
+    doubles: Vec<bool>,
+    numbers: ryu::Buffer,
+    integers: itoa::Buffer,
     line: Vec<u8>,
     rows: u64,
 }
@@ -164,10 +168,20 @@ impl<W: Write> LogWriter<W> {
                 writeln!(out, "{bytes}")?;
             }
         }
+        let doubles = columns
+            .iter()
+            .map(|id| {
+                list.get(*id)
+                    .is_some_and(|sensor| sensor.units == "timestamp")
+            })
+            .collect();
         Ok(LogWriter {
             out,
             format,
             columns,
+            doubles,
+            numbers: ryu::Buffer::new(),
+            integers: itoa::Buffer::new(),
             line: Vec::with_capacity(512),
             rows: 0,
         })
@@ -189,7 +203,13 @@ impl<W: Write> LogWriter<W> {
                 self.line.push(separator);
             }
             let value = sensors.get(id.index()).copied().unwrap_or(f64::NAN);
-            write_number(&mut self.line, value);
+            let double = self.doubles.get(position).copied().unwrap_or(true);
+            write_number(
+                &mut self.line,
+                (&mut self.numbers, &mut self.integers),
+                value,
+                double,
+            );
         }
         if self.format == LogFormat::Dba {
             // dbd2asc ends every data row with a space.
@@ -210,17 +230,30 @@ impl<W: Write> LogWriter<W> {
     }
 }
 
-/// Shortest text that reads back as the same f64 (`NaN` for not-a-number,
-/// as dbd2asc writes it), without allocating.
-fn write_number(buffer: &mut Vec<u8>, value: f64) {
+/// Shortest text that reads back as the same number, without allocating:
+/// as an f64 for double columns, as an f32 for the rest (the glider logs
+/// those as 4-byte floats). Whole numbers print without a point and
+/// not-a-number as `NaN`, as dbd2asc writes them.
+fn write_number(
+    buffer: &mut Vec<u8>,
+    (numbers, integers): (&mut ryu::Buffer, &mut itoa::Buffer),
+    value: f64,
+    double: bool,
+) {
     if value.is_nan() {
         buffer.extend_from_slice(b"NaN");
-    } else if value == value.trunc() && value.abs() < 1e15 {
-        // Whole numbers print without a point, as dbd2asc does.
-        let _ = write!(buffer, "{}", value as i64);
-    } else {
-        let _ = write!(buffer, "{value}");
+        return;
     }
+    if value == value.trunc() && value.abs() < 1e15 {
+        buffer.extend_from_slice(integers.format(value as i64).as_bytes());
+        return;
+    }
+    let text = if double {
+        numbers.format(value)
+    } else {
+        numbers.format(value as f32)
+    };
+    buffer.extend_from_slice(text.as_bytes());
 }
 
 #[cfg(test)]
@@ -279,6 +312,10 @@ mod tests {
         let mut writer =
             LogWriter::new(Vec::new(), LogFormat::Dba, columns, &list, &header()).expect("header");
         writer.write_row(&[1274659200.5, 0.0, 0.0]).expect("row");
+        // 4-byte columns are logged at float precision, as the glider does.
+        writer
+            .write_row(&[1274659204.25, 22.995130100020784, 0.1])
+            .expect("row");
         let text = String::from_utf8(writer.finish().expect("flush")).expect("utf8");
         let lines: Vec<&str> = text.lines().collect();
         assert_eq!(lines[0], "dbd_label: DBD_ASC(dinkum_binary_data_ascii)file");
@@ -290,7 +327,8 @@ mod tests {
         assert_eq!(lines[15], "timestamp m enum ");
         assert_eq!(lines[16], "8 4 4 ");
         assert_eq!(lines[17], "1274659200.5 0 0 ");
-        assert_eq!(lines.len(), 18);
+        assert_eq!(lines[18], "1274659204.25 22.99513 0.1 ");
+        assert_eq!(lines.len(), 19);
     }
 
     #[test]

@@ -31,8 +31,12 @@ pub const MAX_ACTIONS: usize = 200;
 impl Trace {
     /// Records the finished cycle: call after `finish_cycle`/`step_cycle`.
     pub fn record(&mut self, sim: &Simulation) {
-        let time = sim.time() - sim.cycle_time();
+        // The finished cycle ends where the next one starts.
+        let time = sim.time();
         let depth = sim.depth();
+        if self.points.is_empty() {
+            self.points.push((0.0, 0.0));
+        }
         self.points.push((time as f32, depth as f32));
         for &id in sim.stored() {
             let value = sim.sensor(id).unwrap_or(f64::NAN);
@@ -163,21 +167,16 @@ fn draw<DB: DrawingBackend>(
     let red = RGBColor(200, 30, 30);
     chart
         .draw_series(trace.actions.iter().map(|action| {
-            Circle::new(
-                (action.time / scale, action.depth),
-                5,
-                ShapeStyle::from(&red).filled(),
-            )
+            EmptyElement::at((action.time / scale, action.depth))
+                + Circle::new((0, 0), 5, ShapeStyle::from(&red).filled())
+                + Text::new(
+                    action.label.clone(),
+                    (9, -6),
+                    ("sans-serif", 13).into_font().color(&red),
+                )
         }))?
         .label("script stored a sensor")
         .legend(move |(x, y)| Circle::new((x + 10, y), 5, ShapeStyle::from(&red).filled()));
-    chart.draw_series(trace.actions.iter().map(|action| {
-        Text::new(
-            action.label.clone(),
-            (action.time / scale, action.depth),
-            ("sans-serif", 13).into_font().color(&red),
-        )
-    }))?;
     chart
         .configure_series_labels()
         .position(SeriesLabelPosition::LowerRight)

@@ -53,13 +53,12 @@ fn run_logged(mission: &Mission, script: &str, max_cycles: u64) -> (Simulation, 
     let mut writer =
         LogWriter::new(Vec::new(), LogFormat::Csv, columns, &list, &header).expect("header");
     for _ in 0..max_cycles {
-        if !sim.begin_cycle() {
+        if !sim.step_cycle() {
             break;
         }
-        // The log records the sensors as the cycle's behaviors saw them.
+        // As `gloc run --log` does: one row at the end of each cycle, with the
+        // sensors measured at its start and what was written during it.
         writer.write_row(sim.sensors()).expect("row");
-        sim.run_script();
-        sim.finish_cycle();
     }
     let text = String::from_utf8(writer.finish().expect("flush")).expect("utf8");
     let mut lines = text.lines();
@@ -141,15 +140,20 @@ fn fig2_scenario_on_the_default_mission() {
             "yo climb turns at {climb} ({turns:?})"
         );
     }
-    // The script's flag, in the log (rows are written at the cycle boundary,
-    // before the script runs): 128 appears in the row after the first cycle
-    // deeper than 15 m.
+    // The script's flag, in the log: 128 in the row of the first cycle deeper than 15 m.
     let flags = log.column("sci_ruhp_behs");
     let first_set = flags
         .iter()
         .position(|&flag| flag == 128.0)
         .expect("flag set");
-    assert!(depths[first_set - 1] > 15.0 && depths[first_set - 2] <= 15.0);
+    assert!(depths[first_set] > 15.0 && depths[first_set - 1] <= 15.0);
+    // And 0 again in the row of the first later cycle shallower than 5 m.
+    let cleared = first_set
+        + flags[first_set..]
+            .iter()
+            .position(|&flag| flag == 0.0)
+            .expect("cleared");
+    assert!(depths[cleared] < 5.0 && depths[cleared - 1] >= 5.0);
     // The yo did its six half cycles, the stack went idle, surface ended it.
     let end = sim.end().expect("mission ended");
     assert_eq!(end.reason, EndReason::Completed);

@@ -1,0 +1,79 @@
+//! The simulator allocates nothing per control cycle in steady state, with a
+//! script running and a log being written (a counting global allocator).
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
+
+use gloc_engine::gloc::{self, CheckOptions};
+use gloc_engine::sensors::SensorList;
+use gloc_sim::log::{default_columns, DbaHeader, LogFormat, LogWriter};
+use gloc_sim::{default_mission, SimConfig, Simulation};
+
+struct Counting;
+
+static ALLOCATIONS: AtomicU64 = AtomicU64::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        unsafe { System.alloc(layout) }
+    }
+
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+/// Prints a line and stores a sensor every cycle: the busiest steady state.
+const BUSY: &str = "nregs 2\nnblbs 1\nninstr 8\nlabel 0\nloads 444,r0\nwrite r0\nprints \"m deep\"\nloadi 0,r1\nstores r1,1387\nyield\njumpi 0\n";
+
+#[test]
+fn no_allocation_per_cycle() {
+    let list = Arc::new(SensorList::embedded());
+    for script in [include_str!("../../../examples/fig2.gloc"), BUSY] {
+        let checked = gloc::check(&gloc::parse(script), &list, &CheckOptions::default());
+        let program = checked.program.expect("script checks");
+        let mut sim = Simulation::new(
+            &default_mission(),
+            list.clone(),
+            Some(program),
+            &SimConfig::default(),
+        )
+        .expect("starts");
+        let header = DbaHeader {
+            filename: "alloc".to_string(),
+            mission_name: "FIG2.MI".to_string(),
+            fileopen_time: "now".to_string(),
+        };
+        let mut writer = LogWriter::new(
+            std::io::sink(),
+            LogFormat::Dba,
+            default_columns(&list, &[]),
+            &list,
+            &header,
+        )
+        .expect("header");
+        // Warm up: buffers reach their working size.
+        for _ in 0..40 {
+            sim.step_cycle();
+            writer.write_row(sim.sensors()).expect("row");
+        }
+        let before = ALLOCATIONS.load(Ordering::Relaxed);
+        for _ in 0..200 {
+            assert!(sim.step_cycle(), "the mission is still flying");
+            writer.write_row(sim.sensors()).expect("row");
+        }
+        let after = ALLOCATIONS.load(Ordering::Relaxed);
+        assert_eq!(after - before, 0, "allocations in 200 cycles");
+        assert!(sim.printed().count() <= 1);
+    }
+}

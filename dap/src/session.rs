@@ -1109,6 +1109,7 @@ fn plain(named: Named) -> Variable {
         ty: Some(named.ty.into()),
         variables_reference: 0,
         named_variables: None,
+        indexed_variables: None,
     }
 }
 
@@ -1121,6 +1122,7 @@ fn sensor_variable(target: &World, index: usize) -> Variable {
         ty: Some(format!("sensor {index}")),
         variables_reference: 0,
         named_variables: None,
+        indexed_variables: None,
     }
 }
 
@@ -1141,6 +1143,7 @@ fn variables(
                 ty: Some(value.type_name().into()),
                 variables_reference: 0,
                 named_variables: None,
+                indexed_variables: None,
                 evaluate_name: Some(format!("r{index}")),
             })
             .collect(),
@@ -1155,12 +1158,15 @@ fn variables(
                 value: format!("{} sensors", target.sensor_count()),
                 ty: None,
                 variables_reference: ALL_SENSORS,
-                named_variables: Some(target.sensor_count() as i64),
+                // Indexed, so clients fetch it lazily in pages (VS Code: 100 at a time).
+                named_variables: None,
+                indexed_variables: Some(target.sensor_count() as i64),
                 evaluate_name: None,
             });
             list
         }
         SCOPE_VEHICLE => target.vehicle().into_iter().map(plain).collect(),
+        ALL_SENSORS if arguments.filter.as_deref() == Some("named") => return Ok(Vec::new()),
         ALL_SENSORS => {
             let start = usize::try_from(arguments.start.unwrap_or(0)).unwrap_or(0);
             let count = match arguments.count {

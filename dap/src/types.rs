@@ -290,6 +290,8 @@ pub struct Variable {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub named_variables: Option<i64>,
     #[serde(skip_serializing_if = "Option::is_none")]
+    pub indexed_variables: Option<i64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub evaluate_name: Option<String>,
 }
 

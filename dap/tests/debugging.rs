@@ -710,3 +710,66 @@ fn launch_errors_say_what_is_wrong() {
     assert!(message.contains(":1:"), "{message}");
     assert!(message.contains("m_dpth"), "{message}");
 }
+
+#[test]
+fn cycle_overrun_is_an_exception_stop_in_gloc() {
+    let program = fixture("overrun.gloc");
+    let mut client = start(json!({ "program": program, "cycleBudget": 1000 }));
+    client.ok("configurationDone", json!({}));
+    let stop = stopped(&mut client);
+    assert_eq!(stop["reason"], "exception");
+    assert!(stop["description"].as_str().unwrap_or_default().contains("overrun"), "{stop}");
+    // Worked out in tests/fixtures/README.md: the 1,000th instruction leaves pc 4, line 11.
+    assert_eq!(top_line(&mut client), 11);
+    assert_eq!(cycle(&mut client), 0);
+}
+
+#[test]
+fn step_in_a_gloc_file_is_one_instruction() {
+    let program = fixture("overrun.gloc");
+    let mut client = start(json!({ "program": program, "stopOnEntry": true }));
+    client.ok("configurationDone", json!({}));
+    stopped(&mut client);
+    assert_eq!(top_line(&mut client), 6);
+    for expected in [7, 9, 10, 11, 12, 9] {
+        client.ok("stepIn", json!({ "threadId": 1 }));
+        stopped(&mut client);
+        assert_eq!(top_line(&mut client), expected);
+    }
+    let body = client.ok(
+        "setBreakpoints",
+        json!({ "source": { "path": program }, "breakpoints": [{ "line": 8 }, { "line": 13 }] }),
+    );
+    // `label 1` (line 8) has no code: line 9. `label 2` (line 13): line 14 (`yield`).
+    assert_eq!(body["breakpoints"][0]["line"], 9);
+    assert_eq!(body["breakpoints"][1]["line"], 14);
+}
+
+#[test]
+fn an_abend_is_an_exception_stop_then_the_mission_ends() {
+    let program = fixture("fig3.gbas");
+    let mission = fixture("abend.mi");
+    // The simulator alone: the cycle in which abend aborts the mission.
+    let sensors = SensorList::embedded();
+    let text = std::fs::read_to_string(&program).expect("fixture");
+    let loaded = load_script(&text, Language::Gbasic, &sensors, &LoadOptions::default());
+    let mut sim = Simulation::new(
+        &Mission::load(std::path::Path::new(&mission)),
+        Arc::new(sensors),
+        loaded.program,
+        &SimConfig::default(),
+    )
+    .expect("simulation");
+    while sim.end().is_none() && sim.step_cycle() {}
+    let end = sim.end().expect("the mission aborts");
+    assert!(end.depth > 10.0);
+    let mut client = start(json!({ "program": program, "mission": mission }));
+    client.ok("configurationDone", json!({}));
+    let stop = stopped(&mut client);
+    assert_eq!(stop["reason"], "exception");
+    assert!(stop["text"].as_str().unwrap_or_default().contains("MS_ABORT_OVERDEPTH"), "{stop}");
+    // Abend decides while cycle `end.cycle` finishes; the run stops at the next boundary.
+    assert_eq!(cycle(&mut client), end.cycle + 1);
+    client.ok("continue", json!({ "threadId": 1 }));
+    client.event("terminated");
+}

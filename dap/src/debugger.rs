@@ -318,6 +318,13 @@ impl<T: Target> Debugger<T> {
         }
         for _ in 0..budget {
             let event = self.step_world();
+            if let Err(message) = self.replay_edits() {
+                self.outputs.push(Output {
+                    category: "stderr",
+                    text: format!("could not replay an earlier edit: {message}\n"),
+                    line: None,
+                });
+            }
             let abend = self.collect_notices();
             if let (Some(reason), true) = (abend, self.filters.abend) {
                 return Progress::Stopped(Stop {
@@ -335,6 +342,32 @@ impl<T: Target> Debugger<T> {
             }
         }
         Progress::Running
+    }
+
+    /// Re-applies the user's edits recorded at the present clock: running forward over
+    /// a stretch of history that was edited reproduces the edit.
+    fn replay_edits(&mut self) -> Result<(), String> {
+        let Some(history) = &self.history else {
+            return Ok(());
+        };
+        if history
+            .journal
+            .last()
+            .is_none_or(|(clock, _)| *clock < self.clock)
+        {
+            return Ok(());
+        }
+        let clock = self.clock;
+        let edits: Vec<Edit> = history
+            .journal
+            .iter()
+            .filter(|(at, _)| *at == clock)
+            .map(|(_, edit)| edit.clone())
+            .collect();
+        for edit in &edits {
+            apply(&mut self.target, edit)?;
+        }
+        Ok(())
     }
 
     fn step_world(&mut self) -> StepEvent {
@@ -804,10 +837,16 @@ impl<T: Target> Debugger<T> {
             .range(..present)
             .map(|(at, _)| *at)
             .collect();
+        let journal: Vec<(Clock, Edit)> = history.journal.clone();
         let mut segment_end = present;
         for &segment_start in starts.iter().rev() {
             self.travel_to(segment_start)?;
             let mut found: Option<(Clock, Stop)> = None;
+            // Edits at the segment start were applied by `travel_to`; later ones here.
+            let mut edits = journal
+                .iter()
+                .filter(|(clock, _)| *clock > segment_start && *clock <= segment_end)
+                .peekable();
             while self.clock < segment_end {
                 let event = self.step_world();
                 if let StepEvent::MissionEnded { .. } = event {
@@ -816,9 +855,15 @@ impl<T: Target> Debugger<T> {
                 if let Some(Progress::Stopped(stop)) =
                     self.after_step(&event, RunMode::Continue, segment_start, Check::Probe)
                 {
-                    if self.clock < segment_end {
+                    // The segment's end is the next segment's start, which that
+                    // segment's replay never checks: it belongs here.
+                    if self.clock < present && self.clock <= segment_end {
                         found = Some((self.clock, stop));
                     }
+                }
+                // Edits take effect where they were made, after the stop there.
+                while let Some((_, edit)) = edits.next_if(|(clock, _)| *clock == self.clock) {
+                    apply(&mut self.target, edit)?;
                 }
                 if matches!(event, StepEvent::Trapped { .. }) {
                     self.trap = None;

@@ -718,7 +718,13 @@ fn cycle_overrun_is_an_exception_stop_in_gloc() {
     client.ok("configurationDone", json!({}));
     let stop = stopped(&mut client);
     assert_eq!(stop["reason"], "exception");
-    assert!(stop["description"].as_str().unwrap_or_default().contains("overrun"), "{stop}");
+    assert!(
+        stop["description"]
+            .as_str()
+            .unwrap_or_default()
+            .contains("overrun"),
+        "{stop}"
+    );
     // Worked out in tests/fixtures/README.md: the 1,000th instruction leaves pc 4, line 11.
     assert_eq!(top_line(&mut client), 11);
     assert_eq!(cycle(&mut client), 0);
@@ -767,9 +773,70 @@ fn an_abend_is_an_exception_stop_then_the_mission_ends() {
     client.ok("configurationDone", json!({}));
     let stop = stopped(&mut client);
     assert_eq!(stop["reason"], "exception");
-    assert!(stop["text"].as_str().unwrap_or_default().contains("MS_ABORT_OVERDEPTH"), "{stop}");
+    assert!(
+        stop["text"]
+            .as_str()
+            .unwrap_or_default()
+            .contains("MS_ABORT_OVERDEPTH"),
+        "{stop}"
+    );
     // Abend decides while cycle `end.cycle` finishes; the run stops at the next boundary.
     assert_eq!(cycle(&mut client), end.cycle + 1);
     client.ok("continue", json!({ "threadId": 1 }));
     client.event("terminated");
+}
+
+#[test]
+fn reverse_continue_finds_hits_on_snapshot_boundaries() {
+    let program = fixture("fig3.gbas");
+    let mut client = start(json!({ "program": program }));
+    // Cycle 32 is a multiple of the snapshot spacing (16): its boundary is where a
+    // replay segment starts.
+    client.ok(
+        "setFunctionBreakpoints",
+        json!({ "breakpoints": [{ "name": "cycle 32" }, { "name": "cycle 50" }] }),
+    );
+    client.ok("configurationDone", json!({}));
+    stopped(&mut client);
+    assert_eq!(cycle(&mut client), 32);
+    client.ok("continue", json!({ "threadId": 1 }));
+    stopped(&mut client);
+    assert_eq!(cycle(&mut client), 50);
+    client.ok("reverseContinue", json!({ "threadId": 1 }));
+    assert_eq!(stopped(&mut client)["reason"], "function breakpoint");
+    assert_eq!(cycle(&mut client), 32);
+}
+
+#[test]
+fn set_variable_on_a_gbasic_variable_avoids_the_trap() {
+    let program = fixture("trap.gbas");
+    let mut client = start(json!({ "program": program }));
+    client.ok(
+        "setFunctionBreakpoints",
+        json!({ "breakpoints": [{ "name": "cycle 2" }] }),
+    );
+    client.ok("configurationDone", json!({}));
+    stopped(&mut client);
+    // At the boundary of cycle 2, left is 1 (3, then 2 in cycle 0, 1 in cycle 1).
+    assert_eq!(value(&mut client, 1, "left"), "1");
+    let body = client.ok(
+        "setVariable",
+        json!({ "variablesReference": 1, "name": "left", "value": "50" }),
+    );
+    assert_eq!(body["value"], "50");
+    client.ok(
+        "setFunctionBreakpoints",
+        json!({ "breakpoints": [{ "name": "cycle 6" }] }),
+    );
+    client.ok("continue", json!({ "threadId": 1 }));
+    // No trap: 100 \ 50 in cycle 2, then left counts down from 49.
+    assert_eq!(stopped(&mut client)["reason"], "function breakpoint");
+    assert_eq!(value(&mut client, 1, "left"), "46");
+    // Back before the edit and forward again: the edit is replayed, still no trap.
+    client.ok("reverseContinue", json!({ "threadId": 1 }));
+    stopped(&mut client);
+    assert_eq!(cycle(&mut client), 0);
+    client.ok("continue", json!({ "threadId": 1 }));
+    assert_eq!(stopped(&mut client)["reason"], "function breakpoint");
+    assert_eq!(value(&mut client, 1, "left"), "46");
 }

@@ -1,7 +1,39 @@
 //! The launch attributes VS Code's extension declares are exactly the ones the adapter
 //! accepts, so a user never sets an attribute that is silently ignored.
 
+use std::collections::BTreeSet;
+
 use serde_json::Value;
+
+#[test]
+fn vscode_launch_attributes_match_the_adapter() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../editors/vscode/package.json"
+    );
+    let text =
+        std::fs::read_to_string(path).unwrap_or_else(|error| panic!("cannot read {path}: {error}"));
+    let manifest: Value = serde_json::from_str(&text).expect("package.json is JSON");
+    let debugger = manifest["contributes"]["debuggers"]
+        .as_array()
+        .expect("contributes.debuggers")
+        .iter()
+        .find(|debugger| debugger["type"] == "gloc")
+        .expect("a debugger of type gloc");
+    let declared: BTreeSet<&str> = debugger["configurationAttributes"]["launch"]["properties"]
+        .as_object()
+        .expect("launch properties")
+        .keys()
+        .map(String::as_str)
+        .collect();
+    let accepted: BTreeSet<&str> = gloc_dap::LAUNCH_ATTRIBUTES.iter().copied().collect();
+    assert_eq!(
+        declared, accepted,
+        "editors/vscode/package.json vs gloc_dap::LAUNCH_ATTRIBUTES"
+    );
+    let required = &debugger["configurationAttributes"]["launch"]["required"];
+    assert_eq!(required, &serde_json::json!(["program"]));
+}
 
 /// The adapter's own list matches what its launch arguments struct reads: every name
 /// deserializes into a field (an unknown name would be ignored by serde).

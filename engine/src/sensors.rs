@@ -225,6 +225,32 @@ mod tests {
     }
 
     #[test]
+    fn embedded_descriptions_cover_the_simulated_sensors() {
+        let list = SensorList::embedded();
+        for (name, _) in embedded_descriptions() {
+            assert!(list.lookup(name).is_some(), "{name} is not in the list");
+        }
+        let described = list
+            .iter()
+            .filter(|(_, sensor)| sensor.description.is_some())
+            .count();
+        assert!(described >= 40, "only {described} descriptions");
+        for name in [
+            "m_depth",
+            "c_pitch",
+            "sci_water_temp",
+            "u_cycle_time",
+            "sci_ruhp_behs",
+        ] {
+            let id = list.lookup(name).expect("listed");
+            assert!(
+                list.get(id).and_then(|s| s.description.as_ref()).is_some(),
+                "{name}"
+            );
+        }
+    }
+
+    #[test]
     fn access_follows_the_prefix() {
         assert_eq!(Access::of_name("M_DEPTH"), Access::ReadOnly);
         assert_eq!(Access::of_name("x_mission_num"), Access::ReadOnly);

@@ -1,0 +1,215 @@
+//! The `gloc` binary as a user runs it: `gloc check` and `gloc run --replay`.
+//! Expected outputs are written by hand from the fixtures.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn gloc(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_gloc"))
+        .args(args)
+        .output()
+        .expect("the gloc binary runs")
+}
+
+fn repo(path: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("..")
+        .join(path)
+        .display()
+        .to_string()
+}
+
+fn stdout(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stdout).into_owned()
+}
+
+fn stderr(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+fn temp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("gloc-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir.join(name)
+}
+
+#[test]
+fn fig2_checks_clean_and_silently() {
+    let output = gloc(&["check", &repo("examples/fig2.gloc")]);
+    assert_eq!(output.status.code(), Some(0), "{}", stdout(&output));
+    assert_eq!(stdout(&output), "");
+}
+
+#[test]
+fn check_renders_rustc_style_and_fails() {
+    let path = repo("tests/fixtures/gloc/err/register_out_of_range.gloc");
+    let output = gloc(&["check", &path]);
+    assert_eq!(output.status.code(), Some(1));
+    let expected = format!(
+        "{path}:6:9: error[E0101]: register r8 is out of range: `nregs 8` allows r0 to r7
+  |
+6 | loadi 1,r8
+  |         ^^
+2 | nregs 8
+  |       - register count declared here
+  = help: raise `nregs` to 9 or use a lower register
+1 error, 0 warnings
+"
+    );
+    assert_eq!(stdout(&output), expected);
+}
+
+#[test]
+fn warnings_alone_exit_zero() {
+    let path = repo("tests/fixtures/gloc/err/unreachable.gloc");
+    let output = gloc(&["check", &path]);
+    assert_eq!(output.status.code(), Some(0));
+    assert!(stdout(&output).starts_with(&format!("{path}:8:1: warning[W0112]: ")));
+}
+
+#[test]
+fn check_stats_reports_the_worst_case() {
+    let output = gloc(&["check", "--stats", &repo("examples/fig2.gloc")]);
+    assert_eq!(output.status.code(), Some(0));
+    let text = stdout(&output);
+    assert!(text.contains("  registers     8\n"), "{text}");
+    assert!(text.contains("  labels        7\n"), "{text}");
+    assert!(text.contains("  instructions  27 "), "{text}");
+    assert!(
+        text.contains("  worst case    16 instructions per cycle\n"),
+        "{text}"
+    );
+}
+
+#[test]
+fn check_reads_a_cac_sensor_list() {
+    // The 3-sensor list has no sensor 444: Fig. 2 fails on its loads.
+    let output = gloc(&[
+        "check",
+        "--masterdata",
+        &repo("tests/fixtures/sensors/small.cac"),
+        &repo("examples/fig2.gloc"),
+    ]);
+    assert_eq!(output.status.code(), Some(1));
+    let text = stdout(&output);
+    assert!(
+        text.contains(":5:7: error[E0107]: sensor 444 does not exist"),
+        "{text}"
+    );
+    // A broken sensor list is reported with its own path and stops the check.
+    let broken = repo("tests/fixtures/sensors/broken.masterdata");
+    let output = gloc(&[
+        "check",
+        "--masterdata",
+        &broken,
+        &repo("examples/fig2.gloc"),
+    ]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(stdout(&output).starts_with(&format!("{broken}:1:16: error[E0201]: ")));
+}
+
+#[test]
+fn unreadable_and_binary_files_do_not_panic() {
+    let output = gloc(&["check", "/no/such/file.gloc"]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(stdout(&output).contains("/no/such/file.gloc: error: cannot read the file"));
+
+    let binary = temp("garbage.gloc");
+    std::fs::write(&binary, [0x7f, 0x00, 0xff, 0xfe, b'\n', 0x80, 0x81]).expect("write");
+    let output = gloc(&["check", &binary.display().to_string()]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(!stderr(&output).contains("panicked"));
+    assert!(stdout(&output).contains(":1:1: error[E0002]: unexpected character"));
+}
+
+/// A depth ramp 0 → 20 → 0 m in 1 m steps, one row per cycle.
+fn ramp_csv() -> PathBuf {
+    let mut text = String::from("m_depth\n");
+    for depth in (0..=20).chain((0..20).rev()) {
+        text.push_str(&format!("{depth}\n"));
+    }
+    let path = temp("ramp.csv");
+    std::fs::write(&path, text).expect("write");
+    path
+}
+
+#[test]
+fn replay_of_a_depth_ramp_through_fig2() {
+    let out = temp("ramp-out.csv");
+    let output = gloc(&[
+        "run",
+        &repo("examples/fig2.gloc"),
+        "--replay",
+        &ramp_csv().display().to_string(),
+        "--out",
+        &out.display().to_string(),
+    ]);
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    let written = std::fs::read_to_string(&out).expect("OUT written");
+    let mut lines = written.lines();
+    assert_eq!(lines.next(), Some("cycle,sci_ruhp_behs"));
+    let rows: Vec<&str> = lines.collect();
+    assert_eq!(rows.len(), 41);
+    // Cycle 16 is the first with depth > 15 (16 m); cycle 36 the first
+    // later one below 5 m (40 - 36 = 4 m). Every other row is empty.
+    for (cycle, row) in rows.iter().enumerate() {
+        let expected = match cycle {
+            16 => "16,128".to_string(),
+            36 => "36,0".to_string(),
+            _ => format!("{cycle},"),
+        };
+        assert_eq!(*row, expected);
+    }
+    assert!(stderr(&output).contains("replayed 41 cycles"));
+}
+
+#[test]
+fn replay_prints_as_it_goes_and_reports_traps() {
+    let script = temp("print.gloc");
+    std::fs::write(
+        &script,
+        "nregs 3\nnblbs 1\nninstr 8\nlabel 0\nloads 444,r0\nwrites \"depth\"\nprint r0\nloadi 10,r1\ndiv r1,r2,r2\nyield\njumpi 0\n",
+    )
+    .expect("write");
+    let input = temp("two.csv");
+    std::fs::write(&input, "cycle,M_DEPTH\n0,1.5\n1,\n").expect("write");
+    let output = gloc(&[
+        "run",
+        &script.display().to_string(),
+        "--replay",
+        &input.display().to_string(),
+    ]);
+    // r2 is 0: the first cycle traps at `div` (pc 4, line 9) after printing.
+    assert_eq!(stdout(&output), "depth 1.5\n");
+    assert_eq!(output.status.code(), Some(1));
+    let expected = format!(
+        "{}:9:1: trap in cycle 0: integer division by zero (pc 4); the script stops, the replay goes on",
+        script.display()
+    );
+    assert!(stderr(&output).contains(&expected), "{}", stderr(&output));
+}
+
+#[test]
+fn replay_rejects_unknown_columns_and_bad_cells() {
+    let input = temp("bad-header.csv");
+    std::fs::write(&input, "m_dpeth\n1\n").expect("write");
+    let output = gloc(&["run", "--replay", &input.display().to_string()]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(
+        stderr(&output).contains(
+            ":1:1: `m_dpeth` is not a sensor in the active sensor list (did you mean `m_depth`?)"
+        ),
+        "{}",
+        stderr(&output)
+    );
+
+    let input = temp("bad-cell.csv");
+    std::fs::write(&input, "m_depth,m_pitch\n1,0.1\n2,abc\n").expect("write");
+    let output = gloc(&["run", "--replay", &input.display().to_string()]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(
+        stderr(&output).contains(":3:3: `abc` is not a number"),
+        "{}",
+        stderr(&output)
+    );
+}

@@ -157,40 +157,147 @@ fn fold_unary(op: Op1, a: Const) -> Option<Const> {
     }
 }
 
-/// Forward pass over each straight-line block: known constants and copies replace
-/// register reads, operations on constants become loads, branches on constants
-/// become jumps. Knowledge is dropped at every label (a join point).
+/// What the forward pass knows about registers at one point.
+#[derive(Clone, Debug, Default)]
+struct Knowledge {
+    constants: HashMap<Reg, Const>,
+    /// dst → src of a `mov` still valid.
+    copies: HashMap<Reg, Reg>,
+    /// A pure operation already computed → the register that holds its result.
+    expressions: HashMap<ExprKey, Reg>,
+    /// Registers that hold exactly 0 or 1 (comparisons, `not`, and/or of those).
+    booleans: HashSet<Reg>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+enum ExprKey {
+    Binary(Op2, Reg, Reg),
+    Unary(Op1, Reg),
+}
+
+impl Knowledge {
+    /// Forgets everything that mentions `reg` (it is about to be overwritten).
+    fn kill(&mut self, reg: Reg) {
+        self.constants.remove(&reg);
+        self.copies.remove(&reg);
+        self.copies.retain(|_, source| *source != reg);
+        self.expressions.retain(|key, holder| {
+            *holder != reg
+                && match key {
+                    ExprKey::Binary(_, a, b) => *a != reg && *b != reg,
+                    ExprKey::Unary(_, a) => *a != reg,
+                }
+        });
+        self.booleans.remove(&reg);
+    }
+
+    fn holder_of_constant(&self, value: Const) -> Option<Reg> {
+        self.constants
+            .iter()
+            .filter(|(_, known)| same_constant(**known, value))
+            .map(|(reg, _)| *reg)
+            .min()
+    }
+}
+
+/// Same type and same bits (so `0.0` and `-0.0` stay apart).
+fn same_constant(a: Const, b: Const) -> bool {
+    match (a, b) {
+        (Const::Int(x), Const::Int(y)) => x == y,
+        (Const::Float(x), Const::Float(y)) => x.to_bits() == y.to_bits(),
+        _ => false,
+    }
+}
+
+/// `loadi -1,rT` + `loadm rT,…` is the compiler's array-index trap: the load always
+/// traps, so control never continues after it.
+fn is_trap(body: &[(Instr, Span)], index: usize) -> bool {
+    let Some((
+        Instr::LoadM {
+            addr: Addr::Reg(reg),
+            ..
+        },
+        _,
+    )) = body.get(index)
+    else {
+        return false;
+    };
+    index > 0 && matches!(body[index - 1].0, Instr::LoadI { value: -1, dst } if dst == *reg)
+}
+
+/// How many control-flow edges enter each label.
+fn predecessor_counts(body: &[(Instr, Span)]) -> HashMap<Lbl, usize> {
+    let mut counts: HashMap<Lbl, usize> = HashMap::new();
+    for (index, (instr, _)) in body.iter().enumerate() {
+        match instr {
+            Instr::Cbr {
+                on_true, on_false, ..
+            } => {
+                *counts.entry(*on_true).or_default() += 1;
+                if on_false != on_true {
+                    *counts.entry(*on_false).or_default() += 1;
+                }
+            }
+            Instr::Jumpi(label) => *counts.entry(*label).or_default() += 1,
+            _ => {}
+        }
+        if let Some((Instr::Label(next), _)) = body.get(index + 1) {
+            if !instr.ends_flow() && !is_trap(body, index) {
+                *counts.entry(*next).or_default() += 1;
+            }
+        }
+    }
+    counts
+}
+
+/// Forward pass over extended blocks (a label entered by one edge only continues
+/// what was known on that edge): known constants and copies replace register
+/// reads, operations on constants become loads, a pure operation computed twice
+/// becomes a copy, a constant already in a register is copied from it, and
+/// branches on known conditions become jumps. On each arm of a branch on a 0/1
+/// condition the condition's value is known.
 fn fold_and_propagate(body: &mut [(Instr, Span)]) {
-    let mut constants: HashMap<Reg, Const> = HashMap::new();
-    let mut copies: HashMap<Reg, Reg> = HashMap::new();
-    for (instr, _) in body.iter_mut() {
-        if let Instr::Label(_) = instr {
-            constants.clear();
-            copies.clear();
+    let predecessors = predecessor_counts(body);
+    let mut pending: HashMap<Lbl, Knowledge> = HashMap::new();
+    let mut known = Knowledge::default();
+    for index in 0..body.len() {
+        if let Instr::Label(label) = body[index].0 {
+            let falls_in = index > 0 && !body[index - 1].0.ends_flow() && !is_trap(body, index - 1);
+            let single = predecessors.get(&label).copied().unwrap_or(0) == 1;
+            known = match (single, falls_in, pending.remove(&label)) {
+                (true, false, Some(edge)) => edge,
+                (true, true, _) => known,
+                _ => Knowledge::default(),
+            };
             continue;
         }
-        instr.map_uses(|reg| copies.get(&reg).copied().unwrap_or(reg));
+        let instr = &mut body[index].0;
+        instr.map_uses(|reg| known.copies.get(&reg).copied().unwrap_or(reg));
         let folded = match &*instr {
-            Instr::Binary { op, a, b, dst } => match (constants.get(a), constants.get(b)) {
-                (Some(x), Some(y)) => fold_binary(*op, *x, *y).map(|value| value.load(*dst)),
-                _ => None,
-            },
-            Instr::Unary { op, src, dst } => constants
+            Instr::Binary { op, a, b, dst } => {
+                match (known.constants.get(a), known.constants.get(b)) {
+                    (Some(x), Some(y)) => fold_binary(*op, *x, *y).map(|value| value.load(*dst)),
+                    _ => None,
+                }
+            }
+            Instr::Unary { op, src, dst } => known
+                .constants
                 .get(src)
                 .and_then(|value| fold_unary(*op, *value))
                 .map(|value| value.load(*dst)),
-            Instr::Mov { src, dst } => constants.get(src).map(|value| value.load(*dst)),
+            Instr::Mov { src, dst } => known.constants.get(src).map(|value| value.load(*dst)),
             Instr::Cbr {
                 cond,
                 on_true,
                 on_false,
-            } => constants
+            } => known
+                .constants
                 .get(cond)
                 .map(|value| Instr::Jumpi(if value.is_true() { *on_true } else { *on_false })),
             Instr::LoadM {
                 addr: Addr::Reg(reg),
                 dst,
-            } => match constants.get(reg) {
+            } => match known.constants.get(reg) {
                 Some(Const::Int(at)) if *at >= 0 && *at <= i64::from(u32::MAX) => {
                     Some(Instr::LoadM {
                         addr: Addr::At(*at as u32),
@@ -202,7 +309,7 @@ fn fold_and_propagate(body: &mut [(Instr, Span)]) {
             Instr::StoreM {
                 src,
                 addr: Addr::Reg(reg),
-            } => match constants.get(reg) {
+            } => match known.constants.get(reg) {
                 Some(Const::Int(at)) if *at >= 0 && *at <= i64::from(u32::MAX) => {
                     Some(Instr::StoreM {
                         src: *src,
@@ -216,22 +323,93 @@ fn fold_and_propagate(body: &mut [(Instr, Span)]) {
         if let Some(folded) = folded {
             *instr = folded;
         }
-        if let Some(def) = instr.def() {
-            constants.remove(&def);
-            copies.remove(&def);
-            copies.retain(|_, source| *source != def);
-            match &*instr {
-                Instr::LoadI { value, .. } => {
-                    constants.insert(def, Const::Int(*value));
-                }
-                Instr::LoadD { value, .. } => {
-                    constants.insert(def, Const::Float(*value));
-                }
-                Instr::Mov { src, dst } if src != dst => {
-                    copies.insert(*dst, *src);
-                }
-                _ => {}
+        // Reuse a value already in a register. `loadi -1` stays: it is the trap idiom.
+        let key = match &*instr {
+            Instr::Binary { op, a, b, .. } => Some(ExprKey::Binary(*op, *a, *b)),
+            Instr::Unary { op, src, .. } => Some(ExprKey::Unary(*op, *src)),
+            _ => None,
+        };
+        let reuse = match &*instr {
+            Instr::LoadI { value, .. } if *value != -1 => {
+                known.holder_of_constant(Const::Int(*value))
             }
+            Instr::LoadD { value, .. } => known.holder_of_constant(Const::Float(*value)),
+            _ => key.and_then(|key| known.expressions.get(&key).copied()),
+        };
+        if let (Some(source), Some(dst)) = (reuse, instr.def()) {
+            if source != dst {
+                let constant = known.constants.get(&source).copied();
+                let boolean = known.booleans.contains(&source);
+                *instr = Instr::Mov { src: source, dst };
+                known.kill(dst);
+                known.copies.insert(dst, source);
+                if let Some(constant) = constant {
+                    known.constants.insert(dst, constant);
+                }
+                if boolean {
+                    known.booleans.insert(dst);
+                }
+                continue;
+            }
+        }
+        match &*instr {
+            Instr::Cbr {
+                cond,
+                on_true,
+                on_false,
+            } => {
+                let mut when_true = known.clone();
+                let mut when_false = known.clone();
+                if known.booleans.contains(cond) {
+                    when_true.constants.insert(*cond, Const::Int(1));
+                    when_false.constants.insert(*cond, Const::Int(0));
+                }
+                if on_true != on_false {
+                    pending.insert(*on_true, when_true);
+                    pending.insert(*on_false, when_false);
+                }
+            }
+            Instr::Jumpi(label) => {
+                pending.insert(*label, known.clone());
+            }
+            _ => {}
+        }
+        let Some(def) = instr.def() else { continue };
+        let is_boolean = match &*instr {
+            Instr::Binary { op, a, b, .. } => match op {
+                Op2::CmpEq | Op2::CmpNe | Op2::CmpLt | Op2::CmpLe | Op2::CmpGt | Op2::CmpGe => true,
+                Op2::And | Op2::Or => known.booleans.contains(a) && known.booleans.contains(b),
+                _ => false,
+            },
+            Instr::Unary { op: Op1::Not, .. } => true,
+            Instr::LoadI { value, .. } => *value == 0 || *value == 1,
+            Instr::Mov { src, .. } => known.booleans.contains(src),
+            _ => false,
+        };
+        known.kill(def);
+        match &*instr {
+            Instr::LoadI { value, .. } => {
+                known.constants.insert(def, Const::Int(*value));
+            }
+            Instr::LoadD { value, .. } => {
+                known.constants.insert(def, Const::Float(*value));
+            }
+            Instr::Mov { src, dst } if src != dst => {
+                known.copies.insert(*dst, *src);
+            }
+            _ => {}
+        }
+        if let Some(key) = key {
+            let operands_kept = match key {
+                ExprKey::Binary(_, a, b) => a != def && b != def,
+                ExprKey::Unary(_, a) => a != def,
+            };
+            if operands_kept {
+                known.expressions.insert(key, def);
+            }
+        }
+        if is_boolean {
+            known.booleans.insert(def);
         }
     }
 }
@@ -386,6 +564,7 @@ fn successors(body: &[(Instr, Span)], positions: &HashMap<Lbl, usize>) -> Vec<Ve
                 .filter_map(|label| positions.get(label).copied())
                 .collect(),
             Instr::Halt => Vec::new(),
+            _ if is_trap(body, index) => Vec::new(),
             _ => vec![index + 1],
         })
         .collect()

@@ -151,7 +151,13 @@ fn load_gbasic(text: &str, sensors: &SensorList, options: &LoadOptions) -> Loade
     let gloc_index = LineIndex::new(&gloc_text);
     let mut diagnostics = compiled.diagnostics;
     for diagnostic in checked.diagnostics {
-        diagnostics.push(translate(diagnostic, &gloc_text, &gloc_index, &source_map));
+        diagnostics.push(translate(
+            diagnostic,
+            text,
+            &gloc_text,
+            &gloc_index,
+            &source_map,
+        ));
     }
     let end_of_text = Span::new(text.len(), text.len());
     if let Some(warning) = budget_warning(&checked.stats, options, end_of_text) {
@@ -168,25 +174,47 @@ fn load_gbasic(text: &str, sensors: &SensorList, options: &LoadOptions) -> Loade
     }
 }
 
-/// Moves a diagnostic on the compiled GLOC to the GBASIC text it came from. Its
+/// Moves a diagnostic on the compiled GLOC to the GBASIC line it came from (the
+/// whole statement line: a GLOC finding such as unreachable code or a loop without
+/// `yield` is about statements, not about the literal an instruction loads). Its
 /// fixes edit GLOC, so they are dropped.
 fn translate(
     mut diagnostic: Diagnostic,
+    script: &str,
     gloc_text: &str,
     index: &LineIndex,
     map: &SourceMap,
 ) -> Diagnostic {
     let gloc_line = index.line_col(gloc_text, diagnostic.span.start as usize).0 as u32;
+    let script_lines = LineIndex::new(script);
     let to_script = |span: Span| {
         let line = index.line_col(gloc_text, span.start as usize).0 as u32;
-        map.origin_of_gloc_line(line)
-            .map_or(Span::default(), |origin| origin.span())
+        let Some(origin) = map.origin_of_gloc_line(line) else {
+            return Span::default();
+        };
+        let line_index = script_lines.line_of(origin.start as usize);
+        let start = script_lines.line_start(line_index).unwrap_or(0);
+        let end = script_lines
+            .line_start(line_index + 1)
+            .unwrap_or(script.len())
+            .min(script.len());
+        let text = script.get(start..end).unwrap_or("");
+        let code = text.split('\'').next().unwrap_or("");
+        let leading = code.len() - code.trim_start().len();
+        Span::new(start + leading, start + code.trim_end().len().max(leading))
     };
     diagnostic.span = to_script(diagnostic.span);
     for label in &mut diagnostic.labels {
         label.span = to_script(label.span);
     }
     diagnostic.fixes.clear();
+    if diagnostic.code == "W0111" || diagnostic.code == "E0111" {
+        // The GLOC help speaks of loop bounds; in GBASIC those come from `for`.
+        diagnostic.help = Some(
+            "add a `yield` inside the loop (a `for` loop with constant limits counts as bounded)"
+                .to_string(),
+        );
+    }
     diagnostic.message = format!("{} (compiled GLOC line {gloc_line})", diagnostic.message);
     diagnostic
 }

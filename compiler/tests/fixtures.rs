@@ -122,3 +122,31 @@ fn the_paper_figure_3_example_is_figure_3() {
     let fig3 = "label: state1\nif m_depth > 15.0 then\n  SCI_RUHP_BEHS = 128\n  goto state2\nendif\nyield\ngoto state1\nlabel: state2\nif m_depth < 5.0 then\n  SCI_RUHP_BEHS = 0\n  goto state3\nendif\nyield\ngoto state2\nlabel: state3\nyield\ngoto state3\n";
     assert_eq!(text, fig3);
 }
+
+#[test]
+fn gloc_checker_findings_on_compiled_code_point_at_the_gbasic_statement() {
+    let sensors = SensorList::embedded();
+    let text = "dim x as integer\ngoto spin\nx = x + 1\nlabel: spin\n  goto spin\n";
+    let loaded = load_script(text, Language::Gbasic, &sensors, &LoadOptions::default());
+    assert!(
+        loaded.program.is_none(),
+        "a loop with neither yield nor exit is refused"
+    );
+    let rendered = render(text, &loaded.diagnostics);
+    // Worked out by hand: `x = x + 1` (line 3) is unreachable after `goto`, and the
+    // `goto spin` loop (line 5, indented by two) never yields.
+    assert!(
+        rendered.contains("3:1 W0112 unreachable code"),
+        "{rendered}"
+    );
+    assert!(
+        rendered.contains("5:3 E0111 this loop never yields and has no way out"),
+        "{rendered}"
+    );
+    let spin = loaded
+        .diagnostics
+        .iter()
+        .find(|d| d.code == "E0111")
+        .expect("E0111");
+    assert_eq!(&text[spin.span.range()], "goto spin");
+}

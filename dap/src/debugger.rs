@@ -801,6 +801,9 @@ impl<T: Target> Debugger<T> {
 
     /// Back to the previous cycle boundary (undoes one `next`).
     pub fn step_back(&mut self) -> Result<Stop, String> {
+        if self.history.is_none() {
+            return Err("reverse debugging is off (launch with \"history\": true)".into());
+        }
         let target = if self.clock.steps == 0 {
             if self.clock <= self.origin {
                 return Ok(stopped_body(

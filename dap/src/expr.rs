@@ -72,6 +72,7 @@ pub fn evaluate(text: &str, names: &dyn Names) -> Result<Number, String> {
         tokens,
         position: 0,
         names,
+        depth: 0,
     };
     let value = parser.or()?;
     if let Some(token) = parser.tokens.get(parser.position) {
@@ -154,7 +155,12 @@ struct Parser<'a> {
     tokens: Vec<Token>,
     position: usize,
     names: &'a dyn Names,
+    /// Nesting of parentheses and prefix operators, bounded so hostile input cannot
+    /// overflow the stack.
+    depth: usize,
 }
+
+const MAX_DEPTH: usize = 200;
 
 impl Parser<'_> {
     fn peek_is(&self, words: &[&str]) -> Option<String> {
@@ -187,10 +193,20 @@ impl Parser<'_> {
         Ok(left)
     }
 
+    fn enter(&mut self) -> Result<(), String> {
+        self.depth += 1;
+        if self.depth > MAX_DEPTH {
+            return Err(format!("the expression nests more than {MAX_DEPTH} deep"));
+        }
+        Ok(())
+    }
+
     fn not(&mut self) -> Result<Number, String> {
         if self.peek_is(&["not", "!"]).is_some() {
             self.position += 1;
+            self.enter()?;
             let value = self.not()?;
+            self.depth -= 1;
             return Ok(boolean(!value.is_true()));
         }
         self.comparison()
@@ -238,14 +254,20 @@ impl Parser<'_> {
     fn unary(&mut self) -> Result<Number, String> {
         if self.peek_is(&["-"]).is_some() {
             self.position += 1;
-            return Ok(match self.unary()? {
+            self.enter()?;
+            let value = match self.unary()? {
                 Number::Int(value) => Number::Int(value.wrapping_neg()),
                 Number::Float(value) => Number::Float(-value),
-            });
+            };
+            self.depth -= 1;
+            return Ok(value);
         }
         if self.peek_is(&["+"]).is_some() {
             self.position += 1;
-            return self.unary();
+            self.enter()?;
+            let value = self.unary()?;
+            self.depth -= 1;
+            return Ok(value);
         }
         self.atom()
     }
@@ -264,7 +286,9 @@ impl Parser<'_> {
                     .ok_or_else(|| format!("`{name}` is not a variable, register or sensor")),
             },
             Some(Token::Symbol("(")) => {
+                self.enter()?;
                 let value = self.or()?;
+                self.depth -= 1;
                 if self.peek_is(&[")"]).is_none() {
                     return Err("missing `)`".into());
                 }
@@ -339,6 +363,13 @@ mod tests {
     fn bad_expressions_are_messages() {
         assert!(evaluate("", &Fixed).is_err());
         let error = |text: &str| evaluate(text, &Fixed).err().unwrap_or_default();
+        assert!(error(&"(".repeat(100_000)).contains("nests"));
+        assert!(error(&"-".repeat(100_000)).contains("nests"));
+        assert!(error(&"not ".repeat(100_000)).contains("nests"));
+        assert_eq!(
+            evaluate(&format!("{}1{}", "(".repeat(150), ")".repeat(150)), &Fixed),
+            Ok(Number::Int(1))
+        );
         assert!(error("nope > 1").contains("`nope`"));
         assert!(error("(1 + 2").contains(")"));
         assert!(error("1 / 0").contains("division"));

@@ -840,3 +840,85 @@ fn set_variable_on_a_gbasic_variable_avoids_the_trap() {
     assert_eq!(stopped(&mut client)["reason"], "function breakpoint");
     assert_eq!(value(&mut client, 1, "left"), "46");
 }
+
+#[test]
+fn history_off_means_no_step_back() {
+    let program = fixture("fig3.gbas");
+    let mut client = start(json!({ "program": program, "stopOnEntry": true, "history": false }));
+    assert!(client
+        .unclaimed
+        .iter()
+        .all(|event| event["event"] != "capabilities"));
+    client.ok("configurationDone", json!({}));
+    stopped(&mut client);
+    assert!(client
+        .received
+        .iter()
+        .all(|message| message["event"] != "capabilities"));
+    let response = client.request("stepBack", Some(json!({ "threadId": 1 })));
+    assert_eq!(response["success"], false);
+    assert!(
+        response["message"]
+            .as_str()
+            .unwrap_or_default()
+            .contains("history"),
+        "{response}"
+    );
+}
+
+#[test]
+fn max_cycles_ends_the_session_with_a_summary() {
+    let program = fixture("fig3.gbas");
+    let mut client = start(json!({ "program": program, "maxCycles": 10 }));
+    client.ok("configurationDone", json!({}));
+    client.event("terminated");
+    let summary = client
+        .received
+        .iter()
+        .filter(|message| message["event"] == "output")
+        .filter_map(|message| message["body"]["output"].as_str())
+        .find(|text| text.contains("maxCycles"))
+        .expect("a summary")
+        .to_string();
+    assert!(summary.contains("after 10 cycles"), "{summary}");
+}
+
+#[test]
+fn masterdata_and_profile_are_used() {
+    let program = fixture("fig3.gbas");
+    let mut client = start(json!({
+        "program": program,
+        "masterdata": fixture("three.cac"),
+        "profile": fixture("profile.csv"),
+        "stopOnEntry": true,
+    }));
+    client.ok("configurationDone", json!({}));
+    stopped(&mut client);
+    let body = client.ok("variables", json!({ "variablesReference": SENSORS }));
+    assert_eq!(body["variables"][0]["name"], "m_depth");
+    assert_eq!(body["variables"][0]["type"], "sensor 1");
+    assert_eq!(body["variables"][1]["type"], "sensor 2");
+    assert_eq!(body["variables"][2]["indexedVariables"], 3);
+    let disassembly = client.ok(
+        "disassemble",
+        json!({ "memoryReference": "0x0", "instructionCount": 1 }),
+    );
+    assert_eq!(disassembly["instructions"][0]["instruction"], "loads 1,r0");
+    // A sensor list without the script's sensor: a launch error naming it.
+    let mut client = Client::start();
+    client.ok("initialize", json!({}));
+    let response = client.request(
+        "launch",
+        Some(json!({ "program": program, "masterdata": fixture("fig3.gbas") })),
+    );
+    assert_eq!(response["success"], false);
+    let response = client.request(
+        "launch",
+        Some(json!({ "program": program, "profile": "/no/profile.csv" })),
+    );
+    assert_eq!(response["success"], false);
+    assert!(response["message"]
+        .as_str()
+        .unwrap_or_default()
+        .contains("/no/profile.csv"));
+}

@@ -18,6 +18,9 @@ use gloc_engine::vm::{CycleEnd, Host, Machine, MachineConfig};
 
 mod native;
 
+/// A native Rust version of a program: runs it and returns what it prints.
+type NativeRun = fn() -> Vec<String>;
+
 struct Quiet {
     lines: Vec<String>,
 }
@@ -124,7 +127,7 @@ fn main() {
         .and_then(|value| value.parse().ok())
         .unwrap_or(5)
         .max(1);
-    let natives: [(&str, fn() -> Vec<String>); 3] = [
+    let natives: [(&str, NativeRun); 3] = [
         ("arith", || {
             let (acc, x) = native::arith(black_box(3_000_000));
             vec![acc.to_string(), format!("{x:?}")]

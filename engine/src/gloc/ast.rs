@@ -206,6 +206,11 @@ macro_rules! opcodes {
                 match self { $(Opcode::$variant => Origin::$origin,)* }
             }
 
+            /// The opcode for a lower-case mnemonic.
+            pub fn from_name(name: &str) -> Option<Opcode> {
+                match name { $($name => Some(Opcode::$variant),)* _ => None }
+            }
+
             /// One line of semantics, e.g. `dst := a + b`.
             pub fn semantics(self) -> &'static str {
                 match self { $(Opcode::$variant => $semantics,)* }
@@ -257,13 +262,6 @@ opcodes! {
 }
 
 impl Opcode {
-    pub fn from_name(name: &str) -> Option<Opcode> {
-        Opcode::ALL
-            .iter()
-            .copied()
-            .find(|opcode| opcode.name() == name)
-    }
-
     /// The usage line, e.g. `cbr r,LABEL,LABEL`.
     pub fn usage(self) -> String {
         let operands: Vec<&str> = self

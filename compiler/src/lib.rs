@@ -82,8 +82,11 @@ pub fn compile(text: &str, sensors: &SensorList, options: &CompileOptions) -> Co
     let generated = codegen::generate(&checked.program, &checked.symbols);
     let mut code = generated.code;
     let mut for_bounds = generated.for_bounds;
+    let mut label_renumbering = None;
     if options.optimize {
-        for_bounds = optimize::optimize(&mut code, &for_bounds);
+        let optimized = optimize::optimize(&mut code, &for_bounds);
+        for_bounds = optimized.for_bounds;
+        label_renumbering = Some(optimized.labels);
     }
     if let Some(diagnostic) = too_large(&code) {
         diagnostics.push(diagnostic);
@@ -92,7 +95,27 @@ pub fn compile(text: &str, sensors: &SensorList, options: &CompileOptions) -> Co
             ..Compiled::default()
         };
     }
-    let source_map = SourceMap::build(&code, &generated.storage, &checked.symbols, text);
+    let mut source_map = SourceMap::build(&code, &generated.storage, &checked.symbols, text);
+    if options.optimize {
+        // Register reuse gives a scalar's register to other values wherever the
+        // variable is dead, so no register can be named for it; arrays keep their
+        // memory cells.
+        source_map
+            .variables
+            .retain(|variable| matches!(variable.storage, Storage::Memory { .. }));
+    }
+    if let Some(renumbering) = label_renumbering {
+        // A label nothing jumps to is gone after `-O`.
+        source_map
+            .labels
+            .retain_mut(|label| match renumbering.get(&ir::Lbl(label.number)) {
+                Some(new) => {
+                    label.number = new.0;
+                    true
+                }
+                None => false,
+            });
+    }
     let stats = CodeStats {
         lines: code.instrs.len() as u32,
         instructions: code

@@ -11,9 +11,17 @@ use gloc_engine::Span;
 use crate::codegen::ForBound;
 use crate::ir::{Addr, Code, Instr, Lbl, Op1, Op2, Reg};
 
-/// Optimizes `code` in place; returns the loop bounds with their labels renumbered
-/// (a loop the optimizer removed loses its bound).
-pub fn optimize(code: &mut Code, for_bounds: &[ForBound]) -> Vec<ForBound> {
+/// What the caller must update after optimizing.
+#[derive(Clone, Debug, Default)]
+pub struct Optimized {
+    /// The loop bounds with their labels renumbered (a removed loop loses its bound).
+    pub for_bounds: Vec<ForBound>,
+    /// Old label → new label, for the labels that remain.
+    pub labels: HashMap<Lbl, Lbl>,
+}
+
+/// Optimizes `code` in place.
+pub fn optimize(code: &mut Code, for_bounds: &[ForBound]) -> Optimized {
     let mut body: Vec<(Instr, Span)> = code.instrs.drain(..).zip(code.spans.drain(..)).collect();
     // Passes enable each other (folding a branch makes code unreachable, removing
     // code makes copies adjacent); a few rounds reach a fixed point in practice.
@@ -45,7 +53,10 @@ pub fn optimize(code: &mut Code, for_bounds: &[ForBound]) -> Vec<ForBound> {
     code.spans = spans;
     code.register_count = register_count;
     code.label_count = label_count;
-    bounds
+    Optimized {
+        for_bounds: bounds,
+        labels: renumbering,
+    }
 }
 
 /// A value known at compile time, with the machine's type.

@@ -150,3 +150,24 @@ fn gloc_checker_findings_on_compiled_code_point_at_the_gbasic_statement() {
         .expect("E0111");
     assert_eq!(&text[spin.span.range()], "goto spin");
 }
+
+#[test]
+fn the_optimized_source_map_follows_the_renumbered_labels() {
+    let sensors = SensorList::embedded();
+    let text = std::fs::read_to_string(fixture_dir("ok").join("fig3.gbas")).expect("fig3");
+    let compiled = compile(&text, &sensors, &CompileOptions { optimize: true });
+    let map = compiled.source_map.expect("map");
+    let labels: Vec<(&str, u32)> = map
+        .labels
+        .iter()
+        .map(|label| (label.name.as_str(), label.number))
+        .collect();
+    // -O keeps every label of Fig. 2 (all are jump targets) and numbers them in order
+    // of appearance: state1, the first if's two, state2, the second if's two, state3.
+    assert_eq!(labels, vec![("state1", 0), ("state2", 3), ("state3", 6)]);
+    let gloc = compiled.gloc_text.expect("gloc");
+    assert!(
+        gloc.contains("label 3\nloads 444,r0\nloadd 5.0,r1\n"),
+        "{gloc}"
+    );
+}

@@ -169,6 +169,7 @@ impl Default for ExceptionFilters {
 pub enum Edit {
     Register(usize, Number),
     Variable(String, Number),
+    Element(String, i64, Number),
     Sensor(usize, f64),
 }
 
@@ -911,6 +912,7 @@ fn apply<T: Target>(target: &mut T, edit: &Edit) -> Result<(), String> {
     match edit {
         Edit::Register(index, value) => target.set_register(*index, *value),
         Edit::Variable(name, value) => target.set_variable(name, *value),
+        Edit::Element(name, index, value) => target.set_element(name, *index, *value),
         Edit::Sensor(index, value) => target.set_sensor(*index, *value),
     }
 }
@@ -937,5 +939,9 @@ impl<T: Target> Names for Scope<'_, T> {
         target
             .sensor_index(name)
             .map(|index| Number::Float(target.sensor(index)))
+    }
+
+    fn element(&self, name: &str, index: i64) -> Option<Number> {
+        self.debugger.target.element(name, index)
     }
 }

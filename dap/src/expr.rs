@@ -60,6 +60,11 @@ impl fmt::Display for Number {
 /// sensor, in that order.
 pub trait Names {
     fn lookup(&self, name: &str) -> Option<Number>;
+    /// Element `index` of the array `name` (`a(3)`).
+    fn element(&self, name: &str, index: i64) -> Option<Number> {
+        let _ = (name, index);
+        None
+    }
 }
 
 /// Evaluates `text`; the error says what is wrong and where.
@@ -277,6 +282,24 @@ impl Parser<'_> {
         self.position += 1;
         match token {
             Some(Token::Number(number)) => Ok(number),
+            Some(Token::Name(name)) if self.peek_is(&["("]).is_some() => {
+                self.position += 1;
+                self.enter()?;
+                let index = self.or()?;
+                self.depth -= 1;
+                if self.peek_is(&[")"]).is_none() {
+                    return Err(format!("missing `)` after the index of `{name}`"));
+                }
+                self.position += 1;
+                let Number::Int(index) = index else {
+                    return Err(format!(
+                        "the index of `{name}` must be an integer, not {index}"
+                    ));
+                };
+                self.names
+                    .element(&name, index)
+                    .ok_or_else(|| format!("`{name}({index})` is not an element of an array"))
+            }
             Some(Token::Name(name)) => match name.to_ascii_lowercase().as_str() {
                 "true" => Ok(Number::Int(1)),
                 "false" => Ok(Number::Int(0)),
@@ -339,6 +362,9 @@ mod tests {
                 _ => None,
             }
         }
+        fn element(&self, name: &str, index: i64) -> Option<Number> {
+            (name == "a" && (0..3).contains(&index)).then_some(Number::Int(index * 10))
+        }
     }
 
     fn check(text: &str, expected: Number) {
@@ -357,6 +383,7 @@ mod tests {
         check("-state", Number::Int(-2));
         check("1e-3 * 1000", Number::Float(1.0));
         check("m_depth", Number::Float(12.5));
+        check("a(state) + a(0)", Number::Int(20));
     }
 
     #[test]
@@ -375,5 +402,7 @@ mod tests {
         assert!(error("1 / 0").contains("division"));
         assert!(error("1 $ 2").contains("column 3"));
         assert!(error("1 2").contains("unexpected"));
+        assert!(error("a(3)").contains("a(3)"));
+        assert!(error("a(1.5)").contains("integer"));
     }
 }

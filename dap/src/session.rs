@@ -25,6 +25,8 @@ const SCOPE_REGISTERS: i64 = 2;
 const SCOPE_SENSORS: i64 = 3;
 const SCOPE_VEHICLE: i64 = 4;
 const ALL_SENSORS: i64 = 5;
+/// `ARRAYS + i`: the elements of the i-th GBASIC variable (an array).
+const ARRAYS: i64 = 1000;
 /// Steps run between two looks at the incoming queue while running.
 const SLICE_STEPS: u64 = 50_000;
 
@@ -1132,7 +1134,57 @@ fn variables(
 ) -> Result<Vec<Variable>, String> {
     let target = &debugger.target;
     let all: Vec<Variable> = match arguments.variables_reference {
-        SCOPE_VARIABLES => target.variables().into_iter().map(plain).collect(),
+        SCOPE_VARIABLES => target
+            .variables()
+            .into_iter()
+            .enumerate()
+            .map(|(position, named)| {
+                let length = named.length;
+                let mut variable = plain(named);
+                if let Some(length) = length {
+                    variable.variables_reference = ARRAYS + position as i64;
+                    variable.indexed_variables = Some(length as i64);
+                }
+                variable
+            })
+            .collect(),
+        reference if reference >= ARRAYS => {
+            let position = usize::try_from(reference - ARRAYS).unwrap_or(usize::MAX);
+            let array = target
+                .variables()
+                .into_iter()
+                .nth(position)
+                .filter(|named| named.length.is_some())
+                .ok_or_else(|| format!("unknown variablesReference {reference}"))?;
+            let length = array.length.unwrap_or(0);
+            let start = usize::try_from(arguments.start.unwrap_or(0))
+                .unwrap_or(0)
+                .min(length);
+            let count = match arguments.count {
+                Some(count) if count > 0 => usize::try_from(count).unwrap_or(usize::MAX),
+                _ => length,
+            };
+            let element_type = if array.ty.starts_with("float") {
+                "float"
+            } else {
+                "integer"
+            };
+            return Ok((start..start.saturating_add(count).min(length))
+                .map(|index| {
+                    let value = target.element(&array.name, index as i64);
+                    let name = format!("{}({index})", array.name);
+                    Variable {
+                        evaluate_name: Some(name.clone()),
+                        name,
+                        value: value.map(|value| value.to_string()).unwrap_or_default(),
+                        ty: Some(element_type.into()),
+                        variables_reference: 0,
+                        named_variables: None,
+                        indexed_variables: None,
+                    }
+                })
+                .collect());
+        }
         SCOPE_REGISTERS => target
             .registers()
             .into_iter()
@@ -1232,6 +1284,24 @@ fn set_variable(
             Ok(format!("{:?}", debugger.target.sensor(index)))
         }
         SCOPE_VEHICLE => Err("the Vehicle scope is read-only; set a sensor instead".into()),
+        reference if reference >= ARRAYS => {
+            let (name, index) = arguments
+                .name
+                .strip_suffix(')')
+                .and_then(|rest| rest.split_once('('))
+                .and_then(|(name, index)| {
+                    Some((name.to_string(), index.trim().parse::<i64>().ok()?))
+                })
+                .ok_or_else(|| {
+                    format!("`{}` is not an array element like `a(3)`", arguments.name)
+                })?;
+            debugger.edit(Edit::Element(name.clone(), index, value))?;
+            debugger
+                .target
+                .element(&name, index)
+                .map(|value| value.to_string())
+                .ok_or_else(|| format!("no element `{}`", arguments.name))
+        }
         other => Err(format!("unknown variablesReference {other}")),
     }
 }

@@ -65,6 +65,8 @@ pub struct Named {
     pub name: String,
     pub value: String,
     pub ty: &'static str,
+    /// For an array: its number of elements (shown as children `name(i)`).
+    pub length: Option<usize>,
 }
 
 pub trait Target: Clone {
@@ -87,6 +89,9 @@ pub trait Target: Clone {
     fn variables(&self) -> Vec<Named>;
     fn variable(&self, name: &str) -> Option<Number>;
     fn set_variable(&mut self, name: &str, value: Number) -> Result<(), String>;
+    /// Element `index` of the GBASIC array `name`.
+    fn element(&self, name: &str, index: i64) -> Option<Number>;
+    fn set_element(&mut self, name: &str, index: i64, value: Number) -> Result<(), String>;
 
     fn sensor_count(&self) -> usize;
     fn sensor_name(&self, index: usize) -> Option<&str>;

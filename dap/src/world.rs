@@ -329,12 +329,37 @@ impl World {
         )
     }
 
+    fn array(&self, name: &str) -> Option<&VariableSlot> {
+        self.fixed
+            .variables
+            .iter()
+            .find(|variable| variable.name.eq_ignore_ascii_case(name))
+            .filter(|variable| matches!(variable.storage, Storage::Memory { .. }))
+    }
+
     fn machine_value(&self, storage: Storage) -> Option<Value> {
         let machine = self.sim.machine()?;
         match storage {
             Storage::Register { register } => machine.registers().get(register as usize).copied(),
             Storage::Memory { base, .. } => machine.memory().get(base as usize).copied(),
         }
+    }
+}
+
+/// Keeps a variable's declared type, as an assignment in the script would.
+fn typed_value(variable: &VariableSlot, value: Number) -> Result<Value, String> {
+    if variable.float {
+        return Ok(Value::Float(value.as_f64()));
+    }
+    match value {
+        Number::Int(value) => Ok(Value::Int(value)),
+        Number::Float(value) if value.fract() == 0.0 && value.abs() < 9.0e15 => {
+            Ok(Value::Int(value as i64))
+        }
+        Number::Float(value) => Err(format!(
+            "`{}` is an integer variable; {value:?} is not a whole number",
+            variable.name
+        )),
     }
 }
 
@@ -453,6 +478,7 @@ impl Target for World {
                         name: variable.name.clone(),
                         value: value.to_string(),
                         ty: if variable.float { "float" } else { "integer" },
+                        length: None,
                     }
                 }
                 Storage::Memory { base, size } => {
@@ -471,6 +497,7 @@ impl Target for World {
                         } else {
                             "integer array"
                         },
+                        length: Some(size as usize),
                     }
                 }
             })
@@ -498,28 +525,46 @@ impl Target for World {
             .find(|variable| variable.name.eq_ignore_ascii_case(name))
             .cloned()
             .ok_or_else(|| format!("no variable `{name}`"))?;
-        // Keep the variable's declared type, as an assignment in the script would.
-        let value = if variable.float {
-            Value::Float(value.as_f64())
-        } else {
-            match value {
-                Number::Int(value) => Value::Int(value),
-                Number::Float(value) if value.fract() == 0.0 && value.abs() < 9.0e15 => {
-                    Value::Int(value as i64)
-                }
-                Number::Float(value) => {
-                    return Err(format!(
-                        "`{name}` is an integer variable; {value:?} is not a whole number"
-                    ))
-                }
-            }
-        };
+        let value = typed_value(&variable, value)?;
         let (machine, _) = self.sim.script_parts().ok_or("no script is running")?;
         match variable.storage {
             Storage::Register { register } => machine.set_register(Reg(register), value),
             Storage::Memory { base, .. } => machine.set_memory(base, value),
         }
         .map_err(|error| error.to_string())
+    }
+
+    fn element(&self, name: &str, index: i64) -> Option<Number> {
+        let variable = self.array(name)?;
+        let Storage::Memory { base, size } = variable.storage else {
+            return None;
+        };
+        let index = u32::try_from(index).ok().filter(|index| *index < size)?;
+        let machine = self.sim.machine()?;
+        machine
+            .memory()
+            .get((base + index) as usize)
+            .copied()
+            .map(to_number)
+    }
+
+    fn set_element(&mut self, name: &str, index: i64, value: Number) -> Result<(), String> {
+        let variable = self
+            .array(name)
+            .cloned()
+            .ok_or_else(|| format!("no array `{name}`"))?;
+        let Storage::Memory { base, size } = variable.storage else {
+            return Err(format!("`{name}` is not an array"));
+        };
+        let index = u32::try_from(index)
+            .ok()
+            .filter(|index| *index < size)
+            .ok_or_else(|| format!("{name}({index}) is outside 0..{}", size.saturating_sub(1)))?;
+        let value = typed_value(&variable, value)?;
+        let (machine, _) = self.sim.script_parts().ok_or("no script is running")?;
+        machine
+            .set_memory(base + index, value)
+            .map_err(|error| error.to_string())
     }
 
     fn sensor_count(&self) -> usize {
@@ -555,6 +600,7 @@ impl Target for World {
             name: name.to_string(),
             value,
             ty,
+            length: None,
         };
         let active: Vec<&str> = self.sim.active_behaviors().collect();
         let phase = match self.sim.phase() {

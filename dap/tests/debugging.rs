@@ -922,3 +922,57 @@ fn masterdata_and_profile_are_used() {
         .unwrap_or_default()
         .contains("/no/profile.csv"));
 }
+
+#[test]
+fn arrays_are_expandable_evaluable_and_settable() {
+    let program = fixture("arrays.gbas");
+    let mut client = start(json!({ "program": program }));
+    client.ok(
+        "setFunctionBreakpoints",
+        json!({ "breakpoints": [{ "name": "cycle 4" }] }),
+    );
+    client.ok("configurationDone", json!({}));
+    stopped(&mut client);
+    // Cycles 0–3 each stored one a(i) = i * 10; the sum has not run yet.
+    let variables = client.ok("variables", json!({ "variablesReference": 1 }));
+    let array = variables["variables"]
+        .as_array()
+        .expect("variables")
+        .iter()
+        .find(|variable| variable["name"] == "a")
+        .expect("a")
+        .clone();
+    assert_eq!(array["indexedVariables"], 4);
+    let reference = array["variablesReference"].as_i64().expect("expandable");
+    let elements = values(&mut client, reference);
+    assert_eq!(
+        elements,
+        [
+            ("a(0)", "0"),
+            ("a(1)", "10"),
+            ("a(2)", "20"),
+            ("a(3)", "30")
+        ]
+        .map(|(name, value)| (name.to_string(), value.to_string()))
+    );
+    assert_eq!(value(&mut client, 1, "total"), "0");
+    let body = client.ok(
+        "evaluate",
+        json!({ "expression": "a(2) + a(3)", "context": "watch" }),
+    );
+    assert_eq!(body["result"], "50");
+    let body = client.ok(
+        "setVariable",
+        json!({ "variablesReference": reference, "name": "a(1)", "value": "100" }),
+    );
+    assert_eq!(body["value"], "100");
+    client.ok("stepOut", json!({ "threadId": 1 }));
+    stopped(&mut client);
+    // 0 + 100 + 20 + 30.
+    assert_eq!(value(&mut client, 1, "total"), "150");
+    let response = client.request(
+        "setVariable",
+        Some(json!({ "variablesReference": reference, "name": "a(9)", "value": "1" })),
+    );
+    assert_eq!(response["success"], false);
+}

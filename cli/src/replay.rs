@@ -145,6 +145,11 @@ fn replay(
     let Some((header_offset, header)) = lines.next() else {
         bail!("{display}: the replay file is empty; it needs a header of sensor names");
     };
+    // Spreadsheets often start a CSV with a byte-order mark.
+    let (header_offset, header) = match header.strip_prefix('\u{feff}') {
+        Some(rest) => (header_offset + '\u{feff}'.len_utf8(), rest),
+        None => (header_offset, header),
+    };
     // Column → sensor (None for an ignored `cycle` column).
     let mut columns: Vec<Option<SensorId>> = Vec::new();
     for (at, name) in cells(header) {

@@ -172,7 +172,7 @@ fn replay_prints_as_it_goes_and_reports_traps() {
     )
     .expect("write");
     let input = temp("two.csv");
-    std::fs::write(&input, "cycle,M_DEPTH\n0,1.5\n1,\n").expect("write");
+    std::fs::write(&input, "\u{feff}cycle,M_DEPTH\n0,1.5\n1,\n").expect("write");
     let output = gloc(&[
         "run",
         &script.display().to_string(),

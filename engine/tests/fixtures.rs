@@ -209,12 +209,18 @@ fn a_ten_megabyte_script_checks_and_points_at_its_last_line() {
 }
 
 #[test]
-fn crlf_line_ends_are_read_like_lf() {
+fn crlf_line_ends_and_a_byte_order_mark_are_accepted() {
     let fig2 = include_str!("../../examples/fig2.gloc");
     let crlf = fig2.replace('\n', "\r\n");
     let checked = check_text(&crlf);
     assert!(checked.diagnostics.is_empty(), "{:?}", checked.diagnostics);
     assert_eq!(gloc::print(&gloc::parse(&crlf).file), fig2);
+
+    // A byte-order mark is skipped; the text after it is Fig. 2.
+    let with_bom = format!("\u{feff}{fig2}");
+    let checked = check_text(&with_bom);
+    assert!(checked.diagnostics.is_empty(), "{:?}", checked.diagnostics);
+    assert_eq!(gloc::print(&gloc::parse(&with_bom).file), fig2);
 
     // Columns do not count the `\r`; the error is on line 4 at the `r9`.
     let bad = "nregs 2\r\nnblbs 0\r\nninstr 2\r\nloadi 1,r9\r\nyield\r\n";

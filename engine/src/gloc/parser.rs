@@ -29,7 +29,12 @@ pub fn parse_file(text: &str) -> (File, Vec<Diagnostic>) {
         number = number.saturating_add(1);
         let content = raw.strip_suffix('\n').unwrap_or(raw);
         let content = content.strip_suffix('\r').unwrap_or(content);
-        lines.push(parser.line(content, offset, number));
+        // A byte-order mark (editors on Windows write one) is not part of the text.
+        let (content, skipped) = match content.strip_prefix('\u{feff}') {
+            Some(rest) if number == 1 => (rest, '\u{feff}'.len_utf8()),
+            _ => (content, 0),
+        };
+        lines.push(parser.line(content, offset + skipped, number));
         offset += raw.len();
     }
     if parser.suppressed > 0 {

@@ -93,7 +93,10 @@ impl<'a> SourceFile<'a> {
             }
             prefix.push(if character == '\t' { '\t' } else { ' ' });
         }
-        let end = (span.end as usize).clamp(start, line_start + source_line.len());
+        // A span may start at the line end (`\r`, `\n`): never let `end` fall below `start`.
+        let end = (span.end as usize)
+            .min(line_start + source_line.len())
+            .max(start);
         let marked = self
             .text
             .get(start..end)
@@ -127,6 +130,42 @@ impl Tally {
                 Severity::Warning => self.warnings += 1,
                 Severity::Note => {}
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn renders_header_source_line_caret_and_help() {
+        let text = "nregs 1\nloadi 1,r8\n";
+        let source = SourceFile::new("a.gloc", text);
+        let diagnostic =
+            Diagnostic::error("E0101", Span::new(16, 18), "register r8 is out of range")
+                .with_label(Span::new(6, 7), "declared here")
+                .with_help("raise `nregs`");
+        assert_eq!(
+            source.render(&diagnostic),
+            "a.gloc:2:9: error[E0101]: register r8 is out of range
+  |
+2 | loadi 1,r8
+  |         ^^
+1 | nregs 1
+  |       - declared here
+  = help: raise `nregs`
+"
+        );
+    }
+
+    #[test]
+    fn spans_at_line_ends_and_past_the_text_do_not_panic() {
+        let text = "loadi 1,r0\r\nyield";
+        let source = SourceFile::new("b.gloc", text);
+        for (start, end) in [(10, 11), (11, 12), (12, 12), (17, 40), (100, 200)] {
+            let rendered = source.render(&Diagnostic::warning("W0000", Span::new(start, end), "x"));
+            assert!(rendered.contains('^'), "{rendered}");
         }
     }
 }

@@ -117,7 +117,7 @@ impl Parser {
         let operands_base = base + word_start + word_len;
         let lower = word.to_ascii_lowercase();
         let operands = tokenize(after, operands_base)?;
-        let operands = split_operands(&operands, word, word_span)?;
+        let operands = split_operands(&operands, word)?;
 
         if let Some(kind) = DirectiveKind::from_keyword(&lower) {
             let [(OperandKind::Integer(value), value_span)] = operands.as_slice() else {
@@ -440,7 +440,6 @@ fn string_literal(text: &str, start: usize, base: usize) -> Result<(String, usiz
 fn split_operands(
     tokens: &[(Token, Span)],
     word: &str,
-    word_span: Span,
 ) -> Result<Vec<(OperandKind, Span)>, Diagnostic> {
     let mut operands = Vec::with_capacity(3);
     let mut expect_operand = true;
@@ -479,6 +478,5 @@ fn split_operands(
             ));
         }
     }
-    let _ = word_span;
     Ok(operands)
 }

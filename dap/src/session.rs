@@ -689,7 +689,7 @@ impl Session {
                 .map(|(breakpoint, id)| Breakpoint {
                     id: Some(id),
                     verified: false,
-                    line: Some(breakpoint.line),
+                    line: echo_line(breakpoint.line),
                     message: Some("the program is not launched yet".into()),
                     reason: Some("pending".into()),
                     ..Breakpoint::default()
@@ -709,7 +709,7 @@ impl Session {
                 out.push(Breakpoint {
                     id: Some(id),
                     verified: false,
-                    line: Some(breakpoint.line),
+                    line: echo_line(breakpoint.line),
                     message: Some(format!("{path} is not the program being debugged")),
                     reason: Some("failed".into()),
                     ..Breakpoint::default()
@@ -730,7 +730,7 @@ impl Session {
                         out.push(Breakpoint {
                             id: Some(id),
                             verified: false,
-                            line: Some(breakpoint.line),
+                            line: echo_line(breakpoint.line),
                             message: Some(message),
                             reason: Some("failed".into()),
                             ..Breakpoint::default()
@@ -761,7 +761,7 @@ impl Session {
                 None => out.push(Breakpoint {
                     id: Some(id),
                     verified: false,
-                    line: Some(breakpoint.line),
+                    line: echo_line(breakpoint.line),
                     message: Some("no code in this file".into()),
                     reason: Some("failed".into()),
                     ..Breakpoint::default()
@@ -1043,6 +1043,11 @@ impl Session {
             },
         )
     }
+}
+
+/// A client's line number, echoed back only when it is a line number at all.
+fn echo_line(line: i64) -> Option<i64> {
+    (1..=i64::from(u32::MAX)).contains(&line).then_some(line)
 }
 
 fn address(pc: usize) -> String {

@@ -237,3 +237,59 @@ fn garbage_bytes_do_not_crash() {
     assert_eq!(client.next_message()["event"], "output");
     initialize(&mut client);
 }
+
+/// Every command the adapter knows, after launch, with arguments of the wrong shape or
+/// absurd values: an answer each (validated), never a crash, and the session still works.
+#[test]
+fn hostile_arguments_after_launch_never_crash() {
+    let mut client = Client::start();
+    initialize(&mut client);
+    let program = format!("{}/tests/fixtures/fig3.gbas", env!("CARGO_MANIFEST_DIR"));
+    client.ok("launch", json!({ "program": program, "stopOnEntry": true }));
+    client.ok("configurationDone", json!({}));
+    client.event("stopped");
+    let commands = [
+        "setBreakpoints",
+        "setFunctionBreakpoints",
+        "setExceptionBreakpoints",
+        "setInstructionBreakpoints",
+        "dataBreakpointInfo",
+        "setDataBreakpoints",
+        "breakpointLocations",
+        "stackTrace",
+        "scopes",
+        "variables",
+        "setVariable",
+        "evaluate",
+        "exceptionInfo",
+        "disassemble",
+        "loadedSources",
+        "threads",
+    ];
+    let hostile = [
+        json!({ "threadId": "one", "variablesReference": [], "source": 5, "breakpoints": "all" }),
+        json!({ "variablesReference": -7, "start": -5, "count": -1, "name": "", "value": "" }),
+        json!({ "variablesReference": i64::MAX, "start": i64::MAX, "count": i64::MAX }),
+        json!({ "memoryReference": "0xffffffffffffffffff", "instructionCount": i64::MAX, "offset": i64::MIN }),
+        json!({ "memoryReference": "-0x10", "instructionOffset": -3, "instructionCount": 5 }),
+        json!({ "expression": "(((((", "name": "m_depth", "value": "1e999", "variablesReference": 3 }),
+        json!({ "breakpoints": [{ "line": -1 }, { "line": i64::MAX, "hitCondition": "% 0" }], "source": { "path": program } }),
+        json!({ "breakpoints": [{ "name": "cycle -1" }, { "name": "every 0" }, { "dataId": "sensor:nope" }, { "instructionReference": "zz" }] }),
+        json!({ "filters": [1, 2] }),
+        json!(null),
+        json!([]),
+        json!("text"),
+    ];
+    for command in commands {
+        for arguments in &hostile {
+            let response = client.request(command, Some(arguments.clone()));
+            assert_eq!(response["command"], command);
+        }
+    }
+    // Still debugging.
+    client.ok("next", json!({ "threadId": 1 }));
+    let stop = client.event("stopped");
+    assert_eq!(stop["body"]["reason"], "step");
+    let body = client.ok("stackTrace", json!({ "threadId": 1 }));
+    assert_eq!(body["stackFrames"][0]["line"], 7);
+}

@@ -12,7 +12,15 @@ use tower_lsp_server::ls_types::{Position, Range};
 
 /// The LSP position of a byte offset.
 pub fn position_of(rope: &Rope, byte_offset: usize) -> Position {
-    let byte_offset = byte_offset.min(rope.len_bytes());
+    let mut byte_offset = byte_offset.min(rope.len_bytes());
+    // Between the `\r` and `\n` of a CRLF is no LSP position: use the line end.
+    if byte_offset > 0
+        && byte_offset < rope.len_bytes()
+        && rope.byte(byte_offset) == b'\n'
+        && rope.byte(byte_offset - 1) == b'\r'
+    {
+        byte_offset -= 1;
+    }
     // `byte_to_char` rounds down to the character containing the byte.
     let char_index = rope.byte_to_char(byte_offset);
     let line = rope.char_to_line(char_index);
@@ -148,9 +156,10 @@ mod tests {
         for (offset, _) in text.char_indices().chain([(text.len(), ' ')]) {
             let position = position_of(&rope, offset);
             let back = offset_of(&rope, position);
-            // Line breaks: the offset of "\n" in "\r\n" maps to the line end.
+            // The offset of "\n" in "\r\n" maps to the line end, before "\r".
             if text[..offset].ends_with('\r') && text[offset..].starts_with('\n') {
                 assert_eq!(back, offset - 1);
+                assert_eq!(position, position_of(&rope, offset - 1));
             } else {
                 assert_eq!(back, offset, "offset {offset} → {position:?}");
             }

@@ -44,7 +44,13 @@ pub struct Settings {
 struct Open {
     document: Document,
     analysis: Arc<Analysis>,
+    /// The document version `analysis` describes.
+    analyzed_version: Option<i32>,
+    /// The last version whose diagnostics were published.
+    published_version: Option<i32>,
     context: Context,
+    /// Problems with the project settings, reported on this document.
+    context_problems: Vec<Diagnostic>,
 }
 
 #[derive(Default)]
@@ -172,7 +178,8 @@ impl State {
         )
     }
 
-    /// (Re)analyses one open document and returns what to publish for it.
+    /// Re-reads the settings of one open document, re-analyses it and returns
+    /// what to publish (its diagnostics and those of the `gloc.toml` files).
     fn refresh(&mut self, uri: &Uri) -> Vec<Publish> {
         let Some(open) = self.documents.get(uri) else {
             return Vec::new();
@@ -180,22 +187,52 @@ impl State {
         if open.document.language == Language::Config {
             return self.refresh_config_files();
         }
-        let document_language = open.document.language;
         let (context, problems) = self.context_for(open.document.path());
+        if let Some(open) = self.documents.get_mut(uri) {
+            open.context = context;
+            open.context_problems = problems;
+            open.analyzed_version = None;
+            open.published_version = None;
+        }
+        let mut publishes: Vec<Publish> = self.analyzed_publish(uri).into_iter().collect();
+        publishes.extend(self.refresh_config_files());
+        publishes
+    }
+
+    /// Brings a document's analysis up to its current text (settings unchanged).
+    fn ensure_analyzed(&mut self, uri: &Uri) {
         let Some(open) = self.documents.get_mut(uri) else {
-            return Vec::new();
+            return;
         };
-        let mut analysis = lang::analyze(document_language, open.document.text(), &context);
-        analysis.diagnostics.extend(problems);
+        if open.analyzed_version == Some(open.document.version)
+            || open.document.language == Language::Config
+        {
+            return;
+        }
+        let mut analysis =
+            lang::analyze(open.document.language, open.document.text(), &open.context);
+        analysis
+            .diagnostics
+            .extend(open.context_problems.iter().cloned());
         open.analysis = Arc::new(analysis);
-        open.context = context;
-        let mut publishes = vec![Publish {
+        open.analyzed_version = Some(open.document.version);
+    }
+
+    /// The diagnostics of the current version, unless already published.
+    fn analyzed_publish(&mut self, uri: &Uri) -> Option<Publish> {
+        self.ensure_analyzed(uri);
+        let open = self.documents.get_mut(uri)?;
+        if open.document.language == Language::Config
+            || open.published_version == Some(open.document.version)
+        {
+            return None;
+        }
+        open.published_version = Some(open.document.version);
+        Some(Publish {
             uri: uri.clone(),
             diagnostics: features::diagnostics(&open.document, &open.analysis),
             version: Some(open.document.version),
-        }];
-        publishes.extend(self.refresh_config_files());
-        publishes
+        })
     }
 
     /// Publishes the problems of every `gloc.toml` that applies to an open
@@ -265,12 +302,29 @@ impl Backend {
         uri: &Uri,
         answer: impl FnOnce(&Document, &Analysis, &Context) -> Option<T>,
     ) -> Option<T> {
-        let state = lock(&self.state);
+        let mut state = lock(&self.state);
+        state.ensure_analyzed(uri);
         let open = state.documents.get(uri)?;
         if open.document.language == Language::Config {
             return None;
         }
         answer(&open.document, &open.analysis, &open.context)
+    }
+
+    /// Analyses and publishes a changed document once the messages already
+    /// waiting have been handled: a burst of edits is analysed once, for its
+    /// last version, and an idle server answers at once. Requests never wait
+    /// for this: they bring the analysis up to date themselves.
+    fn publish_soon(&self, uri: Uri) {
+        let client = self.client.clone();
+        let state = self.state.clone();
+        tokio::spawn(async move {
+            tokio::task::yield_now().await;
+            let publish = lock(&state).analyzed_publish(&uri);
+            if let Some(publish) = publish {
+                send(&client, vec![publish]).await;
+            }
+        });
     }
 
     /// Fetches `workspace/configuration` in the background and re-analyses.
@@ -401,7 +455,10 @@ impl LanguageServer for Backend {
                 Open {
                     document,
                     analysis: Arc::new(Analysis::default()),
+                    analyzed_version: None,
+                    published_version: None,
                     context,
+                    context_problems: Vec::new(),
                 },
             );
             if language == Language::Config {
@@ -423,12 +480,13 @@ impl LanguageServer for Backend {
             };
             open.document
                 .apply_changes(params.text_document.version, params.content_changes);
-            if open.document.language == Language::Config {
-                state.sensor_lists.clear();
-                state.refresh_all()
-            } else {
-                state.refresh(&uri)
+            if open.document.language != Language::Config {
+                drop(state);
+                self.publish_soon(uri);
+                return;
             }
+            state.sensor_lists.clear();
+            state.refresh_all()
         };
         send(&self.client, publishes).await;
     }
@@ -668,7 +726,8 @@ impl LanguageServer for Backend {
                     "`{COMPILED_GLOC_COMMAND}` takes one argument: the URI of an open GBASIC document"
                 ))
             })?;
-        let state = lock(&self.state);
+        let mut state = lock(&self.state);
+        state.ensure_analyzed(&uri);
         let open = state.documents.get(&uri).ok_or_else(|| {
             Error::invalid_params(format!("`{}` is not open in the server", uri.as_str()))
         })?;

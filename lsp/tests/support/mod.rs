@@ -28,7 +28,9 @@ const TIMEOUT: Duration = Duration::from_secs(20);
 impl TestClient {
     /// Starts a server; does not initialize it.
     pub fn start() -> TestClient {
-        let (client_side, server_side) = tokio::io::duplex(1 << 20);
+        // Large enough that a client sending thousands of edits before reading
+        // never blocks the server on its output.
+        let (client_side, server_side) = tokio::io::duplex(256 << 20);
         let (server_read, server_write) = tokio::io::split(server_side);
         let server = tokio::spawn(gloc_lsp::serve(server_read, server_write));
         let (read, write) = tokio::io::split(client_side);

@@ -624,6 +624,21 @@ fn has(bits: &[u64], reg: Reg) -> bool {
     bits[reg.0 as usize / 64] & (1 << (reg.0 % 64)) != 0
 }
 
+/// The registers in a bit set, in increasing order.
+fn members(bits: &[u64]) -> impl Iterator<Item = u32> + '_ {
+    bits.iter().enumerate().flat_map(|(word_index, word)| {
+        let mut rest = *word;
+        std::iter::from_fn(move || {
+            if rest == 0 {
+                return None;
+            }
+            let bit = rest.trailing_zeros();
+            rest &= rest - 1;
+            Some(word_index as u32 * 64 + bit)
+        })
+    })
+}
+
 fn register_bound(body: &[(Instr, Span)]) -> usize {
     body.iter()
         .flat_map(|(instr, _)| instr.uses().into_iter().chain(instr.def()))
@@ -727,9 +742,8 @@ fn allocate_registers(body: &mut [(Instr, Span)]) -> u32 {
             Instr::Mov { src, .. } => Some(*src),
             _ => None,
         };
-        let out = &live.live_out[index];
-        for reg in 0..registers as u32 {
-            if has(out, Reg(reg)) && Some(Reg(reg)) != copy_source {
+        for reg in members(&live.live_out[index]) {
+            if Some(Reg(reg)) != copy_source {
                 add_edge(def.0, reg);
             }
         }

@@ -299,12 +299,13 @@ impl<T: Target> Debugger<T> {
     /// Checks the breakpoints at the current position, for the start of a run that
     /// did not stop on entry (a breakpoint on the very first statement must hit).
     pub fn check_start(&mut self) -> Option<Stop> {
-        match self.after_step(
-            &StepEvent::Executed,
-            RunMode::Continue,
-            self.clock,
-            Check::Live,
-        ) {
+        // The run starts at a cycle boundary: check it as one (cycle breakpoints too).
+        let event = if self.clock.steps == 0 {
+            StepEvent::CycleBegan
+        } else {
+            StepEvent::Executed
+        };
+        match self.after_step(&event, RunMode::Continue, self.clock, Check::Live) {
             Some(Progress::Stopped(stop)) => Some(stop),
             _ => None,
         }

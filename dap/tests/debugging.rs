@@ -446,12 +446,12 @@ fn cycle_breakpoints_every_n() {
     let mut client = start(json!({ "program": program }));
     let body = client.ok(
         "setFunctionBreakpoints",
-        json!({ "breakpoints": [{ "name": "every 50" }, { "name": "main" }] }),
+        json!({ "breakpoints": [{ "name": "every 50" }, { "name": "main" }, { "name": "cycle 0" }] }),
     );
     assert_eq!(body["breakpoints"][0]["verified"], true);
     assert_eq!(body["breakpoints"][1]["verified"], false);
     client.ok("configurationDone", json!({}));
-    for expected in [50, 100, 150] {
+    for expected in [0, 50, 100, 150] {
         assert_eq!(stopped(&mut client)["reason"], "function breakpoint");
         assert_eq!(cycle(&mut client), expected);
         client.ok("continue", json!({ "threadId": 1 }));

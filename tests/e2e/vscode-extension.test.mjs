@@ -408,4 +408,15 @@ test('helpers: setting paths, run arguments and launch defaults', () => {
     { masterdata: 'setting' },
   );
   assert.equal(kept.configuration.masterdata, 'own', 'launch.json wins over the setting');
+  assert.deepEqual(
+    helpers.runSummary(
+      'mission       fig2 with fig3.gbas\ncycles        900 (4 s each)\nmission end   completed at cycle 899 (1 h) at 0.4 m\nscript        ran to the end of the run\n',
+    ),
+    { missionEnd: 'completed at cycle 899 (1 h) at 0.4 m' },
+  );
+  assert.deepEqual(helpers.runSummary('mission end   ABORTED (MS_ABORT_OVERTIME) at cycle 3 (12 s) at 2.0 m\nscript        TRAPPED at a.gbas:4: division by zero (the vehicle flew on)'), {
+    missionEnd: 'ABORTED (MS_ABORT_OVERTIME) at cycle 3 (12 s) at 2.0 m',
+    scriptTrap: 'TRAPPED at a.gbas:4: division by zero (the vehicle flew on)',
+  });
+  assert.deepEqual(helpers.runSummary('error: nothing'), {});
 });

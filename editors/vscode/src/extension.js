@@ -308,6 +308,17 @@ async function runMission(
     viewColumn: vscode.ViewColumn.Beside,
     preview: false,
   });
+  // Not awaited: a notification's promise settles only when the user dismisses it.
+  const summary = helpers.runSummary(outcome.stderr);
+  const name = path.basename(script);
+  const notification = summary.scriptTrap
+    ? vscode.window.showWarningMessage(`GLOC: ${name}: script ${summary.scriptTrap}`, 'Show Output')
+    : vscode.window.showInformationMessage(`GLOC: ${name}: ${summary.missionEnd || 'the flight finished'}`, 'Show Output');
+  void notification.then((choice) => {
+    if (choice === 'Show Output') {
+      output.show();
+    }
+  });
 }
 
 // ---------------------------------------------------------------------------------------------

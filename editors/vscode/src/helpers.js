@@ -146,6 +146,29 @@ function firstLines(stderr, maxLines) {
     .join(' ');
 }
 
+/**
+ * The two facts of `gloc run`'s summary (printed on stderr) a notification shows: how the mission
+ * ended (`mission end   completed at cycle 900 (1 h) at 0.4 m`) and, when the script trapped,
+ * where (`script        TRAPPED at fig3.gbas:4: …`). Missing lines give `undefined`.
+ * @param {string} output
+ * @returns {{ missionEnd?: string, scriptTrap?: string }}
+ */
+function runSummary(output) {
+  /** @type {{ missionEnd?: string, scriptTrap?: string }} */
+  const summary = {};
+  for (const line of output.split(/\r?\n/)) {
+    const missionEnd = /^mission end\s+(.+)$/.exec(line);
+    if (missionEnd) {
+      summary.missionEnd = missionEnd[1].trim();
+    }
+    const script = /^script\s+(TRAPPED.*)$/.exec(line);
+    if (script) {
+      summary.scriptTrap = script[1].trim();
+    }
+  }
+  return summary;
+}
+
 module.exports = {
   COMPILED_GLOC_COMMAND,
   COMPILED_SCHEME,
@@ -158,4 +181,5 @@ module.exports = {
   resolveBinaryPath,
   resolveSettingPath,
   runMissionArguments,
+  runSummary,
 };

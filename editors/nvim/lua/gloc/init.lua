@@ -271,6 +271,22 @@ function M.show_compiled(bufnr, on_done)
   })
 end
 
+--- How the run ended, from the summary `gloc run` prints ("mission end   completed at …"; a
+--- trapped script's "script        TRAPPED at …" comes first).
+--- @param lines string[]
+--- @return string
+function M.run_headline(lines)
+  local mission_end, trap
+  for _, line in ipairs(lines) do
+    mission_end = mission_end or line:match("^mission end%s+(.+)$")
+    trap = trap or line:match("^script%s+(TRAPPED.+)$")
+  end
+  if trap then
+    return "script " .. trap
+  end
+  return mission_end or "the flight finished"
+end
+
 --- Flies the script in buffer `bufnr` with `gloc run FILE --plot FILE.svg`, shows what the run
 --- printed (its summary) in a split, and opens the flight profile with `vim.ui.open` (Neovim 0.10+;
 --- older versions print the SVG's path). `on_done(result)` is called at the end (tests use it).
@@ -324,8 +340,11 @@ function M.run(bufnr, on_done)
       elseif vim.fn.filereadable(plot) == 1 then
         table.insert(output, "Flight profile: " .. plot)
         set_scratch_lines(target, output)
+        notify(vim.fn.fnamemodify(script, ":t") .. ": " .. M.run_headline(output))
         if vim.ui.open then
           vim.ui.open(plot)
+        else
+          notify("flight profile: " .. plot)
         end
       end
       if on_done then

@@ -205,14 +205,14 @@ fn solve(
             .min();
         let total = match header {
             None => {
-                let mut nodes = component.clone();
+                let mut nodes = component.to_vec();
                 nodes.sort_unstable();
                 loops.push(YieldFreeLoop { nodes, has_exit });
                 Bound::Unbounded
             }
             Some(header) => {
                 let iterations = bounds.get(&header).copied().unwrap_or(0);
-                let mut inner_members = component.clone();
+                let mut inner_members = component.to_vec();
                 inner_members.sort_unstable();
                 solve(graph, &inner_members, Some(header), bounds, cost, loops);
                 let longest_iteration = component
@@ -274,6 +274,26 @@ impl LocalIndex {
     }
 }
 
+/// Strongly connected components in one flat list (a 10 MB script has a
+/// million of them; one `Vec` each would be a million allocations).
+struct Components {
+    nodes: Vec<u32>,
+    /// Where each component starts in `nodes`.
+    starts: Vec<u32>,
+}
+
+impl Components {
+    fn iter(&self) -> impl Iterator<Item = &[u32]> {
+        self.starts.iter().enumerate().map(|(index, &start)| {
+            let end = self
+                .starts
+                .get(index + 1)
+                .map_or(self.nodes.len(), |&end| end as usize);
+            &self.nodes[start as usize..end]
+        })
+    }
+}
+
 /// Tarjan's algorithm without recursion (a 10 MB script must not overflow
 /// the stack). Components come out successors first.
 fn strongly_connected_components(
@@ -281,14 +301,17 @@ fn strongly_connected_components(
     members: &[u32],
     local: &LocalIndex,
     edge_allowed: &dyn Fn(u32) -> bool,
-) -> Vec<Vec<u32>> {
+) -> Components {
     const UNVISITED: u32 = u32::MAX;
     let count = members.len();
     let mut index_of = vec![UNVISITED; count];
     let mut lowlink = vec![0u32; count];
     let mut on_stack = vec![false; count];
     let mut stack: Vec<u32> = Vec::new();
-    let mut components = Vec::new();
+    let mut components = Components {
+        nodes: Vec::with_capacity(count),
+        starts: Vec::new(),
+    };
     let mut next_index = 0u32;
     // (local node, position in its successor list)
     let mut work: Vec<(u32, usize)> = Vec::new();
@@ -327,15 +350,14 @@ fn strongly_connected_components(
                 lowlink[parent as usize] = lowlink[parent as usize].min(lowlink[node as usize]);
             }
             if lowlink[node as usize] == index_of[node as usize] {
-                let mut component = Vec::new();
+                components.starts.push(components.nodes.len() as u32);
                 while let Some(member) = stack.pop() {
                     on_stack[member as usize] = false;
-                    component.push(members[member as usize]);
+                    components.nodes.push(members[member as usize]);
                     if member == node {
                         break;
                     }
                 }
-                components.push(component);
             }
         }
     }

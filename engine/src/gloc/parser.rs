@@ -57,13 +57,6 @@ struct Parser {
     last_span: Span,
 }
 
-/// A token of an operand list.
-#[derive(Debug)]
-enum Token {
-    Comma,
-    Operand(OperandKind),
-}
-
 impl Parser {
     fn report(&mut self, diagnostic: Diagnostic) {
         if self.diagnostics.len() >= MAX_PARSE_ERRORS {
@@ -115,9 +108,12 @@ impl Parser {
             return Err(unexpected_character(after, base + word_start + word_len));
         }
         let operands_base = base + word_start + word_len;
-        let lower = word.to_ascii_lowercase();
-        let operands = tokenize(after, operands_base)?;
-        let operands = split_operands(&operands, word)?;
+        let lower: std::borrow::Cow<str> = if word.bytes().any(|byte| byte.is_ascii_uppercase()) {
+            word.to_ascii_lowercase().into()
+        } else {
+            word.into()
+        };
+        let operands = tokenize(after, operands_base, word)?;
 
         if let Some(kind) = DirectiveKind::from_keyword(&lower) {
             let [(OperandKind::Integer(value), value_span)] = operands.as_slice() else {
@@ -192,9 +188,9 @@ impl Parser {
             )
             .with_help(format!("write `{}`", opcode.usage())));
         }
-        let mut checked = Vec::with_capacity(operands.len());
-        for ((kind, span), shape) in operands.into_iter().zip(signature) {
-            if !fits(&kind, *shape) {
+        for ((kind, span), shape) in operands.iter().zip(signature) {
+            let span = *span;
+            if !fits(kind, *shape) {
                 return Err(Diagnostic::error(
                     "E0004",
                     span,
@@ -202,17 +198,21 @@ impl Parser {
                         "`{}` expects {} here, found {}",
                         opcode.name(),
                         shape.describe(),
-                        describe_operand(&kind)
+                        describe_operand(kind)
                     ),
                 )
                 .with_help(format!("write `{}`", opcode.usage())));
             }
-            checked.push(Operand { kind, span });
         }
+        // Same layout: the collect reuses the allocation.
+        let operands = operands
+            .into_iter()
+            .map(|(kind, span)| Operand { kind, span })
+            .collect();
         Ok(LineKind::Instruction(Instruction {
             opcode,
             opcode_span: word_span,
-            operands: checked,
+            operands,
         }))
     }
 }
@@ -315,9 +315,13 @@ fn comment_start(line: &str) -> Option<usize> {
     None
 }
 
-fn tokenize(text: &str, base: usize) -> Result<Vec<(Token, Span)>, Diagnostic> {
+/// Reads `a , b , c` into operands, checking the commas. One allocation
+/// per line: this runs for every line of a 10 MB script.
+fn tokenize(text: &str, base: usize, word: &str) -> Result<Vec<(OperandKind, Span)>, Diagnostic> {
     let bytes = text.as_bytes();
-    let mut tokens = Vec::new();
+    let mut operands = Vec::new();
+    let mut expect_operand = true;
+    let mut last_comma = None;
     let mut at = 0;
     while at < bytes.len() {
         let byte = bytes[at];
@@ -328,14 +332,22 @@ fn tokenize(text: &str, base: usize) -> Result<Vec<(Token, Span)>, Diagnostic> {
         let start = at;
         if byte == b',' {
             at += 1;
-            tokens.push((Token::Comma, Span::new(base + start, base + at)));
-        } else if byte == b'"' {
+            let span = Span::new(base + start, base + at);
+            if expect_operand {
+                return Err(Diagnostic::error(
+                    "E0007",
+                    span,
+                    format!("expected an operand of `{word}` before `,`"),
+                ));
+            }
+            expect_operand = true;
+            last_comma = Some(span);
+            continue;
+        }
+        let kind = if byte == b'"' {
             let (value, end) = string_literal(text, start, base)?;
             at = end;
-            tokens.push((
-                Token::Operand(OperandKind::Text(value)),
-                Span::new(base + start, base + at),
-            ));
+            OperandKind::Text(value)
         } else if byte.is_ascii_alphanumeric() || matches!(byte, b'-' | b'+' | b'.' | b'_') {
             at += 1;
             while at < bytes.len() {
@@ -348,14 +360,33 @@ fn tokenize(text: &str, base: usize) -> Result<Vec<(Token, Span)>, Diagnostic> {
                     break;
                 }
             }
-            let word = &text[start..at];
-            let span = Span::new(base + start, base + at);
-            tokens.push((Token::Operand(operand_word(word, span)?), span));
+            operand_word(&text[start..at], Span::new(base + start, base + at))?
         } else {
             return Err(unexpected_character(&text[start..], base + start));
+        };
+        let span = Span::new(base + start, base + at);
+        if !expect_operand {
+            return Err(
+                Diagnostic::error("E0007", span, "expected `,` between operands")
+                    .with_help("operands are separated by commas: `cmpgt r0,r1,r2`"),
+            );
+        }
+        if operands.capacity() == 0 {
+            operands.reserve_exact(3);
+        }
+        operands.push((kind, span));
+        expect_operand = false;
+    }
+    if expect_operand {
+        if let Some(comma) = last_comma {
+            return Err(Diagnostic::error(
+                "E0007",
+                comma,
+                "trailing `,`: an operand is missing",
+            ));
         }
     }
-    Ok(tokens)
+    Ok(operands)
 }
 
 fn operand_word(word: &str, span: Span) -> Result<OperandKind, Diagnostic> {
@@ -434,49 +465,4 @@ fn string_literal(text: &str, start: usize, base: usize) -> Result<(String, usiz
         "unterminated string",
     )
     .with_help("close the string with `\"` on the same line"))
-}
-
-/// Turns `a , b , c` into operands, checking the commas.
-fn split_operands(
-    tokens: &[(Token, Span)],
-    word: &str,
-) -> Result<Vec<(OperandKind, Span)>, Diagnostic> {
-    let mut operands = Vec::with_capacity(3);
-    let mut expect_operand = true;
-    let mut last_comma = None;
-    for (token, span) in tokens {
-        match (token, expect_operand) {
-            (Token::Operand(kind), true) => {
-                operands.push((kind.clone(), *span));
-                expect_operand = false;
-            }
-            (Token::Operand(_), false) => {
-                return Err(
-                    Diagnostic::error("E0007", *span, "expected `,` between operands")
-                        .with_help("operands are separated by commas: `cmpgt r0,r1,r2`"),
-                );
-            }
-            (Token::Comma, false) => {
-                expect_operand = true;
-                last_comma = Some(*span);
-            }
-            (Token::Comma, true) => {
-                return Err(Diagnostic::error(
-                    "E0007",
-                    *span,
-                    format!("expected an operand of `{word}` before `,`"),
-                ));
-            }
-        }
-    }
-    if expect_operand {
-        if let Some(comma) = last_comma {
-            return Err(Diagnostic::error(
-                "E0007",
-                comma,
-                "trailing `,`: an operand is missing",
-            ));
-        }
-    }
-    Ok(operands)
 }

@@ -97,3 +97,31 @@ test('a wrong scope assertion makes the grammar test fail', () => {
   assert.notEqual(result.status, 0, 'vscode-tmgrammar-test accepted a wrong assertion');
   assert.match(result.stdout + result.stderr, /missing required scopes: entity\.name\.label\.gloc/);
 });
+
+// Every mnemonic and header word that docs/gloc.md documents is highlighted as a keyword, so the
+// grammar follows the language as it grows. The expected scope per word is the grammar's
+// category for it (control flow, sensor access, header, label, other instruction).
+test('the GLOC grammar knows every mnemonic and header word of docs/gloc.md', () => {
+  const doc = fs.readFileSync(path.resolve(here, '../../docs/gloc.md'), 'utf8');
+  const words = [...new Set([...doc.matchAll(/^\| `([a-z][a-z0-9]*)[ `]/gm)].map((match) => match[1]))];
+  assert.ok(words.length >= 40, `docs/gloc.md lists the header words and 39 mnemonics, found ${words.length}`);
+  const scopeOf = (word) => {
+    if (['nregs', 'nblbs', 'nlbls', 'ninstr', 'nmem'].includes(word)) return 'keyword.other.directive.header.gloc';
+    if (word === 'label') return 'keyword.other.label.gloc';
+    if (word === 'cbr') return 'keyword.control.branch.gloc';
+    if (['jumpi', 'jump'].includes(word)) return 'keyword.control.jump.gloc';
+    if (['yield', 'halt'].includes(word)) return 'keyword.control.gloc';
+    if (['loads', 'stores'].includes(word)) return 'keyword.other.instruction.sensor.gloc';
+    return 'keyword.other.instruction.gloc';
+  };
+  const lines = ['# SYNTAX TEST "source.gloc" "every word of docs/gloc.md"'];
+  for (const word of words) {
+    lines.push(word, `# <${'-'.repeat(word.length)} ${scopeOf(word)}`);
+    lines.push(word.toUpperCase(), `# <${'-'.repeat(word.length)} ${scopeOf(word)}`);
+  }
+  const directory = fs.mkdtempSync(path.join(os.tmpdir(), 'gloc-grammar-'));
+  const file = path.join(directory, 'mnemonics.gloc');
+  fs.writeFileSync(file, `${lines.join('\n')}\n`);
+  const result = runGrammarTest(file);
+  assert.equal(result.status, 0, `a documented word is not highlighted:\n${result.stdout}\n${result.stderr}`);
+});

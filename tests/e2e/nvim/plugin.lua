@@ -119,6 +119,31 @@ expect_syntax(31, 8, "glocString", "String") -- "depth # now"
 expect_syntax(31, 16, "glocString", "String") -- the # inside the string is no comment
 expect_syntax(31, 22, "glocComment", "Comment") -- # a comment
 
+-- Every mnemonic and header word of docs/gloc.md is highlighted, in either case.
+local words = {}
+for _, line in ipairs(vim.fn.readfile(H.repo .. "/docs/gloc.md")) do
+  local word = line:match("^| `([a-z][a-z0-9]*)[ `]")
+  if word and not vim.tbl_contains(words, word) then
+    words[#words + 1] = word
+  end
+end
+H.check(#words >= 40, "docs/gloc.md lists the header words and the mnemonics", words)
+local mnemonics = H.edit(dir .. "/mnemonics.gloc")
+local lines = {}
+for _, word in ipairs(words) do
+  lines[#lines + 1] = word
+  lines[#lines + 1] = word:upper()
+end
+vim.api.nvim_buf_set_lines(mnemonics, 0, -1, false, lines)
+local unknown = {}
+for index, line in ipairs(lines) do
+  local name, linked = H.syntax_at(index, 1)
+  if not (name:match("^gloc") and vim.tbl_contains({ "Statement", "Conditional", "PreProc", "Label" }, linked)) then
+    unknown[#unknown + 1] = line .. " → " .. name
+  end
+end
+H.equal(unknown, {}, "syntax/gloc.vim highlights every word of docs/gloc.md as a keyword")
+
 -- :checkhealth gloc ---------------------------------------------------------------------------
 local function health_lines()
   vim.cmd("silent checkhealth gloc")

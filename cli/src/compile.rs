@@ -53,6 +53,16 @@ pub fn main(args: crate::CompileArgs) -> anyhow::Result<ExitCode> {
         .output
         .clone()
         .unwrap_or_else(|| args.file.with_extension("gloc"));
+    let same_file = std::fs::canonicalize(&output)
+        .ok()
+        .zip(std::fs::canonicalize(&args.file).ok())
+        .is_some_and(|(output, source)| output == source);
+    if same_file {
+        anyhow::bail!(
+            "`{}` is the GBASIC source itself; choose another output with -o",
+            output.display()
+        );
+    }
     std::fs::write(&output, gloc_text)
         .with_context(|| format!("cannot write `{}`", output.display()))?;
     if args.emit_map {

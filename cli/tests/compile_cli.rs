@@ -100,3 +100,24 @@ fn a_missing_file_is_a_clear_error() {
         "{stderr}"
     );
 }
+
+#[test]
+fn compile_refuses_to_overwrite_its_source() {
+    let dir = scratch("overwrite");
+    let source = dir.join("prog.gbas");
+    std::fs::write(&source, "yield\n").expect("write");
+    let output = gloc()
+        .arg("compile")
+        .arg(&source)
+        .arg("-o")
+        .arg(&source)
+        .output()
+        .expect("gloc runs");
+    assert!(!output.status.success());
+    assert!(String::from_utf8_lossy(&output.stderr).contains("is the GBASIC source itself"));
+    assert_eq!(
+        std::fs::read_to_string(&source).expect("source kept"),
+        "yield\n"
+    );
+    std::fs::remove_dir_all(dir).ok();
+}

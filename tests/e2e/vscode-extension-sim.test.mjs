@@ -76,6 +76,7 @@ test('F5 with the initial configuration starts gloc dap and stops on entry', asy
   const descriptor = fakes.record.debugFactories.get('gloc').createDebugAdapterDescriptor({ workspaceFolder: undefined });
   assert.deepEqual(descriptor.args, ['dap']);
   const client = new DebugClient(descriptor.command, descriptor.args[0], 'gloc', { cwd: workspace });
+  client.defaultTimeout = 30000; // a debug build on a busy 2-core CI machine
   await client.start();
   try {
     await Promise.all([
@@ -122,6 +123,7 @@ test('gloc dap accepts a launch with every attribute package.json declares, each
     assert.ok([properties[name].type].flat().includes(jsonType), `${name}: ${jsonType} is a declared type`);
   }
   const client = new DebugClient(glocBin, 'dap', 'gloc', { cwd: workspace });
+  client.defaultTimeout = 30000; // a debug build on a busy 2-core CI machine
   await client.start();
   try {
     await Promise.all([

@@ -360,6 +360,10 @@ test('an open compiled-GLOC view refreshes shortly after its GBASIC source chang
   notify();
   notify(); // three quick edits: one refresh
   assert.deepEqual(refreshed, [], 'debounced, not at once');
+  // The debounce is 300 ms; allow a loaded machine up to 3 s, then make sure no second one comes.
+  for (let waited = 0; refreshed.length === 0 && waited < 3000; waited += 50) {
+    await new Promise((resolve) => setTimeout(resolve, 50));
+  }
   await new Promise((resolve) => setTimeout(resolve, 400));
   assert.deepEqual(refreshed, [compiled.uri.toString()]);
   await extension.deactivate();

@@ -242,7 +242,7 @@ impl<T: Target> Debugger<T> {
                 journal: Vec::new(),
             }
         });
-        Debugger {
+        let mut debugger = Debugger {
             target,
             info,
             clock,
@@ -258,7 +258,10 @@ impl<T: Target> Debugger<T> {
             pause_requested: false,
             ended: None,
             trap: None,
-        }
+        };
+        // What the world said while loading (setup warnings) is shown first.
+        debugger.collect_notices();
+        debugger
     }
 
     pub fn clock(&self) -> Clock {
@@ -395,6 +398,7 @@ impl<T: Target> Debugger<T> {
             let (category, text, line) = match notice {
                 Notice::Print(text) => ("stdout", text, line),
                 Notice::Behavior(text) => ("console", format!("behavior: {text}"), None),
+                Notice::Warning(text) => ("important", text, None),
                 Notice::Abend(text) => {
                     abend = Some(text.clone());
                     ("important", format!("abend: {text}"), None)

@@ -52,6 +52,8 @@ pub enum TrapKind {
 pub enum Notice {
     /// A line the script printed.
     Print(String),
+    /// A setup warning (a mission setting the sensor list lacks, ...).
+    Warning(String),
     /// The set of active behaviors changed (a description of the change).
     Behavior(String),
     /// The mission aborted (abend): the reason. The glider surfaces; the run goes on

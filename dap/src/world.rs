@@ -135,7 +135,7 @@ pub fn launch(config: &LaunchConfig) -> Result<(World, DebugInfo), String> {
     let mut notices: Vec<Notice> = sim
         .warnings()
         .iter()
-        .map(|warning| Notice::Behavior(warning.clone()))
+        .map(|warning| Notice::Warning(warning.clone()))
         .collect();
     if !sim.begin_cycle() {
         return Err("the mission ended before its first cycle".into());

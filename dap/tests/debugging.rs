@@ -899,6 +899,19 @@ fn masterdata_and_profile_are_used() {
     assert_eq!(body["variables"][0]["type"], "sensor 1");
     assert_eq!(body["variables"][1]["type"], "sensor 2");
     assert_eq!(body["variables"][2]["indexedVariables"], 3);
+    // fig2.mi sets u_cycle_time, which three.cac lacks: the simulator's warning is shown.
+    assert!(
+        client
+            .received
+            .iter()
+            .any(|message| message["event"] == "output"
+                && message["body"]["category"] == "important"
+                && message["body"]["output"]
+                    .as_str()
+                    .unwrap_or_default()
+                    .contains("u_cycle_time")),
+        "no setup warning"
+    );
     let disassembly = client.ok(
         "disassemble",
         json!({ "memoryReference": "0x0", "instructionCount": 1 }),

@@ -412,6 +412,11 @@ test('helpers: setting paths, run arguments and launch defaults', () => {
     { masterdata: 'setting' },
   );
   assert.equal(kept.configuration.masterdata, 'own', 'launch.json wins over the setting');
+  const emptied = helpers.completeLaunchConfiguration(
+    { type: 'gloc', request: 'launch', name: 'n', program: 'p.gloc', mission: '', masterdata: ' ', profile: '' },
+    { masterdata: '/setting/md' },
+  );
+  assert.deepEqual(emptied.configuration, { type: 'gloc', request: 'launch', name: 'n', program: 'p.gloc', masterdata: '/setting/md' });
   assert.deepEqual(
     helpers.runSummary(
       'mission       fig2 with fig3.gbas\ncycles        900 (4 s each)\nmission end   completed at cycle 899 (1 h) at 0.4 m\nscript        ran to the end of the run\n',

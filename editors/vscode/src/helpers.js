@@ -101,6 +101,7 @@ function compiledDocumentPath(sourcePath) {
 /**
  * Completes a launch configuration the way a user expects when pressing F5:
  * - no launch.json at all (an empty configuration) flies the active GBASIC/GLOC file;
+ * - an empty `mission`, `masterdata` or `profile` means the default;
  * - a missing `masterdata` takes the `gloc.masterdata` setting.
  * Returns a message instead when there is nothing to fly.
  * @param {Record<string, unknown>} configuration
@@ -125,6 +126,12 @@ function completeLaunchConfiguration(configuration, context) {
   }
   if (typeof result.program !== 'string' || result.program.trim() === '') {
     return { error: 'The launch configuration needs "program": the .gbas or .gloc script to fly.' };
+  }
+  // An empty optional path means "the default", as it does in the settings.
+  for (const key of ['mission', 'masterdata', 'profile']) {
+    if (typeof result[key] === 'string' && result[key].trim() === '') {
+      delete result[key];
+    }
   }
   if (result.masterdata === undefined && context.masterdata) {
     result.masterdata = context.masterdata;

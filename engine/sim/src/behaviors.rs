@@ -376,6 +376,8 @@ pub struct World<'a> {
     pub depth: f64,
     pub depth_rate: f64,
     pub altitude: f64,
+    /// Battery voltage (V).
+    pub battery_volts: f64,
     /// Mission time when the glider was last at the surface (its last "comms").
     pub last_surface_time: f64,
     /// Depth below which the glider counts as surfaced (`u_reqd_depth_at_surface`).
@@ -829,7 +831,9 @@ impl Abend {
                 return Outcome::Abort(AbortReason::Samedepth);
             }
         }
-        let _ = self.undervolts;
+        if world.battery_volts < self.undervolts {
+            return Outcome::Abort(AbortReason::Undervolts);
+        }
         Outcome::Continue
     }
 }

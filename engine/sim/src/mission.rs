@@ -89,7 +89,10 @@ impl Mission {
     /// mission's folder, as on the glider). Never fails: an unreadable mission file
     /// gives a mission with one error.
     pub fn load(path: &Path) -> Mission {
-        Mission::load_with(path, &mut |path: &Path| std::fs::read_to_string(path))
+        // Old mission files are not always UTF-8 (Latin-1 comments): read them lossily.
+        Mission::load_with(path, &mut |path: &Path| {
+            std::fs::read(path).map(|bytes| String::from_utf8_lossy(&bytes).into_owned())
+        })
     }
 
     /// As [`Mission::load`], reading files through `read` (for tests and editors).

@@ -605,6 +605,7 @@ impl Simulation {
             depth: self.vehicle.depth,
             depth_rate: self.vehicle.depth_rate,
             altitude: (self.water_depth - self.vehicle.depth).max(0.0),
+            battery_volts: self.vehicle.battery_volts(&self.energy),
             last_surface_time: self.last_surface_time,
             surface_depth: self.surface_depth,
             sensors: &mut self.sensors,

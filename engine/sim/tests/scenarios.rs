@@ -351,3 +351,59 @@ fn phases_let_a_debugger_step_the_script() {
     let active: Vec<&str> = sim.active_behaviors().collect();
     assert_eq!(active, vec!["abend", "gloc", "hook", "yo"]);
 }
+
+#[test]
+fn the_embedded_mission_is_examples_fig2() {
+    assert_eq!(
+        gloc_sim::DEFAULT_MISSION,
+        include_str!("../../../examples/fig2.mi")
+    );
+}
+
+const IDLE: &str = "nregs 0\nnblbs 1\nninstr 3\nlabel 0\nyield\njumpi 0\n";
+
+#[test]
+fn surface_every_when_secs_after_its_start() {
+    // start_when 9: surface when_secs (20 min) after the behavior last started
+    // (the mission start at first); end_action 2 resumes the yo.
+    let mission = Mission::parse(
+        "periodic.mi",
+        "behavior: abend\n  b_arg: overdepth(m) 30\n  b_arg: samedepth_for(s) -1\n\
+         behavior: surface\n  b_arg: start_when(enum) 9\n  b_arg: when_secs(s) 1200\n  b_arg: end_action(enum) 2\n  b_arg: gps_wait_time(s) 120\n\
+         behavior: yo\n  b_arg: d_target_depth(m) 20\n  b_arg: d_target_altitude(m) -1\n  b_arg: c_target_depth(m) 4\n",
+    );
+    let (sim, log) = run_logged(&mission, IDLE, 1200);
+    assert!(sim.end().is_none());
+    let depths = log.column("m_depth");
+    // Cycles at the surface (floating) after the first dive started.
+    let surfaced: Vec<usize> = (30..depths.len()).filter(|&cycle| depths[cycle] == 0.0).collect();
+    let first = surfaced[0];
+    // The first surfacing starts at 1200 s (cycle 300), and the climb from at
+    // most 21 m at 0.15 m/s takes under 150 s (38 cycles).
+    assert!((300..345).contains(&first), "first surfaced at cycle {first}");
+    // The yo's own climbs stop at 4 m - ~1 m overshoot, never at the surface.
+    assert!(surfaced.iter().all(|&cycle| cycle >= 300));
+    // It waits at the surface (120 s = 30 cycles), then dives again, and
+    // comes back 1200 s after the previous surfacing started.
+    let later: Vec<usize> = surfaced.iter().copied().filter(|&cycle| cycle > first + 200).collect();
+    assert!(!later.is_empty() && (600..645).contains(&later[0]), "{later:?}");
+}
+
+#[test]
+fn abend_samedepth_catches_a_glider_stuck_on_the_bottom() {
+    // A dive to 50 m in 40 m of water, no altimeter turn, no hover stop: the
+    // glider sits on the bottom until abend's samedepth_for (300 s) fires.
+    let mission = Mission::parse(
+        "stuck.mi",
+        "sensor: s_water_depth_avg(m) 40\nbehavior: abend\n  b_arg: samedepth_for(s) 300\n\
+         behavior: yo\n  b_arg: d_target_depth(m) 50\n  b_arg: d_target_altitude(m) -1\n  b_arg: d_stop_when_hover_for(s) -1\n",
+    );
+    let (sim, log) = run_logged(&mission, IDLE, 2000);
+    let end = sim.end().expect("aborted");
+    assert_eq!(end.reason, EndReason::Aborted(AbortReason::Samedepth));
+    // Reaching 40 m takes about 270 s; then 300 s at the same depth, checked
+    // every 30 s: the abort comes between 570 and 640 s.
+    assert!((560.0..650.0).contains(&end.time), "aborted at {} s", end.time);
+    assert_eq!(log.column("m_depth").into_iter().fold(0.0, f64::max), 40.0);
+    assert!(sim.is_finished());
+}

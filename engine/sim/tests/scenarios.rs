@@ -376,17 +376,29 @@ fn surface_every_when_secs_after_its_start() {
     assert!(sim.end().is_none());
     let depths = log.column("m_depth");
     // Cycles at the surface (floating) after the first dive started.
-    let surfaced: Vec<usize> = (30..depths.len()).filter(|&cycle| depths[cycle] == 0.0).collect();
+    let surfaced: Vec<usize> = (30..depths.len())
+        .filter(|&cycle| depths[cycle] == 0.0)
+        .collect();
     let first = surfaced[0];
     // The first surfacing starts at 1200 s (cycle 300), and the climb from at
     // most 21 m at 0.15 m/s takes under 150 s (38 cycles).
-    assert!((300..345).contains(&first), "first surfaced at cycle {first}");
+    assert!(
+        (300..345).contains(&first),
+        "first surfaced at cycle {first}"
+    );
     // The yo's own climbs stop at 4 m - ~1 m overshoot, never at the surface.
     assert!(surfaced.iter().all(|&cycle| cycle >= 300));
     // It waits at the surface (120 s = 30 cycles), then dives again, and
     // comes back 1200 s after the previous surfacing started.
-    let later: Vec<usize> = surfaced.iter().copied().filter(|&cycle| cycle > first + 200).collect();
-    assert!(!later.is_empty() && (600..645).contains(&later[0]), "{later:?}");
+    let later: Vec<usize> = surfaced
+        .iter()
+        .copied()
+        .filter(|&cycle| cycle > first + 200)
+        .collect();
+    assert!(
+        !later.is_empty() && (600..645).contains(&later[0]),
+        "{later:?}"
+    );
 }
 
 #[test]
@@ -403,7 +415,11 @@ fn abend_samedepth_catches_a_glider_stuck_on_the_bottom() {
     assert_eq!(end.reason, EndReason::Aborted(AbortReason::Samedepth));
     // Reaching 40 m takes about 270 s; then 300 s at the same depth, checked
     // every 30 s: the abort comes between 570 and 640 s.
-    assert!((560.0..650.0).contains(&end.time), "aborted at {} s", end.time);
+    assert!(
+        (560.0..650.0).contains(&end.time),
+        "aborted at {} s",
+        end.time
+    );
     assert_eq!(log.column("m_depth").into_iter().fold(0.0, f64::max), 40.0);
     assert!(sim.is_finished());
 }

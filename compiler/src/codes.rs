@@ -16,6 +16,8 @@ pub const STRAY_CLOSER: &str = "E2005";
 pub const KEYWORD_AS_NAME: &str = "E2006";
 /// `next V` where V is not the innermost loop's variable.
 pub const BAD_NEXT: &str = "E2007";
+/// Blocks or an expression nested too deeply (more than 100 levels).
+pub const TOO_DEEP: &str = "E2008";
 
 /// A name that is neither declared nor a sensor.
 pub const UNDECLARED: &str = "E2101";

@@ -32,6 +32,7 @@ pub fn parse(text: &str) -> Parsed {
         pos: 0,
         diagnostics: Vec::new(),
         open: Vec::new(),
+        expression_depth: 0,
     };
     let mut body = Vec::new();
     loop {
@@ -122,7 +123,13 @@ struct Parser<'a> {
     diagnostics: Vec<Diagnostic>,
     /// Blocks open around the current position, innermost last.
     open: Vec<BlockKind>,
+    /// Expression nesting (parentheses, unary operators, call arguments) under way.
+    expression_depth: usize,
 }
+
+/// Deeper nesting is refused with a diagnostic, so no input can exhaust the stack
+/// of the parser or of the later passes, which follow the tree.
+const MAX_NESTING: usize = 100;
 
 fn stray_closer_message(closer: Closer) -> (String, String) {
     let word = match closer {
@@ -302,6 +309,18 @@ impl<'a> Parser<'a> {
         open_span: Span,
         body: &mut Vec<Stmt>,
     ) -> Option<Closer> {
+        if self.open.len() >= MAX_NESTING {
+            self.diagnostics.push(Diagnostic::error(
+                codes::TOO_DEEP,
+                open_span,
+                format!("blocks are nested more than {MAX_NESTING} levels deep here"),
+            ));
+            // Skip the rest of the file: its structure cannot be followed.
+            while self.peek().kind != TokenKind::Eof {
+                self.bump();
+            }
+            return None;
+        }
         self.open.push(kind);
         let end = self.parse_block(body);
         self.open.pop();
@@ -1011,7 +1030,27 @@ impl<'a> Parser<'a> {
     // Expressions, loosest first: or, and, not, comparison, + -, mod, \, * /, unary -.
 
     fn parse_expr(&mut self) -> Option<Expr> {
-        self.parse_or()
+        if !self.enter_expression() {
+            return None;
+        }
+        let expr = self.parse_or();
+        self.expression_depth -= 1;
+        expr
+    }
+
+    /// Counts one level of expression nesting; false (reported) when too deep.
+    fn enter_expression(&mut self) -> bool {
+        if self.expression_depth >= MAX_NESTING {
+            let span = self.peek().span;
+            self.diagnostics.push(Diagnostic::error(
+                codes::TOO_DEEP,
+                span,
+                format!("this expression is nested more than {MAX_NESTING} levels deep"),
+            ));
+            return false;
+        }
+        self.expression_depth += 1;
+        true
     }
 
     fn binary(op: BinaryOp, left: Expr, right: Expr) -> Expr {
@@ -1046,7 +1085,12 @@ impl<'a> Parser<'a> {
     fn parse_not(&mut self) -> Option<Expr> {
         if self.at_word("not") {
             let keyword = self.bump();
-            let operand = self.parse_not()?;
+            if !self.enter_expression() {
+                return None;
+            }
+            let operand = self.parse_not();
+            self.expression_depth -= 1;
+            let operand = operand?;
             return Some(Expr {
                 span: keyword.span.cover(operand.span),
                 kind: ExprKind::Unary {
@@ -1127,7 +1171,12 @@ impl<'a> Parser<'a> {
         match self.peek().kind {
             TokenKind::Minus => {
                 let minus = self.bump();
-                let operand = self.parse_unary()?;
+                if !self.enter_expression() {
+                    return None;
+                }
+                let operand = self.parse_unary();
+                self.expression_depth -= 1;
+                let operand = operand?;
                 Some(Expr {
                     span: minus.span.cover(operand.span),
                     kind: ExprKind::Unary {
@@ -1138,7 +1187,12 @@ impl<'a> Parser<'a> {
             }
             TokenKind::Plus => {
                 self.bump();
-                self.parse_unary()
+                if !self.enter_expression() {
+                    return None;
+                }
+                let operand = self.parse_unary();
+                self.expression_depth -= 1;
+                operand
             }
             _ => self.parse_primary(),
         }

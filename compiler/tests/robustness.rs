@@ -170,3 +170,48 @@ fn random_and_mutated_programs_never_panic() {
         }
     }
 }
+
+#[test]
+fn deep_nesting_is_an_error_not_a_stack_overflow() {
+    let sensors = SensorList::embedded();
+    let deep_parens = format!(
+        "dim x as integer\nx = {}1{}\n",
+        "(".repeat(100_000),
+        ")".repeat(100_000)
+    );
+    let deep_minus = format!("dim x as integer\nx = {}1\n", "-".repeat(100_000));
+    let deep_not = format!("dim x as integer\nx = {}1\n", "not ".repeat(100_000));
+    let deep_ifs = format!(
+        "{}yield\n{}",
+        "if 1 then\n".repeat(20_000),
+        "endif\n".repeat(20_000)
+    );
+    for text in [deep_parens, deep_minus, deep_not, deep_ifs] {
+        let compiled = compile(&text, &sensors, &CompileOptions::default());
+        assert!(compiled
+            .diagnostics
+            .iter()
+            .any(|diagnostic| diagnostic.code == "E2008"));
+        assert!(compiled.gloc_text.is_none());
+    }
+    // 90 levels are fine.
+    let fine = format!(
+        "dim x as integer\nx = {}1{}\nprint x\n",
+        "(".repeat(90),
+        ")".repeat(90)
+    );
+    assert!(!compile(&fine, &sensors, &CompileOptions::default()).has_errors());
+    let nested = format!("{}yield\n{}", "while 1\n".repeat(90), "wend\n".repeat(90));
+    for optimize in [false, true] {
+        let loaded = load_script(
+            &nested,
+            Language::Gbasic,
+            &sensors,
+            &LoadOptions {
+                optimize,
+                cycle_budget: None,
+            },
+        );
+        assert!(loaded.program.is_some(), "{:?}", loaded.diagnostics);
+    }
+}

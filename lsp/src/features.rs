@@ -197,7 +197,7 @@ pub fn hover(
 ) -> Option<Hover> {
     let offset = offset_of(document.rope(), position);
     let token = analysis.token_at(offset)?;
-    let word = &document.text()[token.span.range()];
+    let word = document.text().get(token.span.range()).unwrap_or_default();
     let markdown = match token.kind {
         TokenKind::SensorRead | TokenKind::SensorWrite => {
             let id = token.sensor?;
@@ -341,7 +341,11 @@ pub fn prepare_rename(
     }
     Some(PrepareRenameResponse::RangeWithPlaceholder {
         range: range_of(document.rope(), span),
-        placeholder: document.text()[span.range()].to_string(),
+        placeholder: document
+            .text()
+            .get(span.range())
+            .unwrap_or_default()
+            .to_string(),
     })
 }
 

@@ -308,7 +308,11 @@ impl Backend {
         if open.document.language == Language::Config {
             return None;
         }
-        answer(&open.document, &open.analysis, &open.context)
+        // A bug in one answer must not take the whole session down.
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            answer(&open.document, &open.analysis, &open.context)
+        }))
+        .unwrap_or(None)
     }
 
     /// Analyses and publishes a changed document once the messages already

@@ -267,3 +267,93 @@ async fn incremental_edits_with_non_ascii_text_keep_utf16_positions() {
         "closed documents are forgotten: {closed}"
     );
 }
+
+/// Every request at every position of odd documents (binary garbage, lone
+/// surrogates' replacement characters, CRLF, huge lines) answers without
+/// killing the server.
+#[tokio::test]
+async fn every_request_everywhere_on_odd_documents() {
+    let mut client = TestClient::initialized().await;
+    let documents = [
+        (
+            "gloc",
+            "nregs 1\r\nnblbs 1\r\nninstr 2\r\nlabel 0\r\njumpi 0\r\n",
+        ),
+        (
+            "gloc",
+            "\u{0}\u{1}\u{7f}loads 𝄞,r0\n\"\"\"\ncbr r9999999999999,1,\n",
+        ),
+        (
+            "gbasic",
+            "if m_dépth > 1 then\r\n  x = \"𝄞\r\nlabel: é\ngoto é\nfor i = 1 to\n(((((\n",
+        ),
+        (
+            "gbasic",
+            "\u{feff}print 1e999, 99999999999999999999999 ' ü\nrem 𝄞\n\r\r\n",
+        ),
+    ];
+    for (index, (language, text)) in documents.iter().enumerate() {
+        let uri = format!(
+            "file:///odd/{index}.{}",
+            if *language == "gloc" { "gloc" } else { "gbas" }
+        );
+        client.open(&uri, language, text).await;
+        let lines = text.split('\n').count() as u32 + 1;
+        for line in 0..lines {
+            for character in [0u32, 1, 2, 3, 5, 8, 13, 40, 1000] {
+                for method in [
+                    "textDocument/hover",
+                    "textDocument/completion",
+                    "textDocument/definition",
+                    "textDocument/documentHighlight",
+                    "textDocument/prepareRename",
+                    "textDocument/signatureHelp",
+                ] {
+                    let response = client.request_raw(method, at(&uri, line, character)).await;
+                    assert!(
+                        response.get("error").is_none(),
+                        "{method} {line}:{character} on {text:?}: {response}"
+                    );
+                }
+                let rename = client
+                    .request_raw("textDocument/rename", json!({ "textDocument": { "uri": uri }, "position": { "line": line, "character": character }, "newName": "z9" }))
+                    .await;
+                assert!(
+                    rename.get("result").is_some() || rename["error"]["code"] == -32602,
+                    "{rename}"
+                );
+            }
+        }
+        let document = json!({ "textDocument": { "uri": uri } });
+        for method in [
+            "textDocument/documentSymbol",
+            "textDocument/foldingRange",
+            "textDocument/semanticTokens/full",
+        ] {
+            let response = client.request_raw(method, document.clone()).await;
+            assert!(
+                response["result"].is_array() || response["result"]["data"].is_array(),
+                "{method}: {response}"
+            );
+        }
+        let whole = json!({ "start": { "line": 0, "character": 0 }, "end": { "line": 99, "character": 0 } });
+        for (method, params) in [
+            (
+                "textDocument/inlayHint",
+                json!({ "textDocument": { "uri": uri }, "range": whole }),
+            ),
+            (
+                "textDocument/codeAction",
+                json!({ "textDocument": { "uri": uri }, "range": whole, "context": { "diagnostics": [] } }),
+            ),
+            (
+                "textDocument/formatting",
+                json!({ "textDocument": { "uri": uri }, "options": { "tabSize": 2, "insertSpaces": true } }),
+            ),
+        ] {
+            let response = client.request_raw(method, params).await;
+            assert!(response.get("error").is_none(), "{method}: {response}");
+        }
+    }
+    assert_eq!(client.shutdown_and_exit().await, gloc_lsp::Ending::Clean);
+}

@@ -61,6 +61,7 @@ struct State {
     sensor_lists: HashMap<PathBuf, std::result::Result<Arc<SensorList>, String>>,
     embedded: Option<Arc<SensorList>>,
     client_supports_configuration: bool,
+    client_supports_watch_registration: bool,
     /// `gloc.toml` files that currently have problems (so clearing works).
     config_files_with_problems: Vec<PathBuf>,
 }
@@ -331,6 +332,32 @@ impl Backend {
         });
     }
 
+    /// Asks the client to report changes to `gloc.toml` and sensor-list files
+    /// on disk (also when they are not open), in the background.
+    fn watch_settings_files(&self) {
+        if !lock(&self.state).client_supports_watch_registration {
+            return;
+        }
+        let client = self.client.clone();
+        tokio::spawn(async move {
+            let watchers = ["**/gloc.toml", "**/*.cac", "**/masterdata*"]
+                .into_iter()
+                .map(|pattern| FileSystemWatcher {
+                    glob_pattern: GlobPattern::String(pattern.to_string()),
+                    kind: None,
+                })
+                .collect();
+            let options = DidChangeWatchedFilesRegistrationOptions { watchers };
+            let registration = Registration {
+                id: "gloc-settings-files".to_string(),
+                method: "workspace/didChangeWatchedFiles".to_string(),
+                register_options: serde_json::to_value(options).ok(),
+            };
+            // A client that refuses simply keeps the settings of open files.
+            let _ = client.register_capability(vec![registration]).await;
+        });
+    }
+
     /// Fetches `workspace/configuration` in the background and re-analyses.
     fn fetch_client_settings(&self) {
         let client = self.client.clone();
@@ -419,6 +446,13 @@ impl LanguageServer for Backend {
                 .as_ref()
                 .and_then(|workspace| workspace.configuration)
                 .unwrap_or(false);
+            state.client_supports_watch_registration = params
+                .capabilities
+                .workspace
+                .as_ref()
+                .and_then(|workspace| workspace.did_change_watched_files.as_ref())
+                .and_then(|watched| watched.dynamic_registration)
+                .unwrap_or(false);
             if let Some(options) = &params.initialization_options {
                 state.settings = settings_from(options);
             }
@@ -435,6 +469,7 @@ impl LanguageServer for Backend {
 
     async fn initialized(&self, _: InitializedParams) {
         self.fetch_client_settings();
+        self.watch_settings_files();
     }
 
     async fn shutdown(&self) -> Result<()> {

@@ -639,3 +639,42 @@ async fn masterdata_from_gloc_toml_changes_sensor_indices_and_bad_files_are_repo
     );
     std::fs::remove_dir_all(&root).expect("cleanup");
 }
+
+#[tokio::test]
+async fn settings_files_on_disk_are_watched_when_the_client_allows_it() {
+    let mut client = TestClient::initialized_with(
+        json!({ "workspace": { "didChangeWatchedFiles": { "dynamicRegistration": true } } }),
+        Value::Null,
+    )
+    .await;
+    let mut registration = None;
+    for _ in 0..100 {
+        client.latest_diagnostics("file:///none.gloc").await;
+        registration = client
+            .notifications
+            .iter()
+            .find(|message| message["method"] == "client/registerCapability")
+            .cloned();
+        if registration.is_some() {
+            break;
+        }
+    }
+    let registration = registration.expect("the server registered file watchers");
+    let registered = &registration["params"]["registrations"][0];
+    assert_eq!(registered["method"], "workspace/didChangeWatchedFiles");
+    let patterns: Vec<&str> = registered["registerOptions"]["watchers"]
+        .as_array()
+        .expect("watchers")
+        .iter()
+        .map(|watcher| watcher["globPattern"].as_str().expect("pattern"))
+        .collect();
+    assert_eq!(patterns, ["**/gloc.toml", "**/*.cac", "**/masterdata*"]);
+
+    // Without the capability, nothing is registered.
+    let mut client = TestClient::initialized().await;
+    client.latest_diagnostics("file:///none.gloc").await;
+    assert!(!client
+        .notifications
+        .iter()
+        .any(|message| message["method"] == "client/registerCapability"));
+}

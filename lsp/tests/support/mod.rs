@@ -161,6 +161,8 @@ impl TestClient {
                 let id = id.clone();
                 self.send(json!({ "jsonrpc": "2.0", "id": id, "result": null }))
                     .await;
+                // Kept so tests can see what the server asked.
+                self.notifications.push_back(message);
             }
             _ => self.notifications.push_back(message),
         }

@@ -17,7 +17,7 @@ mod transport;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
-use tokio::io::{AsyncRead, AsyncWrite};
+use tokio::io::{AsyncRead, AsyncWrite, AsyncWriteExt};
 use tower_lsp_server::{LspService, Server};
 
 pub use server::{settings_from, Settings, COMPILED_GLOC_COMMAND};
@@ -48,7 +48,7 @@ where
             server::Backend::invalid_notification,
         )
         .finish();
-    let (pipe_reader, pipe_writer) = tokio::io::simplex(1 << 16);
+    let (pipe_reader, mut pipe_writer) = tokio::io::simplex(1 << 16);
     // One message at a time: a request always sees every edit sent before it.
     let server = Server::new(pipe_reader, output, socket)
         .concurrency_level(1)
@@ -57,7 +57,12 @@ where
     tokio::select! {
         () = &mut server => {}
         // End of input closes the pipe; the server then finishes by itself.
-        () = transport::sanitize(input, pipe_writer) => server.await,
+        // Dropping a simplex write half does not close the pipe (the read
+        // half keeps the stream alive): only `shutdown` signals end of input.
+        () = transport::sanitize(input, &mut pipe_writer) => {
+            let _ = pipe_writer.shutdown().await;
+            server.await
+        }
     }
     if shutdown_requested.load(Ordering::SeqCst) {
         Ending::Clean

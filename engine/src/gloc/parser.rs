@@ -76,8 +76,13 @@ impl Parser {
             Ok(kind) => kind,
             Err(diagnostic) => {
                 self.report(diagnostic);
+                // Trim only what the tokenizer skips too: trimming Unicode
+                // whitespace (e.g. a trailing vertical tab) could turn an
+                // invalid line into a valid one when the printout is parsed.
                 LineKind::Invalid {
-                    text: code.trim().to_string(),
+                    text: code
+                        .trim_matches(|character: char| character.is_ascii_whitespace())
+                        .to_string(),
                 }
             }
         };

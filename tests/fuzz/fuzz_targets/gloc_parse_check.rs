@@ -1,0 +1,4 @@
+//! Fuzz target: GLOC parse, print round trip, check and a bounded run.
+#![no_main]
+
+libfuzzer_sys::fuzz_target!(|data: &[u8]| gloc_fuzz::gloc_target::check_gloc_bytes(data));

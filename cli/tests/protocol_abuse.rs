@@ -273,7 +273,8 @@ fn lsp_non_numeric_and_missing_content_length_are_skipped() {
 #[test]
 fn lsp_invalid_utf8_body_is_skipped_and_the_server_goes_on() {
     let mut server = lsp_initialized();
-    let mut body = br#"{"jsonrpc":"2.0","id":2,"method":"textDocument/hover","params":{"x":""#.to_vec();
+    let mut body =
+        br#"{"jsonrpc":"2.0","id":2,"method":"textDocument/hover","params":{"x":""#.to_vec();
     body.extend_from_slice(&[0xff, 0xfe, 0xc3]);
     body.extend_from_slice(br#""}}"#);
     server.send_bytes(&frame(&body));
@@ -308,7 +309,10 @@ fn lsp_huge_declared_length_is_refused_without_reading_it() {
 fn lsp_huge_message_is_handled() {
     let mut server = lsp_initialized();
     // A 32 MB document (one long comment line plus a valid header).
-    let text = format!("nregs 1\nnblbs 0\nninstr 1\nyield # {}\n", "x".repeat(32 << 20));
+    let text = format!(
+        "nregs 1\nnblbs 0\nninstr 1\nyield # {}\n",
+        "x".repeat(32 << 20)
+    );
     server.send(&json!({ "jsonrpc": "2.0", "method": "textDocument/didOpen",
         "params": { "textDocument": { "uri": "file:///tmp/huge.gloc", "languageId": "gloc",
                                       "version": 1, "text": text } } }));
@@ -369,11 +373,15 @@ fn lsp_second_initialize_and_edits_to_unopened_documents_are_harmless() {
     ));
     let response = lsp_response(&mut server, 2);
     assert!(response.get("error").is_some(), "{response}");
-    server.send(&json!({ "jsonrpc": "2.0", "method": "textDocument/didChange",
+    server.send(
+        &json!({ "jsonrpc": "2.0", "method": "textDocument/didChange",
         "params": { "textDocument": { "uri": "file:///tmp/never-opened.gloc", "version": 9 },
-                    "contentChanges": [{ "text": "yield\n" }] } }));
-    server.send(&json!({ "jsonrpc": "2.0", "method": "textDocument/didClose",
-        "params": { "textDocument": { "uri": "file:///tmp/never-opened.gloc" } } }));
+                    "contentChanges": [{ "text": "yield\n" }] } }),
+    );
+    server.send(
+        &json!({ "jsonrpc": "2.0", "method": "textDocument/didClose",
+        "params": { "textDocument": { "uri": "file:///tmp/never-opened.gloc" } } }),
+    );
     lsp_still_answers(&mut server, 3);
     lsp_shutdown_and_exit(server, 4);
 }
@@ -387,7 +395,11 @@ fn lsp_client_that_vanishes_mid_session_leaves_no_process() {
     // Half a request, then the client is gone (stdin closed, stdout unread).
     server.send_bytes(b"Content-Length: 90\r\n\r\n{\"jsonrpc\"");
     let (status, _) = server.finish();
-    assert_eq!(status.code(), Some(1), "exit without shutdown is exit code 1");
+    assert_eq!(
+        status.code(),
+        Some(1),
+        "exit without shutdown is exit code 1"
+    );
 }
 
 // ---------------------------------------------------------------- DAP
@@ -430,7 +442,10 @@ fn dap_malformed_report(server: &mut Server) -> String {
                 .as_str()
                 .is_some_and(|text| text.contains("malformed"))
     });
-    event["body"]["output"].as_str().unwrap_or_default().to_string()
+    event["body"]["output"]
+        .as_str()
+        .unwrap_or_default()
+        .to_string()
 }
 
 fn dap_disconnect(mut server: Server, seq: i64) {
@@ -482,7 +497,8 @@ fn dap_non_numeric_content_length_gets_an_error() {
 #[test]
 fn dap_invalid_utf8_body_gets_an_error_response() {
     let mut server = dap_initialized();
-    let mut body = br#"{"seq":2,"type":"request","command":"evaluate","arguments":{"expression":""#.to_vec();
+    let mut body =
+        br#"{"seq":2,"type":"request","command":"evaluate","arguments":{"expression":""#.to_vec();
     body.extend_from_slice(&[0xff, 0xfe]);
     body.extend_from_slice(br#""}}"#);
     server.send_bytes(&frame(&body));

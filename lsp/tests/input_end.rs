@@ -6,7 +6,8 @@ use std::time::Duration;
 
 #[tokio::test]
 async fn end_of_input_ends_the_session_without_shutdown() {
-    let initialize = r#"{"jsonrpc":"2.0","id":1,"method":"initialize","params":{"capabilities":{}}}"#;
+    let initialize =
+        r#"{"jsonrpc":"2.0","id":1,"method":"initialize","params":{"capabilities":{}}}"#;
     for input in [
         String::new(),
         format!("Content-Length: {}\r\n\r\n{initialize}", initialize.len()),

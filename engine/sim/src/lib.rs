@@ -8,6 +8,7 @@
 //! - [`environment`]: water depth, temperature profile, seeded noise.
 //! - [`simulation`]: the sensor array and the control cycle, in phases.
 //! - [`log`] and [`plot`]: CSV / Slocum ASCII logs and the SVG flight profile.
+//! - [`faults`]: fault injection (sensor dropouts, stuck values, NaN, spikes).
 //!
 //! Pure and deterministic: no IO except what a caller asks for (loading a
 //! mission, writing a log), no threads, and the same seed gives the same run.
@@ -15,6 +16,7 @@
 
 pub mod behaviors;
 pub mod environment;
+pub mod faults;
 pub mod flight;
 pub mod log;
 pub mod mission;

@@ -86,7 +86,7 @@ fn codes(checked: &Checked) -> Vec<&'static str> {
         .collect()
 }
 
-fn assert_spans_in_bounds(text: &str, diagnostics: &[Diagnostic], stage: &str) {
+pub fn assert_spans_in_bounds(text: &str, diagnostics: &[Diagnostic], stage: &str) {
     for diagnostic in diagnostics {
         let spans = std::iter::once(diagnostic.span)
             .chain(diagnostic.labels.iter().map(|label| label.span))
@@ -124,7 +124,34 @@ pub enum Event {
     /// A sensor write, with the value's bits (so NaN equals NaN).
     Store(SensorId, u64),
     Print(String),
+    /// The end of a cycle.
+    Yield,
     End(String),
+}
+
+impl Recording {
+    pub fn yields(&self) -> usize {
+        self.events
+            .iter()
+            .filter(|event| matches!(event, Event::Yield))
+            .count()
+    }
+
+    /// Keeps the events of the first `cycles` cycles.
+    pub fn keep_cycles(&mut self, cycles: usize) {
+        let mut seen = 0;
+        let end = self
+            .events
+            .iter()
+            .position(|event| {
+                if matches!(event, Event::Yield) {
+                    seen += 1;
+                }
+                seen > cycles || (seen == cycles && !matches!(event, Event::Yield))
+            })
+            .unwrap_or(self.events.len());
+        self.events.truncate(end);
+    }
 }
 
 /// A deterministic world: each sensor reads a value that changes every cycle.
@@ -151,21 +178,26 @@ impl Host for RecordingHost {
 
 /// Runs a program for a bounded number of cycles and records what it did.
 pub fn run(program: &Arc<Program>) -> Recording {
+    run_with(program, CYCLES, BUDGET)
+}
+
+pub fn run_with(program: &Arc<Program>, cycles: u32, budget: u64) -> Recording {
     let mut machine = Machine::new(
         program.clone(),
         MachineConfig {
-            cycle_budget: BUDGET,
+            cycle_budget: budget,
         },
     );
     let mut host = RecordingHost {
         cycle: 0,
         recording: Recording::default(),
     };
-    for cycle in 0..CYCLES {
+    for cycle in 0..cycles {
         host.cycle = cycle;
         match machine.run_cycle(&mut host) {
             CycleEnd::Yielded => {
                 assert!(machine.at_cycle_boundary(), "a yield ends at a boundary");
+                host.recording.events.push(Event::Yield);
             }
             end @ (CycleEnd::Halted | CycleEnd::Trapped(_)) => {
                 let described = describe(&end);

@@ -26,6 +26,12 @@ pub const KEYWORDS: &[&str] = &[
 pub const BUILTINS: &[&str] = &["abs", "sqrt", "min", "max", "int", "float"];
 
 pub fn parse(text: &str) -> Parsed {
+    if let Some(diagnostic) = gloc_engine::gloc::source_too_large(text) {
+        return Parsed {
+            diagnostics: vec![diagnostic],
+            ..Parsed::default()
+        };
+    }
     let mut parser = Parser {
         text,
         tokens: lex(text),

@@ -21,6 +21,18 @@ pub const MAX_LABELS: u64 = 1 << 20;
 pub const MAX_MEMORY: u64 = 1 << 20;
 
 pub fn check_parsed(parsed: &Parsed, sensors: &SensorList, options: &CheckOptions) -> Checked {
+    if parsed
+        .diagnostics
+        .iter()
+        .any(|diagnostic| diagnostic.code == super::SOURCE_TOO_LARGE)
+    {
+        // Nothing was read: the header and body errors would only be noise.
+        return Checked {
+            program: None,
+            diagnostics: parsed.diagnostics.clone(),
+            stats: Stats::default(),
+        };
+    }
     let mut checker = Checker {
         diagnostics: parsed.diagnostics.clone(),
         sensors,

@@ -25,10 +25,41 @@ pub struct Parsed {
     pub diagnostics: Vec<Diagnostic>,
 }
 
-/// Parses GLOC text. Never fails; problems are diagnostics.
+/// Parses GLOC text. Never fails; problems are diagnostics. A text over
+/// [`MAX_SOURCE_BYTES`] is not read at all: one E0013 error says so.
 pub fn parse(text: &str) -> Parsed {
+    if let Some(diagnostic) = source_too_large(text) {
+        return Parsed {
+            file: ast::File::default(),
+            diagnostics: vec![diagnostic],
+        };
+    }
     let (file, diagnostics) = parser::parse_file(text);
     Parsed { file, diagnostics }
+}
+
+/// The largest script (GLOC or GBASIC) gloc reads, in bytes. A glider script
+/// is a few kilobytes; parsing and checking cost about 30 bytes of memory per
+/// source byte, so this bounds a script's analysis to about 500 MB.
+pub const MAX_SOURCE_BYTES: usize = 16 << 20;
+
+/// The diagnostic code of a script over [`MAX_SOURCE_BYTES`].
+pub const SOURCE_TOO_LARGE: &str = "E0013";
+
+/// E0013 when `text` is over [`MAX_SOURCE_BYTES`] (for both languages).
+pub fn source_too_large(text: &str) -> Option<Diagnostic> {
+    (text.len() > MAX_SOURCE_BYTES).then(|| {
+        Diagnostic::error(
+            SOURCE_TOO_LARGE,
+            crate::diagnostic::Span::default(),
+            format!(
+                "the script is {:.1} MB; gloc reads scripts of at most {} MB",
+                text.len() as f64 / (1 << 20) as f64,
+                MAX_SOURCE_BYTES >> 20
+            ),
+        )
+        .with_help("a glider script is a few kilobytes: is this the right file?")
+    })
 }
 
 /// Prints a file canonically (`\n` line ends, a final newline).

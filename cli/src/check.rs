@@ -1,7 +1,7 @@
 //! `gloc check FILE…`: parse and check each file, print every diagnostic
 //! rustc-style, and with `--stats` the sizes and worst case per cycle.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::Context;
@@ -12,7 +12,14 @@ use crate::render::{SourceFile, Tally};
 
 pub fn main(args: crate::CheckArgs) -> anyhow::Result<ExitCode> {
     let mut tally = Tally::default();
-    let sensors = match &args.masterdata {
+    let settings = crate::settings::resolve(
+        args.files.first().map(PathBuf::as_path),
+        crate::settings::Flags {
+            masterdata: args.masterdata.as_deref(),
+            ..Default::default()
+        },
+    )?;
+    let sensors = match &settings.masterdata {
         Some(path) => match load_sensors(path, &mut tally)? {
             Some(list) => list,
             None => return Ok(ExitCode::FAILURE),

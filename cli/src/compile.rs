@@ -12,7 +12,14 @@ use crate::render::{SourceFile, Tally};
 
 pub fn main(args: crate::CompileArgs) -> anyhow::Result<ExitCode> {
     let mut tally = Tally::default();
-    let sensors = match &args.masterdata {
+    let settings = crate::settings::resolve(
+        Some(&args.file),
+        crate::settings::Flags {
+            masterdata: args.masterdata.as_deref(),
+            ..Default::default()
+        },
+    )?;
+    let sensors = match &settings.masterdata {
         Some(path) => match crate::check::load_sensors(path, &mut tally)? {
             Some(list) => list,
             None => return Ok(ExitCode::FAILURE),

@@ -11,6 +11,7 @@ mod compile;
 pub mod render;
 mod replay;
 mod run;
+mod settings;
 mod simulate;
 
 #[derive(Parser, Debug)]

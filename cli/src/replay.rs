@@ -42,7 +42,15 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         }
     }
     let mut tally = Tally::default();
-    let sensors = match &args.masterdata {
+    let settings = crate::settings::resolve(
+        args.script.as_deref(),
+        crate::settings::Flags {
+            masterdata: args.masterdata.as_deref(),
+            cycle_budget: args.cycle_budget,
+            ..Default::default()
+        },
+    )?;
+    let sensors = match &settings.masterdata {
         Some(path) => match crate::check::load_sensors(path, &mut tally)? {
             Some(list) => list,
             None => return Ok(ExitCode::FAILURE),
@@ -53,7 +61,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         return Ok(ExitCode::FAILURE);
     };
     let config = MachineConfig {
-        cycle_budget: args.cycle_budget.unwrap_or(DEFAULT_CYCLE_BUDGET),
+        cycle_budget: settings.cycle_budget.unwrap_or(DEFAULT_CYCLE_BUDGET),
     };
     replay(&script, &sensors, &replay_path, args.out.as_ref(), config)
 }

@@ -34,7 +34,15 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         bail!("--out belongs to --replay; to log a simulated run use --log FILE.csv or FILE.dba");
     }
     let mut tally = Tally::default();
-    let sensor_list = match &args.masterdata {
+    let settings = crate::settings::resolve(
+        args.script.as_deref(),
+        crate::settings::Flags {
+            masterdata: args.masterdata.as_deref(),
+            cycle_budget: args.cycle_budget,
+            mission: args.mission.as_deref(),
+        },
+    )?;
+    let sensor_list = match &settings.masterdata {
         Some(path) => match crate::check::load_sensors(path, &mut tally)? {
             Some(list) => list,
             None => return Ok(ExitCode::FAILURE),
@@ -42,7 +50,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         None => SensorList::embedded(),
     };
     let sensor_list = Arc::new(sensor_list);
-    let cycle_budget = args.cycle_budget.unwrap_or(DEFAULT_CYCLE_BUDGET);
+    let cycle_budget = settings.cycle_budget.unwrap_or(DEFAULT_CYCLE_BUDGET);
     if cycle_budget == 0 {
         bail!("--cycle-budget must be at least 1");
     }
@@ -73,7 +81,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         return Ok(ExitCode::FAILURE);
     };
 
-    let mission = match &args.mission {
+    let mission = match &settings.mission {
         Some(path) => Mission::load(path),
         None => default_mission(),
     };

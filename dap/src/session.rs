@@ -609,14 +609,25 @@ impl Session {
                 )
             }
         };
+        // An empty path means "the default", as the editors send it. What the
+        // launch leaves open comes from the nearest `gloc.toml` above the program.
+        let given_path = |value: &Option<String>| {
+            value
+                .as_deref()
+                .filter(|text| !text.trim().is_empty())
+                .map(PathBuf::from)
+        };
+        let program = PathBuf::from(program);
+        let file_config =
+            gloc_engine::config::Config::discover(&program).map_err(|error| error.to_string())?;
         let config = LaunchConfig {
-            program: PathBuf::from(program),
-            mission: arguments.mission.clone().map(PathBuf::from),
-            masterdata: arguments.masterdata.clone().map(PathBuf::from),
-            profile: arguments.profile.clone().map(PathBuf::from),
+            mission: given_path(&arguments.mission).or(file_config.mission),
+            masterdata: given_path(&arguments.masterdata).or(file_config.masterdata),
+            profile: given_path(&arguments.profile),
             seed: arguments.seed,
-            cycle_budget: arguments.cycle_budget,
+            cycle_budget: arguments.cycle_budget.or(file_config.cycle_budget),
             max_cycles: arguments.max_cycles,
+            program,
         };
         let (world, info) = world::launch(&config)?;
         let debugger = Debugger::new(world, info, history);

@@ -1,0 +1,78 @@
+//! `gloc.toml` as the CLI reads it: found upward from the script, filling what
+//! the flags leave open, and a bad file reported with its line and column.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn gloc(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_gloc"))
+        .args(args)
+        .output()
+        .expect("the gloc binary runs")
+}
+
+/// A fresh project folder with `gloc.toml` and a `scripts/` folder below it.
+fn project(name: &str, config: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("gloc-config-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(dir.join("scripts")).expect("temp dir");
+    std::fs::write(dir.join("gloc.toml"), config).expect("write gloc.toml");
+    dir
+}
+
+/// Stores to sensor 3 of whatever list is active, and loops once per cycle.
+const STORE_3: &str =
+    "nregs 1\nnblbs 1\nninstr 5\nlabel 0\nloadi 1,r0\nstores r0,3\nyield\njumpi 0\n";
+
+#[test]
+fn masterdata_from_gloc_toml_replaces_the_embedded_list() {
+    // In the embedded list sensor 3 is `f_enable_picozoom` (a factory sensor:
+    // a warning only); in this four-sensor list it is the read-only `m_depth`.
+    let dir = project("masterdata", "masterdata = \"tiny.cac\"\n");
+    std::fs::write(
+        dir.join("tiny.cac"),
+        "s: T 0 0 4 c_pitch rad\ns: T 1 1 4 u_cycle_time sec\ns: T 2 2 4 sci_water_temp degC\ns: T 3 3 4 m_depth m\n",
+    )
+    .expect("write .cac");
+    let script = dir.join("scripts/store.gloc");
+    std::fs::write(&script, STORE_3).expect("write script");
+    let script = script.display().to_string();
+
+    let output = gloc(&["check", &script]);
+    let text = String::from_utf8_lossy(&output.stdout);
+    assert_eq!(output.status.code(), Some(1), "{text}");
+    assert!(text.contains("m_depth"), "{text}");
+    assert!(text.contains(&format!("{script}:6:")), "{text}");
+
+    // A flag wins over the file: the embedded list makes it a warning, not an error.
+    let embedded = dir.join("embedded.cac");
+    std::fs::write(&embedded, "s: T 0 0 4 c_pitch rad\ns: T 1 1 4 u_cycle_time sec\ns: T 2 2 4 sci_water_temp degC\ns: T 3 3 4 c_heading rad\n")
+        .expect("write .cac");
+    let output = gloc(&[
+        "check",
+        &script,
+        "--masterdata",
+        &embedded.display().to_string(),
+    ]);
+    assert_eq!(
+        output.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&output.stdout)
+    );
+}
+
+#[test]
+fn a_bad_gloc_toml_names_its_line_and_column() {
+    let dir = project("bad", "cycle_budget = 2000\nmasterdat = \"x.cac\"\n");
+    let script = dir.join("scripts/store.gloc");
+    std::fs::write(&script, STORE_3).expect("write script");
+    let output = gloc(&["check", &script.display().to_string()]);
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert_ne!(output.status.code(), Some(0), "{text}");
+    let expected = format!("{}:2:1", dir.join("gloc.toml").display());
+    assert!(text.contains(&expected), "expected {expected} in: {text}");
+}

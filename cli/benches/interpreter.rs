@@ -1,7 +1,10 @@
 //! Interpreter benchmark suite: each program in `tests/perf/programs` run by the GLOC
 //! engine (compiled from GBASIC, with and without `-O`), by Lua 5.4 (`lua5.4`, Debian's
 //! package) and as plain Rust, on the same work. Counts execution only: compilation and
-//! Lua's process start are outside the timed region (Lua times itself with `os.clock`).
+//! Lua's process start are outside the timed region. All three are timed by CPU time:
+//! Lua times itself with `os.clock` (the process's CPU time), GLOC and native Rust read
+//! the thread's CPU-time clock, so a loaded machine (other processes taking turns on the
+//! cores) favours neither side; wall time would count the turns of others.
 //! Prints medians over `GLOC_BENCH_RUNS` runs (default 5) and the ratios GLOC/Lua and
 //! GLOC/native; checks that all three compute the same results.
 
@@ -9,7 +12,6 @@ use std::hint::black_box;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::Arc;
-use std::time::Instant;
 
 use gloc_compiler::{load_script, Language, LoadOptions};
 use gloc_engine::program::Program;
@@ -33,6 +35,22 @@ impl Host for Quiet {
     fn print_line(&mut self, line: &str) {
         self.lines.push(line.to_string());
     }
+}
+
+/// CPU time of the calling thread in seconds (for a one-thread process, the clock
+/// Lua's `os.clock` reads).
+fn thread_cpu_seconds() -> f64 {
+    let mut now = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: clock_gettime only writes one timespec through the valid pointer given.
+    let status = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut now) };
+    assert_eq!(
+        status, 0,
+        "clock_gettime(CLOCK_THREAD_CPUTIME_ID) works on Linux"
+    );
+    now.tv_sec as f64 + now.tv_nsec as f64 * 1e-9
 }
 
 fn programs_dir() -> PathBuf {
@@ -71,9 +89,9 @@ fn run_gloc(program: &Arc<Program>) -> (f64, u64, Vec<String>) {
         },
     );
     let mut host = Quiet { lines: Vec::new() };
-    let start = Instant::now();
+    let start = thread_cpu_seconds();
     let end = machine.run_cycle(&mut host);
-    let seconds = start.elapsed().as_secs_f64();
+    let seconds = thread_cpu_seconds() - start;
     assert!(
         matches!(end, CycleEnd::Halted),
         "benchmark program must end with `end`, got {end:?}"
@@ -141,7 +159,7 @@ fn main() {
             vec![state.to_string(), visits.to_string(), turns.to_string()]
         }),
     ];
-    println!("interpreter benchmark, median of {runs} runs (execution only)");
+    println!("interpreter benchmark, median of {runs} runs (execution only, CPU time)");
     println!(
         "{:<8} {:>11} {:>11} {:>11} {:>11} {:>9} {:>9} {:>10} {:>8}",
         "program",
@@ -174,9 +192,9 @@ fn main() {
                 lua_times.push(seconds);
                 lua_fields = fields;
             }
-            let start = Instant::now();
+            let start = thread_cpu_seconds();
             native_fields = native_run();
-            native_times.push(start.elapsed().as_secs_f64());
+            native_times.push(thread_cpu_seconds() - start);
         }
         let gloc_fields: Vec<String> = gloc_lines
             .iter()

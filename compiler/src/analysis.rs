@@ -8,7 +8,7 @@ use gloc_engine::{Diagnostic, Span};
 use crate::ast;
 use crate::parser::{BUILTINS, KEYWORDS};
 use crate::typed::Ty;
-use crate::{check, compile, parser, CompileOptions, SourceMap};
+use crate::{check, parser, CompileOptions, SourceMap};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
@@ -99,9 +99,35 @@ pub fn builtins() -> &'static [(&'static str, &'static str)] {
 }
 
 pub fn analyze(text: &str, sensors: &SensorList, options: &CompileOptions) -> Analysis {
+    analyze_compiled(text, sensors, options).0
+}
+
+/// [`analyze`] and [`crate::load_script`] of the same GBASIC text from one parse, one
+/// check and one code generation: what the language server needs on every edit.
+pub fn analyze_and_load(
+    text: &str,
+    sensors: &SensorList,
+    options: &crate::LoadOptions,
+) -> (Analysis, crate::LoadedScript) {
+    let (analysis, compiled) = analyze_compiled(
+        text,
+        sensors,
+        &CompileOptions {
+            optimize: options.optimize,
+        },
+    );
+    let loaded = crate::loader::load_compiled(text, compiled, sensors, options);
+    (analysis, loaded)
+}
+
+fn analyze_compiled(
+    text: &str,
+    sensors: &SensorList,
+    options: &CompileOptions,
+) -> (Analysis, crate::Compiled) {
     let parsed = parser::parse(text);
     let checked = check::check(&parsed.program, sensors);
-    let compiled = compile(text, sensors, options);
+    let compiled = crate::compile_checked(text, parsed.diagnostics.clone(), &checked, options);
     let mut symbols = Vec::new();
     for variable in &checked.symbols.variables {
         let (kind, detail) = match variable.size {
@@ -169,13 +195,14 @@ pub fn analyze(text: &str, sensors: &SensorList, options: &CompileOptions) -> An
     }
     let mut blocks = Vec::new();
     collect_blocks(&parsed.program.body, &mut blocks);
-    Analysis {
-        diagnostics: compiled.diagnostics,
+    let analysis = Analysis {
+        diagnostics: compiled.diagnostics.clone(),
         symbols,
         blocks,
-        gloc_text: compiled.gloc_text,
-        source_map: compiled.source_map,
-    }
+        gloc_text: compiled.gloc_text.clone(),
+        source_map: compiled.source_map.clone(),
+    };
+    (analysis, compiled)
 }
 
 fn collect_blocks(body: &[ast::Stmt], blocks: &mut Vec<Block>) {

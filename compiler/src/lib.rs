@@ -70,8 +70,19 @@ impl Compiled {
 pub fn compile(text: &str, sensors: &SensorList, options: &CompileOptions) -> Compiled {
     let parsed = parser::parse(text);
     let checked = check::check(&parsed.program, sensors);
-    let mut diagnostics = parsed.diagnostics;
-    diagnostics.extend(checked.diagnostics);
+    compile_checked(text, parsed.diagnostics, &checked, options)
+}
+
+/// The code generation half of [`compile`], for callers that already parsed and
+/// checked the text (the language server's analysis does, and compiles only once).
+pub(crate) fn compile_checked(
+    text: &str,
+    parse_diagnostics: Vec<Diagnostic>,
+    checked: &check::Checked,
+    options: &CompileOptions,
+) -> Compiled {
+    let mut diagnostics = parse_diagnostics;
+    diagnostics.extend(checked.diagnostics.iter().cloned());
     diagnostics.sort_by_key(|diagnostic| (diagnostic.span.start, diagnostic.span.end));
     if diagnostics.iter().any(Diagnostic::is_error) {
         return Compiled {

@@ -13,7 +13,7 @@ use gloc_engine::sensors::SensorList;
 use gloc_engine::vm::TrapKind;
 use gloc_engine::{Diagnostic, LineIndex, Span};
 
-use crate::{compile, CodeStats, CompileOptions, SourceMap};
+use crate::{compile, CodeStats, CompileOptions, Compiled, SourceMap};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Language {
@@ -131,6 +131,17 @@ fn load_gbasic(text: &str, sensors: &SensorList, options: &LoadOptions) -> Loade
             optimize: options.optimize,
         },
     );
+    load_compiled(text, compiled, sensors, options)
+}
+
+/// The GLOC half of loading a GBASIC script: check the compiled code (with the
+/// `for` loop bounds) and move its findings onto GBASIC lines.
+pub(crate) fn load_compiled(
+    text: &str,
+    compiled: Compiled,
+    sensors: &SensorList,
+    options: &LoadOptions,
+) -> LoadedScript {
     let (Some(gloc_text), Some(source_map)) = (compiled.gloc_text, compiled.source_map) else {
         return LoadedScript {
             diagnostics: compiled.diagnostics,

@@ -3,8 +3,8 @@
 //! and the loader that also checks the compiled GLOC).
 
 use gloc_compiler::lexer::{self, TokenKind as Lexed};
-use gloc_compiler::loader::{load_script, Language, LoadOptions};
-use gloc_compiler::{CompileOptions, SymbolKind as CompilerKind};
+use gloc_compiler::loader::LoadOptions;
+use gloc_compiler::SymbolKind as CompilerKind;
 use gloc_engine::diagnostic::Fix;
 use gloc_engine::gloc::Bound;
 use gloc_engine::sensors::SensorId;
@@ -20,12 +20,11 @@ use crate::lang;
 const UNDECLARED: &str = gloc_compiler::codes::UNDECLARED;
 
 pub fn analyze(text: &str, context: &Context) -> Analysis {
-    let compiler = gloc_compiler::analyze(text, &context.sensors, &CompileOptions::default());
-    // The loader adds what the compiled GLOC would have (loops without
-    // `yield`, the cycle budget), moved back onto GBASIC lines.
-    let loaded = load_script(
+    // One compile gives both the symbols and what `gloc check` reports (the
+    // loader adds what the compiled GLOC would have: loops without `yield`, the
+    // cycle budget, moved back onto GBASIC lines).
+    let (compiler, loaded) = gloc_compiler::analysis::analyze_and_load(
         text,
-        Language::Gbasic,
         &context.sensors,
         &LoadOptions {
             optimize: false,

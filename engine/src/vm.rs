@@ -9,8 +9,12 @@ use std::fmt::{self, Write as _};
 use std::sync::Arc;
 
 use crate::diagnostic::Span;
-use crate::program::{Instr, Pc, Program, Reg, Value};
+use crate::program::{Pc, Program, Reg, Value};
 use crate::sensors::SensorId;
+
+mod code;
+
+use code::{Cmp, Code, Op, MAX_FUSED};
 
 /// The default per-cycle instruction budget. The paper's engine added at most
 /// 30 ms to the 4 s cycle on a 16 MHz Persistor, where an interpreted
@@ -96,6 +100,8 @@ pub enum AccessError {
 #[derive(Clone, Debug)]
 pub struct Machine {
     program: Arc<Program>,
+    /// The program in the interpreter's own form, plain and fused (see `code`).
+    code: Arc<Code>,
     config: MachineConfig,
     pc: u32,
     registers: Vec<Value>,
@@ -119,10 +125,13 @@ enum Exit {
 
 impl Machine {
     pub fn new(program: Arc<Program>, config: MachineConfig) -> Machine {
-        let registers = vec![Value::default(); program.register_count as usize];
+        let code = Arc::new(Code::new(&program));
+        // Every register an op names has a slot: the loop indexes without checks.
+        let registers = vec![Value::default(); code.register_bound];
         let memory = vec![Value::default(); program.memory_size as usize];
         Machine {
             program,
+            code,
             config,
             pc: 0,
             registers,
@@ -254,41 +263,22 @@ impl Machine {
         );
         let mut fuel = allowed;
         let program: &Program = &self.program;
-        let instrs = program.instrs.as_slice();
+        let code: &Code = &self.code;
         let registers = self.registers.as_mut_slice();
         let memory = self.memory.as_mut_slice();
         let output = &mut self.output;
         let mut pc = self.pc as usize;
+        debug_assert!(pc < code.len());
+        let (fused, plain): (&[Op], &[Op]) = (&code.fused, &code.plain);
 
+        debug_assert!(registers.len() >= code.register_bound);
         macro_rules! reg {
             ($register:expr) => {
-                registers[$register.0 as usize]
+                // SAFETY: `Machine::new` made the register file `code.register_bound`
+                // long, one more than the highest register any op names, and
+                // nothing changes its length afterwards.
+                *unsafe { registers.get_unchecked_mut($register.0 as usize) }
             };
-        }
-        macro_rules! arithmetic {
-            ($a:expr, $b:expr, $dst:expr, |$x:ident, $y:ident| $int:expr, |$fx:ident, $fy:ident| $float:expr) => {{
-                reg!($dst) = match (reg!($a), reg!($b)) {
-                    (Value::Int($x), Value::Int($y)) => Value::Int($int),
-                    (left, right) => {
-                        let ($fx, $fy) = (left.as_f64(), right.as_f64());
-                        Value::Float($float)
-                    }
-                };
-            }};
-        }
-        macro_rules! compare {
-            ($a:expr, $b:expr, $dst:expr, $op:tt) => {{
-                let result = match (reg!($a), reg!($b)) {
-                    (Value::Int(x), Value::Int(y)) => x $op y,
-                    (left, right) => left.as_f64() $op right.as_f64(),
-                };
-                reg!($dst) = Value::Int(i64::from(result));
-            }};
-        }
-        macro_rules! bitwise {
-            ($a:expr, $b:expr, $dst:expr, $op:tt) => {{
-                reg!($dst) = Value::Int(reg!($a).as_i64() $op reg!($b).as_i64());
-            }};
         }
         macro_rules! address {
             ($value:expr) => {
@@ -298,142 +288,322 @@ impl Machine {
                 }
             };
         }
-
-        let exit = loop {
-            if fuel == 0 {
-                break Exit::OutOfFuel;
-            }
-            fuel -= 1;
-            let Some(instr) = instrs.get(pc) else {
-                // Unreachable for a checked program (it ends with `Halt`).
-                break Exit::Halt;
+        macro_rules! divisor_not_zero {
+            ($a:expr, $b:expr) => {
+                if let (Value::Int(_), Value::Int(0)) = (reg!($a), reg!($b)) {
+                    break Exit::Trap(TrapKind::DivisionByZero);
+                }
             };
-            match *instr {
-                Instr::LoadSensor { sensor, dst } => {
-                    reg!(dst) = Value::Float(host.load_sensor(sensor));
-                }
-                Instr::StoreSensor { src, sensor } => {
-                    host.store_sensor(sensor, reg!(src).as_f64());
-                }
-                Instr::LoadInt { value, dst } => reg!(dst) = Value::Int(value),
-                Instr::LoadFloat { value, dst } => reg!(dst) = Value::Float(value),
-                Instr::Move { src, dst } => reg!(dst) = reg!(src),
-                Instr::Add { a, b, dst } => {
-                    arithmetic!(a, b, dst, |x, y| x.wrapping_add(y), |x, y| x + y)
-                }
-                Instr::Sub { a, b, dst } => {
-                    arithmetic!(a, b, dst, |x, y| x.wrapping_sub(y), |x, y| x - y)
-                }
-                Instr::Mul { a, b, dst } => {
-                    arithmetic!(a, b, dst, |x, y| x.wrapping_mul(y), |x, y| x * y)
-                }
-                Instr::Div { a, b, dst } => {
-                    if let (Value::Int(_), Value::Int(0)) = (reg!(a), reg!(b)) {
-                        break Exit::Trap(TrapKind::DivisionByZero);
+        }
+
+        // The loop, over one of the two forms of the code. Stops with `OutOfFuel`
+        // when less than `$fuel_needed` is left.
+        macro_rules! run {
+            ($ops:expr, $fuel_needed:expr) => {
+                loop {
+                    if fuel < $fuel_needed {
+                        break Exit::OutOfFuel;
                     }
-                    arithmetic!(a, b, dst, |x, y| x.wrapping_div(y), |x, y| x / y)
-                }
-                Instr::Mod { a, b, dst } => {
-                    if let (Value::Int(_), Value::Int(0)) = (reg!(a), reg!(b)) {
-                        break Exit::Trap(TrapKind::DivisionByZero);
-                    }
-                    arithmetic!(a, b, dst, |x, y| x.wrapping_rem(y), |x, y| x % y)
-                }
-                Instr::Min { a, b, dst } => {
-                    arithmetic!(a, b, dst, |x, y| x.min(y), |x, y| x.min(y))
-                }
-                Instr::Max { a, b, dst } => {
-                    arithmetic!(a, b, dst, |x, y| x.max(y), |x, y| x.max(y))
-                }
-                Instr::And { a, b, dst } => bitwise!(a, b, dst, &),
-                Instr::Or { a, b, dst } => bitwise!(a, b, dst, |),
-                Instr::Xor { a, b, dst } => bitwise!(a, b, dst, ^),
-                Instr::CmpEq { a, b, dst } => compare!(a, b, dst, ==),
-                Instr::CmpNe { a, b, dst } => compare!(a, b, dst, !=),
-                Instr::CmpLt { a, b, dst } => compare!(a, b, dst, <),
-                Instr::CmpLe { a, b, dst } => compare!(a, b, dst, <=),
-                Instr::CmpGt { a, b, dst } => compare!(a, b, dst, >),
-                Instr::CmpGe { a, b, dst } => compare!(a, b, dst, >=),
-                Instr::Neg { src, dst } => {
-                    reg!(dst) = match reg!(src) {
-                        Value::Int(x) => Value::Int(x.wrapping_neg()),
-                        Value::Float(x) => Value::Float(-x),
-                    }
-                }
-                Instr::Abs { src, dst } => {
-                    reg!(dst) = match reg!(src) {
-                        Value::Int(x) => Value::Int(x.wrapping_abs()),
-                        Value::Float(x) => Value::Float(x.abs()),
-                    }
-                }
-                Instr::Sqrt { src, dst } => reg!(dst) = Value::Float(reg!(src).as_f64().sqrt()),
-                Instr::IntToFloat { src, dst } => reg!(dst) = Value::Float(reg!(src).as_f64()),
-                Instr::FloatToInt { src, dst } => reg!(dst) = Value::Int(reg!(src).as_i64()),
-                Instr::Not { src, dst } => reg!(dst) = Value::Int(i64::from(!reg!(src).is_true())),
-                Instr::LoadMem { addr, dst } => {
-                    let index = address!(reg!(addr));
-                    reg!(dst) = memory[index];
-                }
-                Instr::LoadMemAt { addr, dst } => reg!(dst) = memory[addr as usize],
-                Instr::StoreMem { src, addr } => {
-                    let index = address!(reg!(addr));
-                    memory[index] = reg!(src);
-                }
-                Instr::StoreMemAt { src, addr } => memory[addr as usize] = reg!(src),
-                Instr::Branch {
-                    cond,
-                    if_true,
-                    if_false,
-                } => {
-                    pc = if reg!(cond).is_true() {
-                        if_true.index()
-                    } else {
-                        if_false.index()
-                    };
-                    continue;
-                }
-                Instr::Jump { target } => {
-                    pc = target.index();
-                    continue;
-                }
-                Instr::JumpIndirect { register } => {
-                    let value = reg!(register);
-                    let target = match value {
-                        Value::Int(label) => usize::try_from(label)
-                            .ok()
-                            .and_then(|label| program.label_pcs.get(label).copied().flatten()),
-                        Value::Float(_) => None,
-                    };
-                    match target {
-                        Some(target) => {
+                    // SAFETY: `pc < code.len()` always: execution starts at 0 or
+                    // where it stopped; the last op is a `halt`, so stepping past
+                    // any other op stays inside; a fused group never covers the
+                    // last op; branch targets were clamped into the code by
+                    // `Code::new`; and an indirect jump checks its target.
+                    let op = unsafe { $ops.get_unchecked(pc) };
+                    fuel -= 1;
+                    match *op {
+                        Op::LoadSensor { sensor, dst } => {
+                            reg!(dst) = Value::Float(host.load_sensor(sensor));
+                        }
+                        Op::StoreSensor { src, sensor } => {
+                            host.store_sensor(sensor, reg!(src).as_f64());
+                        }
+                        Op::LoadInt { value, dst } => reg!(dst) = Value::Int(value),
+                        Op::LoadFloat { value, dst } => reg!(dst) = Value::Float(value),
+                        Op::Move { src, dst } => reg!(dst) = reg!(src),
+                        Op::Add { a, b, dst } => reg!(dst) = add(reg!(a), reg!(b)),
+                        Op::Sub { a, b, dst } => reg!(dst) = sub(reg!(a), reg!(b)),
+                        Op::Mul { a, b, dst } => reg!(dst) = mul(reg!(a), reg!(b)),
+                        Op::Div { a, b, dst } => {
+                            divisor_not_zero!(a, b);
+                            reg!(dst) = div(reg!(a), reg!(b));
+                        }
+                        Op::Mod { a, b, dst } => {
+                            divisor_not_zero!(a, b);
+                            reg!(dst) = rem(reg!(a), reg!(b));
+                        }
+                        Op::Min { a, b, dst } => {
+                            reg!(dst) = arithmetic(reg!(a), reg!(b), i64::min, f64::min)
+                        }
+                        Op::Max { a, b, dst } => {
+                            reg!(dst) = arithmetic(reg!(a), reg!(b), i64::max, f64::max)
+                        }
+                        Op::And { a, b, dst } => {
+                            reg!(dst) = Value::Int(reg!(a).as_i64() & reg!(b).as_i64())
+                        }
+                        Op::Or { a, b, dst } => {
+                            reg!(dst) = Value::Int(reg!(a).as_i64() | reg!(b).as_i64())
+                        }
+                        Op::Xor { a, b, dst } => {
+                            reg!(dst) = Value::Int(reg!(a).as_i64() ^ reg!(b).as_i64())
+                        }
+                        Op::CmpEq { a, b, dst } => {
+                            reg!(dst) = truth(compare(Cmp::Eq, reg!(a), reg!(b)))
+                        }
+                        Op::CmpNe { a, b, dst } => {
+                            reg!(dst) = truth(compare(Cmp::Ne, reg!(a), reg!(b)))
+                        }
+                        Op::CmpLt { a, b, dst } => {
+                            reg!(dst) = truth(compare(Cmp::Lt, reg!(a), reg!(b)))
+                        }
+                        Op::CmpLe { a, b, dst } => {
+                            reg!(dst) = truth(compare(Cmp::Le, reg!(a), reg!(b)))
+                        }
+                        Op::CmpGt { a, b, dst } => {
+                            reg!(dst) = truth(compare(Cmp::Gt, reg!(a), reg!(b)))
+                        }
+                        Op::CmpGe { a, b, dst } => {
+                            reg!(dst) = truth(compare(Cmp::Ge, reg!(a), reg!(b)))
+                        }
+                        Op::Neg { src, dst } => {
+                            reg!(dst) = match reg!(src) {
+                                Value::Int(x) => Value::Int(x.wrapping_neg()),
+                                Value::Float(x) => Value::Float(-x),
+                            }
+                        }
+                        Op::Abs { src, dst } => {
+                            reg!(dst) = match reg!(src) {
+                                Value::Int(x) => Value::Int(x.wrapping_abs()),
+                                Value::Float(x) => Value::Float(x.abs()),
+                            }
+                        }
+                        Op::Sqrt { src, dst } => {
+                            reg!(dst) = Value::Float(reg!(src).as_f64().sqrt())
+                        }
+                        Op::IntToFloat { src, dst } => reg!(dst) = Value::Float(reg!(src).as_f64()),
+                        Op::FloatToInt { src, dst } => reg!(dst) = Value::Int(reg!(src).as_i64()),
+                        Op::Not { src, dst } => reg!(dst) = truth(!reg!(src).is_true()),
+                        Op::LoadMem { addr, dst } => {
+                            let index = address!(reg!(addr));
+                            reg!(dst) = memory[index];
+                        }
+                        Op::LoadMemAt { addr, dst } => reg!(dst) = memory[addr as usize],
+                        Op::StoreMem { src, addr } => {
+                            let index = address!(reg!(addr));
+                            memory[index] = reg!(src);
+                        }
+                        Op::StoreMemAt { src, addr } => memory[addr as usize] = reg!(src),
+                        Op::Branch {
+                            cond,
+                            if_true,
+                            if_false,
+                        } => {
+                            pc = if reg!(cond).is_true() {
+                                if_true.index()
+                            } else {
+                                if_false.index()
+                            };
+                            continue;
+                        }
+                        Op::Jump { target } => {
                             pc = target.index();
                             continue;
                         }
-                        None => break Exit::Trap(TrapKind::BadIndirectJump { value }),
+                        Op::JumpIndirect { register } => {
+                            let value = reg!(register);
+                            let target = match value {
+                                Value::Int(label) => {
+                                    usize::try_from(label).ok().and_then(|label| {
+                                        program.label_pcs.get(label).copied().flatten()
+                                    })
+                                }
+                                Value::Float(_) => None,
+                            };
+                            match target {
+                                Some(target) if target.index() < plain.len() => {
+                                    pc = target.index();
+                                    continue;
+                                }
+                                // A label past the end of a hand-built program: halt,
+                                // as running off the end does.
+                                Some(_) => break Exit::Halt,
+                                None => break Exit::Trap(TrapKind::BadIndirectJump { value }),
+                            }
+                        }
+                        Op::Yield {} => break Exit::Yield,
+                        Op::Halt {} => break Exit::Halt,
+                        Op::Nop {} => {}
+                        Op::Write { src } => append_item(output, |out| write_value(out, reg!(src))),
+                        Op::WriteText { text } => {
+                            let text = program.texts.get(text as usize).map_or("", |text| text);
+                            append_item(output, |out| out.push_str(text));
+                        }
+                        Op::Print { src } => {
+                            append_item(output, |out| write_value(out, reg!(src)));
+                            host.print_line(output);
+                            output.clear();
+                        }
+                        Op::PrintText { text } => {
+                            let text = program.texts.get(text as usize).map_or("", |text| text);
+                            append_item(output, |out| out.push_str(text));
+                            host.print_line(output);
+                            output.clear();
+                        }
+                        // Fused groups: each writes what its instructions write, in their order.
+                        Op::AddK { a, k, t, dst } => {
+                            fuel -= 1;
+                            reg!(t) = k;
+                            reg!(dst) = add(reg!(a), k);
+                            pc += 1;
+                        }
+                        Op::SubK { a, k, t, dst } => {
+                            fuel -= 1;
+                            reg!(t) = k;
+                            reg!(dst) = sub(reg!(a), k);
+                            pc += 1;
+                        }
+                        Op::MulK { a, k, t, dst } => {
+                            fuel -= 1;
+                            reg!(t) = k;
+                            reg!(dst) = mul(reg!(a), k);
+                            pc += 1;
+                        }
+                        Op::DivK { a, k, t, dst } => {
+                            fuel -= 1;
+                            reg!(t) = k;
+                            reg!(dst) = div(reg!(a), k);
+                            pc += 1;
+                        }
+                        Op::ModK { a, k, t, dst } => {
+                            fuel -= 1;
+                            reg!(t) = k;
+                            reg!(dst) = rem(reg!(a), k);
+                            pc += 1;
+                        }
+                        Op::IntToFloatAdd { src, t, a, dst } => {
+                            fuel -= 1;
+                            let widened = Value::Float(reg!(src).as_f64());
+                            reg!(t) = widened;
+                            reg!(dst) = add(reg!(a), widened);
+                            pc += 1;
+                        }
+                        Op::CmpBr {
+                            cmp,
+                            a,
+                            b,
+                            c,
+                            if_true,
+                            if_false,
+                        } => {
+                            fuel -= 1;
+                            let result = compare(cmp, reg!(a), reg!(b));
+                            reg!(c) = truth(result);
+                            pc = if result {
+                                if_true.index()
+                            } else {
+                                if_false.index()
+                            };
+                            continue;
+                        }
+                        Op::JumpCmpBr {
+                            cmp,
+                            a,
+                            b,
+                            c,
+                            if_true,
+                            if_false,
+                        } => {
+                            fuel -= 2;
+                            let result = compare(cmp, reg!(a), reg!(b));
+                            reg!(c) = truth(result);
+                            pc = if result {
+                                if_true.index()
+                            } else {
+                                if_false.index()
+                            };
+                            continue;
+                        }
+                        Op::JumpCmpKBr {
+                            cmp,
+                            a,
+                            k,
+                            t,
+                            c,
+                            if_true,
+                            if_false,
+                        } => {
+                            fuel -= 3;
+                            reg!(t) = k;
+                            let result = compare(cmp, reg!(a), k);
+                            reg!(c) = truth(result);
+                            pc = if result {
+                                if_true.index()
+                            } else {
+                                if_false.index()
+                            };
+                            continue;
+                        }
+                        Op::RangeBr {
+                            x,
+                            lo,
+                            t_lo,
+                            c_lo,
+                            hi,
+                            t_hi,
+                            c_hi,
+                            d,
+                            if_out,
+                            if_in,
+                        } => {
+                            fuel -= 5;
+                            let index = reg!(x);
+                            let below = compare(Cmp::Lt, index, lo);
+                            let above = compare(Cmp::Ge, index, hi);
+                            reg!(t_lo) = lo;
+                            reg!(c_lo) = truth(below);
+                            reg!(t_hi) = hi;
+                            reg!(c_hi) = truth(above);
+                            reg!(d) = truth(below | above);
+                            pc = if below | above {
+                                if_out.index()
+                            } else {
+                                if_in.index()
+                            };
+                            continue;
+                        }
+                        Op::CmpKBr {
+                            cmp,
+                            a,
+                            k,
+                            t,
+                            c,
+                            if_true,
+                            if_false,
+                        } => {
+                            fuel -= 2;
+                            reg!(t) = k;
+                            let result = compare(cmp, reg!(a), k);
+                            reg!(c) = truth(result);
+                            pc = if result {
+                                if_true.index()
+                            } else {
+                                if_false.index()
+                            };
+                            continue;
+                        }
                     }
+                    pc += 1;
                 }
-                Instr::Yield => break Exit::Yield,
-                Instr::Halt => break Exit::Halt,
-                Instr::Nop => {}
-                Instr::Write { src } => append_item(output, |out| write_value(out, reg!(src))),
-                Instr::WriteText { text } => {
-                    let text = program.texts.get(text as usize).map_or("", |text| text);
-                    append_item(output, |out| out.push_str(text));
-                }
-                Instr::Print { src } => {
-                    append_item(output, |out| write_value(out, reg!(src)));
-                    host.print_line(output);
-                    output.clear();
-                }
-                Instr::PrintText { text } => {
-                    let text = program.texts.get(text as usize).map_or("", |text| text);
-                    append_item(output, |out| out.push_str(text));
-                    host.print_line(output);
-                    output.clear();
-                }
-            }
-            pc += 1;
-        };
+            };
+        }
+
+        // Fused ops only while the fuel covers the widest of them; the last one or
+        // two instructions of a budget run plain, so that the budget runs out at
+        // exactly the same instruction as in plain code.
+        let mut exit = run!(fused, MAX_FUSED);
+        if matches!(exit, Exit::OutOfFuel) {
+            exit = run!(plain, 1);
+        }
 
         self.executed_this_cycle += allowed - fuel;
         self.pc = pc as u32;
@@ -481,6 +651,80 @@ fn memory_index(value: Value, size: usize) -> Result<usize, TrapKind> {
             size: size as u32,
         }),
     }
+}
+
+/// Integer op integer is an integer; any float makes both floats (docs/gloc.md).
+#[inline(always)]
+fn arithmetic(
+    left: Value,
+    right: Value,
+    int: impl FnOnce(i64, i64) -> i64,
+    float: impl FnOnce(f64, f64) -> f64,
+) -> Value {
+    match (left, right) {
+        (Value::Int(x), Value::Int(y)) => Value::Int(int(x, y)),
+        (left, right) => Value::Float(float(left.as_f64(), right.as_f64())),
+    }
+}
+
+#[inline(always)]
+fn add(left: Value, right: Value) -> Value {
+    arithmetic(left, right, i64::wrapping_add, |x, y| x + y)
+}
+
+#[inline(always)]
+fn sub(left: Value, right: Value) -> Value {
+    arithmetic(left, right, i64::wrapping_sub, |x, y| x - y)
+}
+
+#[inline(always)]
+fn mul(left: Value, right: Value) -> Value {
+    arithmetic(left, right, i64::wrapping_mul, |x, y| x * y)
+}
+
+/// Division; the caller has trapped an integer zero divisor.
+#[inline(always)]
+fn div(left: Value, right: Value) -> Value {
+    arithmetic(left, right, i64::wrapping_div, |x, y| x / y)
+}
+
+/// Remainder with the sign of the dividend; the caller has trapped an integer zero divisor.
+#[inline(always)]
+fn rem(left: Value, right: Value) -> Value {
+    arithmetic(left, right, i64::wrapping_rem, |x, y| x % y)
+}
+
+/// Integers compare as integers; any float makes both floats (NaN compares false
+/// except with `cmpne`).
+#[inline(always)]
+fn compare(cmp: Cmp, left: Value, right: Value) -> bool {
+    match (left, right) {
+        (Value::Int(x), Value::Int(y)) => match cmp {
+            Cmp::Eq => x == y,
+            Cmp::Ne => x != y,
+            Cmp::Lt => x < y,
+            Cmp::Le => x <= y,
+            Cmp::Gt => x > y,
+            Cmp::Ge => x >= y,
+        },
+        (left, right) => {
+            let (x, y) = (left.as_f64(), right.as_f64());
+            match cmp {
+                Cmp::Eq => x == y,
+                Cmp::Ne => x != y,
+                Cmp::Lt => x < y,
+                Cmp::Le => x <= y,
+                Cmp::Gt => x > y,
+                Cmp::Ge => x >= y,
+            }
+        }
+    }
+}
+
+/// A truth value as GLOC stores it: the integer 1 or 0.
+#[inline(always)]
+fn truth(value: bool) -> Value {
+    Value::Int(i64::from(value))
 }
 
 /// Appends one output item, separated from the previous one by a space.

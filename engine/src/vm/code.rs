@@ -1,0 +1,540 @@
+//! The machine's own form of a checked program: every GLOC instruction
+//! translated one to one ("plain" code), and a second copy of the same length
+//! in which common pairs and triples are fused into one dispatch.
+//!
+//! A fused op at pc `i` does exactly what the instructions at `i`, `i + 1`
+//! (and `i + 2`) do, writes every register they write, and then goes on at the
+//! pc they would reach. The instructions it covers keep their plain copies at
+//! `i + 1` and `i + 2`, so a jump into the middle of a fused group still runs
+//! the right code. Only groups that cannot trap, yield or print are fused, so a
+//! trap, a `yield` and every output still happen at a plain instruction with
+//! its own pc. The interpreter charges a fused op the number of GLOC
+//! instructions it covers and runs plain code when less fuel than that is
+//! left, so the budget, `step` and cycle-overrun traps stay exact to the
+//! instruction. Nothing here changes GLOC text, the checker or the debugger's
+//! view of the program: the machine stays at the same pcs with the same state.
+
+use crate::program::{Instr, Pc, Program, Reg, Value};
+use crate::sensors::SensorId;
+
+/// The most GLOC instructions one fused op covers: the interpreter runs
+/// fused code only while at least this much fuel is left.
+pub(super) const MAX_FUSED: u64 = 6;
+
+/// Declares [`Op`] with one plain variant per [`Instr`] variant (same fields)
+/// plus the fused variants, and the one-to-one translation.
+macro_rules! ops {
+    (
+        plain { $($name:ident { $($field:ident : $ty:ty),* }),* $(,)? }
+        fused { $($fused:ident { $($ffield:ident : $fty:ty),* }),* $(,)? }
+    ) => {
+        /// One dispatch of the interpreter. Plain variants mean what the
+        /// [`Instr`] variant of the same name means; fused ones are described
+        /// where they are built, in [`fuse`].
+        ///
+        /// `repr(u8)`: the variant is a plain byte at the start, so dispatch is one
+        /// load and one indirect jump (without it the tag is folded into a niche of
+        /// the constant's `Value` and costs four more instructions to decode).
+        #[derive(Clone, Copy, Debug, PartialEq)]
+        #[repr(u8)]
+        pub(super) enum Op {
+            $($name { $($field: $ty),* },)*
+            $($fused { $($ffield: $fty),* },)*
+        }
+
+        impl Op {
+            /// Calls `visit` with every register the op names.
+            fn visit_registers(&self, visit: &mut impl FnMut(Reg)) {
+                match self {
+                    $(Op::$name { $($field),* } => { $($field.visit(visit);)* })*
+                    $(Op::$fused { $($ffield),* } => { $($ffield.visit(visit);)* })*
+                }
+            }
+
+            /// Replaces every branch target at or past `end` by `end`.
+            fn clamp_targets(&mut self, end: Pc) {
+                match self {
+                    $(Op::$name { $($field),* } => { $($field.clamp_target(end);)* })*
+                    $(Op::$fused { $($ffield),* } => { $($ffield.clamp_target(end);)* })*
+                }
+            }
+        }
+
+        impl From<Instr> for Op {
+            fn from(instr: Instr) -> Op {
+                match instr {
+                    $(Instr::$name { $($field),* } => Op::$name { $($field),* },)*
+                }
+            }
+        }
+    };
+}
+
+ops! {
+    plain {
+        LoadSensor { sensor: SensorId, dst: Reg },
+        StoreSensor { src: Reg, sensor: SensorId },
+        LoadInt { value: i64, dst: Reg },
+        LoadFloat { value: f64, dst: Reg },
+        Move { src: Reg, dst: Reg },
+        Add { a: Reg, b: Reg, dst: Reg },
+        Sub { a: Reg, b: Reg, dst: Reg },
+        Mul { a: Reg, b: Reg, dst: Reg },
+        Div { a: Reg, b: Reg, dst: Reg },
+        Mod { a: Reg, b: Reg, dst: Reg },
+        Min { a: Reg, b: Reg, dst: Reg },
+        Max { a: Reg, b: Reg, dst: Reg },
+        And { a: Reg, b: Reg, dst: Reg },
+        Or { a: Reg, b: Reg, dst: Reg },
+        Xor { a: Reg, b: Reg, dst: Reg },
+        CmpEq { a: Reg, b: Reg, dst: Reg },
+        CmpNe { a: Reg, b: Reg, dst: Reg },
+        CmpLt { a: Reg, b: Reg, dst: Reg },
+        CmpLe { a: Reg, b: Reg, dst: Reg },
+        CmpGt { a: Reg, b: Reg, dst: Reg },
+        CmpGe { a: Reg, b: Reg, dst: Reg },
+        Neg { src: Reg, dst: Reg },
+        Abs { src: Reg, dst: Reg },
+        Sqrt { src: Reg, dst: Reg },
+        IntToFloat { src: Reg, dst: Reg },
+        FloatToInt { src: Reg, dst: Reg },
+        Not { src: Reg, dst: Reg },
+        LoadMem { addr: Reg, dst: Reg },
+        LoadMemAt { addr: u32, dst: Reg },
+        StoreMem { src: Reg, addr: Reg },
+        StoreMemAt { src: Reg, addr: u32 },
+        Branch { cond: Reg, if_true: Pc, if_false: Pc },
+        Jump { target: Pc },
+        JumpIndirect { register: Reg },
+        Yield {},
+        Halt {},
+        Nop {},
+        Write { src: Reg },
+        WriteText { text: u32 },
+        Print { src: Reg },
+        PrintText { text: u32 },
+    }
+    fused {
+        AddK { a: Reg, k: Value, t: Reg, dst: Reg },
+        SubK { a: Reg, k: Value, t: Reg, dst: Reg },
+        MulK { a: Reg, k: Value, t: Reg, dst: Reg },
+        DivK { a: Reg, k: Value, t: Reg, dst: Reg },
+        ModK { a: Reg, k: Value, t: Reg, dst: Reg },
+        IntToFloatAdd { src: Reg, t: Reg, a: Reg, dst: Reg },
+        CmpBr { cmp: Cmp, a: Reg, b: Reg, c: Reg, if_true: Pc, if_false: Pc },
+        CmpKBr { cmp: Cmp, a: Reg, k: Value, t: Reg, c: Reg, if_true: Pc, if_false: Pc },
+        JumpCmpBr { cmp: Cmp, a: Reg, b: Reg, c: Reg, if_true: Pc, if_false: Pc },
+        JumpCmpKBr { cmp: Cmp, a: Reg, k: Value, t: Reg, c: Reg, if_true: Pc, if_false: Pc },
+        RangeBr { x: Reg, lo: Value, t_lo: Reg, c_lo: Reg, hi: Value, t_hi: Reg, c_hi: Reg, d: Reg, if_out: Pc, if_in: Pc },
+    }
+}
+
+/// An operand type: registers report themselves, everything else nothing.
+trait Operand {
+    fn visit(&self, _visit: &mut impl FnMut(Reg)) {}
+    fn clamp_target(&mut self, _end: Pc) {}
+}
+
+impl Operand for Reg {
+    fn visit(&self, visit: &mut impl FnMut(Reg)) {
+        visit(*self);
+    }
+}
+
+impl Operand for Pc {
+    fn clamp_target(&mut self, end: Pc) {
+        *self = (*self).min(end);
+    }
+}
+
+impl Operand for SensorId {}
+impl Operand for i64 {}
+impl Operand for f64 {}
+impl Operand for u32 {}
+impl Operand for Value {}
+impl Operand for Cmp {}
+
+/// A comparison, for the fused compare-and-branch ops.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Cmp {
+    Eq,
+    Ne,
+    Lt,
+    Le,
+    Gt,
+    Ge,
+}
+
+impl Cmp {
+    /// The comparison with its operands swapped: `k < a` is `a > k`.
+    fn swapped(self) -> Cmp {
+        match self {
+            Cmp::Eq => Cmp::Eq,
+            Cmp::Ne => Cmp::Ne,
+            Cmp::Lt => Cmp::Gt,
+            Cmp::Le => Cmp::Ge,
+            Cmp::Gt => Cmp::Lt,
+            Cmp::Ge => Cmp::Le,
+        }
+    }
+}
+
+/// The two forms of a program the interpreter runs.
+#[derive(Debug)]
+pub(super) struct Code {
+    /// One op per GLOC instruction, the same meaning.
+    pub plain: Box<[Op]>,
+    /// The same, with fused groups starting at some pcs.
+    pub fused: Box<[Op]>,
+    /// One more than the highest register any op names (at least `nregs`): the
+    /// size of a register file that every op can index without a check.
+    pub register_bound: usize,
+}
+
+impl Code {
+    /// Translates a program. The code always ends with a `halt` and every branch
+    /// target lies inside it, so the interpreter can fetch without checks (see
+    /// [`Code::fetch`]). A checked program ends with a `halt` already and has no
+    /// other targets; for any other, a pc past the end meant "halt" before and
+    /// still does.
+    pub fn new(program: &Program) -> Code {
+        let mut plain: Vec<Op> = program
+            .instrs
+            .iter()
+            .map(|&instr| Op::from(instr))
+            .collect();
+        let mut fused: Vec<Op> = (0..program.instrs.len())
+            .map(|pc| fuse(&program.instrs[pc..]).unwrap_or(plain[pc]))
+            .collect();
+        thread_jumps(&mut fused);
+        if plain.last() != Some(&Op::Halt {}) {
+            plain.push(Op::Halt {});
+            fused.push(Op::Halt {});
+        }
+        let end = Pc((plain.len() - 1) as u32);
+        for op in plain.iter_mut().chain(fused.iter_mut()) {
+            op.clamp_targets(end);
+        }
+        let mut register_bound = program.register_count as usize;
+        for op in plain.iter() {
+            op.visit_registers(&mut |register| {
+                register_bound = register_bound.max(register.index() + 1);
+            });
+        }
+        Code {
+            plain: plain.into_boxed_slice(),
+            fused: fused.into_boxed_slice(),
+            register_bound,
+        }
+    }
+
+    /// The number of ops in each form (one more than the program's
+    /// instructions when a `halt` was appended).
+    pub fn len(&self) -> usize {
+        self.plain.len()
+    }
+}
+
+/// How many GLOC instructions an op covers (what it costs in fuel).
+#[cfg(test)]
+pub(super) fn width(op: &Op) -> u64 {
+    match op {
+        Op::AddK { .. }
+        | Op::SubK { .. }
+        | Op::MulK { .. }
+        | Op::DivK { .. }
+        | Op::ModK { .. }
+        | Op::IntToFloatAdd { .. }
+        | Op::CmpBr { .. } => 2,
+        Op::CmpKBr { .. } | Op::JumpCmpBr { .. } => 3,
+        Op::JumpCmpKBr { .. } => 4,
+        Op::RangeBr { .. } => 6,
+        _ => 1,
+    }
+}
+
+/// The constant a `loadi`/`loadd` loads, and the register it loads it into.
+fn constant(instr: &Instr) -> Option<(Value, Reg)> {
+    match *instr {
+        Instr::LoadInt { value, dst } => Some((Value::Int(value), dst)),
+        Instr::LoadFloat { value, dst } => Some((Value::Float(value), dst)),
+        _ => None,
+    }
+}
+
+/// A comparison instruction as (comparison, a, b, dst).
+fn comparison(instr: &Instr) -> Option<(Cmp, Reg, Reg, Reg)> {
+    match *instr {
+        Instr::CmpEq { a, b, dst } => Some((Cmp::Eq, a, b, dst)),
+        Instr::CmpNe { a, b, dst } => Some((Cmp::Ne, a, b, dst)),
+        Instr::CmpLt { a, b, dst } => Some((Cmp::Lt, a, b, dst)),
+        Instr::CmpLe { a, b, dst } => Some((Cmp::Le, a, b, dst)),
+        Instr::CmpGt { a, b, dst } => Some((Cmp::Gt, a, b, dst)),
+        Instr::CmpGe { a, b, dst } => Some((Cmp::Ge, a, b, dst)),
+        _ => None,
+    }
+}
+
+/// The fused op for the group of instructions that starts `window`, if any.
+fn fuse(window: &[Instr]) -> Option<Op> {
+    if let Some(op) = range_check(window) {
+        return Some(op);
+    }
+    let first = window.first()?;
+    let second = window.get(1)?;
+    // `loadi K,t; cmpXX a,t,c; cbr c,T,F` (or `cmpXX t,a,c`): compare with a constant
+    // and branch. Whether `c` is `t` or not, both are written as the three would.
+    if let (
+        Some((k, t)),
+        Some((cmp, x, y, c)),
+        Some(&Instr::Branch {
+            cond,
+            if_true,
+            if_false,
+        }),
+    ) = (constant(first), comparison(second), window.get(2))
+    {
+        let operands = if y == t && x != t {
+            Some((cmp, x))
+        } else if x == t && y != t {
+            Some((cmp.swapped(), y))
+        } else {
+            None
+        };
+        if let (Some((cmp, a)), true) = (operands, cond == c) {
+            return Some(Op::CmpKBr {
+                cmp,
+                a,
+                k,
+                t,
+                c,
+                if_true,
+                if_false,
+            });
+        }
+    }
+    // `cmpXX a,b,c; cbr c,T,F`: compare and branch.
+    if let (
+        Some((cmp, a, b, c)),
+        &Instr::Branch {
+            cond,
+            if_true,
+            if_false,
+        },
+    ) = (comparison(first), second)
+    {
+        if cond == c {
+            return Some(Op::CmpBr {
+                cmp,
+                a,
+                b,
+                c,
+                if_true,
+                if_false,
+            });
+        }
+    }
+    // `i2d src,t; add a,t,dst` (or `add t,a,dst`): the mixed-type add of GBASIC's
+    // implicit widening.
+    if let (&Instr::IntToFloat { src, dst: t }, &Instr::Add { a: x, b: y, dst }) = (first, second) {
+        let a = if y == t && x != t {
+            Some(x)
+        } else if x == t && y != t {
+            Some(y)
+        } else {
+            None
+        };
+        if let Some(a) = a {
+            return Some(Op::IntToFloatAdd { src, t, a, dst });
+        }
+    }
+    // `loadi K,t; op a,t,dst` (or `op t,a,dst` for `add` and `mul`): arithmetic
+    // with a constant operand. Division and `mod` by an integer zero trap, so
+    // they stay plain, and so do `K op a` of the other ops and `K op K`.
+    let (k, t) = constant(first)?;
+    let (x, y, dst, commutes, make): (Reg, Reg, Reg, bool, MakeArithK) = match *second {
+        Instr::Add { a, b, dst } => (a, b, dst, true, |a, k, t, dst| Op::AddK { a, k, t, dst }),
+        Instr::Mul { a, b, dst } => (a, b, dst, true, |a, k, t, dst| Op::MulK { a, k, t, dst }),
+        Instr::Sub { a, b, dst } => (a, b, dst, false, |a, k, t, dst| Op::SubK { a, k, t, dst }),
+        Instr::Div { a, b, dst } if k != Value::Int(0) => {
+            (a, b, dst, false, |a, k, t, dst| Op::DivK { a, k, t, dst })
+        }
+        Instr::Mod { a, b, dst } if k != Value::Int(0) => {
+            (a, b, dst, false, |a, k, t, dst| Op::ModK { a, k, t, dst })
+        }
+        _ => return None,
+    };
+    if y == t && x != t {
+        Some(make(x, k, t, dst))
+    } else if commutes && x == t && y != t {
+        Some(make(y, k, t, dst))
+    } else {
+        None
+    }
+}
+
+/// The index check GBASIC puts before every array access whose index it
+/// cannot prove in range: `loadi LO,t_lo; cmplt x,t_lo,c_lo; loadi HI,t_hi;
+/// cmpge x,t_hi,c_hi; or c_lo,c_hi,d; cbr d,OUT,IN`. The registers must not
+/// overlap in a way that would make one write change what a later
+/// instruction reads (`c_hi` may be `t_hi`, `c_lo` may be `t_lo`).
+fn range_check(window: &[Instr]) -> Option<Op> {
+    let [first, second, third, fourth, fifth, sixth, ..] = window else {
+        return None;
+    };
+    let (lo, t_lo) = constant(first)?;
+    let (hi, t_hi) = constant(third)?;
+    let &Instr::CmpLt { a: x, b, dst: c_lo } = second else {
+        return None;
+    };
+    let &Instr::CmpGe {
+        a: x2,
+        b: b2,
+        dst: c_hi,
+    } = fourth
+    else {
+        return None;
+    };
+    let &Instr::Or { a: p, b: q, dst: d } = fifth else {
+        return None;
+    };
+    let &Instr::Branch {
+        cond,
+        if_true,
+        if_false,
+    } = sixth
+    else {
+        return None;
+    };
+    let fits = b == t_lo
+        && b2 == t_hi
+        && x2 == x
+        && x != t_lo
+        && x != c_lo
+        && x != t_hi
+        && c_lo != t_hi
+        && c_lo != c_hi
+        && ((p == c_lo && q == c_hi) || (p == c_hi && q == c_lo))
+        && cond == d;
+    fits.then_some(Op::RangeBr {
+        x,
+        lo,
+        t_lo,
+        c_lo,
+        hi,
+        t_hi,
+        c_hi,
+        d,
+        if_out: if_true,
+        if_in: if_false,
+    })
+}
+
+/// Jump threading: a `jumpi` whose target starts a fused compare-and-branch
+/// does the compare itself (the loop's back edge and its test in one dispatch).
+fn thread_jumps(fused: &mut [Op]) {
+    for index in 0..fused.len() {
+        let Op::Jump { target } = fused[index] else {
+            continue;
+        };
+        fused[index] = match fused.get(target.index()) {
+            Some(&Op::CmpBr {
+                cmp,
+                a,
+                b,
+                c,
+                if_true,
+                if_false,
+            }) => Op::JumpCmpBr {
+                cmp,
+                a,
+                b,
+                c,
+                if_true,
+                if_false,
+            },
+            Some(&Op::CmpKBr {
+                cmp,
+                a,
+                k,
+                t,
+                c,
+                if_true,
+                if_false,
+            }) => Op::JumpCmpKBr {
+                cmp,
+                a,
+                k,
+                t,
+                c,
+                if_true,
+                if_false,
+            },
+            _ => continue,
+        };
+    }
+}
+
+/// Builds an arithmetic-with-constant op from (a, k, t, dst).
+type MakeArithK = fn(Reg, Value, Reg, Reg) -> Op;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gloc::{self, CheckOptions};
+    use crate::sensors::SensorList;
+
+    fn code(body: &str) -> Code {
+        let lines = body.lines().count();
+        let text = format!("nregs 8\nnblbs 3\nninstr {lines}\n{body}");
+        let checked = gloc::check(
+            &gloc::parse(&text),
+            &SensorList::embedded(),
+            &CheckOptions::default(),
+        );
+        let program = checked.program.expect("the test script checks");
+        Code::new(&program)
+    }
+
+    #[test]
+    fn the_shapes_of_compiled_loops_fuse() {
+        // The body of `for i = 1 to n: acc = (acc + i * 7) mod 1000003` as `-O` emits it.
+        let code = code(
+            "label 0\ncmple r1,r2,r4\ncbr r4,1,2\nlabel 1\nloadi 7,r4\nmul r1,r4,r4\n\
+             add r5,r4,r4\nloadi 1000003,r5\nmod r4,r5,r5\nloadi 10,r4\ni2d r4,r4\n\
+             add r0,r4,r0\nloadi 0,r6\ncmpeq r1,r6,r6\ncbr r6,2,0\nlabel 2\nyield\njumpi 2",
+        );
+        let widths: Vec<u64> = code.fused.iter().map(width).collect();
+        // pc: 0 cmple+cbr, 2 loadi+mul, 4 add, 5 loadi+mod, 7 loadi (then i2d+add),
+        // 8 i2d+add, 10 loadi+cmpeq+cbr, 13 yield, 14 jumpi, 15 the final halt.
+        assert_eq!(
+            widths,
+            [2, 1, 2, 1, 1, 2, 1, 1, 2, 1, 3, 2, 1, 1, 1, 1],
+            "{:#?}",
+            code.fused
+        );
+        assert!(matches!(code.fused[0], Op::CmpBr { cmp: Cmp::Le, .. }));
+        assert!(matches!(
+            code.fused[10],
+            Op::CmpKBr {
+                cmp: Cmp::Eq,
+                k: Value::Int(0),
+                ..
+            }
+        ));
+        // The plain code stays one to one.
+        assert!(code.plain.iter().all(|op| width(op) == 1));
+    }
+
+    #[test]
+    fn groups_that_could_trap_or_mean_something_else_stay_plain() {
+        // `mod` by the constant 0 traps; `K - a` is not `a - K`; `add t,t,d` adds K to K;
+        // a branch on another register than the compare wrote is not a compare-and-branch.
+        let code = code(
+            "loadi 0,r1\nmod r0,r1,r2\nloadi 3,r1\nsub r1,r0,r2\nloadi 3,r1\nadd r1,r1,r2\n\
+             cmplt r0,r1,r3\ncbr r4,1,1\nlabel 1\nyield",
+        );
+        let widths: Vec<u64> = code.fused.iter().map(width).collect();
+        assert_eq!(widths, [1; 10], "{:#?}", code.fused);
+    }
+}

@@ -16,11 +16,12 @@ pub fn main(args: crate::CheckArgs) -> anyhow::Result<ExitCode> {
         args.files.first().map(PathBuf::as_path),
         crate::settings::Flags {
             masterdata: args.masterdata.as_deref(),
+            sensor_order: args.sensor_order,
             ..Default::default()
         },
     )?;
     let sensors = match &settings.masterdata {
-        Some(path) => match load_sensors(path, &mut tally)? {
+        Some(path) => match load_sensors(path, settings.sensor_order, &mut tally)? {
             Some(list) => list,
             None => return Ok(ExitCode::FAILURE),
         },
@@ -74,8 +75,12 @@ pub fn main(args: crate::CheckArgs) -> anyhow::Result<ExitCode> {
 }
 
 /// Loads `--masterdata`: prints its diagnostics; `None` when it has errors.
-pub fn load_sensors(path: &Path, tally: &mut Tally) -> anyhow::Result<Option<SensorList>> {
-    let loaded = load_sensor_file(path, SensorOrder::FileOrder)
+pub fn load_sensors(
+    path: &Path,
+    order: SensorOrder,
+    tally: &mut Tally,
+) -> anyhow::Result<Option<SensorList>> {
+    let loaded = load_sensor_file(path, order)
         .with_context(|| format!("cannot read the sensor list `{}`", path.display()))?;
     let display = path.display().to_string();
     let source = SourceFile::new(&display, &loaded.text);

@@ -16,11 +16,12 @@ pub fn main(args: crate::CompileArgs) -> anyhow::Result<ExitCode> {
         Some(&args.file),
         crate::settings::Flags {
             masterdata: args.masterdata.as_deref(),
+            sensor_order: args.sensor_order,
             ..Default::default()
         },
     )?;
     let sensors = match &settings.masterdata {
-        Some(path) => match crate::check::load_sensors(path, &mut tally)? {
+        Some(path) => match crate::check::load_sensors(path, settings.sensor_order, &mut tally)? {
             Some(list) => list,
             None => return Ok(ExitCode::FAILURE),
         },

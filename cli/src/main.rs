@@ -52,6 +52,9 @@ pub struct CheckArgs {
     /// A masterdata file or a `.cac` sensor list replacing the embedded list.
     #[arg(long, value_name = "FILE")]
     pub masterdata: Option<PathBuf>,
+    /// How a masterdata file's sensors are numbered: `file` (default) or `sorted` (firmware 2014+).
+    #[arg(long, value_name = "ORDER", value_parser = settings::parse_sensor_order)]
+    pub sensor_order: Option<gloc_engine::sensors::SensorOrder>,
 }
 
 #[derive(Args, Debug)]
@@ -69,6 +72,9 @@ pub struct CompileArgs {
     pub emit_map: bool,
     #[arg(long, value_name = "FILE")]
     pub masterdata: Option<PathBuf>,
+    /// How a masterdata file's sensors are numbered: `file` (default) or `sorted` (firmware 2014+).
+    #[arg(long, value_name = "ORDER", value_parser = settings::parse_sensor_order)]
+    pub sensor_order: Option<gloc_engine::sensors::SensorOrder>,
 }
 
 #[derive(Args, Debug)]
@@ -89,6 +95,9 @@ pub struct RunArgs {
     pub mission: Option<PathBuf>,
     #[arg(long, value_name = "FILE")]
     pub masterdata: Option<PathBuf>,
+    /// How a masterdata file's sensors are numbered: `file` (default) or `sorted` (firmware 2014+).
+    #[arg(long, value_name = "ORDER", value_parser = settings::parse_sensor_order)]
+    pub sensor_order: Option<gloc_engine::sensors::SensorOrder>,
     /// Temperature profile CSV (`depth_m,temp_degC`); default: the built-in summer shelf profile.
     #[arg(long, value_name = "T.csv")]
     pub profile: Option<PathBuf>,

@@ -47,11 +47,12 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         crate::settings::Flags {
             masterdata: args.masterdata.as_deref(),
             cycle_budget: args.cycle_budget,
+            sensor_order: args.sensor_order,
             ..Default::default()
         },
     )?;
     let sensors = match &settings.masterdata {
-        Some(path) => match crate::check::load_sensors(path, &mut tally)? {
+        Some(path) => match crate::check::load_sensors(path, settings.sensor_order, &mut tally)? {
             Some(list) => list,
             None => return Ok(ExitCode::FAILURE),
         },

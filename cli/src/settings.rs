@@ -5,6 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use gloc_engine::config::Config;
+use gloc_engine::sensors::SensorOrder;
 
 /// What the flags and `gloc.toml` together say.
 #[derive(Debug, Default)]
@@ -12,6 +13,7 @@ pub struct Settings {
     pub masterdata: Option<PathBuf>,
     pub cycle_budget: Option<u64>,
     pub mission: Option<PathBuf>,
+    pub sensor_order: SensorOrder,
 }
 
 /// The flags a subcommand was given; `None` where the user gave none.
@@ -20,6 +22,7 @@ pub struct Flags<'a> {
     pub masterdata: Option<&'a Path>,
     pub cycle_budget: Option<u64>,
     pub mission: Option<&'a Path>,
+    pub sensor_order: Option<SensorOrder>,
 }
 
 /// Finds `gloc.toml` upward from `anchor` (a script; the current folder when
@@ -43,5 +46,14 @@ pub fn resolve(anchor: Option<&Path>, flags: Flags<'_>) -> anyhow::Result<Settin
             .or(config.masterdata),
         cycle_budget: flags.cycle_budget.or(config.cycle_budget),
         mission: flags.mission.map(Path::to_path_buf).or(config.mission),
+        sensor_order: flags
+            .sensor_order
+            .or(config.sensor_order)
+            .unwrap_or_default(),
     })
+}
+
+/// Parses `--sensor-order` (clap's value parser).
+pub fn parse_sensor_order(name: &str) -> Result<SensorOrder, String> {
+    SensorOrder::from_name(name).ok_or_else(|| format!("expected {}", SensorOrder::NAMES))
 }

@@ -40,10 +40,11 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
             masterdata: args.masterdata.as_deref(),
             cycle_budget: args.cycle_budget,
             mission: args.mission.as_deref(),
+            sensor_order: args.sensor_order,
         },
     )?;
     let sensor_list = match &settings.masterdata {
-        Some(path) => match crate::check::load_sensors(path, &mut tally)? {
+        Some(path) => match crate::check::load_sensors(path, settings.sensor_order, &mut tally)? {
             Some(list) => list,
             None => return Ok(ExitCode::FAILURE),
         },

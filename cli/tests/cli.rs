@@ -213,3 +213,59 @@ fn replay_rejects_unknown_columns_and_bad_cells() {
         stderr(&output)
     );
 }
+
+#[test]
+fn cycle_budget_traps_the_first_cycle_that_needs_more() {
+    // Fig. 2 on the ramp, counted by hand from its listing: cycle 0 runs
+    // `loads loadd cmpgt cbr yield` (5); later shallow cycles start at `jumpi 0`
+    // (6); cycle 16 (16 m > 15) runs `jumpi 0`, the four-instruction test,
+    // `loadi stores jumpi 1`, the four-instruction test at label 1 and `yield` (13).
+    let ramp = ramp_csv().display().to_string();
+    let fig2 = repo("examples/fig2.gloc");
+    let run = |budget: &str, out: &str| {
+        let out = temp(out);
+        let output = gloc(&[
+            "run",
+            &fig2,
+            "--replay",
+            &ramp,
+            "--out",
+            &out.display().to_string(),
+            "--cycle-budget",
+            budget,
+        ]);
+        let written = std::fs::read_to_string(&out).unwrap_or_default();
+        (output, written)
+    };
+
+    let (output, _) = run("5", "budget5.csv");
+    assert_eq!(output.status.code(), Some(1));
+    let text = stderr(&output);
+    assert!(text.contains("trap in cycle 1:"), "{text}");
+    assert!(text.contains("cycle overrun"), "{text}");
+
+    // 6 fits every shallow cycle; cycle 16's 7th instruction is the store of 128,
+    // so it traps just before it.
+    let (output, written) = run("6", "budget6.csv");
+    assert_eq!(output.status.code(), Some(1));
+    assert!(
+        stderr(&output).contains("trap in cycle 16:"),
+        "{}",
+        stderr(&output)
+    );
+    assert!(!written.contains(",128"), "{written}");
+
+    // 12 is one short of cycle 16's 13: the store happened, the `yield` traps.
+    let (output, written) = run("12", "budget12.csv");
+    assert_eq!(output.status.code(), Some(1));
+    assert!(
+        stderr(&output).contains("trap in cycle 16:"),
+        "{}",
+        stderr(&output)
+    );
+    assert!(written.contains("\n16,128\n"), "{written}");
+
+    let (output, written) = run("13", "budget13.csv");
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    assert!(written.contains("\n16,128\n"), "{written}");
+}

@@ -76,3 +76,54 @@ fn a_bad_gloc_toml_names_its_line_and_column() {
     let expected = format!("{}:2:1", dir.join("gloc.toml").display());
     assert!(text.contains(&expected), "expected {expected} in: {text}");
 }
+
+/// Stores to sensor 0 of whatever list is active.
+const STORE_0: &str =
+    "nregs 1\nnblbs 1\nninstr 5\nlabel 0\nloadi 1,r0\nstores r0,0\nyield\njumpi 0\n";
+
+#[test]
+fn sensor_order_numbers_a_masterdata_file_in_file_or_sorted_order() {
+    // tests/fixtures/sensors/edge.masterdata lists m_present_time first; sorted
+    // by upper-cased name (firmware 2014+) c_pitch comes first (C < M < U < X).
+    // So sensor 0 is read-only in file order and writable when sorted.
+    let masterdata = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../tests/fixtures/sensors/edge.masterdata")
+        .display()
+        .to_string();
+    let dir = project("order", "");
+    let script = dir.join("scripts/store0.gloc");
+    std::fs::write(&script, STORE_0).expect("write script");
+    let script = script.display().to_string();
+
+    let file_order = gloc(&["check", &script, "--masterdata", &masterdata]);
+    let text = String::from_utf8_lossy(&file_order.stdout);
+    assert_eq!(file_order.status.code(), Some(1), "{text}");
+    assert!(text.contains("`m_present_time` is read-only"), "{text}");
+
+    let sorted = gloc(&[
+        "check",
+        &script,
+        "--masterdata",
+        &masterdata,
+        "--sensor-order",
+        "sorted",
+    ]);
+    let text = String::from_utf8_lossy(&sorted.stdout);
+    assert_eq!(sorted.status.code(), Some(0), "{text}");
+
+    // The same from gloc.toml, and a flag still wins over the file.
+    std::fs::write(
+        dir.join("gloc.toml"),
+        format!("masterdata = {masterdata:?}\nsensor_order = \"sorted\"\n"),
+    )
+    .expect("write gloc.toml");
+    assert_eq!(gloc(&["check", &script]).status.code(), Some(0));
+    let flag_wins = gloc(&["check", &script, "--sensor-order", "file"]);
+    assert_eq!(flag_wins.status.code(), Some(1));
+
+    // A wrong value names the two right ones.
+    let wrong = gloc(&["check", &script, "--sensor-order", "abc"]);
+    let text = String::from_utf8_lossy(&wrong.stderr);
+    assert_eq!(wrong.status.code(), Some(2), "{text}");
+    assert!(text.contains("`sorted`"), "{text}");
+}

@@ -27,6 +27,8 @@ pub struct LaunchConfig {
     pub seed: Option<u64>,
     pub cycle_budget: Option<u64>,
     pub max_cycles: Option<u64>,
+    /// How a masterdata file's sensors are numbered (from gloc.toml).
+    pub sensor_order: SensorOrder,
 }
 
 /// A GBASIC variable and where it lives.
@@ -65,7 +67,7 @@ pub fn launch(config: &LaunchConfig) -> Result<(World, DebugInfo), String> {
         .map_err(|error| format!("cannot read the program {}: {error}", path.display()))?;
     let sensor_list = match &config.masterdata {
         None => SensorList::embedded(),
-        Some(masterdata) => load_sensor_list(masterdata)?,
+        Some(masterdata) => load_sensor_list(masterdata, config.sensor_order)?,
     };
     let script_language = ScriptLanguage::of_path(path);
     let loaded = load_script(
@@ -230,8 +232,8 @@ fn gloc_line_text(lines: &[&str], line: u32) -> String {
     text.split('#').next().unwrap_or("").trim().to_string()
 }
 
-fn load_sensor_list(path: &Path) -> Result<SensorList, String> {
-    let loaded = gloc_engine::sensors::load_sensor_file(path, SensorOrder::FileOrder)
+fn load_sensor_list(path: &Path, order: SensorOrder) -> Result<SensorList, String> {
+    let loaded = gloc_engine::sensors::load_sensor_file(path, order)
         .map_err(|error| format!("cannot read the sensor list {}: {error}", path.display()))?;
     let errors: Vec<String> = loaded
         .diagnostics

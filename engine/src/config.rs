@@ -8,6 +8,7 @@
 //! masterdata = "config/masterdata.mi"   # or a .cac file; relative to gloc.toml
 //! cycle_budget = 2000                    # instructions per control cycle
 //! mission = "missions/yo.mi"             # the mission the debugger flies
+//! sensor_order = "sorted"                # masterdata indices: "file" (default) or "sorted"
 //! ```
 //!
 //! Parsing is pure ([`Config::parse`] takes text and returns a [`Diagnostic`]
@@ -19,6 +20,7 @@ use std::path::{Path, PathBuf};
 use serde::Deserialize;
 
 use crate::diagnostic::{Diagnostic, Span};
+use crate::sensors::SensorOrder;
 
 /// The file name looked for in a script's folder and every folder above it.
 pub const FILE_NAME: &str = "gloc.toml";
@@ -41,6 +43,9 @@ pub struct Config {
     pub cycle_budget: Option<u64>,
     /// The mission (`.mi`) the debugger and `gloc run` fly.
     pub mission: Option<PathBuf>,
+    /// How a masterdata file's sensors are numbered (file order, the default, or
+    /// sorted by name as firmware 2014 and later does).
+    pub sensor_order: Option<SensorOrder>,
 }
 
 /// A `gloc.toml` that could not be used: where it is, and what is wrong.
@@ -79,6 +84,7 @@ struct RawConfig {
     masterdata: Option<String>,
     cycle_budget: Option<u64>,
     mission: Option<String>,
+    sensor_order: Option<String>,
 }
 
 impl Config {
@@ -111,7 +117,7 @@ impl Config {
                     span,
                     format!("invalid gloc.toml: {message}"),
                 )
-                .with_help("the keys are `masterdata` (a path), `cycle_budget` (a positive integer) and `mission` (a path)"),
+                .with_help("the keys are `masterdata` (a path), `cycle_budget` (a positive integer), `mission` (a path) and `sensor_order` (\"file\" or \"sorted\")"),
             )
         })?;
         if raw.cycle_budget == Some(0) {
@@ -122,12 +128,31 @@ impl Config {
                 "invalid gloc.toml: `cycle_budget` must be at least 1",
             )));
         }
+        let sensor_order = match raw.sensor_order.as_deref() {
+            None => None,
+            Some(name) => match SensorOrder::from_name(name) {
+                Some(order) => Some(order),
+                None => {
+                    let key = text.find("sensor_order").unwrap_or(0);
+                    let at = text[key..].find(name).map_or(key, |offset| key + offset);
+                    return Err(Box::new(
+                        Diagnostic::error(
+                            CODE_BAD_CONFIG,
+                            Span::new(at, at + name.len()),
+                            format!("invalid gloc.toml: `sensor_order` is `{name}`"),
+                        )
+                        .with_help(format!("`sensor_order` is {}", SensorOrder::NAMES)),
+                    ));
+                }
+            },
+        };
         let resolve = |value: Option<String>| value.map(|relative| folder.join(relative));
         Ok(Config {
             path: Some(folder.join(FILE_NAME)),
             masterdata: resolve(raw.masterdata),
             cycle_budget: raw.cycle_budget,
             mission: resolve(raw.mission),
+            sensor_order,
         })
     }
 
@@ -180,6 +205,22 @@ mod tests {
         );
         assert_eq!(config.cycle_budget, Some(500));
         assert_eq!(config.mission, Some(PathBuf::from("/project/m/yo.mi")));
+    }
+
+    #[test]
+    fn sensor_order_is_file_or_sorted_and_anything_else_points_at_the_value() {
+        let sorted = Config::parse("sensor_order = \"sorted\"\n", Path::new("/p")).expect("valid");
+        assert_eq!(sorted.sensor_order, Some(SensorOrder::SortedByName));
+        let file = Config::parse("sensor_order = \"file\"\n", Path::new("/p")).expect("valid");
+        assert_eq!(file.sensor_order, Some(SensorOrder::FileOrder));
+        let text = "masterdata = \"m.mi\"\nsensor_order = \"alphabetical\"\n";
+        let error = Config::parse(text, Path::new("/p")).expect_err("not an order");
+        assert_eq!(error.code, CODE_BAD_CONFIG);
+        assert_eq!(&text[error.span.range()], "alphabetical");
+        assert!(error
+            .help
+            .as_deref()
+            .is_some_and(|help| help.contains("`sorted`")));
     }
 
     #[test]

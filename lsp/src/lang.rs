@@ -94,11 +94,10 @@ pub fn format(language: Language, text: &str) -> Option<String> {
     .flatten()
 }
 
-/// Loads a masterdata or `.cac` file (indices in file order, the paper's
-/// era). A file with errors is refused with the first one, located.
-pub fn load_sensor_list(path: &Path) -> Result<SensorList, String> {
-    let loaded =
-        load_sensor_file(path, SensorOrder::FileOrder).map_err(|error| error.to_string())?;
+/// Loads a masterdata or `.cac` file (masterdata numbered in `order`). A file
+/// with errors is refused with the first one, located.
+pub fn load_sensor_list(path: &Path, order: SensorOrder) -> Result<SensorList, String> {
+    let loaded = load_sensor_file(path, order).map_err(|error| error.to_string())?;
     if let Some(error) = loaded
         .diagnostics
         .iter()

@@ -13,7 +13,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 
 use gloc_engine::config::{Config, ConfigError};
-use gloc_engine::sensors::SensorList;
+use gloc_engine::sensors::{SensorList, SensorOrder};
 use gloc_engine::Diagnostic;
 use serde_json::Value;
 use tower_lsp_server::jsonrpc::{Error, Result};
@@ -58,7 +58,8 @@ struct State {
     documents: HashMap<Uri, Open>,
     settings: Settings,
     /// Loaded sensor lists by path (a failure is kept as its message).
-    sensor_lists: HashMap<PathBuf, std::result::Result<Arc<SensorList>, String>>,
+    /// Sensor lists read from files, by path and numbering.
+    sensor_lists: HashMap<(PathBuf, SensorOrder), std::result::Result<Arc<SensorList>, String>>,
     embedded: Option<Arc<SensorList>>,
     client_supports_configuration: bool,
     client_supports_watch_registration: bool,
@@ -134,12 +135,17 @@ impl State {
         }
     }
 
-    fn sensor_list(&mut self, path: &Path) -> std::result::Result<Arc<SensorList>, String> {
-        if let Some(loaded) = self.sensor_lists.get(path) {
+    fn sensor_list(
+        &mut self,
+        path: &Path,
+        order: SensorOrder,
+    ) -> std::result::Result<Arc<SensorList>, String> {
+        let key = (path.to_path_buf(), order);
+        if let Some(loaded) = self.sensor_lists.get(&key) {
             return loaded.clone();
         }
-        let loaded = lang::load_sensor_list(path).map(Arc::new);
-        self.sensor_lists.insert(path.to_path_buf(), loaded.clone());
+        let loaded = lang::load_sensor_list(path, order).map(Arc::new);
+        self.sensor_lists.insert(key, loaded.clone());
         loaded
     }
 
@@ -149,10 +155,11 @@ impl State {
         let config = self.config_for(path.as_deref()).unwrap_or_default();
         let masterdata = self.settings.masterdata.clone().or(config.masterdata);
         let cycle_budget = self.settings.cycle_budget.or(config.cycle_budget);
+        let sensor_order = config.sensor_order.unwrap_or_default();
         let mut problems = Vec::new();
         let sensors = match masterdata {
             None => self.embedded(),
-            Some(masterdata) => match self.sensor_list(&masterdata) {
+            Some(masterdata) => match self.sensor_list(&masterdata, sensor_order) {
                 Ok(list) => list,
                 Err(message) => {
                     problems.push(

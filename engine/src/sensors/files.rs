@@ -9,13 +9,28 @@ use crate::diagnostic::{Diagnostic, Span};
 use crate::sensors::{BehaviorArg, BehaviorDefaults, Sensor, SensorList};
 
 /// How sensor indices follow from a masterdata file.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum SensorOrder {
     /// Indices follow the file (firmware before 2014; the paper's era).
     #[default]
     FileOrder,
     /// Indices follow the names sorted after upper-casing (firmware 2014 and later).
     SortedByName,
+}
+
+impl SensorOrder {
+    /// The names a user writes (`--sensor-order`, `sensor_order` in gloc.toml).
+    pub const NAMES: &'static str =
+        "`file` (firmware before 2014) or `sorted` (firmware 2014 and later)";
+
+    /// `file` or `sorted`, as a user writes it.
+    pub fn from_name(name: &str) -> Option<SensorOrder> {
+        match name {
+            "file" => Some(SensorOrder::FileOrder),
+            "sorted" => Some(SensorOrder::SortedByName),
+            _ => None,
+        }
+    }
 }
 
 /// A sensor list read from a file, with what went wrong reading it.

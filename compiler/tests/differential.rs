@@ -104,10 +104,12 @@ fn run(loaded: &LoadedScript, sensors: &SensorList) -> Run {
                 break;
             }
             CycleEnd::Trapped(trap) => {
+                let line = loaded
+                    .line_of_pc(trap.pc)
+                    .map_or_else(|| "?".to_string(), |line| line.to_string());
                 end = format!(
-                    "trap {} at GBASIC line {:?}",
-                    loaded.trap_message(&trap.kind),
-                    loaded.line_of_pc(trap.pc)
+                    "trap {} at GBASIC line {line}",
+                    loaded.trap_message(&trap.kind)
                 );
                 break;
             }

@@ -118,6 +118,21 @@ fn dead_code_removal_keeps_a_division_that_can_trap() {
 }
 
 #[test]
+fn dead_code_removal_keeps_a_float_division_too() {
+    // `div` is integer or float by the values at run time, so a dead float `div`
+    // stays like an integer one (docs/gbasic.md says so). As in the mul case above
+    // the division's result is coalesced into `half` (r1) and the copies and zero
+    // initialisations go: loads 444,r2; loadd 2.0,r3; div r2,r3,r1; print r2.
+    // r2 is live across everything; r3 and r1 each overlap only r2 and not each
+    // other, so r2 → r0, r3 → r1, r1 → r1.
+    let source = "dim d as float\ndim half as float\nd = m_depth\nhalf = d / 2.0\nprint d\n";
+    assert_eq!(
+        optimized(source),
+        "nregs 2\nnblbs 0\nninstr 4\nloads 444,r0\nloadd 2.0,r1\ndiv r0,r1,r1\nprint r0\n"
+    );
+}
+
+#[test]
 fn common_subexpressions_are_computed_once() {
     let source = "dim d as float\nd = m_depth\nc_pitch = d * 2.0 + d * 2.0\n";
     // Unoptimized (d r0): loadd 0.0,r0; loads 444,r1; mov r1,r0; loadd 2.0,r2;

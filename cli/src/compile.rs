@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::Context;
-use gloc_compiler::{load_script, Language, LoadOptions, LoadedScript};
+use gloc_compiler::{compile, load_script, CompileOptions, Language, LoadOptions, LoadedScript};
 use gloc_engine::sensors::SensorList;
 
 use crate::render::{SourceFile, Tally};
@@ -92,6 +92,17 @@ pub fn main(args: crate::CompileArgs) -> anyhow::Result<ExitCode> {
                 String::new()
             }
         );
+        if args.optimize {
+            // What -O bought: the same program built without the optimizer. Its
+            // errors, if any, were already reported by the optimized build.
+            let unoptimized = compile(&text, &sensors, &CompileOptions { optimize: false });
+            if let Some(before) = unoptimized.stats {
+                eprintln!(
+                    "{display}: -O: {} → {} instructions, {} → {} registers (unoptimized → optimized)",
+                    before.instructions, stats.instructions, before.registers, stats.registers
+                );
+            }
+        }
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -121,3 +121,128 @@ fn compile_refuses_to_overwrite_its_source() {
     );
     std::fs::remove_dir_all(dir).ok();
 }
+
+/// `(instructions, registers)` of a written GLOC file, counted from its text: the
+/// `nregs` header, and the lines after the header that are not labels.
+fn counts_in_gloc(text: &str) -> (u32, u32) {
+    let mut registers = None;
+    let mut instructions = 0;
+    for line in text.lines() {
+        let first = line.split_whitespace().next().unwrap_or("");
+        match first {
+            "nregs" => {
+                registers = line
+                    .split_whitespace()
+                    .nth(1)
+                    .and_then(|value| value.parse().ok())
+            }
+            "nblbs" | "ninstr" | "nmem" | "label" | "" => {}
+            _ => instructions += 1,
+        }
+    }
+    (instructions, registers.expect("an nregs header"))
+}
+
+/// The four numbers of `…: -O: A → B instructions, C → D registers (…)`.
+fn optimizer_counts(stderr: &str) -> Option<[u32; 4]> {
+    let line = stderr.lines().find(|line| line.contains(": -O: "))?;
+    let numbers: Vec<u32> = line
+        .split(": -O: ")
+        .nth(1)?
+        .split(|c: char| !c.is_ascii_digit())
+        .filter_map(|word| word.parse().ok())
+        .collect();
+    numbers.try_into().ok()
+}
+
+#[test]
+fn compile_dash_o_reports_before_and_after_counts_and_writes_gloc_that_checks() {
+    let dir = scratch("optimize");
+    let source = root().join("examples/thermocline.gbas");
+    let plain_out = dir.join("plain.gloc");
+    let optimized_out = dir.join("optimized.gloc");
+    let plain = gloc()
+        .arg("compile")
+        .arg(&source)
+        .arg("-o")
+        .arg(&plain_out)
+        .output()
+        .expect("gloc runs");
+    assert!(
+        plain.status.success(),
+        "{}",
+        String::from_utf8_lossy(&plain.stderr)
+    );
+    // Without -O there is no before → after line.
+    assert_eq!(
+        optimizer_counts(&String::from_utf8_lossy(&plain.stderr)),
+        None
+    );
+
+    let optimized = gloc()
+        .arg("compile")
+        .arg(&source)
+        .arg("-O")
+        .arg("-o")
+        .arg(&optimized_out)
+        .output()
+        .expect("gloc runs");
+    let stderr = String::from_utf8_lossy(&optimized.stderr);
+    assert!(optimized.status.success(), "{stderr}");
+    let [instructions_before, instructions_after, registers_before, registers_after] =
+        optimizer_counts(&stderr).unwrap_or_else(|| panic!("no -O counts line in {stderr}"));
+    assert!(instructions_before >= instructions_after, "{stderr}");
+    assert!(registers_before >= registers_after, "{stderr}");
+    // The figures are the two builds' own: counted independently from the GLOC files.
+    let plain_text = std::fs::read_to_string(&plain_out).expect("plain GLOC written");
+    let optimized_text = std::fs::read_to_string(&optimized_out).expect("-O GLOC written");
+    assert_eq!(
+        counts_in_gloc(&plain_text),
+        (instructions_before, registers_before),
+        "{stderr}"
+    );
+    assert_eq!(
+        counts_in_gloc(&optimized_text),
+        (instructions_after, registers_after),
+        "{stderr}"
+    );
+    // Unoptimized, every value takes a fresh register, so reuse must save some.
+    assert!(registers_after < registers_before, "{stderr}");
+
+    // The optimized GLOC is a valid script on its own.
+    let check = gloc()
+        .arg("check")
+        .arg(&optimized_out)
+        .output()
+        .expect("gloc runs");
+    assert!(
+        check.status.success(),
+        "{}{}",
+        String::from_utf8_lossy(&check.stdout),
+        String::from_utf8_lossy(&check.stderr)
+    );
+    // And it flies the mission as the unoptimized GLOC does: the same lines printed.
+    let fly = |gloc_file: &Path| {
+        let output = gloc()
+            .arg("run")
+            .arg(gloc_file)
+            .arg("--mission")
+            .arg(root().join("examples/thermocline.mi"))
+            .args(["--duration", "2h"])
+            .output()
+            .expect("gloc runs");
+        assert!(
+            output.status.success(),
+            "{}",
+            String::from_utf8_lossy(&output.stderr)
+        );
+        String::from_utf8_lossy(&output.stdout).into_owned()
+    };
+    let plain_printed = fly(&plain_out);
+    assert!(
+        plain_printed.contains("thermocline from"),
+        "{plain_printed}"
+    );
+    assert_eq!(fly(&optimized_out), plain_printed);
+    std::fs::remove_dir_all(dir).ok();
+}

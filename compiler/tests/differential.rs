@@ -104,10 +104,12 @@ fn run(loaded: &LoadedScript, sensors: &SensorList) -> Run {
                 break;
             }
             CycleEnd::Trapped(trap) => {
+                let line = loaded
+                    .line_of_pc(trap.pc)
+                    .map_or_else(|| "?".to_string(), |line| line.to_string());
                 end = format!(
-                    "trap {} at GBASIC line {:?}",
-                    loaded.trap_message(&trap.kind),
-                    loaded.line_of_pc(trap.pc)
+                    "trap {} at GBASIC line {line}",
+                    loaded.trap_message(&trap.kind)
                 );
                 break;
             }
@@ -129,9 +131,10 @@ fn programs() -> Vec<PathBuf> {
         "tests/fixtures/gbasic/run",
         "examples",
     ] {
-        let Ok(entries) = std::fs::read_dir(root.join(dir)) else {
-            continue;
-        };
+        // These folders are part of the repository: a missing one is a broken
+        // checkout, not a folder to skip.
+        let entries = std::fs::read_dir(root.join(dir))
+            .unwrap_or_else(|error| panic!("cannot read {dir}: {error}"));
         for entry in entries {
             let path = entry.expect("readable entry").path();
             if path

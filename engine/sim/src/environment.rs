@@ -217,13 +217,16 @@ mod tests {
 
     #[test]
     fn reads_the_amadeus_csv_with_comments() {
-        let path = Path::new("/work/shared/data/amadeus_2014-07-24_temp_profile.csv");
-        let Ok(text) = std::fs::read_to_string(path) else {
-            // The shared data folder is absent on a fresh machine; the inline
-            // test below covers the format.
-            return;
-        };
-        let profile = TemperatureProfile::from_csv(path, &text).expect("amadeus profile loads");
+        // The shared data folder sits next to the repository, here and in CI.
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../../shared/data/amadeus_2014-07-24_temp_profile.csv");
+        let text = std::fs::read_to_string(&path).unwrap_or_else(|error| {
+            panic!(
+                "cannot read {} ({error}): the shared data folder must be at ../shared",
+                path.display()
+            )
+        });
+        let profile = TemperatureProfile::from_csv(&path, &text).expect("amadeus profile loads");
         // The notes give 20.2 °C at the surface and 14.7 °C below 25 m.
         assert!(
             (profile.temperature(0.0) - 20.2).abs() < 0.3,

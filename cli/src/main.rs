@@ -116,6 +116,10 @@ pub struct RunArgs {
     /// Sensors to log, comma-separated (default: what a pilot looks at, plus the sensors the script stores).
     #[arg(long, value_name = "NAMES")]
     pub log_sensors: Option<String>,
+    /// Inject a sensor fault (repeatable): SENSOR:KIND@START[..END], KIND one of nan, dropout,
+    /// stuck=VALUE, spike=OFFSET; cycles from 0, END excluded. E.g. `m_depth:nan@20`.
+    #[arg(long = "fault", value_name = "SENSOR:KIND@START[..END]")]
+    pub faults: Vec<String>,
     /// Write an SVG flight profile.
     #[arg(long, value_name = "FILE.svg")]
     pub plot: Option<PathBuf>,

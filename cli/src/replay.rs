@@ -36,6 +36,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         (args.seed.is_some(), "--seed"),
         (args.log.is_some(), "--log"),
         (args.plot.is_some(), "--plot"),
+        (!args.faults.is_empty(), "--fault"),
     ] {
         if given {
             bail!("{flag} belongs to the simulator and cannot be used with --replay");

@@ -16,6 +16,7 @@ use anyhow::{bail, Context};
 use gloc_compiler::{load_script, Language, LoadOptions, LoadedScript};
 use gloc_engine::sensors::SensorList;
 use gloc_engine::vm::DEFAULT_CYCLE_BUDGET;
+use gloc_sim::faults::{step_cycle_with_faults, Fault, FaultPlan};
 use gloc_sim::log::{default_columns, parse_columns, DbaHeader, LogFormat, LogWriter};
 use gloc_sim::plot::{render_svg, Trace};
 use gloc_sim::{default_mission, EndReason, Mission, SimConfig, Simulation, TemperatureProfile};
@@ -51,6 +52,15 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         None => SensorList::embedded(),
     };
     let sensor_list = Arc::new(sensor_list);
+    // Bad faults are a bad command line: stop before anything is flown.
+    let faults = args
+        .faults
+        .iter()
+        .map(|text| {
+            Fault::parse(text, &sensor_list).map_err(|error| anyhow::anyhow!("--fault {error}"))
+        })
+        .collect::<anyhow::Result<Vec<Fault>>>()?;
+    let mut fault_plan = FaultPlan::new(faults);
     let cycle_budget = settings.cycle_budget.unwrap_or(DEFAULT_CYCLE_BUDGET);
     if cycle_budget == 0 {
         bail!("--cycle-budget must be at least 1");
@@ -174,7 +184,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
     let mut last_printed: Vec<String> = Vec::new();
     let started = Instant::now();
     let mut cycles_run: u64 = 0;
-    while cycles_run < max_cycles && sim.step_cycle() {
+    while cycles_run < max_cycles && step_cycle_with_faults(&mut sim, &mut fault_plan) {
         cycles_run += 1;
         for line in sim.printed() {
             printed_lines += 1;
@@ -233,6 +243,8 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         last_printed: &last_printed,
         log: args.log.as_deref(),
         plot: args.plot.as_deref(),
+        faults: &fault_plan,
+        fault_texts: &args.faults,
     });
     Ok(ExitCode::SUCCESS)
 }
@@ -383,6 +395,9 @@ struct SummaryFacts<'a> {
     last_printed: &'a [String],
     log: Option<&'a Path>,
     plot: Option<&'a Path>,
+    faults: &'a FaultPlan,
+    /// The `--fault` arguments as written, in the plan's order.
+    fault_texts: &'a [String],
 }
 
 fn summary(facts: &SummaryFacts<'_>) {
@@ -466,6 +481,12 @@ fn summary(facts: &SummaryFacts<'_>) {
         )
     };
     lines.push(format!("script printed {printed}"));
+    for ((fault, applied), text) in facts.faults.report().zip(facts.fault_texts) {
+        lines.push(format!(
+            "fault         {}",
+            fault_line(fault, applied, text, sim)
+        ));
+    }
     if let Some(path) = facts.log {
         lines.push(format!("log           {}", path.display()));
     }
@@ -475,6 +496,29 @@ fn summary(facts: &SummaryFacts<'_>) {
     let mut err = std::io::stderr().lock();
     for line in lines {
         let _ = writeln!(err, "{line}");
+    }
+}
+
+/// `m_depth:nan@20: m_depth reads NaN in cycles 20–336 (1m 20s – 22m 24s)`.
+fn fault_line(fault: &Fault, applied: Option<(u64, u64)>, text: &str, sim: &Simulation) -> String {
+    let name = sim.sensor_list().name(fault.sensor).unwrap_or("the sensor");
+    let at = |cycle: u64| human_time(cycle as f64 * sim.cycle_time());
+    match applied {
+        Some((first, last)) if first == last => format!(
+            "{text}: {name} {} in cycle {first} ({})",
+            fault.kind,
+            at(first)
+        ),
+        Some((first, last)) => format!(
+            "{text}: {name} {} in cycles {first}–{last} ({} – {})",
+            fault.kind,
+            at(first),
+            at(last)
+        ),
+        None => format!(
+            "{text}: not injected (the run ended before cycle {})",
+            fault.start
+        ),
     }
 }
 

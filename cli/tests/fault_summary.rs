@@ -118,3 +118,97 @@ fn an_overrun_mid_mission_is_in_the_summary_and_the_log_goes_to_the_end() {
     assert!(cycles > 150, "the run went on after the overrun: {cycles}");
     assert_eq!(rows, cycles, "one log row per cycle:\n{stderr}");
 }
+
+/// Runs `gloc run` (the embedded mission and script) with these extra
+/// arguments and a CSV log; returns (exit code, stderr, the log's text or "").
+fn gloc_run_args(name: &str, extra: &[&str]) -> (Option<i32>, String, String) {
+    let log_path = scratch(&format!("{name}.csv"));
+    let _ = std::fs::remove_file(&log_path);
+    let output = Command::new(env!("CARGO_BIN_EXE_gloc"))
+        .arg("run")
+        .arg("--log")
+        .arg(&log_path)
+        .args(extra)
+        .output()
+        .expect("run gloc");
+    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    let log = std::fs::read_to_string(&log_path).unwrap_or_default();
+    let _ = std::fs::remove_file(&log_path);
+    (output.status.code(), stderr, log)
+}
+
+#[test]
+fn a_nan_depth_fault_is_named_in_the_summary_and_the_mission_completes() {
+    let (code, stderr, log) = gloc_run_args(
+        "nan",
+        &[
+            "--fault",
+            "m_depth:nan@20",
+            "--fault",
+            "m_depth:spike=5@100000..100001",
+        ],
+    );
+    assert_eq!(code, Some(0), "{stderr}");
+    // NaN compares false, so the Fig. 2 script never asks the hook for
+    // anything; the yo flies by the vehicle's true depth, completes its six
+    // half cycles, and surface (end_action 0) completes the mission.
+    assert!(stderr.contains("mission end   completed"), "{stderr}");
+    // The fault lasts from cycle 20 to the end: every cycle flown from 20
+    // on, the last being cycle C − 1 of the C cycles the summary counts.
+    let cycles = summary_cycles(&stderr);
+    let expected = format!(
+        "fault         m_depth:nan@20: m_depth reads NaN in cycles 20–{} (1m 20s – ",
+        cycles - 1
+    );
+    assert!(stderr.contains(&expected), "{expected}\n{stderr}");
+    // The run (a few hundred cycles) ends long before cycle 100,000.
+    assert!(
+        stderr.contains(
+            "fault         m_depth:spike=5@100000..100001: not injected (the run ended before cycle 100000)"
+        ),
+        "{stderr}"
+    );
+    // The log keeps every cycle, and shows what the script saw.
+    let mut lines = log.lines();
+    let header: Vec<&str> = lines.next().expect("a header").split(',').collect();
+    let at = header
+        .iter()
+        .position(|name| *name == "m_depth")
+        .expect("m_depth is logged");
+    let depths: Vec<String> = lines
+        .map(|line| line.split(',').nth(at).expect("a cell").to_string())
+        .collect();
+    assert_eq!(depths.len(), cycles, "one log row per cycle");
+    assert!(depths[..20].iter().all(|cell| cell != "NaN"), "{depths:?}");
+    assert!(depths[20..].iter().all(|cell| cell == "NaN"), "{depths:?}");
+}
+
+#[test]
+fn a_bad_fault_argument_is_a_command_line_error_with_the_right_form() {
+    for (argument, problem) in [
+        (
+            "m_dpth:nan@20",
+            "the sensor list has no sensor `m_dpth` (did you mean `m_depth`?)",
+        ),
+        ("m_depth:nan", "no `@` before the cycle the fault starts at"),
+        ("m_depth:wobble@3", "unknown kind `wobble`"),
+        ("m_depth:stuck@3", "`stuck` needs a value: `stuck=VALUE`"),
+        (
+            "m_depth:nan@30..10",
+            "the end cycle (10, excluded) must come after the start (30)",
+        ),
+    ] {
+        let (code, stderr, log) = gloc_run_args("bad", &["--fault", argument]);
+        // Exit code 2: a bad command line, as for a bad --duration.
+        assert_eq!(code, Some(2), "{argument}: {stderr}");
+        let expected = format!(
+            "error: --fault `{argument}` is not a fault: {problem}; write SENSOR:KIND@START[..END]"
+        );
+        assert!(stderr.contains(&expected), "{expected}\n{stderr}");
+        assert!(stderr.contains("e.g. `m_depth:nan@20`"), "{stderr}");
+        // Nothing was flown.
+        assert!(!stderr.contains("mission end"), "{stderr}");
+        assert!(log.is_empty(), "{argument}: a log was written");
+    }
+}

@@ -167,13 +167,29 @@ fn depth_stuck_deep_keeps_asking_for_a_climb_and_the_mission_still_ends() {
 }
 
 #[test]
-fn depth_dropout_holds_the_last_value_and_abend_or_the_yo_ends_the_mission() {
+fn depth_dropout_holds_the_last_value_and_the_yo_still_ends_the_mission() {
+    // Why the yo, not abend, ends it: only the script reads the frozen
+    // m_depth. Whatever that value is, the Fig. 2 script can do no more than
+    // set bit 128 once (then wait for m_depth < 5 m) and clear it once; the
+    // hook clears bit 128 itself when the true depth reaches its 3 m, so the
+    // yo (which, like abend, flies by the vehicle's true depth) gets the
+    // stack back and does its six half cycles; then the stack is idle and
+    // surface (end_action 0) completes the mission. abend sees the same
+    // flight as without the fault: turns at 25 m + ~1 m (< 30 m overdepth),
+    // always moving (no samedepth), and the mission lasts well under its
+    // 7200 s overtime, so it does not abort.
     let list = list();
     let depth = sensor(&list, "m_depth");
     let run = run(FIG2, vec![Fault::from_cycle(depth, FaultKind::Dropout, 40)]);
     assert_safe_and_logged(&run);
     let held = run.depth_column[40];
     assert!(run.depth_column[40..].iter().all(|&value| value == held));
+    assert!(run.depth_column[..40].iter().any(|&value| value != held));
+    assert!(run.sim.script_trap().is_none());
+    assert_eq!(
+        run.sim.end().map(|end| end.reason),
+        Some(EndReason::Completed)
+    );
 }
 
 #[test]

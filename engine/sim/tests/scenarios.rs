@@ -6,7 +6,7 @@ use std::sync::Arc;
 use gloc_engine::gloc::{self, CheckOptions};
 use gloc_engine::program::Program;
 use gloc_engine::sensors::SensorList;
-use gloc_sim::behaviors::AbortReason;
+use gloc_sim::behaviors::{AbortReason, BehaviorKind};
 use gloc_sim::log::{default_columns, DbaHeader, LogFormat, LogWriter};
 use gloc_sim::{default_mission, EndReason, Mission, SimConfig, Simulation};
 
@@ -187,10 +187,56 @@ fn a_script_cannot_override_abend() {
 
 #[test]
 fn hook_with_flags_clear_commands_nothing() {
-    // A script that never touches the hook: the yo alone flies the mission.
+    // A script that never touches the hook: sci_ruhp_behs stays 0, so the
+    // hook (active every cycle, below the script and above the yo) must
+    // command nothing, and the yo below it wins buoyancy and pitch in every
+    // cycle until it completes; then the stack is idle and surface (above)
+    // ends the mission.
     let idle = "nregs 0\nnblbs 1\nninstr 3\nlabel 0\nyield\njumpi 0\n";
-    let (sim, log) = run_logged(&default_mission(), idle, 5000);
-    let turns = turns(&log.column("m_depth"));
+    let list = Arc::new(SensorList::embedded());
+    let behs = list.lookup("sci_ruhp_behs").expect("hook sensor");
+    let mut sim = Simulation::new(
+        &default_mission(),
+        list.clone(),
+        Some(compile(idle, &list)),
+        &SimConfig::default(),
+    )
+    .expect("starts");
+    let index_of = |kind| {
+        sim.behaviors()
+            .iter()
+            .position(|behavior| behavior.kind == kind)
+            .unwrap_or_else(|| panic!("the default mission has a {kind:?}"))
+    };
+    let (hook, yo, surface) = (
+        index_of(BehaviorKind::Hook),
+        index_of(BehaviorKind::Yo),
+        index_of(BehaviorKind::Surface),
+    );
+    let mut depths = Vec::new();
+    let mut yo_cycles = 0;
+    while sim.cycle() < 5000 && sim.step_cycle() {
+        depths.push(sim.depth());
+        assert!(sim.behaviors()[hook].is_active(), "cycle {}", sim.cycle());
+        assert_eq!(sim.sensor(behs), Some(0.0));
+        let commands = sim.commands();
+        let owners = [commands.buoyancy, commands.pitch].map(|winner| winner.map(|(_, at)| at));
+        assert!(
+            !owners.contains(&Some(hook)),
+            "the hook commanded in cycle {}: {commands:?}",
+            sim.cycle()
+        );
+        if sim.behaviors()[yo].is_active() {
+            yo_cycles += 1;
+            assert_eq!(owners, [Some(yo); 2], "cycle {}", sim.cycle());
+        } else {
+            assert!(owners
+                .iter()
+                .all(|owner| owner.is_none() || *owner == Some(surface)));
+        }
+    }
+    assert!(yo_cycles > 100, "the yo flew {yo_cycles} cycles");
+    let turns = turns(&depths);
     assert!((24.5..27.0).contains(&turns[0]), "{turns:?}");
     assert_eq!(sim.end().map(|end| end.reason), Some(EndReason::Completed));
 }

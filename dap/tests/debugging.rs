@@ -1265,3 +1265,21 @@ fn reverse_history_keeps_a_bounded_number_of_snapshots() {
     debugger.step_back().expect("stepBack");
     assert_eq!(debugger.target.cycle(), 999);
 }
+
+#[test]
+fn a_while_line_is_hit_once_per_test_not_again_at_its_jump_back() {
+    let program = fixture("loop.gbas");
+    let mut client = start(json!({ "program": program, "history": false }));
+    client.ok(
+        "setBreakpoints",
+        json!({ "source": { "path": program }, "breakpoints": [{ "line": 5, "hitCondition": "5" }] }),
+    );
+    client.ok("configurationDone", json!({}));
+    // Line 5 (`while i < 3`) is tested with i = 0, 1, 2, 3 in cycle 0: four hits. The 5th
+    // is the first test of cycle 1, with i = 0 again. (Counting the `wend`'s jump back,
+    // which the compiler attributes to line 5, the 5th would be cycle 0 with i = 2.)
+    assert_eq!(stopped(&mut client)["reason"], "breakpoint");
+    assert_eq!(top_line(&mut client), 5);
+    assert_eq!(cycle(&mut client), 1);
+    assert_eq!(value(&mut client, 1, "i"), "0");
+}

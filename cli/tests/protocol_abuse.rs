@@ -3,6 +3,8 @@
 //! of order and a client that vanishes. Each case must end in an error
 //! response or a clean exit: no hang (every wait has a deadline), no panic
 //! (stderr is checked), no process left behind (every child is waited for).
+//! Every message `gloc dap` sends is validated against the official DAP JSON schema
+//! with the adapter tests' own validator.
 
 use std::io::{Read, Write};
 use std::process::{Child, ChildStdin, Command, ExitStatus, Stdio};
@@ -11,6 +13,9 @@ use std::thread;
 use std::time::{Duration, Instant};
 
 use serde_json::{json, Value};
+
+#[path = "../../dap/tests/support/schema.rs"]
+mod dap_schema;
 
 /// Far longer than any case needs; only a hang reaches it.
 const DEADLINE: Duration = Duration::from_secs(30);
@@ -21,6 +26,12 @@ struct Server {
     stdin: Option<ChildStdin>,
     messages: Receiver<Value>,
     stderr: Receiver<String>,
+    /// The DAP schema for `gloc dap`, whose every message is validated.
+    schema: Option<dap_schema::Schema>,
+    /// Messages validated so far.
+    validated: usize,
+    /// Every message taken from the server so far, in order.
+    received: Vec<Value>,
 }
 
 impl Server {
@@ -63,6 +74,9 @@ impl Server {
             stdin,
             messages,
             stderr: stderr_receiver,
+            schema: (subcommand == "dap").then(dap_schema::Schema::dap),
+            validated: 0,
+            received: Vec::new(),
         }
     }
 
@@ -84,8 +98,12 @@ impl Server {
         loop {
             let left = deadline.saturating_duration_since(Instant::now());
             match self.messages.recv_timeout(left) {
-                Ok(message) if wanted(&message) => return message,
-                Ok(_) => {}
+                Ok(message) => {
+                    self.check(&message);
+                    if wanted(&message) {
+                        return message;
+                    }
+                }
                 Err(RecvTimeoutError::Timeout) => {
                     self.kill();
                     panic!("no {what} within {DEADLINE:?}: the server hangs");
@@ -108,6 +126,10 @@ impl Server {
                     .stderr
                     .recv_timeout(DEADLINE)
                     .expect("stderr closes with the process");
+                // What was sent but not waited for is validated too.
+                while let Ok(message) = self.messages.recv_timeout(DEADLINE) {
+                    self.check(&message);
+                }
                 assert!(
                     !stderr.contains("panicked"),
                     "the server panicked: {stderr}"
@@ -120,6 +142,20 @@ impl Server {
             }
             thread::sleep(Duration::from_millis(20));
         }
+    }
+
+    /// For `gloc dap`: the message must satisfy the DAP schema.
+    fn check(&mut self, message: &Value) {
+        if let Some(schema) = &self.schema {
+            let errors = schema.validate_message(message);
+            assert!(
+                errors.is_empty(),
+                "message violates the DAP schema: {message}\n{}",
+                errors.join("\n")
+            );
+            self.validated += 1;
+        }
+        self.received.push(message.clone());
     }
 
     fn kill(&mut self) {
@@ -454,6 +490,12 @@ fn dap_disconnect(mut server: Server, seq: i64) {
     assert_eq!(response["success"], json!(true), "{response}");
     let (status, _) = server.finish();
     assert!(clean_exit(status), "{status:?}");
+    // At least initialize's response and this disconnect's were checked.
+    assert!(
+        server.validated >= 2,
+        "{} messages validated",
+        server.validated
+    );
 }
 
 #[test]
@@ -480,6 +522,49 @@ fn dap_wrong_content_length_too_short_gets_an_error_and_the_adapter_goes_on() {
     assert!(error["message"].is_string(), "{error}");
     dap_still_answers(&mut server, 3);
     dap_disconnect(server, 4);
+}
+
+#[test]
+fn dap_wrong_content_length_too_long_swallows_the_next_message_only() {
+    let mut server = dap_initialized();
+    let body = dap_request(2, "threads", json!({})).to_string();
+    let next = dap_request(3, "threads", json!({})).to_string();
+    // The length covers this body and the whole next frame: one bad message, whose
+    // `seq` (2) can be read from its text, so it gets an error response.
+    let mut bytes = format!(
+        "Content-Length: {}\r\n\r\n",
+        body.len() + frame(next.as_bytes()).len()
+    )
+    .into_bytes();
+    bytes.extend_from_slice(body.as_bytes());
+    bytes.extend_from_slice(&frame(next.as_bytes()));
+    server.send_bytes(&bytes);
+    let error = dap_response(&mut server, 2);
+    assert_eq!(error["success"], json!(false), "{error}");
+    dap_still_answers(&mut server, 4);
+    dap_disconnect(server, 5);
+}
+
+#[test]
+fn dap_wrong_content_length_too_long_then_end_of_input_exits_cleanly() {
+    let mut server = dap_initialized();
+    let body = dap_request(2, "threads", json!({})).to_string();
+    // 100 bytes more than the body: the adapter waits for bytes that never come, until
+    // the client closes its input; then it must exit, not hang or crash.
+    let mut bytes = format!("Content-Length: {}\r\n\r\n", body.len() + 100).into_bytes();
+    bytes.extend_from_slice(body.as_bytes());
+    server.send_bytes(&bytes);
+    let (status, _) = server.finish();
+    assert!(clean_exit(status), "{status:?}");
+    // The cut request was never answered as if it were complete.
+    assert!(
+        !server
+            .received
+            .iter()
+            .any(|message| message["request_seq"] == json!(2) && message["success"] == json!(true)),
+        "{:?}",
+        server.received
+    );
 }
 
 #[test]

@@ -588,7 +588,7 @@ impl<T: Target> Debugger<T> {
                     hit,
                 ));
             }
-            if self.info.is_statement_start(pc) {
+            if self.info.is_line_entry(pc) {
                 let line = self.info.line(pc);
                 let mut hit = Vec::new();
                 for index in 0..self.line_breakpoints.len() {

@@ -57,6 +57,24 @@ impl DebugInfo {
         }
     }
 
+    /// Where a line breakpoint on this pc's line stops: a statement start that is not a
+    /// jump the compiler attributes to a line whose code began earlier (the jump out of an
+    /// `if` block, or a `while`'s jump back to its test). Those would stop a second time
+    /// on the same line in the same pass, after the line's code already ran.
+    pub fn is_line_entry(&self, pc: usize) -> bool {
+        if !self.is_statement_start(pc) {
+            return false;
+        }
+        let is_jump = self
+            .instruction_text
+            .get(pc)
+            .is_some_and(|text| text.trim_start().starts_with("jumpi "));
+        let began_earlier = self.line_of_pc[..pc]
+            .iter()
+            .any(|line| *line == self.line_of_pc[pc]);
+        !(is_jump && began_earlier)
+    }
+
     /// Moves a requested breakpoint line to the nearest line with code: the first one at
     /// or after it, else the last one before it.
     pub fn resolve_line(&self, requested: u32) -> Option<u32> {
@@ -109,5 +127,32 @@ mod tests {
         assert!(!info.is_statement_start(1));
         assert!(info.is_statement_start(2));
         assert!(!info.is_statement_start(3));
+    }
+
+    #[test]
+    fn a_jump_back_into_an_earlier_line_is_not_its_entry() {
+        // `while i < 3` (line 2) / `i = i + 1` (line 3) / `wend`: the jump back to the
+        // test is attributed to line 2, after line 3's code.
+        let text = [
+            "loadi 3,r1",
+            "cmplt r0,r1,r2",
+            "cbr r2,1,2",
+            "add r0,r3,r0",
+            "jumpi 0",
+            "jumpi 7",
+        ];
+        let info = DebugInfo::new(
+            PathBuf::from("a.gbas"),
+            Language::Gbasic,
+            vec![Some(2), Some(2), Some(2), Some(3), Some(2), Some(5)],
+            text.iter().map(|text| text.to_string()).collect(),
+        );
+        assert!(info.is_line_entry(0));
+        assert!(info.is_line_entry(3));
+        // A statement start, but line 2 began at pc 0.
+        assert!(info.is_statement_start(4));
+        assert!(!info.is_line_entry(4));
+        // A `goto` on its own line is that line's entry.
+        assert!(info.is_line_entry(5));
     }
 }

@@ -989,3 +989,297 @@ fn arrays_are_expandable_evaluable_and_settable() {
     );
     assert_eq!(response["success"], false);
 }
+
+/// The output events of category `category` received so far, their texts in order.
+fn outputs(client: &Client, category: &str) -> Vec<String> {
+    client
+        .received
+        .iter()
+        .filter(|message| message["event"] == "output" && message["body"]["category"] == category)
+        .map(|message| {
+            message["body"]["output"]
+                .as_str()
+                .unwrap_or_default()
+                .to_string()
+        })
+        .collect()
+}
+
+#[test]
+fn behavior_changes_are_output_events() {
+    let program = fixture("fig3.gbas");
+    let mut client = start(json!({ "program": program, "history": false }));
+    client.ok("configurationDone", json!({}));
+    client.event("terminated");
+    let behaviors: Vec<String> = outputs(&client, "console")
+        .into_iter()
+        .filter(|text| text.starts_with("behavior: "))
+        .collect();
+    // The embedded Fig. 2 mission: the yo has start_when 0 (immediately), so it starts in
+    // the first cycle, cycle 0, before anything else changes.
+    assert_eq!(
+        behaviors.first().map(String::as_str),
+        Some("behavior: cycle 0: yo started\n"),
+        "{behaviors:?}"
+    );
+    // The yo does num_half_cycles_to_do 6 half cycles, each ending in a turn, dive first:
+    // a dive turns once at or below d_target_depth 25 m, a climb at or above c_target_depth
+    // 2 m. After the 6th turn it completes, the stack is idle and surface (start_when 1,
+    // stack idle) starts after that.
+    let turns: Vec<f64> = behaviors
+        .iter()
+        .filter_map(|text| text.split(": yo turned at ").nth(1))
+        .map(|rest| rest.trim_end_matches(" m\n").parse().expect("a depth"))
+        .collect();
+    assert_eq!(turns.len(), 6, "{behaviors:?}");
+    for (index, depth) in turns.iter().enumerate() {
+        if index % 2 == 0 {
+            assert!(*depth >= 25.0, "dive {index} turned at {depth}");
+        } else {
+            assert!(*depth <= 2.0, "climb {index} turned at {depth}");
+        }
+    }
+    let position = |suffix: &str| {
+        behaviors
+            .iter()
+            .position(|text| text.ends_with(suffix))
+            .unwrap_or_else(|| panic!("no `{suffix}` in {behaviors:?}"))
+    };
+    assert!(position(": yo completed\n") < position(": surface started\n"));
+}
+
+#[test]
+fn conditional_breakpoint_on_a_gbasic_variable() {
+    let program = fixture("states.gbas");
+    let boundaries = reference(&program, None, 400);
+    // The script sets state 2 in the cycle whose boundary first sees more than 15 m
+    // (`dived`); line 7 runs first in every cycle, so it sees state 2 from the next cycle
+    // until the cycle after the first boundary above 5 m (`climbed`, state 3 from then).
+    let dived = boundaries
+        .iter()
+        .find(|boundary| boundary.depth > 15.0)
+        .expect("the reference run goes below 15 m")
+        .cycle;
+    let climbed = boundaries
+        .iter()
+        .find(|boundary| boundary.cycle > dived && boundary.depth < 5.0)
+        .expect("the reference run climbs above 5 m")
+        .cycle;
+    let expected = boundaries
+        .iter()
+        .find(|boundary| boundary.cycle > dived && boundary.depth > 10.0)
+        .expect("deeper than 10 m in state 2");
+    assert!(expected.cycle <= climbed);
+    // Without the `state = 2` part the breakpoint would stop earlier, on the way down.
+    let deeper_than_10 = boundaries
+        .iter()
+        .find(|boundary| boundary.depth > 10.0)
+        .expect("below 10 m")
+        .cycle;
+    assert!(deeper_than_10 < expected.cycle);
+    let mut client = start(json!({ "program": program }));
+    let body = client.ok(
+        "setBreakpoints",
+        json!({ "source": { "path": program }, "breakpoints": [{ "line": 7, "condition": "m_depth > 10 and state = 2" }] }),
+    );
+    assert_eq!(body["breakpoints"][0]["verified"], true);
+    client.ok("configurationDone", json!({}));
+    assert_eq!(stopped(&mut client)["reason"], "breakpoint");
+    assert_eq!(top_line(&mut client), 7);
+    assert_eq!(cycle(&mut client), expected.cycle);
+    assert_eq!(value(&mut client, 1, "state"), "2");
+    assert_eq!(sensor(&mut client, "m_depth"), expected.depth);
+    // It holds again in the next cycle if that one is still deeper than 10 m, and never
+    // once state 3 is reached: continue either stops there or ends the mission.
+    let next = boundaries
+        .iter()
+        .find(|boundary| boundary.cycle == expected.cycle + 1)
+        .expect("a next cycle");
+    client.ok("continue", json!({ "threadId": 1 }));
+    if next.depth > 10.0 && next.cycle <= climbed {
+        assert_eq!(stopped(&mut client)["reason"], "breakpoint");
+        assert_eq!(cycle(&mut client), next.cycle);
+    }
+}
+
+#[test]
+fn abend_filter_off_does_not_stop_on_it() {
+    let program = fixture("fig3.gbas");
+    let mission = fixture("abend.mi");
+    let mut client = start(json!({ "program": program, "mission": mission, "history": false }));
+    client.ok(
+        "setExceptionBreakpoints",
+        json!({ "filters": ["trap", "overrun"] }),
+    );
+    client.ok("configurationDone", json!({}));
+    client.event("terminated");
+    assert!(
+        !client
+            .received
+            .iter()
+            .any(|message| message["event"] == "stopped"),
+        "no stop with the abend filter off"
+    );
+    // abend.mi's overdepth is 10 m: the abort is still reported, in the console.
+    let important = outputs(&client, "important");
+    assert!(
+        important
+            .iter()
+            .any(|text| text.starts_with("abend: ") && text.contains("MS_ABORT_OVERDEPTH")),
+        "{important:?}"
+    );
+}
+
+#[test]
+fn abend_filter_on_alone_stops_on_it() {
+    let program = fixture("fig3.gbas");
+    let mission = fixture("abend.mi");
+    let mut client = start(json!({ "program": program, "mission": mission, "history": false }));
+    client.ok("setExceptionBreakpoints", json!({ "filters": ["abend"] }));
+    client.ok("configurationDone", json!({}));
+    let stop = stopped(&mut client);
+    assert_eq!(stop["reason"], "exception");
+    assert!(
+        stop["text"]
+            .as_str()
+            .unwrap_or_default()
+            .contains("MS_ABORT_OVERDEPTH"),
+        "{stop}"
+    );
+    // The abort comes from going below 10 m.
+    assert!(sensor(&mut client, "m_depth") > 10.0);
+    client.ok("continue", json!({ "threadId": 1 }));
+    client.event("terminated");
+}
+
+#[test]
+fn vehicle_scope_shows_depth_pitch_behaviors_and_energy() {
+    let program = fixture("fig3.gbas");
+    let mut client = start(json!({ "program": program }));
+    client.ok(
+        "setFunctionBreakpoints",
+        json!({ "breakpoints": [{ "name": "cycle 40" }] }),
+    );
+    client.ok("configurationDone", json!({}));
+    stopped(&mut client);
+    let vehicle = values(&mut client, VEHICLE);
+    let names: Vec<&str> = vehicle.iter().map(|(name, _)| name.as_str()).collect();
+    // docs/dap.md: cycle, phase, mission time, m_present_time, depth, pitch, active
+    // behaviors, energy, charge, water depth.
+    assert_eq!(
+        names,
+        [
+            "cycle",
+            "phase",
+            "mission time (s)",
+            "m_present_time",
+            "depth (m)",
+            "pitch (rad)",
+            "pitch (deg)",
+            "active behaviors",
+            "energy (J)",
+            "charge used (Ah)",
+            "water depth (m)"
+        ]
+    );
+    let get = |name: &str| {
+        vehicle
+            .iter()
+            .find(|(known, _)| known == name)
+            .map(|(_, value)| value.clone())
+            .expect("listed")
+    };
+    assert_eq!(get("cycle"), "40");
+    // At a boundary the sensors were just written from the vehicle: m_depth is its depth
+    // and m_pitch its pitch, exactly.
+    let depth: f64 = get("depth (m)").parse().expect("a number");
+    assert_eq!(depth, sensor(&mut client, "m_depth"));
+    let pitch: f64 = get("pitch (rad)").parse().expect("a number");
+    let m_pitch = client.ok(
+        "evaluate",
+        json!({ "expression": "m_pitch", "frameId": 1, "context": "watch" }),
+    );
+    assert_eq!(
+        Some(pitch),
+        m_pitch["result"]
+            .as_str()
+            .and_then(|text| text.parse().ok())
+    );
+    let degrees: f64 = get("pitch (deg)").parse().expect("a number");
+    assert!(
+        (degrees - pitch.to_degrees()).abs() <= 0.005,
+        "{degrees} vs {pitch} rad"
+    );
+    // 160 s into Fig. 2: the yo (start_when 0) is flying, the gloc script behavior and
+    // abend are always there; the mission has not ended, so surface is not active.
+    let active = get("active behaviors");
+    assert!(active.split(", ").any(|name| name == "yo"), "{active}");
+    assert!(
+        !active.split(", ").any(|name| name == "surface"),
+        "{active}"
+    );
+    // 40 cycles of flying spent energy.
+    let energy: f64 = get("energy (J)").parse().expect("a number");
+    assert!(energy > 0.0, "{energy}");
+    assert_eq!(get("water depth (m)").parse::<f64>().ok(), Some(40.0));
+}
+
+#[test]
+fn reverse_history_keeps_a_bounded_number_of_snapshots() {
+    use gloc_dap::debugger::{Debugger, HistoryConfig, Progress, RunMode};
+    use gloc_dap::target::Target;
+    use gloc_dap::world::{self, LaunchConfig};
+
+    let config = LaunchConfig {
+        program: fixture("fig3.gbas").into(),
+        mission: Some(fixture("endless.mi").into()),
+        ..LaunchConfig::default()
+    };
+    let (world, info) = world::launch(&config).expect("launch");
+    let history = HistoryConfig {
+        max_snapshots: 8,
+        interval: 4,
+    };
+    let mut debugger = Debugger::new(world, info, Some(history));
+    // docs/dap.md: a snapshot at a boundary every K cycles, at most `max_snapshots` kept,
+    // K doubling when full (every other one dropped). By hand, with 8 kept and K = 4 from
+    // cycle 0: 0,4,…,28 are 8; at 32 a 9th, so K = 8 and 0,8,16,24,32 stay (5); 40,48,56
+    // make 8; at 64 K = 16 (0,16,32,48,64); … at 512 K = 128 (0,128,256,384,512), then
+    // 640, 768, 896: 8 at cycle 1000, and never more than 8 on the way.
+    let mut most = 0;
+    for _ in 0..1000 {
+        let start = debugger.clock();
+        loop {
+            match debugger.run(RunMode::Next, start, 100_000) {
+                Progress::Running => continue,
+                Progress::Stopped(_) => break,
+                Progress::Ended { summary } => panic!("endless.mi ended: {summary}"),
+            }
+        }
+        most = most.max(debugger.snapshot_count());
+    }
+    assert_eq!(debugger.target.cycle(), 1000);
+    assert_eq!(most, 8);
+    assert_eq!(debugger.snapshot_count(), 8);
+    // Stepping back from cycle 1000 replays from the snapshot at 896.
+    debugger.step_back().expect("stepBack");
+    assert_eq!(debugger.target.cycle(), 999);
+}
+
+#[test]
+fn a_while_line_is_hit_once_per_test_not_again_at_its_jump_back() {
+    let program = fixture("loop.gbas");
+    let mut client = start(json!({ "program": program, "history": false }));
+    client.ok(
+        "setBreakpoints",
+        json!({ "source": { "path": program }, "breakpoints": [{ "line": 5, "hitCondition": "5" }] }),
+    );
+    client.ok("configurationDone", json!({}));
+    // Line 5 (`while i < 3`) is tested with i = 0, 1, 2, 3 in cycle 0: four hits. The 5th
+    // is the first test of cycle 1, with i = 0 again. (Counting the `wend`'s jump back,
+    // which the compiler attributes to line 5, the 5th would be cycle 0 with i = 2.)
+    assert_eq!(stopped(&mut client)["reason"], "breakpoint");
+    assert_eq!(top_line(&mut client), 5);
+    assert_eq!(cycle(&mut client), 1);
+    assert_eq!(value(&mut client, 1, "i"), "0");
+}

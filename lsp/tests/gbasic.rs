@@ -525,3 +525,134 @@ fn decode(data: &[u64]) -> Vec<(u64, u64, u64, u64, u64)> {
         })
         .collect()
 }
+
+/// Constants, variables, an array, two labels and one block of each kind, with a `yield`
+/// in every loop that needs one, so the program is clean.
+const BLOCKS: &str = "const LIMIT = 3\nconst G = -9.81\ndim count as integer\ndim i as integer\ndim depths(4) as float\nlabel: top\nif count < LIMIT then\n  count = count + 1\nendif\nwhile count > 0\n  count = count - 1\n  yield\nwend\nfor i = 0 to 3\n  depths(i) = m_depth * G\nnext i\ndo\n  count = count + 1\n  yield\nloop until count >= LIMIT\nif count = LIMIT then goto done\nyield\ngoto top\nlabel: done\nyield\ngoto done\n";
+
+#[tokio::test]
+async fn symbols_and_folds_of_variables_constants_labels_and_blocks() {
+    let uri = "file:///project/blocks.gbas";
+    let mut client = TestClient::initialized().await;
+    let published = client.open(uri, "gbasic", BLOCKS).await;
+    assert_eq!(published["diagnostics"], json!([]), "the program is clean");
+    let document = json!({ "textDocument": { "uri": uri } });
+    let symbols = client
+        .request("textDocument/documentSymbol", document.clone())
+        .await;
+    let mut names: Vec<(&str, u64)> = symbols
+        .as_array()
+        .expect("symbols")
+        .iter()
+        .map(|s| {
+            (
+                s["name"].as_str().expect("n"),
+                s["kind"].as_u64().expect("k"),
+            )
+        })
+        .collect();
+    names.sort();
+    // LSP SymbolKind: Function 12 (labels, as for Fig. 3), Variable 13, Constant 14,
+    // Array 18.
+    assert_eq!(
+        names,
+        [
+            ("G", 14),
+            ("LIMIT", 14),
+            ("count", 13),
+            ("depths", 18),
+            ("done", 12),
+            ("i", 13),
+            ("top", 12)
+        ]
+    );
+    let symbol = |name: &str| {
+        symbols
+            .as_array()
+            .expect("symbols")
+            .iter()
+            .find(|s| s["name"] == name)
+            .cloned()
+            .expect("listed")
+    };
+    // `dim count as integer` on line 2: the name is characters 4 to 9.
+    assert_eq!(symbol("count")["selectionRange"], range(2, 4, 2, 9));
+    // `const LIMIT = 3` on line 0: characters 6 to 11.
+    assert_eq!(symbol("LIMIT")["selectionRange"], range(0, 6, 0, 11));
+    // A label's section runs to the line before the next label: `top` from line 5 to
+    // line 22 (`goto top`, 8 characters), `done` from 23 to the last line, 25.
+    assert_eq!(symbol("top")["range"], range(5, 0, 22, 8));
+    assert_eq!(symbol("done")["range"], range(23, 0, 25, 9));
+
+    let folds = client
+        .request("textDocument/foldingRange", document.clone())
+        .await;
+    let mut spans: Vec<(u64, u64)> = folds
+        .as_array()
+        .expect("folds")
+        .iter()
+        .map(|f| {
+            (
+                f["startLine"].as_u64().expect("s"),
+                f["endLine"].as_u64().expect("e"),
+            )
+        })
+        .collect();
+    spans.sort();
+    // The two label sections; `if` 6–8 (endif), `while` 9–12 (wend), `for` 13–15
+    // (next), `do` 16–19 (loop until); the one-line `if` on line 20 does not fold.
+    assert_eq!(
+        spans,
+        [(5, 22), (6, 8), (9, 12), (13, 15), (16, 19), (23, 25)]
+    );
+}
+
+#[tokio::test]
+async fn a_float_assigned_to_an_integer_is_a_diagnostic_until_int() {
+    let uri = "file:///project/types.gbas";
+    let mut client = TestClient::initialized().await;
+    // docs/gbasic.md: a float becomes an integer only through int(); assigning a float to
+    // an integer variable is an error (E2201, a value of the wrong type).
+    let published = client
+        .open(
+            uri,
+            "gbasic",
+            "dim n as integer\nn = m_depth * 2.0\nyield\n",
+        )
+        .await;
+    let diagnostics = published["diagnostics"].as_array().expect("diagnostics");
+    assert_eq!(diagnostics.len(), 1, "{published}");
+    assert_eq!(diagnostics[0]["code"], "E2201");
+    assert_eq!(diagnostics[0]["severity"], 1, "an error");
+    // The float expression `m_depth * 2.0`: line 1, characters 4 to 17.
+    assert_eq!(diagnostics[0]["range"], range(1, 4, 1, 17));
+    change(
+        &mut client,
+        uri,
+        2,
+        "dim n as integer\nn = int(m_depth * 2.0)\nyield\n",
+    )
+    .await;
+    assert_eq!(
+        client.latest_diagnostics(uri).await["diagnostics"],
+        json!([])
+    );
+}
+
+#[tokio::test]
+async fn a_broken_gloc_toml_that_is_not_open_is_a_diagnostic() {
+    let root = std::env::temp_dir().join(format!("gloc-lsp-closed-config-{}", std::process::id()));
+    let scripts = root.join("scripts");
+    std::fs::create_dir_all(&scripts).expect("dirs");
+    // An unknown key (a typo of cycle_budget): E0901 at the key, characters 0 to 12.
+    std::fs::write(root.join("gloc.toml"), "cycle_budgte = 10\n").expect("write");
+    let script_uri = format!("file://{}/fig3.gbas", scripts.display());
+    let config_uri = format!("file://{}/gloc.toml", root.display());
+    let mut client = TestClient::initialized().await;
+    client.open(&script_uri, "gbasic", FIG3).await;
+    let config = client.diagnostics(&config_uri).await;
+    std::fs::remove_dir_all(&root).expect("cleanup");
+    assert_eq!(config["diagnostics"][0]["code"], "E0901", "{config}");
+    assert_eq!(config["diagnostics"][0]["range"], range(0, 0, 0, 12));
+    assert!(config.get("version").is_none_or(Value::is_null), "{config}");
+}

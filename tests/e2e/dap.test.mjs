@@ -11,7 +11,7 @@ import { tmpdir } from 'node:os';
 import { join, dirname, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { DebugClient } from '@vscode/debugadapter-testsupport';
-import Ajv from 'ajv-draft-04';
+import { schemaChecker } from './helpers/dap-schema.mjs';
 
 const here = dirname(fileURLToPath(import.meta.url));
 const root = resolve(here, '../..');
@@ -25,51 +25,16 @@ const scratch = mkdtempSync(join(tmpdir(), 'gloc-dap-e2e-'));
 // ---------------------------------------------------------------------------------------
 // Schema validation of every adapter message.
 
-const schema = JSON.parse(readFileSync(join(root, 'dap/tests/schema/debugAdapterProtocol.json'), 'utf8'));
-const ajv = new Ajv({ strict: false, allErrors: true });
-// The schema's integer formats, checked for their ranges.
-ajv.addFormat('int32', { type: 'number', validate: (x) => Number.isInteger(x) && x >= -(2 ** 31) && x < 2 ** 31 });
-ajv.addFormat('uint32', { type: 'number', validate: (x) => Number.isInteger(x) && x >= 0 && x < 2 ** 32 });
-ajv.addFormat('uint64', { type: 'number', validate: (x) => Number.isInteger(x) && x >= 0 });
-ajv.addSchema(schema, 'dap');
-const validators = new Map();
-function validator(name) {
-  if (!schema.definitions[name]) return null;
-  if (!validators.has(name)) validators.set(name, ajv.getSchema(`dap#/definitions/${name}`));
-  return validators.get(name);
-}
-const capital = (text) => text.charAt(0).toUpperCase() + text.slice(1);
-const violations = [];
-let validated = 0;
-function check(message) {
-  const names = ['ProtocolMessage'];
-  if (message.type === 'event') names.push('Event', `${capital(message.event)}Event`);
-  else if (message.type === 'response') {
-    names.push(message.success ? 'Response' : 'ErrorResponse');
-    if (message.success) names.push(`${capital(message.command)}Response`);
-  } else violations.push(`unexpected message type: ${JSON.stringify(message)}`);
-  for (const name of names) {
-    const validate = validator(name);
-    if (validate && !validate(message)) {
-      violations.push(`${name}: ${ajv.errorsText(validate.errors)} in ${JSON.stringify(message)}`);
-    }
-  }
-  validated += 1;
-}
+const schema = schemaChecker();
 
 after(() => {
-  assert.ok(validated > 50, `only ${validated} messages were validated`);
-  assert.deepEqual(violations, [], 'messages that violate the DAP schema');
+  assert.ok(schema.count > 50, `only ${schema.count} messages were validated`);
+  assert.deepEqual(schema.violations, [], 'messages that violate the DAP schema');
 });
 
 async function client() {
-  const dc = new DebugClient(GLOC_BIN, 'dap', 'gloc');
+  const dc = schema.validated(new DebugClient(GLOC_BIN, 'dap', 'gloc'));
   dc.defaultTimeout = 20000;
-  const dispatch = dc.dispatch;
-  dc.dispatch = function (body) {
-    check(JSON.parse(body));
-    return dispatch.call(this, body);
-  };
   await dc.start();
   return dc;
 }
@@ -283,7 +248,7 @@ function rawAdapter() {
       if (buffer.length < end + 4 + length) break;
       const message = JSON.parse(buffer.subarray(end + 4, end + 4 + length).toString());
       buffer = buffer.subarray(end + 4 + length);
-      check(message);
+      schema.check(message);
       messages.push(message);
       waiters.splice(0).forEach((wake) => wake());
     }
@@ -359,12 +324,7 @@ test('--port serves DebugClient over TCP on 127.0.0.1', async () => {
       });
       setTimeout(() => fail(new Error(`no port announced: ${text}`)), 10000).unref();
     });
-    const dc = new DebugClient(GLOC_BIN, 'dap', 'gloc');
-    const dispatch = dc.dispatch;
-    dc.dispatch = function (body) {
-      check(JSON.parse(body));
-      return dispatch.call(this, body);
-    };
+    const dc = schema.validated(new DebugClient(GLOC_BIN, 'dap', 'gloc'));
     await dc.start(port);
     await dc.initializeRequest({ adapterID: 'gloc' });
     const initialized = dc.waitForEvent('initialized');

@@ -2,7 +2,7 @@
 // `gloc run`, and the debugger contribution's initial configuration through a real `gloc dap`.
 // VS Code itself cannot run here (it is downloaded at test time), so the extension runs against
 // the stand-in in helpers/fake-vscode.cjs; everything it talks to is real.
-import { test } from 'node:test';
+import { test, after } from 'node:test';
 import assert from 'node:assert/strict';
 import fs from 'node:fs';
 import os from 'node:os';
@@ -11,6 +11,7 @@ import { createRequire } from 'node:module';
 import { fileURLToPath } from 'node:url';
 import { DebugClient } from '@vscode/debugadapter-testsupport';
 import { fig3 } from './helpers/paper-figures.mjs';
+import { schemaChecker } from './helpers/dap-schema.mjs';
 
 const require = createRequire(import.meta.url);
 const here = path.dirname(fileURLToPath(import.meta.url));
@@ -18,6 +19,16 @@ const extensionDir = path.resolve(here, '../../editors/vscode');
 const manifest = JSON.parse(fs.readFileSync(path.join(extensionDir, 'package.json'), 'utf8'));
 const { createFakeVscode, loadExtension } = require('./helpers/fake-vscode.cjs');
 const glocBin = process.env.GLOC_BIN || path.resolve(here, '../../target/debug/gloc');
+
+// Every message `gloc dap` sends in these sessions is validated against the DAP schema, as in
+// dap.test.mjs.
+const schema = schemaChecker();
+after(() => {
+  // Each of the two sessions gets at least initialize's response, launch's, the initialized
+  // and stopped events and configurationDone's: 5 messages each.
+  assert.ok(schema.count >= 10, `only ${schema.count} messages were validated`);
+  assert.deepEqual(schema.violations, [], 'messages that violate the DAP schema');
+});
 
 function workspaceWith(files) {
   const workspace = fs.mkdtempSync(path.join(os.tmpdir(), 'gloc-live-'));
@@ -75,7 +86,7 @@ test('F5 with the initial configuration starts gloc dap and stops on entry', asy
   const launchArguments = JSON.parse(JSON.stringify(resolved).replaceAll('${file}', script));
   const descriptor = fakes.record.debugFactories.get('gloc').createDebugAdapterDescriptor({ workspaceFolder: undefined });
   assert.deepEqual(descriptor.args, ['dap']);
-  const client = new DebugClient(descriptor.command, descriptor.args[0], 'gloc', { cwd: workspace });
+  const client = schema.validated(new DebugClient(descriptor.command, descriptor.args[0], 'gloc', { cwd: workspace }));
   client.defaultTimeout = 30000; // a debug build on a busy 2-core CI machine
   await client.start();
   try {
@@ -122,7 +133,7 @@ test('gloc dap accepts a launch with every attribute package.json declares, each
     const jsonType = typeof value === 'number' ? 'integer' : typeof value;
     assert.ok([properties[name].type].flat().includes(jsonType), `${name}: ${jsonType} is a declared type`);
   }
-  const client = new DebugClient(glocBin, 'dap', 'gloc', { cwd: workspace });
+  const client = schema.validated(new DebugClient(glocBin, 'dap', 'gloc', { cwd: workspace }));
   client.defaultTimeout = 30000; // a debug build on a busy 2-core CI machine
   await client.start();
   try {

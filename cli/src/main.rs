@@ -120,6 +120,10 @@ pub struct RunArgs {
     /// stuck=VALUE, spike=OFFSET; cycles from 0, END excluded. E.g. `m_depth:nan@20`.
     #[arg(long = "fault", value_name = "SENSOR:KIND@START[..END]")]
     pub faults: Vec<String>,
+    /// Set a flight or energy constant (repeatable), e.g. `dive_rate=0.2`; wins over
+    /// `[simulator]` in gloc.toml. The names and ranges are in docs/simulator.md.
+    #[arg(long = "sim", value_name = "NAME=VALUE", value_parser = settings::parse_simulator_setting)]
+    pub simulator: Vec<(String, f64)>,
     /// Write an SVG flight profile.
     #[arg(long, value_name = "FILE.svg")]
     pub plot: Option<PathBuf>,

@@ -14,6 +14,9 @@ pub struct Settings {
     pub cycle_budget: Option<u64>,
     pub mission: Option<PathBuf>,
     pub sensor_order: SensorOrder,
+    /// Simulator constants: `[simulator]` of gloc.toml, then the `--sim` flags (so
+    /// that applied in order, a flag wins).
+    pub simulator: Vec<(String, f64)>,
 }
 
 /// The flags a subcommand was given; `None` where the user gave none.
@@ -23,6 +26,7 @@ pub struct Flags<'a> {
     pub cycle_budget: Option<u64>,
     pub mission: Option<&'a Path>,
     pub sensor_order: Option<SensorOrder>,
+    pub simulator: &'a [(String, f64)],
 }
 
 /// Finds `gloc.toml` upward from `anchor` (a script; the current folder when
@@ -50,7 +54,26 @@ pub fn resolve(anchor: Option<&Path>, flags: Flags<'_>) -> anyhow::Result<Settin
             .sensor_order
             .or(config.sensor_order)
             .unwrap_or_default(),
+        simulator: config
+            .simulator
+            .into_iter()
+            .chain(flags.simulator.iter().cloned())
+            .collect(),
     })
+}
+
+/// Parses `--sim NAME=VALUE` (clap's value parser), checked as gloc.toml's
+/// `[simulator]` entries are.
+pub fn parse_simulator_setting(text: &str) -> Result<(String, f64), String> {
+    let (name, value) = text
+        .split_once('=')
+        .ok_or_else(|| format!("`{text}` is not NAME=VALUE, e.g. `dive_rate=0.2`"))?;
+    let (name, value) = (name.trim(), value.trim());
+    let number: f64 = value
+        .parse()
+        .map_err(|_| format!("`{value}` is not a number (in `{text}`)"))?;
+    gloc_engine::config::check_simulator_setting(name, number)?;
+    Ok((name.to_string(), number))
 }
 
 /// Parses `--sensor-order` (clap's value parser).

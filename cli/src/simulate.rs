@@ -42,6 +42,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
             cycle_budget: args.cycle_budget,
             mission: args.mission.as_deref(),
             sensor_order: args.sensor_order,
+            simulator: &args.simulator,
         },
     )?;
     let sensor_list = match &settings.masterdata {
@@ -122,12 +123,18 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         }
         None => None,
     };
-    let config = SimConfig {
+    let mut config = SimConfig {
         seed: args.seed.unwrap_or(1),
         profile,
         cycle_budget,
         ..SimConfig::default()
     };
+    for (name, value) in &settings.simulator {
+        // Names were checked against the same table when gloc.toml and the flags were read.
+        if !config.set(name, *value) {
+            bail!("`{name}` is not a simulator setting");
+        }
+    }
     let mut sim = Simulation::new(
         &mission,
         sensor_list.clone(),

@@ -149,3 +149,72 @@ fn duration_limits_an_endless_run() {
     );
     let _ = std::fs::remove_dir_all(&folder);
 }
+
+/// The first cycle whose logged `m_depth` is over 10 m, from a CSV log.
+fn first_cycle_below_ten_metres(log: &std::path::Path) -> usize {
+    let text = std::fs::read_to_string(log).expect("log written");
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
+    let column = header
+        .iter()
+        .position(|name| *name == "m_depth")
+        .expect("m_depth logged");
+    lines
+        .position(|line| {
+            line.split(',')
+                .nth(column)
+                .and_then(|cell| cell.parse::<f64>().ok())
+                .is_some_and(|depth| depth > 10.0)
+        })
+        .expect("the glider passes 10 m")
+}
+
+#[test]
+fn simulator_settings_from_flags_and_gloc_toml() {
+    // At full dive volume the glider sinks at `dive_rate`: 10 m takes at least 67 s at
+    // the default 0.15 m/s and 33 s at 0.30, the pump and pitch time being the same:
+    // 34 s is 8.5 cycles, so twice the rate is there at least 6 cycles earlier.
+    let folder = temp_folder("sim-settings");
+    let run = |extra: &[&str], folder: &PathBuf, log: &str| {
+        let mut args = vec!["run", "--cycles", "80", "--log", log];
+        args.extend_from_slice(extra);
+        let output = gloc(&args, folder);
+        assert_eq!(output.status.code(), Some(0), "{}", text(&output.stderr));
+        first_cycle_below_ten_metres(&folder.join(log))
+    };
+    let slow = run(&[], &folder, "default.csv");
+    let fast = run(&["--sim", "dive_rate=0.3"], &folder, "flag.csv");
+    assert!(fast + 6 <= slow, "--sim: fast {fast}, slow {slow}");
+
+    // The same from gloc.toml (found from the current folder for the embedded script),
+    // and a flag still wins over the file.
+    let project = temp_folder("sim-settings-toml");
+    std::fs::write(project.join("gloc.toml"), "[simulator]\ndive_rate = 0.3\n").expect("write");
+    assert_eq!(run(&[], &project, "file.csv"), fast);
+    assert_eq!(
+        run(&["--sim", "dive_rate=0.15"], &project, "both.csv"),
+        slow
+    );
+
+    // Bad settings say what is wrong and what is allowed.
+    let unknown = gloc(&["run", "--sim", "dive_rat=0.3"], &folder);
+    assert_eq!(unknown.status.code(), Some(2));
+    assert!(
+        text(&unknown.stderr).contains("did you mean `dive_rate`?"),
+        "{}",
+        text(&unknown.stderr)
+    );
+    let range = gloc(&["run", "--sim", "step=0"], &folder);
+    assert_eq!(range.status.code(), Some(2));
+    assert!(
+        text(&range.stderr).contains("from 0.05 to 4 s"),
+        "{}",
+        text(&range.stderr)
+    );
+    let shape = gloc(&["run", "--sim", "dive_rate"], &folder);
+    assert!(
+        text(&shape.stderr).contains("NAME=VALUE"),
+        "{}",
+        text(&shape.stderr)
+    );
+}

@@ -628,6 +628,7 @@ impl Session {
             cycle_budget: arguments.cycle_budget.or(file_config.cycle_budget),
             max_cycles: arguments.max_cycles,
             sensor_order: file_config.sensor_order.unwrap_or_default(),
+            simulator: file_config.simulator,
             program,
         };
         let (world, info) = world::launch(&config)?;

@@ -29,6 +29,8 @@ pub struct LaunchConfig {
     pub max_cycles: Option<u64>,
     /// How a masterdata file's sensors are numbered (from gloc.toml).
     pub sensor_order: SensorOrder,
+    /// Flight and energy constants (`[simulator]` of gloc.toml).
+    pub simulator: Vec<(String, f64)>,
 }
 
 /// A GBASIC variable and where it lives.
@@ -120,12 +122,17 @@ pub fn launch(config: &LaunchConfig) -> Result<(World, DebugInfo), String> {
         }
     };
     let defaults = SimConfig::default();
-    let sim_config = SimConfig {
+    let mut sim_config = SimConfig {
         seed: config.seed.unwrap_or(defaults.seed),
         profile,
         cycle_budget: config.cycle_budget.unwrap_or(defaults.cycle_budget),
         ..defaults
     };
+    for (name, value) in &config.simulator {
+        if !sim_config.set(name, *value) {
+            return Err(format!("`{name}` is not a simulator setting"));
+        }
+    }
     let sensor_list = Arc::new(sensor_list);
     let mut sim = Simulation::new(
         &mission,

@@ -9,6 +9,9 @@
 //! cycle_budget = 2000                    # instructions per control cycle
 //! mission = "missions/yo.mi"             # the mission the debugger flies
 //! sensor_order = "sorted"                # masterdata indices: "file" (default) or "sorted"
+//!
+//! [simulator]                            # the flight and energy models' constants
+//! dive_rate = 0.2                        # see SIMULATOR_SETTINGS for every name
 //! ```
 //!
 //! Parsing is pure ([`Config::parse`] takes text and returns a [`Diagnostic`]
@@ -33,7 +36,7 @@ pub const CODE_UNREADABLE_CONFIG: &str = "E0902";
 /// Settings from a `gloc.toml`. Every field is optional; a missing file is the
 /// same as an empty one. Paths are absolute (resolved against the folder that
 /// holds the file).
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Config {
     /// The `gloc.toml` these settings came from, if any.
     pub path: Option<PathBuf>,
@@ -46,6 +49,180 @@ pub struct Config {
     /// How a masterdata file's sensors are numbered (file order, the default, or
     /// sorted by name as firmware 2014 and later does).
     pub sensor_order: Option<SensorOrder>,
+    /// `[simulator]`: flight and energy constants, sorted by name, each
+    /// checked against [`SIMULATOR_SETTINGS`].
+    pub simulator: Vec<(String, f64)>,
+}
+
+/// A constant of the simulator's flight or energy model that `gloc.toml`'s
+/// `[simulator]` table and `gloc run --sim NAME=VALUE` may set. The simulator
+/// (`gloc-sim`) maps each name to its field; the ranges keep a run finite and
+/// meaningful (a 1e-9 s integration step would never finish a cycle).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SimulatorSetting {
+    pub name: &'static str,
+    pub units: &'static str,
+    pub min: f64,
+    pub max: f64,
+    pub about: &'static str,
+}
+
+/// Every simulator setting: the flight model first, then the energy model.
+pub const SIMULATOR_SETTINGS: &[SimulatorSetting] = &[
+    SimulatorSetting {
+        name: "step",
+        units: "s",
+        min: 0.05,
+        max: 4.0,
+        about: "integration step of the flight model within a 4 s cycle",
+    },
+    SimulatorSetting {
+        name: "dive_rate",
+        units: "m/s",
+        min: 0.01,
+        max: 2.0,
+        about: "vertical speed at full dive volume",
+    },
+    SimulatorSetting {
+        name: "climb_rate",
+        units: "m/s",
+        min: 0.01,
+        max: 2.0,
+        about: "vertical speed at full climb volume",
+    },
+    SimulatorSetting {
+        name: "pump_max",
+        units: "cc",
+        min: 1.0,
+        max: 2000.0,
+        about: "pumped volume at which the glider flies at full rate",
+    },
+    SimulatorSetting {
+        name: "pump_rate",
+        units: "cc/s",
+        min: 0.1,
+        max: 1000.0,
+        about: "pump speed (an inflection takes 2 pump_max / pump_rate)",
+    },
+    SimulatorSetting {
+        name: "speed_lag",
+        units: "s",
+        min: 0.01,
+        max: 600.0,
+        about: "time constant of the vertical speed following the pumped volume",
+    },
+    SimulatorSetting {
+        name: "pitch_rate",
+        units: "rad/s",
+        min: 0.001,
+        max: 1.0,
+        about: "pitch slew rate of the battery",
+    },
+    SimulatorSetting {
+        name: "angle_of_attack",
+        units: "rad",
+        min: 0.0,
+        max: 0.5,
+        about: "angle of attack added to the pitch for the glide angle",
+    },
+    SimulatorSetting {
+        name: "max_speed",
+        units: "m/s",
+        min: 0.01,
+        max: 3.0,
+        about: "cap on the horizontal speed",
+    },
+    SimulatorSetting {
+        name: "dive_power",
+        units: "W",
+        min: 0.0,
+        max: 100.0,
+        about: "hotel power while diving",
+    },
+    SimulatorSetting {
+        name: "climb_power",
+        units: "W",
+        min: 0.0,
+        max: 100.0,
+        about: "hotel power while climbing or at the surface",
+    },
+    SimulatorSetting {
+        name: "pump_out_j_per_cc",
+        units: "J/cc",
+        min: 0.0,
+        max: 100.0,
+        about: "energy to pump oil out (going up), at the surface",
+    },
+    SimulatorSetting {
+        name: "pump_out_j_per_cc_m",
+        units: "J/cc/m",
+        min: 0.0,
+        max: 10.0,
+        about: "extra energy to pump oil out per metre of depth",
+    },
+    SimulatorSetting {
+        name: "pump_in_j_per_cc",
+        units: "J/cc",
+        min: 0.0,
+        max: 100.0,
+        about: "energy to let oil in (going down)",
+    },
+    SimulatorSetting {
+        name: "pitch_j_per_rad",
+        units: "J/rad",
+        min: 0.0,
+        max: 100000.0,
+        about: "energy to move the pitch battery",
+    },
+    SimulatorSetting {
+        name: "battery_wh",
+        units: "Wh",
+        min: 1.0,
+        max: 100000.0,
+        about: "battery capacity",
+    },
+    SimulatorSetting {
+        name: "volts_full",
+        units: "V",
+        min: 1.0,
+        max: 100.0,
+        about: "battery voltage when full",
+    },
+    SimulatorSetting {
+        name: "volts_empty",
+        units: "V",
+        min: 0.0,
+        max: 100.0,
+        about: "battery voltage when empty",
+    },
+];
+
+/// Checks one simulator setting: a known name and a value in its range. The
+/// error says what is wrong and what is allowed.
+pub fn check_simulator_setting(name: &str, value: f64) -> Result<(), String> {
+    let Some(setting) = SIMULATOR_SETTINGS
+        .iter()
+        .find(|setting| setting.name == name)
+    else {
+        let known: Vec<&str> = SIMULATOR_SETTINGS
+            .iter()
+            .map(|setting| setting.name)
+            .collect();
+        let hint = crate::suggest::closest(name, known.iter().copied())
+            .map(|close| format!("did you mean `{close}`? "))
+            .unwrap_or_default();
+        return Err(format!(
+            "`{name}` is not a simulator setting; {hint}the settings are {}",
+            known.join(", ")
+        ));
+    };
+    if !(value.is_finite() && value >= setting.min && value <= setting.max) {
+        return Err(format!(
+            "`{name}` is {value}; it must be from {} to {} {} ({})",
+            setting.min, setting.max, setting.units, setting.about
+        ));
+    }
+    Ok(())
 }
 
 /// A `gloc.toml` that could not be used: where it is, and what is wrong.
@@ -85,6 +262,7 @@ struct RawConfig {
     cycle_budget: Option<u64>,
     mission: Option<String>,
     sensor_order: Option<String>,
+    simulator: Option<toml::Table>,
 }
 
 impl Config {
@@ -117,7 +295,7 @@ impl Config {
                     span,
                     format!("invalid gloc.toml: {message}"),
                 )
-                .with_help("the keys are `masterdata` (a path), `cycle_budget` (a positive integer), `mission` (a path) and `sensor_order` (\"file\" or \"sorted\")"),
+                .with_help("the keys are `masterdata` (a path), `cycle_budget` (a positive integer), `mission` (a path), `sensor_order` (\"file\" or \"sorted\") and the table `[simulator]`"),
             )
         })?;
         if raw.cycle_budget == Some(0) {
@@ -146,6 +324,34 @@ impl Config {
                 }
             },
         };
+        let mut simulator = Vec::new();
+        for (name, value) in raw.simulator.into_iter().flatten() {
+            // The key's place in the text, after the table's header.
+            let table = text.find("[simulator]").unwrap_or(0);
+            let at = text[table..]
+                .find(name.as_str())
+                .map_or(table, |offset| table + offset);
+            let span = Span::new(at, at + name.len());
+            let number = match value {
+                toml::Value::Float(number) => Some(number),
+                toml::Value::Integer(number) => Some(number as f64),
+                _ => None,
+            };
+            let checked = match number {
+                Some(number) => check_simulator_setting(&name, number).map(|()| number),
+                None => Err(format!("`{name}` must be a number")),
+            };
+            match checked {
+                Ok(number) => simulator.push((name, number)),
+                Err(message) => {
+                    return Err(Box::new(Diagnostic::error(
+                        CODE_BAD_CONFIG,
+                        span,
+                        format!("invalid gloc.toml: {message}"),
+                    )))
+                }
+            }
+        }
         let resolve = |value: Option<String>| value.map(|relative| folder.join(relative));
         Ok(Config {
             path: Some(folder.join(FILE_NAME)),
@@ -153,6 +359,7 @@ impl Config {
             cycle_budget: raw.cycle_budget,
             mission: resolve(raw.mission),
             sensor_order,
+            simulator,
         })
     }
 
@@ -221,6 +428,43 @@ mod tests {
             .help
             .as_deref()
             .is_some_and(|help| help.contains("`sorted`")));
+    }
+
+    #[test]
+    fn simulator_settings_are_checked_by_name_and_range() {
+        let text = "[simulator]\ndive_rate = 0.2\nbattery_wh = 800\n";
+        let config = Config::parse(text, Path::new("/p")).expect("valid");
+        assert_eq!(
+            config.simulator,
+            vec![
+                ("battery_wh".to_string(), 800.0),
+                ("dive_rate".to_string(), 0.2)
+            ]
+        );
+        let text = "cycle_budget = 5\n[simulator]\ndive_rat = 0.2\n";
+        let error = Config::parse(text, Path::new("/p")).expect_err("unknown name");
+        assert_eq!(&text[error.span.range()], "dive_rat");
+        assert!(
+            error.message.contains("did you mean `dive_rate`?"),
+            "{}",
+            error.message
+        );
+        // A 1e-9 s step would never finish a cycle.
+        let text = "[simulator]\nstep = 1e-9\n";
+        let error = Config::parse(text, Path::new("/p")).expect_err("out of range");
+        assert_eq!(&text[error.span.range()], "step");
+        assert!(
+            error.message.contains("from 0.05 to 4 s"),
+            "{}",
+            error.message
+        );
+        let text = "[simulator]\nstep = \"fast\"\n";
+        let error = Config::parse(text, Path::new("/p")).expect_err("not a number");
+        assert!(
+            error.message.contains("must be a number"),
+            "{}",
+            error.message
+        );
     }
 
     #[test]

@@ -55,6 +55,38 @@ pub struct SimConfig {
     pub pressure_noise: f64,
 }
 
+impl SimConfig {
+    /// Sets one flight or energy constant by the name `gloc.toml`'s `[simulator]`
+    /// table and `gloc run --sim` use ([`gloc_engine::config::SIMULATOR_SETTINGS`]).
+    /// The caller has checked the value's range; `false`: no such setting.
+    pub fn set(&mut self, name: &str, value: f64) -> bool {
+        let (flight, energy) = (&mut self.flight, &mut self.energy);
+        let field = match name {
+            "step" => &mut flight.step,
+            "dive_rate" => &mut flight.dive_rate,
+            "climb_rate" => &mut flight.climb_rate,
+            "pump_max" => &mut flight.pump_max,
+            "pump_rate" => &mut flight.pump_rate,
+            "speed_lag" => &mut flight.speed_lag,
+            "pitch_rate" => &mut flight.pitch_rate,
+            "angle_of_attack" => &mut flight.angle_of_attack,
+            "max_speed" => &mut flight.max_speed,
+            "dive_power" => &mut energy.dive_power,
+            "climb_power" => &mut energy.climb_power,
+            "pump_out_j_per_cc" => &mut energy.pump_out_j_per_cc,
+            "pump_out_j_per_cc_m" => &mut energy.pump_out_j_per_cc_m,
+            "pump_in_j_per_cc" => &mut energy.pump_in_j_per_cc,
+            "pitch_j_per_rad" => &mut energy.pitch_j_per_rad,
+            "battery_wh" => &mut energy.battery_wh,
+            "volts_full" => &mut energy.volts_full,
+            "volts_empty" => &mut energy.volts_empty,
+            _ => return false,
+        };
+        *field = value;
+        true
+    }
+}
+
 impl Default for SimConfig {
     fn default() -> SimConfig {
         SimConfig {

@@ -296,6 +296,32 @@ impl Machine {
             };
         }
 
+        // A fused `loadi/loadd K,t; op a,t,dst`: charges the second instruction (the
+        // loop charged the first), writes the constant's register, then `dst`.
+        macro_rules! with_constant {
+            ($op:ident, $a:expr, $k:expr, $t:expr, $dst:expr) => {{
+                fuel -= 1;
+                reg!($t) = $k;
+                reg!($dst) = $op(reg!($a), $k);
+                pc += 1;
+            }};
+        }
+        // A fused compare and branch: charges `$extra` instructions beyond the one the
+        // loop charged, writes the compare's result register and branches.
+        macro_rules! compare_branch {
+            ($extra:expr, $cmp:expr, $a:expr, $b:expr, $c:expr, $if_true:expr, $if_false:expr) => {{
+                fuel -= $extra;
+                let result = compare($cmp, reg!($a), $b);
+                reg!($c) = truth(result);
+                pc = if result {
+                    $if_true.index()
+                } else {
+                    $if_false.index()
+                };
+                continue;
+            }};
+        }
+
         // The loop, over one of the two forms of the code. Stops with `OutOfFuel`
         // when less than `$fuel_needed` is left.
         macro_rules! run {
@@ -450,36 +476,11 @@ impl Machine {
                             output.clear();
                         }
                         // Fused groups: each writes what its instructions write, in their order.
-                        Op::AddK { a, k, t, dst } => {
-                            fuel -= 1;
-                            reg!(t) = k;
-                            reg!(dst) = add(reg!(a), k);
-                            pc += 1;
-                        }
-                        Op::SubK { a, k, t, dst } => {
-                            fuel -= 1;
-                            reg!(t) = k;
-                            reg!(dst) = sub(reg!(a), k);
-                            pc += 1;
-                        }
-                        Op::MulK { a, k, t, dst } => {
-                            fuel -= 1;
-                            reg!(t) = k;
-                            reg!(dst) = mul(reg!(a), k);
-                            pc += 1;
-                        }
-                        Op::DivK { a, k, t, dst } => {
-                            fuel -= 1;
-                            reg!(t) = k;
-                            reg!(dst) = div(reg!(a), k);
-                            pc += 1;
-                        }
-                        Op::ModK { a, k, t, dst } => {
-                            fuel -= 1;
-                            reg!(t) = k;
-                            reg!(dst) = rem(reg!(a), k);
-                            pc += 1;
-                        }
+                        Op::AddK { a, k, t, dst } => with_constant!(add, a, k, t, dst),
+                        Op::SubK { a, k, t, dst } => with_constant!(sub, a, k, t, dst),
+                        Op::MulK { a, k, t, dst } => with_constant!(mul, a, k, t, dst),
+                        Op::DivK { a, k, t, dst } => with_constant!(div, a, k, t, dst),
+                        Op::ModK { a, k, t, dst } => with_constant!(rem, a, k, t, dst),
                         Op::IntToFloatAdd { src, t, a, dst } => {
                             fuel -= 1;
                             let widened = Value::Float(reg!(src).as_f64());
@@ -495,15 +496,7 @@ impl Machine {
                             if_true,
                             if_false,
                         } => {
-                            fuel -= 1;
-                            let result = compare(cmp, reg!(a), reg!(b));
-                            reg!(c) = truth(result);
-                            pc = if result {
-                                if_true.index()
-                            } else {
-                                if_false.index()
-                            };
-                            continue;
+                            compare_branch!(1, cmp, a, reg!(b), c, if_true, if_false)
                         }
                         Op::JumpCmpBr {
                             cmp,
@@ -513,15 +506,7 @@ impl Machine {
                             if_true,
                             if_false,
                         } => {
-                            fuel -= 2;
-                            let result = compare(cmp, reg!(a), reg!(b));
-                            reg!(c) = truth(result);
-                            pc = if result {
-                                if_true.index()
-                            } else {
-                                if_false.index()
-                            };
-                            continue;
+                            compare_branch!(2, cmp, a, reg!(b), c, if_true, if_false)
                         }
                         Op::JumpCmpKBr {
                             cmp,
@@ -532,16 +517,8 @@ impl Machine {
                             if_true,
                             if_false,
                         } => {
-                            fuel -= 3;
                             reg!(t) = k;
-                            let result = compare(cmp, reg!(a), k);
-                            reg!(c) = truth(result);
-                            pc = if result {
-                                if_true.index()
-                            } else {
-                                if_false.index()
-                            };
-                            continue;
+                            compare_branch!(3, cmp, a, k, c, if_true, if_false)
                         }
                         Op::RangeBr {
                             x,
@@ -580,16 +557,8 @@ impl Machine {
                             if_true,
                             if_false,
                         } => {
-                            fuel -= 2;
                             reg!(t) = k;
-                            let result = compare(cmp, reg!(a), k);
-                            reg!(c) = truth(result);
-                            pc = if result {
-                                if_true.index()
-                            } else {
-                                if_false.index()
-                            };
-                            continue;
+                            compare_branch!(2, cmp, a, k, c, if_true, if_false)
                         }
                     }
                     pc += 1;

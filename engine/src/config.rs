@@ -257,12 +257,14 @@ impl std::error::Error for ConfigError {}
 /// The file as written; kept private so the public type can hold resolved paths.
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
+/// Values whose errors are found after parsing keep the parser's spans, so a
+/// diagnostic points at exactly the key or value, never at a look-alike elsewhere.
 struct RawConfig {
     masterdata: Option<String>,
-    cycle_budget: Option<u64>,
+    cycle_budget: Option<toml::Spanned<u64>>,
     mission: Option<String>,
-    sensor_order: Option<String>,
-    simulator: Option<toml::Table>,
+    sensor_order: Option<toml::Spanned<String>>,
+    simulator: Option<std::collections::BTreeMap<toml::Spanned<String>, toml::Value>>,
 }
 
 impl Config {
@@ -298,26 +300,26 @@ impl Config {
                 .with_help("the keys are `masterdata` (a path), `cycle_budget` (a positive integer), `mission` (a path), `sensor_order` (\"file\" or \"sorted\") and the table `[simulator]`"),
             )
         })?;
-        if raw.cycle_budget == Some(0) {
-            let at = text.find("cycle_budget").unwrap_or(0);
-            return Err(Box::new(Diagnostic::error(
-                CODE_BAD_CONFIG,
-                Span::new(at, at + "cycle_budget".len()),
-                "invalid gloc.toml: `cycle_budget` must be at least 1",
-            )));
+        let span_of = |range: std::ops::Range<usize>| Span::new(range.start, range.end);
+        if let Some(budget) = &raw.cycle_budget {
+            if *budget.get_ref() == 0 {
+                return Err(Box::new(Diagnostic::error(
+                    CODE_BAD_CONFIG,
+                    span_of(budget.span()),
+                    "invalid gloc.toml: `cycle_budget` must be at least 1",
+                )));
+            }
         }
-        let sensor_order = match raw.sensor_order.as_deref() {
+        let sensor_order = match &raw.sensor_order {
             None => None,
-            Some(name) => match SensorOrder::from_name(name) {
+            Some(name) => match SensorOrder::from_name(name.get_ref()) {
                 Some(order) => Some(order),
                 None => {
-                    let key = text.find("sensor_order").unwrap_or(0);
-                    let at = text[key..].find(name).map_or(key, |offset| key + offset);
                     return Err(Box::new(
                         Diagnostic::error(
                             CODE_BAD_CONFIG,
-                            Span::new(at, at + name.len()),
-                            format!("invalid gloc.toml: `sensor_order` is `{name}`"),
+                            span_of(name.span()),
+                            format!("invalid gloc.toml: `sensor_order` is `{}`", name.get_ref()),
                         )
                         .with_help(format!("`sensor_order` is {}", SensorOrder::NAMES)),
                     ));
@@ -325,13 +327,9 @@ impl Config {
             },
         };
         let mut simulator = Vec::new();
-        for (name, value) in raw.simulator.into_iter().flatten() {
-            // The key's place in the text, after the table's header.
-            let table = text.find("[simulator]").unwrap_or(0);
-            let at = text[table..]
-                .find(name.as_str())
-                .map_or(table, |offset| table + offset);
-            let span = Span::new(at, at + name.len());
+        for (key, value) in raw.simulator.into_iter().flatten() {
+            let span = span_of(key.span());
+            let name = key.into_inner();
             let number = match value {
                 toml::Value::Float(number) => Some(number),
                 toml::Value::Integer(number) => Some(number as f64),
@@ -356,7 +354,7 @@ impl Config {
         Ok(Config {
             path: Some(folder.join(FILE_NAME)),
             masterdata: resolve(raw.masterdata),
-            cycle_budget: raw.cycle_budget,
+            cycle_budget: raw.cycle_budget.map(toml::Spanned::into_inner),
             mission: resolve(raw.mission),
             sensor_order,
             simulator,
@@ -423,7 +421,7 @@ mod tests {
         let text = "masterdata = \"m.mi\"\nsensor_order = \"alphabetical\"\n";
         let error = Config::parse(text, Path::new("/p")).expect_err("not an order");
         assert_eq!(error.code, CODE_BAD_CONFIG);
-        assert_eq!(&text[error.span.range()], "alphabetical");
+        assert_eq!(&text[error.span.range()], "\"alphabetical\"");
         assert!(error
             .help
             .as_deref()
@@ -468,6 +466,21 @@ mod tests {
     }
 
     #[test]
+    fn errors_point_at_the_key_itself_not_at_a_look_alike() {
+        // `pump_out_j_per_cc` is a prefix of the key before it, and `step` stands in a
+        // comment first: a text search would point at the wrong line.
+        let text =
+            "# step by step\n[simulator]\npump_out_j_per_cc_m = 0.01\npump_out_j_per_cc = -1\n";
+        let error = Config::parse(text, Path::new("/p")).expect_err("negative");
+        let at = text.find("pump_out_j_per_cc =").expect("in the text");
+        assert_eq!(error.span, Span::new(at, at + "pump_out_j_per_cc".len()));
+        let text = "# step by step\n[simulator]\nstep = 9\n";
+        let error = Config::parse(text, Path::new("/p")).expect_err("too long");
+        let at = text.find("step =").expect("in the text");
+        assert_eq!(error.span, Span::new(at, at + 4));
+    }
+
+    #[test]
     fn an_empty_file_is_the_default() {
         let config = Config::parse("", Path::new("/p")).expect("empty is valid");
         assert_eq!(config.masterdata, None);
@@ -488,8 +501,9 @@ mod tests {
         let text = "cycle_budget = \"many\"\n";
         let error = Config::parse(text, Path::new("/p")).expect_err("string budget");
         assert_eq!(&text[error.span.range()], "\"many\"");
+        // The span is the offending value, as for the string above.
         let error = Config::parse("cycle_budget = 0", Path::new("/p")).expect_err("zero");
-        assert_eq!(error.span, Span::new(0, 12));
+        assert_eq!(error.span, Span::new(15, 16));
     }
 
     #[test]

@@ -80,17 +80,7 @@ H.equal(vim.api.nvim_get_hl(0, { name = "@lsp.typemod.property.readonly.gbasic",
   "gbasicSensorReadOnly", "the read-only sensor token is linked to the syntax group gbasicSensorReadOnly")
 
 -- Completion ------------------------------------------------------------------------------------
-local response = vim.lsp.buf_request_sync(broken, "textDocument/completion", {
-  textDocument = { uri = vim.uri_from_bufnr(broken) },
-  position = { line = 5, character = #"depth = m_dep" },
-}, 10000)
-local labels = {}
-for _, answer in pairs(response or {}) do
-  local result = answer.result or {}
-  for _, item in ipairs(result.items or result) do
-    labels[#labels + 1] = item.label:lower()
-  end
-end
+local labels = H.completion_labels(broken, 5, #"depth = m_dep")
 H.check(vim.tbl_contains(labels, "m_depth"), "completion after m_dep offers m_depth", labels)
 
 -- Show compiled GLOC: Fig. 3 compiles to the paper's Fig. 2 ------------------------------------

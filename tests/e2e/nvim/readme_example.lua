@@ -59,17 +59,7 @@ local elsewhere = vim.tbl_filter(function(diagnostic)
 end, vim.diagnostic.get(buffer))
 H.equal(#elsewhere, 0, "the example itself has no errors")
 
-local response = vim.lsp.buf_request_sync(buffer, "textDocument/completion", {
-  textDocument = { uri = vim.uri_from_bufnr(buffer) },
-  position = { line = 128, character = #"bin = int(m_dep" },
-}, 10000)
-local labels = {}
-for _, answer in pairs(response or {}) do
-  local result = answer.result or {}
-  for _, item in ipairs(result.items or result) do
-    labels[#labels + 1] = item.label:lower()
-  end
-end
+local labels = H.completion_labels(buffer, 128, #"bin = int(m_dep")
 H.check(vim.tbl_contains(labels, "m_depth"), "completion after `m_dep` offers m_depth", #labels)
 
 H.check(vim.bo[buffer].modified, "the example was changed in the buffer only")

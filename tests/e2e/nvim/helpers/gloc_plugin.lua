@@ -40,6 +40,22 @@ function H.load_plugin_as_readme_says(options)
   vim.cmd("syntax on")
 end
 
+--- The lower-cased labels that `textDocument/completion` offers at 0-based `line`, `character`.
+function H.completion_labels(buffer, line, character)
+  local response = vim.lsp.buf_request_sync(buffer, "textDocument/completion", {
+    textDocument = { uri = vim.uri_from_bufnr(buffer) },
+    position = { line = line, character = character },
+  }, 10000)
+  local labels = {}
+  for _, answer in pairs(response or {}) do
+    local result = answer.result or {}
+    for _, item in ipairs(result.items or result) do
+      labels[#labels + 1] = item.label:lower()
+    end
+  end
+  return labels
+end
+
 function H.write_file(path, lines)
   vim.fn.mkdir(vim.fn.fnamemodify(path, ":h"), "p")
   vim.fn.writefile(lines, path)

@@ -12,22 +12,13 @@
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use gloc_engine::gloc::{self, CheckOptions};
-use gloc_engine::program::{Program, Value};
-use gloc_engine::sensors::{SensorId, SensorList};
+use gloc_engine::program::Value;
+use gloc_engine::sensors::SensorId;
 use gloc_engine::vm::{CycleEnd, Host, Machine, MachineConfig};
 
-fn program(text: &str) -> Arc<Program> {
-    let parsed = gloc::parse(text);
-    let checked = gloc::check(&parsed, &SensorList::embedded(), &CheckOptions::default());
-    let errors: Vec<_> = checked
-        .diagnostics
-        .iter()
-        .filter(|d| d.is_error())
-        .collect();
-    assert!(errors.is_empty(), "{errors:?}\n{text}");
-    checked.program.expect("no errors")
-}
+mod support;
+
+use support::program;
 
 /// Adds the header to a body of GLOC lines.
 fn script(registers: u32, labels: u32, memory: u32, body: &[String]) -> String {

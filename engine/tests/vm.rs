@@ -3,24 +3,14 @@
 //! value here is worked out by hand from the rules in docs/gloc.md.
 
 use std::collections::HashMap;
-use std::sync::Arc;
 
-use gloc_engine::gloc::{self, CheckOptions};
-use gloc_engine::program::{Pc, Program, Reg, Value};
-use gloc_engine::sensors::{SensorId, SensorList};
+use gloc_engine::program::{Pc, Reg, Value};
+use gloc_engine::sensors::SensorId;
 use gloc_engine::vm::{CycleEnd, Host, Machine, MachineConfig, Status, TrapKind};
 
-fn program(text: &str) -> Arc<Program> {
-    let parsed = gloc::parse(text);
-    let checked = gloc::check(&parsed, &SensorList::embedded(), &CheckOptions::default());
-    let errors: Vec<_> = checked
-        .diagnostics
-        .iter()
-        .filter(|d| d.is_error())
-        .collect();
-    assert!(errors.is_empty(), "{errors:?}");
-    checked.program.expect("no errors")
-}
+mod support;
+
+use support::program;
 
 #[derive(Default)]
 struct TestHost {

@@ -3,7 +3,9 @@
 //!
 //! All state is allocated in [`Machine::new`], sized from the header; running
 //! allocates nothing (the output line buffer is reused). One `match` loop over
-//! resolved instructions, with the per-cycle budget as fuel.
+//! resolved instructions, with the per-cycle budget as fuel, and in optimised
+//! builds threaded dispatch over the same code (`vm/threaded.rs`), with the
+//! `match` loop as its reference.
 
 use std::fmt::{self, Write as _};
 use std::sync::Arc;
@@ -13,6 +15,7 @@ use crate::program::{Pc, Program, Reg, Value};
 use crate::sensors::SensorId;
 
 mod code;
+mod threaded;
 
 use code::{Cmp, Code, Op, MAX_FUSED};
 
@@ -95,6 +98,29 @@ pub enum AccessError {
     NoSuchAddress(u32),
 }
 
+/// How the interpreter dispatches ops. Both run the same code with the same
+/// results, pcs and instruction counts (`engine/tests/fused.rs` compares them).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Dispatch {
+    /// One `match` over the op, in a loop: the reference, and the default of
+    /// unoptimised builds.
+    Loop,
+    /// Each op's handler jumps to the next op's handler (`vm/threaded.rs`): the
+    /// default where the build script enabled it (optimised builds, where
+    /// LLVM turns the handlers' tail calls into jumps).
+    Threaded,
+}
+
+impl Default for Dispatch {
+    fn default() -> Dispatch {
+        if cfg!(gloc_threaded) {
+            Dispatch::Threaded
+        } else {
+            Dispatch::Loop
+        }
+    }
+}
+
 /// A running script. Cheap to clone (the program is shared), so a debugger
 /// can snapshot it.
 #[derive(Clone, Debug)]
@@ -113,9 +139,11 @@ pub struct Machine {
     in_cycle: bool,
     cycles_completed: u64,
     status: Status,
+    dispatch: Dispatch,
 }
 
 /// How the inner loop stopped.
+#[derive(Clone, Copy)]
 enum Exit {
     Yield,
     Halt,
@@ -141,7 +169,18 @@ impl Machine {
             in_cycle: false,
             cycles_completed: 0,
             status: Status::Running,
+            dispatch: Dispatch::default(),
         }
+    }
+
+    /// Chooses the dispatch (the default is [`Dispatch::default`]); the results
+    /// are the same, only the speed differs.
+    pub fn set_dispatch(&mut self, dispatch: Dispatch) {
+        self.dispatch = dispatch;
+    }
+
+    pub fn dispatch(&self) -> Dispatch {
+        self.dispatch
     }
 
     /// Runs until `yield`, `halt`, a trap or the cycle budget runs out (a
@@ -290,7 +329,7 @@ impl Machine {
         }
         macro_rules! divisor_not_zero {
             ($a:expr, $b:expr) => {
-                if let (Value::Int(_), Value::Int(0)) = (reg!($a), reg!($b)) {
+                if integer_division_by_zero(reg!($a), reg!($b)) {
                     break Exit::Trap(TrapKind::DivisionByZero);
                 }
             };
@@ -391,18 +430,8 @@ impl Machine {
                         Op::CmpGe { a, b, dst } => {
                             reg!(dst) = truth(compare(Cmp::Ge, reg!(a), reg!(b)))
                         }
-                        Op::Neg { src, dst } => {
-                            reg!(dst) = match reg!(src) {
-                                Value::Int(x) => Value::Int(x.wrapping_neg()),
-                                Value::Float(x) => Value::Float(-x),
-                            }
-                        }
-                        Op::Abs { src, dst } => {
-                            reg!(dst) = match reg!(src) {
-                                Value::Int(x) => Value::Int(x.wrapping_abs()),
-                                Value::Float(x) => Value::Float(x.abs()),
-                            }
-                        }
+                        Op::Neg { src, dst } => reg!(dst) = negate(reg!(src)),
+                        Op::Abs { src, dst } => reg!(dst) = absolute(reg!(src)),
                         Op::Sqrt { src, dst } => {
                             reg!(dst) = Value::Float(reg!(src).as_f64().sqrt())
                         }
@@ -436,24 +465,12 @@ impl Machine {
                             continue;
                         }
                         Op::JumpIndirect { register } => {
-                            let value = reg!(register);
-                            let target = match value {
-                                Value::Int(label) => {
-                                    usize::try_from(label).ok().and_then(|label| {
-                                        program.label_pcs.get(label).copied().flatten()
-                                    })
-                                }
-                                Value::Float(_) => None,
-                            };
-                            match target {
-                                Some(target) if target.index() < plain.len() => {
-                                    pc = target.index();
+                            match indirect_target(program, reg!(register), plain.len()) {
+                                Ok(target) => {
+                                    pc = target;
                                     continue;
                                 }
-                                // A label past the end of a hand-built program: halt,
-                                // as running off the end does.
-                                Some(_) => break Exit::Halt,
-                                None => break Exit::Trap(TrapKind::BadIndirectJump { value }),
+                                Err(exit) => break exit,
                             }
                         }
                         Op::Yield {} => break Exit::Yield,
@@ -569,7 +586,26 @@ impl Machine {
         // Fused ops only while the fuel covers the widest of them; the last one or
         // two instructions of a budget run plain, so that the budget runs out at
         // exactly the same instruction as in plain code.
-        let mut exit = run!(fused, MAX_FUSED);
+        let mut exit = match self.dispatch {
+            Dispatch::Loop => run!(fused, MAX_FUSED),
+            Dispatch::Threaded => loop {
+                let mut context =
+                    threaded::Context::new(&mut *host, &mut *memory, program, code.len());
+                match threaded::run(&code.threaded, registers, &mut pc, &mut fuel, &mut context) {
+                    threaded::Stop::Exit(exit) => break exit,
+                    // An output op: the loop below runs it, with one unit of fuel.
+                    threaded::Stop::RunInLoop => {
+                        let rest = fuel - 1;
+                        fuel = 1;
+                        let exit = run!(plain, 1);
+                        fuel += rest;
+                        if !matches!(exit, Exit::OutOfFuel) {
+                            break exit;
+                        }
+                    }
+                }
+            },
+        };
         if matches!(exit, Exit::OutOfFuel) {
             exit = run!(plain, 1);
         }
@@ -619,6 +655,45 @@ fn memory_index(value: Value, size: usize) -> Result<usize, TrapKind> {
             address,
             size: size as u32,
         }),
+    }
+}
+
+/// Where `jump rN` goes with `value` in rN: the target's pc, or how the
+/// machine stops (a trap, or a halt for a label past the end of a hand-built
+/// program, as running off the end does).
+fn indirect_target(program: &Program, value: Value, code_len: usize) -> Result<usize, Exit> {
+    let target = match value {
+        Value::Int(label) => usize::try_from(label)
+            .ok()
+            .and_then(|label| program.label_pcs.get(label).copied().flatten()),
+        Value::Float(_) => None,
+    };
+    match target {
+        Some(target) if target.index() < code_len => Ok(target.index()),
+        Some(_) => Err(Exit::Halt),
+        None => Err(Exit::Trap(TrapKind::BadIndirectJump { value })),
+    }
+}
+
+/// An integer `div` or `mod` by zero, which traps (float division does not).
+#[inline(always)]
+fn integer_division_by_zero(left: Value, right: Value) -> bool {
+    matches!((left, right), (Value::Int(_), Value::Int(0)))
+}
+
+#[inline(always)]
+fn negate(value: Value) -> Value {
+    match value {
+        Value::Int(x) => Value::Int(x.wrapping_neg()),
+        Value::Float(x) => Value::Float(-x),
+    }
+}
+
+#[inline(always)]
+fn absolute(value: Value) -> Value {
+    match value {
+        Value::Int(x) => Value::Int(x.wrapping_abs()),
+        Value::Float(x) => Value::Float(x.abs()),
     }
 }
 

@@ -1,8 +1,11 @@
-//! The interpreter's fused ops (`vm/code.rs`) against plain execution.
+//! The interpreter's fused ops (`vm/code.rs`) against plain execution, and its
+//! two dispatches (the `match` loop and threaded code, `vm/threaded.rs`)
+//! against each other.
 //!
 //! `Machine::step` runs one instruction with one unit of fuel, so it always runs
-//! the plain one-to-one code; `run_cycle` runs fused groups wherever they apply.
-//! Every script here is run both ways and must agree at every cycle end:
+//! the plain one-to-one code; `run_cycle` runs fused groups wherever they apply,
+//! through the `match` loop or the threaded handlers (`Dispatch`).
+//! Every script here is run these three ways and must agree at every cycle end:
 //! registers, memory, pc, instructions counted, the cycle's end (with a trap's
 //! pc), the sensor stores and the printed lines. The scripts cover every fused
 //! pattern, jumps into the middle of a group, overlapping registers, constants
@@ -14,7 +17,7 @@ use std::sync::Arc;
 
 use gloc_engine::program::Value;
 use gloc_engine::sensors::SensorId;
-use gloc_engine::vm::{CycleEnd, Host, Machine, MachineConfig};
+use gloc_engine::vm::{CycleEnd, Dispatch, Host, Machine, MachineConfig};
 
 mod support;
 
@@ -83,7 +86,8 @@ fn observe(machine: &Machine, end: CycleEnd) -> Observed {
     }
 }
 
-/// Runs `cycles` cycles with `run_cycle` and again by single steps; asserts both
+/// Runs `cycles` cycles with `run_cycle` through the `match` loop, again
+/// through threaded dispatch, and again by single steps; asserts all three
 /// agree after every cycle and returns the fused run's final machine.
 fn agree(text: &str, cycles: usize, budget: u64, depth: f64) -> Machine {
     let program = program(text);
@@ -91,13 +95,19 @@ fn agree(text: &str, cycles: usize, budget: u64, depth: f64) -> Machine {
         cycle_budget: budget,
     };
     let mut fused = Machine::new(Arc::clone(&program), config);
+    fused.set_dispatch(Dispatch::Loop);
+    let mut threaded = Machine::new(Arc::clone(&program), config);
+    threaded.set_dispatch(Dispatch::Threaded);
     let mut stepped = Machine::new(program, config);
     let mut fused_host = Recorder::default();
+    let mut threaded_host = Recorder::default();
     let mut stepped_host = Recorder::default();
-    fused_host.sensors.insert(444, depth);
-    stepped_host.sensors.insert(444, depth);
+    for host in [&mut fused_host, &mut threaded_host, &mut stepped_host] {
+        host.sensors.insert(444, depth);
+    }
     for cycle in 0..cycles {
         let fused_end = fused.run_cycle(&mut fused_host);
+        let threaded_end = threaded.run_cycle(&mut threaded_host);
         let stepped_end = loop {
             if let Some(end) = stepped.step(&mut stepped_host) {
                 break end;
@@ -106,12 +116,27 @@ fn agree(text: &str, cycles: usize, budget: u64, depth: f64) -> Machine {
         assert_eq!(
             observe(&fused, fused_end),
             observe(&stepped, stepped_end),
-            "cycle {cycle}, budget {budget}, script:\n{text}"
+            "match loop against steps: cycle {cycle}, budget {budget}, script:\n{text}"
+        );
+        assert_eq!(
+            observe(&threaded, threaded_end),
+            observe(&fused, fused_end),
+            "threaded against the match loop: cycle {cycle}, budget {budget}, script:\n{text}"
         );
         assert_eq!(
             (&fused_host.stores, &fused_host.lines),
             (&stepped_host.stores, &stepped_host.lines),
-            "cycle {cycle}, budget {budget}"
+            "match loop against steps: cycle {cycle}, budget {budget}"
+        );
+        assert_eq!(
+            (&threaded_host.stores, &threaded_host.lines),
+            (&fused_host.stores, &fused_host.lines),
+            "threaded against the match loop: cycle {cycle}, budget {budget}"
+        );
+        assert_eq!(
+            (threaded.pending_output(), threaded.cycles_completed()),
+            (fused.pending_output(), fused.cycles_completed()),
+            "threaded against the match loop: cycle {cycle}, budget {budget}"
         );
         if !matches!(fused_end, CycleEnd::Yielded) {
             break;

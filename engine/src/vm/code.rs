@@ -186,6 +186,8 @@ pub(super) struct Code {
     pub plain: Box<[Op]>,
     /// The same, with fused groups starting at some pcs.
     pub fused: Box<[Op]>,
+    /// The fused code as threaded code (`vm/threaded.rs`): one slot per op.
+    pub threaded: Box<[super::threaded::Slot]>,
     /// One more than the highest register any op names (at least `nregs`): the
     /// size of a register file that every op can index without a check.
     pub register_bound: usize,
@@ -222,6 +224,10 @@ impl Code {
             });
         }
         Code {
+            threaded: fused
+                .iter()
+                .map(|&op| super::threaded::Slot::new(op))
+                .collect(),
             plain: plain.into_boxed_slice(),
             fused: fused.into_boxed_slice(),
             register_bound,

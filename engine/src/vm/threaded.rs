@@ -1,0 +1,620 @@
+//! Threaded dispatch: the fused code as an array of slots, each holding the
+//! handler function that runs its op, and handlers that end by calling the
+//! next slot's handler.
+//!
+//! Every handler has the same signature and calls the next one in tail
+//! position, so LLVM's sibling-call optimisation compiles that call to an
+//! indirect `jmp`: each op ends with its own indirect jump, which the branch
+//! predictor learns per op (the `match` loop has one shared jump for all of
+//! them), and no `match` decodes the op: a handler reads the fields of the one
+//! variant it was chosen for. Rust does not guarantee the tail call (`become`
+//! is unstable), so `engine/tests/tail_calls.rs` reads the release build's
+//! disassembly and fails when a handler ends in a `call`; at `opt-level` 0 no
+//! handler tail-calls, which is why the build script enables this path only
+//! for optimised builds (`cfg(gloc_threaded)`) and the `match` loop in
+//! `vm.rs` stays the reference. Even where a tail call were missing, [`run`]
+//! enters the handlers with at most [`CHUNK`] units of fuel, so the stack
+//! depth stays bounded.
+//!
+//! Semantics are the `match` loop's, op for op (`engine/tests/fused.rs` runs
+//! both on the same scripts): a handler charges the fuel of every GLOC
+//! instruction its op covers and stops, with the pc of the next op, once
+//! less than [`MAX_FUSED`] is left; traps, `yield` and `halt` stop at their
+//! own pc. The four output ops are not run here: their handler stops with
+//! [`Stop::RunInLoop`] and the `match` loop runs that one op, so output has
+//! one implementation.
+//!
+//! Handlers are specialised where the loader knows an operand's type: a fused
+//! op's constant is an integer or a float for good, and each comparison has
+//! its own handler, so neither costs a test at run time.
+
+use std::hint::unreachable_unchecked;
+
+use super::code::{Cmp, Op, MAX_FUSED};
+use super::{
+    absolute, add, compare, div, indirect_target, integer_division_by_zero, memory_index, mul,
+    negate, rem, sub, truth, Exit, Host, TrapKind,
+};
+use crate::program::{Program, Reg, Value};
+use crate::sensors::SensorId;
+
+/// The most fuel one entry into the handlers gets (see [`run`]): it bounds the
+/// stack depth should a handler ever not tail-call.
+const CHUNK: u64 = 4096;
+
+/// One op of the threaded code: its handler and its operands.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Slot {
+    handler: Handler,
+    op: Op,
+}
+
+/// The one signature of every handler: the slot it runs, the register file,
+/// the first slot (branch targets are indices from it), the fuel left, and
+/// the rest of the machine.
+type Handler = unsafe fn(*const Slot, *mut Value, *const Slot, u64, &mut Context<'_>);
+
+/// What the handlers reach besides the registers, and where they leave how
+/// they stopped.
+pub(super) struct Context<'a> {
+    pub host: &'a mut dyn Host,
+    pub memory: &'a mut [Value],
+    pub program: &'a Program,
+    /// The number of slots (an indirect jump checks its target against it).
+    pub code_len: usize,
+    /// Set by the handler that stops: why, at which pc, with how much fuel.
+    stop: Stop,
+    pc: usize,
+    fuel: u64,
+}
+
+/// Why the handlers returned.
+#[derive(Clone, Copy)]
+pub(super) enum Stop {
+    Exit(Exit),
+    /// The op at the pc is an output op: the `match` loop runs it.
+    RunInLoop,
+}
+
+impl<'a> Context<'a> {
+    pub fn new(
+        host: &'a mut dyn Host,
+        memory: &'a mut [Value],
+        program: &'a Program,
+        code_len: usize,
+    ) -> Context<'a> {
+        Context {
+            host,
+            memory,
+            program,
+            code_len,
+            stop: Stop::Exit(Exit::OutOfFuel),
+            pc: 0,
+            fuel: 0,
+        }
+    }
+}
+
+/// Runs the threaded code from `*pc` while at least [`MAX_FUSED`] fuel is left,
+/// as the `match` loop over the fused code does; updates `*pc` and `*fuel`.
+pub(super) fn run(
+    slots: &[Slot],
+    registers: &mut [Value],
+    pc: &mut usize,
+    fuel: &mut u64,
+    context: &mut Context<'_>,
+) -> Stop {
+    let base = slots.as_ptr();
+    let regs = registers.as_mut_ptr();
+    loop {
+        if *fuel < MAX_FUSED {
+            return Stop::Exit(Exit::OutOfFuel);
+        }
+        assert!(*pc < slots.len(), "the pc stays inside the code");
+        let chunk = (*fuel).min(CHUNK);
+        // SAFETY: `*pc` is inside the code (checked above); every handler keeps
+        // the pc inside it (the code ends with `halt`, targets were clamped by
+        // `Code::new`, an indirect jump checks its target), reads only the
+        // fields of the variant it was chosen for (`Slot::new`), and indexes
+        // registers below `code.register_bound`, which the register file covers.
+        unsafe { ((*base.add(*pc)).handler)(base.add(*pc), regs, base, chunk, context) };
+        *fuel -= chunk - context.fuel;
+        *pc = context.pc;
+        match context.stop {
+            Stop::Exit(Exit::OutOfFuel) => continue,
+            stop => return stop,
+        }
+    }
+}
+
+/// The comparisons in the order of their handler's const parameter.
+const CMPS: [Cmp; 6] = [Cmp::Eq, Cmp::Ne, Cmp::Lt, Cmp::Le, Cmp::Gt, Cmp::Ge];
+
+impl Slot {
+    /// The slot for `op`: the handler made for its variant (and its comparison
+    /// and constant type).
+    pub fn new(op: Op) -> Slot {
+        macro_rules! by_cmp {
+            ($cmp:expr, $handler:ident $(, $rest:expr)*) => {
+                [
+                    $handler::<0 $(, $rest)*> as Handler,
+                    $handler::<1 $(, $rest)*>,
+                    $handler::<2 $(, $rest)*>,
+                    $handler::<3 $(, $rest)*>,
+                    $handler::<4 $(, $rest)*>,
+                    $handler::<5 $(, $rest)*>,
+                ][CMPS.iter().position(|&cmp| cmp == $cmp).unwrap_or(0)]
+            };
+        }
+        let is_int = |value: Value| matches!(value, Value::Int(_));
+        let handler: Handler = match op {
+            Op::LoadSensor { .. } => op_load_sensor,
+            Op::StoreSensor { .. } => op_store_sensor,
+            Op::LoadInt { .. } => op_load_int,
+            Op::LoadFloat { .. } => op_load_float,
+            Op::Move { .. } => op_move,
+            Op::Add { .. } => op_add,
+            Op::Sub { .. } => op_sub,
+            Op::Mul { .. } => op_mul,
+            Op::Div { .. } => op_div,
+            Op::Mod { .. } => op_mod,
+            Op::Min { .. } => op_min,
+            Op::Max { .. } => op_max,
+            Op::And { .. } => op_and,
+            Op::Or { .. } => op_or,
+            Op::Xor { .. } => op_xor,
+            Op::CmpEq { .. } => op_cmp_eq,
+            Op::CmpNe { .. } => op_cmp_ne,
+            Op::CmpLt { .. } => op_cmp_lt,
+            Op::CmpLe { .. } => op_cmp_le,
+            Op::CmpGt { .. } => op_cmp_gt,
+            Op::CmpGe { .. } => op_cmp_ge,
+            Op::Neg { .. } => op_neg,
+            Op::Abs { .. } => op_abs,
+            Op::Sqrt { .. } => op_sqrt,
+            Op::IntToFloat { .. } => op_int_to_float,
+            Op::FloatToInt { .. } => op_float_to_int,
+            Op::Not { .. } => op_not,
+            Op::LoadMem { .. } => op_load_mem,
+            Op::LoadMemAt { .. } => op_load_mem_at,
+            Op::StoreMem { .. } => op_store_mem,
+            Op::StoreMemAt { .. } => op_store_mem_at,
+            Op::Branch { .. } => op_branch,
+            Op::Jump { .. } => op_jump,
+            Op::JumpIndirect { .. } => op_jump_indirect,
+            Op::Yield {} => op_yield,
+            Op::Halt {} => op_halt,
+            Op::Nop {} => op_nop,
+            Op::Write { .. } | Op::WriteText { .. } | Op::Print { .. } | Op::PrintText { .. } => {
+                op_output
+            }
+            Op::AddK { k, .. } if is_int(k) => op_add_k::<true>,
+            Op::AddK { .. } => op_add_k::<false>,
+            Op::SubK { k, .. } if is_int(k) => op_sub_k::<true>,
+            Op::SubK { .. } => op_sub_k::<false>,
+            Op::MulK { k, .. } if is_int(k) => op_mul_k::<true>,
+            Op::MulK { .. } => op_mul_k::<false>,
+            Op::DivK { k, .. } if is_int(k) => op_div_k::<true>,
+            Op::DivK { .. } => op_div_k::<false>,
+            Op::ModK { k, .. } if is_int(k) => op_mod_k::<true>,
+            Op::ModK { .. } => op_mod_k::<false>,
+            Op::IntToFloatAdd { .. } => op_int_to_float_add,
+            Op::CmpBr { cmp, .. } => by_cmp!(cmp, op_cmp_br),
+            Op::JumpCmpBr { cmp, .. } => by_cmp!(cmp, op_jump_cmp_br),
+            Op::CmpKBr { cmp, k, .. } if is_int(k) => by_cmp!(cmp, op_cmp_k_br, true),
+            Op::CmpKBr { cmp, .. } => by_cmp!(cmp, op_cmp_k_br, false),
+            Op::JumpCmpKBr { cmp, k, .. } if is_int(k) => by_cmp!(cmp, op_jump_cmp_k_br, true),
+            Op::JumpCmpKBr { cmp, .. } => by_cmp!(cmp, op_jump_cmp_k_br, false),
+            Op::RangeBr { lo, hi, .. } if is_int(lo) && is_int(hi) => op_range_br::<true>,
+            Op::RangeBr { .. } => op_range_br::<false>,
+        };
+        Slot { handler, op }
+    }
+}
+
+/// Reads a register.
+///
+/// SAFETY (for every use): `register` is named by an op of the code, so it
+/// lies below `code.register_bound`, which the register file covers.
+#[inline(always)]
+unsafe fn get(regs: *mut Value, register: Reg) -> Value {
+    unsafe { *regs.add(register.0 as usize) }
+}
+
+/// Writes a register (the same safety argument as [`get`]).
+#[inline(always)]
+unsafe fn set(regs: *mut Value, register: Reg, value: Value) {
+    unsafe { *regs.add(register.0 as usize) = value }
+}
+
+/// A constant whose type the loader knew when it chose the handler: the
+/// optimiser sees the type, so no tag is tested at run time.
+#[inline(always)]
+fn constant<const INT: bool>(k: Value) -> Value {
+    match (INT, k) {
+        (true, Value::Int(x)) => Value::Int(x),
+        (false, Value::Float(x)) => Value::Float(x),
+        // SAFETY: `Slot::new` chose `INT` from this very constant.
+        _ => unsafe { unreachable_unchecked() },
+    }
+}
+
+/// Records how the handlers stopped: at `at`, with `fuel` left.
+#[inline(always)]
+unsafe fn stop(
+    at: *const Slot,
+    base: *const Slot,
+    fuel: u64,
+    context: &mut Context<'_>,
+    why: Stop,
+) {
+    // SAFETY: both point into the one slot array.
+    context.pc = unsafe { at.offset_from(base) } as usize;
+    context.fuel = fuel;
+    context.stop = why;
+}
+
+/// Defines a handler: binds the op's fields (the handler is only ever paired
+/// with its variant), charges `$width` units of fuel, runs `$body`, which
+/// evaluates to the next slot (or returns after [`stop`]), and calls that
+/// slot's handler in tail position, unless the fuel no longer covers the widest op.
+macro_rules! handler {
+    (
+        $(#[$doc:meta])*
+        fn $name:ident $(<$(const $generic:ident: $gty:ty),*>)?
+        ($variant:ident { $($field:ident),* }, width $width:expr)
+        |$ip:ident, $regs:ident, $base:ident, $fuel:ident, $context:ident| $body:block
+    ) => {
+        $(#[$doc])*
+        #[allow(unused_variables, clippy::unused_unit)]
+        unsafe fn $name $(<$(const $generic: $gty),*>)? (
+            $ip: *const Slot,
+            $regs: *mut Value,
+            $base: *const Slot,
+            $fuel: u64,
+            $context: &mut Context<'_>,
+        ) {
+            // SAFETY: `Slot::new` pairs this handler with this variant only.
+            let Op::$variant { $($field),* } = (unsafe { &*$ip }).op else {
+                unsafe { unreachable_unchecked() }
+            };
+            let $fuel = $fuel - $width;
+            let next: *const Slot = unsafe { $body };
+            if $fuel < MAX_FUSED {
+                return unsafe { stop(next, $base, $fuel, $context, Stop::Exit(Exit::OutOfFuel)) };
+            }
+            // The tail call that LLVM turns into a jump (tests/tail_calls.rs).
+            unsafe { ((*next).handler)(next, $regs, $base, $fuel, $context) }
+        }
+    };
+}
+
+/// Stops the handlers at the current op with `why` (from inside a handler body).
+macro_rules! stop_here {
+    ($ip:ident, $base:ident, $fuel:ident, $context:ident, $why:expr) => {{
+        stop($ip, $base, $fuel, $context, $why);
+        return;
+    }};
+}
+
+/// Handlers of `dst := a OP b`.
+macro_rules! binary {
+    ($($name:ident, $variant:ident, $f:expr;)*) => {$(
+        handler! {
+            fn $name($variant { a, b, dst }, width 1) |ip, regs, base, fuel, context| {
+                set(regs, dst, $f(get(regs, a), get(regs, b)));
+                ip.add(1)
+            }
+        }
+    )*};
+}
+
+/// Handlers of `dst := OP src`.
+macro_rules! unary {
+    ($($name:ident, $variant:ident, $f:expr;)*) => {$(
+        handler! {
+            fn $name($variant { src, dst }, width 1) |ip, regs, base, fuel, context| {
+                set(regs, dst, $f(get(regs, src)));
+                ip.add(1)
+            }
+        }
+    )*};
+}
+
+/// Handlers of `dst := a OP b` with an integer zero divisor trapping.
+macro_rules! division {
+    ($($name:ident, $variant:ident, $f:expr;)*) => {$(
+        handler! {
+            fn $name($variant { a, b, dst }, width 1) |ip, regs, base, fuel, context| {
+                if integer_division_by_zero(get(regs, a), get(regs, b)) {
+                    stop_here!(ip, base, fuel, context, Stop::Exit(Exit::Trap(TrapKind::DivisionByZero)));
+                }
+                set(regs, dst, $f(get(regs, a), get(regs, b)));
+                ip.add(1)
+            }
+        }
+    )*};
+}
+
+/// Handlers of the fused `loadi/loadd K,t; OP a,t,dst`.
+macro_rules! with_constant {
+    ($($name:ident, $variant:ident, $f:expr;)*) => {$(
+        handler! {
+            fn $name<const INT: bool>($variant { a, k, t, dst }, width 2)
+            |ip, regs, base, fuel, context| {
+                let k = constant::<INT>(k);
+                set(regs, t, k);
+                set(regs, dst, $f(get(regs, a), k));
+                ip.add(2)
+            }
+        }
+    )*};
+}
+
+/// The target of a branch.
+#[inline(always)]
+unsafe fn branch_target(base: *const Slot, pc: crate::program::Pc) -> *const Slot {
+    // SAFETY: `Code::new` clamped every target into the code.
+    unsafe { base.add(pc.index()) }
+}
+
+binary! {
+    op_add, Add, add;
+    op_sub, Sub, sub;
+    op_mul, Mul, mul;
+    op_min, Min, |a, b| super::arithmetic(a, b, i64::min, f64::min);
+    op_max, Max, |a, b| super::arithmetic(a, b, i64::max, f64::max);
+    op_and, And, |a: Value, b: Value| Value::Int(a.as_i64() & b.as_i64());
+    op_or, Or, |a: Value, b: Value| Value::Int(a.as_i64() | b.as_i64());
+    op_xor, Xor, |a: Value, b: Value| Value::Int(a.as_i64() ^ b.as_i64());
+    op_cmp_eq, CmpEq, |a, b| truth(compare(Cmp::Eq, a, b));
+    op_cmp_ne, CmpNe, |a, b| truth(compare(Cmp::Ne, a, b));
+    op_cmp_lt, CmpLt, |a, b| truth(compare(Cmp::Lt, a, b));
+    op_cmp_le, CmpLe, |a, b| truth(compare(Cmp::Le, a, b));
+    op_cmp_gt, CmpGt, |a, b| truth(compare(Cmp::Gt, a, b));
+    op_cmp_ge, CmpGe, |a, b| truth(compare(Cmp::Ge, a, b));
+}
+
+division! {
+    op_div, Div, div;
+    op_mod, Mod, rem;
+}
+
+unary! {
+    op_move, Move, |value| value;
+    op_neg, Neg, negate;
+    op_abs, Abs, absolute;
+    op_sqrt, Sqrt, |value: Value| Value::Float(value.as_f64().sqrt());
+    op_int_to_float, IntToFloat, |value: Value| Value::Float(value.as_f64());
+    op_float_to_int, FloatToInt, |value: Value| Value::Int(value.as_i64());
+    op_not, Not, |value: Value| truth(!value.is_true());
+}
+
+with_constant! {
+    op_add_k, AddK, add;
+    op_sub_k, SubK, sub;
+    op_mul_k, MulK, mul;
+    op_div_k, DivK, div;
+    op_mod_k, ModK, rem;
+}
+
+/// Calls the host out of line, so that the handler's only indirect call is
+/// none: its tail call stays the one indirect transfer (tests/tail_calls.rs).
+#[inline(never)]
+fn load_sensor(host: &mut dyn Host, sensor: SensorId) -> f64 {
+    host.load_sensor(sensor)
+}
+
+/// See [`load_sensor`].
+#[inline(never)]
+fn store_sensor(host: &mut dyn Host, sensor: SensorId, value: f64) {
+    host.store_sensor(sensor, value);
+}
+
+handler! {
+    fn op_load_sensor(LoadSensor { sensor, dst }, width 1) |ip, regs, base, fuel, context| {
+        set(regs, dst, Value::Float(load_sensor(context.host, sensor)));
+        ip.add(1)
+    }
+}
+
+handler! {
+    fn op_store_sensor(StoreSensor { src, sensor }, width 1) |ip, regs, base, fuel, context| {
+        store_sensor(context.host, sensor, get(regs, src).as_f64());
+        ip.add(1)
+    }
+}
+
+handler! {
+    fn op_load_int(LoadInt { value, dst }, width 1) |ip, regs, base, fuel, context| {
+        set(regs, dst, Value::Int(value));
+        ip.add(1)
+    }
+}
+
+handler! {
+    fn op_load_float(LoadFloat { value, dst }, width 1) |ip, regs, base, fuel, context| {
+        set(regs, dst, Value::Float(value));
+        ip.add(1)
+    }
+}
+
+handler! {
+    fn op_load_mem(LoadMem { addr, dst }, width 1) |ip, regs, base, fuel, context| {
+        match memory_index(get(regs, addr), context.memory.len()) {
+            Ok(index) => set(regs, dst, context.memory[index]),
+            Err(kind) => stop_here!(ip, base, fuel, context, Stop::Exit(Exit::Trap(kind))),
+        }
+        ip.add(1)
+    }
+}
+
+handler! {
+    fn op_load_mem_at(LoadMemAt { addr, dst }, width 1) |ip, regs, base, fuel, context| {
+        set(regs, dst, context.memory[addr as usize]);
+        ip.add(1)
+    }
+}
+
+handler! {
+    fn op_store_mem(StoreMem { src, addr }, width 1) |ip, regs, base, fuel, context| {
+        match memory_index(get(regs, addr), context.memory.len()) {
+            Ok(index) => context.memory[index] = get(regs, src),
+            Err(kind) => stop_here!(ip, base, fuel, context, Stop::Exit(Exit::Trap(kind))),
+        }
+        ip.add(1)
+    }
+}
+
+handler! {
+    fn op_store_mem_at(StoreMemAt { src, addr }, width 1) |ip, regs, base, fuel, context| {
+        context.memory[addr as usize] = get(regs, src);
+        ip.add(1)
+    }
+}
+
+handler! {
+    fn op_branch(Branch { cond, if_true, if_false }, width 1) |ip, regs, base, fuel, context| {
+        branch_target(base, if get(regs, cond).is_true() { if_true } else { if_false })
+    }
+}
+
+handler! {
+    fn op_jump(Jump { target }, width 1) |ip, regs, base, fuel, context| {
+        branch_target(base, target)
+    }
+}
+
+handler! {
+    fn op_jump_indirect(JumpIndirect { register }, width 1) |ip, regs, base, fuel, context| {
+        match indirect_target(context.program, get(regs, register), context.code_len) {
+            Ok(pc) => base.add(pc),
+            Err(exit) => stop_here!(ip, base, fuel, context, Stop::Exit(exit)),
+        }
+    }
+}
+
+/// `yield`: charged, and stops at its own pc (the machine moves past it).
+unsafe fn op_yield(
+    ip: *const Slot,
+    _regs: *mut Value,
+    base: *const Slot,
+    fuel: u64,
+    context: &mut Context<'_>,
+) {
+    unsafe { stop(ip, base, fuel - 1, context, Stop::Exit(Exit::Yield)) }
+}
+
+/// `halt` (and the end of the code): charged, and stops at its own pc.
+unsafe fn op_halt(
+    ip: *const Slot,
+    _regs: *mut Value,
+    base: *const Slot,
+    fuel: u64,
+    context: &mut Context<'_>,
+) {
+    unsafe { stop(ip, base, fuel - 1, context, Stop::Exit(Exit::Halt)) }
+}
+
+handler! {
+    fn op_nop(Nop {}, width 1) |ip, regs, base, fuel, context| {
+        ip.add(1)
+    }
+}
+
+/// `write`, `writes`, `print`, `prints`: left to the `match` loop, uncharged.
+unsafe fn op_output(
+    ip: *const Slot,
+    _regs: *mut Value,
+    base: *const Slot,
+    fuel: u64,
+    context: &mut Context<'_>,
+) {
+    unsafe { stop(ip, base, fuel, context, Stop::RunInLoop) }
+}
+
+handler! {
+    fn op_int_to_float_add(IntToFloatAdd { src, t, a, dst }, width 2)
+    |ip, regs, base, fuel, context| {
+        let widened = Value::Float(get(regs, src).as_f64());
+        set(regs, t, widened);
+        set(regs, dst, add(get(regs, a), widened));
+        ip.add(2)
+    }
+}
+
+/// Writes a comparison's result and picks the branch.
+#[inline(always)]
+unsafe fn compare_branch(
+    regs: *mut Value,
+    base: *const Slot,
+    result: bool,
+    c: Reg,
+    if_true: crate::program::Pc,
+    if_false: crate::program::Pc,
+) -> *const Slot {
+    unsafe {
+        set(regs, c, truth(result));
+        branch_target(base, if result { if_true } else { if_false })
+    }
+}
+
+handler! {
+    fn op_cmp_br<const C: usize>(CmpBr { cmp, a, b, c, if_true, if_false }, width 2)
+    |ip, regs, base, fuel, context| {
+        let result = compare(CMPS[C], get(regs, a), get(regs, b));
+        compare_branch(regs, base, result, c, if_true, if_false)
+    }
+}
+
+handler! {
+    fn op_jump_cmp_br<const C: usize>(JumpCmpBr { cmp, a, b, c, if_true, if_false }, width 3)
+    |ip, regs, base, fuel, context| {
+        let result = compare(CMPS[C], get(regs, a), get(regs, b));
+        compare_branch(regs, base, result, c, if_true, if_false)
+    }
+}
+
+handler! {
+    fn op_cmp_k_br<const C: usize, const INT: bool>(
+        CmpKBr { cmp, a, k, t, c, if_true, if_false }, width 3
+    )
+    |ip, regs, base, fuel, context| {
+        let k = constant::<INT>(k);
+        set(regs, t, k);
+        let result = compare(CMPS[C], get(regs, a), k);
+        compare_branch(regs, base, result, c, if_true, if_false)
+    }
+}
+
+handler! {
+    fn op_jump_cmp_k_br<const C: usize, const INT: bool>(
+        JumpCmpKBr { cmp, a, k, t, c, if_true, if_false }, width 4
+    )
+    |ip, regs, base, fuel, context| {
+        let k = constant::<INT>(k);
+        set(regs, t, k);
+        let result = compare(CMPS[C], get(regs, a), k);
+        compare_branch(regs, base, result, c, if_true, if_false)
+    }
+}
+
+handler! {
+    fn op_range_br<const INT: bool>(
+        RangeBr { x, lo, t_lo, c_lo, hi, t_hi, c_hi, d, if_out, if_in }, width 6
+    )
+    |ip, regs, base, fuel, context| {
+        // `INT`: both bounds are integers (as GBASIC writes them); otherwise
+        // nothing is known and the comparisons test the tags.
+        let (lo, hi) = if INT { (constant::<true>(lo), constant::<true>(hi)) } else { (lo, hi) };
+        let index = get(regs, x);
+        let below = compare(Cmp::Lt, index, lo);
+        let above = compare(Cmp::Ge, index, hi);
+        set(regs, t_lo, lo);
+        set(regs, c_lo, truth(below));
+        set(regs, t_hi, hi);
+        set(regs, c_hi, truth(above));
+        set(regs, d, truth(below | above));
+        branch_target(base, if below | above { if_out } else { if_in })
+    }
+}

@@ -85,3 +85,12 @@ pub fn states(iterations: i64) -> (i64, i64, i64) {
     }
     (state, visits, turns)
 }
+
+/// `tight.gbas`: returns s.
+pub fn tight(iterations: i64) -> i64 {
+    let mut s: i64 = 0;
+    for i in 1..=black_box(iterations) {
+        s += (i * i) % 7;
+    }
+    s
+}

@@ -35,7 +35,7 @@ use super::{
     absolute, add, compare, div, indirect_target, integer_division_by_zero, memory_index, mul,
     negate, rem, sub, truth, Exit, Host, TrapKind,
 };
-use crate::program::{Program, Reg, Value};
+use crate::program::{Pc, Program, Reg, Value};
 use crate::sensors::SensorId;
 
 /// The most fuel one entry into the handlers gets (see [`run`]): it bounds the
@@ -280,11 +280,55 @@ macro_rules! handler {
             };
             let $fuel = $fuel - $width;
             let next: *const Slot = unsafe { $body };
-            if $fuel < MAX_FUSED {
-                return unsafe { stop(next, $base, $fuel, $context, Stop::Exit(Exit::OutOfFuel)) };
+            dispatch!(next, $regs, $base, $fuel, $context)
+        }
+    };
+}
+
+/// Goes on at `next`: stops when the fuel no longer covers the widest op,
+/// and otherwise calls its handler in tail position.
+macro_rules! dispatch {
+    ($next:expr, $regs:ident, $base:ident, $fuel:ident, $context:ident) => {{
+        let next: *const Slot = $next;
+        if $fuel < MAX_FUSED {
+            return unsafe { stop(next, $base, $fuel, $context, Stop::Exit(Exit::OutOfFuel)) };
+        }
+        // The tail call that LLVM turns into a jump (tests/tail_calls.rs).
+        return unsafe { ((*next).handler)(next, $regs, $base, $fuel, $context) };
+    }};
+}
+
+/// Defines a handler that branches: like [`handler!`], but `$body` evaluates to
+/// (taken, if_true, if_false) and each way has its own tail call. The
+/// condition is then a conditional branch that the predictor sees before the
+/// indirect jump, and each indirect jump has its own history.
+macro_rules! branch_handler {
+    (
+        $(#[$doc:meta])*
+        fn $name:ident $(<$(const $generic:ident: $gty:ty),*>)?
+        ($variant:ident { $($field:ident),* }, width $width:expr)
+        |$ip:ident, $regs:ident, $base:ident, $fuel:ident, $context:ident| $body:block
+    ) => {
+        $(#[$doc])*
+        #[allow(unused_variables, clippy::unused_unit)]
+        unsafe fn $name $(<$(const $generic: $gty),*>)? (
+            $ip: *const Slot,
+            $regs: *mut Value,
+            $base: *const Slot,
+            $fuel: u64,
+            $context: &mut Context<'_>,
+        ) {
+            // SAFETY: `Slot::new` pairs this handler with this variant only.
+            let Op::$variant { $($field),* } = (unsafe { &*$ip }).op else {
+                unsafe { unreachable_unchecked() }
+            };
+            let $fuel = $fuel - $width;
+            let (taken, if_true, if_false): (bool, Pc, Pc) = unsafe { $body };
+            if taken {
+                dispatch!(unsafe { branch_target($base, if_true) }, $regs, $base, $fuel, $context)
+            } else {
+                dispatch!(unsafe { branch_target($base, if_false) }, $regs, $base, $fuel, $context)
             }
-            // The tail call that LLVM turns into a jump (tests/tail_calls.rs).
-            unsafe { ((*next).handler)(next, $regs, $base, $fuel, $context) }
         }
     };
 }
@@ -353,7 +397,7 @@ macro_rules! with_constant {
 
 /// The target of a branch.
 #[inline(always)]
-unsafe fn branch_target(base: *const Slot, pc: crate::program::Pc) -> *const Slot {
+unsafe fn branch_target(base: *const Slot, pc: Pc) -> *const Slot {
     // SAFETY: `Code::new` clamped every target into the code.
     unsafe { base.add(pc.index()) }
 }
@@ -473,9 +517,9 @@ handler! {
     }
 }
 
-handler! {
+branch_handler! {
     fn op_branch(Branch { cond, if_true, if_false }, width 1) |ip, regs, base, fuel, context| {
-        branch_target(base, if get(regs, cond).is_true() { if_true } else { if_false })
+        (get(regs, cond).is_true(), if_true, if_false)
     }
 }
 
@@ -543,39 +587,25 @@ handler! {
     }
 }
 
-/// Writes a comparison's result and picks the branch.
-#[inline(always)]
-unsafe fn compare_branch(
-    regs: *mut Value,
-    base: *const Slot,
-    result: bool,
-    c: Reg,
-    if_true: crate::program::Pc,
-    if_false: crate::program::Pc,
-) -> *const Slot {
-    unsafe {
-        set(regs, c, truth(result));
-        branch_target(base, if result { if_true } else { if_false })
-    }
-}
-
-handler! {
+branch_handler! {
     fn op_cmp_br<const C: usize>(CmpBr { cmp, a, b, c, if_true, if_false }, width 2)
     |ip, regs, base, fuel, context| {
         let result = compare(CMPS[C], get(regs, a), get(regs, b));
-        compare_branch(regs, base, result, c, if_true, if_false)
+        set(regs, c, truth(result));
+        (result, if_true, if_false)
     }
 }
 
-handler! {
+branch_handler! {
     fn op_jump_cmp_br<const C: usize>(JumpCmpBr { cmp, a, b, c, if_true, if_false }, width 3)
     |ip, regs, base, fuel, context| {
         let result = compare(CMPS[C], get(regs, a), get(regs, b));
-        compare_branch(regs, base, result, c, if_true, if_false)
+        set(regs, c, truth(result));
+        (result, if_true, if_false)
     }
 }
 
-handler! {
+branch_handler! {
     fn op_cmp_k_br<const C: usize, const INT: bool>(
         CmpKBr { cmp, a, k, t, c, if_true, if_false }, width 3
     )
@@ -583,11 +613,12 @@ handler! {
         let k = constant::<INT>(k);
         set(regs, t, k);
         let result = compare(CMPS[C], get(regs, a), k);
-        compare_branch(regs, base, result, c, if_true, if_false)
+        set(regs, c, truth(result));
+        (result, if_true, if_false)
     }
 }
 
-handler! {
+branch_handler! {
     fn op_jump_cmp_k_br<const C: usize, const INT: bool>(
         JumpCmpKBr { cmp, a, k, t, c, if_true, if_false }, width 4
     )
@@ -595,11 +626,12 @@ handler! {
         let k = constant::<INT>(k);
         set(regs, t, k);
         let result = compare(CMPS[C], get(regs, a), k);
-        compare_branch(regs, base, result, c, if_true, if_false)
+        set(regs, c, truth(result));
+        (result, if_true, if_false)
     }
 }
 
-handler! {
+branch_handler! {
     fn op_range_br<const INT: bool>(
         RangeBr { x, lo, t_lo, c_lo, hi, t_hi, c_hi, d, if_out, if_in }, width 6
     )
@@ -615,6 +647,6 @@ handler! {
         set(regs, t_hi, hi);
         set(regs, c_hi, truth(above));
         set(regs, d, truth(below | above));
-        branch_target(base, if below | above { if_out } else { if_in })
+        (below | above, if_out, if_in)
     }
 }

@@ -145,4 +145,9 @@ fn print_stats(
             format!("after the yield on line {line}")
         );
     }
+    let output = match worst.output_bytes {
+        Bound::Finite(bytes) => format!("at most {bytes} bytes per cycle"),
+        Bound::Unbounded => "unbounded (a loop without `yield` writes)".to_string(),
+    };
+    println!("  output        {output}");
 }

@@ -27,9 +27,8 @@ pub fn main(args: crate::CompileArgs) -> anyhow::Result<ExitCode> {
         },
         None => SensorList::embedded(),
     };
-    let bytes = std::fs::read(&args.file)
+    let text = gloc_engine::files::read_text(&args.file, gloc_engine::files::SCRIPT)
         .with_context(|| format!("cannot read the GBASIC file `{}`", args.file.display()))?;
-    let text = String::from_utf8_lossy(&bytes).into_owned();
     let display = args.file.display().to_string();
     let loaded = load_script(
         &text,
@@ -150,9 +149,8 @@ pub fn read_script(
     sensors: &SensorList,
     options: &LoadOptions,
 ) -> anyhow::Result<CliScript> {
-    let bytes = std::fs::read(path)
+    let text = gloc_engine::files::read_text(path, gloc_engine::files::SCRIPT)
         .with_context(|| format!("cannot read the script `{}`", path.display()))?;
-    let text = String::from_utf8_lossy(&bytes).into_owned();
     let loaded = load_script(&text, Language::of_path(path), sensors, options);
     Ok(CliScript {
         display: path.display().to_string(),

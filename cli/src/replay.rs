@@ -139,9 +139,8 @@ fn replay(
     out_path: Option<&PathBuf>,
     config: MachineConfig,
 ) -> anyhow::Result<ExitCode> {
-    let input = std::fs::read(in_path)
+    let input = gloc_engine::files::read_text(in_path, gloc_engine::files::REPLAY)
         .with_context(|| format!("cannot read the replay file `{}`", in_path.display()))?;
-    let input = String::from_utf8_lossy(&input).into_owned();
     let display = in_path.display().to_string();
     let source = SourceFile::new(&display, &input);
     let mut lines = input

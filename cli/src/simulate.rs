@@ -14,6 +14,7 @@ use std::time::Instant;
 
 use anyhow::{bail, Context};
 use gloc_compiler::{load_script, Language, LoadOptions, LoadedScript};
+use gloc_engine::files;
 use gloc_engine::sensors::SensorList;
 use gloc_engine::vm::DEFAULT_CYCLE_BUDGET;
 use gloc_sim::faults::{step_cycle_with_faults, Fault, FaultPlan};
@@ -68,7 +69,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
     }
 
     let (script_name, script_text) = match &args.script {
-        Some(path) => (path.display().to_string(), read_text(path, "script")?),
+        Some(path) => (path.display().to_string(), read_text(path, files::SCRIPT)?),
         None => ("fig2.gloc".to_string(), crate::replay::FIG2.to_string()),
     };
     let language = match &args.script {
@@ -112,7 +113,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
 
     let profile = match &args.profile {
         Some(path) => {
-            let text = read_text(path, "temperature profile")?;
+            let text = read_text(path, files::PROFILE)?;
             match TemperatureProfile::from_csv(path, &text) {
                 Ok(profile) => Some(profile),
                 Err(error) => {
@@ -256,10 +257,9 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-fn read_text(path: &Path, what: &str) -> anyhow::Result<String> {
-    let bytes = std::fs::read(path)
-        .with_context(|| format!("cannot read the {what} `{}`", path.display()))?;
-    Ok(String::from_utf8_lossy(&bytes).into_owned())
+fn read_text(path: &Path, limit: files::Limit) -> anyhow::Result<String> {
+    files::read_text(path, limit)
+        .with_context(|| format!("cannot read {} `{}`", limit.what, path.display()))
 }
 
 type OpenLog = (LogWriter<BufWriter<File>>, std::path::PathBuf);

@@ -363,15 +363,16 @@ impl Config {
 
     /// Reads and parses one `gloc.toml`.
     pub fn load(path: &Path) -> Result<Config, ConfigError> {
-        let text = std::fs::read_to_string(path).map_err(|error| ConfigError {
-            path: path.to_path_buf(),
-            text: None,
-            diagnostic: Box::new(Diagnostic::error(
-                CODE_UNREADABLE_CONFIG,
-                Span::default(),
-                format!("cannot read gloc.toml: {error}"),
-            )),
-        })?;
+        let text =
+            crate::files::read_text(path, crate::files::CONFIG).map_err(|error| ConfigError {
+                path: path.to_path_buf(),
+                text: None,
+                diagnostic: Box::new(Diagnostic::error(
+                    CODE_UNREADABLE_CONFIG,
+                    Span::default(),
+                    format!("cannot read gloc.toml: {error}"),
+                )),
+            })?;
         let folder = path.parent().unwrap_or(Path::new("."));
         match Config::parse(&text, folder) {
             Ok(mut config) => {

@@ -8,6 +8,7 @@ use clap::{Args, Parser, Subcommand};
 
 mod check;
 mod compile;
+mod output;
 pub mod render;
 mod replay;
 mod run;

@@ -17,6 +17,18 @@ pub struct Settings {
     /// Simulator constants: `[simulator]` of gloc.toml, then the `--sim` flags (so
     /// that applied in order, a flag wins).
     pub simulator: Vec<(String, f64)>,
+    /// The `gloc.toml` that was read, if any (an input no output may overwrite).
+    pub config_path: Option<PathBuf>,
+}
+
+impl Settings {
+    /// The files these settings name (masterdata, mission, gloc.toml).
+    pub fn input_paths(&self) -> impl Iterator<Item = &Path> {
+        [&self.masterdata, &self.mission, &self.config_path]
+            .into_iter()
+            .flatten()
+            .map(PathBuf::as_path)
+    }
 }
 
 /// The flags a subcommand was given; `None` where the user gave none.
@@ -44,6 +56,7 @@ pub fn resolve(anchor: Option<&Path>, flags: Flags<'_>) -> anyhow::Result<Settin
         }
     };
     Ok(Settings {
+        config_path: config.path.clone(),
         masterdata: flags
             .masterdata
             .map(Path::to_path_buf)

@@ -89,6 +89,15 @@ pub fn parse_simulator_setting(text: &str) -> Result<(String, f64), String> {
     Ok((name.to_string(), number))
 }
 
+/// Parses `--cycle-budget` (clap's value parser), checked as gloc.toml's is.
+pub fn parse_cycle_budget(text: &str) -> Result<u64, String> {
+    let budget: u64 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{text}` is not a whole number of instructions"))?;
+    gloc_engine::config::check_cycle_budget(budget)
+}
+
 /// Parses `--sensor-order` (clap's value parser).
 pub fn parse_sensor_order(name: &str) -> Result<SensorOrder, String> {
     SensorOrder::from_name(name).ok_or_else(|| format!("expected {}", SensorOrder::NAMES))

@@ -29,6 +29,10 @@ use crate::render::{SourceFile, Tally};
 /// is given and the mission does not end by itself.
 const DEFAULT_LIMIT_SECONDS: f64 = 24.0 * 3600.0;
 
+/// The most control cycles one run may take (`--cycles`, `--duration`): about 12 years
+/// of 4 s cycles, minutes of computing for a plain script.
+const MAX_RUN_CYCLES: u64 = 100_000_000;
+
 /// Runs shorter than this many cycles get no progress bar.
 const PROGRESS_MIN_CYCLES: u64 = 50_000;
 
@@ -148,6 +152,14 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
     }
 
     let (max_cycles, limit_given) = match (&args.duration, args.cycles) {
+        (Some(text), _) if parse_duration(text)? / sim.cycle_time() > MAX_RUN_CYCLES as f64 => {
+            bail!(
+                "--duration {text} is more than {MAX_RUN_CYCLES} control cycles, the most one run may take"
+            )
+        }
+        (None, Some(cycles)) if cycles > MAX_RUN_CYCLES => {
+            bail!("--cycles {cycles} is more than {MAX_RUN_CYCLES}, the most one run may take")
+        }
         (Some(text), _) => {
             let seconds = parse_duration(text)?;
             ((seconds / sim.cycle_time()).ceil() as u64, true)

@@ -17,6 +17,7 @@ use gloc_compiler::{load_script, Language, LoadOptions, LoadedScript};
 use gloc_engine::files;
 use gloc_engine::sensors::SensorList;
 use gloc_engine::vm::DEFAULT_CYCLE_BUDGET;
+use gloc_sim::behaviors::EventKind;
 use gloc_sim::faults::{step_cycle_with_faults, Fault, FaultPlan};
 use gloc_sim::log::{default_columns, parse_columns, DbaHeader, LogFormat, LogWriter};
 use gloc_sim::plot::{render_svg, Trace};
@@ -226,6 +227,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
     let started = Instant::now();
     let mut cycles_run: u64 = 0;
     let mut stopped: Option<String> = None;
+    let mut hook_ignored: Option<(u64, f64)> = None;
     let mut log_error: Option<anyhow::Error> = None;
     while cycles_run < max_cycles {
         let received = signal.load(Ordering::Relaxed);
@@ -238,6 +240,12 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         }
         if !step_cycle_with_faults(&mut sim, &mut fault_plan) {
             break;
+        }
+        if hook_ignored.is_none() {
+            hook_ignored = sim.events().iter().find_map(|event| match event.kind {
+                EventKind::IgnoredRequest { value } => Some((cycles_run, value)),
+                _ => None,
+            });
         }
         cycles_run += 1;
         for line in sim.printed() {
@@ -310,6 +318,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         faults: &fault_plan,
         fault_texts: &args.faults,
         stopped: stopped.as_deref(),
+        hook_ignored,
         log_written: log_error.is_none(),
         plot_written: plot_error.is_none(),
     });
@@ -496,6 +505,8 @@ struct SummaryFacts<'a> {
     fault_texts: &'a [String],
     /// Why the run stopped early (a signal, a log that could not be written).
     stopped: Option<&'a str>,
+    /// The first `sci_ruhp_behs` the hook ignored, and its cycle.
+    hook_ignored: Option<(u64, f64)>,
     log_written: bool,
     plot_written: bool,
 }
@@ -585,6 +596,11 @@ fn summary(facts: &SummaryFacts<'_>) {
         )
     };
     lines.push(format!("script printed {printed}"));
+    if let Some((cycle, value)) = facts.hook_ignored {
+        lines.push(format!(
+            "hook          ignored sci_ruhp_behs = {value:?} from cycle {cycle}: not a whole number from 0 to 2147483647"
+        ));
+    }
     for ((fault, applied), text) in facts.faults.report().zip(facts.fault_texts) {
         lines.push(format!(
             "fault         {}",

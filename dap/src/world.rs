@@ -296,6 +296,9 @@ impl World {
                 EventKind::Started => format!("{name} started"),
                 EventKind::Completed => format!("{name} completed"),
                 EventKind::Inflection { depth } => format!("{name} turned at {depth:.2} m"),
+                EventKind::IgnoredRequest { value } => format!(
+                    "{name} ignored sci_ruhp_behs = {value} (not a whole number from 0 to 2147483647)"
+                ),
             };
             self.notices.push(Notice::Behavior(format!(
                 "cycle {}: {text}",

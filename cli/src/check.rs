@@ -29,8 +29,8 @@ pub fn main(args: crate::CheckArgs) -> anyhow::Result<ExitCode> {
     };
     for path in &args.files {
         let display = path.display().to_string();
-        let text = match std::fs::read(path) {
-            Ok(bytes) => String::from_utf8_lossy(&bytes).into_owned(),
+        let text = match gloc_engine::files::read_text(path, gloc_engine::files::SCRIPT) {
+            Ok(text) => text,
             Err(error) => {
                 println!("{display}: error: cannot read the file: {error}");
                 tally.errors += 1;
@@ -145,4 +145,9 @@ fn print_stats(
             format!("after the yield on line {line}")
         );
     }
+    let output = match worst.output_bytes {
+        Bound::Finite(bytes) => format!("at most {bytes} bytes per cycle"),
+        Bound::Unbounded => "unbounded (a loop without `yield` writes)".to_string(),
+    };
+    println!("  output        {output}");
 }

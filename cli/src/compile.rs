@@ -27,9 +27,8 @@ pub fn main(args: crate::CompileArgs) -> anyhow::Result<ExitCode> {
         },
         None => SensorList::embedded(),
     };
-    let bytes = std::fs::read(&args.file)
+    let text = gloc_engine::files::read_text(&args.file, gloc_engine::files::SCRIPT)
         .with_context(|| format!("cannot read the GBASIC file `{}`", args.file.display()))?;
-    let text = String::from_utf8_lossy(&bytes).into_owned();
     let display = args.file.display().to_string();
     let loaded = load_script(
         &text,
@@ -61,22 +60,26 @@ pub fn main(args: crate::CompileArgs) -> anyhow::Result<ExitCode> {
         .output
         .clone()
         .unwrap_or_else(|| args.file.with_extension("gloc"));
-    let same_file = std::fs::canonicalize(&output)
-        .ok()
-        .zip(std::fs::canonicalize(&args.file).ok())
-        .is_some_and(|(output, source)| output == source);
-    if same_file {
-        anyhow::bail!(
-            "`{}` is the GBASIC source itself; choose another output with -o",
-            output.display()
-        );
-    }
-    std::fs::write(&output, gloc_text)
-        .with_context(|| format!("cannot write `{}`", output.display()))?;
+    let map_path = map_path(&output);
+    let mut outputs = vec![crate::output::Output {
+        flag: "-o",
+        path: &output,
+    }];
     if args.emit_map {
-        let map_path = map_path(&output);
-        std::fs::write(&map_path, source_map.to_json())
-            .with_context(|| format!("cannot write `{}`", map_path.display()))?;
+        outputs.push(crate::output::Output {
+            flag: "--emit-map",
+            path: &map_path,
+        });
+    }
+    let inputs: Vec<&Path> = std::iter::once(args.file.as_path())
+        .chain(settings.input_paths())
+        .collect();
+    crate::output::check_outputs(&inputs, &outputs)?;
+    crate::output::write_atomically(&output, gloc_text.as_bytes())
+        .map_err(|error| crate::output::write_error(error, "the GLOC", &output))?;
+    if args.emit_map {
+        crate::output::write_atomically(&map_path, source_map.to_json().as_bytes())
+            .map_err(|error| crate::output::write_error(error, "the source map", &map_path))?;
     }
     if let Some(stats) = loaded.compile_stats {
         eprintln!(
@@ -150,9 +153,8 @@ pub fn read_script(
     sensors: &SensorList,
     options: &LoadOptions,
 ) -> anyhow::Result<CliScript> {
-    let bytes = std::fs::read(path)
+    let text = gloc_engine::files::read_text(path, gloc_engine::files::SCRIPT)
         .with_context(|| format!("cannot read the script `{}`", path.display()))?;
-    let text = String::from_utf8_lossy(&bytes).into_owned();
     let loaded = load_script(&text, Language::of_path(path), sensors, options);
     Ok(CliScript {
         display: path.display().to_string(),

@@ -8,6 +8,7 @@ use clap::{Args, Parser, Subcommand};
 
 mod check;
 mod compile;
+mod output;
 pub mod render;
 mod replay;
 mod run;
@@ -87,8 +88,8 @@ pub struct RunArgs {
     /// With --replay: write the sensors the script stored, one row per cycle.
     #[arg(long, value_name = "OUT.csv")]
     pub out: Option<PathBuf>,
-    /// Per-cycle instruction budget (a script that runs longer traps with "cycle overrun").
-    #[arg(long, value_name = "N")]
+    /// Per-cycle instruction budget, 1 to 1,000,000,000 (a script that runs longer traps with "cycle overrun").
+    #[arg(long, value_name = "N", value_parser = settings::parse_cycle_budget)]
     pub cycle_budget: Option<u64>,
     /// Mission file (`.mi`); default: the embedded Fig. 2 mission.
     #[arg(long, value_name = "M.mi")]

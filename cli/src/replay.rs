@@ -8,8 +8,7 @@
 //! `cycle,<each sensor the script stores>` and one row per cycle (cycles count
 //! from 0), with an empty cell where nothing was stored that cycle.
 
-use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
@@ -19,6 +18,7 @@ use gloc_engine::sensors::{SensorId, SensorList};
 use gloc_engine::suggest;
 use gloc_engine::vm::{CycleEnd, Host, Machine, MachineConfig, DEFAULT_CYCLE_BUDGET};
 
+use crate::output::AtomicFile;
 use crate::render::{SourceFile, Tally};
 
 /// The paper's Fig. 2, the script `gloc run` uses when none is given.
@@ -65,6 +65,20 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
     let config = MachineConfig {
         cycle_budget: settings.cycle_budget.unwrap_or(DEFAULT_CYCLE_BUDGET),
     };
+    if let Some(out) = &args.out {
+        let inputs: Vec<&Path> = [args.script.as_deref(), Some(replay_path.as_path())]
+            .into_iter()
+            .flatten()
+            .chain(settings.input_paths())
+            .collect();
+        crate::output::check_outputs(
+            &inputs,
+            &[crate::output::Output {
+                flag: "--out",
+                path: out,
+            }],
+        )?;
+    }
     replay(&script, &sensors, &replay_path, args.out.as_ref(), config)
 }
 
@@ -139,9 +153,8 @@ fn replay(
     out_path: Option<&PathBuf>,
     config: MachineConfig,
 ) -> anyhow::Result<ExitCode> {
-    let input = std::fs::read(in_path)
+    let input = gloc_engine::files::read_text(in_path, gloc_engine::files::REPLAY)
         .with_context(|| format!("cannot read the replay file `{}`", in_path.display()))?;
-    let input = String::from_utf8_lossy(&input).into_owned();
     let display = in_path.display().to_string();
     let source = SourceFile::new(&display, &input);
     let mut lines = input
@@ -183,18 +196,18 @@ fn replay(
         }
     }
 
+    // Written beside OUT and renamed over it only when the whole replay succeeded.
     let mut out = match out_path {
-        Some(path) => {
-            Some(BufWriter::new(File::create(path).with_context(|| {
-                format!("cannot create `{}`", path.display())
-            })?))
-        }
+        Some(path) => Some(
+            AtomicFile::create(path)
+                .with_context(|| format!("cannot create `{}`", path.display()))?,
+        ),
         None => None,
     };
     let Some(program) = script.loaded.program.as_ref() else {
         bail!("the script has errors");
     };
-    let stored = &program.stored_sensors;
+    let stored = &script.loaded.stored_sensors;
     let mut out_column = vec![usize::MAX; sensors.len()];
     for (column, sensor) in stored.iter().enumerate() {
         if let Some(slot) = out_column.get_mut(sensor.index()) {
@@ -289,8 +302,9 @@ fn replay(
         }
         cycle += 1;
     }
-    if let Some(mut out) = out {
-        out.flush().context("cannot write the output file")?;
+    if let (Some(out), Some(path)) = (out, out_path) {
+        out.commit()
+            .map_err(|error| crate::output::write_error(error, "the output file", path))?;
     }
     drop(host);
     eprintln!(

@@ -17,6 +17,18 @@ pub struct Settings {
     /// Simulator constants: `[simulator]` of gloc.toml, then the `--sim` flags (so
     /// that applied in order, a flag wins).
     pub simulator: Vec<(String, f64)>,
+    /// The `gloc.toml` that was read, if any (an input no output may overwrite).
+    pub config_path: Option<PathBuf>,
+}
+
+impl Settings {
+    /// The files these settings name (masterdata, mission, gloc.toml).
+    pub fn input_paths(&self) -> impl Iterator<Item = &Path> {
+        [&self.masterdata, &self.mission, &self.config_path]
+            .into_iter()
+            .flatten()
+            .map(PathBuf::as_path)
+    }
 }
 
 /// The flags a subcommand was given; `None` where the user gave none.
@@ -44,6 +56,7 @@ pub fn resolve(anchor: Option<&Path>, flags: Flags<'_>) -> anyhow::Result<Settin
         }
     };
     Ok(Settings {
+        config_path: config.path.clone(),
         masterdata: flags
             .masterdata
             .map(Path::to_path_buf)
@@ -74,6 +87,15 @@ pub fn parse_simulator_setting(text: &str) -> Result<(String, f64), String> {
         .map_err(|_| format!("`{value}` is not a number (in `{text}`)"))?;
     gloc_engine::config::check_simulator_setting(name, number)?;
     Ok((name.to_string(), number))
+}
+
+/// Parses `--cycle-budget` (clap's value parser), checked as gloc.toml's is.
+pub fn parse_cycle_budget(text: &str) -> Result<u64, String> {
+    let budget: u64 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{text}` is not a whole number of instructions"))?;
+    gloc_engine::config::check_cycle_budget(budget)
 }
 
 /// Parses `--sensor-order` (clap's value parser).

@@ -5,27 +5,34 @@
 //! stdout as it happens; warnings, the progress bar and the summary go to
 //! stderr.
 
-use std::fs::File;
-use std::io::{BufWriter, IsTerminal, Write};
-use std::path::Path;
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
 
 use anyhow::{bail, Context};
 use gloc_compiler::{load_script, Language, LoadOptions, LoadedScript};
+use gloc_engine::files;
 use gloc_engine::sensors::SensorList;
 use gloc_engine::vm::DEFAULT_CYCLE_BUDGET;
+use gloc_sim::behaviors::EventKind;
 use gloc_sim::faults::{step_cycle_with_faults, Fault, FaultPlan};
 use gloc_sim::log::{default_columns, parse_columns, DbaHeader, LogFormat, LogWriter};
 use gloc_sim::plot::{render_svg, Trace};
 use gloc_sim::{default_mission, EndReason, Mission, SimConfig, Simulation, TemperatureProfile};
 
+use crate::output::{AtomicFile, Output};
 use crate::render::{SourceFile, Tally};
 
 /// Simulated time a run may take when neither `--duration` nor `--cycles`
 /// is given and the mission does not end by itself.
 const DEFAULT_LIMIT_SECONDS: f64 = 24.0 * 3600.0;
+
+/// The most control cycles one run may take (`--cycles`, `--duration`): about 12 years
+/// of 4 s cycles, minutes of computing for a plain script.
+const MAX_RUN_CYCLES: u64 = 100_000_000;
 
 /// Runs shorter than this many cycles get no progress bar.
 const PROGRESS_MIN_CYCLES: u64 = 50_000;
@@ -68,7 +75,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
     }
 
     let (script_name, script_text) = match &args.script {
-        Some(path) => (path.display().to_string(), read_text(path, "script")?),
+        Some(path) => (path.display().to_string(), read_text(path, files::SCRIPT)?),
         None => ("fig2.gloc".to_string(), crate::replay::FIG2.to_string()),
     };
     let language = match &args.script {
@@ -112,7 +119,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
 
     let profile = match &args.profile {
         Some(path) => {
-            let text = read_text(path, "temperature profile")?;
+            let text = read_text(path, files::PROFILE)?;
             match TemperatureProfile::from_csv(path, &text) {
                 Ok(profile) => Some(profile),
                 Err(error) => {
@@ -146,6 +153,14 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
     }
 
     let (max_cycles, limit_given) = match (&args.duration, args.cycles) {
+        (Some(text), _) if parse_duration(text)? / sim.cycle_time() > MAX_RUN_CYCLES as f64 => {
+            bail!(
+                "--duration {text} is more than {MAX_RUN_CYCLES} control cycles, the most one run may take"
+            )
+        }
+        (None, Some(cycles)) if cycles > MAX_RUN_CYCLES => {
+            bail!("--cycles {cycles} is more than {MAX_RUN_CYCLES}, the most one run may take")
+        }
         (Some(text), _) => {
             let seconds = parse_duration(text)?;
             ((seconds / sim.cycle_time()).ceil() as u64, true)
@@ -157,12 +172,31 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         ),
     };
 
+    let inputs: Vec<&Path> = args
+        .script
+        .iter()
+        .map(PathBuf::as_path)
+        .chain(settings.input_paths())
+        .chain(args.profile.iter().map(PathBuf::as_path))
+        .chain(mission.sources.iter().map(|source| source.path.as_path()))
+        .collect();
+    let outputs: Vec<Output<'_>> = [("--log", &args.log), ("--plot", &args.plot)]
+        .into_iter()
+        .filter_map(|(flag, path)| {
+            Some(Output {
+                flag,
+                path: path.as_deref()?,
+            })
+        })
+        .collect();
+    crate::output::check_outputs(&inputs, &outputs)?;
+
     let mut log = match &args.log {
         Some(path) => Some(open_log(
             path,
             &args,
             &sensor_list,
-            &program,
+            &loaded.stored_sensors,
             &mission,
             &sim,
         )?),
@@ -185,13 +219,34 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         bar
     });
 
+    let signal = interrupt_signals()?;
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     let mut printed_lines: u64 = 0;
     let mut last_printed: Vec<String> = Vec::new();
     let started = Instant::now();
     let mut cycles_run: u64 = 0;
-    while cycles_run < max_cycles && step_cycle_with_faults(&mut sim, &mut fault_plan) {
+    let mut stopped: Option<String> = None;
+    let mut hook_ignored: Option<(u64, f64)> = None;
+    let mut log_error: Option<anyhow::Error> = None;
+    while cycles_run < max_cycles {
+        let received = signal.load(Ordering::Relaxed);
+        if received != 0 {
+            stopped = Some(format!(
+                "interrupted at cycle {cycles_run} by {} (cycles before it are logged)",
+                signal_name(received)
+            ));
+            break;
+        }
+        if !step_cycle_with_faults(&mut sim, &mut fault_plan) {
+            break;
+        }
+        if hook_ignored.is_none() {
+            hook_ignored = sim.events().iter().find_map(|event| match event.kind {
+                EventKind::IgnoredRequest { value } => Some((cycles_run, value)),
+                _ => None,
+            });
+        }
         cycles_run += 1;
         for line in sim.printed() {
             printed_lines += 1;
@@ -207,9 +262,14 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
             last_printed.push(line.to_string());
         }
         if let Some((writer, path)) = log.as_mut() {
-            writer
-                .write_row(sim.sensors())
-                .with_context(|| format!("cannot write the log `{}`", path.display()))?;
+            if let Err(error) = writer.write_row(sim.sensors()) {
+                // A full disk stops the run; the summary still comes.
+                stopped = Some(format!(
+                    "stopped at cycle {cycles_run}: the log could not be written"
+                ));
+                log_error = Some(crate::output::write_error(error, "the log", path));
+                break;
+            }
         }
         if let Some(trace) = trace.as_mut() {
             trace.record(&sim);
@@ -227,16 +287,21 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         bar.finish_and_clear();
     }
     if let Some((writer, path)) = log {
-        writer
-            .finish()
-            .with_context(|| format!("cannot write the log `{}`", path.display()))?;
+        // Every row written is complete: the loop stops between cycles.
+        if log_error.is_none() {
+            if let Err(error) = writer.finish().and_then(AtomicFile::commit) {
+                log_error = Some(crate::output::write_error(error, "the log", &path));
+            }
+        }
     }
+    let mut plot_error = None;
     if let (Some(trace), Some(path)) = (&trace, &args.plot) {
         let title = format!("{} with {}", mission.name, script_name);
         let svg = render_svg(trace, &title, sim.water_depth())
             .map_err(|error| anyhow::anyhow!("cannot draw the plot: {error}"))?;
-        std::fs::write(path, svg)
-            .with_context(|| format!("cannot write the plot `{}`", path.display()))?;
+        if let Err(error) = crate::output::write_atomically(path, svg.as_bytes()) {
+            plot_error = Some(crate::output::write_error(error, "the plot", path));
+        }
     }
 
     summary(&SummaryFacts {
@@ -252,23 +317,62 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         plot: args.plot.as_deref(),
         faults: &fault_plan,
         fault_texts: &args.faults,
+        stopped: stopped.as_deref(),
+        hook_ignored,
+        log_written: log_error.is_none(),
+        plot_written: plot_error.is_none(),
     });
+    if let Some(error) = log_error.or(plot_error) {
+        return Err(error);
+    }
+    let received = signal.load(Ordering::Relaxed);
+    if received != 0 {
+        // The shell's convention for a process ended by a signal.
+        return Ok(ExitCode::from(128 + received as u8));
+    }
     Ok(ExitCode::SUCCESS)
 }
 
-fn read_text(path: &Path, what: &str) -> anyhow::Result<String> {
-    let bytes = std::fs::read(path)
-        .with_context(|| format!("cannot read the {what} `{}`", path.display()))?;
-    Ok(String::from_utf8_lossy(&bytes).into_owned())
+fn read_text(path: &Path, limit: files::Limit) -> anyhow::Result<String> {
+    files::read_text(path, limit)
+        .with_context(|| format!("cannot read {} `{}`", limit.what, path.display()))
 }
 
-type OpenLog = (LogWriter<BufWriter<File>>, std::path::PathBuf);
+type OpenLog = (LogWriter<AtomicFile>, PathBuf);
+
+/// SIGINT, SIGTERM and SIGHUP set the returned number (the signal) instead of ending
+/// the process, so the run stops between cycles, keeps its log and prints its summary;
+/// a second one while the first is handled ends the process at once.
+fn interrupt_signals() -> anyhow::Result<Arc<AtomicUsize>> {
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+    let received = Arc::new(AtomicUsize::new(0));
+    let seen = Arc::new(AtomicBool::new(false));
+    for signal in [SIGINT, SIGTERM, SIGHUP] {
+        signal_hook::flag::register_conditional_shutdown(signal, 128 + signal, Arc::clone(&seen))
+            .context("cannot install a signal handler")?;
+        signal_hook::flag::register(signal, Arc::clone(&seen))
+            .context("cannot install a signal handler")?;
+        signal_hook::flag::register_usize(signal, Arc::clone(&received), signal as usize)
+            .context("cannot install a signal handler")?;
+    }
+    Ok(received)
+}
+
+fn signal_name(signal: usize) -> &'static str {
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+    match signal as i32 {
+        SIGINT => "SIGINT",
+        SIGTERM => "SIGTERM",
+        SIGHUP => "SIGHUP",
+        _ => "a signal",
+    }
+}
 
 fn open_log(
     path: &Path,
     args: &crate::RunArgs,
     sensor_list: &SensorList,
-    program: &gloc_engine::program::Program,
+    stored_sensors: &[gloc_engine::sensors::SensorId],
     mission: &Mission,
     sim: &Simulation,
 ) -> anyhow::Result<OpenLog> {
@@ -281,9 +385,9 @@ fn open_log(
     let columns = match &args.log_sensors {
         Some(names) => parse_columns(sensor_list, names).map_err(anyhow::Error::msg)?,
         // The pilot's set plus whatever the script writes.
-        None => default_columns(sensor_list, &program.stored_sensors),
+        None => default_columns(sensor_list, stored_sensors),
     };
-    let file = File::create(path)
+    let file = AtomicFile::create(path)
         .with_context(|| format!("cannot create the log `{}`", path.display()))?;
     let header = DbaHeader {
         filename: path
@@ -293,14 +397,8 @@ fn open_log(
         mission_name: mission.name.clone(),
         fileopen_time: glider_time(sim.present_time()),
     };
-    let writer = LogWriter::new(
-        BufWriter::with_capacity(1 << 16, file),
-        format,
-        columns,
-        sensor_list,
-        &header,
-    )
-    .with_context(|| format!("cannot write the log `{}`", path.display()))?;
+    let writer = LogWriter::new(file, format, columns, sensor_list, &header)
+        .with_context(|| format!("cannot write the log `{}`", path.display()))?;
     Ok((writer, path.to_path_buf()))
 }
 
@@ -405,6 +503,12 @@ struct SummaryFacts<'a> {
     faults: &'a FaultPlan,
     /// The `--fault` arguments as written, in the plan's order.
     fault_texts: &'a [String],
+    /// Why the run stopped early (a signal, a log that could not be written).
+    stopped: Option<&'a str>,
+    /// The first `sci_ruhp_behs` the hook ignored, and its cycle.
+    hook_ignored: Option<(u64, f64)>,
+    log_written: bool,
+    plot_written: bool,
 }
 
 fn summary(facts: &SummaryFacts<'_>) {
@@ -462,6 +566,10 @@ fn summary(facts: &SummaryFacts<'_>) {
             human_time(DEFAULT_LIMIT_SECONDS)
         ),
     };
+    let ended = match facts.stopped {
+        Some(stopped) if sim.end().is_none() => stopped.to_string(),
+        _ => ended,
+    };
     lines.push(format!("mission end   {ended}"));
     let script_state = match sim.script_trap() {
         Some(trap) => {
@@ -488,17 +596,37 @@ fn summary(facts: &SummaryFacts<'_>) {
         )
     };
     lines.push(format!("script printed {printed}"));
+    if let Some((cycle, value)) = facts.hook_ignored {
+        lines.push(format!(
+            "hook          ignored sci_ruhp_behs = {value:?} from cycle {cycle}: not a whole number from 0 to 2147483647"
+        ));
+    }
     for ((fault, applied), text) in facts.faults.report().zip(facts.fault_texts) {
         lines.push(format!(
             "fault         {}",
             fault_line(fault, applied, text, sim)
         ));
     }
+    let not_written = |written: bool| {
+        if written {
+            ""
+        } else {
+            " (NOT written: see the error)"
+        }
+    };
     if let Some(path) = facts.log {
-        lines.push(format!("log           {}", path.display()));
+        lines.push(format!(
+            "log           {}{}",
+            path.display(),
+            not_written(facts.log_written)
+        ));
     }
     if let Some(path) = facts.plot {
-        lines.push(format!("plot          {}", path.display()));
+        lines.push(format!(
+            "plot          {}{}",
+            path.display(),
+            not_written(facts.plot_written)
+        ));
     }
     let mut err = std::io::stderr().lock();
     for line in lines {

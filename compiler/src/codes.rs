@@ -18,6 +18,8 @@ pub const KEYWORD_AS_NAME: &str = "E2006";
 pub const BAD_NEXT: &str = "E2007";
 /// Blocks or an expression nested too deeply (more than 100 levels).
 pub const TOO_DEEP: &str = "E2008";
+/// An expression tree deeper than 256 operators (a long chain `1 + 1 + …` included).
+pub const EXPRESSION_TOO_DEEP: &str = "E2009";
 
 /// A name that is neither declared nor a sensor.
 pub const UNDECLARED: &str = "E2101";

@@ -19,7 +19,7 @@ pub mod parser;
 pub mod source_map;
 pub mod typed;
 
-use gloc_engine::sensors::SensorList;
+use gloc_engine::sensors::{SensorId, SensorList};
 use gloc_engine::Diagnostic;
 
 pub use analysis::{analyze, Analysis, Block, SymbolInfo, SymbolKind};
@@ -58,6 +58,10 @@ pub struct Compiled {
     /// Trip counts of `for` loops with constant limits, keyed by the GLOC label of
     /// the loop's test, for the GLOC checker.
     pub for_bounds: Vec<ForBound>,
+    /// The sensors the program stores, in order of first `stores`, taken before `-O`
+    /// (which drops unreachable stores), so a log's or replay's columns do not depend
+    /// on `-O`.
+    pub stored_sensors: Vec<SensorId>,
 }
 
 impl Compiled {
@@ -93,6 +97,14 @@ pub(crate) fn compile_checked(
     let generated = codegen::generate(&checked.program, &checked.symbols);
     let mut code = generated.code;
     let mut for_bounds = generated.for_bounds;
+    let mut stored_sensors: Vec<SensorId> = Vec::new();
+    for instr in &code.instrs {
+        if let ir::Instr::StoreS { sensor, .. } = instr {
+            if !stored_sensors.contains(&SensorId(*sensor)) {
+                stored_sensors.push(SensorId(*sensor));
+            }
+        }
+    }
     let mut label_renumbering = None;
     if options.optimize {
         let optimized = optimize::optimize(&mut code, &for_bounds);
@@ -144,6 +156,7 @@ pub(crate) fn compile_checked(
         diagnostics,
         stats: Some(stats),
         for_bounds,
+        stored_sensors,
     }
 }
 

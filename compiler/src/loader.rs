@@ -9,7 +9,7 @@ use std::sync::Arc;
 
 use gloc_engine::gloc::{self, CheckOptions, LoopBound, Stats};
 use gloc_engine::program::{Pc, Program};
-use gloc_engine::sensors::SensorList;
+use gloc_engine::sensors::{SensorId, SensorList};
 use gloc_engine::vm::TrapKind;
 use gloc_engine::{Diagnostic, LineIndex, Span};
 
@@ -59,6 +59,10 @@ pub struct LoadedScript {
     pub stats: Option<Stats>,
     /// GBASIC only: the compiler's size figures.
     pub compile_stats: Option<CodeStats>,
+    /// The sensors the script stores, in order of first `stores`: the program's for
+    /// GLOC, the unoptimized code's for GBASIC, so `-O` never changes the columns of a
+    /// log or a replay's `--out`.
+    pub stored_sensors: Vec<SensorId>,
 }
 
 impl LoadedScript {
@@ -111,6 +115,11 @@ pub fn load_script(
                 diagnostics.push(warning);
             }
             LoadedScript {
+                stored_sensors: checked
+                    .program
+                    .as_ref()
+                    .map(|program| program.stored_sensors.clone())
+                    .unwrap_or_default(),
                 program: checked.program,
                 gloc_text: Some(text.to_string()),
                 source_map: None,
@@ -182,6 +191,7 @@ pub(crate) fn load_compiled(
         diagnostics,
         stats: Some(checked.stats),
         compile_stats: compiled.stats,
+        stored_sensors: compiled.stored_sensors,
     }
 }
 

@@ -137,6 +137,17 @@ struct Parser<'a> {
 /// of the parser or of the later passes, which follow the tree.
 const MAX_NESTING: usize = 100;
 
+/// The deepest expression tree accepted (an operator, call or unary minus is a level;
+/// parentheses are not). 256 levels keep every recursive pass far inside a 2 MB thread
+/// stack, even in a debug build; real expressions are a few levels deep.
+const MAX_EXPRESSION_DEPTH: usize = 256;
+
+/// An expression and the depth of its tree in operators (a leaf is 0).
+struct Node {
+    expr: Expr,
+    depth: usize,
+}
+
 fn stray_closer_message(closer: Closer) -> (String, String) {
     let word = match closer {
         Closer::EndIf => "endif",
@@ -1034,8 +1045,16 @@ impl<'a> Parser<'a> {
     }
 
     // Expressions, loosest first: or, and, not, comparison, + -, mod, \, * /, unary -.
+    // Each level returns the tree's depth beside it (`Node`), so a chain such as
+    // `1 + 1 + …`, which a loop builds into a left-deep tree, is refused at the operator
+    // that would make it deeper than `MAX_EXPRESSION_DEPTH`: every later pass follows the
+    // tree recursively, and so does dropping it.
 
     fn parse_expr(&mut self) -> Option<Expr> {
+        self.parse_expr_node().map(|node| node.expr)
+    }
+
+    fn parse_expr_node(&mut self) -> Option<Node> {
         if !self.enter_expression() {
             return None;
         }
@@ -1059,36 +1078,73 @@ impl<'a> Parser<'a> {
         true
     }
 
-    fn binary(op: BinaryOp, left: Expr, right: Expr) -> Expr {
-        Expr {
-            span: left.span.cover(right.span),
+    /// A node over `children`, refused (reported at `operator`) when it would make the
+    /// tree deeper than `MAX_EXPRESSION_DEPTH`.
+    fn node(&mut self, expr: Expr, children: &[usize], operator: Span) -> Option<Node> {
+        let depth = children.iter().copied().max().unwrap_or(0) + 1;
+        if depth > MAX_EXPRESSION_DEPTH {
+            self.diagnostics.push(
+                Diagnostic::error(
+                    codes::EXPRESSION_TOO_DEEP,
+                    operator,
+                    format!(
+                        "this expression is more than {MAX_EXPRESSION_DEPTH} operators deep \
+                         (each term of a chain such as `1 + 1 + …` adds a level)"
+                    ),
+                )
+                .with_help("split it into several assignments to intermediate variables"),
+            );
+            return None;
+        }
+        Some(Node { expr, depth })
+    }
+
+    fn binary(&mut self, op: BinaryOp, operator: Span, left: Node, right: Node) -> Option<Node> {
+        let children = [left.depth, right.depth];
+        let expr = Expr {
+            span: left.expr.span.cover(right.expr.span),
             kind: ExprKind::Binary {
                 op,
-                left: Box::new(left),
-                right: Box::new(right),
+                left: Box::new(left.expr),
+                right: Box::new(right.expr),
             },
-        }
+        };
+        self.node(expr, &children, operator)
     }
 
-    fn parse_or(&mut self) -> Option<Expr> {
+    fn unary(&mut self, op: UnaryOp, operator: Span, operand: Node) -> Option<Node> {
+        let children = [operand.depth];
+        let expr = Expr {
+            span: operator.cover(operand.expr.span),
+            kind: ExprKind::Unary {
+                op,
+                operand: Box::new(operand.expr),
+            },
+        };
+        self.node(expr, &children, operator)
+    }
+
+    fn parse_or(&mut self) -> Option<Node> {
         let mut left = self.parse_and()?;
-        while self.eat_word("or") {
+        while self.at_word("or") {
+            let operator = self.bump().span;
             let right = self.parse_and()?;
-            left = Self::binary(BinaryOp::Or, left, right);
+            left = self.binary(BinaryOp::Or, operator, left, right)?;
         }
         Some(left)
     }
 
-    fn parse_and(&mut self) -> Option<Expr> {
+    fn parse_and(&mut self) -> Option<Node> {
         let mut left = self.parse_not()?;
-        while self.eat_word("and") {
+        while self.at_word("and") {
+            let operator = self.bump().span;
             let right = self.parse_not()?;
-            left = Self::binary(BinaryOp::And, left, right);
+            left = self.binary(BinaryOp::And, operator, left, right)?;
         }
         Some(left)
     }
 
-    fn parse_not(&mut self) -> Option<Expr> {
+    fn parse_not(&mut self) -> Option<Node> {
         if self.at_word("not") {
             let keyword = self.bump();
             if !self.enter_expression() {
@@ -1096,19 +1152,12 @@ impl<'a> Parser<'a> {
             }
             let operand = self.parse_not();
             self.expression_depth -= 1;
-            let operand = operand?;
-            return Some(Expr {
-                span: keyword.span.cover(operand.span),
-                kind: ExprKind::Unary {
-                    op: UnaryOp::Not,
-                    operand: Box::new(operand),
-                },
-            });
+            return self.unary(UnaryOp::Not, keyword.span, operand?);
         }
         self.parse_comparison()
     }
 
-    fn parse_comparison(&mut self) -> Option<Expr> {
+    fn parse_comparison(&mut self) -> Option<Node> {
         let mut left = self.parse_additive()?;
         loop {
             let op = match self.peek().kind {
@@ -1120,13 +1169,13 @@ impl<'a> Parser<'a> {
                 TokenKind::Ge => BinaryOp::Ge,
                 _ => return Some(left),
             };
-            self.bump();
+            let operator = self.bump().span;
             let right = self.parse_additive()?;
-            left = Self::binary(op, left, right);
+            left = self.binary(op, operator, left, right)?;
         }
     }
 
-    fn parse_additive(&mut self) -> Option<Expr> {
+    fn parse_additive(&mut self) -> Option<Node> {
         let mut left = self.parse_mod()?;
         loop {
             let op = match self.peek().kind {
@@ -1134,32 +1183,33 @@ impl<'a> Parser<'a> {
                 TokenKind::Minus => BinaryOp::Sub,
                 _ => return Some(left),
             };
-            self.bump();
+            let operator = self.bump().span;
             let right = self.parse_mod()?;
-            left = Self::binary(op, left, right);
+            left = self.binary(op, operator, left, right)?;
         }
     }
 
-    fn parse_mod(&mut self) -> Option<Expr> {
+    fn parse_mod(&mut self) -> Option<Node> {
         let mut left = self.parse_int_div()?;
-        while self.eat_word("mod") {
+        while self.at_word("mod") {
+            let operator = self.bump().span;
             let right = self.parse_int_div()?;
-            left = Self::binary(BinaryOp::Mod, left, right);
+            left = self.binary(BinaryOp::Mod, operator, left, right)?;
         }
         Some(left)
     }
 
-    fn parse_int_div(&mut self) -> Option<Expr> {
+    fn parse_int_div(&mut self) -> Option<Node> {
         let mut left = self.parse_multiplicative()?;
         while self.peek().kind == TokenKind::Backslash {
-            self.bump();
+            let operator = self.bump().span;
             let right = self.parse_multiplicative()?;
-            left = Self::binary(BinaryOp::IntDiv, left, right);
+            left = self.binary(BinaryOp::IntDiv, operator, left, right)?;
         }
         Some(left)
     }
 
-    fn parse_multiplicative(&mut self) -> Option<Expr> {
+    fn parse_multiplicative(&mut self) -> Option<Node> {
         let mut left = self.parse_unary()?;
         loop {
             let op = match self.peek().kind {
@@ -1167,13 +1217,13 @@ impl<'a> Parser<'a> {
                 TokenKind::Slash => BinaryOp::Div,
                 _ => return Some(left),
             };
-            self.bump();
+            let operator = self.bump().span;
             let right = self.parse_unary()?;
-            left = Self::binary(op, left, right);
+            left = self.binary(op, operator, left, right)?;
         }
     }
 
-    fn parse_unary(&mut self) -> Option<Expr> {
+    fn parse_unary(&mut self) -> Option<Node> {
         match self.peek().kind {
             TokenKind::Minus => {
                 let minus = self.bump();
@@ -1182,14 +1232,7 @@ impl<'a> Parser<'a> {
                 }
                 let operand = self.parse_unary();
                 self.expression_depth -= 1;
-                let operand = operand?;
-                Some(Expr {
-                    span: minus.span.cover(operand.span),
-                    kind: ExprKind::Unary {
-                        op: UnaryOp::Neg,
-                        operand: Box::new(operand),
-                    },
-                })
+                self.unary(UnaryOp::Neg, minus.span, operand?)
             }
             TokenKind::Plus => {
                 self.bump();
@@ -1204,13 +1247,14 @@ impl<'a> Parser<'a> {
         }
     }
 
-    fn parse_primary(&mut self) -> Option<Expr> {
+    fn parse_primary(&mut self) -> Option<Node> {
         let token = self.peek().clone();
+        let leaf = |expr| Some(Node { expr, depth: 0 });
         match token.kind {
             TokenKind::Int => {
                 self.bump();
                 let value = self.int_value(&token)?;
-                Some(Expr {
+                leaf(Expr {
                     kind: ExprKind::Literal(Literal::Int(value)),
                     span: token.span,
                 })
@@ -1218,22 +1262,25 @@ impl<'a> Parser<'a> {
             TokenKind::Float => {
                 self.bump();
                 let value = self.float_value(&token)?;
-                Some(Expr {
+                leaf(Expr {
                     kind: ExprKind::Literal(Literal::Float(value)),
                     span: token.span,
                 })
             }
             TokenKind::LParen => {
                 self.bump();
-                let inner = self.parse_expr()?;
+                let inner = self.parse_expr_node()?;
                 if self.peek().kind != TokenKind::RParen {
                     self.error_here("`)`");
                     return None;
                 }
                 let close = self.bump();
-                Some(Expr {
-                    kind: inner.kind,
-                    span: token.span.cover(close.span),
+                Some(Node {
+                    expr: Expr {
+                        kind: inner.expr.kind,
+                        span: token.span.cover(close.span),
+                    },
+                    depth: inner.depth,
                 })
             }
             TokenKind::Ident => {
@@ -1248,16 +1295,19 @@ impl<'a> Parser<'a> {
                 self.bump();
                 let name = Name::new(text, token.span);
                 if !is_call {
-                    return Some(Expr {
+                    return leaf(Expr {
                         span: name.span,
                         kind: ExprKind::Name(name),
                     });
                 }
                 self.bump();
                 let mut args = Vec::new();
+                let mut depths = Vec::new();
                 if self.peek().kind != TokenKind::RParen {
                     loop {
-                        args.push(self.parse_expr()?);
+                        let arg = self.parse_expr_node()?;
+                        args.push(arg.expr);
+                        depths.push(arg.depth);
                         if self.peek().kind == TokenKind::Comma {
                             self.bump();
                         } else {
@@ -1270,10 +1320,11 @@ impl<'a> Parser<'a> {
                     return None;
                 }
                 let close = self.bump();
-                Some(Expr {
+                let call = Expr {
                     span: token.span.cover(close.span),
                     kind: ExprKind::Call { name, args },
-                })
+                };
+                self.node(call, &depths, token.span)
             }
             TokenKind::Str { .. } => {
                 self.diagnostics.push(

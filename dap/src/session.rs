@@ -625,7 +625,13 @@ impl Session {
             masterdata: given_path(&arguments.masterdata).or(file_config.masterdata),
             profile: given_path(&arguments.profile),
             seed: arguments.seed,
-            cycle_budget: arguments.cycle_budget.or(file_config.cycle_budget),
+            cycle_budget: match arguments.cycle_budget {
+                Some(budget) => Some(
+                    gloc_engine::config::check_cycle_budget(budget)
+                        .map_err(|message| format!("cycleBudget: {message}"))?,
+                ),
+                None => file_config.cycle_budget,
+            },
             max_cycles: arguments.max_cycles,
             sensor_order: file_config.sensor_order.unwrap_or_default(),
             simulator: file_config.simulator,

@@ -65,7 +65,7 @@ pub struct World {
 /// Loads the script, the sensor list, the mission and the profile, and opens cycle 0.
 pub fn launch(config: &LaunchConfig) -> Result<(World, DebugInfo), String> {
     let path = &config.program;
-    let text = std::fs::read_to_string(path)
+    let text = gloc_engine::files::read_text(path, gloc_engine::files::SCRIPT)
         .map_err(|error| format!("cannot read the program {}: {error}", path.display()))?;
     let sensor_list = match &config.masterdata {
         None => SensorList::embedded(),
@@ -109,12 +109,15 @@ pub fn launch(config: &LaunchConfig) -> Result<(World, DebugInfo), String> {
     let profile = match &config.profile {
         None => None,
         Some(profile_path) => {
-            let profile_text = std::fs::read_to_string(profile_path).map_err(|error| {
-                format!(
-                    "cannot read the profile {}: {error}",
-                    profile_path.display()
-                )
-            })?;
+            let profile_text =
+                gloc_engine::files::read_text(profile_path, gloc_engine::files::PROFILE).map_err(
+                    |error| {
+                        format!(
+                            "cannot read the profile {}: {error}",
+                            profile_path.display()
+                        )
+                    },
+                )?;
             Some(
                 TemperatureProfile::from_csv(profile_path, &profile_text)
                     .map_err(|error| error.to_string())?,
@@ -293,6 +296,9 @@ impl World {
                 EventKind::Started => format!("{name} started"),
                 EventKind::Completed => format!("{name} completed"),
                 EventKind::Inflection { depth } => format!("{name} turned at {depth:.2} m"),
+                EventKind::IgnoredRequest { value } => format!(
+                    "{name} ignored sci_ruhp_behs = {value} (not a whole number from 0 to 2147483647)"
+                ),
             };
             self.notices.push(Notice::Behavior(format!(
                 "cycle {}: {text}",

@@ -54,6 +54,24 @@ pub struct Config {
     pub simulator: Vec<(String, f64)>,
 }
 
+/// The largest per-cycle instruction budget (`cycle_budget`, `--cycle-budget`, the
+/// debugger's `cycleBudget`). A cycle of a billion instructions takes the interpreter
+/// a few seconds (about 300 million a second), so every cycle, and with it every run of
+/// bounded length, finishes; the default is 10,000 and Fig. 2 needs 16. (The benchmarks
+/// measure long single-cycle programs with this budget.)
+pub const MAX_CYCLE_BUDGET: u64 = 1_000_000_000;
+
+/// Checks a cycle budget from any source: 1 to [`MAX_CYCLE_BUDGET`].
+pub fn check_cycle_budget(budget: u64) -> Result<u64, String> {
+    if (1..=MAX_CYCLE_BUDGET).contains(&budget) {
+        Ok(budget)
+    } else {
+        Err(format!(
+            "the cycle budget must be 1 to {MAX_CYCLE_BUDGET} instructions per cycle, not {budget}"
+        ))
+    }
+}
+
 /// A constant of the simulator's flight or energy model that `gloc.toml`'s
 /// `[simulator]` table and `gloc run --sim NAME=VALUE` may set. The simulator
 /// (`gloc-sim`) maps each name to its field; the ranges keep a run finite and
@@ -302,11 +320,11 @@ impl Config {
         })?;
         let span_of = |range: std::ops::Range<usize>| Span::new(range.start, range.end);
         if let Some(budget) = &raw.cycle_budget {
-            if *budget.get_ref() == 0 {
+            if let Err(message) = check_cycle_budget(*budget.get_ref()) {
                 return Err(Box::new(Diagnostic::error(
                     CODE_BAD_CONFIG,
                     span_of(budget.span()),
-                    "invalid gloc.toml: `cycle_budget` must be at least 1",
+                    format!("invalid gloc.toml `cycle_budget`: {message}"),
                 )));
             }
         }
@@ -363,15 +381,16 @@ impl Config {
 
     /// Reads and parses one `gloc.toml`.
     pub fn load(path: &Path) -> Result<Config, ConfigError> {
-        let text = std::fs::read_to_string(path).map_err(|error| ConfigError {
-            path: path.to_path_buf(),
-            text: None,
-            diagnostic: Box::new(Diagnostic::error(
-                CODE_UNREADABLE_CONFIG,
-                Span::default(),
-                format!("cannot read gloc.toml: {error}"),
-            )),
-        })?;
+        let text =
+            crate::files::read_text(path, crate::files::CONFIG).map_err(|error| ConfigError {
+                path: path.to_path_buf(),
+                text: None,
+                diagnostic: Box::new(Diagnostic::error(
+                    CODE_UNREADABLE_CONFIG,
+                    Span::default(),
+                    format!("cannot read gloc.toml: {error}"),
+                )),
+            })?;
         let folder = path.parent().unwrap_or(Path::new("."));
         match Config::parse(&text, folder) {
             Ok(mut config) => {
@@ -504,6 +523,16 @@ mod tests {
         // The span is the offending value, as for the string above.
         let error = Config::parse("cycle_budget = 0", Path::new("/p")).expect_err("zero");
         assert_eq!(error.span, Span::new(15, 16));
+        // Above the maximum: a run with it might never finish a cycle.
+        let text = "cycle_budget = 9223372036854775807";
+        let error = Config::parse(text, Path::new("/p")).expect_err("too large");
+        assert_eq!(&text[error.span.range()], "9223372036854775807");
+        assert!(
+            error.message.contains("1 to 1000000000 "),
+            "{}",
+            error.message
+        );
+        assert!(Config::parse("cycle_budget = 1000000000", Path::new("/p")).is_ok());
     }
 
     #[test]

@@ -6,6 +6,7 @@
 
 pub mod config;
 pub mod diagnostic;
+pub mod files;
 pub mod gloc;
 pub mod program;
 pub mod sensors;

@@ -8,7 +8,9 @@ use std::collections::HashMap;
 
 mod files;
 
-pub use files::{load_sensor_file, parse_cac, parse_masterdata, LoadedSensorList, SensorOrder};
+pub use files::{
+    load_sensor_file, parse_cac, parse_masterdata, LoadedSensorList, SensorOrder, MAX_SENSORS,
+};
 
 /// Index of a sensor in the active sensor list.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]

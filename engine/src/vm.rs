@@ -476,10 +476,14 @@ impl Machine {
                         Op::Yield {} => break Exit::Yield,
                         Op::Halt {} => break Exit::Halt,
                         Op::Nop {} => {}
-                        Op::Write { src } => append_item(output, |out| write_value(out, reg!(src))),
+                        Op::Write { src } => {
+                            append_item(output, |out| write_value(out, reg!(src)));
+                            cap_output_line(output, host);
+                        }
                         Op::WriteText { text } => {
                             let text = program.texts.get(text as usize).map_or("", |text| text);
                             append_item(output, |out| out.push_str(text));
+                            cap_output_line(output, host);
                         }
                         Op::Print { src } => {
                             append_item(output, |out| write_value(out, reg!(src)));
@@ -769,6 +773,24 @@ fn compare(cmp: Cmp, left: Value, right: Value) -> bool {
 #[inline(always)]
 fn truth(value: bool) -> Value {
     Value::Int(i64::from(value))
+}
+
+/// An output line that `write`/`writes` make longer than this many bytes is handed to
+/// the host at once, ending with [`OUTPUT_LINE_CONTINUED`], and the next item starts a
+/// new line: a script that never `print`s cannot make the machine hold more than this
+/// (plus one item). Real lines are a few dozen bytes.
+pub const MAX_OUTPUT_LINE: usize = 65_536;
+
+/// Ends an output line that was cut at [`MAX_OUTPUT_LINE`].
+pub const OUTPUT_LINE_CONTINUED: &str = " [continued]";
+
+/// Hands an unfinished line to the host once it is over [`MAX_OUTPUT_LINE`].
+fn cap_output_line(output: &mut String, host: &mut impl Host) {
+    if output.len() > MAX_OUTPUT_LINE {
+        output.push_str(OUTPUT_LINE_CONTINUED);
+        host.print_line(output);
+        output.clear();
+    }
 }
 
 /// Appends one output item, separated from the previous one by a space.

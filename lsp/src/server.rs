@@ -412,7 +412,7 @@ pub fn settings_from(value: &Value) -> Settings {
             .get("cycleBudget")
             .or_else(|| section.get("cycle_budget"))
             .and_then(Value::as_u64)
-            .filter(|budget| *budget > 0),
+            .and_then(|budget| gloc_engine::config::check_cycle_budget(budget).ok()),
     }
 }
 

@@ -427,6 +427,11 @@ pub enum EventKind {
     Inflection {
         depth: f64,
     },
+    /// The hook read a `sci_ruhp_behs` that is no request (not a whole number from 0 to
+    /// [`HOOK_MAX_FLAGS`]) and ignored it; reported once per run.
+    IgnoredRequest {
+        value: f64,
+    },
 }
 
 /// One behavior of the running mission.
@@ -564,6 +569,7 @@ impl Behavior {
                 pitch_value: arg("pitch_value").abs(),
                 running: None,
                 hover_since: None,
+                reported_ignored: false,
             }),
             BehaviorKind::Gloc => Logic::Script,
             BehaviorKind::SensorsIn
@@ -988,6 +994,16 @@ impl Yo {
 pub const HOOK_CLIMB_BIT: i64 = 128;
 /// Bit of `sci_ruhp_behs` that runs a dive_to (our choice).
 pub const HOOK_DIVE_BIT: i64 = 64;
+/// The largest `sci_ruhp_behs` the hook reads as bits (a C `int`). The sensor is a
+/// float: a fraction, a negative number, NaN or anything above this (`1e308`, which
+/// saturates to all bits set) is no request, so a stuck or garbage value cannot hold
+/// the hook in a climb for ever.
+pub const HOOK_MAX_FLAGS: f64 = 2_147_483_647.0;
+
+/// The hook's request bits in `value`, or `None` when it is no valid request.
+pub fn hook_flags(value: f64) -> Option<i64> {
+    (value.fract() == 0.0 && (0.0..=HOOK_MAX_FLAGS).contains(&value)).then_some(value as i64)
+}
 
 #[derive(Clone, Debug)]
 struct Hook {
@@ -998,6 +1014,8 @@ struct Hook {
     pitch_value: f64,
     running: Option<Direction>,
     hover_since: Option<f64>,
+    /// Whether an ignored `sci_ruhp_behs` value was reported (once per run).
+    reported_ignored: bool,
 }
 
 impl Hook {
@@ -1005,8 +1023,20 @@ impl Hook {
     /// the safe side). When the sub-behavior reaches its depth the hook clears
     /// its bit, so a script can see that it is done, and commands nothing.
     fn step(&mut self, index: usize, world: &mut World<'_>, events: &mut Vec<BehaviorEvent>) {
-        let flags = world.read(world.hook_sensors.behs);
-        let flags = if flags.is_finite() { flags as i64 } else { 0 };
+        let value = world.read(world.hook_sensors.behs);
+        let flags = match hook_flags(value) {
+            Some(flags) => flags,
+            None => {
+                if !self.reported_ignored {
+                    self.reported_ignored = true;
+                    events.push(BehaviorEvent {
+                        behavior: index,
+                        kind: EventKind::IgnoredRequest { value },
+                    });
+                }
+                0
+            }
+        };
         let wanted = if flags & HOOK_CLIMB_BIT != 0 {
             Some(Direction::Climb)
         } else if flags & HOOK_DIVE_BIT != 0 {

@@ -91,7 +91,7 @@ impl Mission {
     pub fn load(path: &Path) -> Mission {
         // Old mission files are not always UTF-8 (Latin-1 comments): read them lossily.
         Mission::load_with(path, &mut |path: &Path| {
-            std::fs::read(path).map(|bytes| String::from_utf8_lossy(&bytes).into_owned())
+            gloc_engine::files::read_text(path, gloc_engine::files::MISSION)
         })
     }
 

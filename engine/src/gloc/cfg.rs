@@ -36,9 +36,39 @@ pub fn analyze(program: &Program, options: &CheckOptions) -> Analysis {
     let members: Vec<u32> = (0..graph.node_count() as u32)
         .filter(|&node| reachable[node as usize])
         .collect();
+    let instruction_weights: Vec<u64> = (0..graph.node_count())
+        .map(|node| u64::from(node < graph.instruction_count))
+        .collect();
     let mut cost = vec![Bound::Finite(0); graph.node_count()];
     let mut loops = Vec::new();
-    solve(&graph, &members, None, &bounds, &mut cost, &mut loops);
+    solve(
+        &graph,
+        &members,
+        None,
+        &bounds,
+        &instruction_weights,
+        &mut cost,
+        &mut loops,
+    );
+    // The same walk with each node weighted by the output bytes it can add.
+    let output_weights: Vec<u64> = (0..graph.node_count())
+        .map(|node| {
+            program
+                .instrs
+                .get(node)
+                .map_or(0, |instr| output_bytes(program, instr))
+        })
+        .collect();
+    let mut output_cost = vec![Bound::Finite(0); graph.node_count()];
+    solve(
+        &graph,
+        &members,
+        None,
+        &bounds,
+        &output_weights,
+        &mut output_cost,
+        &mut Vec::new(),
+    );
 
     for yield_free_loop in &loops {
         diagnostics.push(loop_diagnostic(program, &graph, yield_free_loop));
@@ -56,12 +86,20 @@ pub fn analyze(program: &Program, options: &CheckOptions) -> Analysis {
         .iter()
         .map(|(_, bound)| *bound)
         .fold(from_start, Bound::max);
+    let output_bytes = program
+        .instrs
+        .iter()
+        .enumerate()
+        .filter(|(pc, instr)| matches!(instr, Instr::Yield) && reachable[*pc])
+        .map(|(pc, _)| output_cost[pc + 1])
+        .fold(output_cost[0], Bound::max);
     Analysis {
         diagnostics,
         worst_case: WorstCase {
             from_start,
             from_yields,
             max,
+            output_bytes,
         },
     }
 }
@@ -121,10 +159,6 @@ impl Graph {
         &self.targets[start..end]
     }
 
-    fn weight(&self, node: u32) -> u64 {
-        u64::from((node as usize) < self.instruction_count)
-    }
-
     /// Reachable from pc 0 across cycles (a `yield` continues at the next pc).
     fn reachable_from_start(&self, program: &Program) -> Vec<bool> {
         let mut seen = vec![false; self.node_count()];
@@ -154,14 +188,35 @@ struct YieldFreeLoop {
     has_exit: bool,
 }
 
-/// Computes, for each node in `members`, the most instructions executed from
-/// it until the cycle ends, following edges inside `members` only and never
-/// the edges into `removed_header`. Loops without a bound are recorded.
+/// The most characters a value prints as: an integer takes at most 20
+/// (`-9223372036854775808`), a float in Rust's `{:?}` at most 24
+/// (`-2.2250738585072014e-308`).
+const MAX_VALUE_TEXT: u64 = 24;
+
+/// The most bytes `instr` adds to the output: its item and the separating space.
+fn output_bytes(program: &Program, instr: &Instr) -> u64 {
+    match instr {
+        Instr::Write { .. } | Instr::Print { .. } => 1 + MAX_VALUE_TEXT,
+        Instr::WriteText { text } | Instr::PrintText { text } => {
+            1 + program
+                .texts
+                .get(*text as usize)
+                .map_or(0, |text| text.len() as u64)
+        }
+        _ => 0,
+    }
+}
+
+/// Computes, for each node in `members`, the largest sum of `weights` (one per
+/// instruction: the instruction count; output bytes) from it until the cycle ends,
+/// following edges inside `members` only and never the edges into `removed_header`.
+/// Loops without a bound are recorded.
 fn solve(
     graph: &Graph,
     members: &[u32],
     removed_header: Option<u32>,
     bounds: &HashMap<u32, u64>,
+    weights: &[u64],
     cost: &mut [Bound],
     loops: &mut Vec<YieldFreeLoop>,
 ) {
@@ -195,7 +250,7 @@ fn solve(
         }
         if !cyclic {
             let node = component[0];
-            cost[node as usize] = exit.plus(graph.weight(node));
+            cost[node as usize] = exit.plus(weights[node as usize]);
             continue;
         }
         let header = component
@@ -214,7 +269,15 @@ fn solve(
                 let iterations = bounds.get(&header).copied().unwrap_or(0);
                 let mut inner_members = component.to_vec();
                 inner_members.sort_unstable();
-                solve(graph, &inner_members, Some(header), bounds, cost, loops);
+                solve(
+                    graph,
+                    &inner_members,
+                    Some(header),
+                    bounds,
+                    weights,
+                    cost,
+                    loops,
+                );
                 let longest_iteration = component
                     .iter()
                     .map(|&node| cost[node as usize])

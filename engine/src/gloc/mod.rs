@@ -121,6 +121,9 @@ pub struct WorstCase {
     pub from_yields: Vec<(Pc, Bound)>,
     /// The largest of all the above.
     pub max: Bound,
+    /// The most output bytes one cycle can produce (printed or left pending), each
+    /// value counted at its widest (24 characters) and each item with its separator.
+    pub output_bytes: Bound,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]

@@ -33,6 +33,11 @@ impl SensorOrder {
     }
 }
 
+/// The most sensors a masterdata or `.cac` file may list (E0208, E0206). Real lists
+/// have 1,400 to 3,000; the cap keeps a hostile file from taking gigabytes and
+/// minutes (10 million `sensor:` lines did).
+pub const MAX_SENSORS: usize = 65_536;
+
 /// A sensor list read from a file, with what went wrong reading it.
 #[derive(Clone, Debug)]
 pub struct LoadedSensorList {
@@ -45,8 +50,7 @@ pub struct LoadedSensorList {
 /// Reads a masterdata or `.cac` file: `.cac` by extension, or by content
 /// when the first meaningful line starts with `s:`.
 pub fn load_sensor_file(path: &Path, order: SensorOrder) -> std::io::Result<LoadedSensorList> {
-    let bytes = std::fs::read(path)?;
-    let text = String::from_utf8_lossy(&bytes).into_owned();
+    let text = crate::files::read_text(path, crate::files::SENSOR_LIST)?;
     let is_cac = path
         .extension()
         .is_some_and(|extension| extension.eq_ignore_ascii_case("cac"))
@@ -115,6 +119,16 @@ pub fn parse_masterdata(text: &str, order: SensorOrder) -> (SensorList, Vec<Diag
         match keyword {
             "sensor" => {
                 continues = None;
+                if sensors.len() == MAX_SENSORS {
+                    diagnostics.push(Diagnostic::error(
+                        "E0208",
+                        Span::new(base + indent, base + line.len()),
+                        format!(
+                            "more than {MAX_SENSORS} sensors: the rest of the file is not read"
+                        ),
+                    ));
+                    break;
+                }
                 match entry_line(&trimmed[keyword_end + 1..], body_start) {
                     Ok(entry) => {
                         let span = entry.name_span;
@@ -311,11 +325,14 @@ pub fn parse_cac(text: &str) -> (SensorList, Vec<Diagnostic>) {
             .unwrap_or(0) as usize;
         let name = field(5).unwrap_or_default().to_string();
         let units = field(6).unwrap_or("nodim").to_string();
-        if sensor_index > 1_000_000 {
+        if sensor_index >= MAX_SENSORS {
             diagnostics.push(Diagnostic::error(
                 "E0206",
                 field_span(2),
-                format!("sensor index {sensor_index} is implausibly large"),
+                format!(
+                    "sensor index {sensor_index} is over the limit: a sensor list has at most \
+                     {MAX_SENSORS} sensors"
+                ),
             ));
             continue;
         }

@@ -1,0 +1,179 @@
+//! Every file `gloc` writes goes through here: an output may never be one of the run's
+//! inputs or another output (compared by device and inode, so a hard link or a symlink
+//! is caught too), and is written to a temporary file in the same folder that replaces
+//! the target only when complete, so a failure or a full disk leaves the old file.
+
+use std::fs::File;
+use std::io::{self, BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+use anyhow::bail;
+
+/// One output the command will write, with its flag for messages.
+pub struct Output<'a> {
+    pub flag: &'a str,
+    pub path: &'a Path,
+}
+
+/// Refuses an output that is an input or another output. `inputs` are files already
+/// read (or about to be); paths that do not exist are skipped.
+pub fn check_outputs(inputs: &[&Path], outputs: &[Output<'_>]) -> anyhow::Result<()> {
+    for (index, output) in outputs.iter().enumerate() {
+        if let Some(output_id) = file_id(output.path) {
+            for input in inputs {
+                if file_id(input) == Some(output_id) {
+                    bail!(
+                        "{} `{}` is the input `{}`: writing it would destroy the input; \
+                         choose another output path",
+                        output.flag,
+                        output.path.display(),
+                        input.display()
+                    );
+                }
+            }
+        }
+        for other in &outputs[..index] {
+            if same_target(output.path, other.path) {
+                bail!(
+                    "{} `{}` is also the file of {}: choose two different paths",
+                    output.flag,
+                    output.path.display(),
+                    other.flag
+                );
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Writes `bytes` to `path` atomically (see [`AtomicFile`]).
+pub fn write_atomically(path: &Path, bytes: &[u8]) -> io::Result<()> {
+    let mut file = AtomicFile::create(path)?;
+    file.write_all(bytes)?;
+    file.commit()
+}
+
+/// A file written beside its target under a temporary name; [`AtomicFile::commit`]
+/// flushes it to disk and renames it over the target. Dropped without a commit, it
+/// removes the temporary file and the target is untouched.
+pub struct AtomicFile {
+    temporary: PathBuf,
+    target: PathBuf,
+    writer: Option<BufWriter<File>>,
+}
+
+impl AtomicFile {
+    pub fn create(target: &Path) -> io::Result<AtomicFile> {
+        let folder = match target.parent() {
+            Some(folder) if !folder.as_os_str().is_empty() => folder,
+            _ => Path::new("."),
+        };
+        let name = target
+            .file_name()
+            .ok_or_else(|| io::Error::new(io::ErrorKind::InvalidInput, "not a file name"))?;
+        let mut temporary_name = std::ffi::OsString::from(".");
+        temporary_name.push(name);
+        temporary_name.push(format!(".gloc-{}.tmp", std::process::id()));
+        let temporary = folder.join(temporary_name);
+        let file = std::fs::OpenOptions::new()
+            .write(true)
+            .create(true)
+            .truncate(true)
+            .open(&temporary)?;
+        Ok(AtomicFile {
+            temporary,
+            target: target.to_path_buf(),
+            writer: Some(BufWriter::with_capacity(1 << 16, file)),
+        })
+    }
+
+    /// Flushes, syncs (so a full disk shows here, not later) and renames over the target.
+    pub fn commit(mut self) -> io::Result<()> {
+        let writer = self
+            .writer
+            .take()
+            .expect("the writer is only taken here, once");
+        let file = writer
+            .into_inner()
+            .map_err(io::IntoInnerError::into_error)?;
+        file.sync_all()?;
+        drop(file);
+        std::fs::rename(&self.temporary, &self.target)
+    }
+}
+
+impl Write for AtomicFile {
+    fn write(&mut self, bytes: &[u8]) -> io::Result<usize> {
+        self.writer_mut()?.write(bytes)
+    }
+
+    fn write_all(&mut self, bytes: &[u8]) -> io::Result<()> {
+        self.writer_mut()?.write_all(bytes)
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        self.writer_mut()?.flush()
+    }
+}
+
+impl AtomicFile {
+    fn writer_mut(&mut self) -> io::Result<&mut BufWriter<File>> {
+        // Only `commit`, which consumes the file, takes the writer.
+        self.writer
+            .as_mut()
+            .ok_or_else(|| io::Error::other("the file was already committed"))
+    }
+}
+
+impl Drop for AtomicFile {
+    fn drop(&mut self) {
+        if self.writer.is_some() {
+            // Not committed: a failure or an early exit leaves the old target alone.
+            self.writer = None;
+            let _ = std::fs::remove_file(&self.temporary);
+        }
+    }
+}
+
+/// Device and inode of the file at `path` (following symlinks), if it exists.
+fn file_id(path: &Path) -> Option<(u64, u64)> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt as _;
+        let metadata = std::fs::metadata(path).ok()?;
+        Some((metadata.dev(), metadata.ino()))
+    }
+    #[cfg(not(unix))]
+    {
+        std::fs::canonicalize(path).ok().map(|_| (0, 0))
+    }
+}
+
+/// Whether two output paths name the same file: the same inode when both exist, else
+/// the same name in the same (canonical) folder.
+fn same_target(a: &Path, b: &Path) -> bool {
+    if let (Some(a), Some(b)) = (file_id(a), file_id(b)) {
+        return a == b;
+    }
+    let place = |path: &Path| {
+        let folder = match path.parent() {
+            Some(folder) if !folder.as_os_str().is_empty() => folder,
+            _ => Path::new("."),
+        };
+        Some((
+            std::fs::canonicalize(folder).ok()?,
+            path.file_name()?.to_owned(),
+        ))
+    };
+    matches!((place(a), place(b)), (Some(a), Some(b)) if a == b)
+}
+
+/// `context` for an output's errors: "cannot write the log `x`", with a full disk named.
+pub fn write_error(error: io::Error, what: &str, path: &Path) -> anyhow::Error {
+    let hint = if error.kind() == io::ErrorKind::StorageFull {
+        " (the disk is full; the previous file, if any, is left as it was)"
+    } else {
+        ""
+    };
+    anyhow::Error::new(error).context(format!("cannot write {what} `{}`{hint}", path.display()))
+}

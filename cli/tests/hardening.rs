@@ -1,0 +1,813 @@
+//! The hardening suite (issue 19): every attack of the review, run against the real
+//! `gloc` binary, each bounded in size and time (every wait has a deadline, every child
+//! is killed and reaped on failure), loopback-free (stdio only). Each test failed on the
+//! code before the fix: a stack overflow (SIGABRT), an unbounded output line, an input
+//! overwritten, a run killed without its log or summary, a read of `/dev/zero` or a
+//! FIFO that never ends, a masterdata file without a sensor cap, a cycle budget no run
+//! could finish, a `-O` that changed the `--out` columns, a hook held by `1e308`.
+//! Expected values are worked out by hand from the documented rules (noted at each).
+//! `GLOC_HARDENING_BIN=/path/to/gloc` runs the suite against another build (to show
+//! that an older one fails it).
+
+use std::io::{Read, Write};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, ExitStatus, Output, Stdio};
+use std::sync::mpsc::{self, Receiver};
+use std::thread;
+use std::time::{Duration, Instant};
+
+use serde_json::{json, Value};
+
+/// Far longer than any case needs (the slowest takes about a second); only a hang,
+/// or a read that never ends, reaches it.
+const DEADLINE: Duration = Duration::from_secs(60);
+
+fn gloc() -> Command {
+    match std::env::var_os("GLOC_HARDENING_BIN") {
+        Some(binary) => Command::new(binary),
+        None => Command::new(env!("CARGO_BIN_EXE_gloc")),
+    }
+}
+
+fn examples() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples")
+}
+
+/// A fresh folder for one test.
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("gloc-hardening-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch folder");
+    dir
+}
+
+/// Runs `command` to its end within [`DEADLINE`]; a hang is killed and fails the test.
+fn run(command: &mut Command) -> Output {
+    let child = command
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("gloc starts");
+    finish(child)
+}
+
+fn finish(mut child: Child) -> Output {
+    let mut stdout = child.stdout.take().expect("piped");
+    let mut stderr = child.stderr.take().expect("piped");
+    let out = thread::spawn(move || {
+        let mut bytes = Vec::new();
+        let _ = stdout.read_to_end(&mut bytes);
+        bytes
+    });
+    let err = thread::spawn(move || {
+        let mut bytes = Vec::new();
+        let _ = stderr.read_to_end(&mut bytes);
+        bytes
+    });
+    let deadline = Instant::now() + DEADLINE;
+    let status = loop {
+        if let Some(status) = child.try_wait().expect("wait") {
+            break status;
+        }
+        if Instant::now() > deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("gloc did not finish within {DEADLINE:?}");
+        }
+        thread::sleep(Duration::from_millis(10));
+    };
+    Output {
+        status,
+        stdout: out.join().expect("stdout reader"),
+        stderr: err.join().expect("stderr reader"),
+    }
+}
+
+fn text(output: &Output) -> String {
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr)
+    )
+}
+
+/// Ended by an exit code (not a signal such as SIGABRT), a failure, saying `expected`.
+fn assert_refused(output: &Output, expected: &str) {
+    let all = text(output);
+    let shown: String = all.chars().take(2000).collect();
+    assert!(
+        matches!(output.status.code(), Some(1 | 2)),
+        "{:?}: {shown}",
+        output.status
+    );
+    assert!(all.contains(expected), "no `{expected}` in: {shown}");
+    assert!(!all.contains("panicked"), "{shown}");
+}
+
+// ------------------------------------------------------------ deep expressions
+
+/// `x = 1 OP 1 OP …` with a million terms (about 4 MB), or a million parentheses.
+fn deep_sources() -> Vec<(&'static str, String)> {
+    let chain = |operator: &str| {
+        format!(
+            "dim x as integer\nx = {}\nprint x\n",
+            vec!["1"; 1_000_000].join(&format!(" {operator} "))
+        )
+    };
+    vec![
+        ("E2009", chain("+")),
+        ("E2009", chain("*")),
+        ("E2009", chain("or")),
+        ("E2009", chain("=")),
+        (
+            "E2008",
+            format!(
+                "dim x as integer\nx = {}1{}\n",
+                "(".repeat(1_000_000),
+                ")".repeat(1_000_000)
+            ),
+        ),
+    ]
+}
+
+#[test]
+fn a_million_term_expression_is_one_diagnostic_in_check_compile_and_run() {
+    let dir = scratch("deep");
+    for (index, (code, source)) in deep_sources().into_iter().enumerate() {
+        let path = dir.join(format!("deep{index}.gbas"));
+        std::fs::write(&path, &source).expect("write");
+        let check = run(gloc().arg("check").arg(&path));
+        assert_refused(&check, &format!("error[{code}]"));
+        // Line 2, where the expression is.
+        assert!(text(&check).contains(&format!("deep{index}.gbas:2:")));
+        let compile = run(gloc()
+            .arg("compile")
+            .arg(&path)
+            .arg("-o")
+            .arg(dir.join("out.gloc")));
+        assert_refused(&compile, &format!("error[{code}]"));
+        let simulate = run(gloc().arg("run").arg(&path).args(["--cycles", "1"]));
+        assert_refused(&simulate, &format!("error[{code}]"));
+    }
+    std::fs::remove_dir_all(dir).ok();
+}
+
+/// A stdio server with its messages read on a thread.
+struct Server {
+    child: Child,
+    messages: Receiver<Value>,
+}
+
+impl Server {
+    fn start(subcommand: &str) -> Server {
+        let mut child = gloc()
+            .arg(subcommand)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("gloc starts");
+        let mut stdout = child.stdout.take().expect("piped");
+        let (sender, messages) = mpsc::channel();
+        thread::spawn(move || {
+            let mut bytes = Vec::new();
+            let mut chunk = [0u8; 1 << 16];
+            while let Ok(count @ 1..) = stdout.read(&mut chunk) {
+                bytes.extend_from_slice(&chunk[..count]);
+                while let Some(end) = bytes.windows(4).position(|w| w == b"\r\n\r\n") {
+                    let header = String::from_utf8_lossy(&bytes[..end]).to_string();
+                    let length: usize = header
+                        .lines()
+                        .find_map(|line| line.strip_prefix("Content-Length: "))
+                        .and_then(|value| value.trim().parse().ok())
+                        .expect("a Content-Length");
+                    let Some(body) = bytes.get(end + 4..end + 4 + length) else {
+                        break;
+                    };
+                    let message = serde_json::from_slice(body).expect("JSON");
+                    bytes.drain(..end + 4 + length);
+                    if sender.send(message).is_err() {
+                        return;
+                    }
+                }
+            }
+        });
+        Server { child, messages }
+    }
+
+    fn send(&mut self, message: &Value) {
+        let body = message.to_string();
+        let stdin = self.child.stdin.as_mut().expect("piped");
+        let _ = write!(stdin, "Content-Length: {}\r\n\r\n{body}", body.len());
+        let _ = stdin.flush();
+    }
+
+    fn wait_for(&mut self, what: &str, wanted: impl Fn(&Value) -> bool) -> Value {
+        let deadline = Instant::now() + DEADLINE;
+        loop {
+            let left = deadline.saturating_duration_since(Instant::now());
+            match self.messages.recv_timeout(left) {
+                Ok(message) if wanted(&message) => return message,
+                Ok(_) => {}
+                Err(error) => {
+                    let status = self.child.try_wait();
+                    panic!("no {what}: {error:?}; the server: {status:?}");
+                }
+            }
+        }
+    }
+
+    /// Closes the input and waits for a clean exit (an exit code, not a signal).
+    fn close(mut self) -> ExitStatus {
+        drop(self.child.stdin.take());
+        let deadline = Instant::now() + DEADLINE;
+        loop {
+            if let Some(status) = self.child.try_wait().expect("wait") {
+                return status;
+            }
+            assert!(Instant::now() < deadline, "the server did not exit");
+            thread::sleep(Duration::from_millis(10));
+        }
+    }
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        if matches!(self.child.try_wait(), Ok(None)) {
+            let _ = self.child.kill();
+            let _ = self.child.wait();
+        }
+    }
+}
+
+#[test]
+fn the_language_server_reports_a_million_term_expression_and_lives_on() {
+    let (code, source) = deep_sources().swap_remove(0);
+    let mut server = Server::start("lsp");
+    let initialize = json!({ "jsonrpc": "2.0", "id": 1, "method": "initialize",
+        "params": { "processId": null, "rootUri": null, "capabilities": {} } });
+    server.send(&initialize);
+    server.wait_for("the initialize response", |m| m["id"] == 1);
+    server.send(&json!({ "jsonrpc": "2.0", "method": "initialized", "params": {} }));
+    let uri = "file:///tmp/gloc-hardening-deep.gbas";
+    server.send(
+        &json!({ "jsonrpc": "2.0", "method": "textDocument/didOpen", "params": {
+        "textDocument": { "uri": uri, "languageId": "gbasic", "version": 1, "text": source } } }),
+    );
+    let published = server.wait_for("the diagnostics", |m| {
+        m["method"] == "textDocument/publishDiagnostics" && m["params"]["uri"] == uri
+    });
+    let diagnostics = published["params"]["diagnostics"]
+        .as_array()
+        .expect("a list");
+    assert!(
+        diagnostics
+            .iter()
+            .any(|d| d["code"] == code && d["range"]["start"]["line"] == 1),
+        "{published}"
+    );
+    // Still alive: shutdown is answered and exit is clean.
+    server.send(&json!({ "jsonrpc": "2.0", "id": 2, "method": "shutdown" }));
+    server.wait_for("the shutdown response", |m| m["id"] == 2);
+    server.send(&json!({ "jsonrpc": "2.0", "method": "exit" }));
+    assert_eq!(server.close().code(), Some(0));
+}
+
+#[test]
+fn a_debugger_launch_of_a_million_term_expression_is_an_error_response() {
+    let dir = scratch("dap-deep");
+    let path = dir.join("deep.gbas");
+    std::fs::write(&path, deep_sources().swap_remove(1).1).expect("write");
+    let mut server = Server::start("dap");
+    server.send(
+        &json!({ "seq": 1, "type": "request", "command": "initialize",
+        "arguments": { "adapterID": "gloc" } }),
+    );
+    server.wait_for("the initialize response", |m| m["request_seq"] == 1);
+    server.send(&json!({ "seq": 2, "type": "request", "command": "launch",
+        "arguments": { "program": path } }));
+    let response = server.wait_for("the launch response", |m| m["request_seq"] == 2);
+    assert_eq!(response["success"], false, "{response}");
+    assert!(
+        response.to_string().contains("256 operators deep"),
+        "{response}"
+    );
+    assert!(server.close().code().is_some(), "ended by a signal");
+    std::fs::remove_dir_all(dir).ok();
+}
+
+// ------------------------------------------------------------ output
+
+#[test]
+fn a_line_never_printed_is_cut_at_64_kib_with_a_marker() {
+    let dir = scratch("writes");
+    let script = dir.join("writes.gloc");
+    let item = "x".repeat(1000);
+    std::fs::write(
+        &script,
+        format!("nregs 0\nnblbs 1\nninstr 4\nlabel 0\nwrites \"{item}\"\nyield\njumpi 0\n"),
+    )
+    .expect("write");
+    let output = run(gloc()
+        .arg("run")
+        .arg(&script)
+        .arg("--mission")
+        .arg(examples().join("fig2-endless.mi"))
+        .args(["--cycles", "3000"]));
+    assert_eq!(output.status.code(), Some(0), "{}", text(&output));
+    // k items take 1001k - 1 bytes; the first k over 65,536 is 66: 45 lines in 3,000
+    // cycles, each 66,065 bytes and the marker.
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let lines: Vec<&str> = stdout.lines().collect();
+    assert_eq!(lines.len(), 45);
+    let expected = format!("{} [continued]", vec![item.as_str(); 66].join(" "));
+    assert!(lines.iter().all(|line| *line == expected));
+    std::fs::remove_dir_all(dir).ok();
+}
+
+// ------------------------------------------------------------ outputs and inputs
+
+fn fig2_script(dir: &Path) -> PathBuf {
+    let path = dir.join("fig2.gloc");
+    std::fs::copy(examples().join("fig2.gloc"), &path).expect("copy");
+    path
+}
+
+#[test]
+fn an_output_that_is_an_input_is_refused_and_the_input_kept() {
+    let dir = scratch("collide");
+    let script = fig2_script(&dir);
+    let replay_in = dir.join("in.csv");
+    std::fs::write(&replay_in, "m_depth\n1\n2\n").expect("write");
+    let profile = dir.join("p.csv");
+    std::fs::write(&profile, "depth_m,temp_degC\n0,20\n100,10\n").expect("write");
+    let source = dir.join("a.gbas");
+    std::fs::write(&source, "dim x as integer\nx = 1\nprint x\n").expect("write");
+    let link = dir.join("b.gloc");
+    std::fs::hard_link(&source, &link).expect("a hard link");
+    let x_csv = dir.join("x.csv");
+    let inputs = [&script, &replay_in, &profile, &source];
+    let before: Vec<Vec<u8>> = inputs
+        .iter()
+        .map(|p| std::fs::read(p).expect("read"))
+        .collect();
+    let cases: Vec<(Vec<&std::ffi::OsStr>, &str)> = vec![
+        (
+            vec![
+                "run".as_ref(),
+                script.as_os_str(),
+                "--replay".as_ref(),
+                replay_in.as_os_str(),
+                "--out".as_ref(),
+                replay_in.as_os_str(),
+            ],
+            "is the input",
+        ),
+        (
+            vec![
+                "run".as_ref(),
+                script.as_os_str(),
+                "--cycles".as_ref(),
+                "5".as_ref(),
+                "--plot".as_ref(),
+                script.as_os_str(),
+            ],
+            "is the input",
+        ),
+        (
+            vec![
+                "run".as_ref(),
+                script.as_os_str(),
+                "--cycles".as_ref(),
+                "5".as_ref(),
+                "--log".as_ref(),
+                x_csv.as_os_str(),
+                "--plot".as_ref(),
+                x_csv.as_os_str(),
+            ],
+            "is also the file of --log",
+        ),
+        (
+            vec![
+                "run".as_ref(),
+                script.as_os_str(),
+                "--cycles".as_ref(),
+                "5".as_ref(),
+                "--profile".as_ref(),
+                profile.as_os_str(),
+                "--log".as_ref(),
+                profile.as_os_str(),
+            ],
+            "is the input",
+        ),
+        (
+            vec![
+                "compile".as_ref(),
+                source.as_os_str(),
+                "-o".as_ref(),
+                link.as_os_str(),
+            ],
+            "is the input",
+        ),
+    ];
+    for (arguments, expected) in cases {
+        let output = run(gloc().args(&arguments));
+        assert_refused(&output, expected);
+        assert!(!x_csv.exists(), "{arguments:?} wrote a file");
+    }
+    let after: Vec<Vec<u8>> = inputs
+        .iter()
+        .map(|p| std::fs::read(p).expect("read"))
+        .collect();
+    assert_eq!(before, after, "an input changed");
+    std::fs::remove_dir_all(dir).ok();
+}
+
+/// The names in `dir`, sorted (a leftover temporary file would show here).
+fn names(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .expect("list")
+        .map(|entry| {
+            entry
+                .expect("entry")
+                .file_name()
+                .to_string_lossy()
+                .into_owned()
+        })
+        .collect();
+    names.sort();
+    names
+}
+
+#[test]
+fn a_failed_replay_leaves_the_old_out_file() {
+    let dir = scratch("replay-fail");
+    let script = fig2_script(&dir);
+    let replay_in = dir.join("in.csv");
+    // The third row is not a number: the replay fails there.
+    std::fs::write(&replay_in, "m_depth\n1\n2\nx\n").expect("write");
+    let out = dir.join("out.csv");
+    std::fs::write(&out, "old\n").expect("write");
+    let output = run(gloc()
+        .arg("run")
+        .arg(&script)
+        .arg("--replay")
+        .arg(&replay_in)
+        .arg("--out")
+        .arg(&out));
+    assert_refused(&output, "is not a number");
+    assert_eq!(std::fs::read_to_string(&out).expect("read"), "old\n");
+    assert_eq!(names(&dir), ["fig2.gloc", "in.csv", "out.csv"]);
+    std::fs::remove_dir_all(dir).ok();
+}
+
+/// A 64 KiB tmpfs, unmounted on drop; `None` where mounting is not allowed (not
+/// root): the full-disk test then says so and checks nothing.
+struct SmallDisk(PathBuf);
+
+impl SmallDisk {
+    fn mount(dir: &Path) -> Option<SmallDisk> {
+        let point = dir.join("full");
+        std::fs::create_dir_all(&point).ok()?;
+        let status = Command::new("mount")
+            .args(["-t", "tmpfs", "-o", "size=64k", "tmpfs"])
+            .arg(&point)
+            .stderr(Stdio::null())
+            .status()
+            .ok()?;
+        status.success().then_some(SmallDisk(point))
+    }
+}
+
+impl Drop for SmallDisk {
+    fn drop(&mut self) {
+        let _ = Command::new("umount").arg(&self.0).status();
+    }
+}
+
+#[test]
+fn a_full_disk_leaves_the_old_file_and_still_gives_the_summary() {
+    let dir = scratch("full-disk");
+    let Some(disk) = SmallDisk::mount(&dir) else {
+        eprintln!("skipped: cannot mount a small tmpfs here (needs root)");
+        return;
+    };
+    // A program whose GLOC is far over 64 KiB: 20,000 statements.
+    let source = dir.join("many.gbas");
+    let mut program = String::from("dim x as integer\n");
+    program.push_str(&"x = x + 1\n".repeat(20_000));
+    std::fs::write(&source, program).expect("write");
+    let gloc_out = disk.0.join("out.gloc");
+    std::fs::write(&gloc_out, "old\n").expect("write");
+    let compile = run(gloc().arg("compile").arg(&source).arg("-o").arg(&gloc_out));
+    assert_refused(&compile, "the disk is full");
+    assert_eq!(std::fs::read_to_string(&gloc_out).expect("read"), "old\n");
+
+    let log = disk.0.join("log.csv");
+    std::fs::write(&log, "old\n").expect("write");
+    let simulate = run(gloc()
+        .arg("run")
+        .arg(fig2_script(&dir))
+        .arg("--mission")
+        .arg(examples().join("fig2-endless.mi"))
+        .args(["--cycles", "100000", "--log"])
+        .arg(&log));
+    assert_refused(&simulate, "the disk is full");
+    let stderr = String::from_utf8_lossy(&simulate.stderr);
+    assert!(stderr.contains("the log could not be written"), "{stderr}");
+    assert!(stderr.contains("NOT written"), "{stderr}");
+    assert_eq!(std::fs::read_to_string(&log).expect("read"), "old\n");
+    assert_eq!(names(&disk.0), ["log.csv", "out.gloc"]);
+}
+
+#[test]
+fn a_signal_stops_the_run_with_its_log_and_summary() {
+    for (signal, name) in [
+        (libc::SIGINT, "SIGINT"),
+        (libc::SIGTERM, "SIGTERM"),
+        (libc::SIGHUP, "SIGHUP"),
+    ] {
+        let dir = scratch(&format!("signal-{name}"));
+        let log = dir.join("run.csv");
+        let child = gloc()
+            .arg("run")
+            .arg(fig2_script(&dir))
+            .arg("--mission")
+            .arg(examples().join("fig2-endless.mi"))
+            .args(["--duration", "3000d", "--log"])
+            .arg(&log)
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("gloc starts");
+        // Let it fly some cycles (the handler is installed before the first one).
+        thread::sleep(Duration::from_millis(700));
+        // SAFETY: kill(2) on our own child's pid.
+        assert_eq!(unsafe { libc::kill(child.id() as i32, signal) }, 0);
+        let output = finish(child);
+        assert_eq!(output.status.code(), Some(128 + signal), "{name}");
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        let cycle: u64 = stderr
+            .split("interrupted at cycle ")
+            .nth(1)
+            .and_then(|rest| rest.split(' ').next())
+            .and_then(|number| number.parse().ok())
+            .unwrap_or_else(|| panic!("no 'interrupted at cycle N' in: {stderr}"));
+        assert!(stderr.contains(&format!("by {name}")), "{stderr}");
+        // The log: the header and one complete row per cycle 0 … N-1.
+        let text = std::fs::read_to_string(&log).expect("the log is kept");
+        assert!(text.ends_with('\n'));
+        let rows: Vec<&str> = text.lines().collect();
+        assert_eq!(rows.len() as u64, cycle + 1, "{name}");
+        let header: Vec<&str> = rows[0].split(',').collect();
+        let column = header
+            .iter()
+            .position(|name| *name == "m_cycle_number")
+            .expect("m_cycle_number is logged");
+        let last: Vec<&str> = rows[rows.len() - 1].split(',').collect();
+        assert_eq!(last.len(), header.len());
+        assert_eq!(last[column].parse::<u64>().ok(), Some(cycle - 1));
+        std::fs::remove_dir_all(dir).ok();
+    }
+}
+
+#[test]
+fn devices_fifos_and_directories_are_refused_unread() {
+    let dir = scratch("reads");
+    let fifo = dir.join("fifo.gbas");
+    let name = std::ffi::CString::new(fifo.to_string_lossy().as_bytes()).expect("a path");
+    // SAFETY: mkfifo(3) with a NUL-terminated path.
+    assert_eq!(unsafe { libc::mkfifo(name.as_ptr(), 0o600) }, 0);
+    let script = fig2_script(&dir);
+    let replay_in = dir.join("in.csv");
+    std::fs::write(&replay_in, "m_depth\n1\n").expect("write");
+    let zero = Path::new("/dev/zero");
+    let cases: Vec<Vec<&std::ffi::OsStr>> = vec![
+        vec!["check".as_ref(), zero.as_os_str()],
+        vec!["check".as_ref(), fifo.as_os_str()],
+        vec!["check".as_ref(), dir.as_os_str()],
+        vec!["compile".as_ref(), fifo.as_os_str()],
+        vec!["run".as_ref(), fifo.as_os_str()],
+        vec![
+            "check".as_ref(),
+            "--masterdata".as_ref(),
+            zero.as_os_str(),
+            script.as_os_str(),
+        ],
+        vec!["run".as_ref(), "--mission".as_ref(), zero.as_os_str()],
+        vec!["run".as_ref(), "--profile".as_ref(), zero.as_os_str()],
+        vec![
+            "run".as_ref(),
+            script.as_os_str(),
+            "--replay".as_ref(),
+            zero.as_os_str(),
+        ],
+    ];
+    for arguments in cases {
+        let output = run(gloc().args(&arguments));
+        assert_refused(&output, "not a regular file");
+    }
+    // gloc.toml naming /dev/zero as the masterdata, for the CLI.
+    let project = dir.join("project");
+    std::fs::create_dir_all(&project).expect("folder");
+    std::fs::write(project.join("gloc.toml"), "masterdata = \"/dev/zero\"\n").expect("write");
+    std::fs::copy(&script, project.join("fig2.gloc")).expect("copy");
+    let output = run(gloc().arg("check").arg(project.join("fig2.gloc")));
+    assert_refused(&output, "not a regular file");
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn the_language_server_refuses_a_masterdata_of_dev_zero_from_gloc_toml() {
+    let dir = scratch("lsp-zero");
+    std::fs::write(dir.join("gloc.toml"), "masterdata = \"/dev/zero\"\n").expect("write");
+    let script = dir.join("fig2.gloc");
+    std::fs::copy(examples().join("fig2.gloc"), &script).expect("copy");
+    let uri = format!("file://{}", script.display());
+    let mut server = Server::start("lsp");
+    server.send(&json!({ "jsonrpc": "2.0", "id": 1, "method": "initialize",
+        "params": { "processId": null, "rootUri": null, "capabilities": {} } }));
+    server.wait_for("the initialize response", |m| m["id"] == 1);
+    server.send(&json!({ "jsonrpc": "2.0", "method": "initialized", "params": {} }));
+    let text = std::fs::read_to_string(&script).expect("read");
+    server.send(
+        &json!({ "jsonrpc": "2.0", "method": "textDocument/didOpen", "params": {
+        "textDocument": { "uri": uri, "languageId": "gloc", "version": 1, "text": text } } }),
+    );
+    let published = server.wait_for("the diagnostics", |m| {
+        m["method"] == "textDocument/publishDiagnostics" && m["params"]["uri"] == uri
+    });
+    assert!(
+        published.to_string().contains("not a regular file"),
+        "{published}"
+    );
+    server.send(&json!({ "jsonrpc": "2.0", "id": 2, "method": "shutdown" }));
+    server.wait_for("the shutdown response", |m| m["id"] == 2);
+    server.send(&json!({ "jsonrpc": "2.0", "method": "exit" }));
+    assert_eq!(server.close().code(), Some(0));
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn a_masterdata_file_is_capped_in_size_and_in_sensors() {
+    let dir = scratch("masterdata");
+    let script = fig2_script(&dir);
+    // 600,000 sensors in about 13 MB: read, but only the first 65,536 (E0208 at the
+    // line of sensor 65,537). Fig. 2 then refers to sensors beyond nothing it needs.
+    let masterdata = dir.join("masterdata");
+    let sensors: String = (0..600_000)
+        .map(|index| format!("sensor: s{index}(x) 0\n"))
+        .collect();
+    std::fs::write(&masterdata, &sensors).expect("write");
+    let output = run(gloc()
+        .arg("check")
+        .arg("--masterdata")
+        .arg(&masterdata)
+        .arg(&script));
+    assert_refused(&output, "error[E0208]");
+    assert!(text(&output).contains("masterdata:65537:1"));
+    // Over 16 MB: refused before reading.
+    let huge = dir.join("huge");
+    let file = std::fs::File::create(&huge).expect("create");
+    file.set_len(17 << 20).expect("a sparse 17 MB file");
+    let output = run(gloc()
+        .arg("check")
+        .arg("--masterdata")
+        .arg(&huge)
+        .arg(&script));
+    assert_refused(&output, "over the limit of 16 MB for a sensor list");
+    std::fs::remove_dir_all(dir).ok();
+}
+
+// ------------------------------------------------------------ settings
+
+#[test]
+fn a_cycle_budget_no_run_could_finish_is_refused_everywhere() {
+    let dir = scratch("budget");
+    // A loop that exits, after 10^12 iterations: with the budget below it would run
+    // for hours in one cycle.
+    let script = dir.join("loop.gbas");
+    std::fs::write(
+        &script,
+        "dim i as integer\nwhile i < 1000000000000\ni = i + 1\nwend\nprint i\n",
+    )
+    .expect("write");
+    std::fs::write(
+        dir.join("gloc.toml"),
+        "cycle_budget = 9223372036854775807\n",
+    )
+    .expect("write");
+    let output = run(gloc().arg("run").arg(&script).args(["--cycles", "2"]));
+    assert_refused(&output, "gloc.toml:1:16");
+    assert_refused(&output, "1 to 1000000000");
+    std::fs::remove_file(dir.join("gloc.toml")).expect("remove");
+    let output = run(gloc().arg("run").arg(&script).args([
+        "--cycles",
+        "2",
+        "--cycle-budget",
+        "9223372036854775807",
+    ]));
+    assert_refused(&output, "1 to 1000000000");
+    let output = run(gloc()
+        .arg("run")
+        .arg(&script)
+        .args(["--cycles", "100000001"]));
+    assert_refused(&output, "the most one run may take");
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn dash_o_keeps_the_out_columns_of_the_plain_build() {
+    let dir = scratch("columns");
+    // `c_heading` is stored only in unreachable code, which -O removes; the columns
+    // are the sensors the source assigns, in order: c_pitch, c_heading.
+    let script = dir.join("unreachable.gbas");
+    std::fs::write(
+        &script,
+        "label: top\nc_pitch = 0.1\nyield\ngoto top\nc_heading = 0.2\n",
+    )
+    .expect("write");
+    let replay_in = dir.join("in.csv");
+    std::fs::write(&replay_in, "m_depth\n1\n2\n").expect("write");
+    for optimize in [false, true] {
+        let out = dir.join(format!("out-{optimize}.csv"));
+        let mut command = gloc();
+        command
+            .arg("run")
+            .arg(&script)
+            .arg("--replay")
+            .arg(&replay_in)
+            .arg("--out")
+            .arg(&out);
+        if optimize {
+            command.arg("-O");
+        }
+        let output = run(&mut command);
+        assert_eq!(output.status.code(), Some(0), "{}", text(&output));
+        assert_eq!(
+            std::fs::read_to_string(&out).expect("read"),
+            "cycle,c_pitch,c_heading\n0,0.1,\n1,0.1,\n",
+            "-O: {optimize}"
+        );
+    }
+    std::fs::remove_dir_all(dir).ok();
+}
+
+// ------------------------------------------------------------ faults and the hook
+
+#[test]
+fn a_fault_on_c_pitch_reaches_the_script_and_the_log_keeps_the_flown_command() {
+    let dir = scratch("c-pitch");
+    let script = dir.join("pitch.gbas");
+    std::fs::write(&script, "label: top\nprint c_pitch\nyield\ngoto top\n").expect("write");
+    let log = dir.join("log.csv");
+    let output = run(gloc()
+        .arg("run")
+        .arg(&script)
+        .args(["--cycles", "20", "--fault", "c_pitch:stuck=0.7@0", "--log"])
+        .arg(&log)
+        .args(["--log-sensors", "c_pitch"]));
+    assert_eq!(output.status.code(), Some(0), "{}", text(&output));
+    // docs/simulator.md, Faults: the script reads the faulty value …
+    let printed = String::from_utf8_lossy(&output.stdout);
+    assert_eq!(printed.lines().collect::<Vec<_>>(), vec!["0.7"; 20]);
+    // … the log records the command flown, which the fault does not touch.
+    let logged = std::fs::read_to_string(&log).expect("read");
+    let mut rows = logged.lines();
+    assert_eq!(rows.next(), Some("c_pitch"));
+    let values: Vec<&str> = rows.collect();
+    assert_eq!(values.len(), 20);
+    assert!(values.iter().all(|value| *value != "0.7"), "{logged}");
+    std::fs::remove_dir_all(dir).ok();
+}
+
+/// The `mission end` line of a Fig. 2 run with `fault`.
+fn fig2_mission_end(fault: &str) -> (String, String) {
+    let output = run(gloc().args(["run", "--duration", "6h", "--fault", fault]));
+    assert_eq!(output.status.code(), Some(0), "{}", text(&output));
+    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+    let end = stderr
+        .lines()
+        .find(|line| line.starts_with("mission end"))
+        .expect("a mission end line")
+        .to_string();
+    (end, stderr)
+}
+
+#[test]
+fn a_hook_flag_of_1e308_is_no_request_and_fig2_completes() {
+    // Independent route: `stuck=0` is the documented "no request"; 1e308 (and a
+    // negative number, and a fraction) must fly exactly like it.
+    let (no_request, _) = fig2_mission_end("sci_ruhp_behs:stuck=0@0");
+    assert!(no_request.contains("completed"), "{no_request}");
+    for value in ["1e308", "-128", "128.5"] {
+        let (end, stderr) = fig2_mission_end(&format!("sci_ruhp_behs:stuck={value}@0"));
+        assert_eq!(end, no_request, "{value}");
+        assert!(
+            stderr.contains("hook          ignored sci_ruhp_behs"),
+            "{stderr}"
+        );
+    }
+}

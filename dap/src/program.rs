@@ -1,8 +1,10 @@
 //! Static debug information about the loaded script: which source line each GLOC
 //! instruction comes from, where statements start, and the GLOC text for disassembly.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeSet, HashMap};
 use std::path::PathBuf;
+
+use gloc_engine::program::{Flow, Program};
 
 /// The source language the user debugs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -20,6 +22,25 @@ pub struct DebugInfo {
     /// The GLOC text of each instruction, for `disassemble`.
     pub instruction_text: Vec<String>,
     lines_with_code: BTreeSet<u32>,
+    /// `is_line_entry` of each pc, computed once (it is asked after every step).
+    line_entry: Vec<bool>,
+    /// Control flow of each instruction and the pcs of the labels (for `jump rN`); empty
+    /// when unknown, and then nothing is run fused.
+    flow: Vec<Flow>,
+    label_pcs: Vec<usize>,
+    print_lines: PrintLines,
+}
+
+/// The source line the debugger attaches to a printed line: the line of the instruction
+/// after the `print` that printed it (where the script stands once it printed).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PrintLines {
+    /// The script never prints.
+    Never,
+    /// Every print site gives this line.
+    One(Option<u32>),
+    /// Print sites give different lines, or they are unknown.
+    Several,
 }
 
 impl DebugInfo {
@@ -30,13 +51,103 @@ impl DebugInfo {
         instruction_text: Vec<String>,
     ) -> DebugInfo {
         let lines_with_code = line_of_pc.iter().flatten().copied().collect();
-        DebugInfo {
+        let mut info = DebugInfo {
             path,
             language,
             line_of_pc,
             instruction_text,
             lines_with_code,
+            line_entry: Vec::new(),
+            flow: Vec::new(),
+            label_pcs: Vec::new(),
+            print_lines: PrintLines::Several,
+        };
+        info.line_entry = info.line_entries();
+        info
+    }
+
+    /// Adds what the fast path needs from the checked program: control flow and print
+    /// sites (`program` is the one `line_of_pc` describes).
+    pub fn with_program(mut self, program: &Program) -> DebugInfo {
+        if program.instrs.len() != self.line_of_pc.len() {
+            return self;
         }
+        self.flow = program.instrs.iter().map(|instr| instr.flow()).collect();
+        self.label_pcs = program
+            .label_pcs
+            .iter()
+            .flatten()
+            .map(|pc| pc.index())
+            .collect();
+        let mut lines = program
+            .instrs
+            .iter()
+            .enumerate()
+            .filter(|(_, instr)| instr.prints())
+            .map(|(pc, _)| self.line(pc + 1));
+        self.print_lines = match lines.next() {
+            None => PrintLines::Never,
+            Some(first) if lines.all(|line| line == first) => PrintLines::One(first),
+            Some(_) => PrintLines::Several,
+        };
+        self
+    }
+
+    pub fn print_lines(&self) -> PrintLines {
+        self.print_lines
+    }
+
+    /// True when the control flow is known, so that `stop_reach` can be trusted.
+    pub fn knows_flow(&self) -> bool {
+        !self.flow.is_empty()
+    }
+
+    /// For each pc: whether a run from it can arrive at one of `stops` before its share
+    /// of the cycle ends (at a `yield` or `halt`), counting the pc itself.
+    pub fn stop_reach(&self, stops: &[usize]) -> Vec<bool> {
+        let count = self.flow.len();
+        let mut reach = vec![false; count];
+        if stops.is_empty() {
+            return reach;
+        }
+        // Predecessors, with `jump rN` reaching every label.
+        let mut predecessors: Vec<Vec<usize>> = vec![Vec::new(); count];
+        let mut indirect = Vec::new();
+        for (pc, flow) in self.flow.iter().enumerate() {
+            let mut add = |to: usize| {
+                if let Some(list) = predecessors.get_mut(to) {
+                    list.push(pc);
+                }
+            };
+            match *flow {
+                Flow::Next => add(pc + 1),
+                Flow::Jump(target) => add(target.index()),
+                Flow::Branch(if_true, if_false) => {
+                    add(if_true.index());
+                    add(if_false.index());
+                }
+                Flow::Indirect => indirect.push(pc),
+                Flow::End => {}
+            }
+        }
+        for &label in &self.label_pcs {
+            if let Some(list) = predecessors.get_mut(label) {
+                list.extend(&indirect);
+            }
+        }
+        let mut stack: Vec<usize> = stops.iter().copied().filter(|pc| *pc < count).collect();
+        for &pc in &stack {
+            reach[pc] = true;
+        }
+        while let Some(pc) = stack.pop() {
+            for &before in &predecessors[pc] {
+                if !reach[before] {
+                    reach[before] = true;
+                    stack.push(before);
+                }
+            }
+        }
+        reach
     }
 
     pub fn instruction_count(&self) -> usize {
@@ -62,17 +173,29 @@ impl DebugInfo {
     /// `if` block, or a `while`'s jump back to its test). Those would stop a second time
     /// on the same line in the same pass, after the line's code already ran.
     pub fn is_line_entry(&self, pc: usize) -> bool {
-        if !self.is_statement_start(pc) {
-            return false;
-        }
-        let is_jump = self
-            .instruction_text
-            .get(pc)
-            .is_some_and(|text| text.trim_start().starts_with("jumpi "));
-        let began_earlier = self.line_of_pc[..pc]
-            .iter()
-            .any(|line| *line == self.line_of_pc[pc]);
-        !(is_jump && began_earlier)
+        self.line_entry.get(pc).copied().unwrap_or(false)
+    }
+
+    /// Every pc's `is_line_entry`, in one pass: a line "began earlier" when its first pc
+    /// is before this one.
+    fn line_entries(&self) -> Vec<bool> {
+        let mut first_pc: HashMap<u32, usize> = HashMap::new();
+        (0..self.line_of_pc.len())
+            .map(|pc| {
+                let Some(line) = self.line(pc) else {
+                    return false;
+                };
+                let first = *first_pc.entry(line).or_insert(pc);
+                if !self.is_statement_start(pc) {
+                    return false;
+                }
+                let is_jump = self
+                    .instruction_text
+                    .get(pc)
+                    .is_some_and(|text| text.trim_start().starts_with("jumpi "));
+                !(is_jump && first < pc)
+            })
+            .collect()
     }
 
     /// Moves a requested breakpoint line to the nearest line with code: the first one at

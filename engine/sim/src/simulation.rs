@@ -825,6 +825,12 @@ impl Simulation {
         self.printed.lines()
     }
 
+    /// What the script printed this cycle, each line ended by `\n` (a debugger compares
+    /// its length to find new lines without splitting it).
+    pub fn printed_text(&self) -> &str {
+        &self.printed
+    }
+
     /// Sensors the script stored this cycle, in first-store order.
     pub fn stored(&self) -> &[SensorId] {
         &self.stored

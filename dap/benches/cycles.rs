@@ -13,7 +13,8 @@ use std::time::Instant;
 
 use gloc_compiler::{load_script, Language, LoadOptions};
 use gloc_dap::debugger::{
-    CycleBreakpoint, CycleBreakpointKind, Debugger, HistoryConfig, Progress, RunMode,
+    CycleBreakpoint, CycleBreakpointKind, Debugger, HistoryConfig, LineBreakpoint, Progress,
+    RunMode,
 };
 use gloc_dap::target::Target;
 use gloc_dap::world::{self, LaunchConfig};
@@ -27,16 +28,28 @@ fn main() {
     let fixtures = root.join("tests/fixtures");
     let examples = root.join("../examples");
     let slow_too = std::env::var_os("GLOC_BENCH_SLOW").is_some();
-    for (name, program, mission) in [
+    // A breakpoint that never stops, on a line of the tracker's leg end (`total = 0.0`,
+    // reached every few hundred cycles): the shares that may reach it are stepped up to it.
+    let leg_end = LineBreakpoint {
+        id: 2,
+        line: 70,
+        condition: Some("n < 0".into()),
+        hit_condition: None,
+        log_message: None,
+        hits: 0,
+    };
+    for (name, program, mission, breakpoint) in [
         (
             "fig3",
             fixtures.join("fig3.gbas"),
             fixtures.join("endless.mi"),
+            None,
         ),
         (
             "thermocline",
             examples.join("thermocline.gbas"),
             examples.join("thermocline.mi"),
+            Some(leg_end),
         ),
     ] {
         println!("{name}:");
@@ -50,7 +63,10 @@ fn main() {
         }
         let speeds: &[bool] = if slow_too { &[true, false] } else { &[true] };
         for &fast in speeds {
-            debug(&program, &mission, fast);
+            debug(&program, &mission, fast, None);
+            if let Some(breakpoint) = &breakpoint {
+                debug(&program, &mission, fast, Some(breakpoint.clone()));
+            }
         }
     }
 }
@@ -84,7 +100,7 @@ fn simulate(program: &Path, mission: &Path, optimize: bool) -> f64 {
     began.elapsed().as_secs_f64()
 }
 
-fn debug(program: &Path, mission: &Path, fast: bool) {
+fn debug(program: &Path, mission: &Path, fast: bool, breakpoint: Option<LineBreakpoint>) {
     let config = LaunchConfig {
         program: program.to_path_buf(),
         mission: Some(mission.to_path_buf()),
@@ -100,7 +116,14 @@ fn debug(program: &Path, mission: &Path, fast: bool) {
         hit_condition: None,
         hits: 0,
     });
-    let label = if fast { "" } else { " (fast path off)" };
+    let mut label = String::new();
+    if let Some(breakpoint) = breakpoint {
+        label += &format!(" (breakpoint on line {})", breakpoint.line);
+        debugger.line_breakpoints.push(breakpoint);
+    }
+    if !fast {
+        label += " (fast path off)";
+    }
     let start = debugger.clock();
     let began = Instant::now();
     loop {

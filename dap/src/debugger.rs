@@ -216,15 +216,15 @@ pub struct Debugger<T: Target> {
     /// Values of the watched sensors at the last boundary (or stop).
     baseline: HashMap<usize, f64>,
     history: Option<History<T>>,
-    /// The pcs where a breakpoint can stop (sorted), and for each pc whether a run from
-    /// it can reach one of them within its share: where the fast path must not run.
+    /// The pcs where a breakpoint can stop (sorted), and for each pc how many
+    /// instructions can run fused from it before the run may land on one of them.
     stop_pcs: Vec<usize>,
-    stop_reach: Vec<bool>,
+    steps_to_stop: Vec<u64>,
     /// A cycle whose share printed from several print sites under the fast path: it was
     /// rolled back and is single-stepped, so each printed line gets its own source line.
     unfused_cycle: Option<u64>,
-    /// Shares run fused so far (for tests and benchmarks: proof the fast path ran).
-    fused_shares: u64,
+    /// Fused runs so far (for tests and benchmarks: proof the fast path ran).
+    fused_runs: u64,
     outputs: Vec<Output>,
     pause_requested: bool,
     ended: Option<String>,
@@ -268,9 +268,9 @@ impl<T: Target> Debugger<T> {
             baseline: HashMap::new(),
             history,
             stop_pcs: Vec::new(),
-            stop_reach: Vec::new(),
+            steps_to_stop: Vec::new(),
             unfused_cycle: None,
-            fused_shares: 0,
+            fused_runs: 0,
             outputs: Vec::new(),
             pause_requested: false,
             ended: None,
@@ -295,9 +295,9 @@ impl<T: Target> Debugger<T> {
             .map_or(0, |history| history.snapshots.len())
     }
 
-    /// How many script shares ran on the fused machine (the fast path) so far.
-    pub fn fused_share_count(&self) -> u64 {
-        self.fused_shares
+    /// How many times the script ran on the fused machine (the fast path) so far.
+    pub fn fused_run_count(&self) -> u64 {
+        self.fused_runs
     }
 
     pub fn take_outputs(&mut self) -> Vec<Output> {
@@ -440,28 +440,35 @@ impl<T: Target> Debugger<T> {
         }
         stops.sort_unstable();
         stops.dedup();
-        if stops != self.stop_pcs || self.stop_reach.len() != self.info.instruction_count() {
-            self.stop_reach = self.info.stop_reach(&stops);
+        if stops != self.stop_pcs || self.steps_to_stop.len() != self.info.instruction_count() {
+            self.steps_to_stop = self.info.steps_to_stop(&stops);
             self.stop_pcs = stops;
         }
     }
 
-    /// True when the rest of the script's share can run fused with the same outcome as
-    /// single steps: part way through a share, no breakpoint reachable before its end, no
-    /// step that stops inside it, and no recorded edit left to replay in this cycle.
-    /// (Cycle and data breakpoints are checked at cycle boundaries only.)
-    fn can_fuse(&self, mode: RunMode) -> bool {
-        self.fast_shares
-            && !matches!(mode, RunMode::StepIn { .. })
+    /// How many instructions can run fused now with the same outcome as single steps
+    /// (`u64::MAX`: the rest of the share), or `None` to step: part way through a share,
+    /// not a step that stops after one statement, no recorded edit left to replay in this
+    /// cycle, and no more instructions than it takes to land on a breakpoint. Cycle and
+    /// data breakpoints are checked at cycle boundaries only.
+    fn fusable(&self, mode: RunMode) -> Option<u64> {
+        if matches!(mode, RunMode::StepIn { .. }) {
+            return None;
+        }
+        let limit = self.replay_fusable()?;
+        let to_stop = self.steps_to_stop.get(self.target.pc()).copied()?;
+        Some(limit.min(to_stop)).filter(|steps| *steps > 1)
+    }
+
+    /// What any run needs to go fused: the switch on, the control flow known, part way
+    /// through a share, and no edit to replay later in it.
+    fn replay_fusable(&self) -> Option<u64> {
+        let fusable = self.fast_shares
             && self.info.knows_flow()
             && self.target.phase() == Phase::InScript
             && self.unfused_cycle != Some(self.clock.cycle)
-            && !self
-                .stop_reach
-                .get(self.target.pc())
-                .copied()
-                .unwrap_or(!self.stop_pcs.is_empty())
-            && !self.edits_ahead_in_cycle()
+            && !self.edits_ahead_in_cycle();
+        fusable.then_some(u64::MAX)
     }
 
     /// True when the journal holds an edit later in the present cycle.
@@ -477,17 +484,18 @@ impl<T: Target> Debugger<T> {
                 .any(|(at, _)| at.cycle == clock.cycle && at.steps > clock.steps)
     }
 
-    /// One move of a live run: the rest of the share fused when `can_fuse`, else one
-    /// step. A fused share returns the notices it produced (already taken).
+    /// One move of a live run: instructions up to the next possible stop run fused
+    /// when `fusable` allows, else one step. A fused run returns the notices it produced
+    /// (already taken).
     fn advance(&mut self, mode: RunMode) -> (StepEvent, Option<Vec<Notice>>) {
-        if self.can_fuse(mode) {
-            // With print sites on several lines, a share that prints must be stepped to
-            // give each line its source line: keep the state to go back to.
+        if let Some(limit) = self.fusable(mode) {
+            // With print sites on several lines, a run that prints must be stepped to
+            // give each printed line its source line: keep the state to go back to.
             let saved = match self.info.print_lines() {
                 PrintLines::Several => Some(self.target.clone()),
                 PrintLines::Never | PrintLines::One(_) => None,
             };
-            if let Some((event, steps)) = self.target.run_share() {
+            if let Some((event, steps)) = self.target.run_share(limit) {
                 let notices = self.target.take_notices();
                 let printed = notices
                     .iter()
@@ -499,7 +507,7 @@ impl<T: Target> Debugger<T> {
                     }
                     _ => {
                         self.clock.steps += steps;
-                        self.fused_shares += 1;
+                        self.fused_runs += 1;
                         return (event, Some(notices));
                     }
                 }
@@ -508,13 +516,17 @@ impl<T: Target> Debugger<T> {
         (self.step_world(), None)
     }
 
-    /// One move of a replay that reports nothing (`travel_to`, reverse continue): the
-    /// rest of the share fused when `fuse` allows and `can_fuse` agrees.
-    fn advance_quietly(&mut self, fuse: bool) -> StepEvent {
-        if fuse && self.can_fuse(RunMode::Continue) {
-            if let Some((event, steps)) = self.target.run_share() {
+    /// One move of a replay that reports nothing (`travel_to`, reverse continue): fused
+    /// when `limit` (the instructions it may run) and the present allow.
+    fn advance_quietly(&mut self, limit: Option<u64>) -> StepEvent {
+        let limit = limit
+            .zip(self.replay_fusable())
+            .map(|(a, b)| a.min(b))
+            .filter(|steps| *steps > 1);
+        if let Some(limit) = limit {
+            if let Some((event, steps)) = self.target.run_share(limit) {
                 self.clock.steps += steps;
-                self.fused_shares += 1;
+                self.fused_runs += 1;
                 return event;
             }
         }
@@ -951,7 +963,7 @@ impl<T: Target> Debugger<T> {
                 && edits
                     .peek()
                     .is_none_or(|(clock, _)| clock.cycle > self.clock.cycle);
-            let event = self.advance_quietly(fuse);
+            let event = self.advance_quietly(fuse.then_some(u64::MAX));
             if let StepEvent::Trapped { message, .. } = &event {
                 self.trap = Some(message.clone());
             }
@@ -1018,8 +1030,11 @@ impl<T: Target> Debugger<T> {
                 .filter(|(clock, _)| *clock > segment_start && *clock <= segment_end)
                 .peekable();
             while self.clock < segment_end {
-                let fuse = segment_end.cycle > self.clock.cycle;
-                let event = self.advance_quietly(fuse);
+                // Breakpoints count here: no further than the next place one can stop.
+                let limit = (segment_end.cycle > self.clock.cycle)
+                    .then(|| self.fusable(RunMode::Continue))
+                    .flatten();
+                let event = self.advance_quietly(limit);
                 if let StepEvent::MissionEnded { .. } = event {
                     break;
                 }

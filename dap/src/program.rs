@@ -102,15 +102,17 @@ impl DebugInfo {
         !self.flow.is_empty()
     }
 
-    /// For each pc: whether a run from it can arrive at one of `stops` before its share
-    /// of the cycle ends (at a `yield` or `halt`), counting the pc itself.
-    pub fn stop_reach(&self, stops: &[usize]) -> Vec<bool> {
+    /// For each pc: the fewest instructions a run from it executes before it lands on
+    /// one of `stops` (is about to execute it) within its share of the cycle, which ends
+    /// at a `yield` or `halt`; `u64::MAX` when it cannot. A run of fewer instructions
+    /// than that passes no stop.
+    pub fn steps_to_stop(&self, stops: &[usize]) -> Vec<u64> {
         let count = self.flow.len();
-        let mut reach = vec![false; count];
         if stops.is_empty() {
-            return reach;
+            return vec![u64::MAX; count];
         }
-        // Predecessors, with `jump rN` reaching every label.
+        // Breadth first from the stops over the edges backwards: `distance[pc]` is 0 at a
+        // stop, else the fewest instructions from pc to a stop.
         let mut predecessors: Vec<Vec<usize>> = vec![Vec::new(); count];
         let mut indirect = Vec::new();
         for (pc, flow) in self.flow.iter().enumerate() {
@@ -126,6 +128,7 @@ impl DebugInfo {
                     add(if_true.index());
                     add(if_false.index());
                 }
+                // `jump rN` may go to any label.
                 Flow::Indirect => indirect.push(pc),
                 Flow::End => {}
             }
@@ -135,19 +138,42 @@ impl DebugInfo {
                 list.extend(&indirect);
             }
         }
-        let mut stack: Vec<usize> = stops.iter().copied().filter(|pc| *pc < count).collect();
-        for &pc in &stack {
-            reach[pc] = true;
+        let mut distance = vec![u64::MAX; count];
+        let mut queue = std::collections::VecDeque::new();
+        for &pc in stops.iter().filter(|pc| **pc < count) {
+            distance[pc] = 0;
+            queue.push_back(pc);
         }
-        while let Some(pc) = stack.pop() {
+        while let Some(pc) = queue.pop_front() {
             for &before in &predecessors[pc] {
-                if !reach[before] {
-                    reach[before] = true;
-                    stack.push(before);
+                if distance[before] == u64::MAX {
+                    distance[before] = distance[pc] + 1;
+                    queue.push_back(before);
                 }
             }
         }
-        reach
+        // From a stop itself the run must first leave it: one instruction to a successor,
+        // then that successor's distance.
+        let after = |to: usize| distance.get(to).map_or(u64::MAX, |d| d.saturating_add(1));
+        let to_labels = self
+            .label_pcs
+            .iter()
+            .map(|&label| after(label))
+            .min()
+            .unwrap_or(u64::MAX);
+        self.flow
+            .iter()
+            .enumerate()
+            .map(|(pc, flow)| match *flow {
+                Flow::Next => after(pc + 1),
+                Flow::Jump(target) => after(target.index()),
+                Flow::Branch(if_true, if_false) => {
+                    after(if_true.index()).min(after(if_false.index()))
+                }
+                Flow::Indirect => to_labels,
+                Flow::End => u64::MAX,
+            })
+            .collect()
     }
 
     pub fn instruction_count(&self) -> usize {
@@ -277,5 +303,38 @@ mod tests {
         assert!(!info.is_line_entry(4));
         // A `goto` on its own line is that line's entry.
         assert!(info.is_line_entry(5));
+    }
+
+    #[test]
+    fn steps_to_a_stop_follow_jumps_branches_and_indirect_jumps_within_a_share() {
+        use gloc_compiler::{load_script, Language as ScriptLanguage, LoadOptions};
+        use gloc_engine::sensors::SensorList;
+        let text = "nregs 2\nnblbs 3\nninstr 9\nlabel 0\nloadi 2,r0\njump r0\nlabel 1\n\
+                    loadi 1,r1\nyield\nlabel 2\nloadi 3,r1\njumpi 1\n";
+        let loaded = load_script(
+            text,
+            ScriptLanguage::Gloc,
+            &SensorList::embedded(),
+            &LoadOptions::default(),
+        );
+        let program = loaded
+            .program
+            .unwrap_or_else(|| panic!("{:?}", loaded.diagnostics));
+        // pcs: 0 loadi, 1 jump r0 (any label: pcs 0, 2, 4), 2 loadi, 3 yield, 4 loadi,
+        // 5 jumpi 1 (pc 2), 6 the final halt.
+        assert_eq!(program.instrs.len(), 7);
+        let info = DebugInfo::new(
+            PathBuf::from("a.gloc"),
+            Language::Gloc,
+            vec![Some(1); 7],
+            vec![String::new(); 7],
+        )
+        .with_program(&program);
+        // A stop at pc 2. By hand: from 1 the indirect jump can land on 2 in one
+        // instruction; from 0 it takes two (0 → 1 → 2); from 2 and 3 the share ends at the
+        // yield first; from 4 two (4 → 5 → 2); from 5 one; the halt never.
+        let never = u64::MAX;
+        assert_eq!(info.steps_to_stop(&[2]), [2, 1, never, never, 2, 1, never]);
+        assert_eq!(info.steps_to_stop(&[]), [never; 7]);
     }
 }

@@ -459,7 +459,7 @@ impl Target for World {
         event
     }
 
-    fn run_share(&mut self) -> Option<(StepEvent, u64)> {
+    fn run_share(&mut self, max_steps: u64) -> Option<(StepEvent, u64)> {
         if self.sim.phase() != SimPhase::ScriptRunning {
             return None;
         }
@@ -470,13 +470,13 @@ impl Target for World {
                 .map_or(0, |machine| machine.instructions_this_cycle())
         };
         let before = executed(self);
-        let event = match self.sim.run_script() {
-            // Not runnable after all: what `script_step` answers, in one step.
-            None => return Some((StepEvent::Yielded, 1)),
+        let event = match self.sim.script_run(max_steps) {
+            None => StepEvent::Executed,
             Some(end) => step_event(end),
         };
-        // Every instruction is one step, the one that ends the share included.
-        let steps = executed(self).saturating_sub(before);
+        // Every instruction is one step, the one that ends the share included; a share
+        // that could not run after all is one step, as `script_step` answers it.
+        let steps = executed(self).saturating_sub(before).max(1);
         self.collect();
         Some((event, steps))
     }

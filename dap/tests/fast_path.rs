@@ -166,7 +166,7 @@ fn session(
         };
         trace.push(describe(&mut debugger, command, &outcome));
     }
-    (trace, debugger.fused_share_count())
+    (trace, debugger.fused_run_count())
 }
 
 fn describe(debugger: &mut Debugger<World>, command: &Command, outcome: &str) -> String {
@@ -226,13 +226,13 @@ fn check(program: PathBuf, mission: PathBuf, cycle_budget: Option<u64>, commands
         true,
     );
     let (slow, unfused) = session(program, mission, cycle_budget, commands, false);
-    assert_eq!(unfused, 0, "the reference must not run fused shares");
+    assert_eq!(unfused, 0, "the reference must not run fused runs");
     assert!(
         fused > 0,
         "the fast path never ran: the comparison proves nothing"
     );
     if std::env::var_os("GLOC_FAST_PATH_TRACE").is_some() {
-        eprintln!("{} fused shares\n{}", fused, fast.join("\n"));
+        eprintln!("{} fused runs\n{}", fused, fast.join("\n"));
     }
     assert_eq!(fast.len(), slow.len());
     for (fast, slow) in fast.iter().zip(&slow) {

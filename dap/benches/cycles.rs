@@ -1,27 +1,114 @@
 //! Benchmarks of the debugger on a long run (`cargo bench -p gloc-dap`): `continue` to a
-//! cycle breakpoint at cycle 100,000, then `stepBack` there, with reverse history on.
-//! Prints figures; asserts nothing about time.
+//! cycle breakpoint at cycle 100,000, then `stepBack` there, with reverse history on, on
+//! the Fig. 3 script and on the thermocline tracker; beside each, the same cycles flown
+//! the way `gloc run` flies them (`Simulation::step_cycle` on the same program, plain and
+//! with `-O`). Prints figures; asserts nothing about time.
+//!
+//! `GLOC_BENCH_SLOW=1` also runs the debugger with its fast path off (every instruction a
+//! single step), the way it ran before the fused shares.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::time::Instant;
 
+use gloc_compiler::{load_script, Language, LoadOptions};
 use gloc_dap::debugger::{
-    CycleBreakpoint, CycleBreakpointKind, Debugger, HistoryConfig, Progress, RunMode,
+    CycleBreakpoint, CycleBreakpointKind, Debugger, HistoryConfig, LineBreakpoint, Progress,
+    RunMode,
 };
 use gloc_dap::target::Target;
 use gloc_dap::world::{self, LaunchConfig};
+use gloc_engine::sensors::SensorList;
+use gloc_sim::{Mission, SimConfig, Simulation};
 
 const TARGET_CYCLE: u64 = 100_000;
 
 fn main() {
-    let fixtures = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures");
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let fixtures = root.join("tests/fixtures");
+    let examples = root.join("../examples");
+    let slow_too = std::env::var_os("GLOC_BENCH_SLOW").is_some();
+    // A breakpoint that never stops, on a line of the tracker's leg end (`total = 0.0`,
+    // reached every few hundred cycles): the shares that may reach it are stepped up to it.
+    let leg_end = LineBreakpoint {
+        id: 2,
+        line: 70,
+        condition: Some("n < 0".into()),
+        hit_condition: None,
+        log_message: None,
+        hits: 0,
+    };
+    for (name, program, mission, breakpoint) in [
+        (
+            "fig3",
+            fixtures.join("fig3.gbas"),
+            fixtures.join("endless.mi"),
+            None,
+        ),
+        (
+            "thermocline",
+            examples.join("thermocline.gbas"),
+            examples.join("thermocline.mi"),
+            Some(leg_end),
+        ),
+    ] {
+        println!("{name}:");
+        for optimize in [false, true] {
+            let seconds = simulate(&program, &mission, optimize);
+            println!(
+                "  gloc run{} for {TARGET_CYCLE} cycles: {seconds:.3} s ({:.2} µs per cycle)",
+                if optimize { " -O" } else { "" },
+                seconds * 1e6 / TARGET_CYCLE as f64
+            );
+        }
+        let speeds: &[bool] = if slow_too { &[true, false] } else { &[true] };
+        for &fast in speeds {
+            debug(&program, &mission, fast, None);
+            if let Some(breakpoint) = &breakpoint {
+                debug(&program, &mission, fast, Some(breakpoint.clone()));
+            }
+        }
+    }
+}
+
+/// The cycles as `gloc run` flies them: no debugger, one `step_cycle` each.
+fn simulate(program: &Path, mission: &Path, optimize: bool) -> f64 {
+    let text = std::fs::read_to_string(program).expect("the program");
+    let sensor_list = SensorList::embedded();
+    let loaded = load_script(
+        &text,
+        Language::of_path(program),
+        &sensor_list,
+        &LoadOptions {
+            optimize,
+            cycle_budget: None,
+        },
+    );
+    let script = loaded.program.expect("a program without errors");
+    let mission = Mission::load(mission);
+    let mut simulation = Simulation::new(
+        &mission,
+        Arc::new(sensor_list),
+        Some(script),
+        &SimConfig::default(),
+    )
+    .expect("the simulation");
+    let began = Instant::now();
+    for _ in 0..TARGET_CYCLE {
+        assert!(simulation.step_cycle(), "the mission ended early");
+    }
+    began.elapsed().as_secs_f64()
+}
+
+fn debug(program: &Path, mission: &Path, fast: bool, breakpoint: Option<LineBreakpoint>) {
     let config = LaunchConfig {
-        program: fixtures.join("fig3.gbas"),
-        mission: Some(fixtures.join("endless.mi")),
+        program: program.to_path_buf(),
+        mission: Some(mission.to_path_buf()),
         ..LaunchConfig::default()
     };
     let (world, info) = world::launch(&config).expect("launch");
     let mut debugger = Debugger::new(world, info, Some(HistoryConfig::default()));
+    debugger.fast_shares = fast;
     debugger.cycle_breakpoints.push(CycleBreakpoint {
         id: 1,
         kind: CycleBreakpointKind::At(TARGET_CYCLE),
@@ -29,6 +116,14 @@ fn main() {
         hit_condition: None,
         hits: 0,
     });
+    let mut label = String::new();
+    if let Some(breakpoint) = breakpoint {
+        label += &format!(" (breakpoint on line {})", breakpoint.line);
+        debugger.line_breakpoints.push(breakpoint);
+    }
+    if !fast {
+        label += " (fast path off)";
+    }
     let start = debugger.clock();
     let began = Instant::now();
     loop {
@@ -44,7 +139,7 @@ fn main() {
     let continue_time = began.elapsed();
     assert_eq!(debugger.target.cycle(), TARGET_CYCLE);
     println!(
-        "continue to cycle {TARGET_CYCLE}: {:.3} s ({:.2} µs per cycle), {} snapshots kept",
+        "  dap continue to cycle {TARGET_CYCLE}{label}: {:.3} s ({:.2} µs per cycle), {} snapshots kept",
         continue_time.as_secs_f64(),
         continue_time.as_secs_f64() * 1e6 / TARGET_CYCLE as f64,
         debugger.snapshot_count()
@@ -58,14 +153,14 @@ fn main() {
     assert_eq!(debugger.target.cycle(), TARGET_CYCLE - 20);
     times.sort_by(f64::total_cmp);
     println!(
-        "stepBack at cycle ~{TARGET_CYCLE}: median {:.3} ms, worst {:.3} ms over 20 steps",
+        "  dap stepBack at cycle ~{TARGET_CYCLE}{label}: median {:.3} ms, worst {:.3} ms over 20 steps",
         times[times.len() / 2] * 1e3,
         times[times.len() - 1] * 1e3
     );
     let began = Instant::now();
     let stop = debugger.reverse_continue().expect("reverseContinue");
     println!(
-        "reverseContinue from cycle ~{TARGET_CYCLE} with no earlier hit (back to the start): {:.3} s ({})",
+        "  dap reverseContinue from cycle ~{TARGET_CYCLE} with no earlier hit{label}: {:.3} s ({})",
         began.elapsed().as_secs_f64(),
         stop.description
     );

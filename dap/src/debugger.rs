@@ -9,7 +9,7 @@
 use std::collections::{BTreeMap, HashMap};
 
 use crate::expr::{self, Names, Number};
-use crate::program::DebugInfo;
+use crate::program::{DebugInfo, PrintLines};
 use crate::target::{Notice, Phase, StepEvent, Target, TrapKind};
 
 /// A point in a run: the cycle, and how many steps were taken in it (0 = its boundary).
@@ -210,9 +210,21 @@ pub struct Debugger<T: Target> {
     pub data_breakpoints: Vec<DataBreakpoint>,
     pub instruction_breakpoints: Vec<InstructionBreakpoint>,
     pub filters: ExceptionFilters,
+    /// Run the script's share of a cycle on the fused machine when no stop is possible
+    /// inside it (on by default; off steps every instruction, the reference behaviour).
+    pub fast_shares: bool,
     /// Values of the watched sensors at the last boundary (or stop).
     baseline: HashMap<usize, f64>,
     history: Option<History<T>>,
+    /// The pcs where a breakpoint can stop (sorted), and for each pc how many
+    /// instructions can run fused from it before the run may land on one of them.
+    stop_pcs: Vec<usize>,
+    steps_to_stop: Vec<u64>,
+    /// A cycle whose share printed from several print sites under the fast path: it was
+    /// rolled back and is single-stepped, so each printed line gets its own source line.
+    unfused_cycle: Option<u64>,
+    /// Fused runs so far (for tests and benchmarks: proof the fast path ran).
+    fused_runs: u64,
     outputs: Vec<Output>,
     pause_requested: bool,
     ended: Option<String>,
@@ -252,8 +264,13 @@ impl<T: Target> Debugger<T> {
             data_breakpoints: Vec::new(),
             instruction_breakpoints: Vec::new(),
             filters: ExceptionFilters::default(),
+            fast_shares: true,
             baseline: HashMap::new(),
             history,
+            stop_pcs: Vec::new(),
+            steps_to_stop: Vec::new(),
+            unfused_cycle: None,
+            fused_runs: 0,
             outputs: Vec::new(),
             pause_requested: false,
             ended: None,
@@ -276,6 +293,11 @@ impl<T: Target> Debugger<T> {
         self.history
             .as_ref()
             .map_or(0, |history| history.snapshots.len())
+    }
+
+    /// How many times the script ran on the fused machine (the fast path) so far.
+    pub fn fused_run_count(&self) -> u64 {
+        self.fused_runs
     }
 
     pub fn take_outputs(&mut self) -> Vec<Output> {
@@ -321,8 +343,16 @@ impl<T: Target> Debugger<T> {
                 summary: summary.clone(),
             };
         }
-        for _ in 0..budget {
-            let event = self.step_world();
+        self.refresh_stops();
+        let mut steps = 0;
+        while steps < budget {
+            let before = self.clock;
+            let (event, fused_notices) = self.advance(mode);
+            steps += if self.clock.steps > before.steps {
+                self.clock.steps - before.steps
+            } else {
+                1
+            };
             if let Err(message) = self.replay_edits() {
                 self.outputs.push(Output {
                     category: "stderr",
@@ -330,7 +360,18 @@ impl<T: Target> Debugger<T> {
                     line: None,
                 });
             }
-            let abend = self.collect_notices();
+            let abend = match fused_notices {
+                // Every line printed in a fused share comes from a print site of the
+                // one line `PrintLines::One` names (`advance` rolls back otherwise).
+                Some(notices) => {
+                    let line = match self.info.print_lines() {
+                        PrintLines::One(line) => line,
+                        PrintLines::Never | PrintLines::Several => None,
+                    };
+                    self.report_notices(notices, line)
+                }
+                None => self.collect_notices(),
+            };
             if let (Some(reason), true) = (abend, self.filters.abend) {
                 return Progress::Stopped(Stop {
                     reason: "exception",
@@ -375,6 +416,123 @@ impl<T: Target> Debugger<T> {
         Ok(())
     }
 
+    /// Recomputes where breakpoints can stop when the breakpoints changed.
+    fn refresh_stops(&mut self) {
+        let mut stops: Vec<usize> = self
+            .instruction_breakpoints
+            .iter()
+            .map(|breakpoint| breakpoint.pc)
+            .collect();
+        if !self.line_breakpoints.is_empty() {
+            for pc in 0..self.info.instruction_count() {
+                if !self.info.is_line_entry(pc) {
+                    continue;
+                }
+                let line = self.info.line(pc);
+                if self
+                    .line_breakpoints
+                    .iter()
+                    .any(|breakpoint| Some(breakpoint.line) == line)
+                {
+                    stops.push(pc);
+                }
+            }
+        }
+        stops.sort_unstable();
+        stops.dedup();
+        if stops != self.stop_pcs || self.steps_to_stop.len() != self.info.instruction_count() {
+            self.steps_to_stop = self.info.steps_to_stop(&stops);
+            self.stop_pcs = stops;
+        }
+    }
+
+    /// How many instructions can run fused now with the same outcome as single steps
+    /// (`u64::MAX`: the rest of the share), or `None` to step: part way through a share,
+    /// not a step that stops after one statement, no recorded edit left to replay in this
+    /// cycle, and no more instructions than it takes to land on a breakpoint. Cycle and
+    /// data breakpoints are checked at cycle boundaries only.
+    fn fusable(&self, mode: RunMode) -> Option<u64> {
+        if matches!(mode, RunMode::StepIn { .. }) {
+            return None;
+        }
+        let limit = self.replay_fusable()?;
+        let to_stop = self.steps_to_stop.get(self.target.pc()).copied()?;
+        Some(limit.min(to_stop)).filter(|steps| *steps > 1)
+    }
+
+    /// What any run needs to go fused: the switch on, the control flow known, part way
+    /// through a share, and no edit to replay later in it.
+    fn replay_fusable(&self) -> Option<u64> {
+        let fusable = self.fast_shares
+            && self.info.knows_flow()
+            && self.target.phase() == Phase::InScript
+            && self.unfused_cycle != Some(self.clock.cycle)
+            && !self.edits_ahead_in_cycle();
+        fusable.then_some(u64::MAX)
+    }
+
+    /// True when the journal holds an edit later in the present cycle.
+    fn edits_ahead_in_cycle(&self) -> bool {
+        let Some(history) = &self.history else {
+            return false;
+        };
+        let clock = self.clock;
+        history.journal.last().is_some_and(|(at, _)| *at > clock)
+            && history
+                .journal
+                .iter()
+                .any(|(at, _)| at.cycle == clock.cycle && at.steps > clock.steps)
+    }
+
+    /// One move of a live run: instructions up to the next possible stop run fused
+    /// when `fusable` allows, else one step. A fused run returns the notices it produced
+    /// (already taken).
+    fn advance(&mut self, mode: RunMode) -> (StepEvent, Option<Vec<Notice>>) {
+        if let Some(limit) = self.fusable(mode) {
+            // With print sites on several lines, a run that prints must be stepped to
+            // give each printed line its source line: keep the state to go back to.
+            let saved = match self.info.print_lines() {
+                PrintLines::Several => Some(self.target.clone()),
+                PrintLines::Never | PrintLines::One(_) => None,
+            };
+            if let Some((event, steps)) = self.target.run_share(limit) {
+                let notices = self.target.take_notices();
+                let printed = notices
+                    .iter()
+                    .any(|notice| matches!(notice, Notice::Print(_)));
+                match saved {
+                    Some(saved) if printed => {
+                        self.target = saved;
+                        self.unfused_cycle = Some(self.clock.cycle);
+                    }
+                    _ => {
+                        self.clock.steps += steps;
+                        self.fused_runs += 1;
+                        return (event, Some(notices));
+                    }
+                }
+            }
+        }
+        (self.step_world(), None)
+    }
+
+    /// One move of a replay that reports nothing (`travel_to`, reverse continue): fused
+    /// when `limit` (the instructions it may run) and the present allow.
+    fn advance_quietly(&mut self, limit: Option<u64>) -> StepEvent {
+        let limit = limit
+            .zip(self.replay_fusable())
+            .map(|(a, b)| a.min(b))
+            .filter(|steps| *steps > 1);
+        if let Some(limit) = limit {
+            if let Some((event, steps)) = self.target.run_share(limit) {
+                self.clock.steps += steps;
+                self.fused_runs += 1;
+                return event;
+            }
+        }
+        self.step_world()
+    }
+
     fn step_world(&mut self) -> StepEvent {
         let event = self.target.step();
         if event == StepEvent::CycleBegan {
@@ -391,9 +549,18 @@ impl<T: Target> Debugger<T> {
 
     /// Turns the world's notices into output; returns the abort reason if one happened.
     fn collect_notices(&mut self) -> Option<String> {
+        let notices = self.target.take_notices();
+        if notices.is_empty() {
+            return None;
+        }
         let line = self.current_line();
+        self.report_notices(notices, line)
+    }
+
+    /// Turns notices into output, printed lines pointing at `line`.
+    fn report_notices(&mut self, notices: Vec<Notice>, line: Option<u32>) -> Option<String> {
         let mut abend = None;
-        for notice in self.target.take_notices() {
+        for notice in notices {
             // Only what the script printed points at a source line.
             let (category, text, line) = match notice {
                 Notice::Print(text) => ("stdout", text, line),
@@ -791,7 +958,12 @@ impl<T: Target> Debugger<T> {
             if self.clock >= target {
                 break;
             }
-            let event = self.step_world();
+            // The share runs fused when it ends before the target and no edit falls in it.
+            let fuse = target.cycle > self.clock.cycle
+                && edits
+                    .peek()
+                    .is_none_or(|(clock, _)| clock.cycle > self.clock.cycle);
+            let event = self.advance_quietly(fuse.then_some(u64::MAX));
             if let StepEvent::Trapped { message, .. } = &event {
                 self.trap = Some(message.clone());
             }
@@ -837,10 +1009,11 @@ impl<T: Target> Debugger<T> {
 
     /// Back to the most recent breakpoint hit before now, or the start of the history.
     pub fn reverse_continue(&mut self) -> Result<Stop, String> {
+        let present = self.clock;
+        self.refresh_stops();
         let Some(history) = &self.history else {
             return Err("reverse debugging is off (launch with \"history\": true)".into());
         };
-        let present = self.clock;
         let starts: Vec<Clock> = history
             .snapshots
             .range(..present)
@@ -857,7 +1030,11 @@ impl<T: Target> Debugger<T> {
                 .filter(|(clock, _)| *clock > segment_start && *clock <= segment_end)
                 .peekable();
             while self.clock < segment_end {
-                let event = self.step_world();
+                // Breakpoints count here: no further than the next place one can stop.
+                let limit = (segment_end.cycle > self.clock.cycle)
+                    .then(|| self.fusable(RunMode::Continue))
+                    .flatten();
+                let event = self.advance_quietly(limit);
                 if let StepEvent::MissionEnded { .. } = event {
                     break;
                 }

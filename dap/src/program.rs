@@ -1,8 +1,10 @@
 //! Static debug information about the loaded script: which source line each GLOC
 //! instruction comes from, where statements start, and the GLOC text for disassembly.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeSet, HashMap};
 use std::path::PathBuf;
+
+use gloc_engine::program::{Flow, Program};
 
 /// The source language the user debugs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -20,6 +22,25 @@ pub struct DebugInfo {
     /// The GLOC text of each instruction, for `disassemble`.
     pub instruction_text: Vec<String>,
     lines_with_code: BTreeSet<u32>,
+    /// `is_line_entry` of each pc, computed once (it is asked after every step).
+    line_entry: Vec<bool>,
+    /// Control flow of each instruction and the pcs of the labels (for `jump rN`); empty
+    /// when unknown, and then nothing is run fused.
+    flow: Vec<Flow>,
+    label_pcs: Vec<usize>,
+    print_lines: PrintLines,
+}
+
+/// The source line the debugger attaches to a printed line: the line of the instruction
+/// after the `print` that printed it (where the script stands once it printed).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PrintLines {
+    /// The script never prints.
+    Never,
+    /// Every print site gives this line.
+    One(Option<u32>),
+    /// Print sites give different lines, or they are unknown.
+    Several,
 }
 
 impl DebugInfo {
@@ -30,13 +51,129 @@ impl DebugInfo {
         instruction_text: Vec<String>,
     ) -> DebugInfo {
         let lines_with_code = line_of_pc.iter().flatten().copied().collect();
-        DebugInfo {
+        let mut info = DebugInfo {
             path,
             language,
             line_of_pc,
             instruction_text,
             lines_with_code,
+            line_entry: Vec::new(),
+            flow: Vec::new(),
+            label_pcs: Vec::new(),
+            print_lines: PrintLines::Several,
+        };
+        info.line_entry = info.line_entries();
+        info
+    }
+
+    /// Adds what the fast path needs from the checked program: control flow and print
+    /// sites (`program` is the one `line_of_pc` describes).
+    pub fn with_program(mut self, program: &Program) -> DebugInfo {
+        if program.instrs.len() != self.line_of_pc.len() {
+            return self;
         }
+        self.flow = program.instrs.iter().map(|instr| instr.flow()).collect();
+        self.label_pcs = program
+            .label_pcs
+            .iter()
+            .flatten()
+            .map(|pc| pc.index())
+            .collect();
+        let mut lines = program
+            .instrs
+            .iter()
+            .enumerate()
+            .filter(|(_, instr)| instr.prints())
+            .map(|(pc, _)| self.line(pc + 1));
+        self.print_lines = match lines.next() {
+            None => PrintLines::Never,
+            Some(first) if lines.all(|line| line == first) => PrintLines::One(first),
+            Some(_) => PrintLines::Several,
+        };
+        self
+    }
+
+    pub fn print_lines(&self) -> PrintLines {
+        self.print_lines
+    }
+
+    /// True when the control flow is known, so that `stop_reach` can be trusted.
+    pub fn knows_flow(&self) -> bool {
+        !self.flow.is_empty()
+    }
+
+    /// For each pc: the fewest instructions a run from it executes before it lands on
+    /// one of `stops` (is about to execute it) within its share of the cycle, which ends
+    /// at a `yield` or `halt`; `u64::MAX` when it cannot. A run of fewer instructions
+    /// than that passes no stop.
+    pub fn steps_to_stop(&self, stops: &[usize]) -> Vec<u64> {
+        let count = self.flow.len();
+        if stops.is_empty() {
+            return vec![u64::MAX; count];
+        }
+        // Breadth first from the stops over the edges backwards: `distance[pc]` is 0 at a
+        // stop, else the fewest instructions from pc to a stop.
+        let mut predecessors: Vec<Vec<usize>> = vec![Vec::new(); count];
+        let mut indirect = Vec::new();
+        for (pc, flow) in self.flow.iter().enumerate() {
+            let mut add = |to: usize| {
+                if let Some(list) = predecessors.get_mut(to) {
+                    list.push(pc);
+                }
+            };
+            match *flow {
+                Flow::Next => add(pc + 1),
+                Flow::Jump(target) => add(target.index()),
+                Flow::Branch(if_true, if_false) => {
+                    add(if_true.index());
+                    add(if_false.index());
+                }
+                // `jump rN` may go to any label.
+                Flow::Indirect => indirect.push(pc),
+                Flow::End => {}
+            }
+        }
+        for &label in &self.label_pcs {
+            if let Some(list) = predecessors.get_mut(label) {
+                list.extend(&indirect);
+            }
+        }
+        let mut distance = vec![u64::MAX; count];
+        let mut queue = std::collections::VecDeque::new();
+        for &pc in stops.iter().filter(|pc| **pc < count) {
+            distance[pc] = 0;
+            queue.push_back(pc);
+        }
+        while let Some(pc) = queue.pop_front() {
+            for &before in &predecessors[pc] {
+                if distance[before] == u64::MAX {
+                    distance[before] = distance[pc] + 1;
+                    queue.push_back(before);
+                }
+            }
+        }
+        // From a stop itself the run must first leave it: one instruction to a successor,
+        // then that successor's distance.
+        let after = |to: usize| distance.get(to).map_or(u64::MAX, |d| d.saturating_add(1));
+        let to_labels = self
+            .label_pcs
+            .iter()
+            .map(|&label| after(label))
+            .min()
+            .unwrap_or(u64::MAX);
+        self.flow
+            .iter()
+            .enumerate()
+            .map(|(pc, flow)| match *flow {
+                Flow::Next => after(pc + 1),
+                Flow::Jump(target) => after(target.index()),
+                Flow::Branch(if_true, if_false) => {
+                    after(if_true.index()).min(after(if_false.index()))
+                }
+                Flow::Indirect => to_labels,
+                Flow::End => u64::MAX,
+            })
+            .collect()
     }
 
     pub fn instruction_count(&self) -> usize {
@@ -62,17 +199,29 @@ impl DebugInfo {
     /// `if` block, or a `while`'s jump back to its test). Those would stop a second time
     /// on the same line in the same pass, after the line's code already ran.
     pub fn is_line_entry(&self, pc: usize) -> bool {
-        if !self.is_statement_start(pc) {
-            return false;
-        }
-        let is_jump = self
-            .instruction_text
-            .get(pc)
-            .is_some_and(|text| text.trim_start().starts_with("jumpi "));
-        let began_earlier = self.line_of_pc[..pc]
-            .iter()
-            .any(|line| *line == self.line_of_pc[pc]);
-        !(is_jump && began_earlier)
+        self.line_entry.get(pc).copied().unwrap_or(false)
+    }
+
+    /// Every pc's `is_line_entry`, in one pass: a line "began earlier" when its first pc
+    /// is before this one.
+    fn line_entries(&self) -> Vec<bool> {
+        let mut first_pc: HashMap<u32, usize> = HashMap::new();
+        (0..self.line_of_pc.len())
+            .map(|pc| {
+                let Some(line) = self.line(pc) else {
+                    return false;
+                };
+                let first = *first_pc.entry(line).or_insert(pc);
+                if !self.is_statement_start(pc) {
+                    return false;
+                }
+                let is_jump = self
+                    .instruction_text
+                    .get(pc)
+                    .is_some_and(|text| text.trim_start().starts_with("jumpi "));
+                !(is_jump && first < pc)
+            })
+            .collect()
     }
 
     /// Moves a requested breakpoint line to the nearest line with code: the first one at
@@ -154,5 +303,38 @@ mod tests {
         assert!(!info.is_line_entry(4));
         // A `goto` on its own line is that line's entry.
         assert!(info.is_line_entry(5));
+    }
+
+    #[test]
+    fn steps_to_a_stop_follow_jumps_branches_and_indirect_jumps_within_a_share() {
+        use gloc_compiler::{load_script, Language as ScriptLanguage, LoadOptions};
+        use gloc_engine::sensors::SensorList;
+        let text = "nregs 2\nnblbs 3\nninstr 9\nlabel 0\nloadi 2,r0\njump r0\nlabel 1\n\
+                    loadi 1,r1\nyield\nlabel 2\nloadi 3,r1\njumpi 1\n";
+        let loaded = load_script(
+            text,
+            ScriptLanguage::Gloc,
+            &SensorList::embedded(),
+            &LoadOptions::default(),
+        );
+        let program = loaded
+            .program
+            .unwrap_or_else(|| panic!("{:?}", loaded.diagnostics));
+        // pcs: 0 loadi, 1 jump r0 (any label: pcs 0, 2, 4), 2 loadi, 3 yield, 4 loadi,
+        // 5 jumpi 1 (pc 2), 6 the final halt.
+        assert_eq!(program.instrs.len(), 7);
+        let info = DebugInfo::new(
+            PathBuf::from("a.gloc"),
+            Language::Gloc,
+            vec![Some(1); 7],
+            vec![String::new(); 7],
+        )
+        .with_program(&program);
+        // A stop at pc 2. By hand: from 1 the indirect jump can land on 2 in one
+        // instruction; from 0 it takes two (0 → 1 → 2); from 2 and 3 the share ends at the
+        // yield first; from 4 two (4 → 5 → 2); from 5 one; the halt never.
+        let never = u64::MAX;
+        assert_eq!(info.steps_to_stop(&[2]), [2, 1, never, never, 2, 1, never]);
+        assert_eq!(info.steps_to_stop(&[]), [never; 7]);
     }
 }

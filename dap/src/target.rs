@@ -82,6 +82,15 @@ pub trait Target: Clone {
     /// Advances by one instruction or, when the script is done for this cycle, by the rest
     /// of the cycle up to the next boundary.
     fn step(&mut self) -> StepEvent;
+    /// Runs at most `max_steps` instructions of the script's share of this cycle at full
+    /// speed (the fused machine; `u64::MAX`: to the end of the share): the event the last
+    /// of the single steps would have returned and how many steps they would have been.
+    /// Only called part way through a share (`Phase::InScript`); `None` when the target
+    /// cannot, and the debugger steps.
+    fn run_share(&mut self, max_steps: u64) -> Option<(StepEvent, u64)> {
+        let _ = max_steps;
+        None
+    }
     /// Takes what was printed or changed since the last call.
     fn take_notices(&mut self) -> Vec<Notice>;
 

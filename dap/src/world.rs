@@ -54,7 +54,7 @@ struct Fixed {
 pub struct World {
     sim: Simulation,
     fixed: Arc<Fixed>,
-    /// Printed lines of this cycle already reported.
+    /// Bytes of this cycle's printed text already reported.
     printed_reported: usize,
     /// Behavior events of this cycle already reported.
     events_reported: usize,
@@ -212,7 +212,8 @@ pub fn launch(config: &LaunchConfig) -> Result<(World, DebugInfo), String> {
             (Language::Gloc, lines, texts)
         }
     };
-    let info = DebugInfo::new(path.clone(), language, line_of_pc, instruction_text);
+    let info =
+        DebugInfo::new(path.clone(), language, line_of_pc, instruction_text).with_program(&program);
     let fixed = Arc::new(Fixed {
         variables,
         touched,
@@ -276,14 +277,14 @@ fn render(path: &Path, text: &str, diagnostic: &Diagnostic) -> String {
 impl World {
     /// Turns this cycle's new prints, behavior events and an abort into notices.
     fn collect(&mut self) {
-        let printed: Vec<String> = self
-            .sim
-            .printed()
-            .skip(self.printed_reported)
-            .map(str::to_string)
-            .collect();
-        self.printed_reported += printed.len();
-        self.notices.extend(printed.into_iter().map(Notice::Print));
+        // Called after every step: the common case, nothing new, costs two compares.
+        let printed = self.sim.printed_text();
+        if printed.len() > self.printed_reported {
+            let new = printed.get(self.printed_reported..).unwrap_or("");
+            self.notices
+                .extend(new.lines().map(|line| Notice::Print(line.to_string())));
+            self.printed_reported = printed.len();
+        }
         let events = self.sim.events();
         for event in &events[self.events_reported.min(events.len())..] {
             let name = self
@@ -378,6 +379,21 @@ fn typed_value(variable: &VariableSlot, value: Number) -> Result<Value, String> 
     }
 }
 
+/// The step event for the end of a share.
+fn step_event(end: CycleEnd) -> StepEvent {
+    match end {
+        CycleEnd::Yielded => StepEvent::Yielded,
+        CycleEnd::Halted => StepEvent::Halted,
+        CycleEnd::Trapped(trap) => StepEvent::Trapped {
+            kind: match trap.kind {
+                VmTrapKind::CycleOverrun { .. } => TrapKind::CycleOverrun,
+                _ => TrapKind::Runtime,
+            },
+            message: trap.kind.to_string(),
+        },
+    }
+}
+
 fn to_number(value: Value) -> Number {
     match value {
         Value::Int(value) => Number::Int(value),
@@ -420,15 +436,7 @@ impl Target for World {
         let event = match self.sim.phase() {
             SimPhase::Boundary | SimPhase::ScriptRunning => match self.sim.script_step() {
                 None => StepEvent::Executed,
-                Some(CycleEnd::Yielded) => StepEvent::Yielded,
-                Some(CycleEnd::Halted) => StepEvent::Halted,
-                Some(CycleEnd::Trapped(trap)) => StepEvent::Trapped {
-                    kind: match trap.kind {
-                        VmTrapKind::CycleOverrun { .. } => TrapKind::CycleOverrun,
-                        _ => TrapKind::Runtime,
-                    },
-                    message: trap.kind.to_string(),
-                },
+                Some(end) => step_event(end),
             },
             SimPhase::ScriptDone | SimPhase::BetweenCycles => {
                 self.sim.finish_cycle();
@@ -455,6 +463,28 @@ impl Target for World {
         };
         self.collect();
         event
+    }
+
+    fn run_share(&mut self, max_steps: u64) -> Option<(StepEvent, u64)> {
+        if self.sim.phase() != SimPhase::ScriptRunning {
+            return None;
+        }
+        let executed = |world: &World| {
+            world
+                .sim
+                .machine()
+                .map_or(0, |machine| machine.instructions_this_cycle())
+        };
+        let before = executed(self);
+        let event = match self.sim.script_run(max_steps) {
+            None => StepEvent::Executed,
+            Some(end) => step_event(end),
+        };
+        // Every instruction is one step, the one that ends the share included; a share
+        // that could not run after all is one step, as `script_step` answers it.
+        let steps = executed(self).saturating_sub(before).max(1);
+        self.collect();
+        Some((event, steps))
     }
 
     fn take_notices(&mut self) -> Vec<Notice> {

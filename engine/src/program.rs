@@ -171,6 +171,42 @@ pub enum Instr {
     PrintText { text: u32 },
 }
 
+/// Where control can go after an instruction, within one control cycle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Flow {
+    /// The next instruction.
+    Next,
+    /// Always to this pc.
+    Jump(Pc),
+    /// To one of two pcs (the same one twice when both targets agree).
+    Branch(Pc, Pc),
+    /// To any defined label (`jump rN`).
+    Indirect,
+    /// Nowhere in this cycle: `yield` or `halt`.
+    End,
+}
+
+impl Instr {
+    /// Where control goes next: the one statement of control flow the checker's cycle
+    /// analysis and the debugger's reachability both use.
+    pub fn flow(&self) -> Flow {
+        match *self {
+            Instr::Yield | Instr::Halt => Flow::End,
+            Instr::Jump { target } => Flow::Jump(target),
+            Instr::Branch {
+                if_true, if_false, ..
+            } => Flow::Branch(if_true, if_false),
+            Instr::JumpIndirect { .. } => Flow::Indirect,
+            _ => Flow::Next,
+        }
+    }
+
+    /// True for the instructions that end an output line (`print`, `prints`).
+    pub fn prints(&self) -> bool {
+        matches!(self, Instr::Print { .. } | Instr::PrintText { .. })
+    }
+}
+
 /// A checked GLOC script, ready to run. Built by [`crate::gloc::check`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct Program {

@@ -196,6 +196,12 @@ impl Machine {
         self.execute(host, 1)
     }
 
+    /// Executes at most `max_instructions` on the fused code, stopping exactly where as
+    /// many `step`s would (a debugger runs to the next place a breakpoint could stop).
+    pub fn run_for(&mut self, host: &mut impl Host, max_instructions: u64) -> Option<CycleEnd> {
+        self.execute(host, max_instructions)
+    }
+
     /// Starts the script again from pc 0 with cleared registers and memory.
     pub fn reset(&mut self) {
         self.pc = 0;

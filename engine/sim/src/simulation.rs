@@ -499,12 +499,18 @@ impl Simulation {
     /// goes on; `Some(end)`: the share is over (or there is none to run:
     /// then `Some(CycleEnd::Yielded)`).
     pub fn script_step(&mut self) -> Option<CycleEnd> {
+        self.script_run(1)
+    }
+
+    /// Executes at most `max_instructions` script instructions (fused, for a debugger
+    /// that knows no breakpoint can stop before them); otherwise as `script_step`.
+    pub fn script_run(&mut self, max_instructions: u64) -> Option<CycleEnd> {
         if !self.enter_script() {
             return Some(CycleEnd::Yielded);
         }
         let step = {
             let (machine, mut host) = self.script_parts()?;
-            machine.step(&mut host)
+            machine.run_for(&mut host, max_instructions)
         };
         match step {
             None => {
@@ -823,6 +829,12 @@ impl Simulation {
     /// Lines the script printed this cycle.
     pub fn printed(&self) -> impl Iterator<Item = &str> {
         self.printed.lines()
+    }
+
+    /// What the script printed this cycle, each line ended by `\n` (a debugger compares
+    /// its length to find new lines without splitting it).
+    pub fn printed_text(&self) -> &str {
+        &self.printed
     }
 
     /// Sensors the script stored this cycle, in first-store order.

@@ -13,7 +13,7 @@ use std::collections::HashMap;
 
 use crate::diagnostic::{Diagnostic, Span};
 use crate::gloc::{Bound, CheckOptions, WorstCase};
-use crate::program::{Instr, Pc, Program};
+use crate::program::{Flow, Instr, Pc, Program};
 
 pub struct Analysis {
     pub diagnostics: Vec<Diagnostic>,
@@ -120,19 +120,17 @@ impl Graph {
         let mut targets = Vec::with_capacity(count * 2);
         for (pc, instr) in program.instrs.iter().enumerate() {
             offsets.push(targets.len() as u32);
-            match *instr {
-                Instr::Yield | Instr::Halt => {}
-                Instr::Jump { target } => targets.push(target.0),
-                Instr::Branch {
-                    if_true, if_false, ..
-                } => {
+            match instr.flow() {
+                Flow::End => {}
+                Flow::Jump(target) => targets.push(target.0),
+                Flow::Branch(if_true, if_false) => {
                     targets.push(if_true.0);
                     if if_false != if_true {
                         targets.push(if_false.0);
                     }
                 }
-                Instr::JumpIndirect { .. } => targets.push(dispatch),
-                _ => targets.push(pc as u32 + 1),
+                Flow::Indirect => targets.push(dispatch),
+                Flow::Next => targets.push(pc as u32 + 1),
             }
         }
         offsets.push(targets.len() as u32);

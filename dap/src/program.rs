@@ -20,6 +20,9 @@ pub struct DebugInfo {
     /// The GLOC text of each instruction, for `disassemble`.
     pub instruction_text: Vec<String>,
     lines_with_code: BTreeSet<u32>,
+    /// Lines of the source as an editor shows them (the empty line after a final
+    /// newline included), when known: a breakpoint past them is refused.
+    pub source_lines: Option<u32>,
 }
 
 impl DebugInfo {
@@ -36,7 +39,14 @@ impl DebugInfo {
             line_of_pc,
             instruction_text,
             lines_with_code,
+            source_lines: None,
         }
+    }
+
+    /// The source's line count, as an editor counts lines of `text`.
+    pub fn with_source_text(mut self, text: &str) -> DebugInfo {
+        self.source_lines = Some(u32::try_from(text.split('\n').count()).unwrap_or(u32::MAX));
+        self
     }
 
     pub fn instruction_count(&self) -> usize {

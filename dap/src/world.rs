@@ -209,7 +209,8 @@ pub fn launch(config: &LaunchConfig) -> Result<(World, DebugInfo), String> {
             (Language::Gloc, lines, texts)
         }
     };
-    let info = DebugInfo::new(path.clone(), language, line_of_pc, instruction_text);
+    let info = DebugInfo::new(path.clone(), language, line_of_pc, instruction_text)
+        .with_source_text(&text);
     let fixed = Arc::new(Fixed {
         variables,
         touched,

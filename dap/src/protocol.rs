@@ -389,6 +389,32 @@ mod tests {
         assert_eq!(bodies[1]["body"]["error"]["format"], "unknown (x)");
     }
 
+    #[test]
+    fn writer_sends_each_message_in_one_write() {
+        struct Counting(std::sync::Arc<std::sync::Mutex<Vec<usize>>>);
+        impl Write for Counting {
+            fn write(&mut self, data: &[u8]) -> io::Result<usize> {
+                self.0
+                    .lock()
+                    .map_err(|_| io::Error::other("poisoned"))?
+                    .push(data.len());
+                Ok(data.len())
+            }
+            fn flush(&mut self) -> io::Result<()> {
+                Ok(())
+            }
+        }
+        let writes = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
+        let mut writer = Writer::new(Box::new(Counting(writes.clone())));
+        writer.event("initialized", ()).expect("write");
+        writer.respond_error(4, "bogus", "no").expect("write");
+        assert_eq!(
+            writes.lock().expect("lock").len(),
+            2,
+            "one write per message"
+        );
+    }
+
     fn raw_body(reader: &mut &[u8]) -> Option<Value> {
         let text = std::str::from_utf8(reader).ok()?;
         let header_end = text.find("\r\n\r\n")?;

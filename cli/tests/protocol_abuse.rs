@@ -810,3 +810,51 @@ fn lsp_cancelled_requests_in_the_queue_answer_request_cancelled() {
     assert!(cancelled >= 18, "{cancelled} of 20 requests cancelled");
     lsp_shutdown_and_exit(server, 40);
 }
+
+// ------------------------------ both servers: resynchronisation after broken framing
+
+/// A bad length followed by its body, then three good frames: each frame after the
+/// bad one is glued to the previous body (no newline between), which kept the old
+/// line-based readers out of step for good.
+fn bad_length_then_frames(bad_body: &str, good: &[String]) -> Vec<u8> {
+    let mut bytes = format!("Content-Length: many\r\n\r\n{bad_body}").into_bytes();
+    for body in good {
+        bytes.extend(frame(body.as_bytes()));
+    }
+    bytes
+}
+
+#[test]
+fn lsp_resynchronises_after_a_non_numeric_content_length_with_a_body() {
+    let mut server = lsp_initialized();
+    let good: Vec<String> = (2..5)
+        .map(|id| {
+            lsp_request(
+                id,
+                "workspace/executeCommand",
+                json!({ "command": "gloc.none" }),
+            )
+            .to_string()
+        })
+        .collect();
+    server.send_bytes(&bad_length_then_frames(&good[0], &good));
+    for id in 2..5 {
+        lsp_response(&mut server, id);
+    }
+    lsp_shutdown_and_exit(server, 5);
+}
+
+#[test]
+fn dap_resynchronises_after_a_non_numeric_content_length_with_a_body() {
+    let mut server = dap_initialized();
+    let good: Vec<String> = (2..5)
+        .map(|seq| dap_request(seq, "threads", json!({})).to_string())
+        .collect();
+    server.send_bytes(&bad_length_then_frames(&good[0], &good));
+    let report = dap_malformed_report(&mut server);
+    assert!(report.contains("`many` is not a number"), "{report}");
+    for seq in 2..5 {
+        dap_response(&mut server, seq);
+    }
+    dap_disconnect(server, 5);
+}

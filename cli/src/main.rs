@@ -135,7 +135,8 @@ pub struct RunArgs {
 
 #[derive(Args, Debug)]
 pub struct DapArgs {
-    /// Listen on 127.0.0.1:PORT instead of stdio.
+    /// Listen on 127.0.0.1:PORT instead of stdio (0: any free port). Prints the port and
+    /// the session token that each client's `launch` must carry (`token` attribute).
     #[arg(long)]
     pub port: Option<u16>,
 }
@@ -169,8 +170,14 @@ fn gloc_dap_main(args: DapArgs) -> anyhow::Result<ExitCode> {
     use anyhow::Context as _;
     match args.port {
         None => gloc_dap::serve_stdio().context("debug adapter on stdio")?,
-        Some(port) => gloc_dap::serve_tcp(port, |address| {
-            eprintln!("gloc dap: listening on {address}");
+        Some(port) => gloc_dap::serve_tcp(port, |address, token| {
+            // One write, so that a client reading chunk by chunk sees the whole line.
+            use std::io::Write as _;
+            let line = format!("gloc dap: listening on {address} token {token}\n");
+            let mut stderr = std::io::stderr().lock();
+            let _ = stderr
+                .write_all(line.as_bytes())
+                .and_then(|()| stderr.flush());
         })
         .with_context(|| format!("debug adapter on 127.0.0.1:{port}"))?,
     }

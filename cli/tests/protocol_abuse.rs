@@ -652,3 +652,209 @@ fn dap_client_that_vanishes_leaves_no_process() {
     let (status, _) = server.finish();
     assert!(clean_exit(status), "{status:?}");
 }
+
+// ------------------------------------------- LSP: what the spec requires (issue 16)
+
+/// The next message that is a response with `id` null.
+fn lsp_null_id_error(server: &mut Server) -> Value {
+    server.wait_for("an error response with id null", |message| {
+        message.get("id") == Some(&Value::Null) && message.get("error").is_some()
+    })
+}
+
+#[test]
+fn lsp_malformed_json_gets_a_parse_error_with_id_null() {
+    let mut server = lsp_initialized();
+    server.send_bytes(&frame(b"{ this is not json"));
+    let error = lsp_null_id_error(&mut server);
+    assert_eq!(error["error"]["code"], json!(-32700), "{error}");
+    // Broken framing too: a non-numeric Content-Length, then the server resynchronises.
+    server.send_bytes(b"Content-Length: many\r\n\r\n");
+    let error = lsp_null_id_error(&mut server);
+    assert_eq!(error["error"]["code"], json!(-32700), "{error}");
+    assert!(
+        error["error"]["message"]
+            .as_str()
+            .is_some_and(|text| text.contains("`many` is not a number")),
+        "{error}"
+    );
+    lsp_still_answers(&mut server, 2);
+    lsp_shutdown_and_exit(server, 3);
+}
+
+#[test]
+fn lsp_dollar_requests_get_method_not_found() {
+    let mut server = lsp_initialized();
+    server.send(&lsp_request(2, "$/gloc/unknown", json!({})));
+    let response = lsp_response(&mut server, 2);
+    assert_eq!(response["error"]["code"], json!(-32601), "{response}");
+    // A `$/` notification is ignored, as the spec allows.
+    server.send(&json!({ "jsonrpc": "2.0", "method": "$/unknownNotification", "params": {} }));
+    lsp_still_answers(&mut server, 3);
+    lsp_shutdown_and_exit(server, 4);
+}
+
+#[test]
+fn lsp_shutdown_then_exit_at_once_exits_zero_every_time() {
+    for run in 0..20 {
+        let mut server = lsp_initialized();
+        // Both in one write, as a client that does not wait for the answer sends them.
+        let mut bytes = frame(
+            lsp_request(2, "shutdown", Value::Null)
+                .to_string()
+                .as_bytes(),
+        );
+        bytes.extend(frame(
+            json!({ "jsonrpc": "2.0", "method": "exit" })
+                .to_string()
+                .as_bytes(),
+        ));
+        server.send_bytes(&bytes);
+        let (status, _) = server.finish();
+        assert_eq!(status.code(), Some(0), "run {run}");
+    }
+}
+
+/// The text the server holds for a GLOC document (its "compiled GLOC" is itself).
+fn lsp_text(server: &mut Server, id: i64, uri: &str) -> String {
+    server.send(&lsp_request(
+        id,
+        "workspace/executeCommand",
+        json!({ "command": "gloc.compiledGloc", "arguments": [uri] }),
+    ));
+    let response = lsp_response(server, id);
+    response["result"].as_str().unwrap_or_default().to_string()
+}
+
+fn lsp_open(server: &mut Server, uri: &str, text: &str) {
+    server.send(&json!({ "jsonrpc": "2.0", "method": "textDocument/didOpen",
+        "params": { "textDocument": { "uri": uri, "languageId": "gloc", "version": 1, "text": text } } }));
+}
+
+#[test]
+fn lsp_a_version_going_backwards_is_ignored_and_logged() {
+    let mut server = lsp_initialized();
+    let uri = "file:///tmp/versions.gloc";
+    lsp_open(&mut server, uri, "nregs 0\n# one\n");
+    let change = |version: i32, text: &str| {
+        json!({ "jsonrpc": "2.0", "method": "textDocument/didChange",
+            "params": { "textDocument": { "uri": uri, "version": version },
+                        "contentChanges": [{ "text": text }] } })
+    };
+    server.send(&change(3, "nregs 0\n# three\n"));
+    server.send(&change(2, "nregs 0\n# two\n"));
+    let log = server.wait_for("a log message about the old version", |message| {
+        message["method"] == "window/logMessage"
+            && message["params"]["message"]
+                .as_str()
+                .is_some_and(|text| text.contains("version 2") && text.contains("version 3"))
+    });
+    assert_eq!(log["params"]["type"], json!(2), "a warning: {log}");
+    assert_eq!(lsp_text(&mut server, 2, uri), "nregs 0\n# three\n");
+    lsp_shutdown_and_exit(server, 3);
+}
+
+#[test]
+fn lsp_a_lone_surrogate_in_an_edit_becomes_a_replacement_character() {
+    let mut server = lsp_initialized();
+    let uri = "file:///tmp/surrogate.gloc";
+    lsp_open(&mut server, uri, "nregs 0\n# x\n");
+    // `\ud83d` alone is what JSON.stringify writes for half an emoji; the edit must
+    // not be lost, or the next one lands on stale text.
+    let body = format!(
+        r#"{{"jsonrpc":"2.0","method":"textDocument/didChange","params":{{"textDocument":{{"uri":"{uri}","version":2}},"contentChanges":[{{"range":{{"start":{{"line":1,"character":3}},"end":{{"line":1,"character":3}}}},"text":"\ud83d"}}]}}}}"#
+    );
+    server.send_bytes(&frame(body.as_bytes()));
+    // One UTF-16 unit further: after the replacement character.
+    server.send(&json!({ "jsonrpc": "2.0", "method": "textDocument/didChange",
+        "params": { "textDocument": { "uri": uri, "version": 3 },
+                    "contentChanges": [{ "range": { "start": { "line": 1, "character": 4 }, "end": { "line": 1, "character": 4 } }, "text": "Z" }] } }));
+    assert_eq!(lsp_text(&mut server, 2, uri), "nregs 0\n# x\u{FFFD}Z\n");
+    lsp_shutdown_and_exit(server, 3);
+}
+
+#[test]
+fn lsp_cancelled_requests_in_the_queue_answer_request_cancelled() {
+    let mut server = lsp_initialized();
+    let uri = "file:///tmp/cancel.gloc";
+    let lines = 20_000;
+    let text = format!(
+        "nregs 1\nnblbs 0\nninstr {lines}\n{}",
+        "loadi 1,r0\n".repeat(lines)
+    );
+    lsp_open(&mut server, uri, &text);
+    // Each semanticTokens request is cancelled right after it is sent, all in one write.
+    let mut bytes = Vec::new();
+    for id in 10..30 {
+        bytes.extend(frame(
+            lsp_request(
+                id,
+                "textDocument/semanticTokens/full",
+                json!({ "textDocument": { "uri": uri } }),
+            )
+            .to_string()
+            .as_bytes(),
+        ));
+        bytes.extend(frame(
+            json!({ "jsonrpc": "2.0", "method": "$/cancelRequest", "params": { "id": id } })
+                .to_string()
+                .as_bytes(),
+        ));
+    }
+    server.send_bytes(&bytes);
+    let cancelled = (10..30)
+        .filter(|id| lsp_response(&mut server, *id)["error"]["code"] == json!(-32800))
+        .count();
+    // The first may already be running when its cancel is read; the queued ones
+    // never run (tower-lsp-server alone cancelled none of them).
+    assert!(cancelled >= 18, "{cancelled} of 20 requests cancelled");
+    lsp_shutdown_and_exit(server, 40);
+}
+
+// ------------------------------ both servers: resynchronisation after broken framing
+
+/// A bad length followed by its body, then three good frames: each frame after the
+/// bad one is glued to the previous body (no newline between), which kept the old
+/// line-based readers out of step for good.
+fn bad_length_then_frames(bad_body: &str, good: &[String]) -> Vec<u8> {
+    let mut bytes = format!("Content-Length: many\r\n\r\n{bad_body}").into_bytes();
+    for body in good {
+        bytes.extend(frame(body.as_bytes()));
+    }
+    bytes
+}
+
+#[test]
+fn lsp_resynchronises_after_a_non_numeric_content_length_with_a_body() {
+    let mut server = lsp_initialized();
+    let good: Vec<String> = (2..5)
+        .map(|id| {
+            lsp_request(
+                id,
+                "workspace/executeCommand",
+                json!({ "command": "gloc.none" }),
+            )
+            .to_string()
+        })
+        .collect();
+    server.send_bytes(&bad_length_then_frames(&good[0], &good));
+    for id in 2..5 {
+        lsp_response(&mut server, id);
+    }
+    lsp_shutdown_and_exit(server, 5);
+}
+
+#[test]
+fn dap_resynchronises_after_a_non_numeric_content_length_with_a_body() {
+    let mut server = dap_initialized();
+    let good: Vec<String> = (2..5)
+        .map(|seq| dap_request(seq, "threads", json!({})).to_string())
+        .collect();
+    server.send_bytes(&bad_length_then_frames(&good[0], &good));
+    let report = dap_malformed_report(&mut server);
+    assert!(report.contains("`many` is not a number"), "{report}");
+    for seq in 2..5 {
+        dap_response(&mut server, seq);
+    }
+    dap_disconnect(server, 5);
+}

@@ -7,6 +7,10 @@
 
 use std::fmt;
 
+/// The message of an integer division by zero: a condition that only fails so on
+/// the current values is still a well-formed condition.
+pub const DIVISION_BY_ZERO: &str = "division by zero";
+
 /// A value as the script sees it: GLOC registers hold integers or floats.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Number {
@@ -334,7 +338,7 @@ fn arithmetic(operator: &str, left: Number, right: Number) -> Result<Number, Str
             "+" => Ok(Number::Int(a.wrapping_add(b))),
             "-" => Ok(Number::Int(a.wrapping_sub(b))),
             "*" => Ok(Number::Int(a.wrapping_mul(b))),
-            "/" | "%" | "mod" if b == 0 => Err("division by zero".into()),
+            "/" | "%" | "mod" if b == 0 => Err(DIVISION_BY_ZERO.into()),
             "/" => Ok(Number::Int(a.wrapping_div(b))),
             _ => Ok(Number::Int(a.wrapping_rem(b))),
         };

@@ -29,6 +29,9 @@ pub struct DebugInfo {
     flow: Vec<Flow>,
     label_pcs: Vec<usize>,
     print_lines: PrintLines,
+    /// Lines of the source as an editor shows them (the empty line after a final
+    /// newline included), when known: a breakpoint past them is refused.
+    pub source_lines: Option<u32>,
 }
 
 /// The source line the debugger attaches to a printed line: the line of the instruction
@@ -61,6 +64,7 @@ impl DebugInfo {
             flow: Vec::new(),
             label_pcs: Vec::new(),
             print_lines: PrintLines::Several,
+            source_lines: None,
         };
         info.line_entry = info.line_entries();
         info
@@ -174,6 +178,12 @@ impl DebugInfo {
                 Flow::End => u64::MAX,
             })
             .collect()
+    }
+
+    /// The source's line count, as an editor counts lines of `text`.
+    pub fn with_source_text(mut self, text: &str) -> DebugInfo {
+        self.source_lines = Some(u32::try_from(text.split('\n').count()).unwrap_or(u32::MAX));
+        self
     }
 
     pub fn instruction_count(&self) -> usize {

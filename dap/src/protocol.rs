@@ -5,14 +5,16 @@
 //! clients send (absent or `{}` arguments, unknown commands, extra headers) and emits
 //! `null`s and error responses that the official schema rejects.
 
-use std::io::{self, BufRead, Write};
+use std::io::{self, Read, Write};
 
+use gloc_framing::{Event, FrameReader, LIMITS};
 use serde::Serialize;
 use serde_json::{json, Value};
 
-/// The largest message body we accept; a bigger `Content-Length` is a protocol error,
-/// not an allocation.
-pub const MAX_MESSAGE_BYTES: usize = 64 * 1024 * 1024;
+/// The largest `seq` a request may carry: the DAP schema makes `seq` and `request_seq`
+/// `int32` with a minimum of 1, so a request outside `1..=MAX_SEQ` cannot be named by
+/// any valid response. It is not run; an `output` event reports it instead.
+pub const MAX_SEQ: i64 = i32::MAX as i64;
 
 /// What the reader found in the next frame.
 #[derive(Debug)]
@@ -21,6 +23,9 @@ pub enum Frame {
     Request(Request),
     /// A frame that is not a usable request; the adapter answers with an error response.
     Malformed(Malformed),
+    /// Nothing arrived within the connection's read timeout (TCP only); the stream is
+    /// still usable.
+    Idle,
     /// The client closed the stream.
     Closed,
 }
@@ -37,78 +42,57 @@ pub struct Request {
 /// error response can still name the request.
 #[derive(Debug, Clone)]
 pub struct Malformed {
+    /// The request's `seq` when it could be read and lies in `1..=MAX_SEQ`, else 0.
     pub request_seq: i64,
     pub command: String,
     pub message: String,
+    /// The `seq` as the client wrote it, when it was there but unusable.
+    pub raw_seq: Option<Value>,
 }
 
-/// Reads one frame. Headers other than `Content-Length` (e.g. `Content-Type`) are
-/// ignored; an IO error or end of stream is `Closed`.
-pub fn read_frame(reader: &mut impl BufRead) -> Frame {
-    let mut content_length: Option<usize> = None;
-    let mut bad_header: Option<String> = None;
-    let mut saw_header = false;
-    loop {
-        let mut line = Vec::new();
-        match reader.read_until(b'\n', &mut line) {
-            Ok(0) | Err(_) => return Frame::Closed,
-            Ok(_) => {}
+/// Reads frames through the framing shared with the language server
+/// (`gloc_framing`: bounded headers and bodies, resynchronisation after a broken
+/// frame).
+pub struct Reader<R> {
+    frames: FrameReader<R>,
+}
+
+impl<R: Read> Reader<R> {
+    pub fn new(input: R) -> Reader<R> {
+        Reader {
+            frames: FrameReader::new(input, LIMITS),
         }
-        let text = String::from_utf8_lossy(&line);
-        let text = text.trim_end_matches(['\r', '\n']);
-        if text.is_empty() {
-            if saw_header {
-                break;
+    }
+
+    /// The next frame. A read timeout is `Idle`; another IO error or the end of the
+    /// stream is `Closed`.
+    pub fn next_frame(&mut self) -> Frame {
+        match self.frames.next_event() {
+            Ok(Some(Event::Message(body))) => parse_request(&body),
+            Ok(Some(Event::Error(error))) => Frame::Malformed(Malformed {
+                request_seq: 0,
+                command: String::new(),
+                message: format!("broken message framing {error}"),
+                raw_seq: None,
+            }),
+            Ok(None) => Frame::Closed,
+            Err(error)
+                if matches!(
+                    error.kind(),
+                    io::ErrorKind::WouldBlock | io::ErrorKind::TimedOut
+                ) =>
+            {
+                Frame::Idle
             }
-            // Blank lines between messages (some clients add a trailing CRLF) are noise.
-            continue;
-        }
-        saw_header = true;
-        if let Some((name, value)) = text.split_once(':') {
-            if name.trim().eq_ignore_ascii_case("content-length") {
-                match value.trim().parse::<usize>() {
-                    Ok(length) if length <= MAX_MESSAGE_BYTES => content_length = Some(length),
-                    Ok(length) => {
-                        bad_header = Some(format!(
-                            "Content-Length {length} is larger than the limit of {MAX_MESSAGE_BYTES} bytes"
-                        ))
-                    }
-                    Err(_) => {
-                        bad_header = Some(format!(
-                            "Content-Length `{}` is not a number",
-                            value.trim()
-                        ))
-                    }
-                }
-            }
-        } else {
-            bad_header = Some(format!("header line `{text}` has no `:`"));
+            Err(_) => Frame::Closed,
         }
     }
-    let Some(length) = content_length else {
-        // Without a length the body cannot be skipped; resynchronise at the next header.
-        return Frame::Malformed(Malformed {
-            request_seq: 0,
-            command: String::new(),
-            message: bad_header.unwrap_or_else(|| "message has no Content-Length header".into()),
-        });
-    };
-    let mut body = vec![0; length];
-    if reader.read_exact(&mut body).is_err() {
-        return Frame::Closed;
-    }
-    if let Some(message) = bad_header {
-        return Frame::Malformed(Malformed {
-            request_seq: 0,
-            command: String::new(),
-            message,
-        });
-    }
-    parse_request(&body)
 }
 
 /// Turns a body into a request, accepting absent, `null` and `{}` arguments alike.
 pub fn parse_request(body: &[u8]) -> Frame {
+    let repaired = gloc_framing::replace_lone_surrogates(body);
+    let body = repaired.as_deref().unwrap_or(body);
     let value: Value = match serde_json::from_slice(body) {
         Ok(value) => value,
         Err(error) => {
@@ -118,15 +102,22 @@ pub fn parse_request(body: &[u8]) -> Frame {
             return Frame::Malformed(Malformed {
                 request_seq: salvage(&text, "seq")
                     .and_then(|value| value.parse().ok())
+                    .filter(|seq| (1..=MAX_SEQ).contains(seq))
                     .unwrap_or(0),
                 command: salvage(&text, "command")
                     .map(|value| value.trim_matches('"').to_string())
                     .unwrap_or_default(),
                 message: format!("the message is not valid JSON: {error}"),
+                raw_seq: None,
             });
         }
     };
-    let request_seq = value.get("seq").and_then(Value::as_i64).unwrap_or(0);
+    let raw_seq = value.get("seq").cloned();
+    let request_seq = value
+        .get("seq")
+        .and_then(Value::as_i64)
+        .filter(|seq| (1..=MAX_SEQ).contains(seq))
+        .unwrap_or(0);
     let command = value
         .get("command")
         .and_then(Value::as_str)
@@ -137,6 +128,7 @@ pub fn parse_request(body: &[u8]) -> Frame {
             request_seq,
             command: command.clone(),
             message,
+            raw_seq: raw_seq.clone().filter(|_| request_seq == 0),
         })
     };
     if !value.is_object() {
@@ -151,8 +143,14 @@ pub fn parse_request(body: &[u8]) -> Frame {
         }
         None => return malformed("the message has no `type`".into()),
     }
-    if value.get("seq").and_then(Value::as_i64).is_none() {
-        return malformed("the request has no integer `seq`".into());
+    match &raw_seq {
+        None => return malformed("the request has no `seq`".into()),
+        Some(seq) if request_seq == 0 => {
+            return malformed(format!(
+                "the request's `seq` {seq} is not an integer from 1 to {MAX_SEQ} (the DAP schema's range), so no response could name it; it was not run"
+            ))
+        }
+        Some(_) => {}
     }
     if command.is_empty() {
         return malformed("the request has no `command` string".into());
@@ -245,8 +243,10 @@ impl Writer {
     fn send(&mut self, mut message: Value) -> io::Result<()> {
         message["seq"] = json!(self.next_seq);
         self.next_seq += 1;
-        let text = serde_json::to_string(&message).map_err(io::Error::other)?;
-        write!(self.sink, "Content-Length: {}\r\n\r\n{}", text.len(), text)?;
+        let text = serde_json::to_vec(&message).map_err(io::Error::other)?;
+        // Header and body in one write: over TCP, separate small writes each wait
+        // for a delayed ACK.
+        self.sink.write_all(&gloc_framing::encode(&text))?;
         self.sink.flush()
     }
 }
@@ -256,7 +256,7 @@ mod tests {
     use super::*;
 
     fn frame(text: &str) -> Frame {
-        read_frame(&mut text.as_bytes())
+        Reader::new(text.as_bytes()).next_frame()
     }
 
     fn framed(body: &str) -> String {
@@ -294,12 +294,12 @@ mod tests {
     fn bad_json_keeps_the_stream_in_sync() {
         let text =
             framed("{not json") + &framed(r#"{"seq":2,"type":"request","command":"threads"}"#);
-        let mut reader = text.as_bytes();
+        let mut reader = Reader::new(text.as_bytes());
         assert!(
-            matches!(read_frame(&mut reader), Frame::Malformed(m) if m.message.contains("not valid JSON"))
+            matches!(reader.next_frame(), Frame::Malformed(m) if m.message.contains("not valid JSON"))
         );
-        assert!(matches!(read_frame(&mut reader), Frame::Request(r) if r.seq == 2));
-        assert!(matches!(read_frame(&mut reader), Frame::Closed));
+        assert!(matches!(reader.next_frame(), Frame::Request(r) if r.seq == 2));
+        assert!(matches!(reader.next_frame(), Frame::Closed));
     }
 
     #[test]
@@ -328,6 +328,27 @@ mod tests {
             frame("Content-Length: ten\r\n\r\n"),
             Frame::Malformed(m) if m.message.contains("not a number")
         ));
+    }
+
+    #[test]
+    fn a_seq_outside_the_schema_range_is_malformed_with_the_raw_value() {
+        for (seq, raw) in [
+            ("0", json!(0)),
+            ("-1", json!(-1)),
+            ("9223372036854775808", json!(9223372036854775808u64)),
+            ("2147483648", json!(2147483648u64)),
+        ] {
+            let body = format!(r#"{{"seq":{seq},"type":"request","command":"threads"}}"#);
+            let Frame::Malformed(m) = frame(&framed(&body)) else {
+                panic!("seq {seq} accepted")
+            };
+            assert_eq!(m.request_seq, 0, "{seq}");
+            assert_eq!(m.command, "threads");
+            assert_eq!(m.raw_seq, Some(raw), "{seq}");
+            assert!(m.message.contains("from 1 to 2147483647"), "{}", m.message);
+        }
+        let body = r#"{"seq":2147483647,"type":"request","command":"threads"}"#;
+        assert!(matches!(frame(&framed(body)), Frame::Request(r) if r.seq == 2147483647));
     }
 
     #[test]
@@ -366,6 +387,32 @@ mod tests {
         assert_eq!(bodies[1]["command"], "bogus");
         assert_eq!(bodies[1]["success"], false);
         assert_eq!(bodies[1]["body"]["error"]["format"], "unknown (x)");
+    }
+
+    #[test]
+    fn writer_sends_each_message_in_one_write() {
+        struct Counting(std::sync::Arc<std::sync::Mutex<Vec<usize>>>);
+        impl Write for Counting {
+            fn write(&mut self, data: &[u8]) -> io::Result<usize> {
+                self.0
+                    .lock()
+                    .map_err(|_| io::Error::other("poisoned"))?
+                    .push(data.len());
+                Ok(data.len())
+            }
+            fn flush(&mut self) -> io::Result<()> {
+                Ok(())
+            }
+        }
+        let writes = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
+        let mut writer = Writer::new(Box::new(Counting(writes.clone())));
+        writer.event("initialized", ()).expect("write");
+        writer.respond_error(4, "bogus", "no").expect("write");
+        assert_eq!(
+            writes.lock().expect("lock").len(),
+            2,
+            "one write per message"
+        );
     }
 
     fn raw_body(reader: &mut &[u8]) -> Option<Value> {

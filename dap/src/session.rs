@@ -13,7 +13,7 @@ use crate::debugger::{
 };
 use crate::expr::Number;
 use crate::program::Language;
-use crate::protocol::{Request, Writer};
+use crate::protocol::{Malformed, Request, Writer};
 use crate::target::{Named, Phase, Target};
 use crate::types::*;
 use crate::world::{self, LaunchConfig, World};
@@ -42,7 +42,26 @@ pub const LAUNCH_ATTRIBUTES: &[&str] = &[
     "cycleBudget",
     "maxCycles",
     "history",
+    "token",
 ];
+
+/// Who may use a session. Over stdio the client is the editor that started the
+/// adapter; over TCP any local user can connect, so the session needs the secret
+/// printed with the port (`gloc dap --port`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Access {
+    Open,
+    /// The session token a `launch` must carry as its `token` attribute.
+    Token(String),
+}
+
+/// What the adapter answers before a `launch` carried the token: nothing that
+/// reads a file or the program.
+const BEFORE_TOKEN: &[&str] = &["initialize", "disconnect"];
+
+/// The most instructions one `disassemble` may ask for (the response holds exactly
+/// as many, padded with invalid entries where there is no code).
+pub const MAX_DISASSEMBLE: i64 = 100_000;
 
 #[derive(Debug, Default, Deserialize, Serialize, Clone)]
 #[serde(default, rename_all = "camelCase")]
@@ -66,6 +85,9 @@ pub struct LaunchArguments {
     /// `true`/`false`, or the number of snapshots to keep (0 = off).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub history: Option<Value>,
+    /// The session token of `gloc dap --port` (never echoed back).
+    #[serde(skip_serializing)]
+    pub token: Option<String>,
 }
 
 /// Whether the main loop goes on after a request.
@@ -99,6 +121,9 @@ struct Requested {
 
 pub struct Session {
     writer: Writer,
+    access: Access,
+    /// Whether a `launch` carried the token (always, for `Access::Open`).
+    authenticated: bool,
     initialized: bool,
     launched: Option<Launched>,
     requested: Requested,
@@ -150,6 +175,7 @@ fn capabilities() -> Capabilities {
         supports_instruction_breakpoints: Some(true),
         supports_breakpoint_locations_request: Some(true),
         supports_exception_info_request: Some(true),
+        supports_loaded_sources_request: Some(true),
         // Announced after launch with a `capabilities` event when history is on.
         supports_step_back: None,
     }
@@ -161,9 +187,11 @@ fn arguments<T: for<'de> Deserialize<'de>>(request: &Request) -> Result<T, Strin
 }
 
 impl Session {
-    pub fn new(writer: Writer) -> Session {
+    pub fn new(writer: Writer, access: Access) -> Session {
         Session {
             writer,
+            authenticated: access == Access::Open,
+            access,
             initialized: false,
             launched: None,
             requested: Requested::default(),
@@ -177,32 +205,50 @@ impl Session {
             .is_some_and(|launched| launched.running.is_some())
     }
 
-    /// Answers a frame that is not a usable request. Without a recoverable `seq` no
-    /// response can name its request (the schema requires `request_seq` ≥ 1), so the
-    /// error goes to the client's console as an `output` event instead.
-    pub fn respond_malformed(
-        &mut self,
-        request_seq: i64,
-        command: &str,
-        message: &str,
-    ) -> io::Result<()> {
-        if request_seq >= 1 {
-            return self.writer.respond_error(request_seq, command, message);
+    pub fn is_authenticated(&self) -> bool {
+        self.authenticated
+    }
+
+    /// Answers a frame that is not a usable request. Without a usable `seq` no
+    /// response can name its request (the schema requires `request_seq` from 1 to
+    /// 2^31 − 1), so the error goes to the client's console as an `output` event
+    /// whose `data` holds what could be read (`seq` as sent, `command`), and the
+    /// request is not run.
+    pub fn respond_malformed(&mut self, malformed: &Malformed) -> io::Result<()> {
+        if malformed.request_seq >= 1 {
+            return self.writer.respond_error(
+                malformed.request_seq,
+                &malformed.command,
+                &malformed.message,
+            );
         }
+        let data = match &malformed.raw_seq {
+            Some(seq) => Some(json!({ "seq": seq, "command": malformed.command })),
+            None if !malformed.command.is_empty() => Some(json!({ "command": malformed.command })),
+            None => None,
+        };
         self.writer.event(
             "output",
             OutputEventBody {
                 category: "important".into(),
-                output: format!("gloc dap: ignored a malformed message: {message}\n"),
+                output: format!(
+                    "gloc dap: ignored a malformed message: {}\n",
+                    malformed.message
+                ),
                 source: None,
                 line: None,
-                data: None,
+                data,
             },
         )
     }
 
     /// Handles one request; an error in the request becomes an error response.
     pub fn handle(&mut self, request: Request) -> io::Result<Flow> {
+        if !self.authenticated {
+            if let Some(flow) = self.authenticate(&request)? {
+                return Ok(flow);
+            }
+        }
         match self.dispatch(&request) {
             Ok(flow) => Ok(flow),
             Err(message) => {
@@ -211,6 +257,46 @@ impl Session {
                 Ok(Flow::Continue)
             }
         }
+    }
+
+    /// Answers `request` with an error and ends the session.
+    pub fn refuse(&mut self, request: &Request, message: &str) -> io::Result<Flow> {
+        self.writer
+            .respond_error(request.seq, &request.command, message)?;
+        Ok(Flow::Exit)
+    }
+
+    /// Before the token: `initialize` and `disconnect` pass, a `launch` with the right
+    /// `token` authenticates the session, anything else is refused; a wrong token
+    /// closes the connection. `None` lets the request through to `dispatch`.
+    fn authenticate(&mut self, request: &Request) -> io::Result<Option<Flow>> {
+        let Access::Token(expected) = &self.access else {
+            return Ok(None);
+        };
+        if BEFORE_TOKEN.contains(&request.command.as_str()) {
+            return Ok(None);
+        }
+        if request.command != "launch" {
+            self.writer.respond_error(
+                request.seq,
+                &request.command,
+                "this adapter listens on a TCP port and needs its session token first: send `launch` with the `token` printed by `gloc dap --port`",
+            )?;
+            return Ok(Some(Flow::Continue));
+        }
+        let given = request.arguments.get("token").and_then(Value::as_str);
+        if given.is_some_and(|given| same_secret(given, expected)) {
+            self.authenticated = true;
+            return Ok(None);
+        }
+        let message = if given.is_none() {
+            "`launch` needs the `token` attribute: the session token printed by `gloc dap --port`; closing the connection"
+        } else {
+            "wrong session token; closing the connection"
+        };
+        self.writer
+            .respond_error(request.seq, &request.command, message)?;
+        Ok(Some(Flow::Exit))
     }
 
     fn dispatch(&mut self, request: &Request) -> Result<Flow, String> {
@@ -455,11 +541,23 @@ impl Session {
                 self.send_stop(stop).map_err(io_error)?;
             }
             "stackTrace" => {
-                let _: StackTraceArguments = arguments(request)?;
+                let arguments: StackTraceArguments = arguments(request)?;
                 let launched = self.launched_mut()?;
-                let frame = stack_frame(&launched.debugger);
+                // One frame (the script has no calls): `startFrame` past it gives none;
+                // `levels` 0 or absent means all.
+                let frames = match (arguments.start_frame.unwrap_or(0), arguments.levels) {
+                    (start, _) if start < 0 => {
+                        return Err(format!("`startFrame` {start} is negative"))
+                    }
+                    (0, None) => vec![stack_frame(&launched.debugger)],
+                    (0, Some(levels)) if levels >= 0 => vec![stack_frame(&launched.debugger)],
+                    (_, Some(levels)) if levels < 0 => {
+                        return Err(format!("`levels` {levels} is negative"))
+                    }
+                    _ => Vec::new(),
+                };
                 self.writer
-                    .respond(request, json!({ "stackFrames": [frame], "totalFrames": 1 }))
+                    .respond(request, json!({ "stackFrames": frames, "totalFrames": 1 }))
                     .map_err(io_error)?;
             }
             "scopes" => {
@@ -637,7 +735,23 @@ impl Session {
             simulator: file_config.simulator,
             program,
         };
-        let (world, info) = world::launch(&config)?;
+        check_input(&config.program, "program", &["gbas", "gloc"])?;
+        if let Some(mission) = &config.mission {
+            check_input(mission, "mission", &["mi"])?;
+        }
+        if let Some(profile) = &config.profile {
+            check_input(profile, "profile", &["csv"])?;
+        }
+        if let Some(masterdata) = &config.masterdata {
+            // Real sensor lists are called `masterdata` or `*.cac`: no extension rule.
+            check_input(masterdata, "masterdata", &[])?;
+        }
+        let (world, info) = world::launch(&config).map_err(|message| match self.access {
+            Access::Open => message,
+            // Over TCP no error may quote what a file holds: diagnostics quote
+            // tokens of the line at fault, so quoted text is blanked out.
+            Access::Token(_) => redact_quotes(&message),
+        })?;
         let debugger = Debugger::new(world, info, history);
         self.launched = Some(Launched {
             debugger,
@@ -730,6 +844,31 @@ impl Session {
                     verified: false,
                     line: echo_line(breakpoint.line),
                     message: Some(format!("{path} is not the program being debugged")),
+                    reason: Some("failed".into()),
+                    ..Breakpoint::default()
+                });
+                continue;
+            }
+            let refusal = match (breakpoint.line, debugger.info.source_lines) {
+                (line, _) if line < 1 => {
+                    Some(format!("line {line} is not a line: lines start at 1"))
+                }
+                (line, Some(last)) if line > i64::from(last) => Some(format!(
+                    "line {line} is past the end of {} ({last} lines)",
+                    debugger.info.source_name()
+                )),
+                _ => breakpoint
+                    .condition
+                    .as_deref()
+                    .filter(|text| !text.trim().is_empty())
+                    .and_then(|condition| condition_error(debugger, condition)),
+            };
+            if let Some(message) = refusal {
+                out.push(Breakpoint {
+                    id: Some(id),
+                    verified: false,
+                    line: echo_line(breakpoint.line),
+                    message: Some(message),
                     reason: Some("failed".into()),
                     ..Breakpoint::default()
                 });
@@ -1064,6 +1203,103 @@ impl Session {
     }
 }
 
+/// A launch input must be a regular file (no FIFO, device or folder) with one of the
+/// extensions its kind uses, so that no attribute makes the adapter read an arbitrary
+/// file as a script or a mission. The message names the path only.
+fn check_input(path: &std::path::Path, kind: &str, extensions: &[&str]) -> Result<(), String> {
+    let shown = path.display();
+    let metadata = std::fs::metadata(path)
+        .map_err(|error| format!("cannot read the {kind} {shown}: {}", io_reason(&error)))?;
+    if !metadata.is_file() {
+        return Err(format!(
+            "the {kind} {shown} is not a regular file (a folder, FIFO or device)"
+        ));
+    }
+    let extension = path
+        .extension()
+        .and_then(|extension| extension.to_str())
+        .unwrap_or("");
+    if !extensions.is_empty()
+        && !extensions
+            .iter()
+            .any(|known| extension.eq_ignore_ascii_case(known))
+    {
+        let known: Vec<String> = extensions.iter().map(|known| format!(".{known}")).collect();
+        return Err(format!(
+            "the {kind} {shown} is not a {} file; `{kind}` takes {}",
+            known.join(" or "),
+            known.join(" or ")
+        ));
+    }
+    Ok(())
+}
+
+/// An IO error without the OS's error number.
+fn io_reason(error: &io::Error) -> String {
+    match error.kind() {
+        io::ErrorKind::NotFound => "no such file".into(),
+        io::ErrorKind::PermissionDenied => "permission denied".into(),
+        _ => error.to_string(),
+    }
+}
+
+/// `text` with what stands between backquotes or double quotes replaced by `…`.
+fn redact_quotes(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut open: Option<char> = None;
+    for character in text.chars() {
+        match open {
+            Some(quote) if character == quote => {
+                out.push('…');
+                out.push(character);
+                open = None;
+            }
+            Some(_) if character == '\n' => {
+                // An unclosed quote ends with its line.
+                out.push('…');
+                out.push(character);
+                open = None;
+            }
+            Some(_) => {}
+            None => {
+                out.push(character);
+                if character == '`' || character == '"' {
+                    open = Some(character);
+                }
+            }
+        }
+    }
+    if open.is_some() {
+        out.push('…');
+    }
+    out
+}
+
+/// Why a breakpoint condition can never be evaluated (a syntax error, an unknown
+/// name), checked on the current values; a division by zero on them is not a
+/// reason, since other values may not divide by zero.
+fn condition_error(debugger: &Debugger<World>, condition: &str) -> Option<String> {
+    match debugger.evaluate(condition) {
+        Ok(_) => None,
+        Err(message) if message == crate::expr::DIVISION_BY_ZERO => None,
+        Err(message) => Some(format!(
+            "the condition `{condition}` is not valid: {message}"
+        )),
+    }
+}
+
+/// Compares a token with the expected one in time that does not depend on where
+/// they differ.
+fn same_secret(given: &str, expected: &str) -> bool {
+    let (given, expected) = (given.as_bytes(), expected.as_bytes());
+    given.len() == expected.len()
+        && given
+            .iter()
+            .zip(expected)
+            .fold(0u8, |difference, (a, b)| difference | (a ^ b))
+            == 0
+}
+
 /// A client's line number, echoed back only when it is a line number at all.
 fn echo_line(line: i64) -> Option<i64> {
     (1..=i64::from(u32::MAX)).contains(&line).then_some(line)
@@ -1343,11 +1579,29 @@ fn disassemble(
     let first = base
         .saturating_add(arguments.offset.unwrap_or(0))
         .saturating_add(arguments.instruction_offset.unwrap_or(0));
-    let count = arguments.instruction_count.clamp(0, 100_000);
+    let count = arguments.instruction_count;
+    if !(0..=MAX_DISASSEMBLE).contains(&count) {
+        return Err(format!(
+            "`instructionCount` {count} is outside 0 to {MAX_DISASSEMBLE}"
+        ));
+    }
     let source = source_of(debugger);
-    let mut out = Vec::new();
+    let mut out = Vec::with_capacity(count as usize);
     let mut last_line = None;
-    for pc in first..first.saturating_add(count) {
+    // Exactly `count` entries, as the spec requires: addresses that hold no code
+    // (before 0, past the end, past i64) are "invalid" entries.
+    for step in 0..count {
+        let Some(pc) = first.checked_add(step) else {
+            out.push(DisassembledInstruction {
+                address: format!("0x{:x}", (first as i128) + i128::from(step)),
+                instruction: String::new(),
+                symbol: None,
+                location: None,
+                line: None,
+                presentation_hint: Some("invalid".into()),
+            });
+            continue;
+        };
         let valid = usize::try_from(pc)
             .ok()
             .filter(|pc| *pc < debugger.info.instruction_count());

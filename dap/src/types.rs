@@ -214,6 +214,8 @@ pub struct Capabilities {
     pub supports_breakpoint_locations_request: Option<bool>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub supports_exception_info_request: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub supports_loaded_sources_request: Option<bool>,
 }
 
 #[derive(Debug, Serialize, Clone)]

@@ -212,8 +212,9 @@ pub fn launch(config: &LaunchConfig) -> Result<(World, DebugInfo), String> {
             (Language::Gloc, lines, texts)
         }
     };
-    let info =
-        DebugInfo::new(path.clone(), language, line_of_pc, instruction_text).with_program(&program);
+    let info = DebugInfo::new(path.clone(), language, line_of_pc, instruction_text)
+        .with_program(&program)
+        .with_source_text(&text);
     let fixed = Arc::new(Fixed {
         variables,
         touched,

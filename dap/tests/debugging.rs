@@ -199,7 +199,7 @@ fn breakpoints_move_to_the_next_line_with_code() {
     let mut client = start(json!({ "program": program, "stopOnEntry": true }));
     let body = client.ok(
         "setBreakpoints",
-        json!({ "source": { "path": program }, "breakpoints": [{ "line": 1 }, { "line": 5 }, { "line": 8 }, { "line": 99 }] }),
+        json!({ "source": { "path": program }, "breakpoints": [{ "line": 1 }, { "line": 5 }, { "line": 8 }, { "line": 18 }] }),
     );
     let lines: Vec<i64> = body["breakpoints"]
         .as_array()
@@ -207,13 +207,140 @@ fn breakpoints_move_to_the_next_line_with_code() {
         .iter()
         .map(|breakpoint| breakpoint["line"].as_i64().unwrap_or(0))
         .collect();
-    // 1 `label:` → 2; 5 `endif` → 6 `yield`; 8 `label:` → 9; 99 → the last line, 17.
+    // 1 `label:` → 2; 5 `endif` → 6 `yield`; 8 `label:` → 9; 18 (the empty line after
+    // the final newline of the 17-line file) → the last line with code, 17.
     assert_eq!(lines, [2, 6, 9, 17]);
+    assert!(body["breakpoints"]
+        .as_array()
+        .expect("breakpoints")
+        .iter()
+        .all(|breakpoint| breakpoint["verified"] == true));
     let other = client.ok(
         "setBreakpoints",
         json!({ "source": { "path": "/elsewhere/other.gbas" }, "breakpoints": [{ "line": 2 }] }),
     );
     assert_eq!(other["breakpoints"][0]["verified"], false);
+}
+
+#[test]
+fn breakpoints_outside_the_file_or_with_a_broken_condition_are_unverified() {
+    let program = fixture("fig3.gbas");
+    let mut client = start(json!({ "program": program, "stopOnEntry": true }));
+    let body = client.ok(
+        "setBreakpoints",
+        json!({ "source": { "path": program }, "breakpoints": [
+            { "line": 99 }, { "line": 0 }, { "line": 2, "condition": "m_depth >" },
+            { "line": 2, "condition": "no_such_name > 1" }, { "line": 2, "condition": "m_depth > 15" }
+        ] }),
+    );
+    let breakpoints = body["breakpoints"].as_array().expect("breakpoints");
+    let message = |index: usize| {
+        breakpoints[index]["message"]
+            .as_str()
+            .unwrap_or("")
+            .to_string()
+    };
+    // fig3.gbas has 17 lines (18 with the empty one after its final newline).
+    assert_eq!(breakpoints[0]["verified"], false);
+    assert!(
+        message(0).contains("past the end of fig3.gbas (18 lines)"),
+        "{}",
+        message(0)
+    );
+    assert_eq!(breakpoints[1]["verified"], false);
+    assert!(message(1).contains("lines start at 1"), "{}", message(1));
+    assert_eq!(breakpoints[2]["verified"], false);
+    assert!(
+        message(2).contains("`m_depth >`") && message(2).contains("ends too early"),
+        "{}",
+        message(2)
+    );
+    assert_eq!(breakpoints[3]["verified"], false);
+    assert!(message(3).contains("no_such_name"), "{}", message(3));
+    assert_eq!(breakpoints[4]["verified"], true, "{}", breakpoints[4]);
+}
+
+#[test]
+fn stack_trace_honours_start_frame_and_levels() {
+    let program = fixture("fig3.gbas");
+    let mut client = start(json!({ "program": program, "stopOnEntry": true }));
+    client.ok("configurationDone", json!({}));
+    stopped(&mut client);
+    let frames = |client: &mut Client, arguments: Value| {
+        let body = client.ok("stackTrace", arguments);
+        assert_eq!(body["totalFrames"], 1);
+        body["stackFrames"].as_array().expect("frames").len()
+    };
+    assert_eq!(frames(&mut client, json!({ "threadId": 1 })), 1);
+    assert_eq!(
+        frames(
+            &mut client,
+            json!({ "threadId": 1, "startFrame": 0, "levels": 0 })
+        ),
+        1
+    );
+    assert_eq!(
+        frames(
+            &mut client,
+            json!({ "threadId": 1, "startFrame": 0, "levels": 20 })
+        ),
+        1
+    );
+    // The one frame is frame 0: a page from frame 1 on is empty.
+    assert_eq!(
+        frames(&mut client, json!({ "threadId": 1, "startFrame": 1 })),
+        0
+    );
+    assert_eq!(
+        frames(
+            &mut client,
+            json!({ "threadId": 1, "startFrame": 1, "levels": 20 })
+        ),
+        0
+    );
+}
+
+#[test]
+fn disassemble_returns_exactly_instruction_count_entries() {
+    let program = fixture("fig3.gbas");
+    let mut client = start(json!({ "program": program, "stopOnEntry": true }));
+    for (reference, offset, count) in [
+        ("0x0", 0, 4),
+        ("0x0", -10, 30),
+        ("0x0", 5000, 7),
+        ("0x7fffffffffffffff", 0, 5),
+        ("0x0", 0, 100_000),
+    ] {
+        let body = client.ok(
+            "disassemble",
+            json!({ "memoryReference": reference, "instructionOffset": offset, "instructionCount": count }),
+        );
+        let instructions = body["instructions"].as_array().expect("instructions");
+        assert_eq!(
+            instructions.len(),
+            count as usize,
+            "{reference}{offset:+} × {count}"
+        );
+    }
+    // Before pc 0: invalid entries; then the code from pc 0.
+    let body = client.ok(
+        "disassemble",
+        json!({ "memoryReference": "0x0", "instructionOffset": -2, "instructionCount": 3 }),
+    );
+    assert_eq!(body["instructions"][0]["presentationHint"], "invalid");
+    assert_eq!(body["instructions"][2]["instruction"], "loads 444,r0");
+    let refused = client.request(
+        "disassemble",
+        Some(json!({ "memoryReference": "0x0", "instructionCount": 100_001 })),
+    );
+    assert_eq!(refused["success"], false, "{refused}");
+}
+
+#[test]
+fn loaded_sources_is_advertised() {
+    let mut client = Client::start();
+    let body = client.ok("initialize", json!({ "adapterID": "gloc" }));
+    assert_eq!(body["supportsLoadedSourcesRequest"], true);
 }
 
 #[test]

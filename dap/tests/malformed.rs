@@ -293,3 +293,49 @@ fn hostile_arguments_after_launch_never_crash() {
     let body = client.ok("stackTrace", json!({ "threadId": 1 }));
     assert_eq!(body["stackFrames"][0]["line"], 7);
 }
+
+#[test]
+fn a_seq_outside_the_schema_range_is_reported_and_not_run() {
+    let mut client = Client::start();
+    initialize(&mut client);
+    // 0 and −1 are below the schema's minimum of 1; 2^63 and 2^31 do not fit its int32.
+    for seq in ["0", "-1", "9223372036854775808", "2147483648"] {
+        client.send_body(&format!(
+            r#"{{"seq":{seq},"type":"request","command":"disconnect"}}"#
+        ));
+        // No response can name the request: an output event does, with the seq as sent.
+        let event = client.next_message();
+        assert_eq!(event["event"], "output", "{event}");
+        assert_eq!(event["body"]["data"]["seq"].to_string(), seq, "{event}");
+        assert_eq!(event["body"]["data"]["command"], "disconnect", "{event}");
+        assert!(
+            event["body"]["output"]
+                .as_str()
+                .unwrap_or_default()
+                .contains("not run"),
+            "{event}"
+        );
+    }
+    // The `disconnect`s were not run: the session still answers.
+    let response = client.request("threads", None);
+    assert_eq!(response["success"], true, "{response}");
+}
+
+#[test]
+fn a_lone_surrogate_in_a_request_is_decoded_lossily() {
+    let mut client = Client::start();
+    initialize(&mut client);
+    client.send_body(
+        r#"{"seq":50,"type":"request","command":"evaluate","arguments":{"expression":"x\ud83d"}}"#,
+    );
+    let response = client.response(50);
+    // Answered (nothing is launched), not refused as broken JSON.
+    assert_eq!(response["command"], "evaluate", "{response}");
+    assert!(
+        !response["message"]
+            .as_str()
+            .unwrap_or_default()
+            .contains("not valid JSON"),
+        "{response}"
+    );
+}

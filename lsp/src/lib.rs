@@ -14,11 +14,17 @@ mod position;
 mod server;
 mod transport;
 
+use std::collections::HashSet;
+use std::future::Future;
+use std::pin::Pin;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
+use std::task::{Context, Poll};
 
 use tokio::io::{AsyncRead, AsyncWrite, AsyncWriteExt};
+use tower_lsp_server::jsonrpc::{Error, Id, Request, Response};
 use tower_lsp_server::{LspService, Server};
+use tower_service::Service;
 
 pub use server::{settings_from, Settings, COMPILED_GLOC_COMMAND};
 
@@ -43,11 +49,12 @@ where
             transport::INVALID_REQUEST_METHOD,
             server::Backend::invalid_request,
         )
-        .custom_method(
-            transport::INVALID_NOTIFICATION_METHOD,
-            server::Backend::invalid_notification,
-        )
         .finish();
+    let service = Guard {
+        inner: service,
+        requests: Arc::default(),
+        shutdown_requested: shutdown_requested.clone(),
+    };
     let (pipe_reader, mut pipe_writer) = tokio::io::simplex(1 << 16);
     // One message at a time: a request always sees every edit sent before it.
     let server = Server::new(pipe_reader, output, socket)
@@ -68,6 +75,93 @@ where
         Ending::Clean
     } else {
         Ending::WithoutShutdown
+    }
+}
+
+/// Requests read but not answered yet, and which of them the client cancelled.
+#[derive(Default)]
+struct Requests {
+    queued: HashSet<Id>,
+    cancelled: HashSet<Id>,
+}
+
+/// Wraps the server where tower-lsp-server calls it, that is as each message is
+/// *read*, not when its turn comes (`concurrency_level(1)` runs them one by one):
+/// - `$/cancelRequest` marks a queued request, which then answers −32800
+///   (RequestCancelled) without running when its turn comes, so a queue of
+///   cancelled requests drains at once (tower-lsp-server only cancels what is
+///   running, and with one request at a time its cancel arrives too late);
+/// - a `shutdown` request is remembered at once, so an `exit` sent right after it
+///   (which aborts whatever is still queued) still exits with code 0.
+struct Guard<S> {
+    inner: S,
+    requests: Arc<Mutex<Requests>>,
+    shutdown_requested: Arc<AtomicBool>,
+}
+
+type Answer<E> = Pin<Box<dyn Future<Output = Result<Option<Response>, E>> + Send>>;
+
+impl<S> Service<Request> for Guard<S>
+where
+    S: Service<Request, Response = Option<Response>>,
+    S::Future: Send + 'static,
+    S::Error: 'static,
+{
+    type Response = Option<Response>;
+    type Error = S::Error;
+    type Future = Answer<S::Error>;
+
+    fn poll_ready(&mut self, context: &mut Context<'_>) -> Poll<Result<(), S::Error>> {
+        self.inner.poll_ready(context)
+    }
+
+    fn call(&mut self, request: Request) -> Self::Future {
+        let requests = self.requests.clone();
+        let id = request.id().cloned();
+        {
+            let mut requests = requests.lock().unwrap_or_else(|poison| poison.into_inner());
+            if request.method() == "$/cancelRequest" {
+                let cancelled = request
+                    .params()
+                    .and_then(|params| params.get("id"))
+                    .and_then(|id| serde_json::from_value::<Id>(id.clone()).ok());
+                if let Some(cancelled) = cancelled {
+                    if requests.queued.contains(&cancelled) {
+                        requests.cancelled.insert(cancelled);
+                    }
+                }
+            }
+            if let Some(id) = &id {
+                requests.queued.insert(id.clone());
+            }
+        }
+        if request.method() == "shutdown" && id.is_some() {
+            self.shutdown_requested.store(true, Ordering::SeqCst);
+        }
+        let answer = self.inner.call(request);
+        Box::pin(async move {
+            let Some(id) = id else {
+                return answer.await;
+            };
+            let cancelled = {
+                let mut requests = requests.lock().unwrap_or_else(|poison| poison.into_inner());
+                requests.cancelled.remove(&id)
+            };
+            let result = if cancelled {
+                // Dropped unpolled: the handler never runs.
+                drop(answer);
+                Ok(Some(Response::from_error(
+                    id.clone(),
+                    Error::request_cancelled(),
+                )))
+            } else {
+                answer.await
+            };
+            let mut requests = requests.lock().unwrap_or_else(|poison| poison.into_inner());
+            requests.queued.remove(&id);
+            requests.cancelled.remove(&id);
+            result
+        })
     }
 }
 

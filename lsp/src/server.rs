@@ -416,30 +416,23 @@ pub fn settings_from(value: &Value) -> Settings {
     }
 }
 
-/// Why the transport replaced a message (see `transport`).
+/// Why the transport replaced a message, and the JSON-RPC error code to answer
+/// with (see `transport`).
 #[derive(serde::Deserialize)]
 pub struct InvalidMessage {
     reason: String,
+    code: i64,
 }
 
 impl Backend {
-    /// A request the client sent broken: answer it with an error.
+    /// A message the client sent broken: answer it with an error (its `id`, or
+    /// `null` when it could not be read).
     pub async fn invalid_request(&self, params: InvalidMessage) -> Result<()> {
         Err(Error {
-            code: tower_lsp_server::jsonrpc::ErrorCode::InvalidRequest,
+            code: tower_lsp_server::jsonrpc::ErrorCode::from(params.code),
             message: params.reason.into(),
             data: None,
         })
-    }
-
-    /// Any other broken message: tell the client's log and carry on.
-    pub async fn invalid_notification(&self, params: InvalidMessage) {
-        self.client
-            .log_message(
-                MessageType::ERROR,
-                format!("gloc: ignored a malformed message: {}", params.reason),
-            )
-            .await;
     }
 }
 
@@ -519,6 +512,30 @@ impl LanguageServer for Backend {
 
     async fn did_change(&self, params: DidChangeTextDocumentParams) {
         let uri = params.text_document.uri;
+        let version = params.text_document.version;
+        let stale = {
+            let state = lock(&self.state);
+            state
+                .documents
+                .get(&uri)
+                .map(|open| open.document.version)
+                .filter(|known| version <= *known)
+        };
+        if let Some(known) = stale {
+            // The spec makes versions increase with every change: an older or equal
+            // one is a duplicated or reordered notification, and applying it again
+            // would corrupt the text, so it is ignored (and said so).
+            self.client
+                .log_message(
+                    MessageType::WARNING,
+                    format!(
+                        "gloc: ignored a change to {} with version {version}: the document is already at version {known} (versions must increase)",
+                        uri.as_str()
+                    ),
+                )
+                .await;
+            return;
+        }
         let publishes = {
             let mut state = lock(&self.state);
             let Some(open) = state.documents.get_mut(&uri) else {

@@ -186,6 +186,25 @@ for _, configuration in ipairs(fake_dap.configurations.gbasic or {}) do
   end
   H.equal(configuration.program, "${file}", ("nvim-dap configuration %q flies the current file"):format(configuration.name))
 end
+-- Over TCP the adapter is a function that starts `gloc dap --port 0` and reads its line.
+H.equal({ gloc_module.parse_listening("gloc dap: listening on 127.0.0.1:4711 token 0a1b2c") }, { 4711, "0a1b2c" },
+  "parse_listening reads the port and the token")
+H.equal(gloc_module.parse_listening("gloc dap: listening on 127.0.0.1:4711"), nil,
+  "parse_listening wants the token")
+H.equal(gloc_module.setup_dap(vim.tbl_extend("force", gloc_module.options, { dap_transport = "tcp" })), true,
+  "setup_dap() with dap_transport = tcp")
+H.equal(type(fake_dap.adapters.gloc), "function", "dap.adapters.gloc is a server adapter function over TCP")
+local connected = nil
+fake_dap.adapters.gloc(function(adapter) connected = adapter end, { type = "gloc", request = "launch" })
+H.check(vim.wait(10000, function() return connected ~= nil end), "the TCP adapter connects to `gloc dap --port 0`")
+if connected then
+  H.equal(connected.type, "server", "a server adapter")
+  H.equal(connected.host, "127.0.0.1", "on loopback")
+  local enriched = nil
+  connected.enrich_config({ program = "x.gbas" }, function(config) enriched = config end)
+  H.check(enriched ~= nil and type(enriched.token) == "string" and #enriched.token == 32,
+    "enrich_config adds the session token")
+end
 package.loaded["dap"] = nil
 
 H.finish()

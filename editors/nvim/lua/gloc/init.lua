@@ -10,6 +10,8 @@ local M = {}
 --- @field root_markers? string[] files that mark a project root (default gloc.toml, .git)
 --- @field lsp? boolean          start the language server (default true)
 --- @field dap? boolean          configure nvim-dap when it is installed (default true)
+--- @field dap_transport? string "stdio" (default) or "tcp": one `gloc dap --port 0` per Neovim,
+---                              its session token added to each launch
 --- @field commands? boolean     define :GlocShowCompiled and :GlocRun (default true)
 M.defaults = {
   gloc_path = "gloc",
@@ -17,6 +19,7 @@ M.defaults = {
   root_markers = { "gloc.toml", ".git" },
   lsp = true,
   dap = true,
+  dap_transport = "stdio",
   commands = true,
 }
 
@@ -141,6 +144,87 @@ function M.dap_configurations(options)
   }
 end
 
+--- The port and session token in `gloc dap --port`'s first stderr line
+--- (`gloc dap: listening on 127.0.0.1:PORT token TOKEN`), or nil.
+--- @param line string
+--- @return integer?, string?
+function M.parse_listening(line)
+  local port, token = line:match("^gloc dap: listening on 127%.0%.0%.1:(%d+) token (%S+)$")
+  if port == nil then
+    return nil
+  end
+  return tonumber(port), token
+end
+
+-- The `gloc dap --port 0` server this Neovim started: { job, port?, token?, waiting }.
+local dap_server = nil
+
+--- An nvim-dap adapter (a function) that starts `gloc dap --port 0` once, reads its port and
+--- token from stderr, and connects to it as a `server` adapter; `enrich_config` adds the
+--- token to each launch configuration, which `gloc dap --port` requires.
+--- @param options gloc.Options
+function M.dap_server_adapter(options)
+  return function(callback, _)
+    local function connect()
+      callback({
+        type = "server",
+        host = "127.0.0.1",
+        port = dap_server.port,
+        enrich_config = function(config, on_config)
+          local enriched = vim.deepcopy(config)
+          enriched.token = dap_server.token
+          on_config(enriched)
+        end,
+      })
+    end
+    if dap_server ~= nil and dap_server.port ~= nil then
+      connect()
+      return
+    end
+    if dap_server ~= nil then
+      table.insert(dap_server.waiting, connect)
+      return
+    end
+    local received = ""
+    local job = vim.fn.jobstart({ binary(options), "dap", "--port", "0" }, {
+      on_stderr = function(_, data)
+        if dap_server == nil or dap_server.port ~= nil then
+          return
+        end
+        received = received .. table.concat(data, "\n")
+        for line in received:gmatch("[^\n]+") do
+          local port, token = M.parse_listening(line)
+          if port ~= nil then
+            dap_server.port, dap_server.token = port, token
+            local waiting = dap_server.waiting
+            dap_server.waiting = {}
+            vim.schedule(function()
+              for _, waiter in ipairs(waiting) do
+                waiter()
+              end
+            end)
+            return
+          end
+        end
+      end,
+      on_exit = function()
+        dap_server = nil
+      end,
+    })
+    if job <= 0 then
+      vim.notify("gloc: cannot start `" .. binary(options) .. " dap --port 0`", vim.log.levels.ERROR)
+      return
+    end
+    dap_server = { job = job, waiting = { connect } }
+    vim.api.nvim_create_autocmd("VimLeavePre", {
+      once = true,
+      callback = function()
+        pcall(vim.fn.jobstop, job)
+      end,
+    })
+  end
+end
+
 --- Registers the `gloc` adapter and configurations with nvim-dap. Returns false, without an error,
 --- when nvim-dap is not installed.
 --- @param options? gloc.Options
@@ -151,7 +235,11 @@ function M.setup_dap(options)
   if not ok then
     return false
   end
-  dap.adapters.gloc = { type = "executable", command = binary(options), args = { "dap" } }
+  if options.dap_transport == "tcp" then
+    dap.adapters.gloc = M.dap_server_adapter(options)
+  else
+    dap.adapters.gloc = { type = "executable", command = binary(options), args = { "dap" } }
+  end
   local configurations = M.dap_configurations(options)
   for _, filetype in ipairs(M.filetypes) do
     dap.configurations[filetype] = configurations

@@ -8,6 +8,7 @@ use clap::{Args, Parser, Subcommand};
 
 mod check;
 mod compile;
+mod reindex;
 pub mod render;
 mod replay;
 mod run;
@@ -35,6 +36,8 @@ enum Command {
     Compile(CompileArgs),
     /// Run a script: on recorded sensor values (--replay) or in the simulator.
     Run(RunArgs),
+    /// Rewrite a GLOC file's sensor indices from one sensor list to another, by name.
+    Reindex(ReindexArgs),
     /// Start the language server on stdio.
     Lsp,
     /// Start the debug adapter (stdio, or a TCP port on 127.0.0.1).
@@ -133,6 +136,25 @@ pub struct RunArgs {
 }
 
 #[derive(Args, Debug)]
+pub struct ReindexArgs {
+    /// The `.gloc` script.
+    pub file: PathBuf,
+    /// The list its indices are for (default: the list its `# sensors:` line names,
+    /// else the embedded list).
+    #[arg(long, value_name = "LIST")]
+    pub from: Option<PathBuf>,
+    /// The list to rewrite them for (masterdata or `.cac`).
+    #[arg(long, value_name = "LIST")]
+    pub to: PathBuf,
+    /// Where to write the result (never the input).
+    #[arg(short = 'o', long = "output", value_name = "OUT.gloc")]
+    pub output: PathBuf,
+    /// How a masterdata file's sensors are numbered: `file` (default) or `sorted` (firmware 2014+).
+    #[arg(long, value_name = "ORDER", value_parser = settings::parse_sensor_order)]
+    pub sensor_order: Option<gloc_engine::sensors::SensorOrder>,
+}
+
+#[derive(Args, Debug)]
 pub struct DapArgs {
     /// Listen on 127.0.0.1:PORT instead of stdio.
     #[arg(long)]
@@ -145,6 +167,7 @@ fn main() -> ExitCode {
         Command::Check(args) => check::main(args),
         Command::Compile(args) => compile::main(args),
         Command::Run(args) => run::main(args),
+        Command::Reindex(args) => reindex::main(args),
         Command::Lsp => gloc_lsp_main(),
         Command::Dap(args) => gloc_dap_main(args),
     };

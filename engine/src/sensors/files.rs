@@ -40,6 +40,8 @@ pub struct LoadedSensorList {
     pub diagnostics: Vec<Diagnostic>,
     /// The file's text (lossily decoded), for rendering the diagnostics.
     pub text: String,
+    /// The hook sensors the file lacked, appended after its last index.
+    pub added_hook_sensors: Vec<&'static str>,
 }
 
 /// Reads a masterdata or `.cac` file: `.cac` by extension, or by content
@@ -55,16 +57,49 @@ pub fn load_sensor_file(path: &Path, order: SensorOrder) -> std::io::Result<Load
             .map(str::trim)
             .find(|line| !line.is_empty())
             .is_some_and(|line| line.starts_with("s:"));
-    let (list, diagnostics) = if is_cac {
+    let (mut list, diagnostics) = if is_cac {
         parse_cac(&text)
     } else {
         parse_masterdata(&text, order)
+    };
+    // A `.cac` file is named by the CRC of its list (`1f35be3b.cac`).
+    if let Some(crc) = path
+        .file_stem()
+        .and_then(|stem| stem.to_str())
+        .filter(|stem| is_crc(stem))
+    {
+        list = list.with_crc(crc);
+    }
+    let added_hook_sensors = if list.is_empty() {
+        Vec::new()
+    } else {
+        list.add_hook_sensors()
     };
     Ok(LoadedSensorList {
         list,
         diagnostics,
         text,
+        added_hook_sensors,
     })
+}
+
+/// The first `<crc>.cac` (or `.CAC`) in `folders`, in order.
+pub fn find_cac(crc: &str, folders: &[std::path::PathBuf]) -> Option<std::path::PathBuf> {
+    folders.iter().find_map(|folder| {
+        [
+            format!("{}.cac", crc.to_ascii_lowercase()),
+            format!("{}.cac", crc.to_ascii_uppercase()),
+            format!("{}.CAC", crc.to_ascii_uppercase()),
+        ]
+        .into_iter()
+        .map(|name| folder.join(name))
+        .find(|path| path.is_file())
+    })
+}
+
+/// True for a sensor-list CRC as gliders write it: eight hex digits.
+pub fn is_crc(text: &str) -> bool {
+    text.len() == 8 && text.bytes().all(|byte| byte.is_ascii_hexdigit())
 }
 
 /// Parses a masterdata file. Never fails: malformed lines are diagnostics

@@ -530,6 +530,35 @@ fn fault_line(fault: &Fault, applied: Option<(u64, u64)>, text: &str, sim: &Simu
     }
 }
 
+/// The mission checked against the sensor list and the script (rendered with a
+/// caret): `sensor:` settings the list lacks (S0106, on the mission), and stores to
+/// `sci_ruhp_behs` in a mission without a hook behavior (S0107, on the script).
+fn mission_guards(
+    mission: &Mission,
+    sensor_list: &SensorList,
+    loaded: &gloc_compiler::LoadedScript,
+    script_source: &SourceFile,
+) {
+    for entry in mission.check_sensor_settings(sensor_list) {
+        let file = &mission.sources[entry.file.min(mission.sources.len().saturating_sub(1))];
+        let display = file.path.display().to_string();
+        eprint!(
+            "{}",
+            SourceFile::new(&display, &file.text).render(&entry.diagnostic)
+        );
+    }
+    if let Some(program) = &loaded.program {
+        let spans: Vec<_> = mission
+            .unhooked_stores(sensor_list, program)
+            .into_iter()
+            .filter_map(|pc| loaded.span_of_pc(pc))
+            .collect();
+        if let Some(warning) = mission.unhooked_store_warning(&spans) {
+            eprint!("{}", script_source.render(&warning));
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -560,34 +589,5 @@ mod tests {
         assert_eq!(human_time(65.0), "1m 05s");
         assert_eq!(human_time(3725.0), "1h 02m 05s");
         assert_eq!(human_time(2_592_000.0), "30d 00h 00m 00s");
-    }
-}
-
-/// The mission checked against the sensor list and the script (rendered with a
-/// caret): `sensor:` settings the list lacks (S0106, on the mission), and stores to
-/// `sci_ruhp_behs` in a mission without a hook behavior (S0107, on the script).
-fn mission_guards(
-    mission: &Mission,
-    sensor_list: &SensorList,
-    loaded: &gloc_compiler::LoadedScript,
-    script_source: &SourceFile,
-) {
-    for entry in mission.check_sensor_settings(sensor_list) {
-        let file = &mission.sources[entry.file.min(mission.sources.len().saturating_sub(1))];
-        let display = file.path.display().to_string();
-        eprint!(
-            "{}",
-            SourceFile::new(&display, &file.text).render(&entry.diagnostic)
-        );
-    }
-    if let Some(program) = &loaded.program {
-        let spans: Vec<_> = mission
-            .unhooked_stores(sensor_list, program)
-            .into_iter()
-            .filter_map(|pc| loaded.span_of_pc(pc))
-            .collect();
-        if let Some(warning) = mission.unhooked_store_warning(&spans) {
-            eprint!("{}", script_source.render(&warning));
-        }
     }
 }

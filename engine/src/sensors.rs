@@ -8,7 +8,10 @@ use std::collections::HashMap;
 
 mod files;
 
-pub use files::{load_sensor_file, parse_cac, parse_masterdata, LoadedSensorList, SensorOrder};
+pub use files::{
+    load_sensor_file, parse_cac, parse_cac_entries, parse_masterdata, CacEntry, LoadedSensorList,
+    SensorOrder,
+};
 
 /// Index of a sensor in the active sensor list.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]

@@ -232,13 +232,15 @@ impl DbdReader {
         self.order = match [known[2], known[3]] {
             [0x12, 0x34] => ByteOrder::Big,
             [0x34, 0x12] => ByteOrder::Little,
-            other => return Err(self.error(
-                start + 2,
-                format!(
+            other => {
+                return Err(self.error(
+                    start + 2,
+                    format!(
                     "the known cycle's 0x1234 reads {:02x} {:02x}: the byte order cannot be told",
                     other[0], other[1]
                 ),
-            )),
+                ))
+            }
         };
         let float = decode(&known[4..8], self.order);
         let double = decode(&known[8..16], self.order);

@@ -153,7 +153,14 @@ impl DbaReader {
                 if token == "NaN" || token == "nan" {
                     self.cycle.states[column] = State::NotUpdated;
                 } else {
-                    match token.parse::<f64>() {
+                    // A 4-byte column holds a float32: reading it as one gives
+                    // back exactly the value the binary log had.
+                    let parsed = if self.sensors[column].bytes == 4 {
+                        token.parse::<f32>().map(f64::from)
+                    } else {
+                        token.parse::<f64>()
+                    };
+                    match parsed {
                         Ok(value) => {
                             self.cycle.states[column] = State::New;
                             self.cycle.values[column] = value;

@@ -191,3 +191,29 @@ pub fn open_path_with(
         }
     }
 }
+
+/// The header of a log (plain, compressed or `.dba`), without its sensor list.
+pub fn read_file_header(path: &Path) -> Result<crate::Header, DbdError> {
+    let name = path.display().to_string();
+    let file = File::open(path).map_err(|error| {
+        DbdError::new(&name, Location::default(), format!("cannot open: {error}"))
+    })?;
+    let compressed = matches!(
+        LogKind::from_path(path),
+        Some(LogKind::Binary {
+            compressed: true,
+            ..
+        })
+    );
+    let source: Box<dyn std::io::Read> = if compressed {
+        Box::new(crate::lz4::Lz4Blocks::new(file))
+    } else {
+        Box::new(file)
+    };
+    let mut input = std::io::BufReader::new(source);
+    let mut offset = 0;
+    crate::header::read_header(&mut input, &mut offset, &name, |offset| Location {
+        offset,
+        block: None,
+    })
+}

@@ -15,6 +15,7 @@ pub mod fs;
 pub mod header;
 pub mod lists;
 pub mod lz4;
+pub mod merge;
 
 pub use binary::{ByteOrder, DbdReader};
 pub use cycle::{time_column, Cycle, FileSensor, SensorColumns, State};
@@ -23,6 +24,7 @@ pub use error::{DbdError, Location, Warning};
 pub use fs::{open_path, CacheFolders, LogKind};
 pub use header::Header;
 pub use lists::{NoSensorLists, SensorListText, SensorLists};
+pub use merge::{plan, Deployment, Merged, Segment};
 
 /// A stream of cycles: one log file, a flight log merged with its science log,
 /// or a whole deployment. Every source reuses one [`Cycle`].

@@ -8,6 +8,7 @@ use clap::{Args, Parser, Subcommand};
 
 mod check;
 mod compile;
+mod data;
 mod reindex;
 pub mod render;
 mod replay;
@@ -42,6 +43,9 @@ enum Command {
     Lsp,
     /// Start the debug adapter (stdio, or a TCP port on 127.0.0.1).
     Dap(DapArgs),
+    /// Glider logs (.dbd .ebd .sbd .tbd …, compressed .dcd …, .dba): info, convert, plot.
+    #[command(subcommand)]
+    Data(data::DataCommand),
 }
 
 #[derive(Args, Debug)]
@@ -170,6 +174,7 @@ fn main() -> ExitCode {
         Command::Reindex(args) => reindex::main(args),
         Command::Lsp => gloc_lsp_main(),
         Command::Dap(args) => gloc_dap_main(args),
+        Command::Data(command) => data::main(command),
     };
     match result {
         Ok(code) => code,

@@ -17,6 +17,8 @@ pub struct Settings {
     /// Simulator constants: `[simulator]` of gloc.toml, then the `--sim` flags (so
     /// that applied in order, a flag wins).
     pub simulator: Vec<(String, f64)>,
+    /// The folder searched first for a glider log's sensor list (`--sensor-cache`, `sensor_cache`).
+    pub sensor_cache: Option<PathBuf>,
 }
 
 /// The flags a subcommand was given; `None` where the user gave none.
@@ -27,6 +29,7 @@ pub struct Flags<'a> {
     pub mission: Option<&'a Path>,
     pub sensor_order: Option<SensorOrder>,
     pub simulator: &'a [(String, f64)],
+    pub sensor_cache: Option<&'a Path>,
 }
 
 /// Finds `gloc.toml` upward from `anchor` (a script; the current folder when
@@ -59,6 +62,10 @@ pub fn resolve(anchor: Option<&Path>, flags: Flags<'_>) -> anyhow::Result<Settin
             .into_iter()
             .chain(flags.simulator.iter().cloned())
             .collect(),
+        sensor_cache: flags
+            .sensor_cache
+            .map(Path::to_path_buf)
+            .or(config.sensor_cache),
     })
 }
 

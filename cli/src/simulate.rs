@@ -43,6 +43,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
             mission: args.mission.as_deref(),
             sensor_order: args.sensor_order,
             simulator: &args.simulator,
+            ..Default::default()
         },
     )?;
     let sensor_list = match &settings.masterdata {

@@ -88,9 +88,15 @@ pub struct CompileArgs {
 pub struct RunArgs {
     /// A `.gloc` or `.gbas` script (default: the paper's Fig. 2 script).
     pub script: Option<PathBuf>,
-    /// Replay recorded sensor values (CSV: a header of sensor names, one row per cycle) instead of simulating.
-    #[arg(long, value_name = "IN.csv")]
-    pub replay: Option<PathBuf>,
+    /// Replay recorded sensor values instead of simulating: one CSV file (a header of
+    /// sensor names, one row per cycle) or glider logs (.dbd .ebd .sbd .tbd …, .dcd …,
+    /// .dba; several files are a deployment, flight and science logs merged).
+    #[arg(long, value_name = "FILES", num_args = 1..)]
+    pub replay: Vec<PathBuf>,
+    /// With --replay of glider logs: the folder searched first for their sensor lists
+    /// (`<crc>.cac` / `.ccc`); default: `sensor_cache` in gloc.toml.
+    #[arg(long, value_name = "DIR")]
+    pub sensor_cache: Option<PathBuf>,
     /// With --replay: write the sensors the script stored, one row per cycle.
     #[arg(long, value_name = "OUT.csv")]
     pub out: Option<PathBuf>,

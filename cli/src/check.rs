@@ -3,10 +3,11 @@
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::Arc;
 
 use anyhow::Context;
 use gloc_engine::gloc::{self, Bound, CheckOptions, Stats};
-use gloc_engine::sensors::{load_sensor_file, SensorList, SensorOrder};
+use gloc_engine::sensors::{find_cac, load_sensor_file, SensorList, SensorOrder};
 
 use crate::render::{SourceFile, Tally};
 
@@ -46,7 +47,11 @@ pub fn main(args: crate::CheckArgs) -> anyhow::Result<ExitCode> {
         }
         let source = SourceFile::new(&display, &text);
         let parsed = gloc::parse(&text);
-        let checked = gloc::check(&parsed, &sensors, &CheckOptions::default());
+        let options = CheckOptions {
+            written_for: written_for(&text, path, settings.masterdata.as_deref(), &sensors),
+            ..CheckOptions::default()
+        };
+        let checked = gloc::check(&parsed, &sensors, &options);
         for diagnostic in &checked.diagnostics {
             print!("{}", source.render(diagnostic));
         }
@@ -72,6 +77,34 @@ pub fn main(args: crate::CheckArgs) -> anyhow::Result<ExitCode> {
     } else {
         ExitCode::SUCCESS
     })
+}
+
+/// The list a GLOC file's `# sensors: CRC` line names, when it is neither the
+/// active list nor the embedded one (both known already): `<crc>.cac` beside the
+/// script, else beside the active list. `None` when not found (the checker then
+/// warns, W0115) or when the line names no other list.
+pub fn written_for(
+    text: &str,
+    script: &Path,
+    masterdata: Option<&Path>,
+    active: &SensorList,
+) -> Option<Arc<SensorList>> {
+    let crc = gloc::identity::stated_crc(text)?;
+    if active.crc() == Some(crc.as_str()) || crc == gloc_engine::sensors::EMBEDDED_CRC {
+        return None;
+    }
+    let folders: Vec<PathBuf> = [Some(script), masterdata]
+        .into_iter()
+        .flatten()
+        .map(|path| match path.parent() {
+            Some(parent) if !parent.as_os_str().is_empty() => parent.to_path_buf(),
+            _ => PathBuf::from("."),
+        })
+        .collect();
+    let path = find_cac(&crc, &folders)?;
+    let loaded = load_sensor_file(&path, SensorOrder::FileOrder).ok()?;
+    let has_errors = loaded.diagnostics.iter().any(|d| d.is_error());
+    (!has_errors).then(|| Arc::new(loaded.list))
 }
 
 /// Loads `--masterdata`: prints its diagnostics; `None` when it has errors.

@@ -155,7 +155,16 @@ pub fn read_script(
 ) -> anyhow::Result<CliScript> {
     let text = gloc_engine::files::read_text(path, gloc_engine::files::SCRIPT)
         .with_context(|| format!("cannot read the script `{}`", path.display()))?;
-    let loaded = load_script(&text, Language::of_path(path), sensors, options);
+    // `gloc run` checks a `# sensors:` line as `gloc check` does (beside the script;
+    // the active list's folder is not known here).
+    let written_for = crate::check::written_for(&text, path, None, sensors);
+    let loaded = gloc_compiler::loader::load_script_written_for(
+        &text,
+        Language::of_path(path),
+        sensors,
+        options,
+        written_for,
+    );
     Ok(CliScript {
         display: path.display().to_string(),
         text,

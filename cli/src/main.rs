@@ -8,7 +8,9 @@ use clap::{Args, Parser, Subcommand};
 
 mod check;
 mod compile;
+mod data;
 mod output;
+mod reindex;
 pub mod render;
 mod replay;
 mod run;
@@ -36,10 +38,15 @@ enum Command {
     Compile(CompileArgs),
     /// Run a script: on recorded sensor values (--replay) or in the simulator.
     Run(RunArgs),
+    /// Rewrite a GLOC file's sensor indices from one sensor list to another, by name.
+    Reindex(ReindexArgs),
     /// Start the language server on stdio.
     Lsp,
     /// Start the debug adapter (stdio, or a TCP port on 127.0.0.1).
     Dap(DapArgs),
+    /// Glider logs (.dbd .ebd .sbd .tbd …, compressed .dcd …, .dba): info, convert, plot.
+    #[command(subcommand)]
+    Data(data::DataCommand),
 }
 
 #[derive(Args, Debug)]
@@ -82,9 +89,15 @@ pub struct CompileArgs {
 pub struct RunArgs {
     /// A `.gloc` or `.gbas` script (default: the paper's Fig. 2 script).
     pub script: Option<PathBuf>,
-    /// Replay recorded sensor values (CSV: a header of sensor names, one row per cycle) instead of simulating.
-    #[arg(long, value_name = "IN.csv")]
-    pub replay: Option<PathBuf>,
+    /// Replay recorded sensor values instead of simulating: one CSV file (a header of
+    /// sensor names, one row per cycle) or glider logs (.dbd .ebd .sbd .tbd …, .dcd …,
+    /// .dba; several files are a deployment, flight and science logs merged).
+    #[arg(long, value_name = "FILES", num_args = 1..)]
+    pub replay: Vec<PathBuf>,
+    /// With --replay of glider logs: the folder searched first for their sensor lists
+    /// (`<crc>.cac` / `.ccc`); default: `sensor_cache` in gloc.toml.
+    #[arg(long, value_name = "DIR")]
+    pub sensor_cache: Option<PathBuf>,
     /// With --replay: write the sensors the script stored, one row per cycle.
     #[arg(long, value_name = "OUT.csv")]
     pub out: Option<PathBuf>,
@@ -134,6 +147,25 @@ pub struct RunArgs {
 }
 
 #[derive(Args, Debug)]
+pub struct ReindexArgs {
+    /// The `.gloc` script.
+    pub file: PathBuf,
+    /// The list its indices are for (default: the list its `# sensors:` line names,
+    /// else the embedded list).
+    #[arg(long, value_name = "LIST")]
+    pub from: Option<PathBuf>,
+    /// The list to rewrite them for (masterdata or `.cac`).
+    #[arg(long, value_name = "LIST")]
+    pub to: PathBuf,
+    /// Where to write the result (never the input).
+    #[arg(short = 'o', long = "output", value_name = "OUT.gloc")]
+    pub output: PathBuf,
+    /// How a masterdata file's sensors are numbered: `file` (default) or `sorted` (firmware 2014+).
+    #[arg(long, value_name = "ORDER", value_parser = settings::parse_sensor_order)]
+    pub sensor_order: Option<gloc_engine::sensors::SensorOrder>,
+}
+
+#[derive(Args, Debug)]
 pub struct DapArgs {
     /// Listen on 127.0.0.1:PORT instead of stdio (0: any free port). Prints the port and
     /// the session token that each client's `launch` must carry (`token` attribute).
@@ -147,8 +179,10 @@ fn main() -> ExitCode {
         Command::Check(args) => check::main(args),
         Command::Compile(args) => compile::main(args),
         Command::Run(args) => run::main(args),
+        Command::Reindex(args) => reindex::main(args),
         Command::Lsp => gloc_lsp_main(),
         Command::Dap(args) => gloc_dap_main(args),
+        Command::Data(command) => data::main(command),
     };
     match result {
         Ok(code) => code,

@@ -1,12 +1,13 @@
-//! `gloc run FILE.gloc --replay IN.csv [--out OUT.csv] [--cycle-budget N]`:
-//! runs a script against recorded sensor values, one CSV row per control
-//! cycle, and records what it stores.
+//! `gloc run SCRIPT --replay FILES… [--out OUT.csv] [--cycle-budget N]`: runs a
+//! script against recorded sensor values, one control cycle per recorded cycle,
+//! and records what it stores.
 //!
-//! IN has a header of sensor names (any case; a `cycle` column is ignored)
-//! and one row of numbers per cycle. An empty cell leaves the sensor as it
-//! was. What the script prints goes to stdout as it happens. OUT gets
-//! `cycle,<each sensor the script stores>` and one row per cycle (cycles count
-//! from 0), with an empty cell where nothing was stored that cycle.
+//! FILES are one CSV file or glider logs (`gloc_replay::Input`), streamed; their
+//! sensors are matched to the active list by name, and the ones it lacks are named
+//! in one warning. A sensor not updated in a cycle keeps its value. What the script
+//! prints goes to stdout as it happens. OUT gets `cycle,<each sensor the script
+//! stores>` and one row per cycle (cycles count from 0), with an empty cell where
+//! nothing was stored that cycle.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -15,19 +16,19 @@ use std::sync::Arc;
 
 use anyhow::{bail, Context};
 use gloc_engine::sensors::{SensorId, SensorList};
-use gloc_engine::suggest;
 use gloc_engine::vm::{CycleEnd, Host, Machine, MachineConfig, DEFAULT_CYCLE_BUDGET};
+use gloc_replay::{ColumnMap, Input};
 
 use crate::output::AtomicFile;
-use crate::render::{SourceFile, Tally};
+use crate::render::Tally;
 
 /// The paper's Fig. 2, the script `gloc run` uses when none is given.
 pub const FIG2: &str = include_str!("../../examples/fig2.gloc");
 
 pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
-    let Some(replay_path) = args.replay.clone() else {
-        bail!("--replay IN.csv is required here");
-    };
+    if args.replay.is_empty() {
+        bail!("--replay FILES is required here");
+    }
     for (given, flag) in [
         (args.mission.is_some(), "--mission"),
         (args.profile.is_some(), "--profile"),
@@ -49,6 +50,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
             masterdata: args.masterdata.as_deref(),
             cycle_budget: args.cycle_budget,
             sensor_order: args.sensor_order,
+            sensor_cache: args.sensor_cache.as_deref(),
             ..Default::default()
         },
     )?;
@@ -66,9 +68,11 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         cycle_budget: settings.cycle_budget.unwrap_or(DEFAULT_CYCLE_BUDGET),
     };
     if let Some(out) = &args.out {
-        let inputs: Vec<&Path> = [args.script.as_deref(), Some(replay_path.as_path())]
+        let inputs: Vec<&Path> = args
+            .script
+            .as_deref()
             .into_iter()
-            .flatten()
+            .chain(args.replay.iter().map(PathBuf::as_path))
             .chain(settings.input_paths())
             .collect();
         crate::output::check_outputs(
@@ -79,7 +83,8 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
             }],
         )?;
     }
-    replay(&script, &sensors, &replay_path, args.out.as_ref(), config)
+    let input = Input::open(&args.replay, settings.sensor_cache.as_deref())?;
+    replay(&script, &sensors, input, args.out.as_ref(), config)
 }
 
 /// Loads the script (`.gloc`, or `.gbas` compiled in memory), printing
@@ -149,51 +154,13 @@ impl Host for ReplayHost<'_> {
 fn replay(
     script: &crate::compile::CliScript,
     sensors: &SensorList,
-    in_path: &Path,
+    mut input: Input,
     out_path: Option<&PathBuf>,
     config: MachineConfig,
 ) -> anyhow::Result<ExitCode> {
-    let input = gloc_engine::files::read_text(in_path, gloc_engine::files::REPLAY)
-        .with_context(|| format!("cannot read the replay file `{}`", in_path.display()))?;
-    let display = in_path.display().to_string();
-    let source = SourceFile::new(&display, &input);
-    let mut lines = input
-        .split_inclusive('\n')
-        .scan(0usize, |offset, line| {
-            let start = *offset;
-            *offset += line.len();
-            Some((start, line.trim_end_matches(['\n', '\r'])))
-        })
-        .filter(|(_, line)| !line.trim().is_empty());
-    let Some((header_offset, header)) = lines.next() else {
-        bail!("{display}: the replay file is empty; it needs a header of sensor names");
-    };
-    // Spreadsheets often start a CSV with a byte-order mark.
-    let (header_offset, header) = match header.strip_prefix('\u{feff}') {
-        Some(rest) => (header_offset + '\u{feff}'.len_utf8(), rest),
-        None => (header_offset, header),
-    };
-    // Column → sensor (None for an ignored `cycle` column).
-    let mut columns: Vec<Option<SensorId>> = Vec::new();
-    for (at, name) in cells(header) {
-        let name = name.trim_matches('"');
-        if name.eq_ignore_ascii_case("cycle") {
-            columns.push(None);
-            continue;
-        }
-        match sensors.lookup(name) {
-            Some(id) => columns.push(Some(id)),
-            None => {
-                let hint =
-                    suggest::closest(name, sensors.iter().map(|(_, sensor)| sensor.name.as_str()))
-                        .map(|close| format!(" (did you mean `{close}`?)"))
-                        .unwrap_or_default();
-                bail!(
-                    "{}: `{name}` is not a sensor in the active sensor list{hint}",
-                    source.location(header_offset + at)
-                );
-            }
-        }
+    let columns = ColumnMap::new(input.names(), sensors);
+    if let Some(warning) = columns.warning(sensors) {
+        eprintln!("{}: {warning}", input.description());
     }
 
     // Written beside OUT and renamed over it only when the whole replay succeeded.
@@ -235,38 +202,15 @@ fn replay(
     let mut trapped = false;
     let mut cycle = 0u64;
     let mut row = String::new();
-    for (line_offset, line) in lines {
-        let mut count = 0;
-        for (column, (at, cell)) in cells(line).enumerate() {
-            count += 1;
-            let Some(sensor) = columns.get(column) else {
-                bail!(
-                    "{}: this row has more cells than the header has names ({})",
-                    source.location(line_offset + at),
-                    columns.len()
-                );
-            };
-            let cell = cell.trim();
-            if cell.is_empty() {
+    let mut updates = Vec::new();
+    while input.next_cycle(&mut updates)? {
+        for &(column, value) in &updates {
+            let Some(Some(sensor)) = columns.ids.get(column) else {
                 continue;
-            }
-            let Some(sensor) = sensor else { continue };
-            let value: f64 = cell.parse().map_err(|_| {
-                anyhow::anyhow!(
-                    "{}: `{cell}` is not a number (sensor values are decimal numbers such as `12.5`)",
-                    source.location(line_offset + at)
-                )
-            })?;
+            };
             if let Some(slot) = host.values.get_mut(sensor.index()) {
                 *slot = value;
             }
-        }
-        if count < columns.len() {
-            bail!(
-                "{}: this row has {count} cells but the header has {} names",
-                source.location(line_offset),
-                columns.len()
-            );
         }
         host.stored_this_cycle.fill(None);
         match machine.run_cycle(&mut host) {
@@ -306,6 +250,9 @@ fn replay(
         out.commit()
             .map_err(|error| crate::output::write_error(error, "the output file", path))?;
     }
+    for warning in input.take_warnings() {
+        eprintln!("warning: {warning}");
+    }
     drop(host);
     eprintln!(
         "replayed {cycle} cycle{}",
@@ -315,15 +262,5 @@ fn replay(
         ExitCode::FAILURE
     } else {
         ExitCode::SUCCESS
-    })
-}
-
-/// The comma-separated cells of a CSV line with their byte offsets.
-fn cells(line: &str) -> impl Iterator<Item = (usize, &str)> {
-    line.split(',').scan(0usize, |offset, cell| {
-        let start = *offset;
-        *offset += cell.len() + 1;
-        let leading = cell.len() - cell.trim_start().len();
-        Some((start + leading, cell.trim()))
     })
 }

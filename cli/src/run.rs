@@ -4,7 +4,7 @@
 use std::process::ExitCode;
 
 pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
-    if args.replay.is_some() {
+    if !args.replay.is_empty() {
         return crate::replay::main(args);
     }
     crate::simulate::main(args)

@@ -19,6 +19,8 @@ pub struct Settings {
     pub simulator: Vec<(String, f64)>,
     /// The `gloc.toml` that was read, if any (an input no output may overwrite).
     pub config_path: Option<PathBuf>,
+    /// The folder searched first for a glider log's sensor list (`--sensor-cache`, `sensor_cache`).
+    pub sensor_cache: Option<PathBuf>,
 }
 
 impl Settings {
@@ -39,6 +41,7 @@ pub struct Flags<'a> {
     pub mission: Option<&'a Path>,
     pub sensor_order: Option<SensorOrder>,
     pub simulator: &'a [(String, f64)],
+    pub sensor_cache: Option<&'a Path>,
 }
 
 /// Finds `gloc.toml` upward from `anchor` (a script; the current folder when
@@ -72,6 +75,10 @@ pub fn resolve(anchor: Option<&Path>, flags: Flags<'_>) -> anyhow::Result<Settin
             .into_iter()
             .chain(flags.simulator.iter().cloned())
             .collect(),
+        sensor_cache: flags
+            .sensor_cache
+            .map(Path::to_path_buf)
+            .or(config.sensor_cache),
     })
 }
 

@@ -50,6 +50,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
             mission: args.mission.as_deref(),
             sensor_order: args.sensor_order,
             simulator: &args.simulator,
+            ..Default::default()
         },
     )?;
     let sensor_list = match &settings.masterdata {
@@ -151,6 +152,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
     for warning in sim.warnings() {
         eprintln!("{warning}");
     }
+    mission_guards(&mission, &sensor_list, &loaded, &source);
 
     let (max_cycles, limit_given) = match (&args.duration, args.cycles) {
         (Some(text), _) if parse_duration(text)? / sim.cycle_time() > MAX_RUN_CYCLES as f64 => {
@@ -654,6 +656,35 @@ fn fault_line(fault: &Fault, applied: Option<(u64, u64)>, text: &str, sim: &Simu
             "{text}: not injected (the run ended before cycle {})",
             fault.start
         ),
+    }
+}
+
+/// The mission checked against the sensor list and the script (rendered with a
+/// caret): `sensor:` settings the list lacks (S0106, on the mission), and stores to
+/// `sci_ruhp_behs` in a mission without a hook behavior (S0107, on the script).
+fn mission_guards(
+    mission: &Mission,
+    sensor_list: &SensorList,
+    loaded: &gloc_compiler::LoadedScript,
+    script_source: &SourceFile,
+) {
+    for entry in mission.check_sensor_settings(sensor_list) {
+        let file = &mission.sources[entry.file.min(mission.sources.len().saturating_sub(1))];
+        let display = file.path.display().to_string();
+        eprint!(
+            "{}",
+            SourceFile::new(&display, &file.text).render(&entry.diagnostic)
+        );
+    }
+    if let Some(program) = &loaded.program {
+        let spans: Vec<_> = mission
+            .unhooked_stores(sensor_list, program)
+            .into_iter()
+            .filter_map(|pc| loaded.span_of_pc(pc))
+            .collect();
+        if let Some(warning) = mission.unhooked_store_warning(&spans) {
+            eprint!("{}", script_source.render(&warning));
+        }
     }
 }
 

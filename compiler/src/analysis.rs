@@ -127,7 +127,8 @@ fn analyze_compiled(
 ) -> (Analysis, crate::Compiled) {
     let parsed = parser::parse(text);
     let checked = check::check(&parsed.program, sensors);
-    let compiled = crate::compile_checked(text, parsed.diagnostics.clone(), &checked, options);
+    let compiled =
+        crate::compile_checked(text, parsed.diagnostics.clone(), &checked, sensors, options);
     let mut symbols = Vec::new();
     for variable in &checked.symbols.variables {
         let (kind, detail) = match variable.size {

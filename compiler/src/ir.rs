@@ -258,6 +258,9 @@ pub struct Code {
     pub register_count: u32,
     pub label_count: u32,
     pub memory_size: u32,
+    /// The CRC of the sensor list the indices are for, written as the first line
+    /// (`# sensors: 1f35be3b`; see `gloc_engine::gloc::identity`).
+    pub sensor_list: Option<String>,
 }
 
 impl Code {
@@ -268,7 +271,10 @@ impl Code {
 
     /// GLOC text in the paper's format. `nmem` is written only when memory is used.
     pub fn to_gloc(&self) -> String {
-        let mut text = String::with_capacity(self.instrs.len() * 14 + 40);
+        let mut text = String::with_capacity(self.instrs.len() * 14 + 60);
+        if let Some(crc) = &self.sensor_list {
+            let _ = writeln!(text, "# sensors: {crc}");
+        }
         let _ = writeln!(text, "nregs {}", self.register_count);
         let _ = writeln!(text, "nblbs {}", self.label_count);
         let _ = writeln!(text, "ninstr {}", self.instrs.len());
@@ -284,7 +290,7 @@ impl Code {
 
     /// The 0-based line of the GLOC text where instruction `index` is printed.
     pub fn line_of_instr(&self, index: usize) -> usize {
-        index + if self.memory_size > 0 { 4 } else { 3 }
+        index + if self.memory_size > 0 { 4 } else { 3 } + usize::from(self.sensor_list.is_some())
     }
 }
 

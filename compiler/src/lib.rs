@@ -74,7 +74,7 @@ impl Compiled {
 pub fn compile(text: &str, sensors: &SensorList, options: &CompileOptions) -> Compiled {
     let parsed = parser::parse(text);
     let checked = check::check(&parsed.program, sensors);
-    compile_checked(text, parsed.diagnostics, &checked, options)
+    compile_checked(text, parsed.diagnostics, &checked, sensors, options)
 }
 
 /// The code generation half of [`compile`], for callers that already parsed and
@@ -83,6 +83,7 @@ pub(crate) fn compile_checked(
     text: &str,
     parse_diagnostics: Vec<Diagnostic>,
     checked: &check::Checked,
+    sensors: &SensorList,
     options: &CompileOptions,
 ) -> Compiled {
     let mut diagnostics = parse_diagnostics;
@@ -96,6 +97,7 @@ pub(crate) fn compile_checked(
     }
     let generated = codegen::generate(&checked.program, &checked.symbols);
     let mut code = generated.code;
+    code.sensor_list = stated_list(sensors);
     let mut for_bounds = generated.for_bounds;
     let mut stored_sensors: Vec<SensorId> = Vec::new();
     for instr in &code.instrs {
@@ -158,6 +160,18 @@ pub(crate) fn compile_checked(
         for_bounds,
         stored_sensors,
     }
+}
+
+/// The CRC the compiled GLOC states in its `# sensors:` line: the active list's,
+/// when it is not the embedded list. Decision: the embedded list's output carries
+/// no line, so that the paper's Fig. 3 still compiles to its Fig. 2 byte for byte;
+/// such a file checked against another list gets one W0114 warning, not a silent
+/// pass. A masterdata file has no CRC the glider would recognise: no line either.
+fn stated_list(sensors: &SensorList) -> Option<String> {
+    sensors
+        .crc()
+        .filter(|crc| *crc != gloc_engine::sensors::EMBEDDED_CRC)
+        .map(str::to_string)
 }
 
 /// GLOC's loader limits (registers, labels, memory); a program beyond them is refused

@@ -107,9 +107,26 @@ pub fn load_script(
     sensors: &SensorList,
     options: &LoadOptions,
 ) -> LoadedScript {
+    load_script_written_for(text, language, sensors, options, None)
+}
+
+/// As [`load_script`], for a GLOC file whose `# sensors: CRC` line names a list the
+/// caller found (`<crc>.cac`), so that its indices are verified by name against
+/// `sensors` ([`gloc::identity`]). GBASIC names sensors by name: it ignores it.
+pub fn load_script_written_for(
+    text: &str,
+    language: Language,
+    sensors: &SensorList,
+    options: &LoadOptions,
+    written_for: Option<Arc<SensorList>>,
+) -> LoadedScript {
     match language {
         Language::Gloc => {
-            let checked = gloc::check(&gloc::parse(text), sensors, &CheckOptions::default());
+            let check_options = CheckOptions {
+                written_for,
+                ..CheckOptions::default()
+            };
+            let checked = gloc::check(&gloc::parse(text), sensors, &check_options);
             let mut diagnostics = checked.diagnostics;
             if let Some(warning) = budget_warning(&checked.stats, options, Span::default()) {
                 diagnostics.push(warning);
@@ -166,8 +183,14 @@ pub(crate) fn load_compiled(
                 max_iterations: bound.trip_count,
             })
             .collect(),
+        written_for: None,
     };
-    let checked = gloc::check(&gloc::parse(&gloc_text), sensors, &check_options);
+    let mut checked = gloc::check(&gloc::parse(&gloc_text), sensors, &check_options);
+    // Compiled GLOC is written for `sensors` by construction: whether it states the
+    // list (a masterdata file has no CRC to state) says nothing about its indices.
+    checked
+        .diagnostics
+        .retain(|diagnostic| !gloc::identity::CODES.contains(&diagnostic.code));
     let gloc_index = LineIndex::new(&gloc_text);
     let mut diagnostics = compiled.diagnostics;
     for diagnostic in checked.diagnostics {

@@ -54,7 +54,8 @@ pub struct SourceMap {
     pub lines: Vec<Origin>,
     pub variables: Vec<VariableLocation>,
     pub labels: Vec<LabelLocation>,
-    /// The number of header lines before the first instruction (3, or 4 with `nmem`).
+    /// The number of lines before the first instruction: the header (3, or 4 with
+    /// `nmem`), plus the `# sensors:` line when there is one.
     pub header_lines: u32,
 }
 

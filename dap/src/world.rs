@@ -149,6 +149,18 @@ pub fn launch(config: &LaunchConfig) -> Result<(World, DebugInfo), String> {
         .iter()
         .map(|warning| Notice::Warning(warning.clone()))
         .collect();
+    // The mission against the list and the script: S0106 and S0107.
+    for entry in mission.check_sensor_settings(&sensor_list) {
+        notices.push(Notice::Warning(mission.render_one(&entry)));
+    }
+    let unhooked: Vec<_> = mission
+        .unhooked_stores(&sensor_list, &program)
+        .into_iter()
+        .filter_map(|pc| loaded.span_of_pc(pc))
+        .collect();
+    if let Some(warning) = mission.unhooked_store_warning(&unhooked) {
+        notices.push(Notice::Warning(render(path, &text, &warning)));
+    }
     if !sim.begin_cycle() {
         return Err("the mission ended before its first cycle".into());
     }
@@ -263,13 +275,14 @@ fn load_sensor_list(path: &Path, order: SensorOrder) -> Result<SensorList, Strin
     Ok(loaded.list)
 }
 
-/// `file:line:column: error[CODE]: message`, as the CLI prints it.
+/// `file:line:column: severity[CODE]: message`, as the CLI prints it.
 fn render(path: &Path, text: &str, diagnostic: &Diagnostic) -> String {
     let index = LineIndex::new(text);
     let (line, column) = index.line_col(text, diagnostic.span.start as usize);
     format!(
-        "{}:{line}:{column}: error[{}]: {}",
+        "{}:{line}:{column}: {}[{}]: {}",
         path.display(),
+        diagnostic.severity,
         diagnostic.code,
         diagnostic.message
     )

@@ -9,6 +9,7 @@
 //! cycle_budget = 2000                    # instructions per control cycle
 //! mission = "missions/yo.mi"             # the mission the debugger flies
 //! sensor_order = "sorted"                # masterdata indices: "file" (default) or "sorted"
+//! sensor_cache = "cac"                   # folder of <crc>.cac / .ccc lists for glider logs
 //!
 //! [simulator]                            # the flight and energy models' constants
 //! dive_rate = 0.2                        # see SIMULATOR_SETTINGS for every name
@@ -49,6 +50,8 @@ pub struct Config {
     /// How a masterdata file's sensors are numbered (file order, the default, or
     /// sorted by name as firmware 2014 and later does).
     pub sensor_order: Option<SensorOrder>,
+    /// The folder searched first for a glider log's sensor list (`<crc>.cac`/`.ccc`).
+    pub sensor_cache: Option<PathBuf>,
     /// `[simulator]`: flight and energy constants, sorted by name, each
     /// checked against [`SIMULATOR_SETTINGS`].
     pub simulator: Vec<(String, f64)>,
@@ -282,6 +285,7 @@ struct RawConfig {
     cycle_budget: Option<toml::Spanned<u64>>,
     mission: Option<String>,
     sensor_order: Option<toml::Spanned<String>>,
+    sensor_cache: Option<String>,
     simulator: Option<std::collections::BTreeMap<toml::Spanned<String>, toml::Value>>,
 }
 
@@ -315,7 +319,7 @@ impl Config {
                     span,
                     format!("invalid gloc.toml: {message}"),
                 )
-                .with_help("the keys are `masterdata` (a path), `cycle_budget` (a positive integer), `mission` (a path), `sensor_order` (\"file\" or \"sorted\") and the table `[simulator]`"),
+                .with_help("the keys are `masterdata` (a path), `cycle_budget` (a positive integer), `mission` (a path), `sensor_order` (\"file\" or \"sorted\"), `sensor_cache` (a folder) and the table `[simulator]`"),
             )
         })?;
         let span_of = |range: std::ops::Range<usize>| Span::new(range.start, range.end);
@@ -375,6 +379,7 @@ impl Config {
             cycle_budget: raw.cycle_budget.map(toml::Spanned::into_inner),
             mission: resolve(raw.mission),
             sensor_order,
+            sensor_cache: resolve(raw.sensor_cache),
             simulator,
         })
     }
@@ -421,7 +426,7 @@ mod tests {
 
     #[test]
     fn parses_every_key_and_resolves_paths_against_the_folder() {
-        let text = "masterdata = \"md/masterdata.mi\"\ncycle_budget = 500\nmission = \"m/yo.mi\"\n";
+        let text = "masterdata = \"md/masterdata.mi\"\ncycle_budget = 500\nmission = \"m/yo.mi\"\nsensor_cache = \"cac\"\n";
         let config = Config::parse(text, Path::new("/project")).expect("valid config");
         assert_eq!(
             config.masterdata,
@@ -429,6 +434,7 @@ mod tests {
         );
         assert_eq!(config.cycle_budget, Some(500));
         assert_eq!(config.mission, Some(PathBuf::from("/project/m/yo.mi")));
+        assert_eq!(config.sensor_cache, Some(PathBuf::from("/project/cac")));
     }
 
     #[test]

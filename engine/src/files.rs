@@ -64,6 +64,20 @@ pub fn read(path: &Path, limit: Limit) -> io::Result<Vec<u8>> {
     Ok(bytes)
 }
 
+/// Opens a regular file for streaming (a glider log read cycle by cycle, in memory that
+/// does not grow with its length), so no size cap; a directory, FIFO, socket or device
+/// is refused as [`read`] refuses it.
+pub fn open_regular(path: &Path) -> io::Result<File> {
+    let unlimited = Limit {
+        what: "a file",
+        bytes: u64::MAX,
+    };
+    check(&std::fs::metadata(path)?, unlimited)?;
+    let file = open(path)?;
+    check(&file.metadata()?, unlimited)?;
+    Ok(file)
+}
+
 /// [`read`], decoded as UTF-8 with invalid sequences replaced (U+FFFD).
 pub fn read_text(path: &Path, limit: Limit) -> io::Result<String> {
     let bytes = read(path, limit)?;

@@ -9,8 +9,22 @@ use std::collections::HashMap;
 mod files;
 
 pub use files::{
-    load_sensor_file, parse_cac, parse_masterdata, LoadedSensorList, SensorOrder, MAX_SENSORS,
+    find_cac, is_crc, load_sensor_file, parse_cac, parse_cac_entries, parse_masterdata, CacEntry,
+    LoadedSensorList, SensorOrder, MAX_SENSORS,
 };
+
+/// The CRC that names the embedded list: its indices 0 to 1384 are those of the
+/// 2008 list `813b137d.cac`; what follows (the hook sensors, the coulomb counter)
+/// is appended, so no index of `813b137d` moves.
+pub const EMBEDDED_CRC: &str = "813b137d";
+
+/// The hook behavior's sensors (gloc's own, after the paper): a list that lacks
+/// them gets them appended, in this order, with these units.
+pub const HOOK_SENSORS: [(&str, &str); 3] = [
+    ("sci_ruhp_dive_depth", "m"),
+    ("sci_ruhp_climb_depth", "m"),
+    ("sci_ruhp_behs", "enum"),
+];
 
 /// Index of a sensor in the active sensor list.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -78,6 +92,9 @@ pub struct SensorList {
     by_name: HashMap<String, SensorId>,
     /// `behavior:` sections of a masterdata file (defaults for the simulator).
     behaviors: Vec<BehaviorDefaults>,
+    /// The glider's CRC naming this list (lower-case hex), when known: the
+    /// embedded list's, or a `.cac` file's name.
+    crc: Option<String>,
 }
 
 /// A `behavior: NAME` section of a masterdata file: the default `b_arg:`s.
@@ -115,7 +132,52 @@ impl SensorList {
             sensors,
             by_name,
             behaviors: Vec::new(),
+            crc: None,
         }
+    }
+
+    /// Names the list by the glider's CRC (`sensor_list_crc` in a binary log,
+    /// the name of a `.cac` file); stored lower-case.
+    pub fn with_crc(mut self, crc: &str) -> SensorList {
+        self.crc = Some(crc.to_ascii_lowercase());
+        self
+    }
+
+    /// The CRC naming this list, when known (`813b137d` for the embedded list).
+    pub fn crc(&self) -> Option<&str> {
+        self.crc.as_deref()
+    }
+
+    /// How messages name this list: its CRC, or `the active list`.
+    pub fn label(&self) -> &str {
+        self.crc().unwrap_or("the active sensor list")
+    }
+
+    /// Appends the hook sensors ([`HOOK_SENSORS`]) the list lacks, after its last
+    /// index (so no index moves), and returns their names. A real glider's list
+    /// never has them: they belong to gloc's hook behavior.
+    pub fn add_hook_sensors(&mut self) -> Vec<&'static str> {
+        let mut added = Vec::new();
+        for (name, units) in HOOK_SENSORS {
+            if self.lookup(name).is_some() {
+                continue;
+            }
+            let id = SensorId(self.sensors.len() as u32);
+            self.sensors.push(Sensor {
+                name: name.to_string(),
+                units: units.to_string(),
+                default: None,
+                description: embedded_descriptions()
+                    .get(name)
+                    .map(|text| text.to_string()),
+                min: None,
+                max: None,
+                line: 0,
+            });
+            self.by_name.insert(name.to_string(), id);
+            added.push(name);
+        }
+        added
     }
 
     /// Attaches the `behavior:` default sections read from a masterdata file.
@@ -155,7 +217,14 @@ impl SensorList {
                 })
             })
             .collect();
-        SensorList::from_sensors(sensors)
+        SensorList::from_sensors(sensors).with_crc(EMBEDDED_CRC)
+    }
+
+    /// The embedded list, built once per process (the identity check compares
+    /// against it whenever a file states `# sensors: 813b137d`).
+    pub fn embedded_shared() -> &'static SensorList {
+        static EMBEDDED: std::sync::OnceLock<SensorList> = std::sync::OnceLock::new();
+        EMBEDDED.get_or_init(SensorList::embedded)
     }
 
     pub fn len(&self) -> usize {

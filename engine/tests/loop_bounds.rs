@@ -51,6 +51,7 @@ fn a_loop_bound_from_the_caller_gives_a_finite_worst_case() {
             label: 0,
             max_iterations: 10,
         }],
+        ..CheckOptions::default()
     };
     let checked = gloc::check(
         &gloc::parse(COUNTING_LOOP),
@@ -92,6 +93,7 @@ halt
             label: 0,
             max_iterations: 3,
         }],
+        ..CheckOptions::default()
     };
     let checked = gloc::check(&gloc::parse(text), &SensorList::embedded(), &options);
     let found: Vec<_> = checked

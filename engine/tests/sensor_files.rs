@@ -165,17 +165,20 @@ fn cac_files() {
 
 #[test]
 fn loading_picks_the_reader_by_extension_or_content() {
+    // Each file's sensors, then the three hook sensors it lacks (appended).
     let loaded = load_sensor_file(&fixture("small.cac"), SensorOrder::FileOrder).expect("reads");
-    assert_eq!(loaded.list.len(), 3);
+    assert_eq!(loaded.list.len(), 3 + 3);
     let loaded =
         load_sensor_file(&fixture("edge.masterdata"), SensorOrder::FileOrder).expect("reads");
-    assert_eq!(loaded.list.len(), 7);
+    assert_eq!(loaded.list.len(), 7 + 3);
     // A `.cac` list under another name is recognised by its `s:` lines.
     let copy = std::env::temp_dir().join(format!("gloc-sensors-{}.txt", std::process::id()));
     std::fs::write(&copy, read("small.cac")).expect("temp file");
     let loaded = load_sensor_file(&copy, SensorOrder::FileOrder).expect("reads");
     let _ = std::fs::remove_file(&copy);
-    assert_eq!(loaded.list.len(), 3);
+    assert_eq!(loaded.list.len(), 3 + 3);
+    // Not named like a CRC, so no CRC.
+    assert_eq!(loaded.list.crc(), None);
     assert!(load_sensor_file(Path::new("/no/such/file.cac"), SensorOrder::FileOrder).is_err());
 }
 
@@ -192,7 +195,18 @@ fn the_real_2008_cac_list_matches_the_embedded_list() {
     });
     assert!(loaded.diagnostics.is_empty(), "{:?}", loaded.diagnostics);
     let list = loaded.list;
-    assert_eq!(list.len(), 1385);
+    // The 1,385 sensors of the file, then the hook sensors appended: at 1385 to
+    // 1387, exactly where the embedded list has them.
+    assert_eq!(list.len(), 1385 + 3);
+    assert_eq!(
+        loaded.added_hook_sensors,
+        [
+            "sci_ruhp_dive_depth",
+            "sci_ruhp_climb_depth",
+            "sci_ruhp_behs"
+        ]
+    );
+    assert_eq!(list.crc(), Some("813b137d"));
     assert_eq!(list.lookup("m_depth"), Some(SensorId(444)));
     assert_eq!(list.lookup("m_pressure"), Some(SensorId(443)));
     let embedded = SensorList::embedded();
@@ -200,4 +214,23 @@ fn the_real_2008_cac_list_matches_the_embedded_list() {
         let ours = embedded.get(id).expect("embedded has the 2008 list");
         assert_eq!((&ours.name, &ours.units), (&sensor.name, &sensor.units));
     }
+}
+
+/// Comet's real 2019 list (sorted by name, 2,142 sensors) lacks the hook sensors:
+/// they are appended at 2142 to 2144 and every file index stays where it was
+/// (checked by hand in the file: 444 `m_certainly_at_surface`, 459 `m_depth`).
+#[test]
+fn a_real_list_without_the_hook_sensors_gets_them_appended() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/cac/1f35be3b.cac");
+    let loaded = load_sensor_file(&path, SensorOrder::FileOrder).expect("shared data at ../shared");
+    assert!(loaded.diagnostics.is_empty(), "{:?}", loaded.diagnostics);
+    let list = loaded.list;
+    assert_eq!(list.crc(), Some("1f35be3b"));
+    assert_eq!(list.len(), 2142 + 3);
+    assert_eq!(list.name(SensorId(444)), Some("m_certainly_at_surface"));
+    assert_eq!(list.name(SensorId(459)), Some("m_depth"));
+    assert_eq!(list.name(SensorId(2141)), Some("x_why_lens_completed"));
+    assert_eq!(list.lookup("sci_ruhp_dive_depth"), Some(SensorId(2142)));
+    assert_eq!(list.lookup("sci_ruhp_climb_depth"), Some(SensorId(2143)));
+    assert_eq!(list.lookup("sci_ruhp_behs"), Some(SensorId(2144)));
 }

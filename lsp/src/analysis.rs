@@ -14,6 +14,10 @@ pub struct Context {
     pub sensors: Arc<SensorList>,
     /// Instructions per control cycle a script may use, when configured.
     pub cycle_budget: Option<u64>,
+    /// Where a GLOC file's `# sensors: CRC` list is looked for as `<crc>.cac`
+    /// when it is neither the active list nor the embedded one: the document's
+    /// folder, then the active list's.
+    pub list_folders: Vec<std::path::PathBuf>,
 }
 
 #[derive(Clone, Debug, Default)]

@@ -3,7 +3,7 @@
 
 use std::collections::BTreeMap;
 
-use gloc_compiler::loader::{load_script, Language, LoadOptions};
+use gloc_compiler::loader::{load_script_written_for, Language, LoadOptions};
 use gloc_engine::gloc::ast::{
     DirectiveKind, File, Line, LineKind, Opcode, OperandKind, OperandShape, Origin,
 };
@@ -21,7 +21,7 @@ pub fn analyze(text: &str, context: &Context) -> Analysis {
     let parsed = gloc::parse(text);
     // The shared loader gives exactly what `gloc check` reports (the checker's
     // diagnostics plus the cycle-budget warning) and the checked program.
-    let loaded = load_script(
+    let loaded = load_script_written_for(
         text,
         Language::Gloc,
         &context.sensors,
@@ -29,6 +29,7 @@ pub fn analyze(text: &str, context: &Context) -> Analysis {
             optimize: false,
             cycle_budget: context.cycle_budget,
         },
+        written_for(text, context),
     );
     let file = &parsed.file;
     let mut analysis = Analysis {
@@ -63,6 +64,20 @@ pub fn analyze(text: &str, context: &Context) -> Analysis {
         }
     }
     analysis
+}
+
+/// The list a `# sensors: CRC` line names when it is a third list (neither the
+/// active nor the embedded one): `<crc>.cac` in the context's folders. Read only
+/// for such a line, so typing costs nothing otherwise.
+fn written_for(text: &str, context: &Context) -> Option<std::sync::Arc<SensorList>> {
+    let crc = gloc::identity::stated_crc(text)?;
+    if context.sensors.crc() == Some(crc.as_str()) || crc == gloc_engine::sensors::EMBEDDED_CRC {
+        return None;
+    }
+    let path = gloc_engine::sensors::find_cac(&crc, &context.list_folders)?;
+    lang::load_sensor_list(&path, gloc_engine::sensors::SensorOrder::FileOrder)
+        .ok()
+        .map(std::sync::Arc::new)
 }
 
 fn cycle_hint(offset: usize, which: &str, bound: Bound, context: &Context) -> Hint {

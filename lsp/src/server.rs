@@ -157,6 +157,11 @@ impl State {
         let cycle_budget = self.settings.cycle_budget.or(config.cycle_budget);
         let sensor_order = config.sensor_order.unwrap_or_default();
         let mut problems = Vec::new();
+        let list_folders = [path.as_deref(), masterdata.as_deref()]
+            .into_iter()
+            .flatten()
+            .filter_map(|file| file.parent().map(Path::to_path_buf))
+            .collect();
         let sensors = match masterdata {
             None => self.embedded(),
             Some(masterdata) => match self.sensor_list(&masterdata, sensor_order) {
@@ -181,6 +186,7 @@ impl State {
             Context {
                 sensors,
                 cycle_budget,
+                list_folders,
             },
             problems,
         )
@@ -488,6 +494,7 @@ impl LanguageServer for Backend {
             let context = Context {
                 sensors: state.embedded(),
                 cycle_budget: None,
+                list_folders: Vec::new(),
             };
             state.documents.insert(
                 item.uri.clone(),

@@ -113,8 +113,7 @@ pub struct LogWriter<W: Write> {
     columns: Vec<SensorId>,
     /// Per column: logged as a double (timestamps) rather than a 4-byte float.
     doubles: Vec<bool>,
-    numbers: ryu::Buffer,
-    integers: itoa::Buffer,
+    numbers: NumberText,
     line: Vec<u8>,
     rows: u64,
 }
@@ -180,8 +179,7 @@ impl<W: Write> LogWriter<W> {
             format,
             columns,
             doubles,
-            numbers: ryu::Buffer::new(),
-            integers: itoa::Buffer::new(),
+            numbers: NumberText::default(),
             line: Vec::with_capacity(512),
             rows: 0,
         })
@@ -204,12 +202,7 @@ impl<W: Write> LogWriter<W> {
             }
             let value = sensors.get(id.index()).copied().unwrap_or(f64::NAN);
             let double = self.doubles.get(position).copied().unwrap_or(true);
-            write_number(
-                &mut self.line,
-                (&mut self.numbers, &mut self.integers),
-                value,
-                double,
-            );
+            self.numbers.push(&mut self.line, value, double);
         }
         if self.format == LogFormat::Dba {
             // dbd2asc ends every data row with a space.
@@ -230,30 +223,34 @@ impl<W: Write> LogWriter<W> {
     }
 }
 
-/// Shortest text that reads back as the same number, without allocating:
-/// as an f64 for double columns, as an f32 for the rest (the glider logs
-/// those as 4-byte floats). Whole numbers print without a point and
-/// not-a-number as `NaN`, as dbd2asc writes them.
-fn write_number(
-    buffer: &mut Vec<u8>,
-    (numbers, integers): (&mut ryu::Buffer, &mut itoa::Buffer),
-    value: f64,
-    double: bool,
-) {
-    if value.is_nan() {
-        buffer.extend_from_slice(b"NaN");
-        return;
+/// Numbers as log text, reusing its buffers (`gloc run --log`, `gloc data convert`).
+#[derive(Default)]
+pub struct NumberText {
+    numbers: ryu::Buffer,
+    integers: itoa::Buffer,
+}
+
+impl NumberText {
+    /// Appends the shortest text that reads back as the same number, without
+    /// allocating: as an f64 for double columns, as an f32 for the rest (the
+    /// glider logs those as 4-byte floats). Whole numbers print without a
+    /// point and not-a-number as `NaN`, as dbd2asc writes them.
+    pub fn push(&mut self, buffer: &mut Vec<u8>, value: f64, double: bool) {
+        if value.is_nan() {
+            buffer.extend_from_slice(b"NaN");
+            return;
+        }
+        if value == value.trunc() && value.abs() < 1e15 {
+            buffer.extend_from_slice(self.integers.format(value as i64).as_bytes());
+            return;
+        }
+        let text = if double {
+            self.numbers.format(value)
+        } else {
+            self.numbers.format(value as f32)
+        };
+        buffer.extend_from_slice(text.as_bytes());
     }
-    if value == value.trunc() && value.abs() < 1e15 {
-        buffer.extend_from_slice(integers.format(value as i64).as_bytes());
-        return;
-    }
-    let text = if double {
-        numbers.format(value)
-    } else {
-        numbers.format(value as f32)
-    };
-    buffer.extend_from_slice(text.as_bytes());
 }
 
 #[cfg(test)]

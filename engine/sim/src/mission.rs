@@ -8,7 +8,9 @@
 
 use std::path::{Path, PathBuf};
 
-use gloc_engine::{Diagnostic, LineIndex, Span};
+use gloc_engine::program::{Instr, Pc, Program};
+use gloc_engine::sensors::SensorList;
+use gloc_engine::{suggest, Diagnostic, LineIndex, Span};
 
 use crate::behaviors::BehaviorKind;
 
@@ -39,7 +41,10 @@ pub struct SensorSetting {
     pub name: String,
     pub units: String,
     pub value: f64,
+    /// The whole line, from `sensor:`.
     pub at: Location,
+    /// The sensor's name (in the same file as `at`).
+    pub name_span: Span,
 }
 
 /// `b_arg: NAME(UNITS) VALUE`.
@@ -172,6 +177,85 @@ impl Mission {
             text.push_str(&format!(" (help: {help})"));
         }
         text
+    }
+
+    /// S0106 for each `sensor:` setting that names a sensor `sensor_list` lacks
+    /// (the simulator ignores it), with a caret on the name.
+    pub fn check_sensor_settings(&self, sensor_list: &SensorList) -> Vec<MissionDiagnostic> {
+        self.sensor_settings
+            .iter()
+            .filter(|setting| sensor_list.lookup(&setting.name).is_none())
+            .map(|setting| MissionDiagnostic {
+                file: setting.at.file,
+                diagnostic: Diagnostic::warning(
+                    "S0106",
+                    setting.name_span,
+                    format!(
+                        "sensor `{}` is not in the sensor list; the setting is ignored",
+                        setting.name
+                    ),
+                )
+                .with_help(
+                    match suggest::closest(
+                        &setting.name,
+                        sensor_list.iter().map(|(_, sensor)| sensor.name.as_str()),
+                    ) {
+                        Some(close) => format!("did you mean `{close}`?"),
+                        None => "check the name against the glider's masterdata (`--masterdata`)"
+                            .to_string(),
+                    },
+                ),
+            })
+            .collect()
+    }
+
+    /// The instructions of `program` that store `sci_ruhp_behs` when the mission has
+    /// no hook behavior to act on it (each store then has no effect): empty when
+    /// the mission has one, or the script never stores it. See
+    /// [`Mission::unhooked_store_warning`].
+    pub fn unhooked_stores(&self, sensor_list: &SensorList, program: &Program) -> Vec<Pc> {
+        if self
+            .behaviors
+            .iter()
+            .any(|spec| spec.kind == BehaviorKind::Hook)
+        {
+            return Vec::new();
+        }
+        let Some(behs) = sensor_list.lookup("sci_ruhp_behs") else {
+            return Vec::new();
+        };
+        program
+            .instrs
+            .iter()
+            .enumerate()
+            .filter(
+                |(_, instr)| matches!(instr, Instr::StoreSensor { sensor, .. } if *sensor == behs),
+            )
+            .map(|(pc, _)| Pc(pc as u32))
+            .collect()
+    }
+
+    /// S0107, on the script: `spans` are the stores [`Mission::unhooked_stores`]
+    /// found, in the script's own text (the first gets the caret, the others a label).
+    pub fn unhooked_store_warning(&self, spans: &[Span]) -> Option<Diagnostic> {
+        let (first, others) = spans.split_first()?;
+        let path = self.sources.first().map_or_else(
+            || self.name.clone(),
+            |source| source.path.display().to_string(),
+        );
+        let mut diagnostic = Diagnostic::warning(
+            "S0107",
+            *first,
+            format!(
+                "the script stores `sci_ruhp_behs`, but the mission {path} has no `behavior: hook`: \
+                 nothing acts on it"
+            ),
+        )
+        .with_help("add a `behavior: hook` below the script behavior in the mission, or fly a mission that has one");
+        for span in others {
+            diagnostic = diagnostic.with_label(*span, "stored here too");
+        }
+        Some(diagnostic)
     }
 
     /// The file, 1-based line and column of a span in one of the sources.
@@ -422,15 +506,19 @@ impl Parser<'_> {
             let end = line_start + code.trim_end().len();
             match keyword.text.to_ascii_lowercase().as_str() {
                 "sensor:" => match parse_setting(keyword, &words[1..], end) {
-                    Ok((name, units, value)) => self.mission.sensor_settings.push(SensorSetting {
-                        name,
-                        units,
-                        value,
-                        at: Location {
-                            file: 0,
-                            span: Span::new(keyword.start, end),
-                        },
-                    }),
+                    Ok((name, units, value)) => {
+                        let name_start = words.get(1).map_or(keyword.start, |word| word.start);
+                        self.mission.sensor_settings.push(SensorSetting {
+                            name_span: Span::new(name_start, name_start + name.len()),
+                            name,
+                            units,
+                            value,
+                            at: Location {
+                                file: 0,
+                                span: Span::new(keyword.start, end),
+                            },
+                        })
+                    }
                     Err(diagnostic) => self.error(0, diagnostic),
                 },
                 "behavior:" => self.begin_behavior(&words, end),

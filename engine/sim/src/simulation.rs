@@ -307,17 +307,11 @@ impl Simulation {
                 .find(|setting| setting.name.eq_ignore_ascii_case(name))
                 .map(|setting| setting.value)
         };
+        // A setting the list lacks is S0106 (`Mission::check_sensor_settings`,
+        // reported by the front ends with a caret).
         for setting in &mission.sensor_settings {
-            match sensor_list.lookup(&setting.name) {
-                Some(id) => sensors[id.index()] = setting.value,
-                None => {
-                    let (path, line, column) = mission.line_col(setting.at.file, setting.at.span);
-                    warnings.push(format!(
-                        "{}:{line}:{column}: warning: sensor `{}` is not in the sensor list; the setting is ignored",
-                        path.display(),
-                        setting.name
-                    ));
-                }
+            if let Some(id) = sensor_list.lookup(&setting.name) {
+                sensors[id.index()] = setting.value;
             }
         }
         let water_depth = config

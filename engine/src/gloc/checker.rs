@@ -69,6 +69,11 @@ pub fn check_parsed(parsed: &Parsed, sensors: &SensorList, options: &CheckOption
         }
     }
     let program = checker.build(parsed, &header);
+    checker.diagnostics.extend(super::identity::check_identity(
+        parsed,
+        sensors,
+        options.written_for.as_deref(),
+    ));
     stats.instructions = program.instrs.len().saturating_sub(1) as u32;
     let has_errors = checker.diagnostics.iter().any(Diagnostic::is_error);
     if has_errors || header.incomplete() {

@@ -6,6 +6,7 @@
 pub mod ast;
 mod cfg;
 mod checker;
+pub mod identity;
 mod parser;
 mod printer;
 
@@ -72,6 +73,9 @@ pub fn print(file: &ast::File) -> String {
 pub struct CheckOptions {
     /// Loops with a known trip count (the GBASIC compiler's `for` loops).
     pub loop_bounds: Vec<LoopBound>,
+    /// The list the file's `# sensors: CRC` line names, when the caller found it
+    /// (a `.cac` file); the embedded list is known without it. See [`identity`].
+    pub written_for: Option<Arc<SensorList>>,
 }
 
 /// Control jumps back to `label` from inside its loop at most

@@ -45,6 +45,8 @@ pub struct LoadedSensorList {
     pub diagnostics: Vec<Diagnostic>,
     /// The file's text (lossily decoded), for rendering the diagnostics.
     pub text: String,
+    /// The hook sensors the file lacked, appended after its last index.
+    pub added_hook_sensors: Vec<&'static str>,
 }
 
 /// Reads a masterdata or `.cac` file: `.cac` by extension, or by content
@@ -59,16 +61,49 @@ pub fn load_sensor_file(path: &Path, order: SensorOrder) -> std::io::Result<Load
             .map(str::trim)
             .find(|line| !line.is_empty())
             .is_some_and(|line| line.starts_with("s:"));
-    let (list, diagnostics) = if is_cac {
+    let (mut list, diagnostics) = if is_cac {
         parse_cac(&text)
     } else {
         parse_masterdata(&text, order)
+    };
+    // A `.cac` file is named by the CRC of its list (`1f35be3b.cac`).
+    if let Some(crc) = path
+        .file_stem()
+        .and_then(|stem| stem.to_str())
+        .filter(|stem| is_crc(stem))
+    {
+        list = list.with_crc(crc);
+    }
+    let added_hook_sensors = if list.is_empty() {
+        Vec::new()
+    } else {
+        list.add_hook_sensors()
     };
     Ok(LoadedSensorList {
         list,
         diagnostics,
         text,
+        added_hook_sensors,
     })
+}
+
+/// The first `<crc>.cac` (or `.CAC`) in `folders`, in order.
+pub fn find_cac(crc: &str, folders: &[std::path::PathBuf]) -> Option<std::path::PathBuf> {
+    folders.iter().find_map(|folder| {
+        [
+            format!("{}.cac", crc.to_ascii_lowercase()),
+            format!("{}.cac", crc.to_ascii_uppercase()),
+            format!("{}.CAC", crc.to_ascii_uppercase()),
+        ]
+        .into_iter()
+        .map(|name| folder.join(name))
+        .find(|path| path.is_file())
+    })
+}
+
+/// True for a sensor-list CRC as gliders write it: eight hex digits.
+pub fn is_crc(text: &str) -> bool {
+    text.len() == 8 && text.bytes().all(|byte| byte.is_ascii_hexdigit())
 }
 
 /// Parses a masterdata file. Never fails: malformed lines are diagnostics
@@ -259,13 +294,33 @@ pub fn parse_masterdata(text: &str, order: SensorOrder) -> (SensorList, Vec<Diag
     )
 }
 
-/// Parses a `.cac` sensor list. Indices come from the file and must be
-/// 0, 1, 2, … without gaps or repeats.
-pub fn parse_cac(text: &str) -> (SensorList, Vec<Diagnostic>) {
+/// One line of a `.cac` sensor list: `s: T|F INDEX COLUMN BYTES NAME UNITS`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CacEntry {
+    /// `T`: the sensor is logged (in this list's files).
+    pub logged: bool,
+    /// The sensor's index in the glider's list.
+    pub index: u32,
+    /// Its position in a binary log's cycle, or −1 when the log leaves it out.
+    pub column: i64,
+    /// Value size in a binary log: 1, 2, 4 or 8.
+    pub bytes: u8,
+    pub name: String,
+    pub units: String,
+    /// 1-based line in the text.
+    pub line: u32,
+    /// Byte span of the index field (for diagnostics about it).
+    pub index_span: Span,
+    /// Byte span of the name field.
+    pub name_span: Span,
+}
+
+/// Parses the lines of a `.cac` sensor list (also the list embedded in a
+/// binary log whose sensor list is not factored out). Never fails: a malformed
+/// line is a diagnostic and is skipped. Index checks are the caller's.
+pub fn parse_cac_entries(text: &str) -> (Vec<CacEntry>, Vec<Diagnostic>) {
     let mut diagnostics = Vec::new();
-    let mut slots: Vec<Option<Sensor>> = Vec::new();
-    let mut spans: Vec<Span> = Vec::new();
-    let mut first_line_of: HashMap<String, (u32, Span)> = HashMap::new();
+    let mut entries = Vec::new();
     let mut offset = 0usize;
     for (index, raw) in text.split_inclusive('\n').enumerate() {
         let line_number = index as u32 + 1;
@@ -294,19 +349,19 @@ pub fn parse_cac(text: &str) -> (SensorList, Vec<Diagnostic>) {
             );
             continue;
         }
+        let sensor_index = field(2).and_then(|value| value.parse::<u32>().ok());
+        let column = field(3).and_then(|value| value.parse::<i64>().ok());
+        let bytes = field(4).and_then(|value| match value {
+            "1" | "2" | "4" | "8" => value.parse::<u8>().ok(),
+            _ => None,
+        });
         let problem = if !matches!(field(1), Some("T" | "F")) {
             Some((1, "expected `T` or `F` (logged or not)"))
-        } else if field(2)
-            .and_then(|value| value.parse::<u32>().ok())
-            .is_none()
-        {
+        } else if sensor_index.is_none() {
             Some((2, "expected the sensor index, a whole number"))
-        } else if field(3)
-            .and_then(|value| value.parse::<i64>().ok())
-            .is_none()
-        {
+        } else if column.is_none() {
             Some((3, "expected the column number (or -1)"))
-        } else if !matches!(field(4), Some("1" | "2" | "4" | "8")) {
+        } else if bytes.is_none() {
             Some((4, "expected the byte size: 1, 2, 4 or 8"))
         } else if field(5).is_none() {
             Some((5, "expected the sensor name"))
@@ -320,15 +375,34 @@ pub fn parse_cac(text: &str) -> (SensorList, Vec<Diagnostic>) {
             );
             continue;
         }
-        let sensor_index = field(2)
-            .and_then(|value| value.parse::<u32>().ok())
-            .unwrap_or(0) as usize;
-        let name = field(5).unwrap_or_default().to_string();
-        let units = field(6).unwrap_or("nodim").to_string();
+        entries.push(CacEntry {
+            logged: field(1) == Some("T"),
+            index: sensor_index.unwrap_or(0),
+            column: column.unwrap_or(-1),
+            bytes: bytes.unwrap_or(4),
+            name: field(5).unwrap_or_default().to_string(),
+            units: field(6).unwrap_or("nodim").to_string(),
+            line: line_number,
+            index_span: field_span(2),
+            name_span: field_span(5),
+        });
+    }
+    (entries, diagnostics)
+}
+
+/// Parses a `.cac` sensor list. Indices come from the file and must be
+/// 0, 1, 2, … without gaps or repeats.
+pub fn parse_cac(text: &str) -> (SensorList, Vec<Diagnostic>) {
+    let (entries, mut diagnostics) = parse_cac_entries(text);
+    let mut slots: Vec<Option<Sensor>> = Vec::new();
+    let mut spans: Vec<Span> = Vec::new();
+    let mut first_line_of: HashMap<String, (u32, Span)> = HashMap::new();
+    for entry in entries {
+        let sensor_index = entry.index as usize;
         if sensor_index >= MAX_SENSORS {
             diagnostics.push(Diagnostic::error(
                 "E0206",
-                field_span(2),
+                entry.index_span,
                 format!(
                     "sensor index {sensor_index} is over the limit: a sensor list has at most \
                      {MAX_SENSORS} sensors"
@@ -344,14 +418,15 @@ pub fn parse_cac(text: &str) -> (SensorList, Vec<Diagnostic>) {
             diagnostics.push(
                 Diagnostic::error(
                     "E0206",
-                    field_span(2),
+                    entry.index_span,
                     format!("sensor index {sensor_index} appears twice"),
                 )
                 .with_label(spans[sensor_index], "first used here"),
             );
             continue;
         }
-        let name_span = field_span(5);
+        let name = entry.name;
+        let name_span = entry.name_span;
         let key = name.to_ascii_lowercase();
         if let Some((first_line, first_span)) = first_line_of.get(&key) {
             diagnostics.push(
@@ -363,17 +438,17 @@ pub fn parse_cac(text: &str) -> (SensorList, Vec<Diagnostic>) {
                 .with_label(*first_span, "first listed here"),
             );
         } else {
-            first_line_of.insert(key, (line_number, name_span));
+            first_line_of.insert(key, (entry.line, name_span));
         }
-        spans[sensor_index] = field_span(2);
+        spans[sensor_index] = entry.index_span;
         slots[sensor_index] = Some(Sensor {
             name,
-            units,
+            units: entry.units,
             default: None,
             description: None,
             min: None,
             max: None,
-            line: line_number,
+            line: entry.line,
         });
     }
     if let Some(missing) = slots.iter().position(Option::is_none) {

@@ -1,0 +1,390 @@
+//! `gloc data`: a glider log's header, sensors, cycles and time span (`info`),
+//! conversion to CSV or `.dba` (`convert`, a dbd2asc replacement), and the
+//! flight-profile plot a simulated run gets (`plot`).
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::{bail, Context as _};
+use clap::{Args, Subcommand};
+use gloc_dbd::{CycleSource, Deployment, FileSensor};
+use gloc_sim::log::{LogFormat, NumberText};
+
+#[derive(Subcommand, Debug)]
+pub enum DataCommand {
+    /// Header, sensor list CRC, sensor count, cycles and time span of each file.
+    Info(InfoArgs),
+    /// Convert logs to CSV or `.dba` (several files: merged and in time order).
+    Convert(ConvertArgs),
+    /// Plot depth over time as an SVG, with the plotter of `gloc run --plot`.
+    Plot(PlotArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct SourceArgs {
+    /// Glider logs: .dbd .ebd .sbd .tbd .mbd .nbd, compressed .dcd …, or .dba.
+    #[arg(required = true)]
+    pub files: Vec<PathBuf>,
+    /// A folder of sensor lists (`<crc>.cac`/`.ccc`), searched before the file's
+    /// own folder and the per-user folder; default: `sensor_cache` in gloc.toml.
+    #[arg(long, value_name = "DIR")]
+    pub sensor_cache: Option<PathBuf>,
+}
+
+#[derive(Args, Debug)]
+pub struct InfoArgs {
+    #[command(flatten)]
+    pub source: SourceArgs,
+    /// Also list every sensor (name, units, bytes).
+    #[arg(long)]
+    pub sensors: bool,
+}
+
+#[derive(Args, Debug)]
+pub struct ConvertArgs {
+    #[command(flatten)]
+    pub source: SourceArgs,
+    /// The output: `.csv` or `.dba`. Never one of the inputs.
+    #[arg(short = 'o', long = "output", value_name = "OUT")]
+    pub output: PathBuf,
+    /// Only these sensors, comma-separated, in this order.
+    #[arg(long, value_name = "NAMES")]
+    pub sensors: Option<String>,
+}
+
+#[derive(Args, Debug)]
+pub struct PlotArgs {
+    #[command(flatten)]
+    pub source: SourceArgs,
+    /// The SVG to write.
+    #[arg(short = 'o', long = "output", value_name = "OUT.svg")]
+    pub output: PathBuf,
+}
+
+pub fn main(command: DataCommand) -> anyhow::Result<ExitCode> {
+    match command {
+        DataCommand::Info(args) => info(args),
+        DataCommand::Convert(args) => convert(args),
+        DataCommand::Plot(args) => plot(args),
+    }
+}
+
+/// `--sensor-cache`, else `sensor_cache` from the gloc.toml above the first file.
+fn sensor_cache(source: &SourceArgs) -> anyhow::Result<Option<PathBuf>> {
+    let settings = crate::settings::resolve(
+        source.files.first().map(PathBuf::as_path),
+        crate::settings::Flags {
+            sensor_cache: source.sensor_cache.as_deref(),
+            ..Default::default()
+        },
+    )?;
+    Ok(settings.sensor_cache)
+}
+
+fn open(source: &SourceArgs) -> anyhow::Result<Deployment> {
+    let cache = sensor_cache(source)?;
+    Ok(Deployment::open(&source.files, cache.as_deref())?)
+}
+
+fn print_warnings(source: &mut dyn CycleSource) {
+    for warning in source.take_warnings() {
+        eprintln!("warning: {warning}");
+    }
+}
+
+/// Unix seconds as `2019-08-21T13:54:25.5Z`.
+fn utc(seconds: f64) -> String {
+    if !seconds.is_finite() {
+        return "-".to_string();
+    }
+    let whole = seconds.floor() as i64;
+    let days = whole.div_euclid(86_400);
+    let rest = whole.rem_euclid(86_400);
+    // Howard Hinnant's civil_from_days.
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    let fraction = seconds - whole as f64;
+    format!(
+        "{year:04}-{month:02}-{day:02}T{:02}:{:02}:{:02}{}Z",
+        rest / 3600,
+        rest / 60 % 60,
+        rest % 60,
+        if fraction > 0.0005 {
+            format!("{:.3}", fraction)
+                .trim_start_matches('0')
+                .to_string()
+        } else {
+            String::new()
+        }
+    )
+}
+
+fn info(args: InfoArgs) -> anyhow::Result<ExitCode> {
+    let cache = sensor_cache(&args.source)?;
+    for (position, path) in args.source.files.iter().enumerate() {
+        if position > 0 {
+            println!();
+        }
+        let mut source = gloc_dbd::open_path(path, cache.as_deref())?;
+        println!("{}", path.display());
+        for (key, value) in &source.header().fields {
+            println!("  {key}: {value}");
+        }
+        let sensors = source.sensors().clone();
+        let time = source.time_column();
+        let (mut cycles, mut first, mut last) = (0u64, f64::NAN, f64::NAN);
+        while let Some(cycle) = source.next_cycle()? {
+            cycles += 1;
+            if !cycle.time.is_nan() {
+                if first.is_nan() {
+                    first = cycle.time;
+                }
+                last = cycle.time;
+            }
+        }
+        println!("  sensors: {}", sensors.len());
+        println!(
+            "  time sensor: {}",
+            time.map_or("none", |column| sensors[column].name.as_str())
+        );
+        println!("  cycles: {cycles}");
+        println!(
+            "  time span: {} .. {} ({:.0} s)",
+            utc(first),
+            utc(last),
+            last - first
+        );
+        if args.sensors {
+            for sensor in sensors.iter() {
+                println!(
+                    "    {} ({}) {} bytes",
+                    sensor.name, sensor.units, sensor.bytes
+                );
+            }
+        }
+        print_warnings(source.as_mut());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Refuses an output that is one of the inputs.
+fn check_output(output: &Path, inputs: &[PathBuf]) -> anyhow::Result<()> {
+    let same = |input: &PathBuf| match (input.canonicalize(), output.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => input == output,
+    };
+    if let Some(input) = inputs.iter().find(|input| same(input)) {
+        bail!(
+            "{}: the output would overwrite an input; choose another -o",
+            input.display()
+        );
+    }
+    Ok(())
+}
+
+/// The columns to write: every sensor, or the `--sensors` names in that order.
+fn select(sensors: &[FileSensor], names: Option<&str>) -> anyhow::Result<Vec<usize>> {
+    let Some(names) = names else {
+        return Ok((0..sensors.len()).collect());
+    };
+    names
+        .split(',')
+        .map(str::trim)
+        .filter(|name| !name.is_empty())
+        .map(|name| {
+            sensors
+                .iter()
+                .position(|sensor| sensor.name.eq_ignore_ascii_case(name))
+                .with_context(|| format!("`{name}` is not a sensor of these files ({} sensors; `gloc data info --sensors` lists them)", sensors.len()))
+        })
+        .collect()
+}
+
+fn convert(args: ConvertArgs) -> anyhow::Result<ExitCode> {
+    let format = LogFormat::from_path(&args.output).with_context(|| {
+        format!(
+            "{}: the output must end in .csv or .dba",
+            args.output.display()
+        )
+    })?;
+    check_output(&args.output, &args.source.files)?;
+    let mut source = open(&args.source)?;
+    let sensors = source.sensors().clone();
+    let columns = select(&sensors, args.sensors.as_deref())?;
+    let file = std::fs::File::create(&args.output)
+        .with_context(|| format!("cannot create {}", args.output.display()))?;
+    let mut out = std::io::BufWriter::with_capacity(1 << 16, file);
+    let mut line = Vec::with_capacity(columns.len() * 12);
+    match format {
+        LogFormat::Csv => {
+            let names: Vec<&str> = columns.iter().map(|&c| sensors[c].name.as_str()).collect();
+            writeln!(out, "{}", names.join(","))?;
+        }
+        LogFormat::Dba => write_dba_header(&mut out, &source, &sensors, &columns)?,
+    }
+    let (separator, missing): (u8, &[u8]) = match format {
+        LogFormat::Csv => (b',', b""),
+        LogFormat::Dba => (b' ', b"NaN"),
+    };
+    let mut numbers = NumberText::default();
+    let mut rows = 0u64;
+    while let Some(cycle) = source.next_cycle()? {
+        line.clear();
+        for (position, &column) in columns.iter().enumerate() {
+            if position > 0 {
+                line.push(separator);
+            }
+            match cycle.value(column) {
+                Some(value) => numbers.push(&mut line, value, sensors[column].bytes == 8),
+                None => line.extend_from_slice(missing),
+            }
+        }
+        if format == LogFormat::Dba {
+            line.push(b' ');
+        }
+        line.push(b'\n');
+        out.write_all(&line)?;
+        rows += 1;
+    }
+    out.flush()?;
+    print_warnings(&mut source);
+    eprintln!(
+        "wrote {} ({rows} cycles, {} sensors)",
+        args.output.display(),
+        columns.len()
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+/// dbd2asc's header: the first file's facts, then the three label lines.
+fn write_dba_header(
+    out: &mut impl Write,
+    source: &Deployment,
+    sensors: &[FileSensor],
+    columns: &[usize],
+) -> anyhow::Result<()> {
+    let first = source.segments().first();
+    let path = first.and_then(|segment| segment.flight.clone().or(segment.science.clone()));
+    let header = match &path {
+        Some(path) => gloc_dbd::fs::read_file_header(path)?,
+        None => gloc_dbd::Header::default(),
+    };
+    let get = |key: &str| header.get(key).unwrap_or("unknown").to_string();
+    let filename = header.full_filename().unwrap_or("unknown").to_string();
+    let extension = get("filename_extension");
+    writeln!(out, "dbd_label: DBD_ASC(dinkum_binary_data_ascii)file")?;
+    writeln!(out, "encoding_ver: 2")?;
+    writeln!(out, "num_ascii_tags: 14")?;
+    writeln!(
+        out,
+        "all_sensors: {}",
+        i32::from(columns.len() == sensors.len())
+    )?;
+    writeln!(out, "filename: {filename}")?;
+    writeln!(out, "the8x3_filename: {}", get("the8x3_filename"))?;
+    writeln!(out, "filename_extension: {extension}")?;
+    writeln!(
+        out,
+        "filename_label: {filename}-{extension}({})",
+        get("the8x3_filename")
+    )?;
+    writeln!(out, "mission_name: {}", get("mission_name"))?;
+    writeln!(out, "fileopen_time: {}", get("fileopen_time"))?;
+    writeln!(out, "sensors_per_cycle: {}", columns.len())?;
+    writeln!(out, "num_label_lines: 3")?;
+    writeln!(out, "num_segments: {}", source.segments().len())?;
+    writeln!(out, "segment_filename_0: {filename}")?;
+    let label = |field: &dyn Fn(&FileSensor) -> String| {
+        let mut text = String::new();
+        for &column in columns {
+            text.push_str(&field(&sensors[column]));
+            text.push(' ');
+        }
+        text
+    };
+    writeln!(out, "{}", label(&|sensor| sensor.name.clone()))?;
+    writeln!(out, "{}", label(&|sensor| sensor.units.clone()))?;
+    writeln!(out, "{}", label(&|sensor| sensor.bytes.to_string()))?;
+    Ok(())
+}
+
+fn plot(args: PlotArgs) -> anyhow::Result<ExitCode> {
+    check_output(&args.output, &args.source.files)?;
+    let mut source = open(&args.source)?;
+    let sensors = source.sensors().clone();
+    let column = |name: &str| sensors.iter().position(|sensor| sensor.name == name);
+    let depth = column("m_depth")
+        .or_else(|| column("sci_water_pressure"))
+        .context("these files have neither `m_depth` nor `sci_water_pressure` to plot")?;
+    // sci_water_pressure is in bar: 10 m of sea water per bar.
+    let scale = if sensors[depth].name == "m_depth" {
+        1.0
+    } else {
+        10.0
+    };
+    let water = column("m_water_depth");
+    let mut trace = gloc_sim::plot::Trace::default();
+    let (mut start, mut water_depth) = (f64::NAN, 0.0f64);
+    while let Some(cycle) = source.next_cycle()? {
+        if let Some(value) = water.and_then(|water| cycle.value(water)) {
+            if value.is_finite() && value > 0.0 {
+                water_depth = water_depth.max(value);
+            }
+        }
+        let (Some(value), time) = (cycle.value(depth), cycle.time) else {
+            continue;
+        };
+        if !value.is_finite() || !time.is_finite() {
+            continue;
+        }
+        if start.is_nan() {
+            start = time;
+        }
+        trace
+            .points
+            .push(((time - start) as f32, (value * scale) as f32));
+    }
+    print_warnings(&mut source);
+    if trace.points.is_empty() {
+        bail!("no depth values to plot");
+    }
+    let title = args
+        .source
+        .files
+        .first()
+        .and_then(|path| path.file_name())
+        .map(|name| name.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let svg =
+        gloc_sim::plot::render_svg(&trace, &title, water_depth).map_err(anyhow::Error::msg)?;
+    std::fs::write(&args.output, svg)
+        .with_context(|| format!("cannot write {}", args.output.display()))?;
+    eprintln!(
+        "wrote {} ({} depth points from {})",
+        args.output.display(),
+        trace.points.len(),
+        utc(start)
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::utc;
+
+    #[test]
+    fn utc_prints_civil_time() {
+        // date -u -d @1566395665 → 2019-08-21 13:54:25
+        assert_eq!(utc(1_566_395_665.0), "2019-08-21T13:54:25Z");
+        assert_eq!(utc(0.0), "1970-01-01T00:00:00Z");
+        assert_eq!(utc(f64::NAN), "-");
+    }
+}

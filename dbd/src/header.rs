@@ -1,0 +1,201 @@
+//! The ASCII header that opens every Slocum log: `key: value` lines.
+
+use std::io::BufRead;
+
+use crate::error::{DbdError, Location};
+
+/// Longest header or sensor-list line accepted (a binary file with no newline
+/// must not be read into memory whole).
+pub(crate) const MAX_LINE: usize = 4096;
+
+/// The header's `key: value` pairs in file order, with typed getters.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Header {
+    pub fields: Vec<(String, String)>,
+}
+
+impl Header {
+    pub fn get(&self, key: &str) -> Option<&str> {
+        self.fields
+            .iter()
+            .find(|(name, _)| name == key)
+            .map(|(_, value)| value.as_str())
+    }
+
+    pub fn get_number(&self, key: &str) -> Option<u64> {
+        self.get(key).and_then(|value| value.parse().ok())
+    }
+
+    /// `sensor_list_crc`, lower-cased (the `.cac` file's name).
+    pub fn sensor_list_crc(&self) -> Option<String> {
+        self.get("sensor_list_crc").map(str::to_ascii_lowercase)
+    }
+
+    pub fn mission_name(&self) -> Option<&str> {
+        self.get("mission_name")
+    }
+
+    pub fn fileopen_time(&self) -> Option<&str> {
+        self.get("fileopen_time")
+    }
+
+    /// `fileopen_time` (`Wed_Aug_21_13:54:25_2019`) as Unix seconds, UTC.
+    pub fn fileopen_seconds(&self) -> Option<i64> {
+        parse_fileopen_time(self.fileopen_time()?)
+    }
+
+    /// The `.dbd`-style name the glider gave the file (`full_filename`, or `filename` in a `.dba`).
+    pub fn full_filename(&self) -> Option<&str> {
+        self.get("full_filename").or_else(|| self.get("filename"))
+    }
+}
+
+/// `Wed_Aug_21_13:54:25_2019` → Unix seconds (UTC).
+pub fn parse_fileopen_time(text: &str) -> Option<i64> {
+    let parts: Vec<&str> = text
+        .split(['_', ' '])
+        .filter(|part| !part.is_empty())
+        .collect();
+    let [_, month, day, time, year] = parts.as_slice() else {
+        return None;
+    };
+    const MONTHS: [&str; 12] = [
+        "Jan", "Feb", "Mar", "Apr", "May", "Jun", "Jul", "Aug", "Sep", "Oct", "Nov", "Dec",
+    ];
+    let month = MONTHS.iter().position(|name| name == month)? as i64 + 1;
+    let day: i64 = day.parse().ok()?;
+    let year: i64 = year.parse().ok()?;
+    let mut clock = time.split(':').map(|part| part.parse::<i64>().ok());
+    let (hour, minute, second) = (clock.next()??, clock.next()??, clock.next()??);
+    Some(days_from_civil(year, month, day) * 86_400 + hour * 3600 + minute * 60 + second)
+}
+
+/// Days since 1970-01-01 of a proleptic Gregorian date (Howard Hinnant's algorithm).
+pub(crate) fn days_from_civil(year: i64, month: i64, day: i64) -> i64 {
+    let year = if month <= 2 { year - 1 } else { year };
+    let era = year.div_euclid(400);
+    let year_of_era = year - era * 400;
+    let month_index = (month + 9) % 12;
+    let day_of_year = (153 * month_index + 2) / 5 + day - 1;
+    let day_of_era = year_of_era * 365 + year_of_era / 4 - year_of_era / 100 + day_of_year;
+    era * 146_097 + day_of_era - 719_468
+}
+
+/// Reads one line (without its `\n`), at most [`MAX_LINE`] bytes. `Ok(None)` at the end.
+pub(crate) fn read_line<R: BufRead>(
+    input: &mut R,
+    offset: &mut u64,
+    file: &str,
+    at: impl Fn(u64) -> Location,
+) -> Result<Option<String>, DbdError> {
+    let mut line = Vec::new();
+    loop {
+        let available = input
+            .fill_buf()
+            .map_err(|error| crate::io_error(file, at(*offset), &error))?;
+        if available.is_empty() {
+            if line.is_empty() {
+                return Ok(None);
+            }
+            break;
+        }
+        let newline = available.iter().position(|&byte| byte == b'\n');
+        let take = newline.map_or(available.len(), |at| at + 1);
+        line.extend_from_slice(&available[..take]);
+        input.consume(take);
+        *offset += take as u64;
+        if newline.is_some() {
+            line.pop();
+            break;
+        }
+        if line.len() > MAX_LINE {
+            return Err(DbdError::new(
+                file,
+                at(*offset - line.len() as u64),
+                format!(
+                    "a header line longer than {MAX_LINE} bytes: this is not a Slocum log header"
+                ),
+            ));
+        }
+    }
+    if line.last() == Some(&b'\r') {
+        line.pop();
+    }
+    match String::from_utf8(line) {
+        Ok(text) => Ok(Some(text)),
+        Err(error) => {
+            let start = *offset - error.as_bytes().len() as u64 - 1;
+            Err(DbdError::new(
+                file,
+                at(start + error.utf8_error().valid_up_to() as u64),
+                "a header line that is not text: this is not a Slocum log header",
+            ))
+        }
+    }
+}
+
+/// Reads the header: the first line must be `dbd_label: …`, and
+/// `num_ascii_tags` says how many lines there are.
+pub(crate) fn read_header<R: BufRead>(
+    input: &mut R,
+    offset: &mut u64,
+    file: &str,
+    at: impl Fn(u64) -> Location + Copy,
+) -> Result<Header, DbdError> {
+    let mut header = Header::default();
+    let mut lines = 0u64;
+    loop {
+        let start = *offset;
+        let Some(line) = read_line(input, offset, file, at)? else {
+            let message = if lines == 0 {
+                "the file is empty"
+            } else {
+                "the file ends inside its header"
+            };
+            return Err(DbdError::new(file, at(start), message));
+        };
+        lines += 1;
+        let Some((key, value)) = line.split_once(':') else {
+            return Err(not_a_log(file, at(start), lines));
+        };
+        let key = key.trim();
+        if lines == 1 && key != "dbd_label" {
+            return Err(not_a_log(file, at(start), lines));
+        }
+        header
+            .fields
+            .push((key.to_string(), value.trim().to_string()));
+        let tags = header.get_number("num_ascii_tags");
+        if lines > 1000 || tags.is_some_and(|tags| lines >= tags) {
+            break;
+        }
+    }
+    Ok(header)
+}
+
+fn not_a_log(file: &str, at: Location, line: u64) -> DbdError {
+    let message = if line == 1 {
+        "this is not a Slocum log: it does not open with `dbd_label:`".to_string()
+    } else {
+        format!("header line {line} is not `key: value`")
+    };
+    DbdError::new(file, at, message).with_help(
+        "gloc reads .dbd .ebd .sbd .tbd .mbd .nbd, their compressed forms (.dcd …) and .dba",
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fileopen_time_is_utc_seconds() {
+        // 2019-08-21 13:54:25 UTC = 1566395665 (date -u -d '2019-08-21 13:54:25' +%s).
+        assert_eq!(
+            parse_fileopen_time("Wed_Aug_21_13:54:25_2019"),
+            Some(1_566_395_665)
+        );
+        assert_eq!(parse_fileopen_time("Thu_Jan__1_00:00:00_1970"), Some(0));
+        assert_eq!(parse_fileopen_time("garbage"), None);
+    }
+}

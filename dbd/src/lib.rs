@@ -1,0 +1,61 @@
+//! Slocum glider logs: the binary `.dbd .ebd .sbd .tbd .mbd .nbd`, their LZ4
+//! forms `.dcd .ecd .scd .tcd .mcd .ncd`, and ASCII `.dba`, read as a stream of
+//! cycles (memory does not grow with the file); merging a flight log with its
+//! science log and a deployment's files in time order; writing binary logs.
+//!
+//! The readers take any `Read`; [`fs`] is the one module that touches the file
+//! system (opening a path by its extension, the sensor-list cache search).
+//! Format and rules: `docs/data.md`.
+
+pub mod binary;
+pub mod cycle;
+pub mod dba;
+pub mod error;
+pub mod fs;
+pub mod header;
+pub mod lists;
+pub mod lz4;
+pub mod merge;
+
+pub use binary::{ByteOrder, DbdReader};
+pub use cycle::{time_column, Cycle, FileSensor, SensorColumns, State};
+pub use dba::DbaReader;
+pub use error::{DbdError, Location, Warning};
+pub use fs::{open_path, CacheFolders, LogKind};
+pub use header::Header;
+pub use lists::{NoSensorLists, SensorListText, SensorLists};
+pub use merge::{plan, Deployment, Merged, Segment};
+
+/// A stream of cycles: one log file, a flight log merged with its science log,
+/// or a whole deployment. Every source reuses one [`Cycle`].
+pub trait CycleSource: Send {
+    /// The file name used in messages (for a merge or deployment, the current file).
+    fn file(&self) -> &str;
+    fn header(&self) -> &Header;
+    /// The sensors, in column order: `Cycle::states` and `Cycle::values` follow it.
+    fn sensors(&self) -> &SensorColumns;
+    /// The column of the time sensor (`m_present_time`, else `sci_m_present_time`).
+    fn time_column(&self) -> Option<usize>;
+    /// The next cycle, `Ok(None)` at the end (see [`CycleSource::take_warnings`]).
+    fn next_cycle(&mut self) -> Result<Option<&Cycle>, DbdError>;
+    /// Warnings so far (a truncated last cycle, a missing end tag); drains them.
+    fn take_warnings(&mut self) -> Vec<Warning>;
+}
+
+/// A read failure as an error value; an LZ4 problem keeps its block's offset.
+pub(crate) fn io_error(file: &str, at: Location, error: &std::io::Error) -> DbdError {
+    if let Some(problem) = error
+        .get_ref()
+        .and_then(|inner| inner.downcast_ref::<lz4::Lz4Problem>())
+    {
+        return DbdError::new(
+            file,
+            Location {
+                offset: at.offset,
+                block: Some(problem.block),
+            },
+            problem.message.clone(),
+        );
+    }
+    DbdError::new(file, at, format!("cannot read: {error}"))
+}

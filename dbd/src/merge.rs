@@ -1,0 +1,400 @@
+//! Merging logs: a flight log with its science log onto the flight computer's
+//! cycles ([`Merged`]), and a deployment's files in time order across
+//! sensor-list changes ([`Deployment`]).
+//!
+//! The merge rule: each flight cycle carries, for every science sensor, the
+//! latest science value whose science time (`sci_m_present_time`) is at or
+//! before the flight cycle's time (`m_present_time`); the sensor counts as
+//! updated in that flight cycle when a science cycle in between updated it.
+//! A name in both logs takes the science log's value (as dbdreader's
+//! `MultiDBD` does). dbdreader's `get_sync` instead interpolates linearly
+//! between science samples; a script on the glider only ever sees past
+//! values, so the replay rule never looks ahead. Science cycles after the last
+//! flight cycle are dropped.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use crate::cycle::{time_column, Cycle, FileSensor, SensorColumns, State};
+use crate::error::{DbdError, Location, Warning};
+use crate::fs::{open_path, LogKind};
+use crate::header::Header;
+use crate::CycleSource;
+
+/// A flight log and its science log, on the flight log's cycles.
+pub struct Merged {
+    flight: Box<dyn CycleSource>,
+    science: Box<dyn CycleSource>,
+    sensors: SensorColumns,
+    /// Per science column: its merged column.
+    science_columns: Vec<usize>,
+    /// Per flight column: `false` when the science log owns the name.
+    flight_owns: Vec<bool>,
+    science_time: Option<usize>,
+    /// The next science cycle not yet applied (states, values, time).
+    pending: Option<(Vec<State>, Vec<f64>, f64)>,
+    last_science_time: f64,
+    science_done: bool,
+    last_flight_time: f64,
+    cycle: Cycle,
+}
+
+impl Merged {
+    pub fn new(flight: Box<dyn CycleSource>, science: Box<dyn CycleSource>) -> Merged {
+        let science_names: std::collections::HashSet<&str> = science
+            .sensors()
+            .iter()
+            .map(|sensor| sensor.name.as_str())
+            .collect();
+        let mut sensors: Vec<FileSensor> = flight.sensors().to_vec();
+        let flight_owns = sensors
+            .iter()
+            .map(|sensor| !science_names.contains(sensor.name.as_str()))
+            .collect();
+        let mut science_columns = Vec::new();
+        for sensor in science.sensors().iter() {
+            match sensors.iter().position(|known| known.name == sensor.name) {
+                Some(column) => science_columns.push(column),
+                None => {
+                    science_columns.push(sensors.len());
+                    sensors.push(sensor.clone());
+                }
+            }
+        }
+        let mut cycle = Cycle::default();
+        cycle.reset(sensors.len());
+        Merged {
+            science_time: science.time_column(),
+            flight,
+            science,
+            sensors: Arc::from(sensors),
+            science_columns,
+            flight_owns,
+            pending: None,
+            last_science_time: f64::NEG_INFINITY,
+            science_done: false,
+            last_flight_time: f64::NAN,
+            cycle,
+        }
+    }
+
+    /// Reads the next science cycle into `pending` (none at the end).
+    fn fetch_science(&mut self) -> Result<(), DbdError> {
+        if self.science_done || self.pending.is_some() {
+            return Ok(());
+        }
+        match self.science.next_cycle()? {
+            Some(cycle) => {
+                let time = match self.science_time {
+                    Some(column) if cycle.states[column].is_updated() => cycle.values[column],
+                    _ => self.last_science_time,
+                };
+                self.last_science_time = time;
+                self.pending = Some((cycle.states.clone(), cycle.values.clone(), time));
+            }
+            None => self.science_done = true,
+        }
+        Ok(())
+    }
+
+    fn merge_next(&mut self) -> Result<bool, DbdError> {
+        let Some(flight) = self.flight.next_cycle()? else {
+            return Ok(false);
+        };
+        let flight_columns = flight.states.len();
+        for column in 0..flight_columns {
+            if self.flight_owns[column] {
+                self.cycle.states[column] = flight.states[column];
+                self.cycle.values[column] = flight.values[column];
+            } else {
+                self.cycle.states[column] = State::NotUpdated;
+            }
+        }
+        for state in &mut self.cycle.states[flight_columns..] {
+            *state = State::NotUpdated;
+        }
+        self.cycle.offset = flight.offset;
+        self.cycle.number = flight.number;
+        if !flight.time.is_nan() {
+            self.last_flight_time = flight.time;
+        }
+        self.cycle.time = flight.time;
+        let until = self.last_flight_time;
+        loop {
+            self.fetch_science()?;
+            let Some((states, values, time)) = &self.pending else {
+                break;
+            };
+            // Before any flight time is known nothing can be placed; NaN science
+            // times (no time sensor yet) go with the next timed cycle.
+            if until.is_nan() || *time > until {
+                break;
+            }
+            for (science_column, state) in states.iter().enumerate() {
+                if state.is_updated() {
+                    let column = self.science_columns[science_column];
+                    self.cycle.states[column] = *state;
+                    self.cycle.values[column] = values[science_column];
+                }
+            }
+            self.pending = None;
+        }
+        Ok(true)
+    }
+}
+
+impl CycleSource for Merged {
+    fn file(&self) -> &str {
+        self.flight.file()
+    }
+
+    fn header(&self) -> &Header {
+        self.flight.header()
+    }
+
+    fn sensors(&self) -> &SensorColumns {
+        &self.sensors
+    }
+
+    fn time_column(&self) -> Option<usize> {
+        self.flight.time_column()
+    }
+
+    fn next_cycle(&mut self) -> Result<Option<&Cycle>, DbdError> {
+        if self.merge_next()? {
+            Ok(Some(&self.cycle))
+        } else {
+            Ok(None)
+        }
+    }
+
+    fn take_warnings(&mut self) -> Vec<Warning> {
+        let mut warnings = self.flight.take_warnings();
+        warnings.extend(self.science.take_warnings());
+        warnings
+    }
+}
+
+/// One step of a deployment: a file, or a flight file with its science file.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Segment {
+    pub flight: Option<PathBuf>,
+    pub science: Option<PathBuf>,
+    /// Unix seconds of the header's `fileopen_time` (files without one sort last).
+    pub opened: Option<i64>,
+}
+
+impl Segment {
+    fn open(&self, sensor_cache: Option<&Path>) -> Result<Box<dyn CycleSource>, DbdError> {
+        match (&self.flight, &self.science) {
+            (Some(flight), Some(science)) => Ok(Box::new(Merged::new(
+                open_path(flight, sensor_cache)?,
+                open_path(science, sensor_cache)?,
+            ))),
+            (Some(only), None) | (None, Some(only)) => open_path(only, sensor_cache),
+            (None, None) => Err(DbdError::new("", Location::default(), "an empty segment")),
+        }
+    }
+}
+
+/// Pairs flight and science files by name (`x.dbd` with `x.ebd`, `x.sbd` with
+/// `x.tbd`, `x.mbd` with `x.nbd`, compressed forms alike) and orders the pairs
+/// by their header's `fileopen_time`, then by name.
+pub fn plan(paths: &[PathBuf]) -> Result<Vec<Segment>, DbdError> {
+    let mut segments: Vec<(String, Segment)> = Vec::new();
+    for path in paths {
+        let kind = LogKind::from_path(path);
+        let pair = match kind {
+            Some(LogKind::Binary { letter, .. }) => match letter {
+                b'd' | b'e' => 'd',
+                b's' | b't' => 's',
+                _ => 'm',
+            },
+            _ => 'a',
+        };
+        let stem = path.with_extension("").display().to_string();
+        let key = format!("{stem}\u{0}{pair}");
+        let science = kind.is_some_and(LogKind::is_science);
+        let position = segments.iter().position(|(known, segment)| {
+            *known == key
+                && if science {
+                    segment.science.is_none()
+                } else {
+                    segment.flight.is_none()
+                }
+        });
+        let index = position.unwrap_or_else(|| {
+            segments.push((
+                key.clone(),
+                Segment {
+                    flight: None,
+                    science: None,
+                    opened: None,
+                },
+            ));
+            segments.len() - 1
+        });
+        let segment = &mut segments[index].1;
+        if science {
+            segment.science = Some(path.clone());
+        } else {
+            segment.flight = Some(path.clone());
+        }
+    }
+    let mut segments: Vec<Segment> = segments.into_iter().map(|(_, segment)| segment).collect();
+    for segment in &mut segments {
+        let path = segment.flight.as_ref().or(segment.science.as_ref());
+        if let Some(path) = path {
+            segment.opened = crate::fs::read_file_header(path)?.fileopen_seconds();
+        }
+    }
+    segments.sort_by(|a, b| {
+        let name = |segment: &Segment| segment.flight.clone().or(segment.science.clone());
+        (a.opened.is_none(), a.opened, name(a)).cmp(&(b.opened.is_none(), b.opened, name(b)))
+    });
+    Ok(segments)
+}
+
+/// A deployment: its files in time order as one stream of cycles. The columns
+/// are every file's sensors by name, in order of first appearance; a sensor's
+/// latest value carries over from one file to the next.
+pub struct Deployment {
+    segments: Vec<Segment>,
+    sensor_cache: Option<PathBuf>,
+    sensors: SensorColumns,
+    time: Option<usize>,
+    next: usize,
+    current: Option<(Box<dyn CycleSource>, Vec<usize>)>,
+    empty_header: Header,
+    cycle: Cycle,
+    started: bool,
+    warnings: Vec<Warning>,
+}
+
+impl Deployment {
+    /// Opens every file once to learn its sensors (header and list only), then
+    /// streams them one at a time.
+    pub fn open(paths: &[PathBuf], sensor_cache: Option<&Path>) -> Result<Deployment, DbdError> {
+        let segments = plan(paths)?;
+        let mut sensors: Vec<FileSensor> = Vec::new();
+        let mut names = std::collections::HashMap::new();
+        for segment in &segments {
+            let source = segment.open(sensor_cache)?;
+            for sensor in source.sensors().iter() {
+                if !names.contains_key(&sensor.name) {
+                    names.insert(sensor.name.clone(), sensors.len());
+                    sensors.push(sensor.clone());
+                }
+            }
+        }
+        let mut cycle = Cycle::default();
+        cycle.reset(sensors.len());
+        Ok(Deployment {
+            segments,
+            sensor_cache: sensor_cache.map(Path::to_path_buf),
+            time: time_column(&sensors),
+            sensors: Arc::from(sensors),
+            next: 0,
+            current: None,
+            empty_header: Header::default(),
+            cycle,
+            started: false,
+            warnings: Vec::new(),
+        })
+    }
+
+    /// The files in the order they are read.
+    pub fn segments(&self) -> &[Segment] {
+        &self.segments
+    }
+
+    fn advance(&mut self) -> Result<bool, DbdError> {
+        loop {
+            if self.current.is_none() {
+                let Some(segment) = self.segments.get(self.next) else {
+                    return Ok(false);
+                };
+                self.next += 1;
+                let source = segment.open(self.sensor_cache.as_deref())?;
+                let map = source
+                    .sensors()
+                    .iter()
+                    .map(|sensor| {
+                        self.sensors
+                            .iter()
+                            .position(|known| known.name == sensor.name)
+                            .unwrap_or(0)
+                    })
+                    .collect();
+                self.current = Some((source, map));
+            }
+            let Some((source, map)) = self.current.as_mut() else {
+                continue;
+            };
+            match source.next_cycle()? {
+                Some(cycle) => {
+                    for state in &mut self.cycle.states {
+                        *state = State::NotUpdated;
+                    }
+                    for (column, &to) in map.iter().enumerate() {
+                        let state = cycle.states[column];
+                        self.cycle.states[to] = state;
+                        if state.is_updated() {
+                            self.cycle.values[to] = cycle.values[column];
+                        }
+                    }
+                    self.cycle.offset = cycle.offset;
+                    self.cycle.time = cycle.time;
+                    if self.started {
+                        self.cycle.number += 1;
+                    }
+                    self.started = true;
+                    return Ok(true);
+                }
+                None => {
+                    self.warnings.extend(source.take_warnings());
+                    self.current = None;
+                }
+            }
+        }
+    }
+}
+
+impl CycleSource for Deployment {
+    fn file(&self) -> &str {
+        match &self.current {
+            Some((source, _)) => source.file(),
+            None => "",
+        }
+    }
+
+    fn header(&self) -> &Header {
+        match &self.current {
+            Some((source, _)) => source.header(),
+            None => &self.empty_header,
+        }
+    }
+
+    fn sensors(&self) -> &SensorColumns {
+        &self.sensors
+    }
+
+    fn time_column(&self) -> Option<usize> {
+        self.time
+    }
+
+    fn next_cycle(&mut self) -> Result<Option<&Cycle>, DbdError> {
+        if self.advance()? {
+            Ok(Some(&self.cycle))
+        } else {
+            Ok(None)
+        }
+    }
+
+    fn take_warnings(&mut self) -> Vec<Warning> {
+        if let Some((source, _)) = self.current.as_mut() {
+            self.warnings.extend(source.take_warnings());
+        }
+        std::mem::take(&mut self.warnings)
+    }
+}

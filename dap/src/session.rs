@@ -42,6 +42,8 @@ pub const LAUNCH_ATTRIBUTES: &[&str] = &[
     "cycleBudget",
     "maxCycles",
     "history",
+    "replay",
+    "sensorCache",
 ];
 
 #[derive(Debug, Default, Deserialize, Serialize, Clone)]
@@ -66,6 +68,32 @@ pub struct LaunchArguments {
     /// `true`/`false`, or the number of snapshots to keep (0 = off).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub history: Option<Value>,
+    /// Recorded data to step through instead of simulating: one path or a list
+    /// (a CSV file, or glider logs: a deployment, flight and science merged).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub replay: Option<Value>,
+    /// The folder searched first for the glider logs' sensor lists (`<crc>.cac`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sensor_cache: Option<String>,
+}
+
+/// `replay`: a path, a list of paths, or empty (`""`, `[]`, `null`: simulate).
+fn replay_paths(value: Option<&Value>) -> Result<Vec<PathBuf>, String> {
+    const FORM: &str = "`replay` must be a path or a list of paths (a CSV file or glider logs)";
+    let paths: Vec<&str> = match value {
+        None | Some(Value::Null) => Vec::new(),
+        Some(Value::String(path)) => vec![path.as_str()],
+        Some(Value::Array(items)) => items
+            .iter()
+            .map(|item| item.as_str().ok_or(FORM))
+            .collect::<Result<_, _>>()?,
+        Some(_) => return Err(FORM.into()),
+    };
+    Ok(paths
+        .into_iter()
+        .filter(|path| !path.trim().is_empty())
+        .map(PathBuf::from)
+        .collect())
 }
 
 /// Whether the main loop goes on after a request.
@@ -629,6 +657,8 @@ impl Session {
             max_cycles: arguments.max_cycles,
             sensor_order: file_config.sensor_order.unwrap_or_default(),
             simulator: file_config.simulator,
+            replay: replay_paths(arguments.replay.as_ref())?,
+            sensor_cache: given_path(&arguments.sensor_cache).or(file_config.sensor_cache),
             program,
         };
         let (world, info) = world::launch(&config)?;

@@ -13,7 +13,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use anyhow::{bail, Context};
-use gloc_compiler::{load_script, Language, LoadOptions, LoadedScript};
+use gloc_compiler::{Language, LoadOptions, LoadedScript};
 use gloc_engine::sensors::SensorList;
 use gloc_engine::vm::DEFAULT_CYCLE_BUDGET;
 use gloc_sim::faults::{step_cycle_with_faults, Fault, FaultPlan};
@@ -76,7 +76,15 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         Some(path) => Language::of_path(path),
         None => Language::Gloc,
     };
-    let loaded = load_script(
+    let written_for = args.script.as_deref().and_then(|path| {
+        crate::check::written_for(
+            &script_text,
+            path,
+            settings.masterdata.as_deref(),
+            &sensor_list,
+        )
+    });
+    let loaded = gloc_compiler::loader::load_script_written_for(
         &script_text,
         language,
         &sensor_list,
@@ -84,6 +92,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
             optimize: args.optimize,
             cycle_budget: Some(cycle_budget),
         },
+        written_for,
     );
     let source = SourceFile::new(&script_name, &script_text);
     for diagnostic in &loaded.diagnostics {

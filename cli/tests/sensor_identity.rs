@@ -4,30 +4,14 @@
 //! `m_depth`, 1387 `sci_whfctd_ref_lo`, 2,142 sensors, so the hook sensors are
 //! appended at 2142–2144) and the paper's Fig. 2.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod support;
 
-fn gloc(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_gloc"))
-        .args(args)
-        .output()
-        .expect("the gloc binary runs")
-}
+use std::path::PathBuf;
 
-fn repo(path: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("..")
-        .join(path)
-        .display()
-        .to_string()
-}
+use support::{gloc, repo, shared, text};
 
 fn comet_cac() -> String {
-    repo("../shared/data/cac/1f35be3b.cac")
-}
-
-fn text(output: &[u8]) -> String {
-    String::from_utf8_lossy(output).into_owned()
+    shared("cac/1f35be3b.cac")
 }
 
 fn scratch(name: &str) -> PathBuf {

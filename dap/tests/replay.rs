@@ -13,10 +13,7 @@
 mod support;
 
 use serde_json::{json, Value};
-use support::Client;
-
-const SENSORS: i64 = 3;
-const VEHICLE: i64 = 4;
+use support::{cycle, sensor, stopped, value, values, Client, SENSORS, VEHICLE};
 
 fn fixture(name: &str) -> String {
     format!("{}/tests/fixtures/{name}", env!("CARGO_MANIFEST_DIR"))
@@ -42,43 +39,6 @@ fn start(arguments: Value) -> Client {
     client.event("capabilities");
     client.event("initialized");
     client
-}
-
-fn stopped(client: &mut Client) -> Value {
-    client.event("stopped")["body"].clone()
-}
-
-fn values(client: &mut Client, reference: i64) -> Vec<(String, String)> {
-    let body = client.ok("variables", json!({ "variablesReference": reference }));
-    body["variables"]
-        .as_array()
-        .expect("variables")
-        .iter()
-        .map(|variable| {
-            (
-                variable["name"].as_str().unwrap_or_default().to_string(),
-                variable["value"].as_str().unwrap_or_default().to_string(),
-            )
-        })
-        .collect()
-}
-
-fn value(client: &mut Client, reference: i64, name: &str) -> String {
-    values(client, reference)
-        .into_iter()
-        .find(|(known, _)| known == name)
-        .map(|(_, value)| value)
-        .unwrap_or_else(|| panic!("no `{name}` in variables {reference}"))
-}
-
-fn sensor(client: &mut Client, name: &str) -> f64 {
-    value(client, SENSORS, name).parse().expect("a number")
-}
-
-fn cycle(client: &mut Client) -> u64 {
-    value(client, VEHICLE, "cycle")
-        .parse()
-        .expect("cycle number")
 }
 
 fn watch_behs(client: &mut Client) {

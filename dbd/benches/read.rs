@@ -142,7 +142,7 @@ fn write_big(path: &Path, megabytes: u64) -> PathBuf {
             values[time] += shift;
             last = cycle.values[time];
             writer.write_cycle(&values).expect("write");
-            if writer.cycles() % 1000 == 0
+            if writer.cycles().is_multiple_of(1000)
                 && std::fs::metadata(path).map(|m| m.len()).unwrap_or(0) >= megabytes << 20
             {
                 break 'outer;

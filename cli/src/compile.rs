@@ -148,14 +148,14 @@ impl CliScript {
 pub fn read_script(
     path: &Path,
     sensors: &SensorList,
+    settings: &crate::settings::Settings,
     options: &LoadOptions,
 ) -> anyhow::Result<CliScript> {
     let bytes = std::fs::read(path)
         .with_context(|| format!("cannot read the script `{}`", path.display()))?;
     let text = String::from_utf8_lossy(&bytes).into_owned();
-    // `gloc run` checks a `# sensors:` line as `gloc check` does (beside the script;
-    // the active list's folder is not known here).
-    let written_for = crate::check::written_for(&text, path, None, sensors);
+    // `gloc run` checks a `# sensors:` line as `gloc check` does.
+    let written_for = crate::check::written_for(&text, path, settings, sensors);
     let loaded = gloc_compiler::loader::load_script_written_for(
         &text,
         Language::of_path(path),

@@ -76,14 +76,10 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         Some(path) => Language::of_path(path),
         None => Language::Gloc,
     };
-    let written_for = args.script.as_deref().and_then(|path| {
-        crate::check::written_for(
-            &script_text,
-            path,
-            settings.masterdata.as_deref(),
-            &sensor_list,
-        )
-    });
+    let written_for = args
+        .script
+        .as_deref()
+        .and_then(|path| crate::check::written_for(&script_text, path, &settings, &sensor_list));
     let loaded = gloc_compiler::loader::load_script_written_for(
         &script_text,
         language,

@@ -227,3 +227,25 @@ fn reindex_rewrites_fig2_for_comet_and_refuses_what_it_cannot_map() {
     );
     assert!(!refused.exists());
 }
+
+#[test]
+fn the_sensor_cache_of_gloc_toml_is_searched_too() {
+    let folder = scratch("cached");
+    std::fs::create_dir_all(&folder).expect("dir");
+    std::fs::write(
+        folder.join("gloc.toml"),
+        format!("sensor_cache = \"{}\"\n", shared("cac")),
+    )
+    .expect("write");
+    let script = folder.join("comet.gloc");
+    let fig2 = std::fs::read_to_string(repo("examples/fig2.gloc")).expect("fig2");
+    std::fs::write(&script, format!("# sensors: 1f35be3b\n{fig2}")).expect("write");
+    // Against the embedded list, comet's list found in the cache: 444 and 1387 differ.
+    let output = gloc(&["check", &script.display().to_string()]);
+    let stdout = text(&output.stdout);
+    assert_eq!(output.status.code(), Some(1), "{stdout}");
+    assert!(
+        stdout.contains(":6:7: error[E0113]: index 444 is `m_certainly_at_surface` in 1f35be3b but `m_depth` in 813b137d"),
+        "{stdout}"
+    );
+}

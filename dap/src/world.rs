@@ -5,7 +5,8 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use gloc_compiler::{load_script, Language as ScriptLanguage, LoadOptions, LoadedScript, Storage};
+use gloc_compiler::loader::load_script_written_for;
+use gloc_compiler::{Language as ScriptLanguage, LoadOptions, LoadedScript, Storage};
 use gloc_engine::program::{Pc, Program, Reg, Value};
 use gloc_engine::sensors::{SensorId, SensorList, SensorOrder};
 use gloc_engine::vm::{CycleEnd, Machine, TrapKind as VmTrapKind};
@@ -113,7 +114,13 @@ fn load_debug_script(config: &LaunchConfig) -> Result<DebugScript, String> {
         Some(masterdata) => load_sensor_list(masterdata, config.sensor_order)?,
     };
     let script_language = ScriptLanguage::of_path(path);
-    let loaded = load_script(
+    let folders = gloc_engine::gloc::identity::list_folders(
+        Some(path),
+        config.masterdata.as_deref(),
+        config.sensor_cache.as_deref(),
+    );
+    let written_for = gloc_engine::gloc::identity::find_written_for(&text, &sensor_list, &folders);
+    let loaded = load_script_written_for(
         &text,
         script_language,
         &sensor_list,
@@ -121,6 +128,7 @@ fn load_debug_script(config: &LaunchConfig) -> Result<DebugScript, String> {
             optimize: false,
             cycle_budget: config.cycle_budget,
         },
+        written_for,
     );
     let Some(program) = loaded.program.clone() else {
         let errors: Vec<String> = loaded

@@ -196,3 +196,30 @@ fn replay_errors_say_what_is_wrong() {
         "{response}"
     );
 }
+
+#[test]
+fn a_gloc_script_for_another_glider_is_refused_at_launch_with_each_index() {
+    // Fig. 2 stated for comet's list (found through sensorCache), debugged with the
+    // embedded list: 444 is `m_certainly_at_surface` there, `m_depth` here.
+    let folder = std::env::temp_dir().join(format!("gloc-dap-identity-{}", std::process::id()));
+    std::fs::create_dir_all(&folder).expect("dir");
+    let script = folder.join("fig2.gloc");
+    let fig2 = std::fs::read_to_string(format!(
+        "{}/../examples/fig2.gloc",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .expect("fig2");
+    std::fs::write(&script, format!("# sensors: 1f35be3b\n{fig2}")).expect("write");
+    let mut client = Client::start();
+    client.ok("initialize", json!({ "adapterID": "gloc" }));
+    let response = client.request(
+        "launch",
+        Some(json!({ "program": script.display().to_string(), "sensorCache": shared("cac") })),
+    );
+    assert_eq!(response["success"], false);
+    let message = response["message"].as_str().unwrap_or_default();
+    assert!(
+        message.contains(":6:7: error[E0113]: index 444 is `m_certainly_at_surface` in 1f35be3b but `m_depth` in 813b137d"),
+        "{message}"
+    );
+}

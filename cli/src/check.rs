@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use anyhow::Context;
 use gloc_engine::gloc::{self, Bound, CheckOptions, Stats};
-use gloc_engine::sensors::{find_cac, load_sensor_file, SensorList, SensorOrder};
+use gloc_engine::sensors::{load_sensor_file, SensorList, SensorOrder};
 
 use crate::render::{SourceFile, Tally};
 
@@ -48,7 +48,7 @@ pub fn main(args: crate::CheckArgs) -> anyhow::Result<ExitCode> {
         let source = SourceFile::new(&display, &text);
         let parsed = gloc::parse(&text);
         let options = CheckOptions {
-            written_for: written_for(&text, path, settings.masterdata.as_deref(), &sensors),
+            written_for: written_for(&text, path, &settings, &sensors),
             ..CheckOptions::default()
         };
         let checked = gloc::check(&parsed, &sensors, &options);
@@ -79,32 +79,21 @@ pub fn main(args: crate::CheckArgs) -> anyhow::Result<ExitCode> {
     })
 }
 
-/// The list a GLOC file's `# sensors: CRC` line names, when it is neither the
-/// active list nor the embedded one (both known already): `<crc>.cac` beside the
-/// script, else beside the active list. `None` when not found (the checker then
-/// warns, W0115) or when the line names no other list.
+/// The list a GLOC file's `# sensors: CRC` line names, when it is a third list:
+/// `<crc>.cac` beside the script, beside the active list, or in the sensor cache
+/// (`gloc_engine::gloc::identity::find_written_for`).
 pub fn written_for(
     text: &str,
     script: &Path,
-    masterdata: Option<&Path>,
+    settings: &crate::settings::Settings,
     active: &SensorList,
 ) -> Option<Arc<SensorList>> {
-    let crc = gloc::identity::stated_crc(text)?;
-    if active.crc() == Some(crc.as_str()) || crc == gloc_engine::sensors::EMBEDDED_CRC {
-        return None;
-    }
-    let folders: Vec<PathBuf> = [Some(script), masterdata]
-        .into_iter()
-        .flatten()
-        .map(|path| match path.parent() {
-            Some(parent) if !parent.as_os_str().is_empty() => parent.to_path_buf(),
-            _ => PathBuf::from("."),
-        })
-        .collect();
-    let path = find_cac(&crc, &folders)?;
-    let loaded = load_sensor_file(&path, SensorOrder::FileOrder).ok()?;
-    let has_errors = loaded.diagnostics.iter().any(|d| d.is_error());
-    (!has_errors).then(|| Arc::new(loaded.list))
+    let folders = gloc::identity::list_folders(
+        Some(script),
+        settings.masterdata.as_deref(),
+        settings.sensor_cache.as_deref(),
+    );
+    gloc::identity::find_written_for(text, active, &folders)
 }
 
 /// Loads `--masterdata`: prints its diagnostics; `None` when it has errors.

@@ -151,13 +151,13 @@ impl CliScript {
 pub fn read_script(
     path: &Path,
     sensors: &SensorList,
+    settings: &crate::settings::Settings,
     options: &LoadOptions,
 ) -> anyhow::Result<CliScript> {
     let text = gloc_engine::files::read_text(path, gloc_engine::files::SCRIPT)
         .with_context(|| format!("cannot read the script `{}`", path.display()))?;
-    // `gloc run` checks a `# sensors:` line as `gloc check` does (beside the script;
-    // the active list's folder is not known here).
-    let written_for = crate::check::written_for(&text, path, None, sensors);
+    // `gloc run` checks a `# sensors:` line as `gloc check` does.
+    let written_for = crate::check::written_for(&text, path, settings, sensors);
     let loaded = gloc_compiler::loader::load_script_written_for(
         &text,
         Language::of_path(path),

@@ -124,7 +124,8 @@ pub struct RunArgs {
     /// Seed for sensor noise.
     #[arg(long)]
     pub seed: Option<u64>,
-    /// Log file: `.csv`, or Slocum ASCII (`.dba`).
+    /// Log file: `.csv`, Slocum ASCII (`.dba`), or Slocum binary (`.dbd`, plus `.ebd` for the
+    /// `sci_` sensors, each with its `<crc>.cac` beside it).
     #[arg(long, value_name = "FILE")]
     pub log: Option<PathBuf>,
     /// Sensors to log, comma-separated (default: what a pilot looks at, plus the sensors the script stores).

@@ -61,7 +61,8 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         },
         None => SensorList::embedded(),
     };
-    let Some(script) = load_script(args.script.as_deref(), &sensors, args.optimize)? else {
+    let Some(script) = load_script(args.script.as_deref(), &sensors, &settings, args.optimize)?
+    else {
         return Ok(ExitCode::FAILURE);
     };
     let config = MachineConfig {
@@ -92,6 +93,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
 fn load_script(
     path: Option<&Path>,
     sensors: &SensorList,
+    settings: &crate::settings::Settings,
     optimize: bool,
 ) -> anyhow::Result<Option<crate::compile::CliScript>> {
     let options = gloc_compiler::LoadOptions {
@@ -99,7 +101,7 @@ fn load_script(
         cycle_budget: None,
     };
     let script = match path {
-        Some(path) => crate::compile::read_script(path, sensors, &options)?,
+        Some(path) => crate::compile::read_script(path, sensors, settings, &options)?,
         None => crate::compile::CliScript {
             display: "<fig2.gloc>".to_string(),
             text: FIG2.to_string(),

@@ -13,7 +13,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use anyhow::{bail, Context};
-use gloc_compiler::{load_script, Language, LoadOptions, LoadedScript};
+use gloc_compiler::{Language, LoadOptions, LoadedScript};
 use gloc_engine::files;
 use gloc_engine::sensors::SensorList;
 use gloc_engine::vm::DEFAULT_CYCLE_BUDGET;
@@ -83,7 +83,11 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         Some(path) => Language::of_path(path),
         None => Language::Gloc,
     };
-    let loaded = load_script(
+    let written_for = args
+        .script
+        .as_deref()
+        .and_then(|path| crate::check::written_for(&script_text, path, &settings, &sensor_list));
+    let loaded = gloc_compiler::loader::load_script_written_for(
         &script_text,
         language,
         &sensor_list,
@@ -91,6 +95,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
             optimize: args.optimize,
             cycle_budget: Some(cycle_budget),
         },
+        written_for,
     );
     let source = SourceFile::new(&script_name, &script_text);
     for diagnostic in &loaded.diagnostics {
@@ -291,7 +296,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
     if let Some((writer, path)) = log {
         // Every row written is complete: the loop stops between cycles.
         if log_error.is_none() {
-            if let Err(error) = writer.finish().and_then(AtomicFile::commit) {
+            if let Err(error) = writer.finish() {
                 log_error = Some(crate::output::write_error(error, "the log", &path));
             }
         }
@@ -340,7 +345,7 @@ fn read_text(path: &Path, limit: files::Limit) -> anyhow::Result<String> {
         .with_context(|| format!("cannot read {} `{}`", limit.what, path.display()))
 }
 
-type OpenLog = (LogWriter<AtomicFile>, PathBuf);
+type OpenLog = (RunLog, PathBuf);
 
 /// SIGINT, SIGTERM and SIGHUP set the returned number (the signal) instead of ending
 /// the process, so the run stops between cycles, keeps its log and prints its summary;
@@ -370,6 +375,50 @@ fn signal_name(signal: usize) -> &'static str {
     }
 }
 
+/// The run log: text (CSV, `.dba`) or a binary `.dbd` (+ `.ebd` for the
+/// science sensors), each with its `<crc>.cac` beside it.
+enum RunLog {
+    Text(LogWriter<AtomicFile>),
+    Binary(Vec<BinaryPart>),
+}
+
+/// One binary file of a run log and the sensor ids of its columns.
+struct BinaryPart {
+    writer: gloc_dbd::DbdWriter<AtomicFile>,
+    columns: Vec<gloc_engine::sensors::SensorId>,
+    values: Vec<f64>,
+}
+
+impl RunLog {
+    fn write_row(&mut self, sensors: &[f64]) -> std::io::Result<()> {
+        match self {
+            RunLog::Text(writer) => writer.write_row(sensors),
+            RunLog::Binary(parts) => {
+                for part in parts {
+                    part.values.clear();
+                    part.values.extend(
+                        part.columns
+                            .iter()
+                            .map(|id| sensors.get(id.index()).copied().unwrap_or(f64::NAN)),
+                    );
+                    part.writer.write_cycle(&part.values)?;
+                }
+                Ok(())
+            }
+        }
+    }
+
+    /// Ends every file and renames it over its target (see [`AtomicFile::commit`]).
+    fn finish(self) -> std::io::Result<()> {
+        match self {
+            RunLog::Text(writer) => writer.finish().and_then(AtomicFile::commit),
+            RunLog::Binary(parts) => parts
+                .into_iter()
+                .try_for_each(|part| part.writer.finish().and_then(AtomicFile::commit)),
+        }
+    }
+}
+
 fn open_log(
     path: &Path,
     args: &crate::RunArgs,
@@ -378,30 +427,127 @@ fn open_log(
     mission: &Mission,
     sim: &Simulation,
 ) -> anyhow::Result<OpenLog> {
-    let Some(format) = LogFormat::from_path(path) else {
+    let binary = path
+        .extension()
+        .is_some_and(|extension| extension.eq_ignore_ascii_case("dbd"));
+    let format = LogFormat::from_path(path);
+    if format.is_none() && !binary {
         bail!(
-            "cannot tell the log format of `{}`: name it `.csv` or `.dba` (Slocum ASCII)",
+            "cannot tell the log format of `{}`: name it `.csv`, `.dba` (Slocum ASCII) or `.dbd` (Slocum binary)",
             path.display()
         );
-    };
+    }
     let columns = match &args.log_sensors {
         Some(names) => parse_columns(sensor_list, names).map_err(anyhow::Error::msg)?,
         // The pilot's set plus whatever the script writes.
         None => default_columns(sensor_list, stored_sensors),
     };
+    let stem = path
+        .file_stem()
+        .map(|stem| stem.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "gloc".to_string());
+    if binary {
+        let parts = open_binary_log(path, &stem, columns, sensor_list, mission, sim)?;
+        return Ok((RunLog::Binary(parts), path.to_path_buf()));
+    }
     let file = AtomicFile::create(path)
         .with_context(|| format!("cannot create the log `{}`", path.display()))?;
     let header = DbaHeader {
-        filename: path
-            .file_stem()
-            .map(|stem| stem.to_string_lossy().into_owned())
-            .unwrap_or_else(|| "gloc".to_string()),
+        filename: stem,
         mission_name: mission.name.clone(),
         fileopen_time: glider_time(sim.present_time()),
     };
-    let writer = LogWriter::new(file, format, columns, sensor_list, &header)
-        .with_context(|| format!("cannot write the log `{}`", path.display()))?;
-    Ok((writer, path.to_path_buf()))
+    let writer = LogWriter::new(
+        file,
+        format.unwrap_or(LogFormat::Csv),
+        columns,
+        sensor_list,
+        &header,
+    )
+    .with_context(|| format!("cannot write the log `{}`", path.display()))?;
+    Ok((RunLog::Text(writer), path.to_path_buf()))
+}
+
+/// `run.dbd` with the flight sensors (and `m_present_time`), and `run.ebd`
+/// with the `sci_` sensors (and `sci_m_present_time`) when any is logged. The
+/// flight file's sensor list is the active list without its `sci_` sensors,
+/// the science file's those alone, as a glider's two computers have them.
+fn open_binary_log(
+    path: &Path,
+    stem: &str,
+    columns: Vec<gloc_engine::sensors::SensorId>,
+    sensor_list: &SensorList,
+    mission: &Mission,
+    sim: &Simulation,
+) -> anyhow::Result<Vec<BinaryPart>> {
+    let is_science = |id: &gloc_engine::sensors::SensorId| {
+        sensor_list
+            .name(*id)
+            .is_some_and(|name| name.to_ascii_lowercase().starts_with("sci_"))
+    };
+    let mut parts = Vec::new();
+    for (science, extension, time) in [
+        (false, "dbd", "m_present_time"),
+        (true, "ebd", "sci_m_present_time"),
+    ] {
+        let mut chosen: Vec<_> = columns
+            .iter()
+            .copied()
+            .filter(|id| is_science(id) == science)
+            .collect();
+        if chosen.is_empty() {
+            continue;
+        }
+        // The time sensor is always logged; columns follow the list's order.
+        chosen.extend(sensor_list.lookup(time));
+        let logged: std::collections::HashSet<_> = chosen.iter().copied().collect();
+        let mut ordered = Vec::new();
+        let mut sensors = Vec::new();
+        for (id, sensor) in sensor_list.iter() {
+            if is_science(&id) != science {
+                continue;
+            }
+            if logged.contains(&id) {
+                ordered.push(id);
+            }
+            sensors.push(gloc_dbd::ListSensor {
+                name: sensor.name.clone(),
+                units: sensor.units.clone(),
+                bytes: if gloc_sim::log::logged_as_double(sensor) {
+                    8
+                } else {
+                    4
+                },
+                logged: logged.contains(&id),
+            });
+        }
+        let list = gloc_dbd::WrittenList::new(&sensors);
+        let file_path = path.with_extension(extension);
+        let folder = file_path.parent().unwrap_or(Path::new(""));
+        let cac = folder.join(format!("{}.cac", list.crc));
+        // The name is the CRC of the contents: an existing file is this list.
+        if !cac.exists() {
+            crate::output::write_atomically(&cac, list.text.as_bytes())
+                .with_context(|| format!("cannot write the sensor list `{}`", cac.display()))?;
+        }
+        let identity = gloc_dbd::LogIdentity {
+            full_filename: stem.to_string(),
+            the8x3_filename: "00000000".to_string(),
+            filename_extension: extension.to_string(),
+            mission_name: mission.name.clone(),
+            fileopen_time: glider_time(sim.present_time()),
+        };
+        let file = AtomicFile::create(&file_path)
+            .with_context(|| format!("cannot create the log `{}`", file_path.display()))?;
+        let writer = gloc_dbd::DbdWriter::new(file, &identity, &list)
+            .with_context(|| format!("cannot write the log `{}`", file_path.display()))?;
+        parts.push(BinaryPart {
+            writer,
+            values: Vec::with_capacity(ordered.len()),
+            columns: ordered,
+        });
+    }
+    Ok(parts)
 }
 
 /// Parses `90s`, `45m`, `6h`, `30d`, or combinations such as `1h30m`.
@@ -459,7 +605,7 @@ fn glider_time(unix_seconds: f64) -> String {
 }
 
 /// Days since 1970-01-01 → (year, month, day) (Howard Hinnant's algorithm).
-fn civil_from_days(days: i64) -> (i64, i64, i64) {
+pub(crate) fn civil_from_days(days: i64) -> (i64, i64, i64) {
     let z = days + 719_468;
     let era = z.div_euclid(146_097);
     let day_of_era = z - era * 146_097;

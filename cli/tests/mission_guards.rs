@@ -2,31 +2,18 @@
 //! sets `u_sci_dbd_sensor_list_xmit_control`, which the embedded list lacks): both
 //! mission guards are warnings with file, line, column, code and a caret.
 
-use std::path::Path;
-use std::process::Command;
+mod support;
 
-fn repo(path: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("..")
-        .join(path)
-        .display()
-        .to_string()
-}
+use support::{gloc, repo, shared, text};
 
 fn run(args: &[&str]) -> (Option<i32>, String) {
-    let output = Command::new(env!("CARGO_BIN_EXE_gloc"))
-        .args(args)
-        .output()
-        .expect("the gloc binary runs");
-    (
-        output.status.code(),
-        String::from_utf8_lossy(&output.stderr).into_owned(),
-    )
+    let output = gloc(args);
+    (output.status.code(), text(&output.stderr))
 }
 
 #[test]
 fn fig2_with_nsb3_warns_about_the_hook_and_the_unknown_sensor() {
-    let nsb3 = repo("../shared/data/comet/missions/nsb3.mi");
+    let nsb3 = shared("comet/missions/nsb3.mi");
     let (code, stderr) = run(&["run", "--mission", &nsb3, "--cycles", "5"]);
     assert_eq!(code, Some(0), "{stderr}");
     let expected_setting = format!(
@@ -49,7 +36,7 @@ fn fig2_with_nsb3_warns_about_the_hook_and_the_unknown_sensor() {
 
 #[test]
 fn a_gbasic_script_gets_the_warning_on_its_own_line() {
-    let nsb3 = repo("../shared/data/comet/missions/nsb3.mi");
+    let nsb3 = shared("comet/missions/nsb3.mi");
     let fig3 = repo("examples/fig3.gbas");
     let (_, stderr) = run(&["run", &fig3, "--mission", &nsb3, "--cycles", "5"]);
     // `SCI_RUHP_BEHS = 128` is line 3 of Fig. 3, indented two spaces.

@@ -10,33 +10,19 @@
 //!   its mean between the bins of 0 and 10 m (18.44 °C at the top, 18.00 °C at 10 m,
 //!   17.97 °C at 13 m), so each leg's bounds should lie within about 1–13 m.
 
-use std::path::Path;
-use std::process::{Command, Output};
+mod support;
 
-fn repo(path: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("..")
-        .join(path)
-        .display()
-        .to_string()
-}
+use support::{gloc, repo, shared};
 
 fn comet(extension: &str) -> String {
-    repo(&format!(
-        "../shared/data/comet/from-glider/comet-2019-222-02-154.{extension}"
+    shared(&format!(
+        "comet/from-glider/comet-2019-222-02-154.{extension}"
     ))
-}
-
-fn gloc(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_gloc"))
-        .args(args)
-        .output()
-        .expect("the gloc binary runs")
 }
 
 #[test]
 fn the_thermocline_tracker_replays_a_real_deployment_and_finds_the_thermocline() {
-    let cache = repo("../shared/data/cac");
+    let cache = shared("cac");
     let output = gloc(&[
         "run",
         &repo("examples/thermocline.gbas"),
@@ -92,12 +78,12 @@ fn a_missing_sensor_list_names_the_crc_and_the_folders() {
 fn a_real_list_without_the_hook_sensors_still_runs_the_thermocline_tracker() {
     // Comet's own list as the active list: the hook sensors are appended (issue 14
     // saw E2101 here), and the data's sensors all map by name.
-    let cache = repo("../shared/data/cac");
+    let cache = shared("cac");
     let output = gloc(&[
         "run",
         &repo("examples/thermocline.gbas"),
         "--masterdata",
-        &repo("../shared/data/cac/1f35be3b.cac"),
+        &shared("cac/1f35be3b.cac"),
         "--replay",
         &comet("dbd"),
         &comet("ebd"),

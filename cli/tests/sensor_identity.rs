@@ -4,30 +4,14 @@
 //! `m_depth`, 1387 `sci_whfctd_ref_lo`, 2,142 sensors, so the hook sensors are
 //! appended at 2142–2144) and the paper's Fig. 2.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod support;
 
-fn gloc(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_gloc"))
-        .args(args)
-        .output()
-        .expect("the gloc binary runs")
-}
+use std::path::PathBuf;
 
-fn repo(path: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("..")
-        .join(path)
-        .display()
-        .to_string()
-}
+use support::{gloc, repo, shared, text};
 
 fn comet_cac() -> String {
-    repo("../shared/data/cac/1f35be3b.cac")
-}
-
-fn text(output: &[u8]) -> String {
-    String::from_utf8_lossy(output).into_owned()
+    shared("cac/1f35be3b.cac")
 }
 
 fn scratch(name: &str) -> PathBuf {
@@ -242,4 +226,26 @@ fn reindex_rewrites_fig2_for_comet_and_refuses_what_it_cannot_map() {
         ]
     );
     assert!(!refused.exists());
+}
+
+#[test]
+fn the_sensor_cache_of_gloc_toml_is_searched_too() {
+    let folder = scratch("cached");
+    std::fs::create_dir_all(&folder).expect("dir");
+    std::fs::write(
+        folder.join("gloc.toml"),
+        format!("sensor_cache = \"{}\"\n", shared("cac")),
+    )
+    .expect("write");
+    let script = folder.join("comet.gloc");
+    let fig2 = std::fs::read_to_string(repo("examples/fig2.gloc")).expect("fig2");
+    std::fs::write(&script, format!("# sensors: 1f35be3b\n{fig2}")).expect("write");
+    // Against the embedded list, comet's list found in the cache: 444 and 1387 differ.
+    let output = gloc(&["check", &script.display().to_string()]);
+    let stdout = text(&output.stdout);
+    assert_eq!(output.status.code(), Some(1), "{stdout}");
+    assert!(
+        stdout.contains(":6:7: error[E0113]: index 444 is `m_certainly_at_surface` in 1f35be3b but `m_depth` in 813b137d"),
+        "{stdout}"
+    );
 }

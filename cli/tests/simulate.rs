@@ -97,7 +97,7 @@ fn bad_options_are_explained() {
     );
     let output = gloc(&["run", "--log", "run.txt"], &folder);
     assert_eq!(output.status.code(), Some(2));
-    assert!(text(&output.stderr).contains("`.csv` or `.dba`"));
+    assert!(text(&output.stderr).contains("`.csv`, `.dba` (Slocum ASCII) or `.dbd`"));
     let output = gloc(&["run", "--profile", "missing.csv"], &folder);
     assert_eq!(output.status.code(), Some(2));
     assert!(text(&output.stderr).contains("missing.csv"));

@@ -11,6 +11,7 @@ pub mod debugger;
 pub mod expr;
 pub mod program;
 pub mod protocol;
+pub mod replay_world;
 pub mod session;
 pub mod target;
 pub mod types;

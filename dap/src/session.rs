@@ -43,6 +43,8 @@ pub const LAUNCH_ATTRIBUTES: &[&str] = &[
     "maxCycles",
     "history",
     "token",
+    "replay",
+    "sensorCache",
 ];
 
 /// Who may use a session. Over stdio the client is the editor that started the
@@ -88,6 +90,32 @@ pub struct LaunchArguments {
     /// The session token of `gloc dap --port` (never echoed back).
     #[serde(skip_serializing)]
     pub token: Option<String>,
+    /// Recorded data to step through instead of simulating: one path or a list
+    /// (a CSV file, or glider logs: a deployment, flight and science merged).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub replay: Option<Value>,
+    /// The folder searched first for the glider logs' sensor lists (`<crc>.cac`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sensor_cache: Option<String>,
+}
+
+/// `replay`: a path, a list of paths, or empty (`""`, `[]`, `null`: simulate).
+fn replay_paths(value: Option<&Value>) -> Result<Vec<PathBuf>, String> {
+    const FORM: &str = "`replay` must be a path or a list of paths (a CSV file or glider logs)";
+    let paths: Vec<&str> = match value {
+        None | Some(Value::Null) => Vec::new(),
+        Some(Value::String(path)) => vec![path.as_str()],
+        Some(Value::Array(items)) => items
+            .iter()
+            .map(|item| item.as_str().ok_or(FORM))
+            .collect::<Result<_, _>>()?,
+        Some(_) => return Err(FORM.into()),
+    };
+    Ok(paths
+        .into_iter()
+        .filter(|path| !path.trim().is_empty())
+        .map(PathBuf::from)
+        .collect())
 }
 
 /// Whether the main loop goes on after a request.
@@ -733,6 +761,8 @@ impl Session {
             max_cycles: arguments.max_cycles,
             sensor_order: file_config.sensor_order.unwrap_or_default(),
             simulator: file_config.simulator,
+            replay: replay_paths(arguments.replay.as_ref())?,
+            sensor_cache: given_path(&arguments.sensor_cache).or(file_config.sensor_cache),
             program,
         };
         check_input(&config.program, "program", &["gbas", "gloc"])?;

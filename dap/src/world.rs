@@ -5,16 +5,18 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use gloc_compiler::{load_script, Language as ScriptLanguage, LoadOptions, Storage};
-use gloc_engine::program::{Pc, Reg, Value};
+use gloc_compiler::loader::load_script_written_for;
+use gloc_compiler::{Language as ScriptLanguage, LoadOptions, LoadedScript, Storage};
+use gloc_engine::program::{Pc, Program, Reg, Value};
 use gloc_engine::sensors::{SensorId, SensorList, SensorOrder};
-use gloc_engine::vm::{CycleEnd, TrapKind as VmTrapKind};
+use gloc_engine::vm::{CycleEnd, Machine, TrapKind as VmTrapKind};
 use gloc_engine::{Diagnostic, LineIndex};
 use gloc_sim::behaviors::EventKind;
 use gloc_sim::{EndReason, Mission, Phase as SimPhase, SimConfig, Simulation, TemperatureProfile};
 
 use crate::expr::Number;
 use crate::program::{DebugInfo, Language};
+use crate::replay_world::ReplayWorld;
 use crate::target::{Named, Notice, Phase, StepEvent, Target, TrapKind};
 
 /// What `launch` needs, already checked for types by the session.
@@ -31,11 +33,15 @@ pub struct LaunchConfig {
     pub sensor_order: SensorOrder,
     /// Flight and energy constants (`[simulator]` of gloc.toml).
     pub simulator: Vec<(String, f64)>,
+    /// Recorded data to replay instead of simulating (one CSV file or glider logs).
+    pub replay: Vec<PathBuf>,
+    /// The folder searched first for the glider logs' sensor lists.
+    pub sensor_cache: Option<PathBuf>,
 }
 
 /// A GBASIC variable and where it lives.
 #[derive(Clone, Debug)]
-struct VariableSlot {
+pub(crate) struct VariableSlot {
     name: String,
     float: bool,
     storage: Storage,
@@ -50,8 +56,9 @@ struct Fixed {
     sensor_list: Arc<SensorList>,
 }
 
+/// The script flown in the simulator.
 #[derive(Clone, Debug)]
-pub struct World {
+pub struct SimWorld {
     sim: Simulation,
     fixed: Arc<Fixed>,
     /// Bytes of this cycle's printed text already reported.
@@ -62,8 +69,43 @@ pub struct World {
     notices: Vec<Notice>,
 }
 
-/// Loads the script, the sensor list, the mission and the profile, and opens cycle 0.
+/// The world being debugged: the script in the simulator, or the script over a
+/// recorded deployment (`replay`); both behind [`Target`].
+// Not boxed: one world lives per snapshot (at most a few hundred), and the simulated
+// one, the common case, then needs no extra allocation per snapshot.
+#[allow(clippy::large_enum_variant)]
+#[derive(Clone, Debug)]
+pub enum World {
+    Sim(SimWorld),
+    Replay(ReplayWorld),
+}
+
+/// The script loaded for debugging: what both worlds start from.
+pub(crate) struct DebugScript {
+    pub path: PathBuf,
+    pub text: String,
+    pub program: Arc<Program>,
+    pub loaded: LoadedScript,
+    pub variables: Vec<VariableSlot>,
+    /// The sensors the script loads or stores, in first-use order.
+    pub touched: Vec<usize>,
+    pub sensor_list: Arc<SensorList>,
+}
+
+/// Loads the script and the sensor list, then the mission and the profile (or the
+/// recording, with `replay`), and opens cycle 0.
 pub fn launch(config: &LaunchConfig) -> Result<(World, DebugInfo), String> {
+    let script = load_debug_script(config)?;
+    let info = debug_info(&script);
+    let world = if config.replay.is_empty() {
+        World::Sim(launch_sim(config, script)?)
+    } else {
+        World::Replay(ReplayWorld::launch(config, script)?)
+    };
+    Ok((world, info))
+}
+
+fn load_debug_script(config: &LaunchConfig) -> Result<DebugScript, String> {
     let path = &config.program;
     let text = gloc_engine::files::read_text(path, gloc_engine::files::SCRIPT)
         .map_err(|error| format!("cannot read the program {}: {error}", path.display()))?;
@@ -72,7 +114,13 @@ pub fn launch(config: &LaunchConfig) -> Result<(World, DebugInfo), String> {
         Some(masterdata) => load_sensor_list(masterdata, config.sensor_order)?,
     };
     let script_language = ScriptLanguage::of_path(path);
-    let loaded = load_script(
+    let folders = gloc_engine::gloc::identity::list_folders(
+        Some(path),
+        config.masterdata.as_deref(),
+        config.sensor_cache.as_deref(),
+    );
+    let written_for = gloc_engine::gloc::identity::find_written_for(&text, &sensor_list, &folders);
+    let loaded = load_script_written_for(
         &text,
         script_language,
         &sensor_list,
@@ -80,6 +128,7 @@ pub fn launch(config: &LaunchConfig) -> Result<(World, DebugInfo), String> {
             optimize: false,
             cycle_budget: config.cycle_budget,
         },
+        written_for,
     );
     let Some(program) = loaded.program.clone() else {
         let errors: Vec<String> = loaded
@@ -94,6 +143,97 @@ pub fn launch(config: &LaunchConfig) -> Result<(World, DebugInfo), String> {
             errors.join("\n")
         ));
     };
+    let mut touched: Vec<usize> = Vec::new();
+    for sensor in program.loaded_sensors.iter().chain(&program.stored_sensors) {
+        if !touched.contains(&sensor.index()) {
+            touched.push(sensor.index());
+        }
+    }
+    let variables = loaded
+        .source_map
+        .as_ref()
+        .map(|map| {
+            map.variables
+                .iter()
+                .map(|variable| VariableSlot {
+                    name: variable.name.clone(),
+                    float: variable.ty.name() == "float",
+                    storage: variable.storage,
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    Ok(DebugScript {
+        path: path.clone(),
+        text,
+        program,
+        loaded,
+        variables,
+        touched,
+        sensor_list: Arc::new(sensor_list),
+    })
+}
+
+/// Lines and instruction texts per pc, in the script's own language.
+fn debug_info(script: &DebugScript) -> DebugInfo {
+    let program = &script.program;
+    let loaded = &script.loaded;
+    let gloc_text = loaded.gloc_text.clone().unwrap_or_default();
+    let gloc_lines: Vec<&str> = gloc_text.lines().collect();
+    let count = program.instrs.len();
+    let (language, line_of_pc, instruction_text) = match &loaded.source_map {
+        Some(map) => {
+            let origins: Vec<_> = map.lines.iter().filter(|origin| !origin.is_label).collect();
+            let lines = (0..count)
+                .map(|pc| origins.get(pc).map(|origin| origin.line))
+                .collect();
+            let texts = (0..count)
+                .map(|pc| match origins.get(pc) {
+                    Some(origin) => gloc_line_text(&gloc_lines, origin.gloc_line),
+                    None => "halt    # end of script".to_string(),
+                })
+                .collect();
+            (Language::Gbasic, lines, texts)
+        }
+        None => {
+            let lines = (0..count)
+                .map(|pc| Some(program.line(Pc(pc as u32))).filter(|line| *line > 0))
+                .collect::<Vec<_>>();
+            let texts = (0..count)
+                .map(|pc| {
+                    if pc + 1 == count {
+                        "halt    # end of script".to_string()
+                    } else {
+                        gloc_line_text(&gloc_lines, program.line(Pc(pc as u32)))
+                    }
+                })
+                .collect();
+            // The implicit final halt has no line of its own.
+            let mut lines = lines;
+            if let Some(last) = lines.last_mut() {
+                if count > 1 {
+                    *last = None;
+                }
+            }
+            (Language::Gloc, lines, texts)
+        }
+    };
+    DebugInfo::new(script.path.clone(), language, line_of_pc, instruction_text)
+        .with_program(program)
+        .with_source_text(&script.text)
+}
+
+/// The simulator world: the mission and the profile, cycle 0 opened.
+fn launch_sim(config: &LaunchConfig, script: DebugScript) -> Result<SimWorld, String> {
+    let DebugScript {
+        path,
+        text,
+        program,
+        loaded,
+        variables,
+        touched,
+        sensor_list,
+    } = script;
     let mission = match &config.mission {
         None => gloc_sim::default_mission(),
         Some(mission_path) => {
@@ -136,7 +276,6 @@ pub fn launch(config: &LaunchConfig) -> Result<(World, DebugInfo), String> {
             return Err(format!("`{name}` is not a simulator setting"));
         }
     }
-    let sensor_list = Arc::new(sensor_list);
     let mut sim = Simulation::new(
         &mission,
         sensor_list.clone(),
@@ -159,81 +298,18 @@ pub fn launch(config: &LaunchConfig) -> Result<(World, DebugInfo), String> {
         .filter_map(|pc| loaded.span_of_pc(pc))
         .collect();
     if let Some(warning) = mission.unhooked_store_warning(&unhooked) {
-        notices.push(Notice::Warning(render(path, &text, &warning)));
+        notices.push(Notice::Warning(render(&path, &text, &warning)));
     }
     if !sim.begin_cycle() {
         return Err("the mission ended before its first cycle".into());
     }
-    let mut touched: Vec<usize> = Vec::new();
-    for sensor in program.loaded_sensors.iter().chain(&program.stored_sensors) {
-        if !touched.contains(&sensor.index()) {
-            touched.push(sensor.index());
-        }
-    }
-    let variables = loaded
-        .source_map
-        .as_ref()
-        .map(|map| {
-            map.variables
-                .iter()
-                .map(|variable| VariableSlot {
-                    name: variable.name.clone(),
-                    float: variable.ty.name() == "float",
-                    storage: variable.storage,
-                })
-                .collect()
-        })
-        .unwrap_or_default();
-    let gloc_text = loaded.gloc_text.clone().unwrap_or_default();
-    let gloc_lines: Vec<&str> = gloc_text.lines().collect();
-    let count = program.instrs.len();
-    let (language, line_of_pc, instruction_text) = match &loaded.source_map {
-        Some(map) => {
-            let origins: Vec<_> = map.lines.iter().filter(|origin| !origin.is_label).collect();
-            let lines = (0..count)
-                .map(|pc| origins.get(pc).map(|origin| origin.line))
-                .collect();
-            let texts = (0..count)
-                .map(|pc| match origins.get(pc) {
-                    Some(origin) => gloc_line_text(&gloc_lines, origin.gloc_line),
-                    None => "halt    # end of script".to_string(),
-                })
-                .collect();
-            (Language::Gbasic, lines, texts)
-        }
-        None => {
-            let lines = (0..count)
-                .map(|pc| Some(program.line(Pc(pc as u32))).filter(|line| *line > 0))
-                .collect::<Vec<_>>();
-            let texts = (0..count)
-                .map(|pc| {
-                    if pc + 1 == count {
-                        "halt    # end of script".to_string()
-                    } else {
-                        gloc_line_text(&gloc_lines, program.line(Pc(pc as u32)))
-                    }
-                })
-                .collect();
-            // The implicit final halt has no line of its own.
-            let mut lines = lines;
-            if let Some(last) = lines.last_mut() {
-                if count > 1 {
-                    *last = None;
-                }
-            }
-            (Language::Gloc, lines, texts)
-        }
-    };
-    let info = DebugInfo::new(path.clone(), language, line_of_pc, instruction_text)
-        .with_program(&program)
-        .with_source_text(&text);
     let fixed = Arc::new(Fixed {
         variables,
         touched,
         max_cycles: config.max_cycles,
         sensor_list,
     });
-    let mut world = World {
+    let mut world = SimWorld {
         sim,
         fixed,
         printed_reported: 0,
@@ -244,7 +320,7 @@ pub fn launch(config: &LaunchConfig) -> Result<(World, DebugInfo), String> {
     world.collect();
     notices.append(&mut world.notices);
     world.notices = notices;
-    Ok((world, info))
+    Ok(world)
 }
 
 fn gloc_line_text(lines: &[&str], line: u32) -> String {
@@ -256,7 +332,7 @@ fn gloc_line_text(lines: &[&str], line: u32) -> String {
     text.split('#').next().unwrap_or("").trim().to_string()
 }
 
-fn load_sensor_list(path: &Path, order: SensorOrder) -> Result<SensorList, String> {
+pub(crate) fn load_sensor_list(path: &Path, order: SensorOrder) -> Result<SensorList, String> {
     let loaded = gloc_engine::sensors::load_sensor_file(path, order)
         .map_err(|error| format!("cannot read the sensor list {}: {error}", path.display()))?;
     let errors: Vec<String> = loaded
@@ -276,7 +352,7 @@ fn load_sensor_list(path: &Path, order: SensorOrder) -> Result<SensorList, Strin
 }
 
 /// `file:line:column: severity[CODE]: message`, as the CLI prints it.
-fn render(path: &Path, text: &str, diagnostic: &Diagnostic) -> String {
+pub(crate) fn render(path: &Path, text: &str, diagnostic: &Diagnostic) -> String {
     let index = LineIndex::new(text);
     let (line, column) = index.line_col(text, diagnostic.span.start as usize);
     format!(
@@ -288,7 +364,7 @@ fn render(path: &Path, text: &str, diagnostic: &Diagnostic) -> String {
     )
 }
 
-impl World {
+impl SimWorld {
     /// Turns this cycle's new prints, behavior events and an abort into notices.
     fn collect(&mut self) {
         // Called after every step: the common case, nothing new, costs two compares.
@@ -358,22 +434,154 @@ impl World {
             self.sim.energy_joules(),
         )
     }
+}
 
-    fn array(&self, name: &str) -> Option<&VariableSlot> {
-        self.fixed
-            .variables
-            .iter()
-            .find(|variable| variable.name.eq_ignore_ascii_case(name))
-            .filter(|variable| matches!(variable.storage, Storage::Memory { .. }))
-    }
+// The script's state as the debugger sees it, for either world: each takes the
+// machine (`None` when there is no script) and the GBASIC variables.
 
-    fn machine_value(&self, storage: Storage) -> Option<Value> {
-        let machine = self.sim.machine()?;
-        match storage {
-            Storage::Register { register } => machine.registers().get(register as usize).copied(),
-            Storage::Memory { base, .. } => machine.memory().get(base as usize).copied(),
-        }
+pub(crate) fn registers_of(machine: Option<&Machine>) -> Vec<Number> {
+    machine
+        .map(|machine| machine.registers().iter().copied().map(to_number).collect())
+        .unwrap_or_default()
+}
+
+pub(crate) fn set_register_in(
+    machine: Option<&mut Machine>,
+    index: usize,
+    value: Number,
+) -> Result<(), String> {
+    machine
+        .ok_or("no script is running")?
+        .set_register(Reg(index as u32), to_value(value))
+        .map_err(|error| error.to_string())
+}
+
+pub(crate) fn variables_of(machine: Option<&Machine>, slots: &[VariableSlot]) -> Vec<Named> {
+    let Some(machine) = machine else {
+        return Vec::new();
+    };
+    slots
+        .iter()
+        .map(|variable| match variable.storage {
+            Storage::Register { register } => {
+                let value = machine
+                    .registers()
+                    .get(register as usize)
+                    .copied()
+                    .unwrap_or_default();
+                Named {
+                    name: variable.name.clone(),
+                    value: value.to_string(),
+                    ty: if variable.float { "float" } else { "integer" },
+                    length: None,
+                }
+            }
+            Storage::Memory { base, size } => {
+                let cells: Vec<String> = machine
+                    .memory()
+                    .iter()
+                    .skip(base as usize)
+                    .take(size as usize)
+                    .map(Value::to_string)
+                    .collect();
+                Named {
+                    name: variable.name.clone(),
+                    value: format!("[{}]", cells.join(", ")),
+                    ty: if variable.float {
+                        "float array"
+                    } else {
+                        "integer array"
+                    },
+                    length: Some(size as usize),
+                }
+            }
+        })
+        .collect()
+}
+
+pub(crate) fn variable_of(
+    machine: Option<&Machine>,
+    slots: &[VariableSlot],
+    name: &str,
+) -> Option<Number> {
+    let variable = slots
+        .iter()
+        .find(|variable| variable.name.eq_ignore_ascii_case(name))?;
+    match variable.storage {
+        Storage::Register { register } => machine?
+            .registers()
+            .get(register as usize)
+            .copied()
+            .map(to_number),
+        // An array has no single value in an expression.
+        Storage::Memory { .. } => None,
     }
+}
+
+pub(crate) fn set_variable_in(
+    machine: Option<&mut Machine>,
+    slots: &[VariableSlot],
+    name: &str,
+    value: Number,
+) -> Result<(), String> {
+    let variable = slots
+        .iter()
+        .find(|variable| variable.name.eq_ignore_ascii_case(name))
+        .ok_or_else(|| format!("no variable `{name}`"))?;
+    let value = typed_value(variable, value)?;
+    let machine = machine.ok_or("no script is running")?;
+    match variable.storage {
+        Storage::Register { register } => machine.set_register(Reg(register), value),
+        Storage::Memory { base, .. } => machine.set_memory(base, value),
+    }
+    .map_err(|error| error.to_string())
+}
+
+fn array<'a>(slots: &'a [VariableSlot], name: &str) -> Option<&'a VariableSlot> {
+    slots
+        .iter()
+        .find(|variable| variable.name.eq_ignore_ascii_case(name))
+        .filter(|variable| matches!(variable.storage, Storage::Memory { .. }))
+}
+
+pub(crate) fn element_of(
+    machine: Option<&Machine>,
+    slots: &[VariableSlot],
+    name: &str,
+    index: i64,
+) -> Option<Number> {
+    let variable = array(slots, name)?;
+    let Storage::Memory { base, size } = variable.storage else {
+        return None;
+    };
+    let index = u32::try_from(index).ok().filter(|index| *index < size)?;
+    machine?
+        .memory()
+        .get((base + index) as usize)
+        .copied()
+        .map(to_number)
+}
+
+pub(crate) fn set_element_in(
+    machine: Option<&mut Machine>,
+    slots: &[VariableSlot],
+    name: &str,
+    index: i64,
+    value: Number,
+) -> Result<(), String> {
+    let variable = array(slots, name).ok_or_else(|| format!("no array `{name}`"))?;
+    let Storage::Memory { base, size } = variable.storage else {
+        return Err(format!("`{name}` is not an array"));
+    };
+    let index = u32::try_from(index)
+        .ok()
+        .filter(|index| *index < size)
+        .ok_or_else(|| format!("{name}({index}) is outside 0..{}", size.saturating_sub(1)))?;
+    let value = typed_value(variable, value)?;
+    machine
+        .ok_or("no script is running")?
+        .set_memory(base + index, value)
+        .map_err(|error| error.to_string())
 }
 
 /// Keeps a variable's declared type, as an assignment in the script would.
@@ -393,21 +601,6 @@ fn typed_value(variable: &VariableSlot, value: Number) -> Result<Value, String> 
     }
 }
 
-/// The step event for the end of a share.
-fn step_event(end: CycleEnd) -> StepEvent {
-    match end {
-        CycleEnd::Yielded => StepEvent::Yielded,
-        CycleEnd::Halted => StepEvent::Halted,
-        CycleEnd::Trapped(trap) => StepEvent::Trapped {
-            kind: match trap.kind {
-                VmTrapKind::CycleOverrun { .. } => TrapKind::CycleOverrun,
-                _ => TrapKind::Runtime,
-            },
-            message: trap.kind.to_string(),
-        },
-    }
-}
-
 fn to_number(value: Value) -> Number {
     match value {
         Value::Int(value) => Number::Int(value),
@@ -422,7 +615,7 @@ fn to_value(number: Number) -> Value {
     }
 }
 
-impl Target for World {
+impl Target for SimWorld {
     fn cycle(&self) -> u64 {
         self.sim.cycle()
     }
@@ -450,7 +643,9 @@ impl Target for World {
         let event = match self.sim.phase() {
             SimPhase::Boundary | SimPhase::ScriptRunning => match self.sim.script_step() {
                 None => StepEvent::Executed,
-                Some(end) => step_event(end),
+                Some(CycleEnd::Yielded) => StepEvent::Yielded,
+                Some(CycleEnd::Halted) => StepEvent::Halted,
+                Some(CycleEnd::Trapped(trap)) => trap_event(&trap),
             },
             SimPhase::ScriptDone | SimPhase::BetweenCycles => {
                 self.sim.finish_cycle();
@@ -483,7 +678,7 @@ impl Target for World {
         if self.sim.phase() != SimPhase::ScriptRunning {
             return None;
         }
-        let executed = |world: &World| {
+        let executed = |world: &SimWorld| {
             world
                 .sim
                 .machine()
@@ -492,7 +687,9 @@ impl Target for World {
         let before = executed(self);
         let event = match self.sim.script_run(max_steps) {
             None => StepEvent::Executed,
-            Some(end) => step_event(end),
+            Some(CycleEnd::Yielded) => StepEvent::Yielded,
+            Some(CycleEnd::Halted) => StepEvent::Halted,
+            Some(CycleEnd::Trapped(trap)) => trap_event(&trap),
         };
         // Every instruction is one step, the one that ends the share included; a share
         // that could not run after all is one step, as `script_step` answers it.
@@ -506,124 +703,37 @@ impl Target for World {
     }
 
     fn registers(&self) -> Vec<Number> {
-        self.sim
-            .machine()
-            .map(|machine| machine.registers().iter().copied().map(to_number).collect())
-            .unwrap_or_default()
+        registers_of(self.sim.machine())
     }
 
     fn set_register(&mut self, index: usize, value: Number) -> Result<(), String> {
-        let (machine, _) = self.sim.script_parts().ok_or("no script is running")?;
-        machine
-            .set_register(Reg(index as u32), to_value(value))
-            .map_err(|error| error.to_string())
+        set_register_in(
+            self.sim.script_parts().map(|(machine, _)| machine),
+            index,
+            value,
+        )
     }
 
     fn variables(&self) -> Vec<Named> {
-        let Some(machine) = self.sim.machine() else {
-            return Vec::new();
-        };
-        self.fixed
-            .variables
-            .iter()
-            .map(|variable| match variable.storage {
-                Storage::Register { register } => {
-                    let value = machine
-                        .registers()
-                        .get(register as usize)
-                        .copied()
-                        .unwrap_or_default();
-                    Named {
-                        name: variable.name.clone(),
-                        value: value.to_string(),
-                        ty: if variable.float { "float" } else { "integer" },
-                        length: None,
-                    }
-                }
-                Storage::Memory { base, size } => {
-                    let cells: Vec<String> = machine
-                        .memory()
-                        .iter()
-                        .skip(base as usize)
-                        .take(size as usize)
-                        .map(Value::to_string)
-                        .collect();
-                    Named {
-                        name: variable.name.clone(),
-                        value: format!("[{}]", cells.join(", ")),
-                        ty: if variable.float {
-                            "float array"
-                        } else {
-                            "integer array"
-                        },
-                        length: Some(size as usize),
-                    }
-                }
-            })
-            .collect()
+        variables_of(self.sim.machine(), &self.fixed.variables)
     }
 
     fn variable(&self, name: &str) -> Option<Number> {
-        let variable = self
-            .fixed
-            .variables
-            .iter()
-            .find(|variable| variable.name.eq_ignore_ascii_case(name))?;
-        match variable.storage {
-            Storage::Register { .. } => self.machine_value(variable.storage).map(to_number),
-            // An array has no single value in an expression.
-            Storage::Memory { .. } => None,
-        }
+        variable_of(self.sim.machine(), &self.fixed.variables, name)
     }
 
     fn set_variable(&mut self, name: &str, value: Number) -> Result<(), String> {
-        let variable = self
-            .fixed
-            .variables
-            .iter()
-            .find(|variable| variable.name.eq_ignore_ascii_case(name))
-            .cloned()
-            .ok_or_else(|| format!("no variable `{name}`"))?;
-        let value = typed_value(&variable, value)?;
-        let (machine, _) = self.sim.script_parts().ok_or("no script is running")?;
-        match variable.storage {
-            Storage::Register { register } => machine.set_register(Reg(register), value),
-            Storage::Memory { base, .. } => machine.set_memory(base, value),
-        }
-        .map_err(|error| error.to_string())
+        let machine = self.sim.script_parts().map(|(machine, _)| machine);
+        set_variable_in(machine, &self.fixed.variables, name, value)
     }
 
     fn element(&self, name: &str, index: i64) -> Option<Number> {
-        let variable = self.array(name)?;
-        let Storage::Memory { base, size } = variable.storage else {
-            return None;
-        };
-        let index = u32::try_from(index).ok().filter(|index| *index < size)?;
-        let machine = self.sim.machine()?;
-        machine
-            .memory()
-            .get((base + index) as usize)
-            .copied()
-            .map(to_number)
+        element_of(self.sim.machine(), &self.fixed.variables, name, index)
     }
 
     fn set_element(&mut self, name: &str, index: i64, value: Number) -> Result<(), String> {
-        let variable = self
-            .array(name)
-            .cloned()
-            .ok_or_else(|| format!("no array `{name}`"))?;
-        let Storage::Memory { base, size } = variable.storage else {
-            return Err(format!("`{name}` is not an array"));
-        };
-        let index = u32::try_from(index)
-            .ok()
-            .filter(|index| *index < size)
-            .ok_or_else(|| format!("{name}({index}) is outside 0..{}", size.saturating_sub(1)))?;
-        let value = typed_value(&variable, value)?;
-        let (machine, _) = self.sim.script_parts().ok_or("no script is running")?;
-        machine
-            .set_memory(base + index, value)
-            .map_err(|error| error.to_string())
+        let machine = self.sim.script_parts().map(|(machine, _)| machine);
+        set_element_in(machine, &self.fixed.variables, name, index, value)
     }
 
     fn sensor_count(&self) -> usize {
@@ -706,5 +816,92 @@ impl Target for World {
                 "float",
             ),
         ]
+    }
+}
+
+/// Calls the same method on whichever world is running.
+macro_rules! each_world {
+    ($self:ident, $world:ident => $call:expr) => {
+        match $self {
+            World::Sim($world) => $call,
+            World::Replay($world) => $call,
+        }
+    };
+}
+
+impl Target for World {
+    fn cycle(&self) -> u64 {
+        each_world!(self, world => world.cycle())
+    }
+    fn phase(&self) -> Phase {
+        each_world!(self, world => world.phase())
+    }
+    fn pc(&self) -> usize {
+        each_world!(self, world => world.pc())
+    }
+    fn script_alive(&self) -> bool {
+        each_world!(self, world => world.script_alive())
+    }
+    fn step(&mut self) -> StepEvent {
+        each_world!(self, world => world.step())
+    }
+    fn run_share(&mut self, max_steps: u64) -> Option<(StepEvent, u64)> {
+        each_world!(self, world => world.run_share(max_steps))
+    }
+    fn take_notices(&mut self) -> Vec<Notice> {
+        each_world!(self, world => world.take_notices())
+    }
+    fn registers(&self) -> Vec<Number> {
+        each_world!(self, world => world.registers())
+    }
+    fn set_register(&mut self, index: usize, value: Number) -> Result<(), String> {
+        each_world!(self, world => world.set_register(index, value))
+    }
+    fn variables(&self) -> Vec<Named> {
+        each_world!(self, world => world.variables())
+    }
+    fn variable(&self, name: &str) -> Option<Number> {
+        each_world!(self, world => world.variable(name))
+    }
+    fn set_variable(&mut self, name: &str, value: Number) -> Result<(), String> {
+        each_world!(self, world => world.set_variable(name, value))
+    }
+    fn element(&self, name: &str, index: i64) -> Option<Number> {
+        each_world!(self, world => world.element(name, index))
+    }
+    fn set_element(&mut self, name: &str, index: i64, value: Number) -> Result<(), String> {
+        each_world!(self, world => world.set_element(name, index, value))
+    }
+    fn sensor_count(&self) -> usize {
+        each_world!(self, world => world.sensor_count())
+    }
+    fn sensor_name(&self, index: usize) -> Option<&str> {
+        each_world!(self, world => world.sensor_name(index))
+    }
+    fn sensor_index(&self, name: &str) -> Option<usize> {
+        each_world!(self, world => world.sensor_index(name))
+    }
+    fn sensor(&self, index: usize) -> f64 {
+        each_world!(self, world => world.sensor(index))
+    }
+    fn set_sensor(&mut self, index: usize, value: f64) -> Result<(), String> {
+        each_world!(self, world => world.set_sensor(index, value))
+    }
+    fn touched_sensors(&self) -> Vec<usize> {
+        each_world!(self, world => world.touched_sensors())
+    }
+    fn vehicle(&self) -> Vec<Named> {
+        each_world!(self, world => world.vehicle())
+    }
+}
+
+/// A machine trap as the debugger's exception kind and message.
+pub(crate) fn trap_event(trap: &gloc_engine::vm::Trap) -> StepEvent {
+    StepEvent::Trapped {
+        kind: match trap.kind {
+            VmTrapKind::CycleOverrun { .. } => TrapKind::CycleOverrun,
+            _ => TrapKind::Runtime,
+        },
+        message: trap.kind.to_string(),
     }
 }

@@ -10,7 +10,7 @@ use gloc_compiler::{load_script, Language, LoadOptions};
 use gloc_engine::sensors::SensorList;
 use gloc_sim::{Mission, SimConfig, Simulation};
 use serde_json::{json, Value};
-use support::Client;
+use support::{cycle, sensor, stopped, value, values, Client, SENSORS, VEHICLE};
 
 fn fixture(name: &str) -> String {
     format!("{}/tests/fixtures/{name}", env!("CARGO_MANIFEST_DIR"))
@@ -92,50 +92,9 @@ fn start(arguments: Value) -> Client {
     client
 }
 
-fn stopped(client: &mut Client) -> Value {
-    client.event("stopped")["body"].clone()
-}
-
-/// name → value of a variables container.
-fn values(client: &mut Client, reference: i64) -> Vec<(String, String)> {
-    let body = client.ok("variables", json!({ "variablesReference": reference }));
-    body["variables"]
-        .as_array()
-        .expect("variables")
-        .iter()
-        .map(|variable| {
-            (
-                variable["name"].as_str().unwrap_or_default().to_string(),
-                variable["value"].as_str().unwrap_or_default().to_string(),
-            )
-        })
-        .collect()
-}
-
-fn value(client: &mut Client, reference: i64, name: &str) -> String {
-    values(client, reference)
-        .into_iter()
-        .find(|(known, _)| known == name)
-        .map(|(_, value)| value)
-        .unwrap_or_else(|| panic!("no `{name}` in variables {reference}"))
-}
-
-const SENSORS: i64 = 3;
-const VEHICLE: i64 = 4;
-
-fn cycle(client: &mut Client) -> u64 {
-    value(client, VEHICLE, "cycle")
-        .parse()
-        .expect("cycle number")
-}
-
 fn top_line(client: &mut Client) -> i64 {
     let body = client.ok("stackTrace", json!({ "threadId": 1 }));
     body["stackFrames"][0]["line"].as_i64().expect("line")
-}
-
-fn sensor(client: &mut Client, name: &str) -> f64 {
-    value(client, SENSORS, name).parse().expect("a number")
 }
 
 #[test]
@@ -1025,7 +984,8 @@ fn masterdata_and_profile_are_used() {
     assert_eq!(body["variables"][0]["name"], "m_depth");
     assert_eq!(body["variables"][0]["type"], "sensor 1");
     assert_eq!(body["variables"][1]["type"], "sensor 2");
-    assert_eq!(body["variables"][2]["indexedVariables"], 3);
+    // The file's 3 sensors, then the 2 hook sensors it lacks (appended).
+    assert_eq!(body["variables"][2]["indexedVariables"], 3 + 2);
     // fig2.mi sets u_cycle_time, which three.cac lacks: the simulator's warning is shown.
     assert!(
         client

@@ -41,7 +41,8 @@ fn vscode_launch_attributes_match_the_adapter() {
 fn every_accepted_attribute_is_read() {
     for name in gloc_dap::LAUNCH_ATTRIBUTES {
         let value = match *name {
-            "program" | "mission" | "masterdata" | "profile" | "token" => Value::from("x"),
+            "program" | "mission" | "masterdata" | "profile" | "token" | "replay"
+            | "sensorCache" => Value::from("x"),
             "stopOnEntry" | "history" => Value::from(true),
             _ => Value::from(5),
         };

@@ -7,7 +7,7 @@ use std::sync::Arc;
 use crate::cycle::{time_column, Cycle, FileSensor, SensorColumns, State};
 use crate::error::{DbdError, Location, Warning};
 use crate::header::{read_header, read_line, Header};
-use crate::lists::{file_columns, parse_list, SensorLists};
+use crate::lists::{file_columns, parse_list, sensor_list_crc, SensorLists};
 use crate::lz4::{read_full, Lz4Blocks, Lz4Problem};
 use crate::CycleSource;
 
@@ -187,13 +187,32 @@ impl DbdReader {
             (text, format!("in {file}"))
         };
         let entries = parse_list(&text, &origin, Location::default())?;
-        let columns: Vec<FileSensor> = file_columns(
+        let fits = file_columns(
             &entries,
             sensors_per_cycle,
             &file,
             self.at(list_at),
             &origin,
-        )?;
+        );
+        let actual = format!("{:08x}", sensor_list_crc(text.as_bytes()));
+        if !crc.is_empty() && actual != crc {
+            let message = format!(
+                "the header's `sensor_list_crc: {crc}` is not the CRC of the sensor list {origin}, which is {actual}"
+            );
+            match &fits {
+                Ok(_) => self.warnings.push(Warning {
+                    file: file.clone(),
+                    at: self.at(0),
+                    message: format!("{message}; the list fits the file, so it is read with it"),
+                }),
+                Err(error) => {
+                    return Err(self.error(0, format!("{message}: {}", error.message)).with_help(
+                        "the list is not the one this file was written with: find the right `.cac` in the glider's cache folder",
+                    ))
+                }
+            }
+        }
+        let columns: Vec<FileSensor> = fits?;
         self.time = time_column(&columns);
         self.sensors = Arc::from(columns);
         self.crc = crc;

@@ -16,6 +16,7 @@ pub mod header;
 pub mod lists;
 pub mod lz4;
 pub mod merge;
+pub mod writer;
 
 pub use binary::{ByteOrder, DbdReader};
 pub use cycle::{time_column, Cycle, FileSensor, SensorColumns, State};
@@ -23,8 +24,9 @@ pub use dba::DbaReader;
 pub use error::{DbdError, Location, Warning};
 pub use fs::{open_path, CacheFolders, LogKind};
 pub use header::Header;
-pub use lists::{NoSensorLists, SensorListText, SensorLists};
+pub use lists::{sensor_list_crc, NoSensorLists, SensorListText, SensorLists};
 pub use merge::{plan, Deployment, Merged, Segment};
+pub use writer::{DbdWriter, ListSensor, LogIdentity, WrittenList};
 
 /// A stream of cycles: one log file, a flight log merged with its science log,
 /// or a whole deployment. Every source reuses one [`Cycle`].

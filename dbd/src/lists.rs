@@ -125,3 +125,48 @@ pub fn parse_list(text: &str, file: &str, at: Location) -> Result<Vec<CacEntry>,
     }
     Ok(entries)
 }
+
+/// The `sensor_list_crc` of a list: the CRC-32 (IEEE, reflected, initial value
+/// 0xFFFFFFFF) of the `.cac` file's bytes *without* the final inversion, that
+/// is `!crc32(bytes)`. Established on all six real lists in ../shared/data
+/// (`1f35be3b.cac` … and the decompressed `06a36d4e.ccc`, `daad1b20.ccc`):
+/// each file's name is this value of its contents.
+pub fn sensor_list_crc(bytes: &[u8]) -> u32 {
+    const TABLE: [u32; 256] = {
+        let mut table = [0u32; 256];
+        let mut i = 0;
+        while i < 256 {
+            let mut c = i as u32;
+            let mut bit = 0;
+            while bit < 8 {
+                c = if c & 1 != 0 {
+                    (c >> 1) ^ 0xEDB8_8320
+                } else {
+                    c >> 1
+                };
+                bit += 1;
+            }
+            table[i] = c;
+            i += 1;
+        }
+        table
+    };
+    let mut crc = 0xFFFF_FFFFu32;
+    for &byte in bytes {
+        crc = (crc >> 8) ^ TABLE[((crc ^ byte as u32) & 0xFF) as usize];
+    }
+    crc
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn crc_is_the_inverted_ieee_crc32() {
+        // The standard check value: CRC-32("123456789") = 0xCBF43926, so the
+        // uninverted register is !0xCBF43926 = 0x340BC6D9.
+        assert_eq!(sensor_list_crc(b"123456789"), 0x340B_C6D9);
+        assert_eq!(sensor_list_crc(b""), 0xFFFF_FFFF);
+    }
+}

@@ -16,7 +16,7 @@ pub struct Context {
     pub cycle_budget: Option<u64>,
     /// Where a GLOC file's `# sensors: CRC` list is looked for as `<crc>.cac`
     /// when it is neither the active list nor the embedded one: the document's
-    /// folder, then the active list's.
+    /// folder, the active list's, then `sensor_cache` of gloc.toml.
     pub list_folders: Vec<std::path::PathBuf>,
 }
 

@@ -70,14 +70,7 @@ pub fn analyze(text: &str, context: &Context) -> Analysis {
 /// active nor the embedded one): `<crc>.cac` in the context's folders. Read only
 /// for such a line, so typing costs nothing otherwise.
 fn written_for(text: &str, context: &Context) -> Option<std::sync::Arc<SensorList>> {
-    let crc = gloc::identity::stated_crc(text)?;
-    if context.sensors.crc() == Some(crc.as_str()) || crc == gloc_engine::sensors::EMBEDDED_CRC {
-        return None;
-    }
-    let path = gloc_engine::sensors::find_cac(&crc, &context.list_folders)?;
-    lang::load_sensor_list(&path, gloc_engine::sensors::SensorOrder::FileOrder)
-        .ok()
-        .map(std::sync::Arc::new)
+    gloc::identity::find_written_for(text, &context.sensors, &context.list_folders)
 }
 
 fn cycle_hint(offset: usize, which: &str, bound: Bound, context: &Context) -> Hint {

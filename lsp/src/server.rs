@@ -157,11 +157,11 @@ impl State {
         let cycle_budget = self.settings.cycle_budget.or(config.cycle_budget);
         let sensor_order = config.sensor_order.unwrap_or_default();
         let mut problems = Vec::new();
-        let list_folders = [path.as_deref(), masterdata.as_deref()]
-            .into_iter()
-            .flatten()
-            .filter_map(|file| file.parent().map(Path::to_path_buf))
-            .collect();
+        let list_folders = gloc_engine::gloc::identity::list_folders(
+            path.as_deref(),
+            masterdata.as_deref(),
+            config.sensor_cache.as_deref(),
+        );
         let sensors = match masterdata {
             None => self.embedded(),
             Some(masterdata) => match self.sensor_list(&masterdata, sensor_order) {

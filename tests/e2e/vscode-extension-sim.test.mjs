@@ -115,6 +115,7 @@ test('gloc dap accepts a launch with every attribute package.json declares, each
     'fig3.gbas': fig3,
     masterdata: `${sensors.join('\n')}\n`,
     'profile.csv': 'depth_m,temp_degC\n0,24.0\n10,20.0\n20,12.0\n30,9.0\n',
+    'depths.csv': 'm_depth\n1\n2\n3\n',
   });
   const properties = manifest.contributes.debuggers[0].configurationAttributes.launch.properties;
   const values = {
@@ -127,10 +128,13 @@ test('gloc dap accepts a launch with every attribute package.json declares, each
     cycleBudget: 5000,
     maxCycles: 50,
     history: 100,
+    // With `replay`, the recorded cycles stand in for the mission (which is then unused).
+    replay: [path.join(workspace, 'depths.csv')],
+    sensorCache: workspace,
   };
   assert.deepEqual(Object.keys(values).sort(), Object.keys(properties).sort(), 'a value for every declared attribute');
   for (const [name, value] of Object.entries(values)) {
-    const jsonType = typeof value === 'number' ? 'integer' : typeof value;
+    const jsonType = Array.isArray(value) ? 'array' : typeof value === 'number' ? 'integer' : typeof value;
     assert.ok([properties[name].type].flat().includes(jsonType), `${name}: ${jsonType} is a declared type`);
   }
   const client = schema.validated(new DebugClient(glocBin, 'dap', 'gloc', { cwd: workspace }));

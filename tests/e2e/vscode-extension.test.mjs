@@ -32,6 +32,8 @@ const launchAttributes = [
   'cycleBudget',
   'maxCycles',
   'history',
+  'replay',
+  'sensorCache',
 ];
 
 function readJson(relativePath) {
@@ -122,7 +124,10 @@ test('debuggers: type gloc with exactly the launch attributes gloc dap accepts',
   assert.deepEqual(Object.keys(launch.properties).sort(), [...launchAttributes].sort());
   for (const [name, property] of Object.entries(launch.properties)) {
     const types = [property.type].flat();
-    assert.ok(types.length > 0 && types.every((type) => ['string', 'integer', 'boolean'].includes(type)), `${name} has a type`);
+    assert.ok(types.length > 0 && types.every((type) => ['string', 'integer', 'boolean', 'array'].includes(type)), `${name} has a type`);
+    if (types.includes('array')) {
+      assert.equal(property.items?.type, 'string', `${name}: a list of strings`);
+    }
     assert.ok(property.description, `${name} has a description for launch.json completion`);
   }
   for (const required of launch.required) {

@@ -226,3 +226,49 @@ impl Client {
         server.join().map(|result| result.is_ok()).unwrap_or(false)
     }
 }
+
+/// The Sensors scope's `variablesReference`.
+pub const SENSORS: i64 = 3;
+/// The Vehicle scope's `variablesReference`.
+pub const VEHICLE: i64 = 4;
+
+/// The body of the next `stopped` event.
+pub fn stopped(client: &mut Client) -> Value {
+    client.event("stopped")["body"].clone()
+}
+
+/// name → value of a variables container.
+pub fn values(client: &mut Client, reference: i64) -> Vec<(String, String)> {
+    let body = client.ok("variables", json!({ "variablesReference": reference }));
+    body["variables"]
+        .as_array()
+        .expect("variables")
+        .iter()
+        .map(|variable| {
+            (
+                variable["name"].as_str().unwrap_or_default().to_string(),
+                variable["value"].as_str().unwrap_or_default().to_string(),
+            )
+        })
+        .collect()
+}
+
+pub fn value(client: &mut Client, reference: i64, name: &str) -> String {
+    values(client, reference)
+        .into_iter()
+        .find(|(known, _)| known == name)
+        .map(|(_, value)| value)
+        .unwrap_or_else(|| panic!("no `{name}` in variables {reference}"))
+}
+
+/// The current cycle, from the Vehicle scope.
+pub fn cycle(client: &mut Client) -> u64 {
+    value(client, VEHICLE, "cycle")
+        .parse()
+        .expect("cycle number")
+}
+
+/// A sensor's value, from the Sensors scope.
+pub fn sensor(client: &mut Client, name: &str) -> f64 {
+    value(client, SENSORS, name).parse().expect("a number")
+}

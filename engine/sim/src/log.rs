@@ -96,6 +96,12 @@ pub fn parse_columns(list: &SensorList, names: &str) -> Result<Vec<SensorId>, St
     Ok(columns)
 }
 
+/// Whether a run log stores the sensor as an 8-byte double: times need one;
+/// everything else fits a 4-byte float as the glider logs it.
+pub fn logged_as_double(sensor: &gloc_engine::sensors::Sensor) -> bool {
+    sensor.units == "timestamp"
+}
+
 /// Header facts of a `.dba` file.
 #[derive(Clone, Debug)]
 pub struct DbaHeader {
@@ -157,10 +163,11 @@ impl<W: Write> LogWriter<W> {
                     names.push(' ');
                     units.push_str(sensor.map(|s| s.units.as_str()).unwrap_or("nodim"));
                     units.push(' ');
-                    // Times need doubles; everything else fits a 4-byte float
-                    // as the glider logs it.
-                    let is_time = sensor.is_some_and(|s| s.units == "timestamp");
-                    bytes.push_str(if is_time { "8 " } else { "4 " });
+                    bytes.push_str(if sensor.is_some_and(logged_as_double) {
+                        "8 "
+                    } else {
+                        "4 "
+                    });
                 }
                 writeln!(out, "{names}")?;
                 writeln!(out, "{units}")?;
@@ -169,10 +176,7 @@ impl<W: Write> LogWriter<W> {
         }
         let doubles = columns
             .iter()
-            .map(|id| {
-                list.get(*id)
-                    .is_some_and(|sensor| sensor.units == "timestamp")
-            })
+            .map(|id| list.get(*id).is_some_and(logged_as_double))
             .collect();
         Ok(LogWriter {
             out,

@@ -93,6 +93,47 @@ pub fn stated_crc(text: &str) -> Option<String> {
     None
 }
 
+/// The list `text`'s `# sensors: CRC` line names, when it is a third list (neither
+/// `active` nor the embedded one, which the checker knows) and `<crc>.cac` is in one
+/// of `folders` and loads without errors. The one search the CLI, the language server
+/// and the debugger share; `None` otherwise (the checker then says W0115).
+pub fn find_written_for(
+    text: &str,
+    active: &SensorList,
+    folders: &[std::path::PathBuf],
+) -> Option<std::sync::Arc<SensorList>> {
+    let crc = stated_crc(text)?;
+    if active.crc() == Some(crc.as_str()) || crc == EMBEDDED_CRC {
+        return None;
+    }
+    let path = crate::sensors::find_cac(&crc, folders)?;
+    let loaded =
+        crate::sensors::load_sensor_file(&path, crate::sensors::SensorOrder::FileOrder).ok()?;
+    let clean = !loaded.diagnostics.iter().any(Diagnostic::is_error);
+    clean.then(|| std::sync::Arc::new(loaded.list))
+}
+
+/// The folders [`find_written_for`] searches, in order: beside the script, beside
+/// the active list's file, then the sensor cache folder (`sensor_cache` in gloc.toml).
+pub fn list_folders(
+    script: Option<&std::path::Path>,
+    active_list: Option<&std::path::Path>,
+    sensor_cache: Option<&std::path::Path>,
+) -> Vec<std::path::PathBuf> {
+    let beside = |file: &std::path::Path| match file.parent() {
+        Some(parent) if !parent.as_os_str().is_empty() => parent.to_path_buf(),
+        _ => std::path::PathBuf::from("."),
+    };
+    let mut folders: Vec<std::path::PathBuf> = [script, active_list]
+        .into_iter()
+        .flatten()
+        .map(beside)
+        .collect();
+    folders.extend(sensor_cache.map(std::path::Path::to_path_buf));
+    folders.dedup();
+    folders
+}
+
 /// The identity diagnostics of a file checked against `active`. `written_for` is the
 /// list the file states, when the caller found it (the embedded list needs no caller).
 pub fn check_identity(

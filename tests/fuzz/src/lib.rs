@@ -5,6 +5,7 @@
 //! invariant breaks: a panic inside the core, a span out of bounds, or a
 //! differential oracle that disagrees.
 
+pub mod dbd_target;
 pub mod files_target;
 pub mod gbasic_target;
 pub mod gloc_target;

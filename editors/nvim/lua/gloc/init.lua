@@ -141,6 +141,20 @@ function M.dap_configurations(options)
       history = true,
       masterdata = masterdata,
     },
+    {
+      type = "gloc",
+      request = "launch",
+      name = "Replay the current script over recorded data",
+      program = "${file}",
+      -- A CSV file or glider logs (a deployment: .dbd with its .ebd, ...), separated by spaces.
+      replay = function()
+        local answer = vim.fn.input("Recorded files: ", vim.fn.getcwd() .. "/", "file")
+        return vim.split(answer, "%s+", { trimempty = true })
+      end,
+      stopOnEntry = true,
+      history = true,
+      masterdata = masterdata,
+    },
   }
 end
 

@@ -1,0 +1,32 @@
+//! What the CLI tests of real data share: the binary, and paths in the repository and
+//! in the shared data folder beside it (`../shared`, as CI has it).
+#![allow(dead_code)]
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+/// Runs the `gloc` binary with `args`.
+pub fn gloc(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_gloc"))
+        .args(args)
+        .output()
+        .expect("the gloc binary runs")
+}
+
+/// A path in the repository.
+pub fn repo(path: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("..")
+        .join(path)
+        .display()
+        .to_string()
+}
+
+/// A path in the shared data folder (`../shared/data` beside the repository).
+pub fn shared(path: &str) -> String {
+    repo(&format!("../shared/data/{path}"))
+}
+
+pub fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}

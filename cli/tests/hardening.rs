@@ -501,8 +501,8 @@ fn a_full_disk_leaves_the_old_file_and_still_gives_the_summary() {
     let gloc_out = disk.0.join("out.gloc");
     std::fs::write(&gloc_out, "old\n").expect("write");
     let compile = run(gloc().arg("compile").arg(&source).arg("-o").arg(&gloc_out));
-    assert_refused(&compile, "the disk is full");
     assert_eq!(std::fs::read_to_string(&gloc_out).expect("read"), "old\n");
+    assert_refused(&compile, "the disk is full");
 
     let log = disk.0.join("log.csv");
     std::fs::write(&log, "old\n").expect("write");
@@ -513,11 +513,11 @@ fn a_full_disk_leaves_the_old_file_and_still_gives_the_summary() {
         .arg(examples().join("fig2-endless.mi"))
         .args(["--cycles", "100000", "--log"])
         .arg(&log));
+    assert_eq!(std::fs::read_to_string(&log).expect("read"), "old\n");
     assert_refused(&simulate, "the disk is full");
     let stderr = String::from_utf8_lossy(&simulate.stderr);
     assert!(stderr.contains("the log could not be written"), "{stderr}");
     assert!(stderr.contains("NOT written"), "{stderr}");
-    assert_eq!(std::fs::read_to_string(&log).expect("read"), "old\n");
     assert_eq!(names(&disk.0), ["log.csv", "out.gloc"]);
 }
 

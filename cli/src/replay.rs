@@ -11,6 +11,7 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::Ordering;
 use std::sync::Arc;
 
 use anyhow::{bail, Context};
@@ -235,7 +236,16 @@ fn replay(
     let mut trapped = false;
     let mut cycle = 0u64;
     let mut row = String::new();
+    let signal = crate::simulate::interrupt_signals()?;
     for (line_offset, line) in lines {
+        let received = signal.load(Ordering::Relaxed);
+        if received != 0 {
+            eprintln!(
+                "interrupted at cycle {cycle} by {} (cycles before it are in the output)",
+                crate::simulate::signal_name(received)
+            );
+            break;
+        }
         let mut count = 0;
         for (column, (at, cell)) in cells(line).enumerate() {
             count += 1;
@@ -311,6 +321,10 @@ fn replay(
         "replayed {cycle} cycle{}",
         if cycle == 1 { "" } else { "s" }
     );
+    let received = signal.load(Ordering::Relaxed);
+    if received != 0 {
+        return Ok(ExitCode::from(128 + received as u8));
+    }
     Ok(if trapped {
         ExitCode::FAILURE
     } else {

@@ -556,6 +556,10 @@ fn a_signal_stops_the_run_with_its_log_and_summary() {
             .and_then(|number| number.parse().ok())
             .unwrap_or_else(|| panic!("no 'interrupted at cycle N' in: {stderr}"));
         assert!(stderr.contains(&format!("by {name}")), "{stderr}");
+        assert!(
+            cycle > 0,
+            "the signal came before the first cycle: {stderr}"
+        );
         // The log: the header and one complete row per cycle 0 … N-1.
         let text = std::fs::read_to_string(&log).expect("the log is kept");
         assert!(text.ends_with('\n'));
@@ -571,6 +575,51 @@ fn a_signal_stops_the_run_with_its_log_and_summary() {
         assert_eq!(last[column].parse::<u64>().ok(), Some(cycle - 1));
         std::fs::remove_dir_all(dir).ok();
     }
+}
+
+#[test]
+fn a_signal_stops_a_replay_with_its_complete_rows() {
+    let dir = scratch("signal-replay");
+    let replay_in = dir.join("in.csv");
+    // Ten million rows (about 27 MB): far more than a replay gets through before the
+    // signal.
+    let mut rows = String::with_capacity(30 << 20);
+    rows.push_str("m_depth\n");
+    for index in 0..10_000_000u32 {
+        rows.push_str(["5\n", "15\n", "25\n", "35\n"][(index % 4) as usize]);
+    }
+    std::fs::write(&replay_in, rows).expect("write");
+    let out = dir.join("out.csv");
+    let child = gloc()
+        .arg("run")
+        .arg(fig2_script(&dir))
+        .arg("--replay")
+        .arg(&replay_in)
+        .arg("--out")
+        .arg(&out)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("gloc starts");
+    thread::sleep(Duration::from_millis(700));
+    // SAFETY: kill(2) on our own child's pid.
+    assert_eq!(unsafe { libc::kill(child.id() as i32, libc::SIGINT) }, 0);
+    let output = finish(child);
+    assert_eq!(output.status.code(), Some(130), "{}", text(&output));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    let cycle: usize = stderr
+        .split("interrupted at cycle ")
+        .nth(1)
+        .and_then(|rest| rest.split(' ').next())
+        .and_then(|number| number.parse().ok())
+        .unwrap_or_else(|| panic!("no 'interrupted at cycle N' in: {stderr}"));
+    let written = std::fs::read_to_string(&out).expect("the output is kept");
+    let lines: Vec<&str> = written.lines().collect();
+    assert_eq!(lines.len(), cycle + 1, "the header and cycles 0 … N-1");
+    let last_cycle = lines[cycle].split(',').next().expect("a cycle cell");
+    assert_eq!(last_cycle.parse::<usize>().ok(), Some(cycle - 1));
+    std::fs::remove_dir_all(dir).ok();
 }
 
 #[test]

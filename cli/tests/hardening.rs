@@ -521,6 +521,39 @@ fn a_full_disk_leaves_the_old_file_and_still_gives_the_summary() {
     assert_eq!(names(&disk.0), ["log.csv", "out.gloc"]);
 }
 
+/// Waits until the output being written to `target` (or to its temporary file beside
+/// it) has at least 64 KiB, the writer's buffer: cycles are flowing, so a signal now
+/// lands mid-run on any machine.
+fn wait_for_rows(target: &Path) {
+    let folder = target.parent().expect("a folder");
+    let name = target
+        .file_name()
+        .expect("a name")
+        .to_string_lossy()
+        .into_owned();
+    let prefix = format!(".{name}");
+    let deadline = Instant::now() + DEADLINE;
+    loop {
+        let flowing = std::fs::read_dir(folder).expect("list").any(|entry| {
+            entry.is_ok_and(|entry| {
+                let entry_name = entry.file_name().to_string_lossy().into_owned();
+                (entry_name.starts_with(&prefix) || entry_name == name)
+                    && entry
+                        .metadata()
+                        .is_ok_and(|metadata| metadata.len() >= 1 << 16)
+            })
+        });
+        if flowing {
+            return;
+        }
+        assert!(
+            Instant::now() < deadline,
+            "no rows written within {DEADLINE:?}"
+        );
+        thread::sleep(Duration::from_millis(10));
+    }
+}
+
 #[test]
 fn a_signal_stops_the_run_with_its_log_and_summary() {
     for (signal, name) in [
@@ -542,8 +575,7 @@ fn a_signal_stops_the_run_with_its_log_and_summary() {
             .stderr(Stdio::piped())
             .spawn()
             .expect("gloc starts");
-        // Let it fly some cycles (the handler is installed before the first one).
-        thread::sleep(Duration::from_millis(700));
+        wait_for_rows(&log);
         // SAFETY: kill(2) on our own child's pid.
         assert_eq!(unsafe { libc::kill(child.id() as i32, signal) }, 0);
         let output = finish(child);
@@ -602,7 +634,7 @@ fn a_signal_stops_a_replay_with_its_complete_rows() {
         .stderr(Stdio::piped())
         .spawn()
         .expect("gloc starts");
-    thread::sleep(Duration::from_millis(700));
+    wait_for_rows(&out);
     // SAFETY: kill(2) on our own child's pid.
     assert_eq!(unsafe { libc::kill(child.id() as i32, libc::SIGINT) }, 0);
     let output = finish(child);
@@ -614,6 +646,7 @@ fn a_signal_stops_a_replay_with_its_complete_rows() {
         .and_then(|rest| rest.split(' ').next())
         .and_then(|number| number.parse().ok())
         .unwrap_or_else(|| panic!("no 'interrupted at cycle N' in: {stderr}"));
+    assert!(cycle > 0, "the signal came before the first row: {stderr}");
     let written = std::fs::read_to_string(&out).expect("the output is kept");
     let lines: Vec<&str> = written.lines().collect();
     assert_eq!(lines.len(), cycle + 1, "the header and cycles 0 … N-1");

@@ -96,6 +96,10 @@ impl AtomicFile {
         let file = writer
             .into_inner()
             .map_err(io::IntoInnerError::into_error)?;
+        if let Ok(old) = std::fs::metadata(&self.target) {
+            // The new file keeps the old one's permissions.
+            file.set_permissions(old.permissions())?;
+        }
         file.sync_all()?;
         drop(file);
         std::fs::rename(&self.temporary, &self.target)
@@ -176,4 +180,85 @@ pub fn write_error(error: io::Error, what: &str, path: &Path) -> anyhow::Error {
         ""
     };
     anyhow::Error::new(error).context(format!("cannot write {what} `{}`{hint}", path.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn folder(name: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("gloc-output-{}-{name}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).expect("a folder");
+        dir
+    }
+
+    fn names(dir: &Path) -> Vec<String> {
+        let mut names: Vec<String> = std::fs::read_dir(dir)
+            .expect("list")
+            .map(|entry| {
+                entry
+                    .expect("entry")
+                    .file_name()
+                    .to_string_lossy()
+                    .into_owned()
+            })
+            .collect();
+        names.sort();
+        names
+    }
+
+    #[test]
+    fn an_uncommitted_file_leaves_the_target_and_no_temporary() {
+        let dir = folder("drop");
+        let target = dir.join("out.csv");
+        std::fs::write(&target, "old\n").expect("write");
+        let mut file = AtomicFile::create(&target).expect("create");
+        file.write_all(b"new, but never committed\n")
+            .expect("write");
+        drop(file);
+        assert_eq!(std::fs::read_to_string(&target).expect("read"), "old\n");
+        assert_eq!(names(&dir), ["out.csv"]);
+        std::fs::remove_dir_all(dir).ok();
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_commit_replaces_the_target_and_keeps_its_permissions() {
+        use std::os::unix::fs::PermissionsExt as _;
+        let dir = folder("commit");
+        let target = dir.join("out.csv");
+        std::fs::write(&target, "old\n").expect("write");
+        std::fs::set_permissions(&target, std::fs::Permissions::from_mode(0o640)).expect("chmod");
+        write_atomically(&target, b"new\n").expect("write");
+        assert_eq!(std::fs::read_to_string(&target).expect("read"), "new\n");
+        let mode = std::fs::metadata(&target)
+            .expect("stat")
+            .permissions()
+            .mode();
+        assert_eq!(mode & 0o777, 0o640);
+        assert_eq!(names(&dir), ["out.csv"]);
+        std::fs::remove_dir_all(dir).ok();
+    }
+
+    #[test]
+    fn two_outputs_with_one_name_collide_before_either_exists() {
+        let dir = folder("names");
+        let outputs = [
+            Output {
+                flag: "--log",
+                path: &dir.join("x.csv"),
+            },
+            Output {
+                flag: "--plot",
+                path: &dir.join(".").join("x.csv"),
+            },
+        ];
+        let error = check_outputs(&[], &outputs).expect_err("the same file");
+        assert!(
+            error.to_string().contains("is also the file of --log"),
+            "{error}"
+        );
+        std::fs::remove_dir_all(dir).ok();
+    }
 }

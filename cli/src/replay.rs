@@ -12,6 +12,7 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::Ordering;
 use std::sync::Arc;
 
 use anyhow::{bail, Context};
@@ -205,7 +206,16 @@ fn replay(
     let mut cycle = 0u64;
     let mut row = String::new();
     let mut updates = Vec::new();
+    let signal = crate::simulate::interrupt_signals()?;
     while input.next_cycle(&mut updates)? {
+        let received = signal.load(Ordering::Relaxed);
+        if received != 0 {
+            eprintln!(
+                "interrupted at cycle {cycle} by {} (cycles before it are in the output)",
+                crate::simulate::signal_name(received)
+            );
+            break;
+        }
         for &(column, value) in &updates {
             let Some(Some(sensor)) = columns.ids.get(column) else {
                 continue;
@@ -260,6 +270,10 @@ fn replay(
         "replayed {cycle} cycle{}",
         if cycle == 1 { "" } else { "s" }
     );
+    let received = signal.load(Ordering::Relaxed);
+    if received != 0 {
+        return Ok(ExitCode::from(128 + received as u8));
+    }
     Ok(if trapped {
         ExitCode::FAILURE
     } else {

@@ -501,8 +501,8 @@ fn a_full_disk_leaves_the_old_file_and_still_gives_the_summary() {
     let gloc_out = disk.0.join("out.gloc");
     std::fs::write(&gloc_out, "old\n").expect("write");
     let compile = run(gloc().arg("compile").arg(&source).arg("-o").arg(&gloc_out));
-    assert_refused(&compile, "the disk is full");
     assert_eq!(std::fs::read_to_string(&gloc_out).expect("read"), "old\n");
+    assert_refused(&compile, "the disk is full");
 
     let log = disk.0.join("log.csv");
     std::fs::write(&log, "old\n").expect("write");
@@ -513,12 +513,45 @@ fn a_full_disk_leaves_the_old_file_and_still_gives_the_summary() {
         .arg(examples().join("fig2-endless.mi"))
         .args(["--cycles", "100000", "--log"])
         .arg(&log));
+    assert_eq!(std::fs::read_to_string(&log).expect("read"), "old\n");
     assert_refused(&simulate, "the disk is full");
     let stderr = String::from_utf8_lossy(&simulate.stderr);
     assert!(stderr.contains("the log could not be written"), "{stderr}");
     assert!(stderr.contains("NOT written"), "{stderr}");
-    assert_eq!(std::fs::read_to_string(&log).expect("read"), "old\n");
     assert_eq!(names(&disk.0), ["log.csv", "out.gloc"]);
+}
+
+/// Waits until the output being written to `target` (or to its temporary file beside
+/// it) has at least 64 KiB, the writer's buffer: cycles are flowing, so a signal now
+/// lands mid-run on any machine.
+fn wait_for_rows(target: &Path) {
+    let folder = target.parent().expect("a folder");
+    let name = target
+        .file_name()
+        .expect("a name")
+        .to_string_lossy()
+        .into_owned();
+    let prefix = format!(".{name}");
+    let deadline = Instant::now() + DEADLINE;
+    loop {
+        let flowing = std::fs::read_dir(folder).expect("list").any(|entry| {
+            entry.is_ok_and(|entry| {
+                let entry_name = entry.file_name().to_string_lossy().into_owned();
+                (entry_name.starts_with(&prefix) || entry_name == name)
+                    && entry
+                        .metadata()
+                        .is_ok_and(|metadata| metadata.len() >= 1 << 16)
+            })
+        });
+        if flowing {
+            return;
+        }
+        assert!(
+            Instant::now() < deadline,
+            "no rows written within {DEADLINE:?}"
+        );
+        thread::sleep(Duration::from_millis(10));
+    }
 }
 
 #[test]
@@ -542,8 +575,7 @@ fn a_signal_stops_the_run_with_its_log_and_summary() {
             .stderr(Stdio::piped())
             .spawn()
             .expect("gloc starts");
-        // Let it fly some cycles (the handler is installed before the first one).
-        thread::sleep(Duration::from_millis(700));
+        wait_for_rows(&log);
         // SAFETY: kill(2) on our own child's pid.
         assert_eq!(unsafe { libc::kill(child.id() as i32, signal) }, 0);
         let output = finish(child);
@@ -556,6 +588,10 @@ fn a_signal_stops_the_run_with_its_log_and_summary() {
             .and_then(|number| number.parse().ok())
             .unwrap_or_else(|| panic!("no 'interrupted at cycle N' in: {stderr}"));
         assert!(stderr.contains(&format!("by {name}")), "{stderr}");
+        assert!(
+            cycle > 0,
+            "the signal came before the first cycle: {stderr}"
+        );
         // The log: the header and one complete row per cycle 0 … N-1.
         let text = std::fs::read_to_string(&log).expect("the log is kept");
         assert!(text.ends_with('\n'));
@@ -571,6 +607,52 @@ fn a_signal_stops_the_run_with_its_log_and_summary() {
         assert_eq!(last[column].parse::<u64>().ok(), Some(cycle - 1));
         std::fs::remove_dir_all(dir).ok();
     }
+}
+
+#[test]
+fn a_signal_stops_a_replay_with_its_complete_rows() {
+    let dir = scratch("signal-replay");
+    let replay_in = dir.join("in.csv");
+    // Ten million rows (about 27 MB): far more than a replay gets through before the
+    // signal.
+    let mut rows = String::with_capacity(30 << 20);
+    rows.push_str("m_depth\n");
+    for index in 0..10_000_000u32 {
+        rows.push_str(["5\n", "15\n", "25\n", "35\n"][(index % 4) as usize]);
+    }
+    std::fs::write(&replay_in, rows).expect("write");
+    let out = dir.join("out.csv");
+    let child = gloc()
+        .arg("run")
+        .arg(fig2_script(&dir))
+        .arg("--replay")
+        .arg(&replay_in)
+        .arg("--out")
+        .arg(&out)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("gloc starts");
+    wait_for_rows(&out);
+    // SAFETY: kill(2) on our own child's pid.
+    assert_eq!(unsafe { libc::kill(child.id() as i32, libc::SIGINT) }, 0);
+    let output = finish(child);
+    assert_eq!(output.status.code(), Some(130), "{}", text(&output));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    let cycle: usize = stderr
+        .split("interrupted at cycle ")
+        .nth(1)
+        .and_then(|rest| rest.split(' ').next())
+        .and_then(|number| number.parse().ok())
+        .unwrap_or_else(|| panic!("no 'interrupted at cycle N' in: {stderr}"));
+    assert!(cycle > 0, "the signal came before the first row: {stderr}");
+    let written = std::fs::read_to_string(&out).expect("the output is kept");
+    let lines: Vec<&str> = written.lines().collect();
+    assert_eq!(lines.len(), cycle + 1, "the header and cycles 0 … N-1");
+    let last_cycle = lines[cycle].split(',').next().expect("a cycle cell");
+    assert_eq!(last_cycle.parse::<usize>().ok(), Some(cycle - 1));
+    std::fs::remove_dir_all(dir).ok();
 }
 
 #[test]

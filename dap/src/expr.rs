@@ -391,6 +391,18 @@ mod tests {
     }
 
     #[test]
+    fn a_long_chain_is_a_loop_not_a_recursion() {
+        // Chains are folded as they are read (no tree), so only nesting needs a cap.
+        // 200,000 terms (20 times what overflowed the compiler's passes) keeps this
+        // test near a second in a debug build.
+        let chain = |operator: &str| vec!["1"; 200_000].join(operator);
+        check(&chain(" + "), Number::Int(200_000));
+        check(&chain(" * "), Number::Int(1));
+        check(&chain(" or "), Number::Int(1));
+        check(&chain(" and "), Number::Int(1));
+    }
+
+    #[test]
     fn bad_expressions_are_messages() {
         assert!(evaluate("", &Fixed).is_err());
         let error = |text: &str| evaluate(text, &Fixed).err().unwrap_or_default();

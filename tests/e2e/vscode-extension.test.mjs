@@ -32,6 +32,7 @@ const launchAttributes = [
   'cycleBudget',
   'maxCycles',
   'history',
+  'token',
 ];
 
 function readJson(relativePath) {

@@ -833,14 +833,11 @@ impl Session {
         let mut out = Vec::new();
         for (breakpoint, id) in requested.iter().zip(ids) {
             if !same_source {
-                out.push(Breakpoint {
-                    id: Some(id),
-                    verified: false,
-                    line: echo_line(breakpoint.line),
-                    message: Some(format!("{path} is not the program being debugged")),
-                    reason: Some("failed".into()),
-                    ..Breakpoint::default()
-                });
+                out.push(unverified(
+                    id,
+                    breakpoint.line,
+                    format!("{path} is not the program being debugged"),
+                ));
                 continue;
             }
             let refusal = match (breakpoint.line, debugger.info.source_lines) {
@@ -858,14 +855,7 @@ impl Session {
                     .and_then(|condition| condition_error(debugger, condition)),
             };
             if let Some(message) = refusal {
-                out.push(Breakpoint {
-                    id: Some(id),
-                    verified: false,
-                    line: echo_line(breakpoint.line),
-                    message: Some(message),
-                    reason: Some("failed".into()),
-                    ..Breakpoint::default()
-                });
+                out.push(unverified(id, breakpoint.line, message));
                 continue;
             }
             let line = u32::try_from(breakpoint.line)
@@ -879,14 +869,7 @@ impl Session {
                 Some(text) => match HitCondition::parse(text) {
                     Ok(condition) => Some(condition),
                     Err(message) => {
-                        out.push(Breakpoint {
-                            id: Some(id),
-                            verified: false,
-                            line: echo_line(breakpoint.line),
-                            message: Some(message),
-                            reason: Some("failed".into()),
-                            ..Breakpoint::default()
-                        });
+                        out.push(unverified(id, breakpoint.line, message));
                         continue;
                     }
                 },
@@ -910,14 +893,7 @@ impl Session {
                         ..Breakpoint::default()
                     });
                 }
-                None => out.push(Breakpoint {
-                    id: Some(id),
-                    verified: false,
-                    line: echo_line(breakpoint.line),
-                    message: Some("no code in this file".into()),
-                    reason: Some("failed".into()),
-                    ..Breakpoint::default()
-                }),
+                None => out.push(unverified(id, breakpoint.line, "no code in this file")),
             }
         }
         out
@@ -1292,6 +1268,18 @@ fn same_secret(given: &str, expected: &str) -> bool {
             .zip(expected)
             .fold(0u8, |difference, (a, b)| difference | (a ^ b))
             == 0
+}
+
+/// A line breakpoint that was not set, with the reason.
+fn unverified(id: i64, line: i64, message: impl Into<String>) -> Breakpoint {
+    Breakpoint {
+        id: Some(id),
+        verified: false,
+        line: echo_line(line),
+        message: Some(message.into()),
+        reason: Some("failed".into()),
+        ..Breakpoint::default()
+    }
 }
 
 /// A client's line number, echoed back only when it is a line number at all.

@@ -438,3 +438,51 @@ fn a_connection_without_token_is_never_given_a_file() {
     assert!(!client.everything_received().contains("SECRET"));
     let _ = std::fs::remove_dir_all(folder);
 }
+
+#[test]
+fn a_connection_that_does_not_send_the_token_is_closed_after_ten_seconds() {
+    let adapter = Adapter::start();
+    let mut client = adapter.connect();
+    initialize(&mut client);
+    let started = Instant::now();
+    assert!(client.closed(), "still open after {DEADLINE:?}");
+    // The limit is 10 s (docs/dap.md): closed by the timeout, not at once (`closed`
+    // bounds it from above by its deadline).
+    let waited = started.elapsed();
+    assert!(waited >= Duration::from_secs(8), "closed after {waited:?}");
+}
+
+#[test]
+fn sessions_beyond_the_cap_are_refused_until_one_ends() {
+    // gloc_dap::limits::MAX_SESSIONS, as documented in docs/dap.md.
+    const MAX_SESSIONS: usize = 16;
+    let adapter = Adapter::start();
+    let program = fixture("loop.gbas");
+    let mut sessions: Vec<Client> = (0..MAX_SESSIONS)
+        .map(|_| {
+            let mut client = adapter.connect();
+            initialize(&mut client);
+            let launched = launch(&mut client, &adapter.token, &program);
+            assert_eq!(launched["success"], true, "{launched}");
+            client
+        })
+        .collect();
+    let mut extra = adapter.connect();
+    initialize(&mut extra);
+    let refused = launch(&mut extra, &adapter.token, &program);
+    assert_eq!(refused["success"], false, "{refused}");
+    assert!(
+        refused["message"]
+            .as_str()
+            .is_some_and(|text| text.contains("16 sessions")),
+        "{refused}"
+    );
+    assert!(extra.closed());
+    let mut first = sessions.remove(0);
+    assert_eq!(first.request("disconnect", json!({}))["success"], true);
+    assert!(first.closed());
+    let mut next = adapter.connect();
+    initialize(&mut next);
+    let launched = launch(&mut next, &adapter.token, &program);
+    assert_eq!(launched["success"], true, "{launched}");
+}

@@ -370,16 +370,23 @@ fn secrets() -> (PathBuf, Vec<String>) {
     let text: String = (1..=40)
         .map(|line| format!("SECRET{line} = `hunter{line}` \"pass word\" {line}\n"))
         .collect();
+    // A well-formed mission whose sensor names are the secret: it launches, with a
+    // warning about each unknown sensor.
+    let mission: String = (1..=40)
+        .map(|line| format!("sensor: SECRET{line}hunter(m) {line}\n"))
+        .collect::<String>()
+        + "behavior: gloc\nbehavior: surface\n";
     let mut paths = Vec::new();
-    for name in [
-        "secret.txt",
-        "secret.mi",
-        "secret.gloc",
-        "secret.csv",
-        "masterdata",
+    for (name, text) in [
+        ("secret.txt", &text),
+        ("secret.mi", &text),
+        ("secret.gloc", &text),
+        ("secret.csv", &text),
+        ("masterdata", &text),
+        ("wellformed.mi", &mission),
     ] {
         let path = folder.join(name);
-        std::fs::write(&path, &text).expect("write");
+        std::fs::write(&path, text).expect("write");
         #[cfg(unix)]
         {
             use std::os::unix::fs::PermissionsExt;

@@ -1136,11 +1136,17 @@ impl Session {
         let outputs = launched.debugger.take_outputs();
         let source = source_of(&launched.debugger);
         for output in outputs {
+            // Over TCP the adapter's own notices (setup warnings quote the mission's
+            // lines) blank quoted text, as launch errors do; the script's prints pass.
+            let text = match (&self.access, output.category) {
+                (Access::Token(_), "important") => redact_quotes(&output.text),
+                _ => output.text,
+            };
             self.writer.event(
                 "output",
                 OutputEventBody {
                     category: output.category.into(),
-                    output: output.text,
+                    output: text,
                     source: output.line.map(|_| source.clone()),
                     line: output.line.map(i64::from),
                     data: None,

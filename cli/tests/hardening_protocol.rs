@@ -493,3 +493,32 @@ fn sessions_beyond_the_cap_are_refused_until_one_ends() {
     let launched = launch(&mut next, &adapter.token, &program);
     assert_eq!(launched["success"], true, "{launched}");
 }
+
+#[test]
+fn before_the_token_a_body_is_held_to_one_mebibyte() {
+    let adapter = Adapter::start();
+    let mut client = adapter.connect();
+    initialize(&mut client);
+    // 2 MiB of expression: refused unread before the token (docs/dap.md) ...
+    let big = "1+".repeat(1 << 20) + "1";
+    let seq = client.send("evaluate", json!({ "expression": big }));
+    let threads = client.request("threads", json!({}));
+    assert_eq!(threads["success"], false, "{threads}");
+    let everything = client.everything_received();
+    assert!(
+        everything.contains("larger than the limit of 1048576"),
+        "{everything}"
+    );
+    assert!(
+        !client
+            .received
+            .iter()
+            .any(|message| message["request_seq"] == json!(seq)),
+        "the big request was read"
+    );
+    // ... and read once the session has the token.
+    let launched = launch(&mut client, &adapter.token, &fixture("fig3.gbas"));
+    assert_eq!(launched["success"], true, "{launched}");
+    let answered = client.request("evaluate", json!({ "expression": big }));
+    assert_eq!(answered["success"], true, "{answered}");
+}

@@ -19,7 +19,7 @@ pub mod world;
 use std::collections::VecDeque;
 use std::io::{self, Read, Write};
 use std::net::{Shutdown, SocketAddr, TcpListener, TcpStream};
-use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::sync::mpsc::{self, RecvTimeoutError, TryRecvError};
 use std::sync::{Arc, Mutex};
 use std::thread;
@@ -46,6 +46,12 @@ pub mod limits {
     pub const IDLE_TIMEOUT: Duration = Duration::from_secs(30 * 60);
     /// A client that does not read what the adapter writes for this long is dropped.
     pub const WRITE_TIMEOUT: Duration = Duration::from_secs(60);
+    /// The framing limits before the token: `initialize` and `launch` are small, and
+    /// 64 waiting connections must not hold 64 full-size bodies (64 MiB each).
+    pub const BEFORE_TOKEN: gloc_framing::Limits = gloc_framing::Limits {
+        max_body: 1024 * 1024,
+        ..gloc_framing::LIMITS
+    };
     /// The environment variable that may hold the session token (at least
     /// `MIN_TOKEN_CHARS` characters); without it a random one is made.
     pub const TOKEN_VARIABLE: &str = "GLOC_DAP_TOKEN";
@@ -209,19 +215,23 @@ fn serve_session(
     connection: Option<Connection>,
 ) -> io::Result<()> {
     let (sender, receiver) = mpsc::channel::<Frame>();
+    // Until the token is shown, bodies are held to the smaller limit; the session sets
+    // the flag before it answers the `launch` that carried the token.
+    let authenticated = Arc::new(AtomicBool::new(false));
+    let mut reader = Reader::new(input);
+    if access != Access::Open {
+        reader.limit_until(limits::BEFORE_TOKEN, authenticated.clone());
+    }
     thread::Builder::new()
         .name("dap-reader".into())
-        .spawn(move || {
-            let mut reader = Reader::new(input);
-            loop {
-                let frame = reader.next_frame();
-                let closed = matches!(frame, Frame::Closed);
-                if sender.send(frame).is_err() || closed {
-                    break;
-                }
+        .spawn(move || loop {
+            let frame = reader.next_frame();
+            let closed = matches!(frame, Frame::Closed);
+            if sender.send(frame).is_err() || closed {
+                break;
             }
         })?;
-    let mut session = Session::new(Writer::new(Box::new(output)), access);
+    let mut session = Session::new(Writer::new(Box::new(output)), access).signalling(authenticated);
     let mut admitted = false;
     let mut last_heard = Instant::now();
     let result = loop {

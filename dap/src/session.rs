@@ -3,6 +3,8 @@
 
 use std::io;
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 use serde_json::{json, Value};
@@ -124,6 +126,8 @@ pub struct Session {
     access: Access,
     /// Whether a `launch` carried the token (always, for `Access::Open`).
     authenticated: bool,
+    /// Set with `authenticated`, for the reader's framing limits.
+    authenticated_flag: Option<Arc<AtomicBool>>,
     initialized: bool,
     launched: Option<Launched>,
     requested: Requested,
@@ -191,6 +195,7 @@ impl Session {
         Session {
             writer,
             authenticated: access == Access::Open,
+            authenticated_flag: None,
             access,
             initialized: false,
             launched: None,
@@ -203,6 +208,13 @@ impl Session {
         self.launched
             .as_ref()
             .is_some_and(|launched| launched.running.is_some())
+    }
+
+    /// Also sets `flag` when the session authenticates, before the `launch` that
+    /// carried the token is answered.
+    pub fn signalling(mut self, flag: Arc<AtomicBool>) -> Session {
+        self.authenticated_flag = Some(flag);
+        self
     }
 
     pub fn is_authenticated(&self) -> bool {
@@ -287,6 +299,9 @@ impl Session {
         let given = request.arguments.get("token").and_then(Value::as_str);
         if given.is_some_and(|given| same_secret(given, expected)) {
             self.authenticated = true;
+            if let Some(flag) = &self.authenticated_flag {
+                flag.store(true, Ordering::SeqCst);
+            }
             return Ok(None);
         }
         let message = if given.is_none() {

@@ -460,6 +460,30 @@ fn a_connection_that_does_not_send_the_token_is_closed_after_ten_seconds() {
 }
 
 #[test]
+fn trickling_bytes_does_not_extend_the_token_timeout() {
+    let adapter = Adapter::start();
+    let mut client = adapter.connect();
+    initialize(&mut client);
+    let started = Instant::now();
+    // A header a byte every second: never a frame, never ten quiet seconds either.
+    for byte in b"X-Slow: aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa".iter() {
+        if client.stream.write_all(&[*byte]).is_err() {
+            break;
+        }
+        std::thread::sleep(Duration::from_secs(1));
+        if started.elapsed() > DEADLINE {
+            break;
+        }
+    }
+    assert!(client.closed(), "still open after {:?}", started.elapsed());
+    assert!(
+        started.elapsed() < DEADLINE,
+        "closed only after {:?}",
+        started.elapsed()
+    );
+}
+
+#[test]
 fn sessions_beyond_the_cap_are_refused_until_one_ends() {
     // gloc_dap::limits::MAX_SESSIONS, as documented in docs/dap.md.
     const MAX_SESSIONS: usize = 16;

@@ -233,8 +233,20 @@ fn serve_session(
         })?;
     let mut session = Session::new(Writer::new(Box::new(output)), access).signalling(authenticated);
     let mut admitted = false;
-    let mut last_heard = Instant::now();
+    let opened = Instant::now();
+    let mut last_heard = opened;
     let result = loop {
+        // The token timeout is a deadline from the connection's start: a client that
+        // trickles a byte now and then does not extend it.
+        let waiting_for_token = connection.is_some() && !session.is_authenticated();
+        if waiting_for_token && opened.elapsed() >= limits::TOKEN_TIMEOUT {
+            break Ok(());
+        }
+        let wait = if waiting_for_token {
+            limits::TOKEN_TIMEOUT.saturating_sub(opened.elapsed())
+        } else {
+            limits::IDLE_TIMEOUT
+        };
         let frame = if session.is_running() {
             match receiver.try_recv() {
                 Ok(frame) => Some(frame),
@@ -242,7 +254,7 @@ fn serve_session(
                 Err(TryRecvError::Disconnected) => Some(Frame::Closed),
             }
         } else {
-            match receiver.recv_timeout(limits::IDLE_TIMEOUT) {
+            match receiver.recv_timeout(wait) {
                 Ok(frame) => Some(frame),
                 Err(RecvTimeoutError::Timeout) => Some(Frame::Idle),
                 Err(RecvTimeoutError::Disconnected) => Some(Frame::Closed),

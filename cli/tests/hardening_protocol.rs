@@ -55,9 +55,12 @@ impl Adapter {
             let mut sink = Vec::new();
             let _ = stderr.read_to_end(&mut sink);
         });
-        let (port, token) = parse_listening(&first_read).unwrap_or_else(|| {
-            panic!("the first read of stderr is not the whole listening line: {first_read:?}")
-        });
+        let Some((port, token)) = parse_listening(&first_read) else {
+            // No adapter to drop yet: leave no process behind.
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("the first read of stderr is not the whole listening line: {first_read:?}");
+        };
         Adapter {
             child,
             port,

@@ -315,12 +315,13 @@ test('a client that disconnects mid-run leaves no process behind', async () => {
 test('--port serves DebugClient over TCP on 127.0.0.1', async () => {
   const server = spawn(GLOC_BIN, ['dap', '--port', '0'], { stdio: ['ignore', 'ignore', 'pipe'] });
   try {
-    const port = await new Promise((done, fail) => {
+    // The port and the session token come in one line (one write).
+    const [port, token] = await new Promise((done, fail) => {
       let text = '';
       server.stderr.on('data', (data) => {
         text += data;
-        const match = /listening on 127\.0\.0\.1:(\d+)/.exec(text);
-        if (match) done(Number(match[1]));
+        const match = /listening on 127\.0\.0\.1:(\d+) token ([0-9a-f]+)\n/.exec(text);
+        if (match) done([Number(match[1]), match[2]]);
       });
       setTimeout(() => fail(new Error(`no port announced: ${text}`)), 10000).unref();
     });
@@ -328,7 +329,7 @@ test('--port serves DebugClient over TCP on 127.0.0.1', async () => {
     await dc.start(port);
     await dc.initializeRequest({ adapterID: 'gloc' });
     const initialized = dc.waitForEvent('initialized');
-    await dc.launch({ program: FIG3, stopOnEntry: true, history: false });
+    await dc.launch({ program: FIG3, stopOnEntry: true, history: false, token });
     await initialized;
     await stopAfter(dc, dc.configurationDoneRequest(), 'entry');
     assert.equal(await cycle(dc), 0);

@@ -34,6 +34,7 @@ const launchAttributes = [
   'history',
   'replay',
   'sensorCache',
+  'token',
 ];
 
 function readJson(relativePath) {

@@ -186,7 +186,7 @@ impl DbdReader {
             }
             (text, format!("in {file}"))
         };
-        let entries = parse_list(&text, &origin, Location::default())?;
+        let entries = parse_list(&text, &origin, &file, self.at(list_at))?;
         let fits = file_columns(
             &entries,
             sensors_per_cycle,

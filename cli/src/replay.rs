@@ -59,7 +59,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         },
         None => SensorList::embedded(),
     };
-    let Some(script) = load_script(args.script.as_deref(), &sensors, args.optimize)? else {
+    let Some(script) = load_script(args.script.as_deref(), &sensors, args.optimized())? else {
         return Ok(ExitCode::FAILURE);
     };
     let config = MachineConfig {

@@ -25,7 +25,7 @@ use crate::render::{SourceFile, Tally};
 
 /// Simulated time a run may take when neither `--duration` nor `--cycles`
 /// is given and the mission does not end by itself.
-const DEFAULT_LIMIT_SECONDS: f64 = 24.0 * 3600.0;
+pub(crate) const DEFAULT_LIMIT_SECONDS: f64 = 24.0 * 3600.0;
 
 /// Runs shorter than this many cycles get no progress bar.
 const PROGRESS_MIN_CYCLES: u64 = 50_000;
@@ -80,7 +80,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         language,
         &sensor_list,
         &LoadOptions {
-            optimize: args.optimize,
+            optimize: args.optimized(),
             cycle_budget: Some(cycle_budget),
         },
     );
@@ -256,7 +256,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-fn read_text(path: &Path, what: &str) -> anyhow::Result<String> {
+pub(crate) fn read_text(path: &Path, what: &str) -> anyhow::Result<String> {
     let bytes = std::fs::read(path)
         .with_context(|| format!("cannot read the {what} `{}`", path.display()))?;
     Ok(String::from_utf8_lossy(&bytes).into_owned())

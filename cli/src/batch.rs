@@ -11,15 +11,18 @@ use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 use anyhow::{bail, Context};
-use gloc_compiler::{load_script, Language, LoadOptions, LoadedScript};
+use gloc_compiler::LoadedScript;
 use gloc_engine::program::Program;
 use gloc_engine::sensors::SensorList;
 use gloc_engine::vm::DEFAULT_CYCLE_BUDGET;
 use gloc_sim::faults::{step_cycle_with_faults, Fault, FaultPlan};
-use gloc_sim::{default_mission, EndReason, Mission, SimConfig, Simulation, TemperatureProfile};
+use gloc_sim::{EndReason, Mission, SimConfig, Simulation, TemperatureProfile};
 
-use crate::render::{SourceFile, Tally};
-use crate::simulate::{parse_duration, read_text, DEFAULT_LIMIT_SECONDS};
+use crate::render::Tally;
+use crate::simulate::{
+    load_mission, load_program, parse_duration, read_text, script_state, Script,
+    DEFAULT_LIMIT_SECONDS,
+};
 
 /// One mission of the sweep.
 struct Variant {
@@ -142,47 +145,22 @@ pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
         );
     }
 
-    let (script_name, script_text) = match &args.script {
-        Some(path) => (path.display().to_string(), read_text(path, "script")?),
-        None => ("fig2.gloc".to_string(), crate::replay::FIG2.to_string()),
-    };
-    let language = match &args.script {
-        Some(path) => Language::of_path(path),
-        None => Language::Gloc,
-    };
-    let loaded = load_script(
-        &script_text,
-        language,
+    let Some(Script {
+        name: script_name,
+        loaded,
+        program,
+    }) = load_program(
+        args.script.as_deref(),
         &sensor_list,
-        &LoadOptions {
-            optimize: !args.no_optimize,
-            cycle_budget: Some(cycle_budget),
-        },
-    );
-    let source = SourceFile::new(&script_name, &script_text);
-    for diagnostic in &loaded.diagnostics {
-        eprint!("{}", source.render(diagnostic));
-    }
-    let Some(program) = loaded.program.clone() else {
-        eprintln!("error: `{script_name}` has errors; nothing was simulated");
+        !args.no_optimize,
+        cycle_budget,
+    )?
+    else {
         return Ok(ExitCode::FAILURE);
     };
-    let mission = match &settings.mission {
-        Some(path) => Mission::load(path),
-        None => default_mission(),
-    };
-    for entry in &mission.diagnostics {
-        let file = &mission.sources[entry.file.min(mission.sources.len().saturating_sub(1))];
-        let display = file.path.display().to_string();
-        eprint!(
-            "{}",
-            SourceFile::new(&display, &file.text).render(&entry.diagnostic)
-        );
-    }
-    if mission.has_errors() {
-        eprintln!("error: the mission has errors; nothing was simulated");
+    let Some(mission) = load_mission(settings.mission.as_deref()) else {
         return Ok(ExitCode::FAILURE);
-    }
+    };
 
     let shared = Shared {
         program: &program,
@@ -354,20 +332,7 @@ fn fly(shared: &Shared<'_>, variant: &Variant) -> Result<Row, String> {
         },
         None => "running".to_string(),
     };
-    let script = match sim.script_trap() {
-        Some(trap) => {
-            let line = shared.loaded.line_of_pc(trap.pc).unwrap_or(trap.line);
-            format!(
-                "TRAPPED at {}:{line}: {}",
-                shared.script_name,
-                shared.loaded.trap_message(&trap.kind)
-            )
-        }
-        None => match sim.script_last_end() {
-            Some(gloc_engine::vm::CycleEnd::Halted) => "halted".to_string(),
-            _ => "ran".to_string(),
-        },
-    };
+    let script = script_state(&sim, shared.loaded, shared.script_name);
     let (shallowest, deepest) = sim.depth_range();
     Ok(Row {
         cycles,

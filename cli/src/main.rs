@@ -6,6 +6,7 @@ use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
 
+mod batch;
 mod check;
 mod compile;
 mod data;
@@ -40,6 +41,8 @@ enum Command {
     Run(RunArgs),
     /// Rewrite a GLOC file's sensor indices from one sensor list to another, by name.
     Reindex(ReindexArgs),
+    /// Fly a script through a sweep of missions on all cores; print one summary table.
+    Batch(BatchArgs),
     /// Start the language server on stdio.
     Lsp,
     /// Start the debug adapter (stdio, or a TCP port on 127.0.0.1).
@@ -142,9 +145,64 @@ pub struct RunArgs {
     /// Write an SVG flight profile.
     #[arg(long, value_name = "FILE.svg")]
     pub plot: Option<PathBuf>,
-    /// Compile a GBASIC script with the optimizer.
-    #[arg(short = 'O')]
+    /// Compile a GBASIC script with the optimizer: the default (kept for old command lines).
+    #[arg(short = 'O', conflicts_with = "no_optimize")]
     pub optimize: bool,
+    /// Compile a GBASIC script without the optimizer (the code `gloc dap` runs).
+    #[arg(long)]
+    pub no_optimize: bool,
+}
+
+impl RunArgs {
+    /// GBASIC runs optimized unless `--no-optimize` says otherwise.
+    pub fn optimized(&self) -> bool {
+        !self.no_optimize
+    }
+}
+
+#[derive(Args, Debug)]
+pub struct BatchArgs {
+    /// A `.gloc` or `.gbas` script (default: the paper's Fig. 2 script).
+    pub script: Option<PathBuf>,
+    /// Mission file (`.mi`); default: the embedded Fig. 2 mission.
+    #[arg(long, value_name = "M.mi")]
+    pub mission: Option<PathBuf>,
+    #[arg(long, value_name = "FILE")]
+    pub masterdata: Option<PathBuf>,
+    /// How a masterdata file's sensors are numbered: `file` (default) or `sorted` (firmware 2014+).
+    #[arg(long, value_name = "ORDER", value_parser = settings::parse_sensor_order)]
+    pub sensor_order: Option<gloc_engine::sensors::SensorOrder>,
+    /// Per-cycle instruction budget.
+    #[arg(long, value_name = "N")]
+    pub cycle_budget: Option<u64>,
+    /// Simulated duration of each mission, e.g. `6h`, `30d`.
+    #[arg(long, conflicts_with = "cycles")]
+    pub duration: Option<String>,
+    /// Control cycles of each mission.
+    #[arg(long)]
+    pub cycles: Option<u64>,
+    /// Seeds to fly: numbers and inclusive ranges, e.g. `1-100` or `1,5,9-12` (default 1).
+    #[arg(long, value_name = "LIST")]
+    pub seeds: Option<String>,
+    /// A temperature profile CSV to fly (repeatable; `builtin` for the built-in profile).
+    #[arg(long = "profile", value_name = "T.csv")]
+    pub profiles: Vec<String>,
+    /// The faults of one variant, comma-separated as `gloc run --fault` takes them
+    /// (repeatable; `none` for a variant without faults).
+    #[arg(long = "fault-set", value_name = "FAULTS")]
+    pub fault_sets: Vec<String>,
+    /// A simulator setting and the values to sweep (repeatable), e.g. `dive_rate=0.15,0.2`.
+    #[arg(long = "sim", value_name = "NAME=V1,V2")]
+    pub simulator: Vec<String>,
+    /// Missions flown at once (default: the number of cores).
+    #[arg(long, short = 'j')]
+    pub jobs: Option<usize>,
+    /// Also write the table as CSV.
+    #[arg(long, value_name = "FILE.csv")]
+    pub csv: Option<PathBuf>,
+    /// Compile a GBASIC script without the optimizer.
+    #[arg(long)]
+    pub no_optimize: bool,
 }
 
 #[derive(Args, Debug)]
@@ -181,6 +239,7 @@ fn main() -> ExitCode {
         Command::Compile(args) => compile::main(args),
         Command::Run(args) => run::main(args),
         Command::Reindex(args) => reindex::main(args),
+        Command::Batch(args) => batch::main(args),
         Command::Lsp => gloc_lsp_main(),
         Command::Dap(args) => gloc_dap_main(args),
         Command::Data(command) => data::main(command),

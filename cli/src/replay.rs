@@ -62,7 +62,12 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         },
         None => SensorList::embedded(),
     };
-    let Some(script) = load_script(args.script.as_deref(), &sensors, &settings, args.optimize)?
+    let Some(script) = load_script(
+        args.script.as_deref(),
+        &sensors,
+        &settings,
+        args.optimized(),
+    )?
     else {
         return Ok(ExitCode::FAILURE);
     };

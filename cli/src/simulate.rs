@@ -28,11 +28,11 @@ use crate::render::{SourceFile, Tally};
 
 /// Simulated time a run may take when neither `--duration` nor `--cycles`
 /// is given and the mission does not end by itself.
-const DEFAULT_LIMIT_SECONDS: f64 = 24.0 * 3600.0;
+pub(crate) const DEFAULT_LIMIT_SECONDS: f64 = 24.0 * 3600.0;
 
 /// The most control cycles one run may take (`--cycles`, `--duration`): about 12 years
 /// of 4 s cycles, minutes of computing for a plain script.
-const MAX_RUN_CYCLES: u64 = 100_000_000;
+pub(crate) const MAX_RUN_CYCLES: u64 = 100_000_000;
 
 /// Runs shorter than this many cycles get no progress bar.
 const PROGRESS_MIN_CYCLES: u64 = 50_000;
@@ -75,53 +75,24 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         bail!("--cycle-budget must be at least 1");
     }
 
-    let (script_name, script_text) = match &args.script {
-        Some(path) => (path.display().to_string(), read_text(path, files::SCRIPT)?),
-        None => ("fig2.gloc".to_string(), crate::replay::FIG2.to_string()),
-    };
-    let language = match &args.script {
-        Some(path) => Language::of_path(path),
-        None => Language::Gloc,
-    };
-    let written_for = args
-        .script
-        .as_deref()
-        .and_then(|path| crate::check::written_for(&script_text, path, &settings, &sensor_list));
-    let loaded = gloc_compiler::loader::load_script_written_for(
-        &script_text,
-        language,
+    let Some(Script {
+        name: script_name,
+        text: script_text,
+        loaded,
+        program,
+    }) = load_program(
+        args.script.as_deref(),
         &sensor_list,
-        &LoadOptions {
-            optimize: args.optimize,
-            cycle_budget: Some(cycle_budget),
-        },
-        written_for,
-    );
-    let source = SourceFile::new(&script_name, &script_text);
-    for diagnostic in &loaded.diagnostics {
-        eprint!("{}", source.render(diagnostic));
-    }
-    let Some(program) = loaded.program.clone() else {
-        eprintln!("error: `{script_name}` has errors; nothing was simulated");
+        &settings,
+        args.optimized(),
+        cycle_budget,
+    )?
+    else {
         return Ok(ExitCode::FAILURE);
     };
-
-    let mission = match &settings.mission {
-        Some(path) => Mission::load(path),
-        None => default_mission(),
-    };
-    for entry in &mission.diagnostics {
-        let file = &mission.sources[entry.file.min(mission.sources.len().saturating_sub(1))];
-        let display = file.path.display().to_string();
-        eprint!(
-            "{}",
-            SourceFile::new(&display, &file.text).render(&entry.diagnostic)
-        );
-    }
-    if mission.has_errors() {
-        eprintln!("error: the mission has errors; nothing was simulated");
+    let Some(mission) = load_mission(settings.mission.as_deref()) else {
         return Ok(ExitCode::FAILURE);
-    }
+    };
 
     let profile = match &args.profile {
         Some(path) => {
@@ -157,6 +128,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
     for warning in sim.warnings() {
         eprintln!("{warning}");
     }
+    let source = SourceFile::new(&script_name, &script_text);
     mission_guards(&mission, &sensor_list, &loaded, &source);
 
     let (max_cycles, limit_given) = match (&args.duration, args.cycles) {
@@ -340,7 +312,100 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-fn read_text(path: &Path, limit: files::Limit) -> anyhow::Result<String> {
+/// A compiled script and its name for messages.
+pub(crate) struct Script {
+    pub name: String,
+    /// The script's text, for messages that quote it.
+    pub text: String,
+    pub loaded: LoadedScript,
+    pub program: Arc<gloc_engine::program::Program>,
+}
+
+/// Reads and compiles the script to fly (the paper's Fig. 2 script when none is given),
+/// printing its diagnostics; `None` when it has errors (they were printed).
+pub(crate) fn load_program(
+    script: Option<&Path>,
+    sensor_list: &SensorList,
+    settings: &crate::settings::Settings,
+    optimize: bool,
+    cycle_budget: u64,
+) -> anyhow::Result<Option<Script>> {
+    let (name, text) = match script {
+        Some(path) => (path.display().to_string(), read_text(path, files::SCRIPT)?),
+        None => ("fig2.gloc".to_string(), crate::replay::FIG2.to_string()),
+    };
+    let language = match script {
+        Some(path) => Language::of_path(path),
+        None => Language::Gloc,
+    };
+    let written_for =
+        script.and_then(|path| crate::check::written_for(&text, path, settings, sensor_list));
+    let loaded = gloc_compiler::loader::load_script_written_for(
+        &text,
+        language,
+        sensor_list,
+        &LoadOptions {
+            optimize,
+            cycle_budget: Some(cycle_budget),
+        },
+        written_for,
+    );
+    let source = SourceFile::new(&name, &text);
+    for diagnostic in &loaded.diagnostics {
+        eprint!("{}", source.render(diagnostic));
+    }
+    let Some(program) = loaded.program.clone() else {
+        eprintln!("error: `{name}` has errors; nothing was simulated");
+        return Ok(None);
+    };
+    Ok(Some(Script {
+        name,
+        text,
+        loaded,
+        program,
+    }))
+}
+
+/// Loads the mission (the embedded Fig. 2 mission when none is given), printing its
+/// diagnostics; `None` when it has errors (they were printed).
+pub(crate) fn load_mission(path: Option<&Path>) -> Option<Mission> {
+    let mission = match path {
+        Some(path) => Mission::load(path),
+        None => default_mission(),
+    };
+    for entry in &mission.diagnostics {
+        let file = &mission.sources[entry.file.min(mission.sources.len().saturating_sub(1))];
+        let display = file.path.display().to_string();
+        eprint!(
+            "{}",
+            SourceFile::new(&display, &file.text).render(&entry.diagnostic)
+        );
+    }
+    if mission.has_errors() {
+        eprintln!("error: the mission has errors; nothing was simulated");
+        return None;
+    }
+    Some(mission)
+}
+
+/// How the script ended the run: trapped (where and why), halted, or running.
+pub(crate) fn script_state(sim: &Simulation, loaded: &LoadedScript, script_name: &str) -> String {
+    match sim.script_trap() {
+        Some(trap) => {
+            let line = loaded.line_of_pc(trap.pc).unwrap_or(trap.line);
+            format!(
+                "TRAPPED at {script_name}:{line}: {} (the vehicle flew on)",
+                loaded.trap_message(&trap.kind)
+            )
+        }
+        None => match sim.script_last_end() {
+            Some(gloc_engine::vm::CycleEnd::Halted) => "halted".to_string(),
+            _ => "ran to the end of the run".to_string(),
+        },
+    }
+}
+
+pub(crate) fn read_text(path: &Path, limit: files::Limit) -> anyhow::Result<String> {
     files::read_text(path, limit)
         .with_context(|| format!("cannot read {} `{}`", limit.what, path.display()))
 }
@@ -725,20 +790,7 @@ fn summary(facts: &SummaryFacts<'_>) {
         _ => ended,
     };
     lines.push(format!("mission end   {ended}"));
-    let script_state = match sim.script_trap() {
-        Some(trap) => {
-            let line = facts.loaded.line_of_pc(trap.pc).unwrap_or(trap.line);
-            format!(
-                "TRAPPED at {}:{line}: {} (the vehicle flew on)",
-                facts.script_name,
-                facts.loaded.trap_message(&trap.kind)
-            )
-        }
-        None => match sim.script_last_end() {
-            Some(gloc_engine::vm::CycleEnd::Halted) => "halted".to_string(),
-            _ => "ran to the end of the run".to_string(),
-        },
-    };
+    let script_state = script_state(sim, facts.loaded, facts.script_name);
     lines.push(format!("script        {script_state}"));
     let printed = if facts.printed_lines == 0 {
         "nothing".to_string()

@@ -17,13 +17,18 @@ use support::{at, TestClient};
 /// A realistic program: declarations, then 500 labelled sections with
 /// blocks, sensor reads and writes, arithmetic and `yield`s. 10,000 lines.
 fn program() -> String {
+    program_of(10_000)
+}
+
+/// The same shape, `line_count` lines long.
+fn program_of(line_count: usize) -> String {
     let mut lines = vec![
         "' 10,000-line benchmark program".to_string(),
         "dim depth_sum as float".to_string(),
         "dim count as integer".to_string(),
         "dim bins(40) as float".to_string(),
     ];
-    let sections = 500;
+    let sections = line_count.div_ceil(20);
     for section in 0..sections {
         let next = (section + 1) % sections;
         lines.extend([
@@ -49,7 +54,7 @@ fn program() -> String {
             "' end of section".to_string(),
         ]);
     }
-    lines.truncate(10_000);
+    lines.truncate(line_count);
     lines.join("\n") + "\n"
 }
 
@@ -68,6 +73,17 @@ fn summary(name: &str, mut samples: Vec<Duration>) {
 }
 
 fn main() {
+    // Semantic tokens on 50,000 lines, outside the protocol (the computation alone).
+    let big = program_of(50_000);
+    let runs = std::env::var("GLOC_BENCH_RUNS")
+        .ok()
+        .and_then(|text| text.parse().ok())
+        .unwrap_or(21);
+    let (count, times) = gloc_lsp::time_semantic_tokens(&big, runs);
+    summary(
+        &format!("semantic tokens, 50,000 lines ({count} tokens)"),
+        times,
+    );
     let runtime = tokio::runtime::Builder::new_current_thread()
         .enable_all()
         .build()
@@ -145,6 +161,25 @@ async fn run() {
         completion_samples,
     );
     summary("hover (sensor)", hover_samples);
+
+    let mut token_samples = Vec::new();
+    for _ in 0..rounds {
+        let started = Instant::now();
+        let result = client
+            .request(
+                "textDocument/semanticTokens/full",
+                json!({ "textDocument": { "uri": uri } }),
+            )
+            .await;
+        token_samples.push(started.elapsed());
+        assert!(result["data"]
+            .as_array()
+            .is_some_and(|data| !data.is_empty()));
+    }
+    summary(
+        "semanticTokens/full (10,000 lines, over JSON-RPC)",
+        token_samples,
+    );
 
     // After an edit, the first request pays for the analysis (no waiting for diagnostics).
     let mut stale_samples = Vec::new();

@@ -13,7 +13,7 @@ use tower_lsp_server::ls_types::*;
 use crate::analysis::{Analysis, CompletionKind, Context, SymbolKind as Kind, TokenKind};
 use crate::document::{Document, Language};
 use crate::lang;
-use crate::position::{end_position, offset_of, position_of, range_of, span_of};
+use crate::position::{end_position, offset_of, position_of, range_of, span_of, PositionWalker};
 use crate::server::COMPILED_GLOC_COMMAND;
 
 /// Semantic token types, in legend order.
@@ -435,12 +435,13 @@ pub fn semantic_tokens(
     analysis: &Analysis,
     context: &Context,
 ) -> SemanticTokens {
-    let rope = document.rope();
+    // The tokens are sorted by start and do not overlap: one walk over the text.
+    let mut walker = PositionWalker::new(document.rope(), document.text());
     let mut data = Vec::with_capacity(analysis.tokens.len());
     let (mut previous_line, mut previous_start) = (0u32, 0u32);
     for token in &analysis.tokens {
-        let start = position_of(rope, token.span.start as usize);
-        let end = position_of(rope, token.span.end as usize);
+        let start = walker.position(token.span.start as usize);
+        let end = walker.position(token.span.end as usize);
         // Our tokens never span lines; a client cannot show one that does.
         if end.line != start.line || end.character <= start.character {
             continue;
@@ -625,5 +626,122 @@ pub fn compiled_gloc(document: &Document, analysis: &Analysis) -> jsonrpc::Resul
                 if errors == 1 { "it" } else { "them" }
             )))
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+    use std::sync::Arc;
+
+    use gloc_engine::sensors::SensorList;
+
+    use super::*;
+    use crate::document::Language;
+
+    /// The tokens as they were computed before the one-pass walk: two rope look-ups
+    /// per token through `position_of`, for comparison.
+    fn reference_tokens(document: &Document, analysis: &Analysis, context: &Context) -> Vec<u32> {
+        let rope = document.rope();
+        let mut data = Vec::new();
+        let (mut previous_line, mut previous_start) = (0u32, 0u32);
+        for token in &analysis.tokens {
+            let start = position_of(rope, token.span.start as usize);
+            let end = position_of(rope, token.span.end as usize);
+            if end.line != start.line || end.character <= start.character {
+                continue;
+            }
+            let read_only = token
+                .sensor
+                .and_then(|id| context.sensors.get(id))
+                .map(|sensor| sensor.access() == gloc_engine::sensors::Access::ReadOnly);
+            let (token_type, modifiers) = token_style(token.kind, read_only);
+            let delta_line = start.line - previous_line;
+            let delta_start = if delta_line == 0 {
+                start.character - previous_start
+            } else {
+                start.character
+            };
+            data.extend([
+                delta_line,
+                delta_start,
+                end.character - start.character,
+                token_type,
+                modifiers,
+            ]);
+            previous_line = start.line;
+            previous_start = start.character;
+        }
+        data
+    }
+
+    fn flat(tokens: &SemanticTokens) -> Vec<u32> {
+        tokens
+            .data
+            .iter()
+            .flat_map(|token| {
+                [
+                    token.delta_line,
+                    token.delta_start,
+                    token.length,
+                    token.token_type,
+                    token.token_modifiers_bitset,
+                ]
+            })
+            .collect()
+    }
+
+    #[test]
+    fn one_pass_tokens_equal_per_token_look_ups_on_every_fixture() {
+        let context = Context {
+            sensors: Arc::new(SensorList::embedded()),
+            cycle_budget: None,
+            list_folders: Vec::new(),
+        };
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        let folders = [
+            "examples",
+            "dap/tests/fixtures",
+            "tests/fixtures/gbasic/ok",
+            "tests/fixtures/gbasic/err",
+            "tests/fixtures/gbasic/run",
+            "tests/fixtures/gloc/ok",
+            "tests/fixtures/gloc/err",
+            "tests/perf/programs",
+        ];
+        let mut texts = Vec::new();
+        for folder in folders {
+            let Ok(entries) = std::fs::read_dir(root.join(folder)) else {
+                panic!("no fixture folder {folder}");
+            };
+            for entry in entries.flatten() {
+                let path = entry.path();
+                let language = match path.extension().and_then(|e| e.to_str()) {
+                    Some("gbas") => Language::Gbasic,
+                    Some("gloc") => Language::Gloc,
+                    _ => continue,
+                };
+                let text = std::fs::read_to_string(&path).expect("a fixture");
+                // Each as written, with CRLF line ends, and with non-ASCII text in its
+                // comments and strings.
+                let crlf = text.replace('\n', "\r\n");
+                let wide = text.replace("' ", "' é𝄞 ").replace("# ", "# ☃𝄞 ");
+                texts.push((path.display().to_string(), language, text));
+                texts.push((format!("{} (CRLF)", path.display()), language, crlf));
+                texts.push((format!("{} (wide)", path.display()), language, wide));
+            }
+        }
+        assert!(texts.len() > 150, "{} fixtures", texts.len());
+        let mut tokens_seen = 0;
+        for (name, language, text) in texts {
+            let uri = "file:///fixture".parse().expect("uri");
+            let document = Document::new(uri, language, 1, &text);
+            let analysis = crate::lang::analyze(language, &text, &context);
+            let tokens = semantic_tokens(&document, &analysis, &context);
+            let expected = reference_tokens(&document, &analysis, &context);
+            assert_eq!(flat(&tokens), expected, "{name}");
+            tokens_seen += tokens.data.len();
+        }
+        assert!(tokens_seen > 5_000, "{tokens_seen} tokens");
     }
 }

@@ -28,6 +28,32 @@ use tower_service::Service;
 
 pub use server::{settings_from, Settings, COMPILED_GLOC_COMMAND};
 
+/// The semantic tokens of a GBASIC text computed `runs` times outside the protocol (the
+/// analysis once, before): the token count and each run's time. For the benchmark.
+#[doc(hidden)]
+pub fn time_semantic_tokens(text: &str, runs: usize) -> (usize, Vec<std::time::Duration>) {
+    let context = analysis::Context {
+        sensors: Arc::new(gloc_engine::sensors::SensorList::embedded()),
+        cycle_budget: None,
+        list_folders: Vec::new(),
+    };
+    let language = document::Language::Gbasic;
+    let uri = "file:///bench.gbas".parse().expect("a constant, valid URI");
+    let document = document::Document::new(uri, language, 1, text);
+    let analysis = lang::analyze(language, text, &context);
+    let mut count = 0;
+    let times = (0..runs)
+        .map(|_| {
+            let started = std::time::Instant::now();
+            count = features::semantic_tokens(&document, &analysis, &context)
+                .data
+                .len();
+            started.elapsed()
+        })
+        .collect();
+    (count, times)
+}
+
 /// How the session ended, for the process exit code (LSP: 0 when `shutdown`
 /// came before `exit`, 1 otherwise, e.g. when the client just went away).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -55,6 +55,89 @@ pub fn char_index_of(rope: &Rope, position: Position) -> Option<usize> {
     Some(rope.utf16_cu_to_char(wanted_utf16))
 }
 
+/// [`position_of`] for many offsets in one pass over the text: walking forward from the
+/// last offset costs what lies between them, not a rope look-up. An offset before the
+/// last one falls back to `position_of` (and the walk goes on from there).
+pub struct PositionWalker<'a> {
+    rope: &'a Rope,
+    /// The rope's text as one string (the document keeps both).
+    text: &'a str,
+    /// The last offset converted (on a character boundary, never inside a CRLF), and
+    /// its position.
+    offset: usize,
+    line: u32,
+    character: u32,
+}
+
+impl<'a> PositionWalker<'a> {
+    /// `text` must be `rope`'s contents.
+    pub fn new(rope: &'a Rope, text: &'a str) -> PositionWalker<'a> {
+        PositionWalker {
+            rope,
+            text,
+            offset: 0,
+            line: 0,
+            character: 0,
+        }
+    }
+
+    /// What `position_of(rope, byte_offset)` answers.
+    pub fn position(&mut self, byte_offset: usize) -> Position {
+        let bytes = self.text.as_bytes();
+        if bytes.len() != self.rope.len_bytes() {
+            // Not the rope's text after all: be right, if slow.
+            return position_of(self.rope, byte_offset);
+        }
+        let mut target = byte_offset.min(bytes.len());
+        // The same adjustments as `position_of`: the line end for the middle of a
+        // CRLF, and the start of the character holding the byte.
+        if target > 0
+            && target < bytes.len()
+            && bytes[target] == b'\n'
+            && bytes[target - 1] == b'\r'
+        {
+            target -= 1;
+        }
+        while !self.text.is_char_boundary(target) {
+            target -= 1;
+        }
+        if target < self.offset {
+            let position = position_of(self.rope, target);
+            (self.offset, self.line, self.character) = (target, position.line, position.character);
+            return position;
+        }
+        let mut index = self.offset;
+        while index < target {
+            let byte = bytes[index];
+            if byte < 0x80 {
+                match byte {
+                    b'\n' => (self.line, self.character) = (self.line + 1, 0),
+                    // A lone CR breaks the line; in a CRLF the LF does.
+                    b'\r' if bytes.get(index + 1) != Some(&b'\n') => {
+                        (self.line, self.character) = (self.line + 1, 0);
+                    }
+                    _ => self.character += 1,
+                }
+                index += 1;
+            } else {
+                // A multi-byte character: 4 bytes are a surrogate pair in UTF-16.
+                let width = match byte {
+                    0xF0.. => 4,
+                    0xE0.. => 3,
+                    _ => 2,
+                };
+                self.character += if width == 4 { 2 } else { 1 };
+                index += width;
+            }
+        }
+        self.offset = target;
+        Position {
+            line: self.line,
+            character: self.character,
+        }
+    }
+}
+
 /// The LSP range of a span.
 pub fn range_of(rope: &Rope, span: Span) -> Range {
     Range {
@@ -96,6 +179,43 @@ mod tests {
 
     fn pos(line: u32, character: u32) -> Position {
         Position { line, character }
+    }
+
+    #[test]
+    fn the_walker_answers_what_position_of_answers() {
+        let texts = [
+            "ab\ncd\n",
+            "é𝄞x\n",
+            "ab\r\ncd\r\n\r\n",
+            "a\rb\r\rc\r",
+            "a\u{2028}b\nc",
+            "",
+            "\n\n",
+            "x = \"Ünïcødé 𝄞\" ' ☃\r\nprint 1\rend",
+        ];
+        for text in texts {
+            let rope = Rope::from_str(text);
+            let mut walker = PositionWalker::new(&rope, text);
+            // Every offset rising (the fast path), including past the end.
+            for offset in 0..=text.len() + 2 {
+                assert_eq!(
+                    walker.position(offset),
+                    position_of(&rope, offset),
+                    "{text:?} at {offset}"
+                );
+            }
+            // Falling and jumping (the fallback, and walking on from it).
+            let mut walker = PositionWalker::new(&rope, text);
+            let mut offset = text.len() / 2;
+            for step in 0..3 * text.len() + 3 {
+                offset = (offset * 7 + step * 3 + 1) % (text.len() + 1);
+                assert_eq!(
+                    walker.position(offset),
+                    position_of(&rope, offset),
+                    "{text:?} at {offset}"
+                );
+            }
+        }
     }
 
     #[test]

@@ -119,9 +119,34 @@ pub struct LogWriter<W: Write> {
     columns: Vec<SensorId>,
     /// Per column: logged as a double (timestamps) rather than a 4-byte float.
     doubles: Vec<bool>,
-    numbers: NumberText,
+    numbers: ryu::Buffer,
+    integers: itoa::Buffer,
+    /// Per column: the last value written (its bits) and its text. Most sensors change
+    /// rarely from one cycle to the next, and copying the text is far cheaper than
+    /// formatting the number again.
+    last: Vec<Formatted>,
     line: Vec<u8>,
     rows: u64,
+}
+
+/// A number's text, kept for the next row.
+#[derive(Clone, Copy)]
+struct Formatted {
+    bits: u64,
+    length: u8,
+    text: [u8; Formatted::CAPACITY],
+}
+
+impl Formatted {
+    /// Longer than any text `write_number` makes: ryu's at most 24 bytes, itoa's 20.
+    const CAPACITY: usize = 32;
+
+    /// Nothing kept yet: `length` 0 never matches.
+    const EMPTY: Formatted = Formatted {
+        bits: 0,
+        length: 0,
+        text: [0; Formatted::CAPACITY],
+    };
 }
 
 impl<W: Write> LogWriter<W> {
@@ -178,12 +203,15 @@ impl<W: Write> LogWriter<W> {
             .iter()
             .map(|id| list.get(*id).is_some_and(logged_as_double))
             .collect();
+        let column_count = columns.len();
         Ok(LogWriter {
             out,
             format,
             columns,
             doubles,
-            numbers: NumberText::default(),
+            numbers: ryu::Buffer::new(),
+            integers: itoa::Buffer::new(),
+            last: vec![Formatted::EMPTY; column_count],
             line: Vec::with_capacity(512),
             rows: 0,
         })
@@ -205,8 +233,31 @@ impl<W: Write> LogWriter<W> {
                 self.line.push(separator);
             }
             let value = sensors.get(id.index()).copied().unwrap_or(f64::NAN);
+            let bits = value.to_bits();
             let double = self.doubles.get(position).copied().unwrap_or(true);
-            self.numbers.push(&mut self.line, value, double);
+            let Some(last) = self.last.get_mut(position) else {
+                write_number(
+                    &mut self.line,
+                    (&mut self.numbers, &mut self.integers),
+                    value,
+                    double,
+                );
+                continue;
+            };
+            if last.length == 0 || last.bits != bits {
+                last.bits = bits;
+                last.length = format_into(
+                    &mut last.text,
+                    (&mut self.numbers, &mut self.integers),
+                    value,
+                    double,
+                );
+            }
+            // A fixed-size copy (a few vector moves, no `memcpy` call), then the surplus
+            // cut off.
+            let end = self.line.len() + usize::from(last.length);
+            self.line.extend_from_slice(&last.text);
+            self.line.truncate(end);
         }
         if self.format == LogFormat::Dba {
             // dbd2asc ends every data row with a space.
@@ -227,7 +278,8 @@ impl<W: Write> LogWriter<W> {
     }
 }
 
-/// Numbers as log text, reusing its buffers (`gloc run --log`, `gloc data convert`).
+/// Numbers as log text, reusing its buffers (`gloc data convert`; the run log's
+/// writer keeps each column's last text as well).
 #[derive(Default)]
 pub struct NumberText {
     numbers: ryu::Buffer,
@@ -235,26 +287,81 @@ pub struct NumberText {
 }
 
 impl NumberText {
-    /// Appends the shortest text that reads back as the same number, without
-    /// allocating: as an f64 for double columns, as an f32 for the rest (the
-    /// glider logs those as 4-byte floats). Whole numbers print without a
-    /// point and not-a-number as `NaN`, as dbd2asc writes them.
+    /// Appends `write_number`'s text for `value`.
     pub fn push(&mut self, buffer: &mut Vec<u8>, value: f64, double: bool) {
-        if value.is_nan() {
-            buffer.extend_from_slice(b"NaN");
-            return;
-        }
-        if value == value.trunc() && value.abs() < 1e15 {
-            buffer.extend_from_slice(self.integers.format(value as i64).as_bytes());
-            return;
-        }
-        let text = if double {
-            self.numbers.format(value)
-        } else {
-            self.numbers.format(value as f32)
-        };
-        buffer.extend_from_slice(text.as_bytes());
+        write_number(
+            buffer,
+            (&mut self.numbers, &mut self.integers),
+            value,
+            double,
+        );
     }
+}
+
+/// `write_number`'s text written into `text`; returns its length. Finite floats are
+/// formatted by ryu straight into `text`, without the copy out of a `ryu::Buffer`.
+fn format_into(
+    text: &mut [u8; Formatted::CAPACITY],
+    (numbers, integers): (&mut ryu::Buffer, &mut itoa::Buffer),
+    value: f64,
+    double: bool,
+) -> u8 {
+    let copy = |text: &mut [u8; Formatted::CAPACITY], from: &[u8]| {
+        for (to, byte) in text.iter_mut().zip(from) {
+            *to = *byte;
+        }
+        from.len().min(Formatted::CAPACITY) as u8
+    };
+    if value.is_nan() {
+        return copy(text, b"NaN");
+    }
+    // Whole, as `value == value.trunc()` asks, without `trunc` (a library call on
+    // baseline x86-64): below 1e15 the cast to i64 is exact for whole numbers only.
+    if value.abs() < 1e15 && (value as i64) as f64 == value {
+        return copy(text, integers.format(value as i64).as_bytes());
+    }
+    if double && value.is_finite() {
+        // SAFETY: `format64` writes at most 24 bytes; `text` holds 32.
+        return unsafe { ryu::raw::format64(value, text.as_mut_ptr()) } as u8;
+    }
+    let single = value as f32;
+    if !double && single.is_finite() {
+        // SAFETY: `format32` writes at most 16 bytes; `text` holds 32.
+        return unsafe { ryu::raw::format32(single, text.as_mut_ptr()) } as u8;
+    }
+    // Infinities (rare): ryu's own spelling.
+    let spelled = if double {
+        numbers.format(value)
+    } else {
+        numbers.format(single)
+    };
+    copy(text, spelled.as_bytes())
+}
+
+/// Shortest text that reads back as the same number, without allocating:
+/// as an f64 for double columns, as an f32 for the rest (the glider logs
+/// those as 4-byte floats). Whole numbers print without a point and
+/// not-a-number as `NaN`, as dbd2asc writes them.
+fn write_number(
+    buffer: &mut Vec<u8>,
+    (numbers, integers): (&mut ryu::Buffer, &mut itoa::Buffer),
+    value: f64,
+    double: bool,
+) {
+    if value.is_nan() {
+        buffer.extend_from_slice(b"NaN");
+        return;
+    }
+    if value == value.trunc() && value.abs() < 1e15 {
+        buffer.extend_from_slice(integers.format(value as i64).as_bytes());
+        return;
+    }
+    let text = if double {
+        numbers.format(value)
+    } else {
+        numbers.format(value as f32)
+    };
+    buffer.extend_from_slice(text.as_bytes());
 }
 
 #[cfg(test)]
@@ -330,6 +437,69 @@ mod tests {
         assert_eq!(lines[17], "1274659200.5 0 0 ");
         assert_eq!(lines[18], "1274659204.25 22.99513 0.1 ");
         assert_eq!(lines.len(), 19);
+    }
+
+    #[test]
+    fn kept_texts_are_the_texts_formatting_again_would_give() {
+        // Specials, whole numbers at the 1e15 edge, values that round differently as
+        // f32, tiny and huge ones, and a spread of bit patterns (xorshift).
+        let mut values = vec![
+            0.0,
+            -0.0,
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            1e15,
+            1e15 - 1.0,
+            -1e15,
+            999_999_999_999_999.5,
+            22.995130100020784,
+            0.1,
+            -0.4538,
+            1e-7,
+            3.5e38,
+            -3.5e38,
+            1e300,
+            f64::MIN_POSITIVE,
+            1274659204.25,
+        ];
+        let mut state = 0x9E37_79B9_7F4A_7C15_u64;
+        for _ in 0..20_000 {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            values.push(f64::from_bits(state));
+            values.push((state % 2_000_000) as f64 / 1024.0 - 900.0);
+        }
+        let (mut numbers, mut integers) = (ryu::Buffer::new(), itoa::Buffer::new());
+        for value in values {
+            for double in [false, true] {
+                let mut expected = Vec::new();
+                write_number(&mut expected, (&mut numbers, &mut integers), value, double);
+                let mut text = [0; Formatted::CAPACITY];
+                let length = format_into(&mut text, (&mut numbers, &mut integers), value, double);
+                assert_eq!(
+                    &text[..usize::from(length)],
+                    &expected[..],
+                    "{value:?} as {}",
+                    if double { "f64" } else { "f32" }
+                );
+            }
+        }
+        // And through the writer: the same row twice (the second from the kept texts),
+        // then a changed one.
+        let list = list();
+        let columns = default_columns(&list, &[]);
+        let mut writer =
+            LogWriter::new(Vec::new(), LogFormat::Csv, columns, &list, &header()).expect("header");
+        for row in [[1.5, 0.1, 64.0], [1.5, 0.1, 64.0], [2.5, 0.1, f64::NAN]] {
+            writer.write_row(&row).expect("row");
+        }
+        let text = String::from_utf8(writer.finish().expect("flush")).expect("utf8");
+        assert_eq!(
+            text,
+            "m_present_time,m_depth,sci_ruhp_behs\n1.5,0.1,64\n1.5,0.1,64\n2.5,0.1,NaN\n"
+        );
     }
 
     #[test]

@@ -1,0 +1,590 @@
+//! `gloc batch`: fly one script through a sweep of missions (seeds, temperature
+//! profiles, fault sets, simulator settings: every combination), each mission
+//! independent, on all cores, and print one summary table (readable on stdout,
+//! CSV with `--csv`). A progress bar shows on a terminal.
+
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::Instant;
+
+use anyhow::{bail, Context};
+use gloc_compiler::LoadedScript;
+use gloc_engine::program::Program;
+use gloc_engine::sensors::SensorList;
+use gloc_engine::vm::DEFAULT_CYCLE_BUDGET;
+use gloc_sim::faults::{step_cycle_with_faults, Fault, FaultPlan};
+use gloc_sim::{EndReason, Mission, SimConfig, Simulation, TemperatureProfile};
+
+use crate::render::Tally;
+use crate::simulate::{
+    load_mission, load_program, parse_duration, read_text, script_state, Script,
+    DEFAULT_LIMIT_SECONDS,
+};
+
+/// One mission of the sweep.
+struct Variant {
+    seed: u64,
+    /// `builtin` or the profile's path as given.
+    profile_label: String,
+    profile: Option<TemperatureProfile>,
+    /// The fault set as given (`none` when empty).
+    faults_label: String,
+    faults: Vec<Fault>,
+    /// `--sim` values of this mission, applied after gloc.toml's `[simulator]`.
+    settings: Vec<(String, f64)>,
+}
+
+/// What the table says about one flown mission.
+struct Row {
+    cycles: u64,
+    end: String,
+    script: String,
+    printed: u64,
+    shallowest: f64,
+    deepest: f64,
+    energy_kj: f64,
+    amp_hours: f64,
+    seconds: f64,
+}
+
+/// What every mission shares.
+struct Shared<'a> {
+    program: &'a Arc<Program>,
+    loaded: &'a LoadedScript,
+    script_name: &'a str,
+    mission: &'a Mission,
+    sensor_list: &'a Arc<SensorList>,
+    cycle_budget: u64,
+    base_settings: &'a [(String, f64)],
+    limit: Limit,
+}
+
+#[derive(Clone, Copy)]
+enum Limit {
+    Seconds(f64),
+    Cycles(u64),
+}
+
+pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
+    let mut tally = Tally::default();
+    let settings = crate::settings::resolve(
+        args.script.as_deref(),
+        crate::settings::Flags {
+            masterdata: args.masterdata.as_deref(),
+            cycle_budget: args.cycle_budget,
+            mission: args.mission.as_deref(),
+            sensor_order: args.sensor_order,
+            simulator: &[],
+            sensor_cache: None,
+        },
+    )?;
+    let sensor_list = match &settings.masterdata {
+        Some(path) => match crate::check::load_sensors(path, settings.sensor_order, &mut tally)? {
+            Some(list) => list,
+            None => return Ok(ExitCode::FAILURE),
+        },
+        None => SensorList::embedded(),
+    };
+    let sensor_list = Arc::new(sensor_list);
+    let cycle_budget = settings.cycle_budget.unwrap_or(DEFAULT_CYCLE_BUDGET);
+    if cycle_budget == 0 {
+        bail!("--cycle-budget must be at least 1");
+    }
+    // Every axis is checked before anything flies: a typo costs nothing.
+    let seeds = match &args.seeds {
+        Some(text) => parse_seeds(text).map_err(|error| anyhow::anyhow!("--seeds {error}"))?,
+        None => vec![1],
+    };
+    let mut profiles = Vec::new();
+    for given in if args.profiles.is_empty() {
+        vec!["builtin".to_string()]
+    } else {
+        args.profiles.clone()
+    } {
+        if given == "builtin" {
+            profiles.push((given, None));
+            continue;
+        }
+        let path = PathBuf::from(&given);
+        let text = read_text(&path, gloc_engine::files::PROFILE)?;
+        let profile = TemperatureProfile::from_csv(&path, &text)
+            .map_err(|error| anyhow::anyhow!("{error}"))?;
+        profiles.push((given, Some(profile)));
+    }
+    let mut fault_sets = Vec::new();
+    for given in if args.fault_sets.is_empty() {
+        vec!["none".to_string()]
+    } else {
+        args.fault_sets.clone()
+    } {
+        let faults = parse_fault_set(&given, &sensor_list)
+            .map_err(|error| anyhow::anyhow!("--fault-set `{given}`: {error}"))?;
+        let label = if faults.is_empty() {
+            "none".to_string()
+        } else {
+            given
+        };
+        fault_sets.push((label, faults));
+    }
+    let mut axes: Vec<Vec<(String, f64)>> = Vec::new();
+    for given in &args.simulator {
+        axes.push(parse_sweep_setting(given).map_err(|error| anyhow::anyhow!("--sim {error}"))?);
+    }
+    let limit = match (&args.duration, args.cycles) {
+        (Some(text), _) => Limit::Seconds(parse_duration(text)?),
+        (None, Some(cycles)) => Limit::Cycles(cycles),
+        (None, None) => Limit::Seconds(DEFAULT_LIMIT_SECONDS),
+    };
+    // The same bound as `gloc run`: every mission of a sweep must be able to finish.
+    match limit {
+        Limit::Cycles(cycles) if cycles > crate::simulate::MAX_RUN_CYCLES => bail!(
+            "--cycles {cycles} is more than {}, the most one run may take",
+            crate::simulate::MAX_RUN_CYCLES
+        ),
+        Limit::Seconds(seconds) if seconds > crate::simulate::MAX_RUN_CYCLES as f64 * 4.0 => {
+            bail!(
+                "--duration is more than {} control cycles of 4 s, the most one run may take",
+                crate::simulate::MAX_RUN_CYCLES
+            )
+        }
+        _ => {}
+    }
+    let variants = sweep(&seeds, &profiles, &fault_sets, &axes);
+    if variants.len() > MAX_MISSIONS {
+        bail!(
+            "the sweep has {} missions, more than {MAX_MISSIONS}: narrow --seeds or the other axes",
+            variants.len()
+        );
+    }
+
+    let Some(Script {
+        name: script_name,
+        loaded,
+        program,
+        ..
+    }) = load_program(
+        args.script.as_deref(),
+        &sensor_list,
+        &settings,
+        !args.no_optimize,
+        cycle_budget,
+    )?
+    else {
+        return Ok(ExitCode::FAILURE);
+    };
+    let Some(mission) = load_mission(settings.mission.as_deref()) else {
+        return Ok(ExitCode::FAILURE);
+    };
+
+    let shared = Shared {
+        program: &program,
+        loaded: &loaded,
+        script_name: &script_name,
+        mission: &mission,
+        sensor_list: &sensor_list,
+        cycle_budget,
+        base_settings: &settings.simulator,
+        limit,
+    };
+    let jobs = args
+        .jobs
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
+        .clamp(1, variants.len().max(1));
+    let progress = std::io::stderr().is_terminal().then(|| {
+        let bar = indicatif::ProgressBar::new(variants.len() as u64);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{spinner} flying [{bar:40}] {pos}/{len} missions ({eta} left)",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
+            .progress_chars("=> "),
+        );
+        bar
+    });
+    let started = Instant::now();
+    let rows = fly_all(&shared, &variants, jobs, progress.as_ref());
+    let wall = started.elapsed().as_secs_f64();
+    if let Some(bar) = progress {
+        bar.finish_and_clear();
+    }
+
+    let table = table(&variants, &rows);
+    let mut out = std::io::stdout().lock();
+    write_readable(&mut out, &table).context("cannot write the table")?;
+    if let Some(path) = &args.csv {
+        write_csv(path, &table)?;
+    }
+    eprintln!(
+        "{} missions in {wall:.3} s on {jobs} thread(s): {:.2} missions/s",
+        variants.len(),
+        variants.len() as f64 / wall.max(f64::MIN_POSITIVE)
+    );
+    let failed = rows.iter().filter(|row| row.is_err()).count();
+    Ok(if failed == 0 {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    })
+}
+
+/// A sweep wider than this is a mistake (`--seeds 1-1000000000`), not a plan.
+const MAX_MISSIONS: usize = 1_000_000;
+
+/// Every combination; the seed varies fastest.
+fn sweep(
+    seeds: &[u64],
+    profiles: &[(String, Option<TemperatureProfile>)],
+    fault_sets: &[(String, Vec<Fault>)],
+    axes: &[Vec<(String, f64)>],
+) -> Vec<Variant> {
+    let mut settings: Vec<Vec<(String, f64)>> = vec![Vec::new()];
+    for axis in axes {
+        settings = settings
+            .iter()
+            .flat_map(|chosen| {
+                axis.iter().map(move |value| {
+                    let mut next = chosen.clone();
+                    next.push(value.clone());
+                    next
+                })
+            })
+            .collect();
+    }
+    let mut variants = Vec::new();
+    for (profile_label, profile) in profiles {
+        for (faults_label, faults) in fault_sets {
+            for chosen in &settings {
+                for &seed in seeds {
+                    variants.push(Variant {
+                        seed,
+                        profile_label: profile_label.clone(),
+                        profile: profile.clone(),
+                        faults_label: faults_label.clone(),
+                        faults: faults.clone(),
+                        settings: chosen.clone(),
+                    });
+                }
+            }
+        }
+    }
+    variants
+}
+
+/// Flies every variant on `jobs` threads; rows in the variants' order.
+fn fly_all(
+    shared: &Shared<'_>,
+    variants: &[Variant],
+    jobs: usize,
+    progress: Option<&indicatif::ProgressBar>,
+) -> Vec<Result<Row, String>> {
+    let next = AtomicUsize::new(0);
+    let results: Mutex<Vec<Option<Result<Row, String>>>> =
+        Mutex::new((0..variants.len()).map(|_| None).collect());
+    std::thread::scope(|scope| {
+        for _ in 0..jobs {
+            scope.spawn(|| loop {
+                let index = next.fetch_add(1, Ordering::Relaxed);
+                let Some(variant) = variants.get(index) else {
+                    break;
+                };
+                let row = fly(shared, variant);
+                if let Ok(mut results) = results.lock() {
+                    results[index] = Some(row);
+                }
+                if let Some(bar) = progress {
+                    bar.inc(1);
+                }
+            });
+        }
+    });
+    results
+        .into_inner()
+        .unwrap_or_else(|poisoned| poisoned.into_inner())
+        .into_iter()
+        .map(|row| row.unwrap_or_else(|| Err("not flown (a worker stopped)".to_string())))
+        .collect()
+}
+
+/// One mission, start to end.
+fn fly(shared: &Shared<'_>, variant: &Variant) -> Result<Row, String> {
+    let started = Instant::now();
+    let mut config = SimConfig {
+        seed: variant.seed,
+        profile: variant.profile.clone(),
+        cycle_budget: shared.cycle_budget,
+        ..SimConfig::default()
+    };
+    for (name, value) in shared.base_settings.iter().chain(&variant.settings) {
+        if !config.set(name, *value) {
+            return Err(format!("`{name}` is not a simulator setting"));
+        }
+    }
+    let mut sim = Simulation::new(
+        shared.mission,
+        shared.sensor_list.clone(),
+        Some(shared.program.clone()),
+        &config,
+    )
+    .map_err(|error| error.to_string())?;
+    let max_cycles = match shared.limit {
+        Limit::Seconds(seconds) => (seconds / sim.cycle_time()).ceil() as u64,
+        Limit::Cycles(cycles) => cycles,
+    };
+    let mut plan = FaultPlan::new(variant.faults.clone());
+    let mut cycles = 0;
+    let mut printed = 0;
+    while cycles < max_cycles && step_cycle_with_faults(&mut sim, &mut plan) {
+        cycles += 1;
+        printed += sim.printed().count() as u64;
+    }
+    let end = match sim.end() {
+        Some(end) => match end.reason {
+            EndReason::Completed => format!("completed at cycle {}", end.cycle),
+            EndReason::Aborted(reason) => {
+                format!("ABORTED ({}) at cycle {}", reason.glider_name(), end.cycle)
+            }
+        },
+        None => "running".to_string(),
+    };
+    let script = script_state(&sim, shared.loaded, shared.script_name);
+    let (shallowest, deepest) = sim.depth_range();
+    Ok(Row {
+        cycles,
+        end,
+        script,
+        printed,
+        shallowest,
+        deepest,
+        energy_kj: sim.energy_joules() / 1000.0,
+        amp_hours: sim.amp_hours(),
+        seconds: started.elapsed().as_secs_f64(),
+    })
+}
+
+/// The summary table: a header and one row of cells per mission.
+struct Table {
+    header: Vec<&'static str>,
+    rows: Vec<Vec<String>>,
+}
+
+fn table(variants: &[Variant], rows: &[Result<Row, String>]) -> Table {
+    let header = vec![
+        "mission",
+        "seed",
+        "profile",
+        "faults",
+        "settings",
+        "cycles",
+        "end",
+        "script",
+        "printed",
+        "min_depth_m",
+        "max_depth_m",
+        "energy_kj",
+        "charge_ah",
+        "seconds",
+    ];
+    let rows = variants
+        .iter()
+        .zip(rows)
+        .enumerate()
+        .map(|(index, (variant, row))| {
+            let settings = if variant.settings.is_empty() {
+                "-".to_string()
+            } else {
+                variant
+                    .settings
+                    .iter()
+                    .map(|(name, value)| format!("{name}={value}"))
+                    .collect::<Vec<_>>()
+                    .join(" ")
+            };
+            let mut cells = vec![
+                (index + 1).to_string(),
+                variant.seed.to_string(),
+                variant.profile_label.clone(),
+                variant.faults_label.clone(),
+                settings,
+            ];
+            match row {
+                Ok(row) => cells.extend([
+                    row.cycles.to_string(),
+                    row.end.clone(),
+                    row.script.clone(),
+                    row.printed.to_string(),
+                    format!("{:.2}", row.shallowest),
+                    format!("{:.2}", row.deepest),
+                    format!("{:.1}", row.energy_kj),
+                    format!("{:.3}", row.amp_hours),
+                    format!("{:.3}", row.seconds),
+                ]),
+                Err(message) => {
+                    cells.push("0".to_string());
+                    cells.push(format!("error: {message}"));
+                    cells.extend(std::iter::repeat_n("-".to_string(), 7));
+                }
+            }
+            cells
+        })
+        .collect();
+    Table { header, rows }
+}
+
+fn write_readable(out: &mut impl Write, table: &Table) -> std::io::Result<()> {
+    let mut widths: Vec<usize> = table
+        .header
+        .iter()
+        .map(|name| name.chars().count())
+        .collect();
+    for row in &table.rows {
+        for (width, cell) in widths.iter_mut().zip(row) {
+            *width = (*width).max(cell.chars().count());
+        }
+    }
+    let line = |cells: &mut dyn Iterator<Item = &str>| {
+        cells
+            .zip(&widths)
+            .map(|(cell, width)| format!("{cell:<width$}"))
+            .collect::<Vec<_>>()
+            .join("  ")
+            .trim_end()
+            .to_string()
+    };
+    writeln!(out, "{}", line(&mut table.header.iter().copied()))?;
+    for row in &table.rows {
+        writeln!(out, "{}", line(&mut row.iter().map(String::as_str)))?;
+    }
+    Ok(())
+}
+
+fn write_csv(path: &Path, table: &Table) -> anyhow::Result<()> {
+    let mut text = table.header.join(",");
+    text.push('\n');
+    for row in &table.rows {
+        let cells: Vec<String> = row.iter().map(|cell| csv_cell(cell)).collect();
+        text.push_str(&cells.join(","));
+        text.push('\n');
+    }
+    std::fs::write(path, text)
+        .with_context(|| format!("cannot write the table `{}`", path.display()))
+}
+
+/// A CSV field, quoted when it holds a comma, a quote or a line break (RFC 4180).
+fn csv_cell(cell: &str) -> String {
+    if cell.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", cell.replace('"', "\"\""))
+    } else {
+        cell.to_string()
+    }
+}
+
+/// `1-100`, `1,5,9-12`: seeds in the order given, ranges inclusive.
+fn parse_seeds(text: &str) -> Result<Vec<u64>, String> {
+    let mut seeds = Vec::new();
+    for part in text.split(',').map(str::trim) {
+        let number = |digits: &str| {
+            digits.trim().parse::<u64>().map_err(|_| {
+                format!("`{text}`: `{digits}` is not a seed (a whole number ≥ 0); write e.g. `1-100` or `1,5,9-12`")
+            })
+        };
+        match part.split_once('-') {
+            Some((first, last)) => {
+                let (first, last) = (number(first)?, number(last)?);
+                if last < first {
+                    return Err(format!("`{text}`: the range `{part}` runs backwards"));
+                }
+                if last - first >= MAX_MISSIONS as u64 {
+                    return Err(format!(
+                        "`{text}`: the range `{part}` has more than {MAX_MISSIONS} seeds"
+                    ));
+                }
+                seeds.extend(first..=last);
+            }
+            None => seeds.push(number(part)?),
+        }
+        if seeds.len() > MAX_MISSIONS {
+            return Err(format!("`{text}` has more than {MAX_MISSIONS} seeds"));
+        }
+    }
+    Ok(seeds)
+}
+
+/// `m_depth:nan@20,m_pitch:stuck=0@5..9`: the faults of one mission (`none` or empty:
+/// no fault).
+fn parse_fault_set(text: &str, list: &SensorList) -> Result<Vec<Fault>, String> {
+    let text = text.trim();
+    if text.is_empty() || text.eq_ignore_ascii_case("none") {
+        return Ok(Vec::new());
+    }
+    text.split(',')
+        .map(|fault| Fault::parse(fault.trim(), list).map_err(|error| error.to_string()))
+        .collect()
+}
+
+/// `dive_rate=0.15,0.2`: one simulator setting and the values to sweep, each checked
+/// as `gloc run --sim` checks it.
+fn parse_sweep_setting(text: &str) -> Result<Vec<(String, f64)>, String> {
+    let (name, values) = text.split_once('=').ok_or_else(|| {
+        format!("`{text}` is not NAME=VALUE[,VALUE...], e.g. `dive_rate=0.15,0.2`")
+    })?;
+    values
+        .split(',')
+        .map(|value| crate::settings::parse_simulator_setting(&format!("{name}={value}")))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn seeds_are_lists_and_inclusive_ranges() {
+        assert_eq!(parse_seeds("1-3").expect("ok"), [1, 2, 3]);
+        assert_eq!(parse_seeds("7, 1,9-10").expect("ok"), [7, 1, 9, 10]);
+        assert!(parse_seeds("5-3").is_err());
+        assert!(parse_seeds("x").is_err());
+        assert!(parse_seeds("1-").is_err());
+        assert!(parse_seeds("0-18446744073709551615").is_err());
+    }
+
+    #[test]
+    fn a_sweep_is_every_combination_seed_fastest() {
+        let axes = vec![
+            parse_sweep_setting("dive_rate=0.15,0.2").expect("ok"),
+            parse_sweep_setting("climb_rate=0.1,0.12,0.14").expect("ok"),
+        ];
+        let profiles = vec![("builtin".to_string(), None)];
+        let faults = vec![("none".to_string(), Vec::new())];
+        let variants = sweep(&[4, 5], &profiles, &faults, &axes);
+        // 2 × 3 settings × 2 seeds.
+        assert_eq!(variants.len(), 12);
+        assert_eq!(variants[0].seed, 4);
+        assert_eq!(variants[1].seed, 5);
+        assert_eq!(
+            variants[1].settings,
+            [
+                ("dive_rate".to_string(), 0.15),
+                ("climb_rate".to_string(), 0.1)
+            ]
+        );
+        assert_eq!(
+            variants[11].settings,
+            [
+                ("dive_rate".to_string(), 0.2),
+                ("climb_rate".to_string(), 0.14)
+            ]
+        );
+        assert!(parse_sweep_setting("dive_rate").is_err());
+        assert!(parse_sweep_setting("no_such_setting=1").is_err());
+    }
+
+    #[test]
+    fn csv_cells_are_quoted_when_needed() {
+        assert_eq!(csv_cell("ran"), "ran");
+        assert_eq!(csv_cell("a,b"), "\"a,b\"");
+        assert_eq!(csv_cell("say \"x\""), "\"say \"\"x\"\"\"");
+    }
+}

@@ -251,6 +251,11 @@ fn a_bad_sweep_is_refused_before_anything_flies() {
             vec!["--profile", "no/such/profile.csv"],
             "no/such/profile.csv",
         ),
+        // 60,000 seeds × 2 settings: more than a sweep may hold.
+        (
+            vec!["--seeds", "1-60000", "--sim", "dive_rate=0.1,0.2"],
+            "more than 100000 missions",
+        ),
     ] {
         let mut all = vec!["batch", "examples/thermocline.gbas", "--cycles", "10"];
         all.extend(args);

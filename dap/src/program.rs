@@ -29,6 +29,8 @@ pub struct DebugInfo {
     flow: Vec<Flow>,
     label_pcs: Vec<usize>,
     print_lines: PrintLines,
+    /// The pc after each `print`/`prints` (where the script stands once it printed).
+    print_successors: Vec<usize>,
 }
 
 /// The source line the debugger attaches to a printed line: the line of the instruction
@@ -61,6 +63,7 @@ impl DebugInfo {
             flow: Vec::new(),
             label_pcs: Vec::new(),
             print_lines: PrintLines::Several,
+            print_successors: Vec::new(),
         };
         info.line_entry = info.line_entries();
         info
@@ -79,12 +82,14 @@ impl DebugInfo {
             .flatten()
             .map(|pc| pc.index())
             .collect();
-        let mut lines = program
+        self.print_successors = program
             .instrs
             .iter()
             .enumerate()
             .filter(|(_, instr)| instr.prints())
-            .map(|(pc, _)| self.line(pc + 1));
+            .map(|(pc, _)| pc + 1)
+            .collect();
+        let mut lines = self.print_successors.iter().map(|pc| self.line(*pc));
         self.print_lines = match lines.next() {
             None => PrintLines::Never,
             Some(first) if lines.all(|line| line == first) => PrintLines::One(first),
@@ -95,6 +100,10 @@ impl DebugInfo {
 
     pub fn print_lines(&self) -> PrintLines {
         self.print_lines
+    }
+
+    pub fn print_successors(&self) -> &[usize] {
+        &self.print_successors
     }
 
     /// True when the control flow is known, so that `stop_reach` can be trusted.

@@ -358,6 +358,7 @@ impl<T: Target> Debugger<T> {
                 });
             }
             let abend = match fused_notices {
+                Some(notices) if notices.is_empty() => None,
                 Some(notices) => {
                     let line = match self.info.print_lines() {
                         // Every print site gives this line.

@@ -24,17 +24,26 @@ use crate::simulate::{
     DEFAULT_LIMIT_SECONDS,
 };
 
-/// One mission of the sweep.
+/// One mission of the sweep: its seed and its value on each other axis, shared with the
+/// other missions that have it (a sweep's memory grows by a few words per mission).
 struct Variant {
     seed: u64,
-    /// `builtin` or the profile's path as given.
-    profile_label: String,
-    profile: Option<TemperatureProfile>,
-    /// The fault set as given (`none` when empty).
-    faults_label: String,
-    faults: Vec<Fault>,
+    profile: Arc<Profile>,
+    faults: Arc<FaultSet>,
     /// `--sim` values of this mission, applied after gloc.toml's `[simulator]`.
-    settings: Vec<(String, f64)>,
+    settings: Arc<Vec<(String, f64)>>,
+}
+
+struct Profile {
+    /// `builtin` or the profile's path as given.
+    label: String,
+    profile: Option<TemperatureProfile>,
+}
+
+struct FaultSet {
+    /// The fault set as given (`none` when empty).
+    label: String,
+    faults: Vec<Fault>,
 }
 
 /// What the table says about one flown mission.
@@ -105,14 +114,20 @@ pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
         args.profiles.clone()
     } {
         if given == "builtin" {
-            profiles.push((given, None));
+            profiles.push(Profile {
+                label: given,
+                profile: None,
+            });
             continue;
         }
         let path = PathBuf::from(&given);
         let text = read_text(&path, gloc_engine::files::PROFILE)?;
         let profile = TemperatureProfile::from_csv(&path, &text)
             .map_err(|error| anyhow::anyhow!("{error}"))?;
-        profiles.push((given, Some(profile)));
+        profiles.push(Profile {
+            label: given,
+            profile: Some(profile),
+        });
     }
     let mut fault_sets = Vec::new();
     for given in if args.fault_sets.is_empty() {
@@ -127,7 +142,7 @@ pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
         } else {
             given
         };
-        fault_sets.push((label, faults));
+        fault_sets.push(FaultSet { label, faults });
     }
     let mut axes: Vec<Vec<(String, f64)>> = Vec::new();
     for given in &args.simulator {
@@ -152,13 +167,32 @@ pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
         }
         _ => {}
     }
-    let variants = sweep(&seeds, &profiles, &fault_sets, &axes);
-    if variants.len() > MAX_MISSIONS {
-        bail!(
-            "the sweep has {} missions, more than {MAX_MISSIONS}: narrow --seeds or the other axes",
-            variants.len()
-        );
+    let missions = [profiles.len(), fault_sets.len()]
+        .into_iter()
+        .chain(axes.iter().map(Vec::len))
+        .try_fold(seeds.len(), usize::checked_mul)
+        .filter(|missions| *missions <= MAX_MISSIONS);
+    if missions.is_none() {
+        bail!("the sweep has more than {MAX_MISSIONS} missions: narrow --seeds or the other axes");
     }
+    if let Some(csv) = &args.csv {
+        // Outputs never overwrite inputs (`gloc run`'s rule).
+        let inputs: Vec<&Path> = args
+            .script
+            .as_deref()
+            .into_iter()
+            .chain(settings.input_paths())
+            .chain(args.profiles.iter().map(Path::new))
+            .collect();
+        crate::output::check_outputs(
+            &inputs,
+            &[crate::output::Output {
+                flag: "--csv",
+                path: csv,
+            }],
+        )?;
+    }
+    let variants = sweep(&seeds, profiles, fault_sets, &axes);
 
     let Some(Script {
         name: script_name,
@@ -230,14 +264,15 @@ pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
     })
 }
 
-/// A sweep wider than this is a mistake (`--seeds 1-1000000000`), not a plan.
-const MAX_MISSIONS: usize = 1_000_000;
+/// A sweep wider than this is a mistake (`--seeds 1-1000000000`), not a plan: its table
+/// alone would take hundreds of megabytes.
+const MAX_MISSIONS: usize = 100_000;
 
 /// Every combination; the seed varies fastest.
 fn sweep(
     seeds: &[u64],
-    profiles: &[(String, Option<TemperatureProfile>)],
-    fault_sets: &[(String, Vec<Fault>)],
+    profiles: Vec<Profile>,
+    fault_sets: Vec<FaultSet>,
     axes: &[Vec<(String, f64)>],
 ) -> Vec<Variant> {
     let mut settings: Vec<Vec<(String, f64)>> = vec![Vec::new()];
@@ -253,18 +288,18 @@ fn sweep(
             })
             .collect();
     }
+    let settings: Vec<Arc<Vec<(String, f64)>>> = settings.into_iter().map(Arc::new).collect();
+    let fault_sets: Vec<Arc<FaultSet>> = fault_sets.into_iter().map(Arc::new).collect();
     let mut variants = Vec::new();
-    for (profile_label, profile) in profiles {
-        for (faults_label, faults) in fault_sets {
+    for profile in profiles.into_iter().map(Arc::new) {
+        for faults in &fault_sets {
             for chosen in &settings {
                 for &seed in seeds {
                     variants.push(Variant {
                         seed,
-                        profile_label: profile_label.clone(),
-                        profile: profile.clone(),
-                        faults_label: faults_label.clone(),
-                        faults: faults.clone(),
-                        settings: chosen.clone(),
+                        profile: Arc::clone(&profile),
+                        faults: Arc::clone(faults),
+                        settings: Arc::clone(chosen),
                     });
                 }
             }
@@ -313,11 +348,11 @@ fn fly(shared: &Shared<'_>, variant: &Variant) -> Result<Row, String> {
     let started = Instant::now();
     let mut config = SimConfig {
         seed: variant.seed,
-        profile: variant.profile.clone(),
+        profile: variant.profile.profile.clone(),
         cycle_budget: shared.cycle_budget,
         ..SimConfig::default()
     };
-    for (name, value) in shared.base_settings.iter().chain(&variant.settings) {
+    for (name, value) in shared.base_settings.iter().chain(variant.settings.iter()) {
         if !config.set(name, *value) {
             return Err(format!("`{name}` is not a simulator setting"));
         }
@@ -333,7 +368,7 @@ fn fly(shared: &Shared<'_>, variant: &Variant) -> Result<Row, String> {
         Limit::Seconds(seconds) => (seconds / sim.cycle_time()).ceil() as u64,
         Limit::Cycles(cycles) => cycles,
     };
-    let mut plan = FaultPlan::new(variant.faults.clone());
+    let mut plan = FaultPlan::new(variant.faults.faults.clone());
     let mut cycles = 0;
     let mut printed = 0;
     while cycles < max_cycles && step_cycle_with_faults(&mut sim, &mut plan) {
@@ -405,8 +440,8 @@ fn table(variants: &[Variant], rows: &[Result<Row, String>]) -> Table {
             let mut cells = vec![
                 (index + 1).to_string(),
                 variant.seed.to_string(),
-                variant.profile_label.clone(),
-                variant.faults_label.clone(),
+                variant.profile.label.clone(),
+                variant.faults.label.clone(),
                 settings,
             ];
             match row {
@@ -468,8 +503,8 @@ fn write_csv(path: &Path, table: &Table) -> anyhow::Result<()> {
         text.push_str(&cells.join(","));
         text.push('\n');
     }
-    std::fs::write(path, text)
-        .with_context(|| format!("cannot write the table `{}`", path.display()))
+    crate::output::write_atomically(path, text.as_bytes())
+        .map_err(|error| crate::output::write_error(error, "the table", path))
 }
 
 /// A CSV field, quoted when it holds a comma, a quote or a line break (RFC 4180).
@@ -556,22 +591,28 @@ mod tests {
             parse_sweep_setting("dive_rate=0.15,0.2").expect("ok"),
             parse_sweep_setting("climb_rate=0.1,0.12,0.14").expect("ok"),
         ];
-        let profiles = vec![("builtin".to_string(), None)];
-        let faults = vec![("none".to_string(), Vec::new())];
-        let variants = sweep(&[4, 5], &profiles, &faults, &axes);
+        let profiles = vec![Profile {
+            label: "builtin".to_string(),
+            profile: None,
+        }];
+        let faults = vec![FaultSet {
+            label: "none".to_string(),
+            faults: Vec::new(),
+        }];
+        let variants = sweep(&[4, 5], profiles, faults, &axes);
         // 2 × 3 settings × 2 seeds.
         assert_eq!(variants.len(), 12);
         assert_eq!(variants[0].seed, 4);
         assert_eq!(variants[1].seed, 5);
         assert_eq!(
-            variants[1].settings,
+            *variants[1].settings,
             [
                 ("dive_rate".to_string(), 0.15),
                 ("climb_rate".to_string(), 0.1)
             ]
         );
         assert_eq!(
-            variants[11].settings,
+            *variants[11].settings,
             [
                 ("dive_rate".to_string(), 0.2),
                 ("climb_rate".to_string(), 0.14)

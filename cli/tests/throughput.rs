@@ -251,6 +251,11 @@ fn a_bad_sweep_is_refused_before_anything_flies() {
             vec!["--profile", "no/such/profile.csv"],
             "no/such/profile.csv",
         ),
+        // 60,000 seeds × 2 settings: more than a sweep may hold.
+        (
+            vec!["--seeds", "1-60000", "--sim", "dive_rate=0.1,0.2"],
+            "more than 100000 missions",
+        ),
     ] {
         let mut all = vec!["batch", "examples/thermocline.gbas", "--cycles", "10"];
         all.extend(args);
@@ -259,4 +264,33 @@ fn a_bad_sweep_is_refused_before_anything_flies() {
         assert!(stdout.is_empty(), "{stdout}");
         assert!(stderr.contains(expected), "{all:?}: {stderr}");
     }
+}
+
+/// `gloc batch` keeps `gloc run`'s rules: a mission that could never finish is refused,
+/// and the table never overwrites an input (here a copy of the script), which is left
+/// byte for byte as it was.
+#[test]
+fn a_batch_keeps_the_run_limits_and_never_writes_over_an_input() {
+    let (ok, _, stderr) = gloc(&[
+        "batch",
+        "examples/thermocline.gbas",
+        "--cycles",
+        "100000001",
+    ]);
+    assert!(!ok);
+    assert!(
+        stderr.contains("--cycles 100000001 is more than 100000000"),
+        "{stderr}"
+    );
+    let folder = std::env::temp_dir().join(format!("gloc-batch-csv-{}", std::process::id()));
+    std::fs::create_dir_all(&folder).expect("a folder");
+    let script = folder.join("tracker.gbas");
+    let original = std::fs::read(root().join("examples/thermocline.gbas")).expect("example");
+    std::fs::write(&script, &original).expect("copy");
+    let script_arg = script.to_str().expect("a UTF-8 path");
+    let (ok, stdout, stderr) = gloc(&["batch", script_arg, "--cycles", "5", "--csv", script_arg]);
+    assert!(!ok, "{stdout}");
+    assert!(stderr.contains("would destroy the input"), "{stderr}");
+    assert_eq!(std::fs::read(&script).expect("still there"), original);
+    std::fs::remove_dir_all(&folder).expect("clean up");
 }

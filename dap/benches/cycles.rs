@@ -45,6 +45,13 @@ fn main() {
             fixtures.join("endless.mi"),
             None,
         ),
+        // Prints in most cycles, from print sites on two lines: those shares are stepped.
+        (
+            "prints",
+            fixtures.join("prints.gbas"),
+            fixtures.join("endless.mi"),
+            None,
+        ),
         (
             "thermocline",
             examples.join("thermocline.gbas"),

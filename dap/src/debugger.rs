@@ -216,13 +216,11 @@ pub struct Debugger<T: Target> {
     /// Values of the watched sensors at the last boundary (or stop).
     baseline: HashMap<usize, f64>,
     history: Option<History<T>>,
-    /// The pcs where a breakpoint can stop (sorted), and for each pc how many
-    /// instructions can run fused from it before the run may land on one of them.
+    /// Where a fused run must stop (sorted): the pcs where a breakpoint can stop and,
+    /// when print sites give different source lines, the pc after each print site. For
+    /// each pc, how many instructions can run fused from it before landing on one.
     stop_pcs: Vec<usize>,
     steps_to_stop: Vec<u64>,
-    /// A cycle whose share printed from several print sites under the fast path: it was
-    /// rolled back and is single-stepped, so each printed line gets its own source line.
-    unfused_cycle: Option<u64>,
     /// Fused runs so far (for tests and benchmarks: proof the fast path ran).
     fused_runs: u64,
     outputs: Vec<Output>,
@@ -269,7 +267,6 @@ impl<T: Target> Debugger<T> {
             history,
             stop_pcs: Vec::new(),
             steps_to_stop: Vec::new(),
-            unfused_cycle: None,
             fused_runs: 0,
             outputs: Vec::new(),
             pause_requested: false,
@@ -361,12 +358,14 @@ impl<T: Target> Debugger<T> {
                 });
             }
             let abend = match fused_notices {
-                // Every line printed in a fused share comes from a print site of the
-                // one line `PrintLines::One` names (`advance` rolls back otherwise).
+                Some(notices) if notices.is_empty() => None,
                 Some(notices) => {
                     let line = match self.info.print_lines() {
+                        // Every print site gives this line.
                         PrintLines::One(line) => line,
-                        PrintLines::Never | PrintLines::Several => None,
+                        // A fused run stops right after a print (`refresh_stops`), so a
+                        // line it printed belongs where it stopped, as after one step.
+                        PrintLines::Never | PrintLines::Several => self.current_line(),
                     };
                     self.report_notices(notices, line)
                 }
@@ -438,6 +437,9 @@ impl<T: Target> Debugger<T> {
                 }
             }
         }
+        if self.info.print_lines() == PrintLines::Several {
+            stops.extend(self.info.print_successors());
+        }
         stops.sort_unstable();
         stops.dedup();
         if stops != self.stop_pcs || self.steps_to_stop.len() != self.info.instruction_count() {
@@ -466,7 +468,6 @@ impl<T: Target> Debugger<T> {
         let fusable = self.fast_shares
             && self.info.knows_flow()
             && self.target.phase() == Phase::InScript
-            && self.unfused_cycle != Some(self.clock.cycle)
             && !self.edits_ahead_in_cycle();
         fusable.then_some(u64::MAX)
     }
@@ -489,28 +490,10 @@ impl<T: Target> Debugger<T> {
     /// (already taken).
     fn advance(&mut self, mode: RunMode) -> (StepEvent, Option<Vec<Notice>>) {
         if let Some(limit) = self.fusable(mode) {
-            // With print sites on several lines, a run that prints must be stepped to
-            // give each printed line its source line: keep the state to go back to.
-            let saved = match self.info.print_lines() {
-                PrintLines::Several => Some(self.target.clone()),
-                PrintLines::Never | PrintLines::One(_) => None,
-            };
             if let Some((event, steps)) = self.target.run_share(limit) {
-                let notices = self.target.take_notices();
-                let printed = notices
-                    .iter()
-                    .any(|notice| matches!(notice, Notice::Print(_)));
-                match saved {
-                    Some(saved) if printed => {
-                        self.target = saved;
-                        self.unfused_cycle = Some(self.clock.cycle);
-                    }
-                    _ => {
-                        self.clock.steps += steps;
-                        self.fused_runs += 1;
-                        return (event, Some(notices));
-                    }
-                }
+                self.clock.steps += steps;
+                self.fused_runs += 1;
+                return (event, Some(self.target.take_notices()));
             }
         }
         (self.step_world(), None)

@@ -32,6 +32,8 @@ pub struct DebugInfo {
     /// Lines of the source as an editor shows them (the empty line after a final
     /// newline included), when known: a breakpoint past them is refused.
     pub source_lines: Option<u32>,
+    /// The pc after each `print`/`prints` (where the script stands once it printed).
+    print_successors: Vec<usize>,
 }
 
 /// The source line the debugger attaches to a printed line: the line of the instruction
@@ -65,6 +67,7 @@ impl DebugInfo {
             label_pcs: Vec::new(),
             print_lines: PrintLines::Several,
             source_lines: None,
+            print_successors: Vec::new(),
         };
         info.line_entry = info.line_entries();
         info
@@ -83,12 +86,14 @@ impl DebugInfo {
             .flatten()
             .map(|pc| pc.index())
             .collect();
-        let mut lines = program
+        self.print_successors = program
             .instrs
             .iter()
             .enumerate()
             .filter(|(_, instr)| instr.prints())
-            .map(|(pc, _)| self.line(pc + 1));
+            .map(|(pc, _)| pc + 1)
+            .collect();
+        let mut lines = self.print_successors.iter().map(|pc| self.line(*pc));
         self.print_lines = match lines.next() {
             None => PrintLines::Never,
             Some(first) if lines.all(|line| line == first) => PrintLines::One(first),
@@ -99,6 +104,10 @@ impl DebugInfo {
 
     pub fn print_lines(&self) -> PrintLines {
         self.print_lines
+    }
+
+    pub fn print_successors(&self) -> &[usize] {
+        &self.print_successors
     }
 
     /// True when the control flow is known, so that `stop_reach` can be trusted.

@@ -131,3 +131,86 @@ fn convert_refuses_to_overwrite_an_input_and_names_bad_outputs() {
     );
     let _ = std::fs::remove_dir_all(&folder);
 }
+
+/// `gloc run --log run.dbd` read back by `gloc data convert` (run.dbd merged with
+/// run.ebd) carries forward to the CSV log of the same run, every value rounded
+/// to the float32 the binary log stores (times are doubles). The independent
+/// check, dbdreader reading the same files, is tests/e2e/dbd/roundtrip.py.
+#[test]
+fn a_binary_run_log_reads_back_as_the_csv_log() {
+    let folder = temp_folder("binary");
+    let sensors =
+        "m_present_time,m_depth,m_pitch,c_pitch,sci_m_present_time,sci_water_temp,sci_ruhp_behs";
+    for log in ["run.csv", "run.dbd"] {
+        let run = gloc(
+            &[
+                "run",
+                "--duration",
+                "20m",
+                "--seed",
+                "3",
+                "--log",
+                log,
+                "--log-sensors",
+                sensors,
+            ],
+            &folder,
+        );
+        assert!(run.status.success(), "{}", text(&run.stderr));
+    }
+    assert!(folder.join("run.ebd").is_file(), "the science part");
+    let cac = std::fs::read_dir(&folder)
+        .expect("folder")
+        .filter(|entry| {
+            entry
+                .as_ref()
+                .is_ok_and(|e| e.path().extension().is_some_and(|x| x == "cac"))
+        })
+        .count();
+    assert_eq!(cac, 2, "one sensor list per file");
+    let run = gloc(
+        &[
+            "data",
+            "convert",
+            "run.dbd",
+            "run.ebd",
+            "-o",
+            "back.csv",
+            "--sensors",
+            sensors,
+        ],
+        &folder,
+    );
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    let csv = std::fs::read_to_string(folder.join("run.csv")).expect("csv");
+    let back = std::fs::read_to_string(folder.join("back.csv")).expect("csv");
+    let (mut csv, mut back) = (csv.lines(), back.lines());
+    assert_eq!(csv.next(), back.next(), "the same header");
+    let mut carried: Vec<Option<f64>> = vec![None; sensors.split(',').count()];
+    let mut rows = 0;
+    for (expected, got) in csv.zip(back) {
+        for (column, (e, g)) in expected.split(',').zip(got.split(',')).enumerate() {
+            // Times (columns 0 and 4) are doubles; the rest float32, printed
+            // as the shortest text that reads back as that float32.
+            let double = column == 0 || column == 4;
+            let number = |text: &str| -> f64 {
+                if double {
+                    text.parse().expect("a number")
+                } else {
+                    f64::from(text.parse::<f32>().expect("a number"))
+                }
+            };
+            if !g.is_empty() {
+                carried[column] = Some(number(g));
+            }
+            assert_eq!(
+                carried[column],
+                Some(number(e)),
+                "row {rows} column {column}"
+            );
+        }
+        rows += 1;
+    }
+    assert!(rows > 100, "{rows} rows");
+    let _ = std::fs::remove_dir_all(&folder);
+}

@@ -19,6 +19,9 @@ pub enum ByteOrder {
 
 type Input = BufReader<Box<dyn Read + Send>>;
 
+/// Longest sensor list read from inside a log (a real one is about 100 kB).
+const MAX_LIST_TEXT: usize = 16 << 20;
+
 /// Streams the cycles of one binary log. Memory: one cycle and a read buffer.
 pub struct DbdReader {
     file: String,
@@ -179,6 +182,15 @@ impl DbdReader {
                     Some(line) => {
                         text.push_str(&line);
                         text.push('\n');
+                        if text.len() > MAX_LIST_TEXT {
+                            return Err(self.error(
+                                start,
+                                format!(
+                                    "the sensor list in the file is longer than {} MB",
+                                    MAX_LIST_TEXT >> 20
+                                ),
+                            ));
+                        }
                     }
                     None => return Err(self.error(start, "the file ends inside its sensor list")),
                 }

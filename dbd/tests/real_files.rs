@@ -121,3 +121,71 @@ fn merged_science_values_are_the_latest_at_or_before_each_flight_cycle() {
     }
     assert!(checked > 2000, "{checked} flight cycles");
 }
+
+/// A deployment given out of order, with three sensor lists (the .dbd's 2,142,
+/// the .sbd's 20, the science files' 91 and 6): paired by name, read in
+/// `fileopen_time` order, the columns united by name.
+#[test]
+fn a_deployment_streams_in_time_order_across_sensor_lists() {
+    let Some(data) = data() else {
+        eprintln!("../shared/data absent: skipped");
+        return;
+    };
+    let comet = data.join("comet/from-glider");
+    let files: Vec<PathBuf> = [
+        "comet-2019-222-02-154.ebd",
+        "comet-2019-222-02-153.sbd",
+        "comet-2019-222-02-152.tbd",
+        "comet-2019-222-02-154.dbd",
+        "comet-2019-222-02-152.sbd",
+        "comet-2019-222-02-153.tbd",
+    ]
+    .iter()
+    .map(|name| comet.join(name))
+    .collect();
+    let mut deployment =
+        gloc_dbd::Deployment::open(&files, Some(&data.join("cac"))).expect("opens");
+    let order: Vec<String> = deployment
+        .segments()
+        .iter()
+        .map(|segment| {
+            let name = |path: &Option<PathBuf>| {
+                path.as_ref()
+                    .and_then(|p| p.file_name())
+                    .map(|n| n.to_string_lossy().into_owned())
+                    .unwrap_or_default()
+            };
+            format!("{}+{}", name(&segment.flight), name(&segment.science))
+        })
+        .collect();
+    assert_eq!(
+        order,
+        [
+            "comet-2019-222-02-152.sbd+comet-2019-222-02-152.tbd",
+            "comet-2019-222-02-153.sbd+comet-2019-222-02-153.tbd",
+            "comet-2019-222-02-154.dbd+comet-2019-222-02-154.ebd",
+        ]
+    );
+    // Every sensor of the .dbd and .ebd (2,142 + the .ebd's names the .dbd lacks).
+    let names: std::collections::HashSet<&str> = deployment
+        .sensors()
+        .iter()
+        .map(|s| s.name.as_str())
+        .collect();
+    assert_eq!(
+        names.len(),
+        deployment.sensors().len(),
+        "one column per name"
+    );
+    assert!(names.contains("sci_water_temp") && names.contains("m_depth"));
+    let (mut cycles, mut last) = (0u64, f64::NEG_INFINITY);
+    while let Some(cycle) = deployment.next_cycle().expect("streams") {
+        if !cycle.time.is_nan() {
+            assert!(cycle.time >= last, "time goes back at cycle {cycles}");
+            last = cycle.time;
+        }
+        cycles += 1;
+    }
+    // 304 + 8 + 2,244 flight cycles (the .sbd and .dbd counts read alone).
+    assert_eq!(cycles, 304 + 8 + 2244);
+}

@@ -449,7 +449,7 @@ pub fn signal_name(signal: usize) -> &'static str {
 /// The run log: text (CSV, `.dba`) or a binary `.dbd` (+ `.ebd` for the
 /// science sensors), each with its `<crc>.cac` beside it.
 enum RunLog {
-    Text(LogWriter<AtomicFile>),
+    Text(Box<LogWriter<AtomicFile>>),
     Binary(Vec<BinaryPart>),
 }
 
@@ -536,7 +536,7 @@ fn open_log(
         &header,
     )
     .with_context(|| format!("cannot write the log `{}`", path.display()))?;
-    Ok((RunLog::Text(writer), path.to_path_buf()))
+    Ok((RunLog::Text(Box::new(writer)), path.to_path_buf()))
 }
 
 /// `run.dbd` with the flight sensors (and `m_present_time`), and `run.ebd`

@@ -120,9 +120,11 @@ impl SensorLists for CacheFolders {
                 let bytes = gloc_engine::files::read(&path, gloc_engine::files::SENSOR_LIST)
                     .map_err(|error| format!("{shown}: {error}"))?;
                 let bytes = if compressed {
-                    decompress_all(&bytes).map_err(|problem| {
-                        format!("{shown}: file byte {}: {}", problem.block, problem.message)
-                    })?
+                    decompress_all(&bytes, gloc_engine::files::SENSOR_LIST.bytes).map_err(
+                        |problem| {
+                            format!("{shown}: file byte {}: {}", problem.block, problem.message)
+                        },
+                    )?
                 } else {
                     bytes
                 };

@@ -14,7 +14,8 @@ pub mod error;
 pub mod fs;
 pub mod header;
 pub mod lists;
-pub mod lz4;
+/// LZ4 blocks live in the engine, which also reads `.ccc` sensor lists with them.
+pub use gloc_engine::lz4;
 pub mod merge;
 pub mod writer;
 

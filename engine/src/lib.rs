@@ -8,6 +8,7 @@ pub mod config;
 pub mod diagnostic;
 pub mod files;
 pub mod gloc;
+pub mod lz4;
 pub mod program;
 pub mod sensors;
 pub mod suggest;

@@ -234,3 +234,38 @@ fn a_real_list_without_the_hook_sensors_gets_them_appended() {
     assert_eq!(list.lookup("sci_ruhp_climb_depth"), Some(SensorId(2143)));
     assert_eq!(list.lookup("sci_ruhp_behs"), Some(SensorId(2144)));
 }
+
+/// A compressed list (`.ccc`, newer gliders) loads as its `.cac` would: `06a36d4e.ccc`
+/// holds the list of `compressed/01600000.dcd`, whose header (written by the glider)
+/// says `total_num_sensors: 2709` and `sensor_list_crc: 06a36d4e`. Before, `.ccc` was
+/// read as masterdata text: every line W0204 and an empty list.
+#[test]
+fn a_compressed_sensor_list_loads_with_the_count_its_glider_states() {
+    let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/compressed");
+    let path = shared.join("06a36d4e.ccc");
+    let loaded = load_sensor_file(&path, SensorOrder::FileOrder).unwrap_or_else(|error| {
+        panic!(
+            "cannot read {} ({error}): the shared data folder must be at ../shared next to the repository",
+            path.display()
+        )
+    });
+    assert!(
+        loaded.diagnostics.iter().all(|d| !d.is_error()),
+        "{:?}",
+        loaded.diagnostics
+    );
+    assert_eq!(loaded.list.len() - loaded.added_hook_sensors.len(), 2709);
+    assert_eq!(loaded.list.crc(), Some("06a36d4e"));
+    assert!(loaded.list.lookup("m_depth").is_some());
+    let folder = std::env::temp_dir().join(format!("gloc-ccc-{}", std::process::id()));
+    std::fs::create_dir_all(&folder).expect("a folder");
+    let bomb = folder.join("00000000.ccc");
+    // One block whose header claims a literal run it does not hold: a clear error.
+    std::fs::write(&bomb, [0x00, 0x03, 0xf0, 0xff, 0xff]).expect("write");
+    let error = load_sensor_file(&bomb, SensorOrder::FileOrder).expect_err("corrupt LZ4");
+    assert!(
+        error.to_string().contains("not a compressed sensor list"),
+        "{error}"
+    );
+    std::fs::remove_dir_all(&folder).expect("clean up");
+}

@@ -52,10 +52,31 @@ pub struct LoadedSensorList {
 /// Reads a masterdata or `.cac` file: `.cac` by extension, or by content
 /// when the first meaningful line starts with `s:`.
 pub fn load_sensor_file(path: &Path, order: SensorOrder) -> std::io::Result<LoadedSensorList> {
-    let text = crate::files::read_text(path, crate::files::SENSOR_LIST)?;
-    let is_cac = path
+    let is_ccc = path
         .extension()
-        .is_some_and(|extension| extension.eq_ignore_ascii_case("cac"))
+        .is_some_and(|extension| extension.eq_ignore_ascii_case("ccc"));
+    let text = if is_ccc {
+        // A compressed `.cac` (newer gliders): LZ4 blocks, each after its 2-byte length.
+        let bytes = crate::files::read(path, crate::files::SENSOR_LIST)?;
+        let bytes = crate::lz4::decompress_all(&bytes, crate::files::SENSOR_LIST.bytes).map_err(
+            |problem| {
+                std::io::Error::new(
+                    std::io::ErrorKind::InvalidData,
+                    format!(
+                        "not a compressed sensor list: the LZ4 block at byte {}: {}",
+                        problem.block, problem.message
+                    ),
+                )
+            },
+        )?;
+        String::from_utf8_lossy(&bytes).into_owned()
+    } else {
+        crate::files::read_text(path, crate::files::SENSOR_LIST)?
+    };
+    let is_cac = is_ccc
+        || path
+            .extension()
+            .is_some_and(|extension| extension.eq_ignore_ascii_case("cac"))
         || text
             .lines()
             .map(str::trim)
@@ -87,13 +108,15 @@ pub fn load_sensor_file(path: &Path, order: SensorOrder) -> std::io::Result<Load
     })
 }
 
-/// The first `<crc>.cac` (or `.CAC`) in `folders`, in order.
+/// The first `<crc>.cac` (or `.CAC`, or the compressed `.ccc`) in `folders`, in order.
 pub fn find_cac(crc: &str, folders: &[std::path::PathBuf]) -> Option<std::path::PathBuf> {
     folders.iter().find_map(|folder| {
         [
             format!("{}.cac", crc.to_ascii_lowercase()),
             format!("{}.cac", crc.to_ascii_uppercase()),
             format!("{}.CAC", crc.to_ascii_uppercase()),
+            format!("{}.ccc", crc.to_ascii_lowercase()),
+            format!("{}.CCC", crc.to_ascii_uppercase()),
         ]
         .into_iter()
         .map(|name| folder.join(name))

@@ -112,7 +112,7 @@ impl<R: Read> Read for Lz4Blocks<R> {
 }
 
 /// Reads until `buf` is full or the input ends; returns how much was read.
-pub(crate) fn read_full<R: Read>(input: &mut R, buf: &mut [u8]) -> io::Result<usize> {
+pub fn read_full<R: Read>(input: &mut R, buf: &mut [u8]) -> io::Result<usize> {
     let mut filled = 0;
     while filled < buf.len() {
         match input.read(&mut buf[filled..]) {
@@ -138,10 +138,13 @@ pub fn compress(data: &[u8]) -> Vec<u8> {
     out
 }
 
-/// Decompresses a whole small file (a `.ccc` sensor list).
-pub fn decompress_all(data: &[u8]) -> Result<Vec<u8>, Lz4Problem> {
+/// Decompresses a whole small file (a `.ccc` sensor list) of at most `limit` bytes once
+/// decompressed: a few kilobytes of blocks can expand to gigabytes, so the output is
+/// capped, not only the input.
+pub fn decompress_all(data: &[u8], limit: u64) -> Result<Vec<u8>, Lz4Problem> {
     let mut out = Vec::new();
     Lz4Blocks::new(data)
+        .take(limit.saturating_add(1))
         .read_to_end(&mut out)
         .map_err(|error| {
             match error
@@ -156,5 +159,12 @@ pub fn decompress_all(data: &[u8]) -> Result<Vec<u8>, Lz4Problem> {
                 },
             }
         })?;
+    if out.len() as u64 > limit {
+        return Err(Lz4Problem {
+            block: 0,
+            truncated: false,
+            message: format!("it decompresses to more than {limit} bytes (not read further)"),
+        });
+    }
     Ok(out)
 }

@@ -531,6 +531,15 @@ fn random_script(random: &mut Random) -> String {
         next_label += 1;
     }
     body.push("yield".to_string());
+    // Half the time a step before the back edge, which joins it and the loop test.
+    if random.below(2) == 0 {
+        body.push(format!(
+            "add {},{},{}",
+            reg(random),
+            reg(random),
+            reg(random)
+        ));
+    }
     body.push("jumpi 0".to_string());
     script(6, labels, 0, &body)
 }

@@ -156,8 +156,8 @@ impl Slot {
             Op::Add { .. } => op_add,
             Op::Sub { .. } => op_sub,
             Op::Mul { .. } => op_mul,
-            Op::Div { .. } => op_div,
-            Op::Mod { .. } => op_mod,
+            Op::Div { .. } => op_div_int,
+            Op::Mod { .. } => op_mod_int,
             Op::Min { .. } => op_min,
             Op::Max { .. } => op_max,
             Op::And { .. } => op_and,
@@ -194,9 +194,9 @@ impl Slot {
             Op::SubK { .. } => op_sub_k::<false>,
             Op::MulK { k, .. } if is_int(k) => op_mul_k::<true>,
             Op::MulK { .. } => op_mul_k::<false>,
-            Op::DivK { k, .. } if is_int(k) => op_div_k::<true>,
+            Op::DivK { k, .. } if is_int(k) => op_div_k_int,
             Op::DivK { .. } => op_div_k::<false>,
-            Op::ModK { k, .. } if is_int(k) => op_mod_k::<true>,
+            Op::ModK { k, .. } if is_int(k) => op_mod_k_int,
             Op::ModK { .. } => op_mod_k::<false>,
             Op::IntToFloatAdd { .. } => op_int_to_float_add,
             Op::CmpBr { cmp, .. } => by_cmp!(cmp, op_cmp_br),
@@ -205,6 +205,11 @@ impl Slot {
             Op::CmpKBr { cmp, .. } => by_cmp!(cmp, op_cmp_k_br, false),
             Op::JumpCmpKBr { cmp, k, .. } if is_int(k) => by_cmp!(cmp, op_jump_cmp_k_br, true),
             Op::JumpCmpKBr { cmp, .. } => by_cmp!(cmp, op_jump_cmp_k_br, false),
+            Op::AddJumpCmpBr { cmp, .. } => by_cmp!(cmp, op_add_jump_cmp_br),
+            Op::AddJumpCmpKBr { cmp, k, .. } if is_int(k) => {
+                by_cmp!(cmp, op_add_jump_cmp_k_br, true)
+            }
+            Op::AddJumpCmpKBr { cmp, .. } => by_cmp!(cmp, op_add_jump_cmp_k_br, false),
             Op::RangeBr { lo, hi, .. } if is_int(lo) && is_int(hi) => op_range_br::<true>,
             Op::RangeBr { .. } => op_range_br::<false>,
         };
@@ -266,6 +271,8 @@ macro_rules! handler {
         |$ip:ident, $regs:ident, $base:ident, $fuel:ident, $context:ident| $body:block
     ) => {
         $(#[$doc])*
+        // Never inlined: a fast path reaches its general handler by a tail call.
+        #[inline(never)]
         #[allow(unused_variables, clippy::unused_unit)]
         unsafe fn $name $(<$(const $generic: $gty),*>)? (
             $ip: *const Slot,
@@ -310,6 +317,8 @@ macro_rules! branch_handler {
         |$ip:ident, $regs:ident, $base:ident, $fuel:ident, $context:ident| $body:block
     ) => {
         $(#[$doc])*
+        // Never inlined: a fast path reaches its general handler by a tail call.
+        #[inline(never)]
         #[allow(unused_variables, clippy::unused_unit)]
         unsafe fn $name $(<$(const $generic: $gty),*>)? (
             $ip: *const Slot,
@@ -440,6 +449,58 @@ with_constant! {
     op_mul_k, MulK, mul;
     op_div_k, DivK, div;
     op_mod_k, ModK, rem;
+}
+
+/// Integer fast paths of `div` and `mod`: no call (a float remainder calls
+/// `fmod`, a zero divisor traps), so the handler saves no registers; any other
+/// case goes on in the general handler, by a tail call with the fuel as it was.
+macro_rules! integer_division {
+    ($($name:ident, $variant:ident, $general:ident, $f:ident;)*) => {$(
+        handler! {
+            fn $name($variant { a, b, dst }, width 1) |ip, regs, base, fuel, context| {
+                match (get(regs, a), get(regs, b)) {
+                    (Value::Int(x), Value::Int(y)) if y != 0 => set(regs, dst, Value::Int(x.$f(y))),
+                    _ => return $general(ip, regs, base, fuel + 1, context),
+                }
+                ip.add(1)
+            }
+        }
+    )*};
+}
+
+/// Integer fast paths of the fused `loadi K,t; div/mod a,t,dst` (see
+/// [`integer_division`]); `fuse` never fuses a zero divisor.
+macro_rules! integer_division_by_constant {
+    ($($name:ident, $variant:ident, $general:ident, $f:ident;)*) => {$(
+        handler! {
+            fn $name($variant { a, k, t, dst }, width 2) |ip, regs, base, fuel, context| {
+                let Value::Int(divisor) = k else {
+                    // SAFETY: `Slot::new` chose this handler for an integer constant.
+                    unreachable_unchecked()
+                };
+                if divisor == 0 {
+                    // SAFETY: `fuse` leaves a division by the constant 0 plain.
+                    unreachable_unchecked()
+                }
+                set(regs, t, k);
+                match get(regs, a) {
+                    Value::Int(x) => set(regs, dst, Value::Int(x.$f(divisor))),
+                    Value::Float(_) => return $general::<true>(ip, regs, base, fuel + 2, context),
+                }
+                ip.add(2)
+            }
+        }
+    )*};
+}
+
+integer_division! {
+    op_div_int, Div, op_div, wrapping_div;
+    op_mod_int, Mod, op_mod, wrapping_rem;
+}
+
+integer_division_by_constant! {
+    op_div_k_int, DivK, op_div_k, wrapping_div;
+    op_mod_k_int, ModK, op_mod_k, wrapping_rem;
 }
 
 /// Calls the host out of line, so that the handler's only indirect call is
@@ -623,6 +684,32 @@ branch_handler! {
         JumpCmpKBr { cmp, a, k, t, c, if_true, if_false }, width 4
     )
     |ip, regs, base, fuel, context| {
+        let k = constant::<INT>(k);
+        set(regs, t, k);
+        let result = compare(CMPS[C], get(regs, a), k);
+        set(regs, c, truth(result));
+        (result, if_true, if_false)
+    }
+}
+
+branch_handler! {
+    fn op_add_jump_cmp_br<const C: usize>(
+        AddJumpCmpBr { p, q, sum, cmp, a, b, c, if_true, if_false }, width 4
+    )
+    |ip, regs, base, fuel, context| {
+        set(regs, sum, add(get(regs, p), get(regs, q)));
+        let result = compare(CMPS[C], get(regs, a), get(regs, b));
+        set(regs, c, truth(result));
+        (result, if_true, if_false)
+    }
+}
+
+branch_handler! {
+    fn op_add_jump_cmp_k_br<const C: usize, const INT: bool>(
+        AddJumpCmpKBr { p, q, sum, cmp, a, k, t, c, if_true, if_false }, width 5
+    )
+    |ip, regs, base, fuel, context| {
+        set(regs, sum, add(get(regs, p), get(regs, q)));
         let k = constant::<INT>(k);
         set(regs, t, k);
         let result = compare(CMPS[C], get(regs, a), k);

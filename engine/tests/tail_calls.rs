@@ -32,12 +32,12 @@ fn handler_names() -> BTreeSet<String> {
         std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("src/vm/threaded.rs"))
             .expect("src/vm/threaded.rs is readable");
     let start = source
-        .find("pub fn new(op: Op) -> Slot")
-        .expect("threaded.rs has Slot::new");
+        .find("let handler: Handler = match op {")
+        .expect("Slot::new chooses the handler by a match");
     let end = start
         + source[start..]
-            .find("Slot { handler, op }")
-            .expect("Slot::new ends with the slot");
+            .find("\n        };")
+            .expect("the match ends");
     let body = &source[start..end];
     let mut names = BTreeSet::new();
     for (index, _) in body.match_indices("op_") {

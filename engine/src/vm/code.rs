@@ -228,7 +228,8 @@ impl Code {
         Code {
             threaded: fused
                 .iter()
-                .map(|&op| super::threaded::Slot::new(op))
+                .enumerate()
+                .map(|(pc, &op)| super::threaded::Slot::new(op, pc))
                 .collect(),
             plain: plain.into_boxed_slice(),
             fused: fused.into_boxed_slice(),

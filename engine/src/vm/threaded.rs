@@ -42,17 +42,20 @@ use crate::sensors::SensorId;
 /// stack depth should a handler ever not tail-call.
 const CHUNK: u64 = 4096;
 
-/// One op of the threaded code: its handler and its operands.
+/// One op of the threaded code: its handler, its branch targets and its operands.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Slot {
     handler: Handler,
+    /// The op's branch targets (taken or jump target, then not taken) as byte
+    /// offsets from this slot, so that a handler needs no base pointer (one
+    /// register fewer: fewer handlers save registers). 0 where unused.
+    jumps: [isize; 2],
     op: Op,
 }
 
 /// The one signature of every handler: the slot it runs, the register file,
-/// the first slot (branch targets are indices from it), the fuel left, and
-/// the rest of the machine.
-type Handler = unsafe fn(*const Slot, *mut Value, *const Slot, u64, &mut Context<'_>);
+/// the fuel left, and the rest of the machine.
+type Handler = unsafe fn(*const Slot, *mut Value, u64, &mut Context<'_>);
 
 /// What the handlers reach besides the registers, and where they leave how
 /// they stopped.
@@ -62,6 +65,8 @@ pub(super) struct Context<'a> {
     pub program: &'a Program,
     /// The number of slots (an indirect jump checks its target against it).
     pub code_len: usize,
+    /// The first slot (set by [`run`]): pcs are indices from it.
+    base: *const Slot,
     /// Set by the handler that stops: why, at which pc, with how much fuel.
     stop: Stop,
     pc: usize,
@@ -88,6 +93,7 @@ impl<'a> Context<'a> {
             memory,
             program,
             code_len,
+            base: std::ptr::null(),
             stop: Stop::Exit(Exit::OutOfFuel),
             pc: 0,
             fuel: 0,
@@ -105,6 +111,7 @@ pub(super) fn run(
     context: &mut Context<'_>,
 ) -> Stop {
     let base = slots.as_ptr();
+    context.base = base;
     let regs = registers.as_mut_ptr();
     loop {
         if *fuel < MAX_FUSED {
@@ -117,7 +124,7 @@ pub(super) fn run(
         // `Code::new`, an indirect jump checks its target), reads only the
         // fields of the variant it was chosen for (`Slot::new`), and indexes
         // registers below `code.register_bound`, which the register file covers.
-        unsafe { ((*base.add(*pc)).handler)(base.add(*pc), regs, base, chunk, context) };
+        unsafe { ((*base.add(*pc)).handler)(base.add(*pc), regs, chunk, context) };
         *fuel -= chunk - context.fuel;
         *pc = context.pc;
         match context.stop {
@@ -131,9 +138,9 @@ pub(super) fn run(
 const CMPS: [Cmp; 6] = [Cmp::Eq, Cmp::Ne, Cmp::Lt, Cmp::Le, Cmp::Gt, Cmp::Ge];
 
 impl Slot {
-    /// The slot for `op`: the handler made for its variant (and its comparison
-    /// and constant type).
-    pub fn new(op: Op) -> Slot {
+    /// The slot for `op` at `pc`: the handler made for its variant (and its
+    /// comparison and constant type) and its branch targets.
+    pub fn new(op: Op, pc: usize) -> Slot {
         macro_rules! by_cmp {
             ($cmp:expr, $handler:ident $(, $rest:expr)*) => {
                 [
@@ -213,7 +220,40 @@ impl Slot {
             Op::RangeBr { lo, hi, .. } if is_int(lo) && is_int(hi) => op_range_br::<true>,
             Op::RangeBr { .. } => op_range_br::<false>,
         };
-        Slot { handler, op }
+        let offset = |target: Pc| {
+            (target.index() as isize - pc as isize) * std::mem::size_of::<Slot>() as isize
+        };
+        let jumps = match op {
+            Op::Jump { target } => [offset(target), 0],
+            Op::Branch {
+                if_true, if_false, ..
+            }
+            | Op::CmpBr {
+                if_true, if_false, ..
+            }
+            | Op::CmpKBr {
+                if_true, if_false, ..
+            }
+            | Op::JumpCmpBr {
+                if_true, if_false, ..
+            }
+            | Op::JumpCmpKBr {
+                if_true, if_false, ..
+            }
+            | Op::AddJumpCmpBr {
+                if_true, if_false, ..
+            }
+            | Op::AddJumpCmpKBr {
+                if_true, if_false, ..
+            }
+            | Op::RangeBr {
+                if_out: if_true,
+                if_in: if_false,
+                ..
+            } => [offset(if_true), offset(if_false)],
+            _ => [0, 0],
+        };
+        Slot { handler, jumps, op }
     }
 }
 
@@ -246,15 +286,9 @@ fn constant<const INT: bool>(k: Value) -> Value {
 
 /// Records how the handlers stopped: at `at`, with `fuel` left.
 #[inline(always)]
-unsafe fn stop(
-    at: *const Slot,
-    base: *const Slot,
-    fuel: u64,
-    context: &mut Context<'_>,
-    why: Stop,
-) {
+unsafe fn stop(at: *const Slot, fuel: u64, context: &mut Context<'_>, why: Stop) {
     // SAFETY: both point into the one slot array.
-    context.pc = unsafe { at.offset_from(base) } as usize;
+    context.pc = unsafe { at.offset_from(context.base) } as usize;
     context.fuel = fuel;
     context.stop = why;
 }
@@ -268,7 +302,7 @@ macro_rules! handler {
         $(#[$doc:meta])*
         fn $name:ident $(<$(const $generic:ident: $gty:ty),*>)?
         ($variant:ident { $($field:ident),* }, width $width:expr)
-        |$ip:ident, $regs:ident, $base:ident, $fuel:ident, $context:ident| $body:block
+        |$ip:ident, $regs:ident, $fuel:ident, $context:ident| $body:block
     ) => {
         $(#[$doc])*
         // Never inlined: a fast path reaches its general handler by a tail call.
@@ -277,7 +311,6 @@ macro_rules! handler {
         unsafe fn $name $(<$(const $generic: $gty),*>)? (
             $ip: *const Slot,
             $regs: *mut Value,
-            $base: *const Slot,
             $fuel: u64,
             $context: &mut Context<'_>,
         ) {
@@ -287,7 +320,7 @@ macro_rules! handler {
             };
             let $fuel = $fuel - $width;
             let next: *const Slot = unsafe { $body };
-            dispatch!(next, $regs, $base, $fuel, $context)
+            dispatch!(next, $regs, $fuel, $context)
         }
     };
 }
@@ -295,18 +328,18 @@ macro_rules! handler {
 /// Goes on at `next`: stops when the fuel no longer covers the widest op,
 /// and otherwise calls its handler in tail position.
 macro_rules! dispatch {
-    ($next:expr, $regs:ident, $base:ident, $fuel:ident, $context:ident) => {{
+    ($next:expr, $regs:ident, $fuel:ident, $context:ident) => {{
         let next: *const Slot = $next;
         if $fuel < MAX_FUSED {
-            return unsafe { stop(next, $base, $fuel, $context, Stop::Exit(Exit::OutOfFuel)) };
+            return unsafe { stop(next, $fuel, $context, Stop::Exit(Exit::OutOfFuel)) };
         }
         // The tail call that LLVM turns into a jump (tests/tail_calls.rs).
-        return unsafe { ((*next).handler)(next, $regs, $base, $fuel, $context) };
+        return unsafe { ((*next).handler)(next, $regs, $fuel, $context) };
     }};
 }
 
 /// Defines a handler that branches: like [`handler!`], but `$body` evaluates to
-/// (taken, if_true, if_false) and each way has its own tail call. The
+/// whether the branch is taken, and each way has its own tail call. The
 /// condition is then a conditional branch that the predictor sees before the
 /// indirect jump, and each indirect jump has its own history.
 macro_rules! branch_handler {
@@ -314,7 +347,7 @@ macro_rules! branch_handler {
         $(#[$doc:meta])*
         fn $name:ident $(<$(const $generic:ident: $gty:ty),*>)?
         ($variant:ident { $($field:ident),* }, width $width:expr)
-        |$ip:ident, $regs:ident, $base:ident, $fuel:ident, $context:ident| $body:block
+        |$ip:ident, $regs:ident, $fuel:ident, $context:ident| $body:block
     ) => {
         $(#[$doc])*
         // Never inlined: a fast path reaches its general handler by a tail call.
@@ -323,7 +356,6 @@ macro_rules! branch_handler {
         unsafe fn $name $(<$(const $generic: $gty),*>)? (
             $ip: *const Slot,
             $regs: *mut Value,
-            $base: *const Slot,
             $fuel: u64,
             $context: &mut Context<'_>,
         ) {
@@ -332,11 +364,13 @@ macro_rules! branch_handler {
                 unsafe { unreachable_unchecked() }
             };
             let $fuel = $fuel - $width;
-            let (taken, if_true, if_false): (bool, Pc, Pc) = unsafe { $body };
+            let taken: bool = unsafe { $body };
+            // SAFETY (both): `Slot::new` made the offsets from the op's targets,
+            // which `Code::new` clamped into the code.
             if taken {
-                dispatch!(unsafe { branch_target($base, if_true) }, $regs, $base, $fuel, $context)
+                dispatch!(unsafe { $ip.byte_offset((*$ip).jumps[0]) }, $regs, $fuel, $context)
             } else {
-                dispatch!(unsafe { branch_target($base, if_false) }, $regs, $base, $fuel, $context)
+                dispatch!(unsafe { $ip.byte_offset((*$ip).jumps[1]) }, $regs, $fuel, $context)
             }
         }
     };
@@ -344,8 +378,8 @@ macro_rules! branch_handler {
 
 /// Stops the handlers at the current op with `why` (from inside a handler body).
 macro_rules! stop_here {
-    ($ip:ident, $base:ident, $fuel:ident, $context:ident, $why:expr) => {{
-        stop($ip, $base, $fuel, $context, $why);
+    ($ip:ident, $fuel:ident, $context:ident, $why:expr) => {{
+        stop($ip, $fuel, $context, $why);
         return;
     }};
 }
@@ -354,7 +388,7 @@ macro_rules! stop_here {
 macro_rules! binary {
     ($($name:ident, $variant:ident, $f:expr;)*) => {$(
         handler! {
-            fn $name($variant { a, b, dst }, width 1) |ip, regs, base, fuel, context| {
+            fn $name($variant { a, b, dst }, width 1) |ip, regs, fuel, context| {
                 set(regs, dst, $f(get(regs, a), get(regs, b)));
                 ip.add(1)
             }
@@ -366,7 +400,7 @@ macro_rules! binary {
 macro_rules! unary {
     ($($name:ident, $variant:ident, $f:expr;)*) => {$(
         handler! {
-            fn $name($variant { src, dst }, width 1) |ip, regs, base, fuel, context| {
+            fn $name($variant { src, dst }, width 1) |ip, regs, fuel, context| {
                 set(regs, dst, $f(get(regs, src)));
                 ip.add(1)
             }
@@ -378,9 +412,9 @@ macro_rules! unary {
 macro_rules! division {
     ($($name:ident, $variant:ident, $f:expr;)*) => {$(
         handler! {
-            fn $name($variant { a, b, dst }, width 1) |ip, regs, base, fuel, context| {
+            fn $name($variant { a, b, dst }, width 1) |ip, regs, fuel, context| {
                 if integer_division_by_zero(get(regs, a), get(regs, b)) {
-                    stop_here!(ip, base, fuel, context, Stop::Exit(Exit::Trap(TrapKind::DivisionByZero)));
+                    stop_here!(ip, fuel, context, Stop::Exit(Exit::Trap(TrapKind::DivisionByZero)));
                 }
                 set(regs, dst, $f(get(regs, a), get(regs, b)));
                 ip.add(1)
@@ -394,7 +428,7 @@ macro_rules! with_constant {
     ($($name:ident, $variant:ident, $f:expr;)*) => {$(
         handler! {
             fn $name<const INT: bool>($variant { a, k, t, dst }, width 2)
-            |ip, regs, base, fuel, context| {
+            |ip, regs, fuel, context| {
                 let k = constant::<INT>(k);
                 set(regs, t, k);
                 set(regs, dst, $f(get(regs, a), k));
@@ -402,13 +436,6 @@ macro_rules! with_constant {
             }
         }
     )*};
-}
-
-/// The target of a branch.
-#[inline(always)]
-unsafe fn branch_target(base: *const Slot, pc: Pc) -> *const Slot {
-    // SAFETY: `Code::new` clamped every target into the code.
-    unsafe { base.add(pc.index()) }
 }
 
 binary! {
@@ -457,10 +484,10 @@ with_constant! {
 macro_rules! integer_division {
     ($($name:ident, $variant:ident, $general:ident, $f:ident;)*) => {$(
         handler! {
-            fn $name($variant { a, b, dst }, width 1) |ip, regs, base, fuel, context| {
+            fn $name($variant { a, b, dst }, width 1) |ip, regs, fuel, context| {
                 match (get(regs, a), get(regs, b)) {
                     (Value::Int(x), Value::Int(y)) if y != 0 => set(regs, dst, Value::Int(x.$f(y))),
-                    _ => return $general(ip, regs, base, fuel + 1, context),
+                    _ => return $general(ip, regs, fuel + 1, context),
                 }
                 ip.add(1)
             }
@@ -473,7 +500,7 @@ macro_rules! integer_division {
 macro_rules! integer_division_by_constant {
     ($($name:ident, $variant:ident, $general:ident, $f:ident;)*) => {$(
         handler! {
-            fn $name($variant { a, k, t, dst }, width 2) |ip, regs, base, fuel, context| {
+            fn $name($variant { a, k, t, dst }, width 2) |ip, regs, fuel, context| {
                 let Value::Int(divisor) = k else {
                     // SAFETY: `Slot::new` chose this handler for an integer constant.
                     unreachable_unchecked()
@@ -485,7 +512,7 @@ macro_rules! integer_division_by_constant {
                 set(regs, t, k);
                 match get(regs, a) {
                     Value::Int(x) => set(regs, dst, Value::Int(x.$f(divisor))),
-                    Value::Float(_) => return $general::<true>(ip, regs, base, fuel + 2, context),
+                    Value::Float(_) => return $general::<true>(ip, regs, fuel + 2, context),
                 }
                 ip.add(2)
             }
@@ -517,130 +544,112 @@ fn store_sensor(host: &mut dyn Host, sensor: SensorId, value: f64) {
 }
 
 handler! {
-    fn op_load_sensor(LoadSensor { sensor, dst }, width 1) |ip, regs, base, fuel, context| {
+    fn op_load_sensor(LoadSensor { sensor, dst }, width 1) |ip, regs, fuel, context| {
         set(regs, dst, Value::Float(load_sensor(context.host, sensor)));
         ip.add(1)
     }
 }
 
 handler! {
-    fn op_store_sensor(StoreSensor { src, sensor }, width 1) |ip, regs, base, fuel, context| {
+    fn op_store_sensor(StoreSensor { src, sensor }, width 1) |ip, regs, fuel, context| {
         store_sensor(context.host, sensor, get(regs, src).as_f64());
         ip.add(1)
     }
 }
 
 handler! {
-    fn op_load_int(LoadInt { value, dst }, width 1) |ip, regs, base, fuel, context| {
+    fn op_load_int(LoadInt { value, dst }, width 1) |ip, regs, fuel, context| {
         set(regs, dst, Value::Int(value));
         ip.add(1)
     }
 }
 
 handler! {
-    fn op_load_float(LoadFloat { value, dst }, width 1) |ip, regs, base, fuel, context| {
+    fn op_load_float(LoadFloat { value, dst }, width 1) |ip, regs, fuel, context| {
         set(regs, dst, Value::Float(value));
         ip.add(1)
     }
 }
 
 handler! {
-    fn op_load_mem(LoadMem { addr, dst }, width 1) |ip, regs, base, fuel, context| {
+    fn op_load_mem(LoadMem { addr, dst }, width 1) |ip, regs, fuel, context| {
         match memory_index(get(regs, addr), context.memory.len()) {
             Ok(index) => set(regs, dst, context.memory[index]),
-            Err(kind) => stop_here!(ip, base, fuel, context, Stop::Exit(Exit::Trap(kind))),
+            Err(kind) => stop_here!(ip, fuel, context, Stop::Exit(Exit::Trap(kind))),
         }
         ip.add(1)
     }
 }
 
 handler! {
-    fn op_load_mem_at(LoadMemAt { addr, dst }, width 1) |ip, regs, base, fuel, context| {
+    fn op_load_mem_at(LoadMemAt { addr, dst }, width 1) |ip, regs, fuel, context| {
         set(regs, dst, context.memory[addr as usize]);
         ip.add(1)
     }
 }
 
 handler! {
-    fn op_store_mem(StoreMem { src, addr }, width 1) |ip, regs, base, fuel, context| {
+    fn op_store_mem(StoreMem { src, addr }, width 1) |ip, regs, fuel, context| {
         match memory_index(get(regs, addr), context.memory.len()) {
             Ok(index) => context.memory[index] = get(regs, src),
-            Err(kind) => stop_here!(ip, base, fuel, context, Stop::Exit(Exit::Trap(kind))),
+            Err(kind) => stop_here!(ip, fuel, context, Stop::Exit(Exit::Trap(kind))),
         }
         ip.add(1)
     }
 }
 
 handler! {
-    fn op_store_mem_at(StoreMemAt { src, addr }, width 1) |ip, regs, base, fuel, context| {
+    fn op_store_mem_at(StoreMemAt { src, addr }, width 1) |ip, regs, fuel, context| {
         context.memory[addr as usize] = get(regs, src);
         ip.add(1)
     }
 }
 
 branch_handler! {
-    fn op_branch(Branch { cond, if_true, if_false }, width 1) |ip, regs, base, fuel, context| {
-        (get(regs, cond).is_true(), if_true, if_false)
+    fn op_branch(Branch { cond, if_true, if_false }, width 1) |ip, regs, fuel, context| {
+        get(regs, cond).is_true()
     }
 }
 
 handler! {
-    fn op_jump(Jump { target }, width 1) |ip, regs, base, fuel, context| {
-        branch_target(base, target)
+    fn op_jump(Jump { target }, width 1) |ip, regs, fuel, context| {
+        ip.byte_offset((*ip).jumps[0])
     }
 }
 
 handler! {
-    fn op_jump_indirect(JumpIndirect { register }, width 1) |ip, regs, base, fuel, context| {
+    fn op_jump_indirect(JumpIndirect { register }, width 1) |ip, regs, fuel, context| {
         match indirect_target(context.program, get(regs, register), context.code_len) {
-            Ok(pc) => base.add(pc),
-            Err(exit) => stop_here!(ip, base, fuel, context, Stop::Exit(exit)),
+            Ok(pc) => context.base.add(pc),
+            Err(exit) => stop_here!(ip, fuel, context, Stop::Exit(exit)),
         }
     }
 }
 
 /// `yield`: charged, and stops at its own pc (the machine moves past it).
-unsafe fn op_yield(
-    ip: *const Slot,
-    _regs: *mut Value,
-    base: *const Slot,
-    fuel: u64,
-    context: &mut Context<'_>,
-) {
-    unsafe { stop(ip, base, fuel - 1, context, Stop::Exit(Exit::Yield)) }
+unsafe fn op_yield(ip: *const Slot, _regs: *mut Value, fuel: u64, context: &mut Context<'_>) {
+    unsafe { stop(ip, fuel - 1, context, Stop::Exit(Exit::Yield)) }
 }
 
 /// `halt` (and the end of the code): charged, and stops at its own pc.
-unsafe fn op_halt(
-    ip: *const Slot,
-    _regs: *mut Value,
-    base: *const Slot,
-    fuel: u64,
-    context: &mut Context<'_>,
-) {
-    unsafe { stop(ip, base, fuel - 1, context, Stop::Exit(Exit::Halt)) }
+unsafe fn op_halt(ip: *const Slot, _regs: *mut Value, fuel: u64, context: &mut Context<'_>) {
+    unsafe { stop(ip, fuel - 1, context, Stop::Exit(Exit::Halt)) }
 }
 
 handler! {
-    fn op_nop(Nop {}, width 1) |ip, regs, base, fuel, context| {
+    fn op_nop(Nop {}, width 1) |ip, regs, fuel, context| {
         ip.add(1)
     }
 }
 
 /// `write`, `writes`, `print`, `prints`: left to the `match` loop, uncharged.
-unsafe fn op_output(
-    ip: *const Slot,
-    _regs: *mut Value,
-    base: *const Slot,
-    fuel: u64,
-    context: &mut Context<'_>,
-) {
-    unsafe { stop(ip, base, fuel, context, Stop::RunInLoop) }
+unsafe fn op_output(ip: *const Slot, _regs: *mut Value, fuel: u64, context: &mut Context<'_>) {
+    unsafe { stop(ip, fuel, context, Stop::RunInLoop) }
 }
 
 handler! {
     fn op_int_to_float_add(IntToFloatAdd { src, t, a, dst }, width 2)
-    |ip, regs, base, fuel, context| {
+    |ip, regs, fuel, context| {
         let widened = Value::Float(get(regs, src).as_f64());
         set(regs, t, widened);
         set(regs, dst, add(get(regs, a), widened));
@@ -650,19 +659,19 @@ handler! {
 
 branch_handler! {
     fn op_cmp_br<const C: usize>(CmpBr { cmp, a, b, c, if_true, if_false }, width 2)
-    |ip, regs, base, fuel, context| {
+    |ip, regs, fuel, context| {
         let result = compare(CMPS[C], get(regs, a), get(regs, b));
         set(regs, c, truth(result));
-        (result, if_true, if_false)
+        result
     }
 }
 
 branch_handler! {
     fn op_jump_cmp_br<const C: usize>(JumpCmpBr { cmp, a, b, c, if_true, if_false }, width 3)
-    |ip, regs, base, fuel, context| {
+    |ip, regs, fuel, context| {
         let result = compare(CMPS[C], get(regs, a), get(regs, b));
         set(regs, c, truth(result));
-        (result, if_true, if_false)
+        result
     }
 }
 
@@ -670,12 +679,12 @@ branch_handler! {
     fn op_cmp_k_br<const C: usize, const INT: bool>(
         CmpKBr { cmp, a, k, t, c, if_true, if_false }, width 3
     )
-    |ip, regs, base, fuel, context| {
+    |ip, regs, fuel, context| {
         let k = constant::<INT>(k);
         set(regs, t, k);
         let result = compare(CMPS[C], get(regs, a), k);
         set(regs, c, truth(result));
-        (result, if_true, if_false)
+        result
     }
 }
 
@@ -683,12 +692,12 @@ branch_handler! {
     fn op_jump_cmp_k_br<const C: usize, const INT: bool>(
         JumpCmpKBr { cmp, a, k, t, c, if_true, if_false }, width 4
     )
-    |ip, regs, base, fuel, context| {
+    |ip, regs, fuel, context| {
         let k = constant::<INT>(k);
         set(regs, t, k);
         let result = compare(CMPS[C], get(regs, a), k);
         set(regs, c, truth(result));
-        (result, if_true, if_false)
+        result
     }
 }
 
@@ -696,11 +705,11 @@ branch_handler! {
     fn op_add_jump_cmp_br<const C: usize>(
         AddJumpCmpBr { p, q, sum, cmp, a, b, c, if_true, if_false }, width 4
     )
-    |ip, regs, base, fuel, context| {
+    |ip, regs, fuel, context| {
         set(regs, sum, add(get(regs, p), get(regs, q)));
         let result = compare(CMPS[C], get(regs, a), get(regs, b));
         set(regs, c, truth(result));
-        (result, if_true, if_false)
+        result
     }
 }
 
@@ -708,13 +717,13 @@ branch_handler! {
     fn op_add_jump_cmp_k_br<const C: usize, const INT: bool>(
         AddJumpCmpKBr { p, q, sum, cmp, a, k, t, c, if_true, if_false }, width 5
     )
-    |ip, regs, base, fuel, context| {
+    |ip, regs, fuel, context| {
         set(regs, sum, add(get(regs, p), get(regs, q)));
         let k = constant::<INT>(k);
         set(regs, t, k);
         let result = compare(CMPS[C], get(regs, a), k);
         set(regs, c, truth(result));
-        (result, if_true, if_false)
+        result
     }
 }
 
@@ -722,7 +731,7 @@ branch_handler! {
     fn op_range_br<const INT: bool>(
         RangeBr { x, lo, t_lo, c_lo, hi, t_hi, c_hi, d, if_out, if_in }, width 6
     )
-    |ip, regs, base, fuel, context| {
+    |ip, regs, fuel, context| {
         // `INT`: both bounds are integers (as GBASIC writes them); otherwise
         // nothing is known and the comparisons test the tags.
         let (lo, hi) = if INT { (constant::<true>(lo), constant::<true>(hi)) } else { (lo, hi) };
@@ -734,6 +743,6 @@ branch_handler! {
         set(regs, t_hi, hi);
         set(regs, c_hi, truth(above));
         set(regs, d, truth(below | above));
-        (below | above, if_out, if_in)
+        below | above
     }
 }

@@ -160,9 +160,9 @@ impl Slot {
             Op::LoadInt { .. } => op_load_int,
             Op::LoadFloat { .. } => op_load_float,
             Op::Move { .. } => op_move,
-            Op::Add { .. } => op_add,
-            Op::Sub { .. } => op_sub,
-            Op::Mul { .. } => op_mul,
+            Op::Add { .. } => op_add_int,
+            Op::Sub { .. } => op_sub_int,
+            Op::Mul { .. } => op_mul_int,
             Op::Div { .. } => op_div_int,
             Op::Mod { .. } => op_mod_int,
             Op::Min { .. } => op_min,
@@ -195,27 +195,25 @@ impl Slot {
             Op::Write { .. } | Op::WriteText { .. } | Op::Print { .. } | Op::PrintText { .. } => {
                 op_output
             }
-            Op::AddK { k, .. } if is_int(k) => op_add_k::<true>,
+            Op::AddK { k, .. } if is_int(k) => op_add_k_int,
             Op::AddK { .. } => op_add_k::<false>,
-            Op::SubK { k, .. } if is_int(k) => op_sub_k::<true>,
+            Op::SubK { k, .. } if is_int(k) => op_sub_k_int,
             Op::SubK { .. } => op_sub_k::<false>,
-            Op::MulK { k, .. } if is_int(k) => op_mul_k::<true>,
+            Op::MulK { k, .. } if is_int(k) => op_mul_k_int,
             Op::MulK { .. } => op_mul_k::<false>,
             Op::DivK { k, .. } if is_int(k) => op_div_k_int,
             Op::DivK { .. } => op_div_k::<false>,
             Op::ModK { k, .. } if is_int(k) => op_mod_k_int,
             Op::ModK { .. } => op_mod_k::<false>,
             Op::IntToFloatAdd { .. } => op_int_to_float_add,
-            Op::CmpBr { cmp, .. } => by_cmp!(cmp, op_cmp_br),
-            Op::JumpCmpBr { cmp, .. } => by_cmp!(cmp, op_jump_cmp_br),
-            Op::CmpKBr { cmp, k, .. } if is_int(k) => by_cmp!(cmp, op_cmp_k_br, true),
+            Op::CmpBr { cmp, .. } => by_cmp!(cmp, op_cmp_br_int),
+            Op::JumpCmpBr { cmp, .. } => by_cmp!(cmp, op_jump_cmp_br_int),
+            Op::CmpKBr { cmp, k, .. } if is_int(k) => by_cmp!(cmp, op_cmp_k_br_int),
             Op::CmpKBr { cmp, .. } => by_cmp!(cmp, op_cmp_k_br, false),
-            Op::JumpCmpKBr { cmp, k, .. } if is_int(k) => by_cmp!(cmp, op_jump_cmp_k_br, true),
+            Op::JumpCmpKBr { cmp, k, .. } if is_int(k) => by_cmp!(cmp, op_jump_cmp_k_br_int),
             Op::JumpCmpKBr { cmp, .. } => by_cmp!(cmp, op_jump_cmp_k_br, false),
-            Op::AddJumpCmpBr { cmp, .. } => by_cmp!(cmp, op_add_jump_cmp_br),
-            Op::AddJumpCmpKBr { cmp, k, .. } if is_int(k) => {
-                by_cmp!(cmp, op_add_jump_cmp_k_br, true)
-            }
+            Op::AddJumpCmpBr { cmp, .. } => by_cmp!(cmp, op_add_jump_cmp_br_int),
+            Op::AddJumpCmpKBr { cmp, k, .. } if is_int(k) => by_cmp!(cmp, op_add_jump_cmp_k_br_int),
             Op::AddJumpCmpKBr { cmp, .. } => by_cmp!(cmp, op_add_jump_cmp_k_br, false),
             Op::RangeBr { lo, hi, .. } if is_int(lo) && is_int(hi) => op_range_br::<true>,
             Op::RangeBr { .. } => op_range_br::<false>,
@@ -744,5 +742,170 @@ branch_handler! {
         set(regs, c_hi, truth(above));
         set(regs, d, truth(below | above));
         below | above
+    }
+}
+
+/// Integer fast paths: when every register operand holds an integer (the
+/// common case in GBASIC, whose integer variables stay integers), the handler
+/// computes with the tags known, so the optimiser drops the float code and its
+/// registers; otherwise it goes on in the general handler by a tail call, with
+/// the fuel as it was and nothing written yet. Operands read after a write of
+/// the same op are integers too: the write was of an integer sum.
+macro_rules! integer_binary {
+    ($($name:ident, $variant:ident, $general:ident, $f:ident;)*) => {$(
+        handler! {
+            fn $name($variant { a, b, dst }, width 1) |ip, regs, fuel, context| {
+                let (Value::Int(x), Value::Int(y)) = (get(regs, a), get(regs, b)) else {
+                    return $general(ip, regs, fuel + 1, context);
+                };
+                set(regs, dst, Value::Int(x.$f(y)));
+                ip.add(1)
+            }
+        }
+    )*};
+}
+
+integer_binary! {
+    op_add_int, Add, op_add, wrapping_add;
+    op_sub_int, Sub, op_sub, wrapping_sub;
+    op_mul_int, Mul, op_mul, wrapping_mul;
+}
+
+/// Integer fast paths of the fused `loadi K,t; op a,t,dst` (see [`integer_binary`]).
+macro_rules! integer_with_constant {
+    ($($name:ident, $variant:ident, $general:ident, $f:ident;)*) => {$(
+        handler! {
+            fn $name($variant { a, k, t, dst }, width 2) |ip, regs, fuel, context| {
+                let Value::Int(y) = k else {
+                    // SAFETY: `Slot::new` chose this handler for an integer constant.
+                    unreachable_unchecked()
+                };
+                let Value::Int(x) = get(regs, a) else {
+                    return $general::<true>(ip, regs, fuel + 2, context);
+                };
+                set(regs, t, k);
+                set(regs, dst, Value::Int(x.$f(y)));
+                ip.add(2)
+            }
+        }
+    )*};
+}
+
+integer_with_constant! {
+    op_add_k_int, AddK, op_add_k, wrapping_add;
+    op_sub_k_int, SubK, op_sub_k, wrapping_sub;
+    op_mul_k_int, MulK, op_mul_k, wrapping_mul;
+}
+
+branch_handler! {
+    fn op_cmp_br_int<const C: usize>(CmpBr { cmp, a, b, c, if_true, if_false }, width 2)
+    |ip, regs, fuel, context| {
+        let (Value::Int(x), Value::Int(y)) = (get(regs, a), get(regs, b)) else {
+            return op_cmp_br::<C>(ip, regs, fuel + 2, context);
+        };
+        let result = compare(CMPS[C], Value::Int(x), Value::Int(y));
+        set(regs, c, truth(result));
+        result
+    }
+}
+
+branch_handler! {
+    fn op_jump_cmp_br_int<const C: usize>(
+        JumpCmpBr { cmp, a, b, c, if_true, if_false }, width 3
+    )
+    |ip, regs, fuel, context| {
+        let (Value::Int(x), Value::Int(y)) = (get(regs, a), get(regs, b)) else {
+            return op_jump_cmp_br::<C>(ip, regs, fuel + 3, context);
+        };
+        let result = compare(CMPS[C], Value::Int(x), Value::Int(y));
+        set(regs, c, truth(result));
+        result
+    }
+}
+
+branch_handler! {
+    fn op_cmp_k_br_int<const C: usize>(CmpKBr { cmp, a, k, t, c, if_true, if_false }, width 3)
+    |ip, regs, fuel, context| {
+        let Value::Int(y) = k else {
+            // SAFETY: `Slot::new` chose this handler for an integer constant.
+            unreachable_unchecked()
+        };
+        // `a` is read after `t` is written in the instructions, but `fuse`
+        // made sure they differ.
+        let Value::Int(x) = get(regs, a) else {
+            return op_cmp_k_br::<C, true>(ip, regs, fuel + 3, context);
+        };
+        set(regs, t, k);
+        let result = compare(CMPS[C], Value::Int(x), Value::Int(y));
+        set(regs, c, truth(result));
+        result
+    }
+}
+
+branch_handler! {
+    fn op_jump_cmp_k_br_int<const C: usize>(
+        JumpCmpKBr { cmp, a, k, t, c, if_true, if_false }, width 4
+    )
+    |ip, regs, fuel, context| {
+        let Value::Int(y) = k else {
+            // SAFETY: `Slot::new` chose this handler for an integer constant.
+            unreachable_unchecked()
+        };
+        let Value::Int(x) = get(regs, a) else {
+            return op_jump_cmp_k_br::<C, true>(ip, regs, fuel + 4, context);
+        };
+        set(regs, t, k);
+        let result = compare(CMPS[C], Value::Int(x), Value::Int(y));
+        set(regs, c, truth(result));
+        result
+    }
+}
+
+branch_handler! {
+    fn op_add_jump_cmp_br_int<const C: usize>(
+        AddJumpCmpBr { p, q, sum, cmp, a, b, c, if_true, if_false }, width 4
+    )
+    |ip, regs, fuel, context| {
+        let (Value::Int(x), Value::Int(y), Value::Int(_), Value::Int(_)) =
+            (get(regs, p), get(regs, q), get(regs, a), get(regs, b))
+        else {
+            return op_add_jump_cmp_br::<C>(ip, regs, fuel + 4, context);
+        };
+        set(regs, sum, Value::Int(x.wrapping_add(y)));
+        // Read after the write: `a` or `b` may be `sum`, an integer as well.
+        let (Value::Int(u), Value::Int(v)) = (get(regs, a), get(regs, b)) else {
+            // SAFETY: both were integers and the only write was an integer.
+            unreachable_unchecked()
+        };
+        let result = compare(CMPS[C], Value::Int(u), Value::Int(v));
+        set(regs, c, truth(result));
+        result
+    }
+}
+
+branch_handler! {
+    fn op_add_jump_cmp_k_br_int<const C: usize>(
+        AddJumpCmpKBr { p, q, sum, cmp, a, k, t, c, if_true, if_false }, width 5
+    )
+    |ip, regs, fuel, context| {
+        let Value::Int(w) = k else {
+            // SAFETY: `Slot::new` chose this handler for an integer constant.
+            unreachable_unchecked()
+        };
+        let (Value::Int(x), Value::Int(y), Value::Int(_)) =
+            (get(regs, p), get(regs, q), get(regs, a))
+        else {
+            return op_add_jump_cmp_k_br::<C, true>(ip, regs, fuel + 5, context);
+        };
+        set(regs, sum, Value::Int(x.wrapping_add(y)));
+        set(regs, t, k);
+        // Read after the writes: `a` may be `sum` (never `t`: `fuse`), an integer as well.
+        let Value::Int(u) = get(regs, a) else {
+            // SAFETY: `a` was an integer and both writes were integers.
+            unreachable_unchecked()
+        };
+        let result = compare(CMPS[C], Value::Int(u), Value::Int(w));
+        set(regs, c, truth(result));
+        result
     }
 }

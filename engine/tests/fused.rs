@@ -554,3 +554,28 @@ fn random_scripts_agree_with_stepping() {
         agree(&text, 4, 10_000, 2.5);
     }
 }
+
+/// The GLOC scripts of the repository that check clean (the `ok` fixtures, which
+/// use every kind of instruction: memory, indirect jumps, logic, printing, and
+/// the paper's Fig. 2 script), every budget from 1 to 40 and the default.
+#[test]
+fn the_repository_scripts_agree_at_every_budget() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let mut paths: Vec<_> = std::fs::read_dir(root.join("tests/fixtures/gloc/ok"))
+        .expect("the ok fixtures are in the repository")
+        .map(|entry| entry.expect("a readable entry").path())
+        .filter(|path| {
+            path.extension()
+                .is_some_and(|extension| extension == "gloc")
+        })
+        .collect();
+    paths.sort();
+    paths.push(root.join("examples/fig2.gloc"));
+    assert!(paths.len() >= 7, "{paths:?}");
+    for path in paths {
+        let text = std::fs::read_to_string(&path).expect("a readable script");
+        for budget in (1..=40).chain([10_000]) {
+            agree(&text, 6, budget, 12.5);
+        }
+    }
+}

@@ -463,7 +463,7 @@ fn random_script(random: &mut Random) -> String {
         let forward = |random: &mut Random, next_label: u32| {
             next_label + random.below(u64::from(labels - next_label)) as u32
         };
-        match random.below(6) {
+        match random.below(7) {
             0 => {
                 let t = reg(random);
                 body.push(format!("{constant},{t}"));
@@ -523,6 +523,16 @@ fn random_script(random: &mut Random) -> String {
                 let (yes, no) = (forward(random, next_label), forward(random, next_label));
                 body.push(format!("cbr {d},{yes},{no}"));
             }
+            5 => {
+                // Memory through a register address: integers in and out of
+                // range, whole and fractional floats (traps end the cycle).
+                let (value, address) = (reg(random), reg(random));
+                if random.below(2) == 0 {
+                    body.push(format!("storem {value},{address}"));
+                } else {
+                    body.push(format!("loadm {address},{value}"));
+                }
+            }
             _ => body.push(format!("print {}", reg(random))),
         }
     }
@@ -541,7 +551,7 @@ fn random_script(random: &mut Random) -> String {
         ));
     }
     body.push("jumpi 0".to_string());
-    script(6, labels, 0, &body)
+    script(6, labels, 3, &body)
 }
 
 #[test]

@@ -182,9 +182,9 @@ impl Slot {
             Op::IntToFloat { .. } => op_int_to_float,
             Op::FloatToInt { .. } => op_float_to_int,
             Op::Not { .. } => op_not,
-            Op::LoadMem { .. } => op_load_mem,
+            Op::LoadMem { .. } => op_load_mem_int,
             Op::LoadMemAt { .. } => op_load_mem_at,
-            Op::StoreMem { .. } => op_store_mem,
+            Op::StoreMem { .. } => op_store_mem_int,
             Op::StoreMemAt { .. } => op_store_mem_at,
             Op::Branch { .. } => op_branch,
             Op::Jump { .. } => op_jump,
@@ -215,7 +215,7 @@ impl Slot {
             Op::AddJumpCmpBr { cmp, .. } => by_cmp!(cmp, op_add_jump_cmp_br_int),
             Op::AddJumpCmpKBr { cmp, k, .. } if is_int(k) => by_cmp!(cmp, op_add_jump_cmp_k_br_int),
             Op::AddJumpCmpKBr { cmp, .. } => by_cmp!(cmp, op_add_jump_cmp_k_br, false),
-            Op::RangeBr { lo, hi, .. } if is_int(lo) && is_int(hi) => op_range_br::<true>,
+            Op::RangeBr { lo, hi, .. } if is_int(lo) && is_int(hi) => op_range_br_int,
             Op::RangeBr { .. } => op_range_br::<false>,
         };
         let offset = |target: Pc| {
@@ -907,5 +907,55 @@ branch_handler! {
         let result = compare(CMPS[C], Value::Int(u), Value::Int(w));
         set(regs, c, truth(result));
         result
+    }
+}
+
+// Integer fast paths of `loadm`/`storem`: an integer address inside the
+// memory; anything else (a float address, a trap) goes on in the general
+// handler by a tail call, so these save no registers.
+handler! {
+    fn op_load_mem_int(LoadMem { addr, dst }, width 1) |ip, regs, fuel, context| {
+        match get(regs, addr) {
+            Value::Int(index) if (index as u64) < context.memory.len() as u64 => {
+                set(regs, dst, *context.memory.as_ptr().add(index as usize));
+            }
+            _ => return op_load_mem(ip, regs, fuel + 1, context),
+        }
+        ip.add(1)
+    }
+}
+
+handler! {
+    fn op_store_mem_int(StoreMem { src, addr }, width 1) |ip, regs, fuel, context| {
+        match get(regs, addr) {
+            Value::Int(index) if (index as u64) < context.memory.len() as u64 => {
+                *context.memory.as_mut_ptr().add(index as usize) = get(regs, src);
+            }
+            _ => return op_store_mem(ip, regs, fuel + 1, context),
+        }
+        ip.add(1)
+    }
+}
+
+branch_handler! {
+    /// GBASIC's index check with integer bounds and an integer index.
+    fn op_range_br_int(
+        RangeBr { x, lo, t_lo, c_lo, hi, t_hi, c_hi, d, if_out, if_in }, width 6
+    )
+    |ip, regs, fuel, context| {
+        let (Value::Int(low), Value::Int(high)) = (lo, hi) else {
+            // SAFETY: `Slot::new` chose this handler for integer bounds.
+            unreachable_unchecked()
+        };
+        let Value::Int(index) = get(regs, x) else {
+            return op_range_br::<true>(ip, regs, fuel + 6, context);
+        };
+        let (below, above) = (index < low, index >= high);
+        set(regs, t_lo, lo);
+        set(regs, c_lo, truth(below));
+        set(regs, t_hi, hi);
+        set(regs, c_hi, truth(above));
+        set(regs, d, truth(below | above));
+        below | above
     }
 }

@@ -291,19 +291,18 @@ unsafe fn stop(at: *const Slot, fuel: u64, context: &mut Context<'_>, why: Stop)
     context.stop = why;
 }
 
-/// Defines a handler: binds the op's fields (the handler is only ever paired
-/// with its variant), charges `$width` units of fuel, runs `$body`, which
-/// evaluates to the next slot (or returns after [`stop`]), and calls that
-/// slot's handler in tail position, unless the fuel no longer covers the widest op.
-macro_rules! handler {
+/// The shape every handler shares: the one signature, never inlined (a fast
+/// path reaches its general handler by a tail call), the op's fields bound
+/// (the handler is only ever paired with its variant), `$width` units of fuel
+/// charged, then `$then`.
+macro_rules! handler_fn {
     (
         $(#[$doc:meta])*
         fn $name:ident $(<$(const $generic:ident: $gty:ty),*>)?
         ($variant:ident { $($field:ident),* }, width $width:expr)
-        |$ip:ident, $regs:ident, $fuel:ident, $context:ident| $body:block
+        |$ip:ident, $regs:ident, $fuel:ident, $context:ident| $then:block
     ) => {
         $(#[$doc])*
-        // Never inlined: a fast path reaches its general handler by a tail call.
         #[inline(never)]
         #[allow(unused_variables, clippy::unused_unit)]
         unsafe fn $name $(<$(const $generic: $gty),*>)? (
@@ -317,8 +316,28 @@ macro_rules! handler {
                 unsafe { unreachable_unchecked() }
             };
             let $fuel = $fuel - $width;
-            let next: *const Slot = unsafe { $body };
-            dispatch!(next, $regs, $fuel, $context)
+            $then
+        }
+    };
+}
+
+/// Defines a handler whose `$body` evaluates to the next slot (or returns
+/// after [`stop`]), then calls that slot's handler in tail position, unless
+/// the fuel no longer covers the widest op.
+macro_rules! handler {
+    (
+        $(#[$doc:meta])*
+        fn $name:ident $(<$(const $generic:ident: $gty:ty),*>)?
+        ($variant:ident { $($field:ident),* }, width $width:expr)
+        |$ip:ident, $regs:ident, $fuel:ident, $context:ident| $body:block
+    ) => {
+        handler_fn! {
+            $(#[$doc])*
+            fn $name $(<$(const $generic: $gty),*>)? ($variant { $($field),* }, width $width)
+            |$ip, $regs, $fuel, $context| {
+                let next: *const Slot = unsafe { $body };
+                dispatch!(next, $regs, $fuel, $context)
+            }
         }
     };
 }
@@ -347,28 +366,18 @@ macro_rules! branch_handler {
         ($variant:ident { $($field:ident),* }, width $width:expr)
         |$ip:ident, $regs:ident, $fuel:ident, $context:ident| $body:block
     ) => {
-        $(#[$doc])*
-        // Never inlined: a fast path reaches its general handler by a tail call.
-        #[inline(never)]
-        #[allow(unused_variables, clippy::unused_unit)]
-        unsafe fn $name $(<$(const $generic: $gty),*>)? (
-            $ip: *const Slot,
-            $regs: *mut Value,
-            $fuel: u64,
-            $context: &mut Context<'_>,
-        ) {
-            // SAFETY: `Slot::new` pairs this handler with this variant only.
-            let Op::$variant { $($field),* } = (unsafe { &*$ip }).op else {
-                unsafe { unreachable_unchecked() }
-            };
-            let $fuel = $fuel - $width;
-            let taken: bool = unsafe { $body };
-            // SAFETY (both): `Slot::new` made the offsets from the op's targets,
-            // which `Code::new` clamped into the code.
-            if taken {
-                dispatch!(unsafe { $ip.byte_offset((*$ip).jumps[0]) }, $regs, $fuel, $context)
-            } else {
-                dispatch!(unsafe { $ip.byte_offset((*$ip).jumps[1]) }, $regs, $fuel, $context)
+        handler_fn! {
+            $(#[$doc])*
+            fn $name $(<$(const $generic: $gty),*>)? ($variant { $($field),* }, width $width)
+            |$ip, $regs, $fuel, $context| {
+                let taken: bool = unsafe { $body };
+                // SAFETY (both): `Slot::new` made the offsets from the op's targets,
+                // which `Code::new` clamped into the code.
+                if taken {
+                    dispatch!(unsafe { $ip.byte_offset((*$ip).jumps[0]) }, $regs, $fuel, $context)
+                } else {
+                    dispatch!(unsafe { $ip.byte_offset((*$ip).jumps[1]) }, $regs, $fuel, $context)
+                }
             }
         }
     };
@@ -656,50 +665,6 @@ handler! {
 }
 
 branch_handler! {
-    fn op_cmp_br<const C: usize>(CmpBr { cmp, a, b, c, if_true, if_false }, width 2)
-    |ip, regs, fuel, context| {
-        let result = compare(CMPS[C], get(regs, a), get(regs, b));
-        set(regs, c, truth(result));
-        result
-    }
-}
-
-branch_handler! {
-    fn op_jump_cmp_br<const C: usize>(JumpCmpBr { cmp, a, b, c, if_true, if_false }, width 3)
-    |ip, regs, fuel, context| {
-        let result = compare(CMPS[C], get(regs, a), get(regs, b));
-        set(regs, c, truth(result));
-        result
-    }
-}
-
-branch_handler! {
-    fn op_cmp_k_br<const C: usize, const INT: bool>(
-        CmpKBr { cmp, a, k, t, c, if_true, if_false }, width 3
-    )
-    |ip, regs, fuel, context| {
-        let k = constant::<INT>(k);
-        set(regs, t, k);
-        let result = compare(CMPS[C], get(regs, a), k);
-        set(regs, c, truth(result));
-        result
-    }
-}
-
-branch_handler! {
-    fn op_jump_cmp_k_br<const C: usize, const INT: bool>(
-        JumpCmpKBr { cmp, a, k, t, c, if_true, if_false }, width 4
-    )
-    |ip, regs, fuel, context| {
-        let k = constant::<INT>(k);
-        set(regs, t, k);
-        let result = compare(CMPS[C], get(regs, a), k);
-        set(regs, c, truth(result));
-        result
-    }
-}
-
-branch_handler! {
     fn op_add_jump_cmp_br<const C: usize>(
         AddJumpCmpBr { p, q, sum, cmp, a, b, c, if_true, if_false }, width 4
     )
@@ -795,70 +760,6 @@ integer_with_constant! {
     op_add_k_int, AddK, op_add_k, wrapping_add;
     op_sub_k_int, SubK, op_sub_k, wrapping_sub;
     op_mul_k_int, MulK, op_mul_k, wrapping_mul;
-}
-
-branch_handler! {
-    fn op_cmp_br_int<const C: usize>(CmpBr { cmp, a, b, c, if_true, if_false }, width 2)
-    |ip, regs, fuel, context| {
-        let (Value::Int(x), Value::Int(y)) = (get(regs, a), get(regs, b)) else {
-            return op_cmp_br::<C>(ip, regs, fuel + 2, context);
-        };
-        let result = compare(CMPS[C], Value::Int(x), Value::Int(y));
-        set(regs, c, truth(result));
-        result
-    }
-}
-
-branch_handler! {
-    fn op_jump_cmp_br_int<const C: usize>(
-        JumpCmpBr { cmp, a, b, c, if_true, if_false }, width 3
-    )
-    |ip, regs, fuel, context| {
-        let (Value::Int(x), Value::Int(y)) = (get(regs, a), get(regs, b)) else {
-            return op_jump_cmp_br::<C>(ip, regs, fuel + 3, context);
-        };
-        let result = compare(CMPS[C], Value::Int(x), Value::Int(y));
-        set(regs, c, truth(result));
-        result
-    }
-}
-
-branch_handler! {
-    fn op_cmp_k_br_int<const C: usize>(CmpKBr { cmp, a, k, t, c, if_true, if_false }, width 3)
-    |ip, regs, fuel, context| {
-        let Value::Int(y) = k else {
-            // SAFETY: `Slot::new` chose this handler for an integer constant.
-            unreachable_unchecked()
-        };
-        // `a` is read after `t` is written in the instructions, but `fuse`
-        // made sure they differ.
-        let Value::Int(x) = get(regs, a) else {
-            return op_cmp_k_br::<C, true>(ip, regs, fuel + 3, context);
-        };
-        set(regs, t, k);
-        let result = compare(CMPS[C], Value::Int(x), Value::Int(y));
-        set(regs, c, truth(result));
-        result
-    }
-}
-
-branch_handler! {
-    fn op_jump_cmp_k_br_int<const C: usize>(
-        JumpCmpKBr { cmp, a, k, t, c, if_true, if_false }, width 4
-    )
-    |ip, regs, fuel, context| {
-        let Value::Int(y) = k else {
-            // SAFETY: `Slot::new` chose this handler for an integer constant.
-            unreachable_unchecked()
-        };
-        let Value::Int(x) = get(regs, a) else {
-            return op_jump_cmp_k_br::<C, true>(ip, regs, fuel + 4, context);
-        };
-        set(regs, t, k);
-        let result = compare(CMPS[C], Value::Int(x), Value::Int(y));
-        set(regs, c, truth(result));
-        result
-    }
 }
 
 branch_handler! {
@@ -958,4 +859,98 @@ branch_handler! {
         set(regs, d, truth(below | above));
         below | above
     }
+}
+
+/// The compare-and-branch handlers: the same body for `cmpXX; cbr` and for the
+/// `jumpi` threaded into it (only the width differs).
+macro_rules! compare_and_branch {
+    ($($name:ident, $variant:ident, $width:expr;)*) => {$(
+        branch_handler! {
+            fn $name<const C: usize>($variant { cmp, a, b, c, if_true, if_false }, width $width)
+            |ip, regs, fuel, context| {
+                let result = compare(CMPS[C], get(regs, a), get(regs, b));
+                set(regs, c, truth(result));
+                result
+            }
+        }
+    )*};
+}
+
+compare_and_branch! {
+    op_cmp_br, CmpBr, 2;
+    op_jump_cmp_br, JumpCmpBr, 3;
+}
+
+/// The same with a constant (`loadi/loadd K,t` first).
+macro_rules! compare_constant_and_branch {
+    ($($name:ident, $variant:ident, $width:expr;)*) => {$(
+        branch_handler! {
+            fn $name<const C: usize, const INT: bool>(
+                $variant { cmp, a, k, t, c, if_true, if_false }, width $width
+            )
+            |ip, regs, fuel, context| {
+                let k = constant::<INT>(k);
+                set(regs, t, k);
+                let result = compare(CMPS[C], get(regs, a), k);
+                set(regs, c, truth(result));
+                result
+            }
+        }
+    )*};
+}
+
+compare_constant_and_branch! {
+    op_cmp_k_br, CmpKBr, 3;
+    op_jump_cmp_k_br, JumpCmpKBr, 4;
+}
+
+/// Integer fast paths of [`compare_and_branch`] (see [`integer_binary`]).
+macro_rules! integer_compare_and_branch {
+    ($($name:ident, $variant:ident, $general:ident, $width:expr;)*) => {$(
+        branch_handler! {
+            fn $name<const C: usize>($variant { cmp, a, b, c, if_true, if_false }, width $width)
+            |ip, regs, fuel, context| {
+                let (Value::Int(x), Value::Int(y)) = (get(regs, a), get(regs, b)) else {
+                    return $general::<C>(ip, regs, fuel + $width, context);
+                };
+                let result = compare(CMPS[C], Value::Int(x), Value::Int(y));
+                set(regs, c, truth(result));
+                result
+            }
+        }
+    )*};
+}
+
+integer_compare_and_branch! {
+    op_cmp_br_int, CmpBr, op_cmp_br, 2;
+    op_jump_cmp_br_int, JumpCmpBr, op_jump_cmp_br, 3;
+}
+
+/// Integer fast paths of [`compare_constant_and_branch`] with an integer constant.
+macro_rules! integer_compare_constant_and_branch {
+    ($($name:ident, $variant:ident, $general:ident, $width:expr;)*) => {$(
+        branch_handler! {
+            fn $name<const C: usize>($variant { cmp, a, k, t, c, if_true, if_false }, width $width)
+            |ip, regs, fuel, context| {
+                let Value::Int(y) = k else {
+                    // SAFETY: `Slot::new` chose this handler for an integer constant.
+                    unreachable_unchecked()
+                };
+                // `a` is read after `t` is written in the instructions, but `fuse`
+                // made sure they differ.
+                let Value::Int(x) = get(regs, a) else {
+                    return $general::<C, true>(ip, regs, fuel + $width, context);
+                };
+                set(regs, t, k);
+                let result = compare(CMPS[C], Value::Int(x), Value::Int(y));
+                set(regs, c, truth(result));
+                result
+            }
+        }
+    )*};
+}
+
+integer_compare_constant_and_branch! {
+    op_cmp_k_br_int, CmpKBr, op_cmp_k_br, 3;
+    op_jump_cmp_k_br_int, JumpCmpKBr, op_jump_cmp_k_br, 4;
 }

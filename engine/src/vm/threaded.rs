@@ -26,7 +26,13 @@
 //!
 //! Handlers are specialised where the loader knows an operand's type: a fused
 //! op's constant is an integer or a float for good, and each comparison has
-//! its own handler, so neither costs a test at run time.
+//! its own handler, so neither costs a test at run time. The common ops have an
+//! integer fast path (`*_int`): with integer operands it computes without the
+//! float code (so it saves no registers), and otherwise it goes on in the
+//! general handler by a tail call, before writing anything. A branching
+//! handler branches on its condition and then jumps (`branch_handler!`): a
+//! conditional branch the predictor sees, where a select feeding one indirect
+//! jump ran the branchy `states` benchmark at half the speed.
 
 use std::hint::unreachable_unchecked;
 

@@ -5,6 +5,11 @@
 //! Both wall-clock time and the thread's CPU time (Linux
 //! `/proc/thread-self/schedstat`) are reported: on a shared machine the
 //! wall clock also counts time spent waiting for a core.
+//!
+//! Given GLOC files instead (`cargo bench -p gloc-engine --bench interp --
+//! a.gloc b.gloc`), runs each as one cycle without a budget through both
+//! dispatches, the `match` loop and threaded code, and prints the CPU time
+//! (minimum and median of 7 runs): the engine alone, in a small binary.
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -12,7 +17,7 @@ use std::time::Instant;
 use gloc_engine::gloc::{self, CheckOptions};
 use gloc_engine::program::Program;
 use gloc_engine::sensors::{SensorId, SensorList};
-use gloc_engine::vm::{CycleEnd, Host, Machine, MachineConfig};
+use gloc_engine::vm::{CycleEnd, Dispatch, Host, Machine, MachineConfig};
 
 /// i := i + 1; acc := acc + i * 0.5; loop while i < n (sensor 1385).
 /// Five instructions per iteration: add, mul, add, cmplt, cbr.
@@ -57,7 +62,53 @@ fn program() -> Arc<Program> {
     checked.program.expect("the benchmark script checks")
 }
 
+/// Runs each GLOC file through both dispatches; prints CPU times.
+fn run_scripts(paths: &[String]) {
+    for path in paths {
+        let text = std::fs::read_to_string(path).expect("the GLOC file is readable");
+        let checked = gloc::check(
+            &gloc::parse(&text),
+            &SensorList::embedded(),
+            &CheckOptions::default(),
+        );
+        let program = checked.program.expect("the GLOC file checks");
+        for dispatch in [Dispatch::Loop, Dispatch::Threaded] {
+            let mut milliseconds = Vec::new();
+            for _ in 0..7 {
+                let mut machine = Machine::new(
+                    Arc::clone(&program),
+                    MachineConfig {
+                        cycle_budget: u64::MAX,
+                    },
+                );
+                machine.set_dispatch(dispatch);
+                let mut host = Bench { iterations: 0.0 };
+                let start = thread_cpu_seconds();
+                machine.run_cycle(&mut host);
+                if let (Some(start), Some(end)) = (start, thread_cpu_seconds()) {
+                    milliseconds.push((end - start) * 1e3);
+                }
+            }
+            milliseconds.sort_by(f64::total_cmp);
+            if let (Some(min), Some(median)) = (
+                milliseconds.first(),
+                milliseconds.get(milliseconds.len() / 2),
+            ) {
+                println!("{path} {dispatch:?}: CPU min {min:.2} ms, median {median:.2} ms");
+            }
+        }
+    }
+}
+
 fn main() {
+    let scripts: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|arg| arg.ends_with(".gloc"))
+        .collect();
+    if !scripts.is_empty() {
+        run_scripts(&scripts);
+        return;
+    }
     let iterations: u64 = std::env::args()
         .nth(1)
         .and_then(|arg| arg.parse().ok())

@@ -547,6 +547,36 @@ impl Machine {
                             reg!(t) = k;
                             compare_branch!(3, cmp, a, k, c, if_true, if_false)
                         }
+                        Op::AddJumpCmpBr {
+                            p,
+                            q,
+                            sum,
+                            cmp,
+                            a,
+                            b,
+                            c,
+                            if_true,
+                            if_false,
+                        } => {
+                            reg!(sum) = add(reg!(p), reg!(q));
+                            compare_branch!(3, cmp, a, reg!(b), c, if_true, if_false)
+                        }
+                        Op::AddJumpCmpKBr {
+                            p,
+                            q,
+                            sum,
+                            cmp,
+                            a,
+                            k,
+                            t,
+                            c,
+                            if_true,
+                            if_false,
+                        } => {
+                            reg!(sum) = add(reg!(p), reg!(q));
+                            reg!(t) = k;
+                            compare_branch!(4, cmp, a, k, c, if_true, if_false)
+                        }
                         Op::RangeBr {
                             x,
                             lo,

@@ -463,7 +463,7 @@ fn random_script(random: &mut Random) -> String {
         let forward = |random: &mut Random, next_label: u32| {
             next_label + random.below(u64::from(labels - next_label)) as u32
         };
-        match random.below(6) {
+        match random.below(7) {
             0 => {
                 let t = reg(random);
                 body.push(format!("{constant},{t}"));
@@ -523,6 +523,16 @@ fn random_script(random: &mut Random) -> String {
                 let (yes, no) = (forward(random, next_label), forward(random, next_label));
                 body.push(format!("cbr {d},{yes},{no}"));
             }
+            5 => {
+                // Memory through a register address: integers in and out of
+                // range, whole and fractional floats (traps end the cycle).
+                let (value, address) = (reg(random), reg(random));
+                if random.below(2) == 0 {
+                    body.push(format!("storem {value},{address}"));
+                } else {
+                    body.push(format!("loadm {address},{value}"));
+                }
+            }
             _ => body.push(format!("print {}", reg(random))),
         }
     }
@@ -531,8 +541,17 @@ fn random_script(random: &mut Random) -> String {
         next_label += 1;
     }
     body.push("yield".to_string());
+    // Half the time a step before the back edge, which joins it and the loop test.
+    if random.below(2) == 0 {
+        body.push(format!(
+            "add {},{},{}",
+            reg(random),
+            reg(random),
+            reg(random)
+        ));
+    }
     body.push("jumpi 0".to_string());
-    script(6, labels, 0, &body)
+    script(6, labels, 3, &body)
 }
 
 #[test]
@@ -543,5 +562,30 @@ fn random_scripts_agree_with_stepping() {
         let budget = 1 + random.below(70);
         agree(&text, 4, budget, 2.5);
         agree(&text, 4, 10_000, 2.5);
+    }
+}
+
+/// The GLOC scripts of the repository that check clean (the `ok` fixtures, which
+/// use every kind of instruction: memory, indirect jumps, logic, printing, and
+/// the paper's Fig. 2 script), every budget from 1 to 40 and the default.
+#[test]
+fn the_repository_scripts_agree_at_every_budget() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let mut paths: Vec<_> = std::fs::read_dir(root.join("tests/fixtures/gloc/ok"))
+        .expect("the ok fixtures are in the repository")
+        .map(|entry| entry.expect("a readable entry").path())
+        .filter(|path| {
+            path.extension()
+                .is_some_and(|extension| extension == "gloc")
+        })
+        .collect();
+    paths.sort();
+    paths.push(root.join("examples/fig2.gloc"));
+    assert!(paths.len() >= 7, "{paths:?}");
+    for path in paths {
+        let text = std::fs::read_to_string(&path).expect("a readable script");
+        for budget in (1..=40).chain([10_000]) {
+            agree(&text, 6, budget, 12.5);
+        }
     }
 }

@@ -125,6 +125,8 @@ ops! {
         CmpKBr { cmp: Cmp, a: Reg, k: Value, t: Reg, c: Reg, if_true: Pc, if_false: Pc },
         JumpCmpBr { cmp: Cmp, a: Reg, b: Reg, c: Reg, if_true: Pc, if_false: Pc },
         JumpCmpKBr { cmp: Cmp, a: Reg, k: Value, t: Reg, c: Reg, if_true: Pc, if_false: Pc },
+        AddJumpCmpBr { p: Reg, q: Reg, sum: Reg, cmp: Cmp, a: Reg, b: Reg, c: Reg, if_true: Pc, if_false: Pc },
+        AddJumpCmpKBr { p: Reg, q: Reg, sum: Reg, cmp: Cmp, a: Reg, k: Value, t: Reg, c: Reg, if_true: Pc, if_false: Pc },
         RangeBr { x: Reg, lo: Value, t_lo: Reg, c_lo: Reg, hi: Value, t_hi: Reg, c_hi: Reg, d: Reg, if_out: Pc, if_in: Pc },
     }
 }
@@ -226,7 +228,8 @@ impl Code {
         Code {
             threaded: fused
                 .iter()
-                .map(|&op| super::threaded::Slot::new(op))
+                .enumerate()
+                .map(|(pc, &op)| super::threaded::Slot::new(op, pc))
                 .collect(),
             plain: plain.into_boxed_slice(),
             fused: fused.into_boxed_slice(),
@@ -253,7 +256,8 @@ pub(super) fn width(op: &Op) -> u64 {
         | Op::IntToFloatAdd { .. }
         | Op::CmpBr { .. } => 2,
         Op::CmpKBr { .. } | Op::JumpCmpBr { .. } => 3,
-        Op::JumpCmpKBr { .. } => 4,
+        Op::JumpCmpKBr { .. } | Op::AddJumpCmpBr { .. } => 4,
+        Op::AddJumpCmpKBr { .. } => 5,
         Op::RangeBr { .. } => 6,
         _ => 1,
     }
@@ -437,7 +441,9 @@ fn range_check(window: &[Instr]) -> Option<Op> {
 }
 
 /// Jump threading: a `jumpi` whose target starts a fused compare-and-branch
-/// does the compare itself (the loop's back edge and its test in one dispatch).
+/// does the compare itself (the loop's back edge and its test in one dispatch),
+/// and an `add` just before such a `jumpi` joins it (a `for` loop's step, back
+/// edge and test in one dispatch, as Lua's `FORLOOP`).
 fn thread_jumps(fused: &mut [Op]) {
     for index in 0..fused.len() {
         let Op::Jump { target } = fused[index] else {
@@ -478,6 +484,55 @@ fn thread_jumps(fused: &mut [Op]) {
             },
             _ => continue,
         };
+        let Some(&Op::Add {
+            a: p,
+            b: q,
+            dst: sum,
+        }) = index.checked_sub(1).map(|at| &fused[at])
+        else {
+            continue;
+        };
+        fused[index - 1] = match fused[index] {
+            Op::JumpCmpBr {
+                cmp,
+                a,
+                b,
+                c,
+                if_true,
+                if_false,
+            } => Op::AddJumpCmpBr {
+                p,
+                q,
+                sum,
+                cmp,
+                a,
+                b,
+                c,
+                if_true,
+                if_false,
+            },
+            Op::JumpCmpKBr {
+                cmp,
+                a,
+                k,
+                t,
+                c,
+                if_true,
+                if_false,
+            } => Op::AddJumpCmpKBr {
+                p,
+                q,
+                sum,
+                cmp,
+                a,
+                k,
+                t,
+                c,
+                if_true,
+                if_false,
+            },
+            _ => continue,
+        };
     }
 }
 
@@ -492,7 +547,7 @@ mod tests {
 
     fn code(body: &str) -> Code {
         let lines = body.lines().count();
-        let text = format!("nregs 8\nnblbs 3\nninstr {lines}\n{body}");
+        let text = format!("nregs 8\nnblbs 8\nninstr {lines}\n{body}");
         let checked = gloc::check(
             &gloc::parse(&text),
             &SensorList::embedded(),
@@ -530,6 +585,34 @@ mod tests {
         ));
         // The plain code stays one to one.
         assert!(code.plain.iter().all(|op| width(op) == 1));
+    }
+
+    #[test]
+    fn a_loop_step_joins_its_back_edge_and_test() {
+        // `for i = 1 to n` as `-O` emits it: the step `add`, the `jumpi`, and the
+        // test (`cmple` + `cbr`, or against a constant) it lands on: one op.
+        let code = code(
+            "label 0\ncmple r0,r1,r3\ncbr r3,1,2\nlabel 1\nadd r5,r0,r5\nadd r0,r2,r0\njumpi 0\n\
+             label 2\nlabel 3\nloadi 9,r1\ncmplt r0,r1,r4\ncbr r4,4,5\nlabel 4\nadd r0,r2,r0\n\
+             jumpi 3\nlabel 5\nyield",
+        );
+        let widths: Vec<u64> = code.fused.iter().map(width).collect();
+        // pc: 0 cmple+cbr, 2 add, 3 add+jumpi+cmple+cbr, 4 jumpi+cmple+cbr, 5 loadi+cmplt+cbr,
+        // 6 cmplt+cbr, 8 add+jumpi+loadi+cmplt+cbr, 9 jumpi+loadi+cmplt+cbr, 10 yield, 11 halt.
+        assert_eq!(
+            widths,
+            [2, 1, 1, 4, 3, 3, 2, 1, 5, 4, 1, 1],
+            "{:#?}",
+            code.fused
+        );
+        assert!(matches!(
+            code.fused[8],
+            Op::AddJumpCmpKBr {
+                cmp: Cmp::Lt,
+                k: Value::Int(9),
+                ..
+            }
+        ));
     }
 
     #[test]

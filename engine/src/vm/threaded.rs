@@ -26,7 +26,13 @@
 //!
 //! Handlers are specialised where the loader knows an operand's type: a fused
 //! op's constant is an integer or a float for good, and each comparison has
-//! its own handler, so neither costs a test at run time.
+//! its own handler, so neither costs a test at run time. The common ops have an
+//! integer fast path (`*_int`): with integer operands it computes without the
+//! float code (so it saves no registers), and otherwise it goes on in the
+//! general handler by a tail call, before writing anything. A branching
+//! handler branches on its condition and then jumps (`branch_handler!`): a
+//! conditional branch the predictor sees, where a select feeding one indirect
+//! jump ran the branchy `states` benchmark at half the speed.
 
 use std::hint::unreachable_unchecked;
 
@@ -42,17 +48,20 @@ use crate::sensors::SensorId;
 /// stack depth should a handler ever not tail-call.
 const CHUNK: u64 = 4096;
 
-/// One op of the threaded code: its handler and its operands.
+/// One op of the threaded code: its handler, its branch targets and its operands.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Slot {
     handler: Handler,
+    /// The op's branch targets (taken or jump target, then not taken) as byte
+    /// offsets from this slot, so that a handler needs no base pointer (one
+    /// register fewer: fewer handlers save registers). 0 where unused.
+    jumps: [isize; 2],
     op: Op,
 }
 
 /// The one signature of every handler: the slot it runs, the register file,
-/// the first slot (branch targets are indices from it), the fuel left, and
-/// the rest of the machine.
-type Handler = unsafe fn(*const Slot, *mut Value, *const Slot, u64, &mut Context<'_>);
+/// the fuel left, and the rest of the machine.
+type Handler = unsafe fn(*const Slot, *mut Value, u64, &mut Context<'_>);
 
 /// What the handlers reach besides the registers, and where they leave how
 /// they stopped.
@@ -62,6 +71,8 @@ pub(super) struct Context<'a> {
     pub program: &'a Program,
     /// The number of slots (an indirect jump checks its target against it).
     pub code_len: usize,
+    /// The first slot (set by [`run`]): pcs are indices from it.
+    base: *const Slot,
     /// Set by the handler that stops: why, at which pc, with how much fuel.
     stop: Stop,
     pc: usize,
@@ -88,6 +99,7 @@ impl<'a> Context<'a> {
             memory,
             program,
             code_len,
+            base: std::ptr::null(),
             stop: Stop::Exit(Exit::OutOfFuel),
             pc: 0,
             fuel: 0,
@@ -105,6 +117,7 @@ pub(super) fn run(
     context: &mut Context<'_>,
 ) -> Stop {
     let base = slots.as_ptr();
+    context.base = base;
     let regs = registers.as_mut_ptr();
     loop {
         if *fuel < MAX_FUSED {
@@ -117,7 +130,7 @@ pub(super) fn run(
         // `Code::new`, an indirect jump checks its target), reads only the
         // fields of the variant it was chosen for (`Slot::new`), and indexes
         // registers below `code.register_bound`, which the register file covers.
-        unsafe { ((*base.add(*pc)).handler)(base.add(*pc), regs, base, chunk, context) };
+        unsafe { ((*base.add(*pc)).handler)(base.add(*pc), regs, chunk, context) };
         *fuel -= chunk - context.fuel;
         *pc = context.pc;
         match context.stop {
@@ -131,9 +144,9 @@ pub(super) fn run(
 const CMPS: [Cmp; 6] = [Cmp::Eq, Cmp::Ne, Cmp::Lt, Cmp::Le, Cmp::Gt, Cmp::Ge];
 
 impl Slot {
-    /// The slot for `op`: the handler made for its variant (and its comparison
-    /// and constant type).
-    pub fn new(op: Op) -> Slot {
+    /// The slot for `op` at `pc`: the handler made for its variant (and its
+    /// comparison and constant type) and its branch targets.
+    pub fn new(op: Op, pc: usize) -> Slot {
         macro_rules! by_cmp {
             ($cmp:expr, $handler:ident $(, $rest:expr)*) => {
                 [
@@ -153,11 +166,11 @@ impl Slot {
             Op::LoadInt { .. } => op_load_int,
             Op::LoadFloat { .. } => op_load_float,
             Op::Move { .. } => op_move,
-            Op::Add { .. } => op_add,
-            Op::Sub { .. } => op_sub,
-            Op::Mul { .. } => op_mul,
-            Op::Div { .. } => op_div,
-            Op::Mod { .. } => op_mod,
+            Op::Add { .. } => op_add_int,
+            Op::Sub { .. } => op_sub_int,
+            Op::Mul { .. } => op_mul_int,
+            Op::Div { .. } => op_div_int,
+            Op::Mod { .. } => op_mod_int,
             Op::Min { .. } => op_min,
             Op::Max { .. } => op_max,
             Op::And { .. } => op_and,
@@ -175,9 +188,9 @@ impl Slot {
             Op::IntToFloat { .. } => op_int_to_float,
             Op::FloatToInt { .. } => op_float_to_int,
             Op::Not { .. } => op_not,
-            Op::LoadMem { .. } => op_load_mem,
+            Op::LoadMem { .. } => op_load_mem_int,
             Op::LoadMemAt { .. } => op_load_mem_at,
-            Op::StoreMem { .. } => op_store_mem,
+            Op::StoreMem { .. } => op_store_mem_int,
             Op::StoreMemAt { .. } => op_store_mem_at,
             Op::Branch { .. } => op_branch,
             Op::Jump { .. } => op_jump,
@@ -188,27 +201,63 @@ impl Slot {
             Op::Write { .. } | Op::WriteText { .. } | Op::Print { .. } | Op::PrintText { .. } => {
                 op_output
             }
-            Op::AddK { k, .. } if is_int(k) => op_add_k::<true>,
+            Op::AddK { k, .. } if is_int(k) => op_add_k_int,
             Op::AddK { .. } => op_add_k::<false>,
-            Op::SubK { k, .. } if is_int(k) => op_sub_k::<true>,
+            Op::SubK { k, .. } if is_int(k) => op_sub_k_int,
             Op::SubK { .. } => op_sub_k::<false>,
-            Op::MulK { k, .. } if is_int(k) => op_mul_k::<true>,
+            Op::MulK { k, .. } if is_int(k) => op_mul_k_int,
             Op::MulK { .. } => op_mul_k::<false>,
-            Op::DivK { k, .. } if is_int(k) => op_div_k::<true>,
+            Op::DivK { k, .. } if is_int(k) => op_div_k_int,
             Op::DivK { .. } => op_div_k::<false>,
-            Op::ModK { k, .. } if is_int(k) => op_mod_k::<true>,
+            Op::ModK { k, .. } if is_int(k) => op_mod_k_int,
             Op::ModK { .. } => op_mod_k::<false>,
             Op::IntToFloatAdd { .. } => op_int_to_float_add,
-            Op::CmpBr { cmp, .. } => by_cmp!(cmp, op_cmp_br),
-            Op::JumpCmpBr { cmp, .. } => by_cmp!(cmp, op_jump_cmp_br),
-            Op::CmpKBr { cmp, k, .. } if is_int(k) => by_cmp!(cmp, op_cmp_k_br, true),
+            Op::CmpBr { cmp, .. } => by_cmp!(cmp, op_cmp_br_int),
+            Op::JumpCmpBr { cmp, .. } => by_cmp!(cmp, op_jump_cmp_br_int),
+            Op::CmpKBr { cmp, k, .. } if is_int(k) => by_cmp!(cmp, op_cmp_k_br_int),
             Op::CmpKBr { cmp, .. } => by_cmp!(cmp, op_cmp_k_br, false),
-            Op::JumpCmpKBr { cmp, k, .. } if is_int(k) => by_cmp!(cmp, op_jump_cmp_k_br, true),
+            Op::JumpCmpKBr { cmp, k, .. } if is_int(k) => by_cmp!(cmp, op_jump_cmp_k_br_int),
             Op::JumpCmpKBr { cmp, .. } => by_cmp!(cmp, op_jump_cmp_k_br, false),
-            Op::RangeBr { lo, hi, .. } if is_int(lo) && is_int(hi) => op_range_br::<true>,
+            Op::AddJumpCmpBr { cmp, .. } => by_cmp!(cmp, op_add_jump_cmp_br_int),
+            Op::AddJumpCmpKBr { cmp, k, .. } if is_int(k) => by_cmp!(cmp, op_add_jump_cmp_k_br_int),
+            Op::AddJumpCmpKBr { cmp, .. } => by_cmp!(cmp, op_add_jump_cmp_k_br, false),
+            Op::RangeBr { lo, hi, .. } if is_int(lo) && is_int(hi) => op_range_br_int,
             Op::RangeBr { .. } => op_range_br::<false>,
         };
-        Slot { handler, op }
+        let offset = |target: Pc| {
+            (target.index() as isize - pc as isize) * std::mem::size_of::<Slot>() as isize
+        };
+        let jumps = match op {
+            Op::Jump { target } => [offset(target), 0],
+            Op::Branch {
+                if_true, if_false, ..
+            }
+            | Op::CmpBr {
+                if_true, if_false, ..
+            }
+            | Op::CmpKBr {
+                if_true, if_false, ..
+            }
+            | Op::JumpCmpBr {
+                if_true, if_false, ..
+            }
+            | Op::JumpCmpKBr {
+                if_true, if_false, ..
+            }
+            | Op::AddJumpCmpBr {
+                if_true, if_false, ..
+            }
+            | Op::AddJumpCmpKBr {
+                if_true, if_false, ..
+            }
+            | Op::RangeBr {
+                if_out: if_true,
+                if_in: if_false,
+                ..
+            } => [offset(if_true), offset(if_false)],
+            _ => [0, 0],
+        };
+        Slot { handler, jumps, op }
     }
 }
 
@@ -241,36 +290,30 @@ fn constant<const INT: bool>(k: Value) -> Value {
 
 /// Records how the handlers stopped: at `at`, with `fuel` left.
 #[inline(always)]
-unsafe fn stop(
-    at: *const Slot,
-    base: *const Slot,
-    fuel: u64,
-    context: &mut Context<'_>,
-    why: Stop,
-) {
+unsafe fn stop(at: *const Slot, fuel: u64, context: &mut Context<'_>, why: Stop) {
     // SAFETY: both point into the one slot array.
-    context.pc = unsafe { at.offset_from(base) } as usize;
+    context.pc = unsafe { at.offset_from(context.base) } as usize;
     context.fuel = fuel;
     context.stop = why;
 }
 
-/// Defines a handler: binds the op's fields (the handler is only ever paired
-/// with its variant), charges `$width` units of fuel, runs `$body`, which
-/// evaluates to the next slot (or returns after [`stop`]), and calls that
-/// slot's handler in tail position, unless the fuel no longer covers the widest op.
-macro_rules! handler {
+/// The shape every handler shares: the one signature, never inlined (a fast
+/// path reaches its general handler by a tail call), the op's fields bound
+/// (the handler is only ever paired with its variant), `$width` units of fuel
+/// charged, then `$then`.
+macro_rules! handler_fn {
     (
         $(#[$doc:meta])*
         fn $name:ident $(<$(const $generic:ident: $gty:ty),*>)?
         ($variant:ident { $($field:ident),* }, width $width:expr)
-        |$ip:ident, $regs:ident, $base:ident, $fuel:ident, $context:ident| $body:block
+        |$ip:ident, $regs:ident, $fuel:ident, $context:ident| $then:block
     ) => {
         $(#[$doc])*
+        #[inline(never)]
         #[allow(unused_variables, clippy::unused_unit)]
         unsafe fn $name $(<$(const $generic: $gty),*>)? (
             $ip: *const Slot,
             $regs: *mut Value,
-            $base: *const Slot,
             $fuel: u64,
             $context: &mut Context<'_>,
         ) {
@@ -279,8 +322,28 @@ macro_rules! handler {
                 unsafe { unreachable_unchecked() }
             };
             let $fuel = $fuel - $width;
-            let next: *const Slot = unsafe { $body };
-            dispatch!(next, $regs, $base, $fuel, $context)
+            $then
+        }
+    };
+}
+
+/// Defines a handler whose `$body` evaluates to the next slot (or returns
+/// after [`stop`]), then calls that slot's handler in tail position, unless
+/// the fuel no longer covers the widest op.
+macro_rules! handler {
+    (
+        $(#[$doc:meta])*
+        fn $name:ident $(<$(const $generic:ident: $gty:ty),*>)?
+        ($variant:ident { $($field:ident),* }, width $width:expr)
+        |$ip:ident, $regs:ident, $fuel:ident, $context:ident| $body:block
+    ) => {
+        handler_fn! {
+            $(#[$doc])*
+            fn $name $(<$(const $generic: $gty),*>)? ($variant { $($field),* }, width $width)
+            |$ip, $regs, $fuel, $context| {
+                let next: *const Slot = unsafe { $body };
+                dispatch!(next, $regs, $fuel, $context)
+            }
         }
     };
 }
@@ -288,18 +351,18 @@ macro_rules! handler {
 /// Goes on at `next`: stops when the fuel no longer covers the widest op,
 /// and otherwise calls its handler in tail position.
 macro_rules! dispatch {
-    ($next:expr, $regs:ident, $base:ident, $fuel:ident, $context:ident) => {{
+    ($next:expr, $regs:ident, $fuel:ident, $context:ident) => {{
         let next: *const Slot = $next;
         if $fuel < MAX_FUSED {
-            return unsafe { stop(next, $base, $fuel, $context, Stop::Exit(Exit::OutOfFuel)) };
+            return unsafe { stop(next, $fuel, $context, Stop::Exit(Exit::OutOfFuel)) };
         }
         // The tail call that LLVM turns into a jump (tests/tail_calls.rs).
-        return unsafe { ((*next).handler)(next, $regs, $base, $fuel, $context) };
+        return unsafe { ((*next).handler)(next, $regs, $fuel, $context) };
     }};
 }
 
 /// Defines a handler that branches: like [`handler!`], but `$body` evaluates to
-/// (taken, if_true, if_false) and each way has its own tail call. The
+/// whether the branch is taken, and each way has its own tail call. The
 /// condition is then a conditional branch that the predictor sees before the
 /// indirect jump, and each indirect jump has its own history.
 macro_rules! branch_handler {
@@ -307,27 +370,20 @@ macro_rules! branch_handler {
         $(#[$doc:meta])*
         fn $name:ident $(<$(const $generic:ident: $gty:ty),*>)?
         ($variant:ident { $($field:ident),* }, width $width:expr)
-        |$ip:ident, $regs:ident, $base:ident, $fuel:ident, $context:ident| $body:block
+        |$ip:ident, $regs:ident, $fuel:ident, $context:ident| $body:block
     ) => {
-        $(#[$doc])*
-        #[allow(unused_variables, clippy::unused_unit)]
-        unsafe fn $name $(<$(const $generic: $gty),*>)? (
-            $ip: *const Slot,
-            $regs: *mut Value,
-            $base: *const Slot,
-            $fuel: u64,
-            $context: &mut Context<'_>,
-        ) {
-            // SAFETY: `Slot::new` pairs this handler with this variant only.
-            let Op::$variant { $($field),* } = (unsafe { &*$ip }).op else {
-                unsafe { unreachable_unchecked() }
-            };
-            let $fuel = $fuel - $width;
-            let (taken, if_true, if_false): (bool, Pc, Pc) = unsafe { $body };
-            if taken {
-                dispatch!(unsafe { branch_target($base, if_true) }, $regs, $base, $fuel, $context)
-            } else {
-                dispatch!(unsafe { branch_target($base, if_false) }, $regs, $base, $fuel, $context)
+        handler_fn! {
+            $(#[$doc])*
+            fn $name $(<$(const $generic: $gty),*>)? ($variant { $($field),* }, width $width)
+            |$ip, $regs, $fuel, $context| {
+                let taken: bool = unsafe { $body };
+                // SAFETY (both): `Slot::new` made the offsets from the op's targets,
+                // which `Code::new` clamped into the code.
+                if taken {
+                    dispatch!(unsafe { $ip.byte_offset((*$ip).jumps[0]) }, $regs, $fuel, $context)
+                } else {
+                    dispatch!(unsafe { $ip.byte_offset((*$ip).jumps[1]) }, $regs, $fuel, $context)
+                }
             }
         }
     };
@@ -335,8 +391,8 @@ macro_rules! branch_handler {
 
 /// Stops the handlers at the current op with `why` (from inside a handler body).
 macro_rules! stop_here {
-    ($ip:ident, $base:ident, $fuel:ident, $context:ident, $why:expr) => {{
-        stop($ip, $base, $fuel, $context, $why);
+    ($ip:ident, $fuel:ident, $context:ident, $why:expr) => {{
+        stop($ip, $fuel, $context, $why);
         return;
     }};
 }
@@ -345,7 +401,7 @@ macro_rules! stop_here {
 macro_rules! binary {
     ($($name:ident, $variant:ident, $f:expr;)*) => {$(
         handler! {
-            fn $name($variant { a, b, dst }, width 1) |ip, regs, base, fuel, context| {
+            fn $name($variant { a, b, dst }, width 1) |ip, regs, fuel, context| {
                 set(regs, dst, $f(get(regs, a), get(regs, b)));
                 ip.add(1)
             }
@@ -357,7 +413,7 @@ macro_rules! binary {
 macro_rules! unary {
     ($($name:ident, $variant:ident, $f:expr;)*) => {$(
         handler! {
-            fn $name($variant { src, dst }, width 1) |ip, regs, base, fuel, context| {
+            fn $name($variant { src, dst }, width 1) |ip, regs, fuel, context| {
                 set(regs, dst, $f(get(regs, src)));
                 ip.add(1)
             }
@@ -369,9 +425,9 @@ macro_rules! unary {
 macro_rules! division {
     ($($name:ident, $variant:ident, $f:expr;)*) => {$(
         handler! {
-            fn $name($variant { a, b, dst }, width 1) |ip, regs, base, fuel, context| {
+            fn $name($variant { a, b, dst }, width 1) |ip, regs, fuel, context| {
                 if integer_division_by_zero(get(regs, a), get(regs, b)) {
-                    stop_here!(ip, base, fuel, context, Stop::Exit(Exit::Trap(TrapKind::DivisionByZero)));
+                    stop_here!(ip, fuel, context, Stop::Exit(Exit::Trap(TrapKind::DivisionByZero)));
                 }
                 set(regs, dst, $f(get(regs, a), get(regs, b)));
                 ip.add(1)
@@ -385,7 +441,7 @@ macro_rules! with_constant {
     ($($name:ident, $variant:ident, $f:expr;)*) => {$(
         handler! {
             fn $name<const INT: bool>($variant { a, k, t, dst }, width 2)
-            |ip, regs, base, fuel, context| {
+            |ip, regs, fuel, context| {
                 let k = constant::<INT>(k);
                 set(regs, t, k);
                 set(regs, dst, $f(get(regs, a), k));
@@ -393,13 +449,6 @@ macro_rules! with_constant {
             }
         }
     )*};
-}
-
-/// The target of a branch.
-#[inline(always)]
-unsafe fn branch_target(base: *const Slot, pc: Pc) -> *const Slot {
-    // SAFETY: `Code::new` clamped every target into the code.
-    unsafe { base.add(pc.index()) }
 }
 
 binary! {
@@ -442,6 +491,58 @@ with_constant! {
     op_mod_k, ModK, rem;
 }
 
+/// Integer fast paths of `div` and `mod`: no call (a float remainder calls
+/// `fmod`, a zero divisor traps), so the handler saves no registers; any other
+/// case goes on in the general handler, by a tail call with the fuel as it was.
+macro_rules! integer_division {
+    ($($name:ident, $variant:ident, $general:ident, $f:ident;)*) => {$(
+        handler! {
+            fn $name($variant { a, b, dst }, width 1) |ip, regs, fuel, context| {
+                match (get(regs, a), get(regs, b)) {
+                    (Value::Int(x), Value::Int(y)) if y != 0 => set(regs, dst, Value::Int(x.$f(y))),
+                    _ => return $general(ip, regs, fuel + 1, context),
+                }
+                ip.add(1)
+            }
+        }
+    )*};
+}
+
+/// Integer fast paths of the fused `loadi K,t; div/mod a,t,dst` (see
+/// [`integer_division`]); `fuse` never fuses a zero divisor.
+macro_rules! integer_division_by_constant {
+    ($($name:ident, $variant:ident, $general:ident, $f:ident;)*) => {$(
+        handler! {
+            fn $name($variant { a, k, t, dst }, width 2) |ip, regs, fuel, context| {
+                let Value::Int(divisor) = k else {
+                    // SAFETY: `Slot::new` chose this handler for an integer constant.
+                    unreachable_unchecked()
+                };
+                if divisor == 0 {
+                    // SAFETY: `fuse` leaves a division by the constant 0 plain.
+                    unreachable_unchecked()
+                }
+                set(regs, t, k);
+                match get(regs, a) {
+                    Value::Int(x) => set(regs, dst, Value::Int(x.$f(divisor))),
+                    Value::Float(_) => return $general::<true>(ip, regs, fuel + 2, context),
+                }
+                ip.add(2)
+            }
+        }
+    )*};
+}
+
+integer_division! {
+    op_div_int, Div, op_div, wrapping_div;
+    op_mod_int, Mod, op_mod, wrapping_rem;
+}
+
+integer_division_by_constant! {
+    op_div_k_int, DivK, op_div_k, wrapping_div;
+    op_mod_k_int, ModK, op_mod_k, wrapping_rem;
+}
+
 /// Calls the host out of line, so that the handler's only indirect call is
 /// none: its tail call stays the one indirect transfer (tests/tail_calls.rs).
 #[inline(never)]
@@ -456,130 +557,112 @@ fn store_sensor(host: &mut dyn Host, sensor: SensorId, value: f64) {
 }
 
 handler! {
-    fn op_load_sensor(LoadSensor { sensor, dst }, width 1) |ip, regs, base, fuel, context| {
+    fn op_load_sensor(LoadSensor { sensor, dst }, width 1) |ip, regs, fuel, context| {
         set(regs, dst, Value::Float(load_sensor(context.host, sensor)));
         ip.add(1)
     }
 }
 
 handler! {
-    fn op_store_sensor(StoreSensor { src, sensor }, width 1) |ip, regs, base, fuel, context| {
+    fn op_store_sensor(StoreSensor { src, sensor }, width 1) |ip, regs, fuel, context| {
         store_sensor(context.host, sensor, get(regs, src).as_f64());
         ip.add(1)
     }
 }
 
 handler! {
-    fn op_load_int(LoadInt { value, dst }, width 1) |ip, regs, base, fuel, context| {
+    fn op_load_int(LoadInt { value, dst }, width 1) |ip, regs, fuel, context| {
         set(regs, dst, Value::Int(value));
         ip.add(1)
     }
 }
 
 handler! {
-    fn op_load_float(LoadFloat { value, dst }, width 1) |ip, regs, base, fuel, context| {
+    fn op_load_float(LoadFloat { value, dst }, width 1) |ip, regs, fuel, context| {
         set(regs, dst, Value::Float(value));
         ip.add(1)
     }
 }
 
 handler! {
-    fn op_load_mem(LoadMem { addr, dst }, width 1) |ip, regs, base, fuel, context| {
+    fn op_load_mem(LoadMem { addr, dst }, width 1) |ip, regs, fuel, context| {
         match memory_index(get(regs, addr), context.memory.len()) {
             Ok(index) => set(regs, dst, context.memory[index]),
-            Err(kind) => stop_here!(ip, base, fuel, context, Stop::Exit(Exit::Trap(kind))),
+            Err(kind) => stop_here!(ip, fuel, context, Stop::Exit(Exit::Trap(kind))),
         }
         ip.add(1)
     }
 }
 
 handler! {
-    fn op_load_mem_at(LoadMemAt { addr, dst }, width 1) |ip, regs, base, fuel, context| {
+    fn op_load_mem_at(LoadMemAt { addr, dst }, width 1) |ip, regs, fuel, context| {
         set(regs, dst, context.memory[addr as usize]);
         ip.add(1)
     }
 }
 
 handler! {
-    fn op_store_mem(StoreMem { src, addr }, width 1) |ip, regs, base, fuel, context| {
+    fn op_store_mem(StoreMem { src, addr }, width 1) |ip, regs, fuel, context| {
         match memory_index(get(regs, addr), context.memory.len()) {
             Ok(index) => context.memory[index] = get(regs, src),
-            Err(kind) => stop_here!(ip, base, fuel, context, Stop::Exit(Exit::Trap(kind))),
+            Err(kind) => stop_here!(ip, fuel, context, Stop::Exit(Exit::Trap(kind))),
         }
         ip.add(1)
     }
 }
 
 handler! {
-    fn op_store_mem_at(StoreMemAt { src, addr }, width 1) |ip, regs, base, fuel, context| {
+    fn op_store_mem_at(StoreMemAt { src, addr }, width 1) |ip, regs, fuel, context| {
         context.memory[addr as usize] = get(regs, src);
         ip.add(1)
     }
 }
 
 branch_handler! {
-    fn op_branch(Branch { cond, if_true, if_false }, width 1) |ip, regs, base, fuel, context| {
-        (get(regs, cond).is_true(), if_true, if_false)
+    fn op_branch(Branch { cond, if_true, if_false }, width 1) |ip, regs, fuel, context| {
+        get(regs, cond).is_true()
     }
 }
 
 handler! {
-    fn op_jump(Jump { target }, width 1) |ip, regs, base, fuel, context| {
-        branch_target(base, target)
+    fn op_jump(Jump { target }, width 1) |ip, regs, fuel, context| {
+        ip.byte_offset((*ip).jumps[0])
     }
 }
 
 handler! {
-    fn op_jump_indirect(JumpIndirect { register }, width 1) |ip, regs, base, fuel, context| {
+    fn op_jump_indirect(JumpIndirect { register }, width 1) |ip, regs, fuel, context| {
         match indirect_target(context.program, get(regs, register), context.code_len) {
-            Ok(pc) => base.add(pc),
-            Err(exit) => stop_here!(ip, base, fuel, context, Stop::Exit(exit)),
+            Ok(pc) => context.base.add(pc),
+            Err(exit) => stop_here!(ip, fuel, context, Stop::Exit(exit)),
         }
     }
 }
 
 /// `yield`: charged, and stops at its own pc (the machine moves past it).
-unsafe fn op_yield(
-    ip: *const Slot,
-    _regs: *mut Value,
-    base: *const Slot,
-    fuel: u64,
-    context: &mut Context<'_>,
-) {
-    unsafe { stop(ip, base, fuel - 1, context, Stop::Exit(Exit::Yield)) }
+unsafe fn op_yield(ip: *const Slot, _regs: *mut Value, fuel: u64, context: &mut Context<'_>) {
+    unsafe { stop(ip, fuel - 1, context, Stop::Exit(Exit::Yield)) }
 }
 
 /// `halt` (and the end of the code): charged, and stops at its own pc.
-unsafe fn op_halt(
-    ip: *const Slot,
-    _regs: *mut Value,
-    base: *const Slot,
-    fuel: u64,
-    context: &mut Context<'_>,
-) {
-    unsafe { stop(ip, base, fuel - 1, context, Stop::Exit(Exit::Halt)) }
+unsafe fn op_halt(ip: *const Slot, _regs: *mut Value, fuel: u64, context: &mut Context<'_>) {
+    unsafe { stop(ip, fuel - 1, context, Stop::Exit(Exit::Halt)) }
 }
 
 handler! {
-    fn op_nop(Nop {}, width 1) |ip, regs, base, fuel, context| {
+    fn op_nop(Nop {}, width 1) |ip, regs, fuel, context| {
         ip.add(1)
     }
 }
 
 /// `write`, `writes`, `print`, `prints`: left to the `match` loop, uncharged.
-unsafe fn op_output(
-    ip: *const Slot,
-    _regs: *mut Value,
-    base: *const Slot,
-    fuel: u64,
-    context: &mut Context<'_>,
-) {
-    unsafe { stop(ip, base, fuel, context, Stop::RunInLoop) }
+unsafe fn op_output(ip: *const Slot, _regs: *mut Value, fuel: u64, context: &mut Context<'_>) {
+    unsafe { stop(ip, fuel, context, Stop::RunInLoop) }
 }
 
 handler! {
     fn op_int_to_float_add(IntToFloatAdd { src, t, a, dst }, width 2)
-    |ip, regs, base, fuel, context| {
+    |ip, regs, fuel, context| {
         let widened = Value::Float(get(regs, src).as_f64());
         set(regs, t, widened);
         set(regs, dst, add(get(regs, a), widened));
@@ -588,46 +671,28 @@ handler! {
 }
 
 branch_handler! {
-    fn op_cmp_br<const C: usize>(CmpBr { cmp, a, b, c, if_true, if_false }, width 2)
-    |ip, regs, base, fuel, context| {
-        let result = compare(CMPS[C], get(regs, a), get(regs, b));
-        set(regs, c, truth(result));
-        (result, if_true, if_false)
-    }
-}
-
-branch_handler! {
-    fn op_jump_cmp_br<const C: usize>(JumpCmpBr { cmp, a, b, c, if_true, if_false }, width 3)
-    |ip, regs, base, fuel, context| {
-        let result = compare(CMPS[C], get(regs, a), get(regs, b));
-        set(regs, c, truth(result));
-        (result, if_true, if_false)
-    }
-}
-
-branch_handler! {
-    fn op_cmp_k_br<const C: usize, const INT: bool>(
-        CmpKBr { cmp, a, k, t, c, if_true, if_false }, width 3
+    fn op_add_jump_cmp_br<const C: usize>(
+        AddJumpCmpBr { p, q, sum, cmp, a, b, c, if_true, if_false }, width 4
     )
-    |ip, regs, base, fuel, context| {
+    |ip, regs, fuel, context| {
+        set(regs, sum, add(get(regs, p), get(regs, q)));
+        let result = compare(CMPS[C], get(regs, a), get(regs, b));
+        set(regs, c, truth(result));
+        result
+    }
+}
+
+branch_handler! {
+    fn op_add_jump_cmp_k_br<const C: usize, const INT: bool>(
+        AddJumpCmpKBr { p, q, sum, cmp, a, k, t, c, if_true, if_false }, width 5
+    )
+    |ip, regs, fuel, context| {
+        set(regs, sum, add(get(regs, p), get(regs, q)));
         let k = constant::<INT>(k);
         set(regs, t, k);
         let result = compare(CMPS[C], get(regs, a), k);
         set(regs, c, truth(result));
-        (result, if_true, if_false)
-    }
-}
-
-branch_handler! {
-    fn op_jump_cmp_k_br<const C: usize, const INT: bool>(
-        JumpCmpKBr { cmp, a, k, t, c, if_true, if_false }, width 4
-    )
-    |ip, regs, base, fuel, context| {
-        let k = constant::<INT>(k);
-        set(regs, t, k);
-        let result = compare(CMPS[C], get(regs, a), k);
-        set(regs, c, truth(result));
-        (result, if_true, if_false)
+        result
     }
 }
 
@@ -635,7 +700,7 @@ branch_handler! {
     fn op_range_br<const INT: bool>(
         RangeBr { x, lo, t_lo, c_lo, hi, t_hi, c_hi, d, if_out, if_in }, width 6
     )
-    |ip, regs, base, fuel, context| {
+    |ip, regs, fuel, context| {
         // `INT`: both bounds are integers (as GBASIC writes them); otherwise
         // nothing is known and the comparisons test the tags.
         let (lo, hi) = if INT { (constant::<true>(lo), constant::<true>(hi)) } else { (lo, hi) };
@@ -647,6 +712,251 @@ branch_handler! {
         set(regs, t_hi, hi);
         set(regs, c_hi, truth(above));
         set(regs, d, truth(below | above));
-        (below | above, if_out, if_in)
+        below | above
     }
+}
+
+/// Integer fast paths: when every register operand holds an integer (the
+/// common case in GBASIC, whose integer variables stay integers), the handler
+/// computes with the tags known, so the optimiser drops the float code and its
+/// registers; otherwise it goes on in the general handler by a tail call, with
+/// the fuel as it was and nothing written yet. Operands read after a write of
+/// the same op are integers too: the write was of an integer sum.
+macro_rules! integer_binary {
+    ($($name:ident, $variant:ident, $general:ident, $f:ident;)*) => {$(
+        handler! {
+            fn $name($variant { a, b, dst }, width 1) |ip, regs, fuel, context| {
+                let (Value::Int(x), Value::Int(y)) = (get(regs, a), get(regs, b)) else {
+                    return $general(ip, regs, fuel + 1, context);
+                };
+                set(regs, dst, Value::Int(x.$f(y)));
+                ip.add(1)
+            }
+        }
+    )*};
+}
+
+integer_binary! {
+    op_add_int, Add, op_add, wrapping_add;
+    op_sub_int, Sub, op_sub, wrapping_sub;
+    op_mul_int, Mul, op_mul, wrapping_mul;
+}
+
+/// Integer fast paths of the fused `loadi K,t; op a,t,dst` (see [`integer_binary`]).
+macro_rules! integer_with_constant {
+    ($($name:ident, $variant:ident, $general:ident, $f:ident;)*) => {$(
+        handler! {
+            fn $name($variant { a, k, t, dst }, width 2) |ip, regs, fuel, context| {
+                let Value::Int(y) = k else {
+                    // SAFETY: `Slot::new` chose this handler for an integer constant.
+                    unreachable_unchecked()
+                };
+                let Value::Int(x) = get(regs, a) else {
+                    return $general::<true>(ip, regs, fuel + 2, context);
+                };
+                set(regs, t, k);
+                set(regs, dst, Value::Int(x.$f(y)));
+                ip.add(2)
+            }
+        }
+    )*};
+}
+
+integer_with_constant! {
+    op_add_k_int, AddK, op_add_k, wrapping_add;
+    op_sub_k_int, SubK, op_sub_k, wrapping_sub;
+    op_mul_k_int, MulK, op_mul_k, wrapping_mul;
+}
+
+branch_handler! {
+    fn op_add_jump_cmp_br_int<const C: usize>(
+        AddJumpCmpBr { p, q, sum, cmp, a, b, c, if_true, if_false }, width 4
+    )
+    |ip, regs, fuel, context| {
+        let (Value::Int(x), Value::Int(y), Value::Int(_), Value::Int(_)) =
+            (get(regs, p), get(regs, q), get(regs, a), get(regs, b))
+        else {
+            return op_add_jump_cmp_br::<C>(ip, regs, fuel + 4, context);
+        };
+        set(regs, sum, Value::Int(x.wrapping_add(y)));
+        // Read after the write: `a` or `b` may be `sum`, an integer as well.
+        let (Value::Int(u), Value::Int(v)) = (get(regs, a), get(regs, b)) else {
+            // SAFETY: both were integers and the only write was an integer.
+            unreachable_unchecked()
+        };
+        let result = compare(CMPS[C], Value::Int(u), Value::Int(v));
+        set(regs, c, truth(result));
+        result
+    }
+}
+
+branch_handler! {
+    fn op_add_jump_cmp_k_br_int<const C: usize>(
+        AddJumpCmpKBr { p, q, sum, cmp, a, k, t, c, if_true, if_false }, width 5
+    )
+    |ip, regs, fuel, context| {
+        let Value::Int(w) = k else {
+            // SAFETY: `Slot::new` chose this handler for an integer constant.
+            unreachable_unchecked()
+        };
+        let (Value::Int(x), Value::Int(y), Value::Int(_)) =
+            (get(regs, p), get(regs, q), get(regs, a))
+        else {
+            return op_add_jump_cmp_k_br::<C, true>(ip, regs, fuel + 5, context);
+        };
+        set(regs, sum, Value::Int(x.wrapping_add(y)));
+        set(regs, t, k);
+        // Read after the writes: `a` may be `sum` (never `t`: `fuse`), an integer as well.
+        let Value::Int(u) = get(regs, a) else {
+            // SAFETY: `a` was an integer and both writes were integers.
+            unreachable_unchecked()
+        };
+        let result = compare(CMPS[C], Value::Int(u), Value::Int(w));
+        set(regs, c, truth(result));
+        result
+    }
+}
+
+// Integer fast paths of `loadm`/`storem`: an integer address inside the
+// memory; anything else (a float address, a trap) goes on in the general
+// handler by a tail call, so these save no registers.
+handler! {
+    fn op_load_mem_int(LoadMem { addr, dst }, width 1) |ip, regs, fuel, context| {
+        match get(regs, addr) {
+            Value::Int(index) if (index as u64) < context.memory.len() as u64 => {
+                set(regs, dst, *context.memory.as_ptr().add(index as usize));
+            }
+            _ => return op_load_mem(ip, regs, fuel + 1, context),
+        }
+        ip.add(1)
+    }
+}
+
+handler! {
+    fn op_store_mem_int(StoreMem { src, addr }, width 1) |ip, regs, fuel, context| {
+        match get(regs, addr) {
+            Value::Int(index) if (index as u64) < context.memory.len() as u64 => {
+                *context.memory.as_mut_ptr().add(index as usize) = get(regs, src);
+            }
+            _ => return op_store_mem(ip, regs, fuel + 1, context),
+        }
+        ip.add(1)
+    }
+}
+
+branch_handler! {
+    /// GBASIC's index check with integer bounds and an integer index.
+    fn op_range_br_int(
+        RangeBr { x, lo, t_lo, c_lo, hi, t_hi, c_hi, d, if_out, if_in }, width 6
+    )
+    |ip, regs, fuel, context| {
+        let (Value::Int(low), Value::Int(high)) = (lo, hi) else {
+            // SAFETY: `Slot::new` chose this handler for integer bounds.
+            unreachable_unchecked()
+        };
+        let Value::Int(index) = get(regs, x) else {
+            return op_range_br::<true>(ip, regs, fuel + 6, context);
+        };
+        let (below, above) = (index < low, index >= high);
+        set(regs, t_lo, lo);
+        set(regs, c_lo, truth(below));
+        set(regs, t_hi, hi);
+        set(regs, c_hi, truth(above));
+        set(regs, d, truth(below | above));
+        below | above
+    }
+}
+
+/// The compare-and-branch handlers: the same body for `cmpXX; cbr` and for the
+/// `jumpi` threaded into it (only the width differs).
+macro_rules! compare_and_branch {
+    ($($name:ident, $variant:ident, $width:expr;)*) => {$(
+        branch_handler! {
+            fn $name<const C: usize>($variant { cmp, a, b, c, if_true, if_false }, width $width)
+            |ip, regs, fuel, context| {
+                let result = compare(CMPS[C], get(regs, a), get(regs, b));
+                set(regs, c, truth(result));
+                result
+            }
+        }
+    )*};
+}
+
+compare_and_branch! {
+    op_cmp_br, CmpBr, 2;
+    op_jump_cmp_br, JumpCmpBr, 3;
+}
+
+/// The same with a constant (`loadi/loadd K,t` first).
+macro_rules! compare_constant_and_branch {
+    ($($name:ident, $variant:ident, $width:expr;)*) => {$(
+        branch_handler! {
+            fn $name<const C: usize, const INT: bool>(
+                $variant { cmp, a, k, t, c, if_true, if_false }, width $width
+            )
+            |ip, regs, fuel, context| {
+                let k = constant::<INT>(k);
+                set(regs, t, k);
+                let result = compare(CMPS[C], get(regs, a), k);
+                set(regs, c, truth(result));
+                result
+            }
+        }
+    )*};
+}
+
+compare_constant_and_branch! {
+    op_cmp_k_br, CmpKBr, 3;
+    op_jump_cmp_k_br, JumpCmpKBr, 4;
+}
+
+/// Integer fast paths of [`compare_and_branch`] (see [`integer_binary`]).
+macro_rules! integer_compare_and_branch {
+    ($($name:ident, $variant:ident, $general:ident, $width:expr;)*) => {$(
+        branch_handler! {
+            fn $name<const C: usize>($variant { cmp, a, b, c, if_true, if_false }, width $width)
+            |ip, regs, fuel, context| {
+                let (Value::Int(x), Value::Int(y)) = (get(regs, a), get(regs, b)) else {
+                    return $general::<C>(ip, regs, fuel + $width, context);
+                };
+                let result = compare(CMPS[C], Value::Int(x), Value::Int(y));
+                set(regs, c, truth(result));
+                result
+            }
+        }
+    )*};
+}
+
+integer_compare_and_branch! {
+    op_cmp_br_int, CmpBr, op_cmp_br, 2;
+    op_jump_cmp_br_int, JumpCmpBr, op_jump_cmp_br, 3;
+}
+
+/// Integer fast paths of [`compare_constant_and_branch`] with an integer constant.
+macro_rules! integer_compare_constant_and_branch {
+    ($($name:ident, $variant:ident, $general:ident, $width:expr;)*) => {$(
+        branch_handler! {
+            fn $name<const C: usize>($variant { cmp, a, k, t, c, if_true, if_false }, width $width)
+            |ip, regs, fuel, context| {
+                let Value::Int(y) = k else {
+                    // SAFETY: `Slot::new` chose this handler for an integer constant.
+                    unreachable_unchecked()
+                };
+                // `a` is read after `t` is written in the instructions, but `fuse`
+                // made sure they differ.
+                let Value::Int(x) = get(regs, a) else {
+                    return $general::<C, true>(ip, regs, fuel + $width, context);
+                };
+                set(regs, t, k);
+                let result = compare(CMPS[C], Value::Int(x), Value::Int(y));
+                set(regs, c, truth(result));
+                result
+            }
+        }
+    )*};
+}
+
+integer_compare_constant_and_branch! {
+    op_cmp_k_br_int, CmpKBr, op_cmp_k_br, 3;
+    op_jump_cmp_k_br_int, JumpCmpKBr, op_jump_cmp_k_br, 4;
 }

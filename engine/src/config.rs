@@ -108,6 +108,13 @@ pub const SIMULATOR_SETTINGS: &[SimulatorSetting] = &[
         about: "pump speed (an inflection takes 2 pump_max / pump_rate)",
     },
     SimulatorSetting {
+        name: "pump_in_rate",
+        units: "cc/s",
+        min: 0.1,
+        max: 1000.0,
+        about: "speed of letting oil in (going down)",
+    },
+    SimulatorSetting {
         name: "speed_lag",
         units: "s",
         min: 0.01,
@@ -134,6 +141,55 @@ pub const SIMULATOR_SETTINGS: &[SimulatorSetting] = &[
         min: 0.01,
         max: 3.0,
         about: "cap on the horizontal speed",
+    },
+    SimulatorSetting {
+        name: "battpos_dive_pitch",
+        units: "rad",
+        min: 0.01,
+        max: 1.2,
+        about: "pitch diving with the battery held in place (use_pitch 1)",
+    },
+    SimulatorSetting {
+        name: "battpos_climb_pitch",
+        units: "rad",
+        min: 0.01,
+        max: 1.2,
+        about: "pitch climbing with the battery held in place (use_pitch 1)",
+    },
+    SimulatorSetting {
+        name: "cycle_overrun",
+        units: "s",
+        min: 0.0,
+        max: 60.0,
+        about: "mean time a control cycle runs past u_cycle_time",
+    },
+    SimulatorSetting {
+        name: "cycle_jitter",
+        units: "s",
+        min: 0.0,
+        max: 10.0,
+        about: "standard deviation of the control cycle's period (seeded)",
+    },
+    SimulatorSetting {
+        name: "turn_cycles",
+        units: "cycles",
+        min: 1.0,
+        max: 10.0,
+        about: "cycles from a behavior's turn to the pump reversing (1: the same cycle)",
+    },
+    SimulatorSetting {
+        name: "altimeter_range",
+        units: "m",
+        min: 0.0,
+        max: 1.0e7,
+        about: "largest altitude the altimeter reads (m_altitude holds its last fix beyond)",
+    },
+    SimulatorSetting {
+        name: "altimeter_period",
+        units: "s",
+        min: 0.0,
+        max: 86400.0,
+        about: "seconds between altimeter fixes (0: every cycle)",
     },
     SimulatorSetting {
         name: "dive_power",
@@ -197,6 +253,13 @@ pub const SIMULATOR_SETTINGS: &[SimulatorSetting] = &[
         min: 0.0,
         max: 100.0,
         about: "battery voltage when empty",
+    },
+    SimulatorSetting {
+        name: "battery_ohms",
+        units: "ohm",
+        min: 0.0,
+        max: 100.0,
+        about: "internal resistance: the voltage sags by ohms x current under load",
     },
 ];
 

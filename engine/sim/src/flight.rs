@@ -19,8 +19,11 @@ pub struct FlightParams {
     pub climb_rate: f64,
     /// Pumped volume at which the glider flies at full rate (cc).
     pub pump_max: f64,
-    /// Pump speed (cc/s): a full swing ±`pump_max` takes `2 pump_max / pump_rate`.
+    /// Pump speed pumping oil out, going up (cc/s): a full swing ±`pump_max`
+    /// takes `2 pump_max / pump_rate`.
     pub pump_rate: f64,
+    /// Speed of letting oil in, going down (cc/s).
+    pub pump_in_rate: f64,
     /// Time constant of the vertical speed following the pumped volume (s).
     pub speed_lag: f64,
     /// Pitch slew rate of the battery (rad/s).
@@ -29,6 +32,11 @@ pub struct FlightParams {
     pub angle_of_attack: f64,
     /// Cap on the horizontal speed (m/s) while the pitch is near level.
     pub max_speed: f64,
+    /// Pitch (magnitude, rad) the glider settles at diving with the battery
+    /// held in place (`use_pitch` 1): the buoyancy, not the battery, tips it.
+    pub battpos_dive_pitch: f64,
+    /// The same climbing.
+    pub battpos_climb_pitch: f64,
 }
 
 impl Default for FlightParams {
@@ -40,10 +48,13 @@ impl Default for FlightParams {
             pump_max: 230.0,
             // 460 cc in 20 s: a 20-second pump swing per inflection.
             pump_rate: 23.0,
+            pump_in_rate: 23.0,
             speed_lag: 1.5,
             pitch_rate: 0.05,
             angle_of_attack: 2f64.to_radians(),
             max_speed: 0.4,
+            battpos_dive_pitch: 0.4538,
+            battpos_climb_pitch: 0.4538,
         }
     }
 }
@@ -65,9 +76,11 @@ pub struct EnergyParams {
     pub pitch_j_per_rad: f64,
     /// Battery capacity (Wh).
     pub battery_wh: f64,
-    /// Battery voltage full and empty (V).
+    /// Battery voltage full and empty, open circuit (V).
     pub volts_full: f64,
     pub volts_empty: f64,
+    /// Internal resistance (ohm): the voltage sags by `ohms × current` under load.
+    pub battery_ohms: f64,
 }
 
 impl Default for EnergyParams {
@@ -83,7 +96,65 @@ impl Default for EnergyParams {
             battery_wh: 3381.0,
             volts_full: 15.0,
             volts_empty: 10.0,
+            battery_ohms: 0.0,
         }
+    }
+}
+
+/// How the pitch is commanded this cycle.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum PitchControl {
+    /// `use_pitch` 3: the battery servoes to the commanded angle (and costs energy).
+    #[default]
+    Servo,
+    /// `use_pitch` 1: the battery stays put; the pitch follows the buoyancy
+    /// (`battpos_dive_pitch` / `battpos_climb_pitch`) and the battery costs nothing.
+    Battpos,
+}
+
+/// Energy used by each consumer since the start (J).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct EnergyUse {
+    /// The flight computer, sensors and everything always on (hotel load).
+    pub hotel: f64,
+    /// The buoyancy pump.
+    pub pump: f64,
+    /// The pitch battery's motor.
+    pub pitch: f64,
+}
+
+impl EnergyUse {
+    pub fn total(&self) -> f64 {
+        self.hotel + self.pump + self.pitch
+    }
+}
+
+/// The vertical speed law: w = k·sqrt(|V + trim|) against the net buoyancy
+/// (pumped volume V plus the glider's trim, cc), the steady state of lift and
+/// drag (drag ∝ speed², gliderflight's model at a fixed glide angle). `trim`
+/// and `k` follow from the rates at full volume, so unequal dive and climb
+/// rates are a trim: a heavy glider (trim < 0) dives faster than it climbs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpeedLaw {
+    /// cc; > 0: the glider is light.
+    pub trim: f64,
+    pub k: f64,
+}
+
+impl SpeedLaw {
+    pub fn new(flight: &FlightParams) -> SpeedLaw {
+        let (dive, climb) = (flight.dive_rate.powi(2), flight.climb_rate.powi(2));
+        let sum = (dive + climb).max(f64::MIN_POSITIVE);
+        SpeedLaw {
+            trim: flight.pump_max * (climb - dive) / sum,
+            k: (sum / (2.0 * flight.pump_max)).sqrt(),
+        }
+    }
+
+    /// Steady vertical speed (m/s, > 0 down) at pumped volume `ballast` (cc, > 0 up).
+    pub fn rate(&self, ballast: f64) -> f64 {
+        let net = ballast + self.trim;
+        -net.signum() * self.k * net.abs().sqrt()
     }
 }
 
@@ -104,8 +175,12 @@ pub struct Vehicle {
     pub distance: f64,
     /// Energy used since the start (J).
     pub energy_joules: f64,
+    /// The same by consumer.
+    pub energy_use: EnergyUse,
     /// Charge used since the start (Ah).
     pub amp_hours: f64,
+    /// Mean current of the last `fly` call (A).
+    pub current: f64,
     /// Inflections so far (sign changes of the pumped volume).
     pub inflections: u64,
     /// Sign of the last non-zero pumped volume (0 before any).
@@ -113,34 +188,71 @@ pub struct Vehicle {
 }
 
 impl Vehicle {
-    /// Battery voltage for the energy used so far.
-    pub fn battery_volts(&self, energy: &EnergyParams) -> f64 {
+    /// Open-circuit battery voltage for the energy used so far.
+    pub fn open_volts(&self, energy: &EnergyParams) -> f64 {
         let used = self.energy_joules / (energy.battery_wh * 3600.0);
         (energy.volts_full - (energy.volts_full - energy.volts_empty) * used.min(1.0))
             .max(energy.volts_empty)
     }
 
+    /// Battery voltage at the terminals: open circuit less the sag of the last
+    /// cycle's mean current through the internal resistance.
+    pub fn battery_volts(&self, energy: &EnergyParams) -> f64 {
+        (self.open_volts(energy) - energy.battery_ohms * self.current).max(0.0)
+    }
+
+    /// The battery's energy is used up.
+    pub fn exhausted(&self, energy: &EnergyParams) -> bool {
+        self.energy_joules >= energy.battery_wh * 3600.0
+    }
+
     /// Flies `duration` seconds toward the commanded buoyancy (cc, > 0 up) and
-    /// pitch (rad) in water `water_depth` deep.
+    /// pitch (rad; with [`PitchControl::Battpos`] only its sign matters) in
+    /// water `water_depth` deep, plus `extra_watts` of other consumers
+    /// (already counted by the caller in its own ledger, included here in the
+    /// battery's total).
+    #[allow(clippy::too_many_arguments)]
     pub fn fly(
         &mut self,
         duration: f64,
         buoyancy: f64,
         pitch: f64,
+        control: PitchControl,
         water_depth: f64,
         flight: &FlightParams,
         energy: &EnergyParams,
+        extra_watts: f64,
     ) {
         let target_ballast = buoyancy.clamp(-flight.pump_max, flight.pump_max);
+        let law = SpeedLaw::new(flight);
+        let volts = self.battery_volts(energy).max(1e-3);
+        let joules_before = self.energy_joules;
         let mut remaining = duration;
         let mut travelled = 0.0;
         while remaining > 1e-9 {
             let dt = remaining.min(flight.step);
             remaining -= dt;
             let before = self.depth;
-            self.substep(dt, target_ballast, pitch, water_depth, flight, energy);
+            self.substep(
+                dt,
+                target_ballast,
+                pitch,
+                control,
+                water_depth,
+                flight,
+                energy,
+                &law,
+            );
             travelled += (self.depth - before).abs();
         }
+        self.energy_joules += extra_watts * duration;
+        let used = self.energy_joules - joules_before;
+        self.amp_hours += used / volts / 3600.0;
+        self.current = if duration > 0.0 {
+            used / duration / volts
+        } else {
+            0.0
+        };
         // Horizontal speed from the glide angle, once per call: the pitch
         // changes slowly, and a tangent per sub-step was a tenth of the run time.
         let glide = self.pitch.abs() + flight.angle_of_attack;
@@ -155,27 +267,27 @@ impl Vehicle {
         }
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn substep(
         &mut self,
         dt: f64,
         target_ballast: f64,
         target_pitch: f64,
+        control: PitchControl,
         water_depth: f64,
         flight: &FlightParams,
         energy: &EnergyParams,
+        law: &SpeedLaw,
     ) {
-        let volts = self.battery_volts(energy);
-        let mut joules = 0.0;
-
-        // Pump.
-        let pump_step =
-            (target_ballast - self.ballast).clamp(-flight.pump_rate * dt, flight.pump_rate * dt);
-        if pump_step > 0.0 {
-            joules += pump_step
-                * (energy.pump_out_j_per_cc + energy.pump_out_j_per_cc_m * self.depth.max(0.0));
+        // Pump: out (going up) at pump_rate, in (going down) at pump_in_rate.
+        let pump_step = (target_ballast - self.ballast)
+            .clamp(-flight.pump_in_rate * dt, flight.pump_rate * dt);
+        let pump_joules = if pump_step > 0.0 {
+            pump_step
+                * (energy.pump_out_j_per_cc + energy.pump_out_j_per_cc_m * self.depth.max(0.0))
         } else {
-            joules += -pump_step * energy.pump_in_j_per_cc;
-        }
+            -pump_step * energy.pump_in_j_per_cc
+        };
         self.ballast += pump_step;
         if self.ballast != 0.0 {
             let sign = if self.ballast > 0.0 { 1 } else { -1 };
@@ -185,19 +297,26 @@ impl Vehicle {
             self.ballast_sign = sign;
         }
 
-        // Pitch battery.
+        // Pitch: the battery servoes (and costs energy), or stays put and the
+        // buoyancy tips the glider.
+        let (target_pitch, j_per_rad) = match control {
+            PitchControl::Servo => (target_pitch, energy.pitch_j_per_rad),
+            PitchControl::Battpos => {
+                let pitch = if self.ballast + law.trim < 0.0 {
+                    -flight.battpos_dive_pitch
+                } else {
+                    flight.battpos_climb_pitch
+                };
+                (pitch, 0.0)
+            }
+        };
         let pitch_step =
             (target_pitch - self.pitch).clamp(-flight.pitch_rate * dt, flight.pitch_rate * dt);
-        joules += pitch_step.abs() * energy.pitch_j_per_rad;
+        let pitch_joules = pitch_step.abs() * j_per_rad;
         self.pitch += pitch_step;
 
-        // Vertical speed follows the pumped volume with a lag.
-        let fraction = (self.ballast / flight.pump_max).clamp(-1.0, 1.0);
-        let wanted_rate = if fraction < 0.0 {
-            -fraction * flight.dive_rate
-        } else {
-            -fraction * flight.climb_rate
-        };
+        // Vertical speed follows the net buoyancy with a lag.
+        let wanted_rate = law.rate(self.ballast);
         let blend = (dt / flight.speed_lag.max(dt)).min(1.0);
         self.depth_rate += (wanted_rate - self.depth_rate) * blend;
         self.depth += self.depth_rate * dt;
@@ -218,9 +337,11 @@ impl Vehicle {
         } else {
             energy.climb_power
         };
-        joules += hotel * dt;
-        self.energy_joules += joules;
-        self.amp_hours += joules / volts / 3600.0;
+        let hotel_joules = hotel * dt;
+        self.energy_use.hotel += hotel_joules;
+        self.energy_use.pump += pump_joules;
+        self.energy_use.pitch += pitch_joules;
+        self.energy_joules += hotel_joules + pump_joules + pitch_joules;
     }
 }
 
@@ -233,9 +354,11 @@ mod tests {
             seconds,
             buoyancy,
             pitch,
+            PitchControl::Servo,
             100.0,
             &FlightParams::default(),
             &EnergyParams::default(),
+            0.0,
         );
     }
 
@@ -283,9 +406,11 @@ mod tests {
             2000.0,
             -260.0,
             -0.4538,
+            PitchControl::Servo,
             40.0,
             &FlightParams::default(),
             &EnergyParams::default(),
+            0.0,
         );
         assert_eq!(vehicle.depth, 40.0);
         assert_eq!(vehicle.depth_rate, 0.0);

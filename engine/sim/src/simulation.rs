@@ -27,7 +27,7 @@ use crate::behaviors::{
     Commands, HookSensors, Outcome, ScriptPlacement, World,
 };
 use crate::environment::{Rng, TemperatureProfile};
-use crate::flight::{EnergyParams, FlightParams, Vehicle};
+use crate::flight::{EnergyParams, EnergyUse, FlightParams, Vehicle};
 use crate::mission::Mission;
 
 /// Settings of a run that are not in the mission.
@@ -53,6 +53,35 @@ pub struct SimConfig {
     pub temperature_noise: f64,
     /// Standard deviation of the CTD pressure noise (bar).
     pub pressure_noise: f64,
+    /// Timing and sensors: the control cycle, turns, altimeter.
+    pub timing: TimingParams,
+}
+
+/// The control cycle's real period, the turn latency and the altimeter.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TimingParams {
+    /// Mean time a cycle runs past `u_cycle_time` (s).
+    pub cycle_overrun: f64,
+    /// Standard deviation of a cycle's period (s), seeded.
+    pub cycle_jitter: f64,
+    /// Cycles from a behavior's turn to the pump moving (1: the same cycle).
+    pub turn_cycles: f64,
+    /// Largest altitude the altimeter measures (m).
+    pub altimeter_range: f64,
+    /// Seconds between altimeter fixes (0: every cycle).
+    pub altimeter_period: f64,
+}
+
+impl Default for TimingParams {
+    fn default() -> TimingParams {
+        TimingParams {
+            cycle_overrun: 0.0,
+            cycle_jitter: 0.0,
+            turn_cycles: 1.0,
+            altimeter_range: 1.0e6,
+            altimeter_period: 0.0,
+        }
+    }
 }
 
 impl SimConfig {
@@ -60,8 +89,17 @@ impl SimConfig {
     /// table and `gloc run --sim` use ([`gloc_engine::config::SIMULATOR_SETTINGS`]).
     /// The caller has checked the value's range; `false`: no such setting.
     pub fn set(&mut self, name: &str, value: f64) -> bool {
-        let (flight, energy) = (&mut self.flight, &mut self.energy);
+        let (flight, energy, timing) = (&mut self.flight, &mut self.energy, &mut self.timing);
         let field = match name {
+            "pump_in_rate" => &mut flight.pump_in_rate,
+            "battpos_dive_pitch" => &mut flight.battpos_dive_pitch,
+            "battpos_climb_pitch" => &mut flight.battpos_climb_pitch,
+            "battery_ohms" => &mut energy.battery_ohms,
+            "cycle_overrun" => &mut timing.cycle_overrun,
+            "cycle_jitter" => &mut timing.cycle_jitter,
+            "turn_cycles" => &mut timing.turn_cycles,
+            "altimeter_range" => &mut timing.altimeter_range,
+            "altimeter_period" => &mut timing.altimeter_period,
             "step" => &mut flight.step,
             "dive_rate" => &mut flight.dive_rate,
             "climb_rate" => &mut flight.climb_rate,
@@ -101,6 +139,7 @@ impl Default for SimConfig {
             start_time: 1_274_659_200.0,
             temperature_noise: 0.01,
             pressure_noise: 0.001,
+            timing: TimingParams::default(),
         }
     }
 }
@@ -124,6 +163,9 @@ pub enum EndReason {
     Completed,
     /// abend aborted the mission; the glider climbs to the surface.
     Aborted(AbortReason),
+    /// The battery's energy (`battery_wh`) is used up: everything stops where
+    /// the glider is.
+    BatteryExhausted,
 }
 
 impl std::fmt::Display for EndReason {
@@ -131,6 +173,7 @@ impl std::fmt::Display for EndReason {
         match self {
             EndReason::Completed => f.write_str("completed (surfaced with end_action quit)"),
             EndReason::Aborted(reason) => write!(f, "aborted: {}", reason.glider_name()),
+            EndReason::BatteryExhausted => f.write_str("battery exhausted"),
         }
     }
 }
@@ -176,6 +219,7 @@ struct SensorSlots {
     water_depth: Option<usize>,
     battery: Option<usize>,
     coulomb: Option<usize>,
+    current: Option<usize>,
     speed: Option<usize>,
     ballast: Option<usize>,
     inflections: Option<usize>,
@@ -201,6 +245,7 @@ impl SensorSlots {
             water_depth: find("m_water_depth"),
             battery: find("m_battery"),
             coulomb: find("m_coulomb_amphr_total"),
+            current: find("m_coulomb_current"),
             speed: find("m_speed"),
             ballast: find("m_ballast_pumped"),
             inflections: find("m_tot_num_inflections"),
@@ -258,6 +303,17 @@ pub struct Simulation {
     temperature_noise: f64,
     pressure_noise: f64,
     rng: Rng,
+    timing: TimingParams,
+    /// The cycle period's own random stream, so that jitter leaves the sensor
+    /// noise of a seed unchanged.
+    clock_rng: Rng,
+    /// Mission seconds at the start of the next cycle.
+    next_time: f64,
+    /// The buoyancy command the pump follows, and cycles a turn is still held.
+    applied_buoyancy: Option<f64>,
+    turn_hold: u32,
+    /// Mission seconds of the last altimeter fix, and its reading.
+    altimeter_fix: Option<(f64, f64)>,
     /// Cycles begun so far; the current cycle's number while one is under way.
     cycle: u64,
     /// Mission seconds at the start of the current cycle.
@@ -425,6 +481,12 @@ impl Simulation {
             temperature_noise: config.temperature_noise,
             pressure_noise: config.pressure_noise,
             rng: Rng::new(config.seed),
+            timing: config.timing.clone(),
+            clock_rng: Rng::new(config.seed ^ 0x00C1_0C4C_1C1E),
+            next_time: 0.0,
+            applied_buoyancy: None,
+            turn_hold: 0,
+            altimeter_fix: None,
             cycle: 0,
             time: 0.0,
             phase: Phase::BetweenCycles,
@@ -459,7 +521,7 @@ impl Simulation {
             Phase::BetweenCycles => {}
             _ => return true,
         }
-        self.time = self.cycle as f64 * self.cycle_time;
+        self.time = self.next_time;
         self.printed.clear();
         self.stored.clear();
         self.events.clear();
@@ -571,20 +633,48 @@ impl Simulation {
                     .unwrap_or(self.vehicle.pitch),
             )
         };
+        let buoyancy = self.turn_latency(buoyancy, aborting);
+        let control = if aborting {
+            crate::flight::PitchControl::Servo
+        } else {
+            self.commands.pitch_control
+        };
         if let Some(index) = self.slots.c_pitch {
             self.sensors[index] = pitch;
         }
         if let Some(index) = self.slots.c_ballast {
             self.sensors[index] = buoyancy;
         }
+        let period = self.cycle_period();
         self.vehicle.fly(
-            self.cycle_time,
+            period,
             buoyancy,
             pitch,
+            control,
             self.water_depth,
             &self.flight,
             &self.energy,
+            0.0,
         );
+        self.next_time = self.time + period;
+        if self.vehicle.exhausted(&self.energy) {
+            if !matches!(
+                self.end.map(|end| end.reason),
+                Some(EndReason::Completed | EndReason::BatteryExhausted)
+            ) {
+                self.end = Some(MissionEnd {
+                    reason: EndReason::BatteryExhausted,
+                    cycle: self.cycle,
+                    time: self.next_time,
+                    depth: self.vehicle.depth,
+                });
+            }
+            self.min_depth = self.min_depth.min(self.vehicle.depth);
+            self.max_depth = self.max_depth.max(self.vehicle.depth);
+            self.cycle += 1;
+            self.phase = Phase::Finished;
+            return;
+        }
         self.min_depth = self.min_depth.min(self.vehicle.depth);
         self.max_depth = self.max_depth.max(self.vehicle.depth);
         self.cycle += 1;
@@ -593,6 +683,46 @@ impl Simulation {
             Some(_) if self.vehicle.depth <= SURFACED_DEPTH => Phase::Finished,
             _ => Phase::BetweenCycles,
         };
+    }
+
+    /// The pump follows a reversed buoyancy command only `turn_cycles` cycles
+    /// after the behaviors turned (dynamic control starts the inflection on the
+    /// next cycle: comet's logs show the pump moving a cycle after the depth
+    /// crossed the target). An abort is not held.
+    fn turn_latency(&mut self, wanted: f64, aborting: bool) -> f64 {
+        let applied = match self.applied_buoyancy {
+            Some(applied) if !aborting => applied,
+            _ => {
+                self.applied_buoyancy = Some(wanted);
+                self.turn_hold = 0;
+                return wanted;
+            }
+        };
+        let reversed = applied != 0.0 && wanted.signum() != applied.signum();
+        if !reversed {
+            self.turn_hold = 0;
+            self.applied_buoyancy = Some(wanted);
+            return wanted;
+        }
+        let hold = (self.timing.turn_cycles.round() as u32).saturating_sub(1);
+        if self.turn_hold < hold {
+            self.turn_hold += 1;
+            return applied;
+        }
+        self.turn_hold = 0;
+        self.applied_buoyancy = Some(wanted);
+        wanted
+    }
+
+    /// This cycle's period: `u_cycle_time` plus the mean overrun and a seeded
+    /// spread, never below half of `u_cycle_time`.
+    fn cycle_period(&mut self) -> f64 {
+        let timing = &self.timing;
+        let mut period = self.cycle_time + timing.cycle_overrun;
+        if timing.cycle_jitter > 0.0 {
+            period += timing.cycle_jitter * self.clock_rng.normal();
+        }
+        period.max(0.5 * self.cycle_time)
     }
 
     fn enter_script(&mut self) -> bool {
@@ -666,7 +796,20 @@ impl Simulation {
         let vehicle = self.vehicle;
         let slots = self.slots;
         let present = self.start_time + self.time;
-        let altitude = (self.water_depth - vehicle.depth).max(0.0);
+        let true_altitude = (self.water_depth - vehicle.depth).max(0.0);
+        let timing = &self.timing;
+        let due = match self.altimeter_fix {
+            Some((at, _)) => self.time - at >= timing.altimeter_period,
+            None => true,
+        };
+        if due && true_altitude <= timing.altimeter_range {
+            self.altimeter_fix = Some((self.time, true_altitude));
+        }
+        let altitude = match self.altimeter_fix {
+            Some((_, reading)) => reading,
+            // No fix yet: the altimeter's "no reading" value.
+            None => -1.0,
+        };
         let temperature =
             self.profile.temperature(vehicle.depth) + self.temperature_noise * self.rng.normal();
         let pressure = vehicle.depth / 10.0 + self.pressure_noise * self.rng.normal();
@@ -688,6 +831,7 @@ impl Simulation {
         put(slots.water_depth, self.water_depth);
         put(slots.battery, volts);
         put(slots.coulomb, vehicle.amp_hours);
+        put(slots.current, vehicle.current);
         put(slots.speed, vehicle.speed);
         put(slots.ballast, vehicle.ballast);
         put(slots.inflections, vehicle.inflections as f64);
@@ -713,7 +857,7 @@ impl Simulation {
     /// Mission seconds at the start of the current cycle (between cycles: of the next).
     pub fn time(&self) -> f64 {
         match self.phase {
-            Phase::BetweenCycles | Phase::Finished => self.cycle as f64 * self.cycle_time,
+            Phase::BetweenCycles | Phase::Finished => self.next_time,
             _ => self.time,
         }
     }
@@ -757,6 +901,16 @@ impl Simulation {
 
     pub fn amp_hours(&self) -> f64 {
         self.vehicle.amp_hours
+    }
+
+    /// Energy used by each consumer (J).
+    pub fn energy_use(&self) -> EnergyUse {
+        self.vehicle.energy_use
+    }
+
+    /// The battery's capacity (J).
+    pub fn battery_joules(&self) -> f64 {
+        self.energy.battery_wh * 3600.0
     }
 
     /// (shallowest, deepest) depth flown so far.

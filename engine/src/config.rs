@@ -122,6 +122,13 @@ pub const SIMULATOR_SETTINGS: &[SimulatorSetting] = &[
         about: "time constant of the vertical speed following the pumped volume",
     },
     SimulatorSetting {
+        name: "speed_exponent",
+        units: "",
+        min: 0.05,
+        max: 2.0,
+        about: "exponent of the vertical speed against the net buoyancy (0.5: lift and drag)",
+    },
+    SimulatorSetting {
         name: "pitch_rate",
         units: "rad/s",
         min: 0.001,

@@ -10,6 +10,7 @@
 
 use gloc_dbd::{CycleSource, DbdError};
 
+use crate::flight::{EnergyParams, FlightParams, PitchControl, Vehicle};
 use crate::simulation::{SimConfig, Simulation};
 
 /// The sensors a track reads, in [`Row`] field order.
@@ -107,7 +108,12 @@ impl Track {
     pub fn read(source: &mut dyn CycleSource) -> Result<Track, DbdError> {
         let columns: Vec<Option<usize>> = TRACK_SENSORS
             .iter()
-            .map(|name| source.sensors().iter().position(|sensor| sensor.name == *name))
+            .map(|name| {
+                source
+                    .sensors()
+                    .iter()
+                    .position(|sensor| sensor.name == *name)
+            })
             .collect();
         let mut track = Track::default();
         while let Some(cycle) = source.next_cycle()? {
@@ -419,26 +425,33 @@ fn pump_swings(
         else {
             continue;
         };
-        let inside: Vec<&Row> = rows[turn.saturating_sub(1)..=done]
-            .iter()
-            .filter(|row| toward(row).abs() <= 0.6 * pump_max)
+        // Rate: the median slope between rows both inside the swing.
+        let slopes: Vec<f64> = rows[turn.saturating_sub(1)..=done]
+            .windows(2)
+            .filter(|pair| pair.iter().all(|row| toward(row).abs() < 0.95 * pump_max))
+            .filter(|pair| pair[1].time > pair[0].time)
+            .map(|pair| (toward(&pair[1]) - toward(&pair[0])) / (pair[1].time - pair[0].time))
             .collect();
-        if let (Some(first), Some(last)) = (inside.first(), inside.last()) {
-            if last.time > first.time {
-                rates.push((toward(last) - toward(first)) / (last.time - first.time));
-            }
+        if let Some(rate) = median(slopes) {
+            rates.push(rate);
         }
-        // Energy: each row's current held until the next row.
+        // Energy: each row's current held since the previous row, from the
+        // turn until the current is back near the hotel current (the pump's
+        // motor runs on past the swing while the valve closes).
         let start = turn.saturating_sub(1);
+        let quiet = rows[done..]
+            .iter()
+            .position(|row| row.current < hotel_current + PUMP_QUIET_AMPS)
+            .map_or(rows.len() - 1, |offset| done + offset);
         let mut joules = 0.0;
         let mut depth = 0.0;
-        for pair in rows[start..=done.min(rows.len() - 1)].windows(2) {
+        for pair in rows[start..=quiet].windows(2) {
             let dt = pair[1].time - pair[0].time;
             joules += (pair[1].current - hotel_current).max(0.0) * pair[1].volts * dt;
             depth += pair[1].depth;
         }
         let moved = toward(&rows[done]) - toward(&rows[start]);
-        let count = (done - start).max(1) as f64;
+        let count = (quiet - start).max(1) as f64;
         if moved > 0.0 && joules.is_finite() {
             energies.push((joules / moved, depth / count));
         }
@@ -492,7 +505,14 @@ pub fn fit(track: &Track, climb_target: f64, defaults: &SimConfig) -> Result<Fit
     let pump_max = pump_max.unwrap_or(defaults.flight.pump_max);
 
     // Hotel load: current × voltage away from the turns.
-    let power = |rows: &[Row]| mean(&rows.iter().map(|row| row.current * row.volts).collect::<Vec<_>>());
+    let power = |rows: &[Row]| {
+        mean(
+            &rows
+                .iter()
+                .map(|row| row.current * row.volts)
+                .collect::<Vec<_>>(),
+        )
+    };
     let current = |rows: &[Row]| mean(&rows.iter().map(|row| row.current).collect::<Vec<_>>());
     fit.put(
         "dive_power",
@@ -645,6 +665,50 @@ pub fn fit(track: &Track, climb_target: f64, defaults: &SimConfig) -> Result<Fit
         "",
     );
 
+    // The speed's lag: the one the flight model needs to overshoot a turn as
+    // the log does (the pump rates and speeds fitted above held fixed).
+    let mut flight = defaults.flight.clone();
+    for fitted in &fit.values {
+        let mut probe = SimConfig {
+            flight: flight.clone(),
+            ..SimConfig::default()
+        };
+        if probe.set(fitted.name, fitted.value) {
+            flight = probe.flight;
+        }
+    }
+    let mut best: Option<(f64, f64, f64)> = None;
+    for exponent in EXPONENTS {
+        flight.speed_exponent = exponent;
+        for step in 0..=LAG_STEPS {
+            flight.speed_lag = LAG_MIN * (LAG_MAX / LAG_MIN).powf(step as f64 / LAG_STEPS as f64);
+            let error = (model_overshoot(&flight, true) / figures.bottom_overshoot - 1.0).powi(2)
+                + (model_overshoot(&flight, false) / figures.top_overshoot - 1.0).powi(2)
+                // Of two that overshoot alike, the quicker: a lag also slows
+                // every leg's start, which the log does not show.
+                + 1e-4 * flight.speed_lag;
+            if best.is_none_or(|(least, _, _)| error < least) {
+                best = Some((error, flight.speed_lag, exponent));
+            }
+        }
+    }
+    let lag = best.map(|(_, lag, _)| lag);
+    fit.put(
+        "speed_exponent",
+        best.map(|(_, _, exponent)| exponent),
+        "with speed_lag, the flight model's overshoot at the turns as the log's".into(),
+        "",
+    );
+    fit.put(
+        "speed_lag",
+        lag,
+        format!(
+            "the lag at which the flight model overshoots a turn as the log does: {:.2} m at the bottom, {:.2} m at the top (medians)",
+            figures.bottom_overshoot, figures.top_overshoot
+        ),
+        "",
+    );
+
     // Battery.
     let volts = median(rows.iter().map(|row| row.volts).collect());
     fit.put(
@@ -657,7 +721,6 @@ pub fn fit(track: &Track, climb_target: f64, defaults: &SimConfig) -> Result<Fit
         ("volts_empty", "an empty battery is not in the log"),
         ("battery_wh", "the capacity is not in the log (m_coulomb_amphr_total counts use, not what is left)"),
         ("battery_ohms", "m_battery updates once a minute, never during a pump swing, so its sag under load is not seen"),
-        ("speed_lag", "not separable from the pump swing in 4.5 s samples"),
         ("angle_of_attack", "needs the speed through water (m_speed is a model output on the glider)"),
         ("max_speed", "needs the speed through water"),
         ("altimeter_range", "the glider's altimeter use is set by its own u_alt_* settings, not the water"),
@@ -667,6 +730,59 @@ pub fn fit(track: &Track, climb_target: f64, defaults: &SimConfig) -> Result<Fit
     }
     Ok(fit)
 }
+
+/// The speed lags searched (s), log-spaced.
+const LAG_MIN: f64 = 0.5;
+const LAG_MAX: f64 = 120.0;
+const LAG_STEPS: u32 = 60;
+/// The speed-law exponents searched.
+const EXPONENTS: [f64; 8] = [0.1, 0.15, 0.2, 0.25, 0.3, 0.35, 0.4, 0.5];
+
+/// How far the flight model travels past a turn (m): steady at full volume,
+/// then the pump reverses at once (the turn's row), until the vertical speed
+/// changes sign. `bottom`: a dive turning to a climb.
+pub fn model_overshoot(flight: &FlightParams, bottom: bool) -> f64 {
+    let energy = EnergyParams::default();
+    let (before, after) = if bottom {
+        (-flight.pump_max, flight.pump_max)
+    } else {
+        (flight.pump_max, -flight.pump_max)
+    };
+    let mut vehicle = Vehicle::default();
+    vehicle.depth = 500.0;
+    vehicle.ballast = before;
+    let fly = |vehicle: &mut Vehicle, seconds: f64, buoyancy: f64| {
+        vehicle.fly(
+            seconds,
+            buoyancy,
+            0.0,
+            PitchControl::Battpos,
+            1000.0,
+            flight,
+            &energy,
+            0.0,
+        );
+    };
+    fly(&mut vehicle, 600.0, before);
+    let start = vehicle.depth;
+    let mut furthest: f64 = 0.0;
+    for _ in 0..2000 {
+        fly(&mut vehicle, flight.step, after);
+        let travelled = if bottom {
+            vehicle.depth - start
+        } else {
+            start - vehicle.depth
+        };
+        furthest = furthest.max(travelled);
+        if travelled < furthest {
+            break;
+        }
+    }
+    furthest
+}
+
+/// Current above the hotel current (A) below which the pump counts as stopped.
+const PUMP_QUIET_AMPS: f64 = 0.05;
 
 /// m_battpos spread (in) below which the battery counts as held in place.
 const BATTPOS_STILL: f64 = 0.1;

@@ -26,6 +26,8 @@ pub struct FlightParams {
     pub pump_in_rate: f64,
     /// Time constant of the vertical speed following the pumped volume (s).
     pub speed_lag: f64,
+    /// Exponent of the speed law against the net buoyancy ([`SpeedLaw`]).
+    pub speed_exponent: f64,
     /// Pitch slew rate of the battery (rad/s).
     pub pitch_rate: f64,
     /// Angle of attack added to the pitch for the glide angle (rad).
@@ -50,6 +52,7 @@ impl Default for FlightParams {
             pump_rate: 23.0,
             pump_in_rate: 23.0,
             speed_lag: 1.5,
+            speed_exponent: 0.5,
             pitch_rate: 0.05,
             angle_of_attack: 2f64.to_radians(),
             max_speed: 0.4,
@@ -129,9 +132,11 @@ impl EnergyUse {
     }
 }
 
-/// The vertical speed law: w = k·sqrt(|V + trim|) against the net buoyancy
-/// (pumped volume V plus the glider's trim, cc), the steady state of lift and
-/// drag (drag ∝ speed², gliderflight's model at a fixed glide angle). `trim`
+/// The vertical speed law: w = k·|V + trim|^e against the net buoyancy
+/// (pumped volume V plus the glider's trim, cc). e = ½ is the steady state of
+/// lift and drag at a fixed glide angle (drag ∝ speed², gliderflight's
+/// model); a real glider's pitch also follows the buoyancy, so `gloc
+/// calibrate` fits e from the overshoot at the turns. `trim`
 /// and `k` follow from the rates at full volume, so unequal dive and climb
 /// rates are a trim: a heavy glider (trim < 0) dives faster than it climbs.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -139,22 +144,31 @@ pub struct SpeedLaw {
     /// cc; > 0: the glider is light.
     pub trim: f64,
     pub k: f64,
+    pub exponent: f64,
 }
 
 impl SpeedLaw {
     pub fn new(flight: &FlightParams) -> SpeedLaw {
-        let (dive, climb) = (flight.dive_rate.powi(2), flight.climb_rate.powi(2));
-        let sum = (dive + climb).max(f64::MIN_POSITIVE);
-        SpeedLaw {
-            trim: flight.pump_max * (climb - dive) / sum,
-            k: (sum / (2.0 * flight.pump_max)).sqrt(),
-        }
+        let exponent = flight.speed_exponent.max(0.05);
+        let ratio =
+            (flight.climb_rate / flight.dive_rate.max(f64::MIN_POSITIVE)).powf(1.0 / exponent);
+        let trim = flight.pump_max * (ratio - 1.0) / (ratio + 1.0);
+        let k = flight.dive_rate
+            / (flight.pump_max - trim)
+                .max(f64::MIN_POSITIVE)
+                .powf(exponent);
+        SpeedLaw { trim, k, exponent }
     }
 
     /// Steady vertical speed (m/s, > 0 down) at pumped volume `ballast` (cc, > 0 up).
     pub fn rate(&self, ballast: f64) -> f64 {
         let net = ballast + self.trim;
-        -net.signum() * self.k * net.abs().sqrt()
+        let magnitude = if self.exponent == 0.5 {
+            net.abs().sqrt()
+        } else {
+            net.abs().powf(self.exponent)
+        };
+        -net.signum() * self.k * magnitude
     }
 }
 
@@ -280,8 +294,8 @@ impl Vehicle {
         law: &SpeedLaw,
     ) {
         // Pump: out (going up) at pump_rate, in (going down) at pump_in_rate.
-        let pump_step = (target_ballast - self.ballast)
-            .clamp(-flight.pump_in_rate * dt, flight.pump_rate * dt);
+        let pump_step =
+            (target_ballast - self.ballast).clamp(-flight.pump_in_rate * dt, flight.pump_rate * dt);
         let pump_joules = if pump_step > 0.0 {
             pump_step
                 * (energy.pump_out_j_per_cc + energy.pump_out_j_per_cc_m * self.depth.max(0.0))

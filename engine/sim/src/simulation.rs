@@ -92,6 +92,7 @@ impl SimConfig {
         let (flight, energy, timing) = (&mut self.flight, &mut self.energy, &mut self.timing);
         let field = match name {
             "pump_in_rate" => &mut flight.pump_in_rate,
+            "speed_exponent" => &mut flight.speed_exponent,
             "battpos_dive_pitch" => &mut flight.battpos_dive_pitch,
             "battpos_climb_pitch" => &mut flight.battpos_climb_pitch,
             "battery_ohms" => &mut energy.battery_ohms,

@@ -82,7 +82,7 @@ fn sensor_cache(source: &SourceArgs) -> anyhow::Result<Option<PathBuf>> {
     Ok(settings.sensor_cache)
 }
 
-fn open(source: &SourceArgs) -> anyhow::Result<Deployment> {
+pub(crate) fn open(source: &SourceArgs) -> anyhow::Result<Deployment> {
     let cache = sensor_cache(source)?;
     Ok(Deployment::open(&source.files, cache.as_deref())?)
 }

@@ -6,6 +6,7 @@ use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
 
+mod calibrate;
 mod check;
 mod compile;
 mod data;
@@ -43,6 +44,8 @@ enum Command {
     /// Glider logs (.dbd .ebd .sbd .tbd …, compressed .dcd …, .dba): info, convert, plot.
     #[command(subcommand)]
     Data(data::DataCommand),
+    /// Fit the simulator's constants from a glider's own logs; writes a [simulator] table.
+    Calibrate(calibrate::CalibrateArgs),
 }
 
 #[derive(Args, Debug)]
@@ -153,6 +156,7 @@ fn main() -> ExitCode {
         Command::Lsp => gloc_lsp_main(),
         Command::Dap(args) => gloc_dap_main(args),
         Command::Data(command) => data::main(command),
+        Command::Calibrate(args) => calibrate::main(args),
     };
     match result {
         Ok(code) => code,

@@ -574,6 +574,15 @@ fn summary(facts: &SummaryFacts<'_>) {
             sim.energy_joules() / 1000.0,
             sim.amp_hours()
         ),
+        {
+            let by = sim.energy_use();
+            format!(
+                "by consumer   hotel {:.1} kJ, pump {:.1} kJ, pitch {:.1} kJ",
+                by.hotel / 1000.0,
+                by.pump / 1000.0,
+                by.pitch / 1000.0
+            )
+        },
         format!(
             "depth range   {shallowest:.1} – {deepest:.1} m (water {:.0} m)",
             sim.water_depth()
@@ -584,6 +593,11 @@ fn summary(facts: &SummaryFacts<'_>) {
             let how = match end.reason {
                 EndReason::Completed => "completed".to_string(),
                 EndReason::Aborted(reason) => format!("ABORTED ({})", reason.glider_name()),
+                EndReason::BatteryExhausted => format!(
+                    "BATTERY EXHAUSTED ({:.0} Wh used of {:.0} Wh)",
+                    sim.energy_joules() / 3600.0,
+                    sim.battery_joules() / 3600.0
+                ),
             };
             format!(
                 "{how} at cycle {} ({}) at {:.1} m",

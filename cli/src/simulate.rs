@@ -149,11 +149,11 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
     let (max_cycles, limit_given) = match (&args.duration, args.cycles) {
         (Some(text), _) => {
             let seconds = parse_duration(text)?;
-            ((seconds / sim.cycle_time()).ceil() as u64, true)
+            ((seconds / sim.mean_cycle_period()).ceil() as u64, true)
         }
         (None, Some(cycles)) => (cycles, true),
         (None, None) => (
-            (DEFAULT_LIMIT_SECONDS / sim.cycle_time()).ceil() as u64,
+            (DEFAULT_LIMIT_SECONDS / sim.mean_cycle_period()).ceil() as u64,
             false,
         ),
     };
@@ -545,7 +545,7 @@ struct SummaryFacts<'a> {
 
 fn summary(facts: &SummaryFacts<'_>) {
     let sim = facts.sim;
-    let simulated = facts.cycles_run as f64 * sim.cycle_time();
+    let simulated = sim.time();
     let wall = facts.wall.as_secs_f64();
     let speedup = if wall > 0.0 {
         format!("{:.0}×", simulated / wall)
@@ -559,11 +559,20 @@ fn summary(facts: &SummaryFacts<'_>) {
             sim.mission_name(),
             facts.script_name
         ),
-        format!(
-            "cycles        {} ({} s each)",
-            facts.cycles_run,
-            sim.cycle_time()
-        ),
+        if sim.mean_cycle_period() == sim.cycle_time() {
+            format!(
+                "cycles        {} ({} s each)",
+                facts.cycles_run,
+                sim.cycle_time()
+            )
+        } else {
+            format!(
+                "cycles        {} ({:.3} s each on average; u_cycle_time {} s)",
+                facts.cycles_run,
+                simulated / facts.cycles_run.max(1) as f64,
+                sim.cycle_time()
+            )
+        },
         format!("simulated     {}", human_time(simulated)),
         format!(
             "wall time     {:.3} s ({speedup} faster than real time)",
@@ -659,7 +668,7 @@ fn summary(facts: &SummaryFacts<'_>) {
 /// `m_depth:nan@20: m_depth reads NaN in cycles 20–336 (1m 20s – 22m 24s)`.
 fn fault_line(fault: &Fault, applied: Option<(u64, u64)>, text: &str, sim: &Simulation) -> String {
     let name = sim.sensor_list().name(fault.sensor).unwrap_or("the sensor");
-    let at = |cycle: u64| human_time(cycle as f64 * sim.cycle_time());
+    let at = |cycle: u64| human_time(cycle as f64 * sim.mean_cycle_period());
     match applied {
         Some((first, last)) if first == last => format!(
             "{text}: {name} {} in cycle {first} ({})",

@@ -14,7 +14,7 @@ use crate::flight::{EnergyParams, FlightParams, PitchControl, Vehicle};
 use crate::simulation::{SimConfig, Simulation};
 
 /// The sensors a track reads, in [`Row`] field order.
-pub const TRACK_SENSORS: [&str; 10] = [
+pub const TRACK_SENSORS: [&str; 11] = [
     "m_present_time",
     "m_depth",
     "m_pitch",
@@ -25,6 +25,7 @@ pub const TRACK_SENSORS: [&str; 10] = [
     "m_coulomb_amphr_total",
     "m_battery",
     "u_cycle_time",
+    "m_altitude",
 ];
 
 /// One control cycle: each value as last updated (NaN before the first update).
@@ -46,6 +47,9 @@ pub struct Row {
     pub amp_hours: f64,
     pub volts: f64,
     pub cycle_time: f64,
+    /// Height above the bottom (m); `altitude_fix` marks the rows that measured it.
+    pub altitude: f64,
+    pub altitude_fix: bool,
 }
 
 impl Row {
@@ -60,7 +64,11 @@ impl Row {
             6 => &mut self.current,
             7 => &mut self.amp_hours,
             8 => &mut self.volts,
-            _ => &mut self.cycle_time,
+            9 => &mut self.cycle_time,
+            _ => {
+                self.altitude_fix = true;
+                &mut self.altitude
+            }
         };
         *slot = value;
     }
@@ -77,6 +85,8 @@ const EMPTY: Row = Row {
     amp_hours: f64::NAN,
     volts: f64::NAN,
     cycle_time: f64::NAN,
+    altitude: f64::NAN,
+    altitude_fix: false,
 };
 
 /// A log's rows, one per cycle with a time.
@@ -93,6 +103,7 @@ impl Track {
     pub fn push(&mut self, update: impl Fn(usize) -> Option<f64>) {
         let mut row = self.last.unwrap_or(EMPTY);
         row.time = f64::NAN;
+        row.altitude_fix = false;
         for field in 0..TRACK_SENSORS.len() {
             if let Some(value) = update(field).filter(|value| value.is_finite()) {
                 row.set(field, value);
@@ -120,6 +131,18 @@ impl Track {
             track.push(|field| columns[field].and_then(|column| cycle.value(column)));
         }
         Ok(track)
+    }
+
+    /// The water depth under the glider: the median of m_depth + m_altitude
+    /// over the altimeter's fixes (m). `None` without a fix.
+    pub fn water_depth(&self) -> Option<f64> {
+        median(
+            self.rows
+                .iter()
+                .filter(|row| row.altitude_fix && row.altitude > 0.0)
+                .map(|row| row.depth + row.altitude)
+                .collect(),
+        )
     }
 
     /// Adds the simulation's current sensor values as a row (call after each cycle).
@@ -736,7 +759,9 @@ const LAG_MIN: f64 = 0.5;
 const LAG_MAX: f64 = 120.0;
 const LAG_STEPS: u32 = 60;
 /// The speed-law exponents searched.
-const EXPONENTS: [f64; 8] = [0.1, 0.15, 0.2, 0.25, 0.3, 0.35, 0.4, 0.5];
+const EXPONENTS: [f64; 13] = [
+    0.1, 0.15, 0.2, 0.25, 0.3, 0.35, 0.4, 0.5, 0.6, 0.75, 1.0, 1.5, 2.0,
+];
 
 /// How far the flight model travels past a turn (m): steady at full volume,
 /// then the pump reverses at once (the turn's row), until the vertical speed

@@ -644,7 +644,8 @@ impl Simulation {
             self.sensors[index] = pitch;
         }
         if let Some(index) = self.slots.c_ballast {
-            self.sensors[index] = buoyancy;
+            // The glider clips the command to what its pump can do.
+            self.sensors[index] = buoyancy.clamp(-self.flight.pump_max, self.flight.pump_max);
         }
         let period = self.cycle_period();
         self.vehicle.fly(
@@ -868,8 +869,14 @@ impl Simulation {
         self.start_time + self.time()
     }
 
+    /// `u_cycle_time`: the period the glider asks for.
     pub fn cycle_time(&self) -> f64 {
         self.cycle_time
+    }
+
+    /// The mean period a cycle really takes: `u_cycle_time` plus the overrun.
+    pub fn mean_cycle_period(&self) -> f64 {
+        (self.cycle_time + self.timing.cycle_overrun).max(0.5 * self.cycle_time)
     }
 
     pub fn phase(&self) -> Phase {

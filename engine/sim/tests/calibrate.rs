@@ -56,24 +56,8 @@ fn figures(track: &Track) -> Vec<(&'static str, f64)> {
     ]
 }
 
-/// The figures (names as in [`figures`]) the simulator does not yet
-/// reproduce within 10%: its speed lag that gives comet's overshoot also
-/// slows every leg's start (half-yo time +13%), and the overshoot itself
-/// lands 14-16% off (see the ignored test below).
-const NOT_YET: [&str; 3] = [
-    "half-yo time (s)",
-    "bottom overshoot (m)",
-    "top overshoot (m)",
-];
-
 #[test]
 fn calibrated_simulator_reproduces_comets_yo() {
-    compare(&NOT_YET);
-}
-
-#[test]
-#[ignore = "half-yo time and overshoot are 13-16% off (issue 15, not yet done)"]
-fn calibrated_simulator_reproduces_every_figure() {
     compare(&[]);
 }
 
@@ -86,8 +70,11 @@ fn compare(skip: &[&str]) {
     let mut config = SimConfig::default();
     let fitted = fit(&real, CLIMB_TARGET, &config).unwrap_or_else(|e| panic!("{e}"));
     fitted.apply(&mut config);
-    // comet's water: m_water_depth 44.5 m in the log (the yo turns 4 m above it).
-    config.water_depth = Some(44.5);
+    // The water under comet: its altimeter's fixes (m_depth + m_altitude).
+    config.water_depth = real.water_depth();
+    assert!(config
+        .water_depth
+        .is_some_and(|depth| (38.0..46.0).contains(&depth)));
     let span = real.rows.last().map(|r| r.time).unwrap_or(0.0) - real.rows[0].time;
     let simulated = simulated_track(&data, &config, span);
     let (real, simulated) = (figures(&real), figures(&simulated));

@@ -125,7 +125,7 @@ pub const SIMULATOR_SETTINGS: &[SimulatorSetting] = &[
         name: "speed_exponent",
         units: "",
         min: 0.05,
-        max: 2.0,
+        max: 3.0,
         about: "exponent of the vertical speed against the net buoyancy (0.5: lift and drag)",
     },
     SimulatorSetting {
@@ -192,11 +192,18 @@ pub const SIMULATOR_SETTINGS: &[SimulatorSetting] = &[
         about: "largest altitude the altimeter reads (m_altitude holds its last fix beyond)",
     },
     SimulatorSetting {
-        name: "altimeter_period",
-        units: "s",
+        name: "altimeter_fraction",
+        units: "",
         min: 0.0,
-        max: 86400.0,
-        about: "seconds between altimeter fixes (0: every cycle)",
+        max: 10.0,
+        about: "next altimeter ping after this fraction of altitude / dive rate (0: every cycle)",
+    },
+    SimulatorSetting {
+        name: "altimeter_min_depth",
+        units: "m",
+        min: 0.0,
+        max: 1000.0,
+        about: "depth above which the altimeter does not ping (u_alt_min_depth)",
     },
     SimulatorSetting {
         name: "dive_power",

@@ -747,7 +747,8 @@ pub fn fit(track: &Track, climb_target: f64, defaults: &SimConfig) -> Result<Fit
         ("angle_of_attack", "needs the speed through water (m_speed is a model output on the glider)"),
         ("max_speed", "needs the speed through water"),
         ("altimeter_range", "the glider's altimeter use is set by its own u_alt_* settings, not the water"),
-        ("altimeter_period", "as altimeter_range"),
+        ("altimeter_fraction", "as altimeter_range"),
+        ("altimeter_min_depth", "as altimeter_range"),
     ] {
         fit.not_fitted.push((name, why.into()));
     }

@@ -68,18 +68,39 @@ pub struct TimingParams {
     pub turn_cycles: f64,
     /// Largest altitude the altimeter measures (m).
     pub altimeter_range: f64,
-    /// Seconds between altimeter fixes (0: every cycle).
-    pub altimeter_period: f64,
+    /// The next altimeter fix is due this fraction of the time to the bottom
+    /// (altitude / dive rate) after the last (0: every cycle).
+    pub altimeter_fraction: f64,
+    /// Depth above which the altimeter does not ping (m, `u_alt_min_depth`).
+    pub altimeter_min_depth: f64,
 }
 
-impl Default for TimingParams {
-    fn default() -> TimingParams {
+impl TimingParams {
+    /// An ideal clock: cycles of exactly `u_cycle_time`, the pump turning in
+    /// the cycle a behavior turns, the altimeter read every cycle. For tests
+    /// of the behaviors' logic against hand-worked 4-second arithmetic.
+    pub fn ideal() -> TimingParams {
         TimingParams {
             cycle_overrun: 0.0,
             cycle_jitter: 0.0,
             turn_cycles: 1.0,
-            altimeter_range: 1.0e6,
-            altimeter_period: 0.0,
+            altimeter_range: f64::INFINITY,
+            altimeter_fraction: 0.0,
+            altimeter_min_depth: 0.0,
+        }
+    }
+}
+
+impl Default for TimingParams {
+    /// comet-2019-222-02-154.dbd: its cycles, turns and altimeter fixes (docs/simulator.md).
+    fn default() -> TimingParams {
+        TimingParams {
+            cycle_overrun: 0.51,
+            cycle_jitter: 0.13,
+            turn_cycles: 2.0,
+            altimeter_range: 33.0,
+            altimeter_fraction: 0.4,
+            altimeter_min_depth: 2.0,
         }
     }
 }
@@ -100,7 +121,8 @@ impl SimConfig {
             "cycle_jitter" => &mut timing.cycle_jitter,
             "turn_cycles" => &mut timing.turn_cycles,
             "altimeter_range" => &mut timing.altimeter_range,
-            "altimeter_period" => &mut timing.altimeter_period,
+            "altimeter_fraction" => &mut timing.altimeter_fraction,
+            "altimeter_min_depth" => &mut timing.altimeter_min_depth,
             "step" => &mut flight.step,
             "dive_rate" => &mut flight.dive_rate,
             "climb_rate" => &mut flight.climb_rate,
@@ -271,7 +293,7 @@ const SIM_DEFAULTS: &[(&str, f64)] = &[
     ("u_reqd_depth_at_surface", 2.0),
     ("f_nominal_pitch", 0.4538),
     ("f_nominal_dive_rate", 0.15),
-    ("m_battery", 15.0),
+    ("m_battery", 13.74),
 ];
 
 /// The script behavior's machine and what it did.
@@ -313,8 +335,9 @@ pub struct Simulation {
     /// The buoyancy command the pump follows, and cycles a turn is still held.
     applied_buoyancy: Option<f64>,
     turn_hold: u32,
-    /// Mission seconds of the last altimeter fix, and its reading.
-    altimeter_fix: Option<(f64, f64)>,
+    /// Mission seconds when the next altimeter ping is due, and the last reading.
+    altimeter_due: f64,
+    altimeter_reading: f64,
     /// Cycles begun so far; the current cycle's number while one is under way.
     cycle: u64,
     /// Mission seconds at the start of the current cycle.
@@ -487,7 +510,8 @@ impl Simulation {
             next_time: 0.0,
             applied_buoyancy: None,
             turn_hold: 0,
-            altimeter_fix: None,
+            altimeter_due: 0.0,
+            altimeter_reading: -1.0,
             cycle: 0,
             time: 0.0,
             phase: Phase::BetweenCycles,
@@ -800,18 +824,18 @@ impl Simulation {
         let present = self.start_time + self.time;
         let true_altitude = (self.water_depth - vehicle.depth).max(0.0);
         let timing = &self.timing;
-        let due = match self.altimeter_fix {
-            Some((at, _)) => self.time - at >= timing.altimeter_period,
-            None => true,
-        };
-        if due && true_altitude <= timing.altimeter_range {
-            self.altimeter_fix = Some((self.time, true_altitude));
+        // A ping: when due, diving (or every cycle with fraction 0), below the
+        // minimum depth; a fix only within range.
+        let diving = vehicle.depth_rate > 0.0 || timing.altimeter_fraction == 0.0;
+        if self.time >= self.altimeter_due && diving && vehicle.depth >= timing.altimeter_min_depth
+        {
+            if true_altitude <= timing.altimeter_range {
+                self.altimeter_reading = true_altitude;
+            }
+            let rate = vehicle.depth_rate.max(MIN_ALTIMETER_RATE);
+            self.altimeter_due = self.time + timing.altimeter_fraction * true_altitude / rate;
         }
-        let altitude = match self.altimeter_fix {
-            Some((_, reading)) => reading,
-            // No fix yet: the altimeter's "no reading" value.
-            None => -1.0,
-        };
+        let altitude = self.altimeter_reading;
         let temperature =
             self.profile.temperature(vehicle.depth) + self.temperature_noise * self.rng.normal();
         let pressure = vehicle.depth / 10.0 + self.pressure_noise * self.rng.normal();
@@ -1014,6 +1038,9 @@ impl Simulation {
         &self.warnings
     }
 }
+
+/// Descent rate (m/s) below which the altimeter's schedule assumes this one.
+const MIN_ALTIMETER_RATE: f64 = 0.05;
 
 /// Depth at or above which the glider counts as floating at the surface (m).
 const SURFACED_DEPTH: f64 = 0.3;

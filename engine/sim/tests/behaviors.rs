@@ -10,6 +10,15 @@
 
 use std::sync::Arc;
 
+/// The behaviors' logic is checked against hand-worked 4-second arithmetic:
+/// an ideal clock (exact 4 s cycles, turns in the same cycle).
+fn ideal_clock() -> SimConfig {
+    SimConfig {
+        timing: gloc_sim::simulation::TimingParams::ideal(),
+        ..SimConfig::default()
+    }
+}
+
 /// The hook's `bpump_value` 260 cc as `c_ballast_pumped` publishes it: clipped
 /// to the pump's 230 cc (`pump_max`), as a real glider clips (comet's log:
 /// b_arg 1000, c_ballast_pumped 233).
@@ -62,8 +71,7 @@ fn fly(mission: &str, script: Option<&str>, max_cycles: u64) -> (Simulation, Vec
     let mission = Mission::parse("test.mi", mission);
     assert!(!mission.has_errors(), "{}", mission.render_plain());
     let program = script.map(|text| compile(text, &list));
-    let mut sim =
-        Simulation::new(&mission, list.clone(), program, &SimConfig::default()).expect("starts");
+    let mut sim = Simulation::new(&mission, list.clone(), program, &ideal_clock()).expect("starts");
     let depth = list.lookup("m_depth").expect("m_depth");
     let behs = list.lookup("sci_ruhp_behs").expect("sci_ruhp_behs");
     let c_ballast = list.lookup("c_ballast_pumped").expect("c_ballast_pumped");
@@ -465,7 +473,7 @@ fn the_hook_is_in_the_stack_of_these_missions() {
         &mission,
         list.clone(),
         Some(compile(&set_flags_past_15_m(&list, 128, None), &list)),
-        &SimConfig::default(),
+        &ideal_clock(),
     )
     .expect("starts");
     let kinds: Vec<BehaviorKind> = sim.behaviors().iter().map(|b| b.kind).collect();

@@ -10,7 +10,7 @@
 
 use gloc_dbd::{CycleSource, DbdError};
 
-use crate::flight::{EnergyParams, FlightParams, PitchControl, Vehicle};
+use crate::flight::{EnergyParams, FlightParams, PitchControl, SpeedLaw, Vehicle};
 use crate::simulation::{SimConfig, Simulation};
 
 /// The sensors a track reads, in [`Row`] field order.
@@ -777,6 +777,7 @@ pub fn model_overshoot(flight: &FlightParams, bottom: bool) -> f64 {
     let mut vehicle = Vehicle::default();
     vehicle.depth = 500.0;
     vehicle.ballast = before;
+    let law = SpeedLaw::new(flight);
     let fly = |vehicle: &mut Vehicle, seconds: f64, buoyancy: f64| {
         vehicle.fly(
             seconds,
@@ -785,6 +786,7 @@ pub fn model_overshoot(flight: &FlightParams, bottom: bool) -> f64 {
             PitchControl::Battpos,
             1000.0,
             flight,
+            &law,
             &energy,
             0.0,
         );

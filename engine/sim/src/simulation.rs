@@ -27,7 +27,7 @@ use crate::behaviors::{
     Commands, HookSensors, Outcome, ScriptPlacement, World,
 };
 use crate::environment::{Rng, TemperatureProfile};
-use crate::flight::{EnergyParams, EnergyUse, FlightParams, Vehicle};
+use crate::flight::{EnergyParams, EnergyUse, FlightParams, SpeedLaw, Vehicle};
 use crate::mission::Mission;
 
 /// Settings of a run that are not in the mission.
@@ -317,6 +317,7 @@ pub struct Simulation {
     script: Option<Script>,
     vehicle: Vehicle,
     flight: FlightParams,
+    law: SpeedLaw,
     energy: EnergyParams,
     profile: TemperatureProfile,
     water_depth: f64,
@@ -496,6 +497,7 @@ impl Simulation {
             script,
             vehicle,
             flight: config.flight.clone(),
+            law: SpeedLaw::new(&config.flight),
             energy: config.energy.clone(),
             profile,
             water_depth,
@@ -679,6 +681,7 @@ impl Simulation {
             control,
             self.water_depth,
             &self.flight,
+            &self.law,
             &self.energy,
             0.0,
         );
@@ -746,7 +749,11 @@ impl Simulation {
         let timing = &self.timing;
         let mut period = self.cycle_time + timing.cycle_overrun;
         if timing.cycle_jitter > 0.0 {
-            period += timing.cycle_jitter * self.clock_rng.normal();
+            // The sum of two uniforms (triangular): the spread asked for, at a
+            // fraction of a normal's cost (no logarithm or cosine per cycle).
+            let half_width = timing.cycle_jitter * 6f64.sqrt();
+            let sum = self.clock_rng.uniform() + self.clock_rng.uniform() - 1.0;
+            period += half_width * sum;
         }
         period.max(0.5 * self.cycle_time)
     }

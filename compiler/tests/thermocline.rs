@@ -233,6 +233,35 @@ fn the_amadeus_profile_gives_bounds_of_about_3_and_13_m() {
 }
 
 #[test]
+fn well_mixed_water_has_no_thermocline() {
+    // comet's water on 2019-08-21 (domain notes §4): 18.4 °C at the surface to
+    // 17.9 °C at 42 m, 0.012 °C/m everywhere. Every 1 m derivative is then
+    // about 0.012 (plus the CTD noise of 0.01 °C over a bin's samples), far
+    // below the tracker's MINGRAD of 0.1 °C/m, so however they compare with
+    // their mean there is no thermocline: the tracker keeps flying the full
+    // range, from SHALLOWEST (2 m) to the full-depth dive's 40 m
+    // (thermocline.mi's 44 m of water less MARGIN).
+    let profile = TemperatureProfile::Table(vec![(0.0, 18.4), (42.0, 17.9)]);
+    let flight = fly(Some(profile), 3 * 3600 / 4, false);
+    assert!(turns(&flight.samples).len() > 4);
+    let last = flight.samples.last().expect("samples");
+    assert_eq!(
+        (last.climb_depth, last.dive_depth),
+        (2.0, 40.0),
+        "printed {:?}",
+        flight.printed
+    );
+    assert!(
+        flight
+            .printed
+            .iter()
+            .all(|line| line == "thermocline from 2.0 to 40.0 m"),
+        "{:?}",
+        flight.printed
+    );
+}
+
+#[test]
 fn the_tracker_flies_the_same_with_and_without_optimization() {
     let cycles = 2 * 3600 / 4;
     let plain = fly(None, cycles, false);

@@ -132,9 +132,13 @@ pub struct RunArgs {
     /// `[simulator]` in gloc.toml. The names and ranges are in docs/simulator.md.
     #[arg(long = "sim", value_name = "NAME=VALUE", value_parser = settings::parse_simulator_setting)]
     pub simulator: Vec<(String, f64)>,
-    /// Write an SVG flight profile.
-    #[arg(long, value_name = "FILE.svg")]
+    /// Write the flight profile: SVG or PNG by the extension.
+    #[arg(long, value_name = "FILE.svg|FILE.png")]
     pub plot: Option<PathBuf>,
+    /// Extra plot panels, comma-separated: `temperature` (the track coloured by
+    /// the water temperature), `battery` (a voltage panel).
+    #[arg(long, value_name = "PANELS", value_delimiter = ',')]
+    pub plot_panels: Vec<String>,
     /// Compile a GBASIC script with the optimizer.
     #[arg(short = 'O')]
     pub optimize: bool,

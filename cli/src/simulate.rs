@@ -18,7 +18,7 @@ use gloc_engine::sensors::SensorList;
 use gloc_engine::vm::DEFAULT_CYCLE_BUDGET;
 use gloc_sim::faults::{step_cycle_with_faults, Fault, FaultPlan};
 use gloc_sim::log::{default_columns, parse_columns, DbaHeader, LogFormat, LogWriter};
-use gloc_sim::plot::{render_svg, Trace};
+use gloc_sim::plot::{write_plot, PlotFormat, PlotOptions, Trace};
 use gloc_sim::{default_mission, EndReason, Mission, SimConfig, Simulation, TemperatureProfile};
 
 use crate::render::{SourceFile, Tally};
@@ -33,6 +33,26 @@ const PROGRESS_MIN_CYCLES: u64 = 50_000;
 pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
     if args.out.is_some() {
         bail!("--out belongs to --replay; to log a simulated run use --log FILE.csv or FILE.dba");
+    }
+    if let Some(plot) = &args.plot {
+        PlotFormat::from_path(plot).map_err(anyhow::Error::msg)?;
+        let inputs = [
+            args.script.as_deref(),
+            args.mission.as_deref(),
+            args.profile.as_deref(),
+        ];
+        if inputs
+            .iter()
+            .flatten()
+            .any(|input| *input == plot.as_path())
+        {
+            bail!("--plot `{}` is one of the inputs", plot.display());
+        }
+    }
+    for panel in &args.plot_panels {
+        if !matches!(panel.as_str(), "temperature" | "battery") {
+            bail!("--plot-panels: `{panel}` is not a panel; the panels are temperature, battery");
+        }
     }
     let mut tally = Tally::default();
     let settings = crate::settings::resolve(
@@ -233,11 +253,26 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
             .with_context(|| format!("cannot write the log `{}`", path.display()))?;
     }
     if let (Some(trace), Some(path)) = (&trace, &args.plot) {
-        let title = format!("{} with {}", mission.name, script_name);
-        let svg = render_svg(trace, &title, sim.water_depth())
+        // File names, not paths, in the title.
+        let file_name = |name: &str| {
+            Path::new(name)
+                .file_name()
+                .map(|name| name.to_string_lossy().into_owned())
+                .unwrap_or_else(|| name.to_string())
+        };
+        let title = format!(
+            "{} with {}",
+            file_name(&mission.name),
+            file_name(&script_name)
+        );
+        let options = PlotOptions {
+            title,
+            water_depth: sim.water_depth(),
+            temperature: args.plot_panels.iter().any(|panel| panel == "temperature"),
+            battery: args.plot_panels.iter().any(|panel| panel == "battery"),
+        };
+        write_plot(trace, &options, path)
             .map_err(|error| anyhow::anyhow!("cannot draw the plot: {error}"))?;
-        std::fs::write(path, svg)
-            .with_context(|| format!("cannot write the plot `{}`", path.display()))?;
     }
 
     summary(&SummaryFacts {

@@ -947,6 +947,16 @@ impl Simulation {
         self.vehicle.energy_use
     }
 
+    /// The battery's terminal voltage now (V).
+    pub fn battery_volts(&self) -> f64 {
+        self.vehicle.battery_volts(&self.energy)
+    }
+
+    /// The water's true temperature at the glider (°C, without the CTD's noise).
+    pub fn water_temperature(&self) -> f64 {
+        self.profile.temperature(self.vehicle.depth)
+    }
+
     /// The battery's capacity (J).
     pub fn battery_joules(&self) -> f64 {
         self.energy.battery_wh * 3600.0

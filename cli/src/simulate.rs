@@ -621,10 +621,12 @@ fn summary(facts: &SummaryFacts<'_>) {
         {
             let by = sim.energy_use();
             format!(
-                "by consumer   hotel {:.1} kJ, pump {:.1} kJ, pitch {:.1} kJ",
+                "by consumer   hotel {:.1} kJ, pump {:.1} kJ, pitch {:.1} kJ, science {:.1} kJ ({} wakes)",
                 by.hotel / 1000.0,
                 by.pump / 1000.0,
-                by.pitch / 1000.0
+                by.pitch / 1000.0,
+                by.science / 1000.0,
+                sim.science_wakes()
             )
         },
         format!(

@@ -86,6 +86,14 @@ pub struct EnergyParams {
     pub volts_empty: f64,
     /// Internal resistance (ohm): the voltage sags by `ohms × current` under load.
     pub battery_ohms: f64,
+    /// The science computer and sensors awake (W) and asleep (W), the time a
+    /// wake takes (s, drawing `science_on_power`) and the energy of one wake
+    /// (J) on top. 0: counted in the hotel load (comet's hotel includes its
+    /// science bay, which its log cannot separate).
+    pub science_on_power: f64,
+    pub science_sleep_power: f64,
+    pub science_wake_time: f64,
+    pub science_wake_joules: f64,
 }
 
 impl Default for EnergyParams {
@@ -106,6 +114,10 @@ impl Default for EnergyParams {
             volts_full: 13.74,
             volts_empty: 10.0,
             battery_ohms: 0.0,
+            science_on_power: 0.0,
+            science_sleep_power: 0.0,
+            science_wake_time: 0.0,
+            science_wake_joules: 0.0,
         }
     }
 }
@@ -130,11 +142,13 @@ pub struct EnergyUse {
     pub pump: f64,
     /// The pitch battery's motor.
     pub pitch: f64,
+    /// The science computer and its sensors, on, asleep and waking.
+    pub science: f64,
 }
 
 impl EnergyUse {
     pub fn total(&self) -> f64 {
-        self.hotel + self.pump + self.pitch
+        self.hotel + self.pump + self.pitch + self.science
     }
 }
 
@@ -235,9 +249,8 @@ impl Vehicle {
     /// Flies `duration` seconds (`law`: [`SpeedLaw::new`] of `flight`, made
     /// once per run) toward the commanded buoyancy (cc, > 0 up) and
     /// pitch (rad; with [`PitchControl::Battpos`] only its sign matters) in
-    /// water `water_depth` deep, plus `extra_watts` of other consumers
-    /// (already counted by the caller in its own ledger, included here in the
-    /// battery's total).
+    /// water `water_depth` deep, plus `extra_watts` drawn by the science
+    /// computer and sensors.
     #[allow(clippy::too_many_arguments)]
     pub fn fly(
         &mut self,
@@ -274,6 +287,7 @@ impl Vehicle {
             travelled += (self.depth - before).abs();
         }
         self.energy_joules += extra_watts * duration;
+        self.energy_use.science += extra_watts * duration;
         let used = self.energy_joules - joules_before;
         self.amp_hours += used / volts / 3600.0;
         self.current = if duration > 0.0 {

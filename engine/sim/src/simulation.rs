@@ -117,6 +117,10 @@ impl SimConfig {
             "battpos_dive_pitch" => &mut flight.battpos_dive_pitch,
             "battpos_climb_pitch" => &mut flight.battpos_climb_pitch,
             "battery_ohms" => &mut energy.battery_ohms,
+            "science_on_power" => &mut energy.science_on_power,
+            "science_sleep_power" => &mut energy.science_sleep_power,
+            "science_wake_time" => &mut energy.science_wake_time,
+            "science_wake_joules" => &mut energy.science_wake_joules,
             "cycle_overrun" => &mut timing.cycle_overrun,
             "cycle_jitter" => &mut timing.cycle_jitter,
             "turn_cycles" => &mut timing.turn_cycles,
@@ -251,6 +255,8 @@ struct SensorSlots {
     sci_present_time: Option<usize>,
     c_pitch: Option<usize>,
     c_ballast: Option<usize>,
+    c_science_on: Option<usize>,
+    m_science_on: Option<usize>,
     hook: HookSensors,
 }
 
@@ -277,6 +283,8 @@ impl SensorSlots {
             sci_present_time: find("sci_m_present_time"),
             c_pitch: find("c_pitch"),
             c_ballast: find("c_ballast_pumped"),
+            c_science_on: find("c_science_on"),
+            m_science_on: find("m_science_on"),
             hook: HookSensors {
                 behs: find("sci_ruhp_behs"),
                 dive_depth: find("sci_ruhp_dive_depth"),
@@ -336,6 +344,10 @@ pub struct Simulation {
     /// The buoyancy command the pump follows, and cycles a turn is still held.
     applied_buoyancy: Option<f64>,
     turn_hold: u32,
+    /// The science computer: awake, or waking until the given mission second.
+    science: Science,
+    /// Wakes so far.
+    science_wakes: u64,
     /// Mission seconds when the next altimeter ping is due, and the last reading.
     altimeter_due: f64,
     altimeter_reading: f64,
@@ -512,6 +524,8 @@ impl Simulation {
             next_time: 0.0,
             applied_buoyancy: None,
             turn_hold: 0,
+            science: Science::Asleep,
+            science_wakes: 0,
             altimeter_due: 0.0,
             altimeter_reading: -1.0,
             cycle: 0,
@@ -674,6 +688,7 @@ impl Simulation {
             self.sensors[index] = buoyancy.clamp(-self.flight.pump_max, self.flight.pump_max);
         }
         let period = self.cycle_period();
+        let science_watts = self.science_power();
         self.vehicle.fly(
             period,
             buoyancy,
@@ -683,7 +698,7 @@ impl Simulation {
             &self.flight,
             &self.law,
             &self.energy,
-            0.0,
+            science_watts,
         );
         self.next_time = self.time + period;
         if self.vehicle.exhausted(&self.energy) {
@@ -741,6 +756,36 @@ impl Simulation {
         self.turn_hold = 0;
         self.applied_buoyancy = Some(wanted);
         wanted
+    }
+
+    /// The science computer's state for this cycle, from `c_science_on` (the
+    /// script or a behavior sets it; 1 wakes, 0 puts to sleep), and its power.
+    /// A wake takes `science_wake_time` at full power plus
+    /// `science_wake_joules`; `m_science_on` reads 1 once it is awake.
+    fn science_power(&mut self) -> f64 {
+        let wanted = self
+            .slots
+            .c_science_on
+            .is_some_and(|index| self.sensors[index] != 0.0 && self.sensors[index].is_finite());
+        let energy = &self.energy;
+        self.science = match (self.science, wanted) {
+            (_, false) => Science::Asleep,
+            (Science::Asleep, true) => {
+                self.science_wakes += 1;
+                self.vehicle.energy_joules += energy.science_wake_joules;
+                self.vehicle.energy_use.science += energy.science_wake_joules;
+                Science::Waking(self.time + energy.science_wake_time)
+            }
+            (Science::Waking(until), true) if self.time >= until => Science::Awake,
+            (state, true) => state,
+        };
+        if let Some(index) = self.slots.m_science_on {
+            self.sensors[index] = f64::from(u8::from(self.science == Science::Awake));
+        }
+        match self.science {
+            Science::Asleep => energy.science_sleep_power,
+            _ => energy.science_on_power,
+        }
     }
 
     /// This cycle's period: `u_cycle_time` plus the mean overrun and a seeded
@@ -957,6 +1002,11 @@ impl Simulation {
         self.profile.temperature(self.vehicle.depth)
     }
 
+    /// Times the science computer was woken.
+    pub fn science_wakes(&self) -> u64 {
+        self.science_wakes
+    }
+
     /// The battery's capacity (J).
     pub fn battery_joules(&self) -> f64 {
         self.energy.battery_wh * 3600.0
@@ -1054,6 +1104,15 @@ impl Simulation {
     pub fn warnings(&self) -> &[String] {
         &self.warnings
     }
+}
+
+/// The science computer's power state.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Science {
+    Asleep,
+    /// Waking until this mission second.
+    Waking(f64),
+    Awake,
 }
 
 /// Descent rate (m/s) below which the altimeter's schedule assumes this one.

@@ -136,7 +136,8 @@ pub struct RunArgs {
     #[arg(long, value_name = "FILE.svg|FILE.png")]
     pub plot: Option<PathBuf>,
     /// Extra plot panels, comma-separated: `temperature` (the track coloured by
-    /// the water temperature), `battery` (a voltage panel).
+    /// the water temperature), `battery` (a voltage panel), or a sensor's name
+    /// (its own panel, e.g. `sci_ruhp_climb_depth`).
     #[arg(long, value_name = "PANELS", value_delimiter = ',')]
     pub plot_panels: Vec<String>,
     /// Compile a GBASIC script with the optimizer.

@@ -50,8 +50,8 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         }
     }
     for panel in &args.plot_panels {
-        if !matches!(panel.as_str(), "temperature" | "battery") {
-            bail!("--plot-panels: `{panel}` is not a panel; the panels are temperature, battery");
+        if !matches!(panel.as_str(), "temperature" | "battery") && !panel.contains('_') {
+            bail!("--plot-panels: `{panel}` is not a panel; the panels are temperature, battery and sensor names (m_battery, sci_ruhp_behs, …)");
         }
     }
     let mut tally = Tally::default();
@@ -189,7 +189,20 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         )?),
         None => None,
     };
-    let mut trace = args.plot.as_ref().map(|_| Trace::default());
+    let mut panel_sensors = Vec::new();
+    for panel in &args.plot_panels {
+        if matches!(panel.as_str(), "temperature" | "battery") {
+            continue;
+        }
+        match sensor_list.lookup(panel) {
+            Some(id) => panel_sensors.push((panel.clone(), id)),
+            None => bail!("--plot-panels: the sensor list has no sensor `{panel}`"),
+        }
+    }
+    let mut trace = args
+        .plot
+        .as_ref()
+        .map(|_| Trace::with_sensors(&panel_sensors));
 
     let progress = (std::io::stderr().is_terminal()
         && max_cycles >= PROGRESS_MIN_CYCLES

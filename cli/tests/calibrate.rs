@@ -108,5 +108,38 @@ fn plots_are_png_or_svg_by_extension() {
         text(&output.stderr)
     );
     assert!(!folder.join("run.jpg").exists());
+    // A chosen sensor gets its own panel; an unknown one is refused.
+    let output = gloc(
+        &[
+            "run",
+            "--cycles",
+            "50",
+            "--plot",
+            "run.svg",
+            "--plot-panels",
+            "battery,m_pitch",
+        ],
+        &folder,
+    );
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let svg = std::fs::read_to_string(folder.join("run.svg")).expect("svg written");
+    assert!(
+        svg.contains("\nbattery (V)\n") && svg.contains("\nm_pitch\n"),
+        "panels missing"
+    );
+    let output = gloc(
+        &[
+            "run",
+            "--cycles",
+            "5",
+            "--plot",
+            "x.svg",
+            "--plot-panels",
+            "m_nosuch",
+        ],
+        &folder,
+    );
+    assert_eq!(output.status.code(), Some(2));
+    assert!(text(&output.stderr).contains("no sensor `m_nosuch`"));
     let _ = std::fs::remove_dir_all(&folder);
 }

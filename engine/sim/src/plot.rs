@@ -1,6 +1,7 @@
 //! The flight profile: depth (downward) against time, like the paper's Fig. 2
 //! and 4b, with the script's stores as an event track below it and optional
-//! panels (temperature as colour along the track, battery voltage). SVG or PNG.
+//! panels (temperature as colour along the track, battery voltage, chosen
+//! sensors). SVG or PNG.
 //!
 //! The time axis is in minutes, hours or days by the run's length. A long run
 //! is drawn as a min/max envelope, one column per pixel. Every store is marked
@@ -37,11 +38,25 @@ pub struct Trace {
     pub actions: Vec<Action>,
     /// Names of the sensors the script stored.
     pub names: Vec<String>,
+    /// Chosen sensors recorded per point for their own panels: (name, sensor
+    /// index, values). Set with [`Trace::with_sensors`].
+    pub series: Vec<(String, u32, Vec<f32>)>,
     /// Last value the script stored in each sensor it stored (for "changed" marks).
     last_stored: Vec<(u32, f64)>,
 }
 
 impl Trace {
+    /// A trace that also records these sensors (name and id) for panels.
+    pub fn with_sensors(sensors: &[(String, gloc_engine::sensors::SensorId)]) -> Trace {
+        Trace {
+            series: sensors
+                .iter()
+                .map(|(name, id)| (name.clone(), id.0, Vec::new()))
+                .collect(),
+            ..Trace::default()
+        }
+    }
+
     /// Records the finished cycle: call after `finish_cycle`/`step_cycle`.
     pub fn record(&mut self, sim: &Simulation) {
         // The finished cycle ends where the next one starts.
@@ -55,6 +70,14 @@ impl Trace {
         self.points.push((time, depth));
         self.volts.push(sim.battery_volts() as f32);
         self.temps.push(sim.water_temperature() as f32);
+        let sensors = sim.sensors();
+        for (_, index, values) in &mut self.series {
+            let value = sensors.get(*index as usize).copied().unwrap_or(f64::NAN);
+            if values.is_empty() {
+                values.push(value as f32);
+            }
+            values.push(value as f32);
+        }
         for &id in sim.stored() {
             let value = sim.sensor(id).unwrap_or(f64::NAN);
             let previous = self
@@ -147,8 +170,22 @@ const BAR_PIECES: usize = 8;
 /// Label lanes of the event track.
 const LANES: usize = 4;
 
-fn height(options: &PlotOptions) -> u32 {
-    MAIN_HEIGHT + EVENT_HEIGHT + if options.battery { BATTERY_HEIGHT } else { 0 }
+/// The panels below the event track: the battery, then each chosen sensor.
+fn panels(trace: &Trace, options: &PlotOptions) -> Vec<(String, Vec<f32>)> {
+    let mut panels = Vec::new();
+    if options.battery && trace.volts.len() == trace.points.len() && !trace.volts.is_empty() {
+        panels.push(("battery (V)".to_string(), trace.volts.clone()));
+    }
+    for (name, _, values) in &trace.series {
+        if values.len() == trace.points.len() && !values.is_empty() {
+            panels.push((name.clone(), values.clone()));
+        }
+    }
+    panels
+}
+
+fn height(trace: &Trace, options: &PlotOptions) -> u32 {
+    MAIN_HEIGHT + EVENT_HEIGHT + BATTERY_HEIGHT * panels(trace, options).len() as u32
 }
 
 static FONT: &[u8] = include_bytes!("../data/fonts/DejaVuSans-subset.ttf");
@@ -168,7 +205,8 @@ pub fn render_svg_with(trace: &Trace, options: &PlotOptions) -> Result<String, S
     register_font();
     let mut svg = String::new();
     {
-        let root = SVGBackend::with_string(&mut svg, (WIDTH, height(options))).into_drawing_area();
+        let root =
+            SVGBackend::with_string(&mut svg, (WIDTH, height(trace, options))).into_drawing_area();
         draw(&root, trace, options).map_err(|error| error.to_string())?;
         root.present().map_err(|error| error.to_string())?;
     }
@@ -198,7 +236,8 @@ pub fn write_plot(trace: &Trace, options: &PlotOptions, path: &Path) -> Result<(
         }
         PlotFormat::Png => {
             register_font();
-            let root = BitMapBackend::new(path, (WIDTH, height(options))).into_drawing_area();
+            let root =
+                BitMapBackend::new(path, (WIDTH, height(trace, options))).into_drawing_area();
             draw(&root, trace, options).map_err(|error| error.to_string())?;
             // The PNG is encoded and written here.
             root.present()
@@ -476,34 +515,44 @@ fn draw<DB: DrawingBackend>(
         },
     ))?;
 
-    if options.battery && trace.volts.len() == trace.points.len() && !trace.volts.is_empty() {
-        let (vlow, vhigh) = trace
-            .volts
+    let mut below = battery;
+    for (name, values) in panels(trace, options) {
+        let (area, rest) = below.split_vertically(BATTERY_HEIGHT);
+        below = rest;
+        let (vlow, vhigh) = values
             .iter()
+            .filter(|v| v.is_finite())
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
                 (lo.min(v as f64), hi.max(v as f64))
             });
+        let (vlow, vhigh) = if vlow.is_finite() {
+            (vlow, vhigh)
+        } else {
+            (0.0, 1.0)
+        };
         let pad = ((vhigh - vlow) * 0.1).max(0.05);
-        let mut panel = ChartBuilder::on(&battery)
-            .caption("battery (V)", ("sans-serif", 14))
+        let mut panel = ChartBuilder::on(&area)
+            .caption(name, ("sans-serif", 14))
             .margin_left(16)
             .margin_right(16)
             .margin_bottom(8)
             .x_label_area_size(28)
             .y_label_area_size(60)
-            .build_cartesian_2d(x_range, (vlow - pad)..(vhigh + pad))?;
+            .build_cartesian_2d(x_range.clone(), (vlow - pad)..(vhigh + pad))?;
         panel
             .configure_mesh()
             .x_desc(format!("time ({unit})"))
             .light_line_style(RGBColor(240, 240, 240))
             .draw()?;
+        // A long run: every k-th point, k keeping about 4 per pixel column.
         let step = trace.points.len().div_ceil(4 * columns).max(1);
         panel.draw_series(LineSeries::new(
             trace
                 .points
                 .iter()
-                .zip(&trace.volts)
+                .zip(&values)
                 .step_by(step)
+                .filter(|(_, v)| v.is_finite())
                 .map(|(&(t, _), &v)| (t as f64 / scale, v as f64)),
             ShapeStyle::from(&RGBColor(20, 130, 60)).stroke_width(2),
         ))?;

@@ -9,7 +9,6 @@ use crate::error::{DbdError, Location, Warning};
 use crate::header::{read_header, read_line, Header};
 use crate::lists::{file_columns, parse_list, sensor_list_crc, SensorLists};
 use crate::lz4::{read_full, Lz4Blocks, Lz4Problem};
-use crate::CycleSource;
 
 /// Byte order of a log's values, fixed by its known cycle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -19,6 +18,9 @@ pub enum ByteOrder {
 }
 
 type Input = BufReader<Box<dyn Read + Send>>;
+
+/// Longest sensor list read from inside a log (a real one is about 100 kB).
+const MAX_LIST_TEXT: usize = 16 << 20;
 
 /// Streams the cycles of one binary log. Memory: one cycle and a read buffer.
 pub struct DbdReader {
@@ -180,13 +182,22 @@ impl DbdReader {
                     Some(line) => {
                         text.push_str(&line);
                         text.push('\n');
+                        if text.len() > MAX_LIST_TEXT {
+                            return Err(self.error(
+                                start,
+                                format!(
+                                    "the sensor list in the file is longer than {} MB",
+                                    MAX_LIST_TEXT >> 20
+                                ),
+                            ));
+                        }
                     }
                     None => return Err(self.error(start, "the file ends inside its sensor list")),
                 }
             }
             (text, format!("in {file}"))
         };
-        let entries = parse_list(&text, &origin, Location::default())?;
+        let entries = parse_list(&text, &origin, &file, self.at(list_at))?;
         let fits = file_columns(
             &entries,
             sensors_per_cycle,
@@ -424,32 +435,4 @@ pub(crate) fn decode(bytes: &[u8], order: ByteOrder) -> f64 {
     }
 }
 
-impl CycleSource for DbdReader {
-    fn file(&self) -> &str {
-        &self.file
-    }
-
-    fn header(&self) -> &Header {
-        &self.header
-    }
-
-    fn sensors(&self) -> &SensorColumns {
-        &self.sensors
-    }
-
-    fn time_column(&self) -> Option<usize> {
-        self.time
-    }
-
-    fn next_cycle(&mut self) -> Result<Option<&Cycle>, DbdError> {
-        if self.read_cycle()? {
-            Ok(Some(&self.cycle))
-        } else {
-            Ok(None)
-        }
-    }
-
-    fn take_warnings(&mut self) -> Vec<Warning> {
-        std::mem::take(&mut self.warnings)
-    }
-}
+crate::one_file_source!(DbdReader, read_cycle);

@@ -8,7 +8,6 @@ use std::sync::Arc;
 use crate::cycle::{time_column, Cycle, FileSensor, SensorColumns, State};
 use crate::error::{DbdError, Location, Warning};
 use crate::header::{read_header, read_line, Header};
-use crate::CycleSource;
 
 /// Streams the cycles of one `.dba` file, one line at a time.
 pub struct DbaReader {
@@ -213,32 +212,4 @@ impl DbaReader {
     }
 }
 
-impl CycleSource for DbaReader {
-    fn file(&self) -> &str {
-        &self.file
-    }
-
-    fn header(&self) -> &Header {
-        &self.header
-    }
-
-    fn sensors(&self) -> &SensorColumns {
-        &self.sensors
-    }
-
-    fn time_column(&self) -> Option<usize> {
-        self.time
-    }
-
-    fn next_cycle(&mut self) -> Result<Option<&Cycle>, DbdError> {
-        if self.read_row()? {
-            Ok(Some(&self.cycle))
-        } else {
-            Ok(None)
-        }
-    }
-
-    fn take_warnings(&mut self) -> Vec<Warning> {
-        std::mem::take(&mut self.warnings)
-    }
-}
+crate::one_file_source!(DbaReader, read_row);

@@ -88,6 +88,7 @@ pub(crate) fn read_line<R: BufRead>(
     file: &str,
     at: impl Fn(u64) -> Location,
 ) -> Result<Option<String>, DbdError> {
+    let start = *offset;
     let mut line = Vec::new();
     loop {
         let available = input
@@ -111,7 +112,7 @@ pub(crate) fn read_line<R: BufRead>(
         if line.len() > MAX_LINE {
             return Err(DbdError::new(
                 file,
-                at(*offset - line.len() as u64),
+                at(start),
                 format!(
                     "a header line longer than {MAX_LINE} bytes: this is not a Slocum log header"
                 ),
@@ -124,7 +125,8 @@ pub(crate) fn read_line<R: BufRead>(
     match String::from_utf8(line) {
         Ok(text) => Ok(Some(text)),
         Err(error) => {
-            let start = *offset - error.as_bytes().len() as u64 - 1;
+            // `start`, not the end minus the length: the line may end without a
+            // newline (found by the fuzz target dbd_read).
             Err(DbdError::new(
                 file,
                 at(start + error.utf8_error().valid_up_to() as u64),

@@ -44,6 +44,44 @@ pub trait CycleSource: Send {
     fn take_warnings(&mut self) -> Vec<Warning>;
 }
 
+/// The `CycleSource` of a one-file reader: its fields `file`, `header`,
+/// `sensors`, `time`, `cycle`, `warnings`, and `$read`, which fills `cycle`
+/// and says whether there was one.
+macro_rules! one_file_source {
+    ($type:ty, $read:ident) => {
+        impl $crate::CycleSource for $type {
+            fn file(&self) -> &str {
+                &self.file
+            }
+
+            fn header(&self) -> &$crate::Header {
+                &self.header
+            }
+
+            fn sensors(&self) -> &$crate::SensorColumns {
+                &self.sensors
+            }
+
+            fn time_column(&self) -> Option<usize> {
+                self.time
+            }
+
+            fn next_cycle(&mut self) -> Result<Option<&$crate::Cycle>, $crate::DbdError> {
+                if self.$read()? {
+                    Ok(Some(&self.cycle))
+                } else {
+                    Ok(None)
+                }
+            }
+
+            fn take_warnings(&mut self) -> Vec<$crate::Warning> {
+                std::mem::take(&mut self.warnings)
+            }
+        }
+    };
+}
+pub(crate) use one_file_source;
+
 /// A read failure as an error value; an LZ4 problem keeps its block's offset.
 pub(crate) fn io_error(file: &str, at: Location, error: &std::io::Error) -> DbdError {
     if let Some(problem) = error

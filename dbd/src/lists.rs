@@ -109,8 +109,14 @@ fn mismatch(file: &str, at: Location, origin: &str, detail: String) -> DbdError 
     .with_help("the header's `sensor_list_crc` names the wrong list, or the list file is damaged")
 }
 
-/// Parses the `s:` lines of a list; the first malformed line is an error.
-pub fn parse_list(text: &str, file: &str, at: Location) -> Result<Vec<CacEntry>, DbdError> {
+/// Parses the `s:` lines of a list (from `origin`) for the log `file`; the
+/// first malformed line is an error.
+pub fn parse_list(
+    text: &str,
+    origin: &str,
+    file: &str,
+    at: Location,
+) -> Result<Vec<CacEntry>, DbdError> {
     let (entries, diagnostics) = parse_cac_entries(text);
     if let Some(first) = diagnostics.first() {
         let line = text[..(first.span.start as usize).min(text.len())]
@@ -120,7 +126,7 @@ pub fn parse_list(text: &str, file: &str, at: Location) -> Result<Vec<CacEntry>,
         return Err(DbdError::new(
             file,
             at,
-            format!("sensor list line {line}: {}", first.message),
+            format!("sensor list {origin}, line {line}: {}", first.message),
         ));
     }
     Ok(entries)

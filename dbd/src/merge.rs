@@ -262,6 +262,8 @@ pub struct Deployment {
     segments: Vec<Segment>,
     sensor_cache: Option<PathBuf>,
     sensors: SensorColumns,
+    /// Column of each name in `sensors`.
+    columns: std::collections::HashMap<String, usize>,
     time: Option<usize>,
     next: usize,
     current: Option<(Box<dyn CycleSource>, Vec<usize>)>,
@@ -294,6 +296,7 @@ impl Deployment {
             sensor_cache: sensor_cache.map(Path::to_path_buf),
             time: time_column(&sensors),
             sensors: Arc::from(sensors),
+            columns: names,
             next: 0,
             current: None,
             empty_header: Header::default(),
@@ -316,16 +319,22 @@ impl Deployment {
                 };
                 self.next += 1;
                 let source = segment.open(self.sensor_cache.as_deref())?;
-                let map = source
-                    .sensors()
-                    .iter()
-                    .map(|sensor| {
-                        self.sensors
-                            .iter()
-                            .position(|known| known.name == sensor.name)
-                            .unwrap_or(0)
-                    })
-                    .collect();
+                let mut map = Vec::with_capacity(source.sensors().len());
+                for sensor in source.sensors().iter() {
+                    match self.columns.get(&sensor.name) {
+                        Some(&column) => map.push(column),
+                        None => {
+                            return Err(DbdError::new(
+                                source.file(),
+                                Location::default(),
+                                format!(
+                                    "sensor `{}` was not in this file's list when the deployment was opened: was the file replaced?",
+                                    sensor.name
+                                ),
+                            ))
+                        }
+                    }
+                }
                 self.current = Some((source, map));
             }
             let Some((source, map)) = self.current.as_mut() else {

@@ -452,3 +452,19 @@ fn writer_bytes_worked_by_hand_and_read_back() {
     assert!(reader.next_cycle().expect("ok").is_none());
     assert!(reader.take_warnings().is_empty());
 }
+
+#[test]
+fn a_header_line_that_is_not_text_at_the_end_is_an_error_at_its_byte() {
+    // Found by the fuzz target dbd_read: the last line has no newline and an
+    // invalid UTF-8 byte at offset 11; the offset was computed assuming a newline.
+    let error = DbdReader::new(
+        Cursor::new(b"dbd_label: \xff".to_vec()),
+        "u.dbd",
+        false,
+        &NoSensorLists,
+    )
+    .err()
+    .expect("an error");
+    assert_eq!(error.at.offset, 11);
+    assert!(error.message.contains("not text"), "{error}");
+}

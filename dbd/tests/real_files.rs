@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use gloc_dbd::open_path;
+use gloc_dbd::{open_path, CycleSource};
 
 fn data() -> Option<PathBuf> {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data");
@@ -63,4 +63,129 @@ fn every_real_log_reads_to_its_end() {
         }
         assert!(cycles > 0);
     }
+}
+
+/// comet's .dbd merged with its .ebd: at every flight cycle, `sci_water_temp` is
+/// the last value the .ebd read alone gives at or before the flight time (a
+/// binary search over the science samples, a second route to the merge rule).
+#[test]
+fn merged_science_values_are_the_latest_at_or_before_each_flight_cycle() {
+    let Some(data) = data() else {
+        eprintln!("../shared/data absent: skipped");
+        return;
+    };
+    let comet = data.join("comet/from-glider");
+    let cac = data.join("cac");
+    let ebd = comet.join("comet-2019-222-02-154.ebd");
+    let mut science = open_path(&ebd, Some(&cac)).expect("ebd");
+    let temp = science
+        .sensors()
+        .iter()
+        .position(|s| s.name == "sci_water_temp")
+        .expect("sci_water_temp");
+    let mut samples: Vec<(f64, f64)> = Vec::new();
+    let mut now = f64::NAN;
+    while let Some(cycle) = science.next_cycle().expect("reads") {
+        if !cycle.time.is_nan() {
+            now = cycle.time;
+        }
+        if let Some(value) = cycle.value(temp) {
+            samples.push((now, value));
+        }
+    }
+    let mut merged = gloc_dbd::Merged::new(
+        open_path(&comet.join("comet-2019-222-02-154.dbd"), Some(&cac)).expect("dbd"),
+        open_path(&ebd, Some(&cac)).expect("ebd"),
+    );
+    let column = merged
+        .sensors()
+        .iter()
+        .position(|s| s.name == "sci_water_temp")
+        .expect("merged column");
+    let (mut checked, mut flight_time) = (0, f64::NAN);
+    while let Some(cycle) = merged.next_cycle().expect("merges") {
+        if !cycle.time.is_nan() {
+            flight_time = cycle.time;
+        }
+        let at_or_before = samples.partition_point(|(t, _)| *t <= flight_time);
+        let expected = at_or_before.checked_sub(1).map(|i| samples[i].1);
+        let got = cycle.values[column];
+        match expected {
+            Some(value) => assert!(
+                got == value || (got.is_nan() && value.is_nan()),
+                "at {flight_time}: merged {got}, expected {value}"
+            ),
+            None => assert!(got.is_nan(), "before any science value: {got}"),
+        }
+        checked += 1;
+    }
+    assert!(checked > 2000, "{checked} flight cycles");
+}
+
+/// A deployment given out of order, with three sensor lists (the .dbd's 2,142,
+/// the .sbd's 20, the science files' 91 and 6): paired by name, read in
+/// `fileopen_time` order, the columns united by name.
+#[test]
+fn a_deployment_streams_in_time_order_across_sensor_lists() {
+    let Some(data) = data() else {
+        eprintln!("../shared/data absent: skipped");
+        return;
+    };
+    let comet = data.join("comet/from-glider");
+    let files: Vec<PathBuf> = [
+        "comet-2019-222-02-154.ebd",
+        "comet-2019-222-02-153.sbd",
+        "comet-2019-222-02-152.tbd",
+        "comet-2019-222-02-154.dbd",
+        "comet-2019-222-02-152.sbd",
+        "comet-2019-222-02-153.tbd",
+    ]
+    .iter()
+    .map(|name| comet.join(name))
+    .collect();
+    let mut deployment =
+        gloc_dbd::Deployment::open(&files, Some(&data.join("cac"))).expect("opens");
+    let order: Vec<String> = deployment
+        .segments()
+        .iter()
+        .map(|segment| {
+            let name = |path: &Option<PathBuf>| {
+                path.as_ref()
+                    .and_then(|p| p.file_name())
+                    .map(|n| n.to_string_lossy().into_owned())
+                    .unwrap_or_default()
+            };
+            format!("{}+{}", name(&segment.flight), name(&segment.science))
+        })
+        .collect();
+    assert_eq!(
+        order,
+        [
+            "comet-2019-222-02-152.sbd+comet-2019-222-02-152.tbd",
+            "comet-2019-222-02-153.sbd+comet-2019-222-02-153.tbd",
+            "comet-2019-222-02-154.dbd+comet-2019-222-02-154.ebd",
+        ]
+    );
+    // Every sensor of the .dbd and .ebd (2,142 + the .ebd's names the .dbd lacks).
+    let names: std::collections::HashSet<&str> = deployment
+        .sensors()
+        .iter()
+        .map(|s| s.name.as_str())
+        .collect();
+    assert_eq!(
+        names.len(),
+        deployment.sensors().len(),
+        "one column per name"
+    );
+    assert!(names.contains("sci_water_temp") && names.contains("m_depth"));
+    let (mut cycles, mut last) = (0u64, f64::NEG_INFINITY);
+    while let Some(cycle) = deployment.next_cycle().expect("streams") {
+        if !cycle.time.is_nan() {
+            assert!(cycle.time >= last, "time goes back at cycle {cycles}");
+            last = cycle.time;
+        }
+        cycles += 1;
+    }
+    // 304 + 8 + 2,244 flight cycles (the .sbd and .dbd counts read alone).
+    assert_eq!(cycles, 304 + 8 + 2244);
 }

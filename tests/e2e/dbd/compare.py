@@ -118,16 +118,19 @@ def main():
         print(f"dbd compare: {data} absent, skipped")
         return 0
     failed = False
+    total = 0
     with tempfile.TemporaryDirectory() as work:
         for relative, cache in FILES:
             problems, samples = compare(gloc, data, relative, cache, work)
+            total += samples
             if problems:
                 failed = True
                 print(f"FAILED {relative}: {len(problems)} sensors differ")
                 for problem in problems[:20]:
                     print(f"  {problem}")
             else:
-                print(f"ok {relative}: {samples} samples equal to dbdreader {dbdreader.__version__ if hasattr(dbdreader, '__version__') else ''}")
+                print(f"ok {relative}: {samples} samples equal to dbdreader's")
+    print(f"dbd compare: {total} samples in all")
     return 1 if failed else 0
 
 

@@ -206,6 +206,14 @@ pub const SIMULATOR_SETTINGS: &[SimulatorSetting] = &[
         about: "depth above which the altimeter does not ping (u_alt_min_depth)",
     },
     SimulatorSetting {
+        name: "ctd_period",
+        units: "s",
+        min: 0.0,
+        max: 3600.0,
+        about:
+            "seconds between CTD samples; the cycle sees the latest (0: one at each cycle's start)",
+    },
+    SimulatorSetting {
         name: "dive_power",
         units: "W",
         min: 0.0,

@@ -749,6 +749,7 @@ pub fn fit(track: &Track, climb_target: f64, defaults: &SimConfig) -> Result<Fit
         ("altimeter_range", "the glider's altimeter use is set by its own u_alt_* settings, not the water"),
         ("altimeter_fraction", "as altimeter_range"),
         ("altimeter_min_depth", "as altimeter_range"),
+        ("ctd_period", "the science log (.ebd) has the CTD's samples; the flight log does not"),
     ] {
         fit.not_fitted.push((name, why.into()));
     }

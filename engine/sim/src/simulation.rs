@@ -73,6 +73,8 @@ pub struct TimingParams {
     pub altimeter_fraction: f64,
     /// Depth above which the altimeter does not ping (m, `u_alt_min_depth`).
     pub altimeter_min_depth: f64,
+    /// Seconds between CTD samples (0: one sample at each cycle's start).
+    pub ctd_period: f64,
 }
 
 impl TimingParams {
@@ -87,12 +89,14 @@ impl TimingParams {
             altimeter_range: f64::INFINITY,
             altimeter_fraction: 0.0,
             altimeter_min_depth: 0.0,
+            ctd_period: 0.0,
         }
     }
 }
 
 impl Default for TimingParams {
-    /// comet-2019-222-02-154.dbd: its cycles, turns and altimeter fixes (docs/simulator.md).
+    /// comet-2019-222-02-154.dbd (.ebd for the CTD): its cycles, turns,
+    /// altimeter fixes and CTD samples (docs/simulator.md).
     fn default() -> TimingParams {
         TimingParams {
             cycle_overrun: 0.51,
@@ -101,6 +105,7 @@ impl Default for TimingParams {
             altimeter_range: 33.0,
             altimeter_fraction: 0.4,
             altimeter_min_depth: 2.0,
+            ctd_period: 1.06,
         }
     }
 }
@@ -127,6 +132,7 @@ impl SimConfig {
             "altimeter_range" => &mut timing.altimeter_range,
             "altimeter_fraction" => &mut timing.altimeter_fraction,
             "altimeter_min_depth" => &mut timing.altimeter_min_depth,
+            "ctd_period" => &mut timing.ctd_period,
             "step" => &mut flight.step,
             "dive_rate" => &mut flight.dive_rate,
             "climb_rate" => &mut flight.climb_rate,
@@ -888,9 +894,20 @@ impl Simulation {
             self.altimeter_due = self.time + timing.altimeter_fraction * true_altitude / rate;
         }
         let altitude = self.altimeter_reading;
+        // The CTD samples every `ctd_period` s on its own clock; the flight
+        // computer sees its latest sample, taken up to a period before the
+        // cycle's start, at the depth the glider had then.
+        let (sample_time, sample_depth) = if self.timing.ctd_period > 0.0 {
+            let at = (self.time / self.timing.ctd_period).floor() * self.timing.ctd_period;
+            let depth = (vehicle.depth - vehicle.depth_rate * (self.time - at)).max(0.0);
+            (at, depth)
+        } else {
+            (self.time, vehicle.depth)
+        };
         let temperature =
-            self.profile.temperature(vehicle.depth) + self.temperature_noise * self.rng.normal();
-        let pressure = vehicle.depth / 10.0 + self.pressure_noise * self.rng.normal();
+            self.profile.temperature(sample_depth) + self.temperature_noise * self.rng.normal();
+        let pressure = sample_depth / 10.0 + self.pressure_noise * self.rng.normal();
+        let sample_present = self.start_time + sample_time;
         let volts = vehicle.battery_volts(&self.energy);
         let sensors = &mut self.sensors;
         let mut put = |slot: Option<usize>, value: f64| {
@@ -899,7 +916,7 @@ impl Simulation {
             }
         };
         put(slots.present_time, present);
-        put(slots.sci_present_time, present);
+        put(slots.sci_present_time, sample_present);
         put(slots.cycle_number, self.cycle as f64);
         put(slots.depth, vehicle.depth);
         put(slots.pressure, vehicle.depth / 10.0);

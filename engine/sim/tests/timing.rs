@@ -64,3 +64,26 @@ fn the_altimeter_reads_only_near_the_bottom_while_diving() {
         "{fixes} fixes in {cycles} cycles"
     );
 }
+
+#[test]
+fn the_ctd_samples_on_its_own_clock() {
+    // comet's CTD: a sample every 1.06 s (its .ebd). The cycle sees the latest
+    // sample: sci_m_present_time a whole number of 1.06 s after the start, at
+    // most 1.06 s before m_present_time, at the depth of that moment (within
+    // 1.06 s × 0.2 m/s of the cycle's, plus the pressure noise).
+    let mut sim = sim();
+    let list = sim.sensor_list().clone();
+    let id = |name: &str| list.lookup(name).expect(name);
+    let (now, sampled) = (id("m_present_time"), id("sci_m_present_time"));
+    let (depth, pressure) = (id("m_depth"), id("sci_water_pressure"));
+    let start = sim.present_time();
+    for _ in 0..300 {
+        assert!(sim.step_cycle());
+        let read = |sensor| sim.sensor(sensor).expect("published");
+        let (now, sampled) = (read(now), read(sampled));
+        let periods = (sampled - start) / 1.06;
+        assert!((periods - periods.round()).abs() < 1e-6, "{periods}");
+        assert!(sampled <= now + 1e-9 && now - sampled < 1.06 + 1e-9);
+        assert!((read(pressure) * 10.0 - read(depth)).abs() < 0.25);
+    }
+}

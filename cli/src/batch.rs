@@ -381,6 +381,7 @@ fn fly(shared: &Shared<'_>, variant: &Variant) -> Result<Row, String> {
             EndReason::Aborted(reason) => {
                 format!("ABORTED ({}) at cycle {}", reason.glider_name(), end.cycle)
             }
+            EndReason::BatteryExhausted => format!("BATTERY EXHAUSTED at cycle {}", end.cycle),
         },
         None => "running".to_string(),
     };

@@ -17,7 +17,7 @@ pub enum DataCommand {
     Info(InfoArgs),
     /// Convert logs to CSV or `.dba` (several files: merged and in time order).
     Convert(ConvertArgs),
-    /// Plot depth over time as an SVG, with the plotter of `gloc run --plot`.
+    /// Plot depth over time as SVG or PNG, with the plotter of `gloc run --plot`.
     Plot(PlotArgs),
 }
 
@@ -82,7 +82,7 @@ fn sensor_cache(source: &SourceArgs) -> anyhow::Result<Option<PathBuf>> {
     Ok(settings.sensor_cache)
 }
 
-fn open(source: &SourceArgs) -> anyhow::Result<Deployment> {
+pub(crate) fn open(source: &SourceArgs) -> anyhow::Result<Deployment> {
     let cache = sensor_cache(source)?;
     Ok(Deployment::open(&source.files, cache.as_deref())?)
 }
@@ -309,6 +309,7 @@ fn write_dba_header(
 
 fn plot(args: PlotArgs) -> anyhow::Result<ExitCode> {
     check_output(&args.output, &args.source.files)?;
+    gloc_sim::plot::PlotFormat::from_path(&args.output).map_err(anyhow::Error::msg)?;
     let mut source = open(&args.source)?;
     let sensors = source.sensors().clone();
     let column = |name: &str| sensors.iter().position(|sensor| sensor.name == name);
@@ -354,10 +355,15 @@ fn plot(args: PlotArgs) -> anyhow::Result<ExitCode> {
         .and_then(|path| path.file_name())
         .map(|name| name.to_string_lossy().into_owned())
         .unwrap_or_default();
-    let svg =
-        gloc_sim::plot::render_svg(&trace, &title, water_depth).map_err(anyhow::Error::msg)?;
-    std::fs::write(&args.output, svg)
-        .with_context(|| format!("cannot write {}", args.output.display()))?;
+    let options = gloc_sim::plot::PlotOptions {
+        title,
+        water_depth,
+        temperature: false,
+        battery: false,
+    };
+    crate::output::write_through_temporary(&args.output, |temporary| {
+        gloc_sim::plot::write_plot(&trace, &options, temporary)
+    })?;
     eprintln!(
         "wrote {} ({} depth points from {})",
         args.output.display(),

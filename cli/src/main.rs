@@ -7,6 +7,7 @@ use std::process::ExitCode;
 use clap::{Args, Parser, Subcommand};
 
 mod batch;
+mod calibrate;
 mod check;
 mod compile;
 mod data;
@@ -50,6 +51,8 @@ enum Command {
     /// Glider logs (.dbd .ebd .sbd .tbd …, compressed .dcd …, .dba): info, convert, plot.
     #[command(subcommand)]
     Data(data::DataCommand),
+    /// Fit the simulator's constants from a glider's own logs; writes a [simulator] table.
+    Calibrate(calibrate::CalibrateArgs),
 }
 
 #[derive(Args, Debug)]
@@ -142,9 +145,14 @@ pub struct RunArgs {
     /// `[simulator]` in gloc.toml. The names and ranges are in docs/simulator.md.
     #[arg(long = "sim", value_name = "NAME=VALUE", value_parser = settings::parse_simulator_setting)]
     pub simulator: Vec<(String, f64)>,
-    /// Write an SVG flight profile.
-    #[arg(long, value_name = "FILE.svg")]
+    /// Write the flight profile: SVG or PNG by the extension.
+    #[arg(long, value_name = "FILE.svg|FILE.png")]
     pub plot: Option<PathBuf>,
+    /// Extra plot panels, comma-separated: `temperature` (the track coloured by
+    /// the water temperature), `battery` (a voltage panel), or a sensor's name
+    /// (its own panel, e.g. `sci_ruhp_climb_depth`).
+    #[arg(long, value_name = "PANELS", value_delimiter = ',')]
+    pub plot_panels: Vec<String>,
     /// Compile a GBASIC script with the optimizer: the default (kept for old command lines).
     #[arg(short = 'O', conflicts_with = "no_optimize")]
     pub optimize: bool,
@@ -243,6 +251,7 @@ fn main() -> ExitCode {
         Command::Lsp => gloc_lsp_main(),
         Command::Dap(args) => gloc_dap_main(args),
         Command::Data(command) => data::main(command),
+        Command::Calibrate(args) => calibrate::main(args),
     };
     match result {
         Ok(code) => code,

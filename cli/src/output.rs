@@ -46,6 +46,41 @@ pub fn check_outputs(inputs: &[&Path], outputs: &[Output<'_>]) -> anyhow::Result
     Ok(())
 }
 
+/// Has `write` write a file under a temporary name beside `target` (same extension, so a
+/// writer that picks its format by extension still sees it), then renames it over the
+/// target; on a failure the temporary file is removed and the target is untouched. For
+/// writers that take a path (the plotter's PNG encoder), where [`AtomicFile`] cannot go.
+pub fn write_through_temporary(
+    target: &Path,
+    write: impl FnOnce(&Path) -> Result<(), String>,
+) -> anyhow::Result<()> {
+    let folder = match target.parent() {
+        Some(folder) if !folder.as_os_str().is_empty() => folder,
+        _ => Path::new("."),
+    };
+    let name = target
+        .file_name()
+        .ok_or_else(|| anyhow::anyhow!("`{}` is not a file name", target.display()))?;
+    let mut temporary_name = std::ffi::OsString::from(".");
+    temporary_name.push(name);
+    temporary_name.push(format!(".gloc-{}.tmp", std::process::id()));
+    if let Some(extension) = target.extension() {
+        temporary_name.push(".");
+        temporary_name.push(extension);
+    }
+    let temporary = folder.join(temporary_name);
+    let result = write(&temporary)
+        .map_err(anyhow::Error::msg)
+        .and_then(|()| {
+            std::fs::rename(&temporary, target)
+                .map_err(|error| write_error(error, "the file", target))
+        });
+    if result.is_err() {
+        let _ = std::fs::remove_file(&temporary);
+    }
+    result
+}
+
 /// Writes `bytes` to `path` atomically (see [`AtomicFile`]).
 pub fn write_atomically(path: &Path, bytes: &[u8]) -> io::Result<()> {
     let mut file = AtomicFile::create(path)?;

@@ -20,7 +20,7 @@ use gloc_engine::vm::DEFAULT_CYCLE_BUDGET;
 use gloc_sim::behaviors::EventKind;
 use gloc_sim::faults::{step_cycle_with_faults, Fault, FaultPlan};
 use gloc_sim::log::{default_columns, parse_columns, DbaHeader, LogFormat, LogWriter};
-use gloc_sim::plot::{render_svg, Trace};
+use gloc_sim::plot::{write_plot, PlotFormat, PlotOptions, Trace};
 use gloc_sim::{default_mission, EndReason, Mission, SimConfig, Simulation, TemperatureProfile};
 
 use crate::output::{AtomicFile, Output};
@@ -40,6 +40,26 @@ const PROGRESS_MIN_CYCLES: u64 = 50_000;
 pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
     if args.out.is_some() {
         bail!("--out belongs to --replay; to log a simulated run use --log FILE.csv or FILE.dba");
+    }
+    if let Some(plot) = &args.plot {
+        PlotFormat::from_path(plot).map_err(anyhow::Error::msg)?;
+        let inputs = [
+            args.script.as_deref(),
+            args.mission.as_deref(),
+            args.profile.as_deref(),
+        ];
+        if inputs
+            .iter()
+            .flatten()
+            .any(|input| *input == plot.as_path())
+        {
+            bail!("--plot `{}` is one of the inputs", plot.display());
+        }
+    }
+    for panel in &args.plot_panels {
+        if !matches!(panel.as_str(), "temperature" | "battery") && !panel.contains('_') {
+            bail!("--plot-panels: `{panel}` is not a panel; the panels are temperature, battery and sensor names (m_battery, sci_ruhp_behs, …)");
+        }
     }
     let mut tally = Tally::default();
     let settings = crate::settings::resolve(
@@ -142,11 +162,11 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         }
         (Some(text), _) => {
             let seconds = parse_duration(text)?;
-            ((seconds / sim.cycle_time()).ceil() as u64, true)
+            ((seconds / sim.mean_cycle_period()).ceil() as u64, true)
         }
         (None, Some(cycles)) => (cycles, true),
         (None, None) => (
-            (DEFAULT_LIMIT_SECONDS / sim.cycle_time()).ceil() as u64,
+            (DEFAULT_LIMIT_SECONDS / sim.mean_cycle_period()).ceil() as u64,
             false,
         ),
     };
@@ -181,7 +201,20 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         )?),
         None => None,
     };
-    let mut trace = args.plot.as_ref().map(|_| Trace::default());
+    let mut panel_sensors = Vec::new();
+    for panel in &args.plot_panels {
+        if matches!(panel.as_str(), "temperature" | "battery") {
+            continue;
+        }
+        match sensor_list.lookup(panel) {
+            Some(id) => panel_sensors.push((panel.clone(), id)),
+            None => bail!("--plot-panels: the sensor list has no sensor `{panel}`"),
+        }
+    }
+    let mut trace = args
+        .plot
+        .as_ref()
+        .map(|_| Trace::with_sensors(&panel_sensors));
 
     let progress = (std::io::stderr().is_terminal()
         && max_cycles >= PROGRESS_MIN_CYCLES
@@ -275,11 +308,30 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
     }
     let mut plot_error = None;
     if let (Some(trace), Some(path)) = (&trace, &args.plot) {
-        let title = format!("{} with {}", mission.name, script_name);
-        let svg = render_svg(trace, &title, sim.water_depth())
-            .map_err(|error| anyhow::anyhow!("cannot draw the plot: {error}"))?;
-        if let Err(error) = crate::output::write_atomically(path, svg.as_bytes()) {
-            plot_error = Some(crate::output::write_error(error, "the plot", path));
+        // File names, not paths, in the title.
+        let file_name = |name: &str| {
+            Path::new(name)
+                .file_name()
+                .map(|name| name.to_string_lossy().into_owned())
+                .unwrap_or_else(|| name.to_string())
+        };
+        let title = format!(
+            "{} with {}",
+            file_name(&mission.name),
+            file_name(&script_name)
+        );
+        let options = PlotOptions {
+            title,
+            water_depth: sim.water_depth(),
+            temperature: args.plot_panels.iter().any(|panel| panel == "temperature"),
+            battery: args.plot_panels.iter().any(|panel| panel == "battery"),
+        };
+        // Drawn under a temporary name and renamed: a failure leaves the old file, and
+        // the summary still comes.
+        if let Err(error) = crate::output::write_through_temporary(path, |temporary| {
+            write_plot(trace, &options, temporary)
+        }) {
+            plot_error = Some(error.context(format!("cannot draw the plot `{}`", path.display())));
         }
     }
 
@@ -732,7 +784,7 @@ struct SummaryFacts<'a> {
 
 fn summary(facts: &SummaryFacts<'_>) {
     let sim = facts.sim;
-    let simulated = facts.cycles_run as f64 * sim.cycle_time();
+    let simulated = sim.time();
     let wall = facts.wall.as_secs_f64();
     let speedup = if wall > 0.0 {
         format!("{:.0}×", simulated / wall)
@@ -746,11 +798,20 @@ fn summary(facts: &SummaryFacts<'_>) {
             sim.mission_name(),
             facts.script_name
         ),
-        format!(
-            "cycles        {} ({} s each)",
-            facts.cycles_run,
-            sim.cycle_time()
-        ),
+        if sim.mean_cycle_period() == sim.cycle_time() {
+            format!(
+                "cycles        {} ({} s each)",
+                facts.cycles_run,
+                sim.cycle_time()
+            )
+        } else {
+            format!(
+                "cycles        {} ({:.3} s each on average; u_cycle_time {} s)",
+                facts.cycles_run,
+                simulated / facts.cycles_run.max(1) as f64,
+                sim.cycle_time()
+            )
+        },
         format!("simulated     {}", human_time(simulated)),
         format!(
             "wall time     {:.3} s ({speedup} faster than real time)",
@@ -761,6 +822,17 @@ fn summary(facts: &SummaryFacts<'_>) {
             sim.energy_joules() / 1000.0,
             sim.amp_hours()
         ),
+        {
+            let by = sim.energy_use();
+            format!(
+                "by consumer   hotel {:.1} kJ, pump {:.1} kJ, pitch {:.1} kJ, science {:.1} kJ ({} wakes)",
+                by.hotel / 1000.0,
+                by.pump / 1000.0,
+                by.pitch / 1000.0,
+                by.science / 1000.0,
+                sim.science_wakes()
+            )
+        },
         format!(
             "depth range   {shallowest:.1} – {deepest:.1} m (water {:.0} m)",
             sim.water_depth()
@@ -771,6 +843,11 @@ fn summary(facts: &SummaryFacts<'_>) {
             let how = match end.reason {
                 EndReason::Completed => "completed".to_string(),
                 EndReason::Aborted(reason) => format!("ABORTED ({})", reason.glider_name()),
+                EndReason::BatteryExhausted => format!(
+                    "BATTERY EXHAUSTED ({:.0} Wh used of {:.0} Wh)",
+                    sim.energy_joules() / 3600.0,
+                    sim.battery_joules() / 3600.0
+                ),
             };
             format!(
                 "{how} at cycle {} ({}) at {:.1} m",
@@ -843,7 +920,7 @@ fn summary(facts: &SummaryFacts<'_>) {
 /// `m_depth:nan@20: m_depth reads NaN in cycles 20–336 (1m 20s – 22m 24s)`.
 fn fault_line(fault: &Fault, applied: Option<(u64, u64)>, text: &str, sim: &Simulation) -> String {
     let name = sim.sensor_list().name(fault.sensor).unwrap_or("the sensor");
-    let at = |cycle: u64| human_time(cycle as f64 * sim.cycle_time());
+    let at = |cycle: u64| human_time(cycle as f64 * sim.mean_cycle_period());
     match applied {
         Some((first, last)) if first == last => format!(
             "{text}: {name} {} in cycle {first} ({})",

@@ -157,8 +157,10 @@ fn a_nan_depth_fault_is_named_in_the_summary_and_the_mission_completes() {
     // The fault lasts from cycle 20 to the end: every cycle flown from 20
     // on, the last being cycle C − 1 of the C cycles the summary counts.
     let cycles = summary_cycles(&stderr);
+    // Cycle 20 starts about 20 × 4.51 s (u_cycle_time 4 s plus the default
+    // 0.51 s overrun) = 90 s in.
     let expected = format!(
-        "fault         m_depth:nan@20: m_depth reads NaN in cycles 20–{} (1m 20s – ",
+        "fault         m_depth:nan@20: m_depth reads NaN in cycles 20–{} (1m 30s – ",
         cycles - 1
     );
     assert!(stderr.contains(&expected), "{expected}\n{stderr}");

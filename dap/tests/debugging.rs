@@ -309,7 +309,7 @@ fn next_advances_exactly_one_cycle() {
     let mut client = start(json!({ "program": program, "stopOnEntry": true }));
     client.ok("configurationDone", json!({}));
     stopped(&mut client);
-    for expected in &boundaries[1..6] {
+    for (previous, expected) in boundaries[..5].iter().zip(&boundaries[1..6]) {
         client.ok("next", json!({ "threadId": 1 }));
         let stop = stopped(&mut client);
         assert_eq!(stop["reason"], "step");
@@ -318,9 +318,10 @@ fn next_advances_exactly_one_cycle() {
             .parse()
             .expect("time");
         assert_eq!(present, expected.present_time);
-        // fig2.mi sets u_cycle_time to 4 s: cycle N starts 4·N s after the start.
-        let start = boundaries[0].present_time;
-        assert_eq!(present - start, 4.0 * expected.cycle as f64);
+        // fig2.mi sets u_cycle_time to 4 s; a cycle lasts that plus the
+        // simulator's overrun, 0.51 ± 0.13 s (comet's): within six spreads.
+        let period = present - previous.present_time;
+        assert!((3.73..5.29).contains(&period), "{period}");
     }
 }
 

@@ -8,6 +8,7 @@
 //! `start_when` "idle" conditions look at what the behaviors below it have
 //! commanded so far in this cycle.
 
+use crate::flight::PitchControl;
 use crate::mission::{BehaviorSpec, Mission};
 
 /// The behaviors the simulator knows.
@@ -354,6 +355,8 @@ pub struct Commands {
     pub buoyancy: Option<(f64, usize)>,
     pub pitch: Option<(f64, usize)>,
     pub heading: Option<(f64, usize)>,
+    /// How the winning pitch command is flown (`use_pitch` 1 or 3).
+    pub pitch_control: PitchControl,
 }
 
 impl Commands {
@@ -364,8 +367,19 @@ impl Commands {
     }
 
     fn command_vertical(&mut self, buoyancy: f64, pitch: f64, owner: usize) {
+        self.command_vertical_with(buoyancy, pitch, PitchControl::Servo, owner);
+    }
+
+    fn command_vertical_with(
+        &mut self,
+        buoyancy: f64,
+        pitch: f64,
+        control: PitchControl,
+        owner: usize,
+    ) {
         self.buoyancy = Some((buoyancy, owner));
         self.pitch = Some((pitch, owner));
+        self.pitch_control = control;
     }
 }
 
@@ -516,6 +530,7 @@ impl Behavior {
                         arg("d_pitch_value"),
                         Direction::Dive,
                     ),
+                    pitch_control: pitch_control(arg("d_use_pitch")),
                     hover_for: arg("d_stop_when_hover_for"),
                     hover_since: None,
                 },
@@ -529,6 +544,7 @@ impl Behavior {
                         arg("c_pitch_value"),
                         Direction::Climb,
                     ),
+                    pitch_control: pitch_control(arg("c_use_pitch")),
                     hover_for: arg("c_stop_when_hover_for"),
                     hover_since: None,
                 },
@@ -549,6 +565,7 @@ impl Behavior {
                     target_altitude: arg("target_altitude"),
                     bpump_value: arg("bpump_value"),
                     pitch_value: pitch_for(arg("use_pitch"), arg("pitch_value"), direction),
+                    pitch_control: pitch_control(arg("use_pitch")),
                     hover_for: arg("stop_when_hover_for"),
                     hover_since: None,
                 })
@@ -781,6 +798,15 @@ enum Direction {
     Climb,
 }
 
+/// `use_pitch` 1 flies on the battery position; every other mode servoes.
+fn pitch_control(use_pitch: f64) -> PitchControl {
+    if use_pitch as i64 == 1 {
+        PitchControl::Battpos
+    } else {
+        PitchControl::Servo
+    }
+}
+
 /// The pitch a dive or climb asks for. `use_pitch` 3 gives the angle in
 /// radians; the other modes (battery position, pumped fluid) fly the nominal
 /// pitch. The sign always follows the direction (< 0 dives).
@@ -880,6 +906,8 @@ struct DiveClimb {
     target_altitude: f64,
     bpump_value: f64,
     pitch_value: f64,
+    /// `use_pitch` 1: fly on the battery position (the pitch follows the buoyancy).
+    pitch_control: PitchControl,
     hover_for: f64,
     hover_since: Option<f64>,
 }
@@ -899,7 +927,7 @@ impl DiveClimb {
         };
         world
             .commands
-            .command_vertical(buoyancy, self.pitch_value, index);
+            .command_vertical_with(buoyancy, self.pitch_value, self.pitch_control, index);
         false
     }
 

@@ -50,9 +50,11 @@ impl TemperatureProfile {
         }
     }
 
-    /// Reads a CSV profile (`depth_m,temp_degC`): `#` comment lines and blank
-    /// lines are skipped, a header line is optional. Errors name the line and
-    /// column.
+    /// Reads a CSV profile. The first line that is not blank or a `#` comment
+    /// names the columns; the depth column (`depth_m`, `depth(m)`) and the
+    /// temperature column (`temp_degC`, `temperature(degC)`, `sci_water_temp`)
+    /// are found by name, in any order, with their units checked; other
+    /// columns are ignored. Errors name the line and column.
     pub fn from_csv(path: &Path, text: &str) -> Result<TemperatureProfile, Box<ProfileError>> {
         let index = LineIndex::new(text);
         let error = |offset: usize, message: String| {
@@ -66,7 +68,7 @@ impl TemperatureProfile {
         };
         let mut points: Vec<(f64, f64)> = Vec::new();
         let mut offset = 0;
-        let mut seen_data_or_header = false;
+        let mut columns: Option<(usize, usize, [String; 2])> = None;
         for raw in text.split_inclusive('\n') {
             let start = offset;
             offset += raw.len();
@@ -75,39 +77,54 @@ impl TemperatureProfile {
             if trimmed.is_empty() || trimmed.starts_with('#') {
                 continue;
             }
-            let fields: Vec<&str> = line.split(',').collect();
-            let first_is_number = fields[0].trim().parse::<f64>().is_ok();
-            if !seen_data_or_header && !first_is_number {
-                // The header.
-                seen_data_or_header = true;
+            // Each field with its byte offset in the text.
+            let mut fields: Vec<(usize, &str)> = Vec::new();
+            let mut at = start;
+            for field in line.split(',') {
+                fields.push((at, field));
+                at += field.len() + 1;
+            }
+            let Some((depth_column, temp_column, names)) = &columns else {
+                columns = Some(header_columns(&fields, start, line, &error)?);
                 continue;
-            }
-            seen_data_or_header = true;
-            if fields.len() < 2 {
-                return Err(error(
-                    start + line.len(),
-                    "expected two columns `depth_m,temp_degC`".to_string(),
-                ));
-            }
-            let mut column_start = start;
+            };
             let mut values = [0.0; 2];
-            for (slot, field) in fields.iter().take(2).enumerate() {
+            for (slot, &column) in [*depth_column, *temp_column].iter().enumerate() {
+                let name = &names[slot];
+                let Some(&(field_start, field)) = fields.get(column) else {
+                    return Err(error(
+                        start + line.len(),
+                        format!(
+                            "the row has {} column{}; `{name}` is column {}",
+                            fields.len(),
+                            if fields.len() == 1 { "" } else { "s" },
+                            column + 1
+                        ),
+                    ));
+                };
                 let lead = field.len() - field.trim_start().len();
-                match field.trim().parse::<f64>() {
+                let cell = field.trim();
+                if cell.is_empty() {
+                    return Err(error(
+                        field_start,
+                        format!("the `{name}` cell is empty: give a number"),
+                    ));
+                }
+                match cell.parse::<f64>() {
                     Ok(value) if value.is_finite() => values[slot] = value,
                     _ => {
                         return Err(error(
-                            column_start + lead,
-                            format!("`{}` is not a number", field.trim()),
+                            field_start + lead,
+                            format!("`{cell}` is not a number (column `{name}`)"),
                         ))
                     }
                 }
-                column_start += field.len() + 1;
             }
             if let Some(&(last_depth, _)) = points.last() {
                 if values[0] <= last_depth {
+                    let (field_start, field) = fields[*depth_column];
                     return Err(error(
-                        start + (line.len() - line.trim_start().len()),
+                        field_start + (field.len() - field.trim_start().len()),
                         format!(
                             "depth {} is not below the previous row's {last_depth}: sort the rows by depth",
                             values[0]
@@ -118,13 +135,112 @@ impl TemperatureProfile {
             points.push((values[0], values[1]));
         }
         if points.is_empty() {
-            return Err(error(
-                0,
-                "the profile has no data rows `depth_m,temp_degC`".to_string(),
-            ));
+            let message = if columns.is_none() {
+                "the profile is empty: a header naming `depth_m` and `temp_degC`, then rows"
+            } else {
+                "the profile has a header but no data rows"
+            };
+            return Err(error(text.len(), message.to_string()));
         }
         Ok(TemperatureProfile::Table(points))
     }
+}
+
+/// A column name's quantity and unit: `depth_m`, `depth(m)`, `depth [m]`.
+fn quantity_and_unit(name: &str) -> (String, Option<String>) {
+    let name = name.trim();
+    for (open, close) in [('(', ')'), ('[', ']')] {
+        if let (Some(at), true) = (name.find(open), name.ends_with(close)) {
+            return (
+                name[..at].trim().to_ascii_lowercase(),
+                Some(name[at + 1..name.len() - 1].trim().to_string()),
+            );
+        }
+    }
+    let lower = name.to_ascii_lowercase();
+    if lower == "sci_water_temp" {
+        return (lower, Some("degC".to_string()));
+    }
+    match name.rfind('_') {
+        Some(at) => (lower[..at].to_string(), Some(name[at + 1..].to_string())),
+        None => (lower, None),
+    }
+}
+
+const DEPTH_NAMES: [&str; 1] = ["depth"];
+const TEMP_NAMES: [&str; 4] = ["temp", "temperature", "sci_water_temp", "water_temp"];
+
+/// Finds the depth and temperature columns in a header line and checks their units.
+fn header_columns(
+    fields: &[(usize, &str)],
+    start: usize,
+    line: &str,
+    error: &dyn Fn(usize, String) -> Box<ProfileError>,
+) -> Result<(usize, usize, [String; 2]), Box<ProfileError>> {
+    let mut depth = None;
+    let mut temp = None;
+    for (column, &(at, field)) in fields.iter().enumerate() {
+        let (quantity, unit) = quantity_and_unit(field);
+        let lead = field.len() - field.trim_start().len();
+        let name = field.trim();
+        if quantity.parse::<f64>().is_ok() || name.parse::<f64>().is_ok() {
+            return Err(error(
+                at + lead,
+                "the first line must name the columns, e.g. `depth_m,temp_degC` (any order; other columns are ignored)".to_string(),
+            ));
+        }
+        let (slot, wanted, units): (&mut Option<usize>, &str, &[&str]) =
+            if DEPTH_NAMES.contains(&quantity.as_str()) {
+                (&mut depth, "depth_m", &["m"])
+            } else if TEMP_NAMES.contains(&quantity.as_str()) {
+                (&mut temp, "temp_degC", &["degC", "C", "°C", "degc"])
+            } else {
+                continue;
+            };
+        match unit {
+            Some(unit) if units.contains(&unit.as_str()) => {}
+            Some(unit) => {
+                return Err(error(
+                    at + lead,
+                    format!(
+                        "column `{name}` is in `{unit}`; gloc reads {} (name the column `{wanted}`, converting the values)",
+                        units[0]
+                    ),
+                ))
+            }
+            None => {
+                return Err(error(
+                    at + lead,
+                    format!("column `{name}` has no unit: name it `{wanted}`"),
+                ))
+            }
+        }
+        if slot.is_some() {
+            return Err(error(
+                at + lead,
+                format!(
+                    "a second {} column `{name}`",
+                    &wanted[..wanted.find('_').unwrap_or(0)]
+                ),
+            ));
+        }
+        *slot = Some(column);
+    }
+    let missing = match (depth, temp) {
+        (Some(depth), Some(temp)) => {
+            let names = [
+                fields[depth].1.trim().to_string(),
+                fields[temp].1.trim().to_string(),
+            ];
+            return Ok((depth, temp, names));
+        }
+        (None, _) => "depth (`depth_m`)",
+        (Some(_), None) => "temperature (`temp_degC`)",
+    };
+    Err(error(
+        start + (line.len() - line.trim_start().len()),
+        format!("the header `{}` has no {missing} column", line.trim()),
+    ))
 }
 
 fn interpolate(points: &[(f64, f64)], depth: f64) -> f64 {
@@ -252,9 +368,52 @@ mod tests {
         let error = TemperatureProfile::from_csv(path, "depth_m,temp_degC\n0,20\n1, warm\n")
             .expect_err("bad number");
         assert_eq!((error.line, error.column), (3, 4), "{error}");
-        let error = TemperatureProfile::from_csv(path, "0,20\n0,19\n").expect_err("not increasing");
-        assert_eq!((error.line, error.column), (2, 1), "{error}");
+        let error = TemperatureProfile::from_csv(path, "depth_m,temp_degC\n0,20\n0,19\n")
+            .expect_err("not increasing");
+        assert_eq!((error.line, error.column), (3, 1), "{error}");
         assert!(TemperatureProfile::from_csv(path, "# only\n").is_err());
+    }
+
+    #[test]
+    fn csv_columns_are_read_by_name_with_their_units() {
+        let path = Path::new("t.csv");
+        // The file: temperature first. 40 °C at 26 m was the old reading.
+        let profile =
+            TemperatureProfile::from_csv(path, "temp_degC,depth_m\n20,0\n10,26\n").expect("loads");
+        assert_eq!(profile.temperature(26.0), 10.0);
+        assert_eq!(profile.temperature(13.0), 15.0);
+        // Other spellings, and columns that are ignored.
+        let profile = TemperatureProfile::from_csv(
+            path,
+            "n, depth(m) ,temperature [degC]\n5,0,20\n5,10,10\n",
+        )
+        .expect("loads");
+        assert_eq!(profile.temperature(5.0), 15.0);
+        let refused = |text: &str| {
+            let error = TemperatureProfile::from_csv(path, text).expect_err(text);
+            (error.line, error.column, error.message)
+        };
+        let (line, column, message) = refused("depth_ft,temp_degC\n0,20\n");
+        assert_eq!((line, column), (1, 1));
+        assert!(message.contains("`ft`"), "{message}");
+        let (line, column, message) = refused("depth_m,temp_degF\n0,60\n");
+        assert_eq!((line, column), (1, 9));
+        assert!(message.contains("`degF`"), "{message}");
+        let (_, _, message) = refused("depth,temp_degC\n0,20\n");
+        assert!(message.contains("no unit"), "{message}");
+        let (line, column, message) = refused("0,20\n1,19\n");
+        assert_eq!((line, column), (1, 1));
+        assert!(message.contains("name the columns"), "{message}");
+        let (_, _, message) = refused("depth_m,salinity_psu\n0,35\n");
+        assert!(message.contains("no temperature"), "{message}");
+        // An empty cell says which column, never empty backticks.
+        let (line, column, message) = refused("depth_m,temp_degC\n0,20\n1,\n");
+        assert_eq!((line, column), (3, 3));
+        assert!(message.contains("`temp_degC` cell is empty"), "{message}");
+        assert!(!message.contains("``"), "{message}");
+        let (line, column, message) = refused("depth_m,temp_degC\n0,20\n1\n");
+        assert_eq!((line, column), (3, 2));
+        assert!(message.contains("column 2"), "{message}");
     }
 
     #[test]

@@ -2,6 +2,8 @@
 //! real time, with the GLOC engine as one behavior of the layered control.
 //!
 //! - [`mission`]: `.mi` and `.ma` files.
+//! - [`calibrate`]: a yo's figures from a log (real or simulated) and the
+//!   constants fitted from a glider's own log.
 //! - [`behaviors`]: the behavior stack (abend, surface, yo, dive_to, climb_to,
 //!   hook, the script behavior, …) and per-actuator arbitration.
 //! - [`flight`]: the kinematic vertical-plane model and the power model.
@@ -15,6 +17,7 @@
 #![deny(clippy::unwrap_used)]
 
 pub mod behaviors;
+pub mod calibrate;
 pub mod environment;
 pub mod faults;
 pub mod flight;

@@ -27,7 +27,7 @@ use crate::behaviors::{
     Commands, HookSensors, Outcome, ScriptPlacement, World,
 };
 use crate::environment::{Rng, TemperatureProfile};
-use crate::flight::{EnergyParams, FlightParams, Vehicle};
+use crate::flight::{EnergyParams, EnergyUse, FlightParams, SpeedLaw, Vehicle};
 use crate::mission::Mission;
 
 /// Settings of a run that are not in the mission.
@@ -53,6 +53,61 @@ pub struct SimConfig {
     pub temperature_noise: f64,
     /// Standard deviation of the CTD pressure noise (bar).
     pub pressure_noise: f64,
+    /// Timing and sensors: the control cycle, turns, altimeter.
+    pub timing: TimingParams,
+}
+
+/// The control cycle's real period, the turn latency and the altimeter.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TimingParams {
+    /// Mean time a cycle runs past `u_cycle_time` (s).
+    pub cycle_overrun: f64,
+    /// Standard deviation of a cycle's period (s), seeded.
+    pub cycle_jitter: f64,
+    /// Cycles from a behavior's turn to the pump moving (1: the same cycle).
+    pub turn_cycles: f64,
+    /// Largest altitude the altimeter measures (m).
+    pub altimeter_range: f64,
+    /// The next altimeter fix is due this fraction of the time to the bottom
+    /// (altitude / dive rate) after the last (0: every cycle).
+    pub altimeter_fraction: f64,
+    /// Depth above which the altimeter does not ping (m, `u_alt_min_depth`).
+    pub altimeter_min_depth: f64,
+    /// Seconds between CTD samples (0: one sample at each cycle's start).
+    pub ctd_period: f64,
+}
+
+impl TimingParams {
+    /// An ideal clock: cycles of exactly `u_cycle_time`, the pump turning in
+    /// the cycle a behavior turns, the altimeter read every cycle. For tests
+    /// of the behaviors' logic against hand-worked 4-second arithmetic.
+    pub fn ideal() -> TimingParams {
+        TimingParams {
+            cycle_overrun: 0.0,
+            cycle_jitter: 0.0,
+            turn_cycles: 1.0,
+            altimeter_range: f64::INFINITY,
+            altimeter_fraction: 0.0,
+            altimeter_min_depth: 0.0,
+            ctd_period: 0.0,
+        }
+    }
+}
+
+impl Default for TimingParams {
+    /// comet-2019-222-02-154.dbd (.ebd for the CTD): its cycles, turns,
+    /// altimeter fixes and CTD samples (docs/simulator.md).
+    fn default() -> TimingParams {
+        TimingParams {
+            cycle_overrun: 0.51,
+            cycle_jitter: 0.13,
+            turn_cycles: 2.0,
+            altimeter_range: 33.0,
+            altimeter_fraction: 0.4,
+            altimeter_min_depth: 2.0,
+            ctd_period: 1.06,
+        }
+    }
 }
 
 impl SimConfig {
@@ -60,8 +115,24 @@ impl SimConfig {
     /// table and `gloc run --sim` use ([`gloc_engine::config::SIMULATOR_SETTINGS`]).
     /// The caller has checked the value's range; `false`: no such setting.
     pub fn set(&mut self, name: &str, value: f64) -> bool {
-        let (flight, energy) = (&mut self.flight, &mut self.energy);
+        let (flight, energy, timing) = (&mut self.flight, &mut self.energy, &mut self.timing);
         let field = match name {
+            "pump_in_rate" => &mut flight.pump_in_rate,
+            "speed_exponent" => &mut flight.speed_exponent,
+            "battpos_dive_pitch" => &mut flight.battpos_dive_pitch,
+            "battpos_climb_pitch" => &mut flight.battpos_climb_pitch,
+            "battery_ohms" => &mut energy.battery_ohms,
+            "science_on_power" => &mut energy.science_on_power,
+            "science_sleep_power" => &mut energy.science_sleep_power,
+            "science_wake_time" => &mut energy.science_wake_time,
+            "science_wake_joules" => &mut energy.science_wake_joules,
+            "cycle_overrun" => &mut timing.cycle_overrun,
+            "cycle_jitter" => &mut timing.cycle_jitter,
+            "turn_cycles" => &mut timing.turn_cycles,
+            "altimeter_range" => &mut timing.altimeter_range,
+            "altimeter_fraction" => &mut timing.altimeter_fraction,
+            "altimeter_min_depth" => &mut timing.altimeter_min_depth,
+            "ctd_period" => &mut timing.ctd_period,
             "step" => &mut flight.step,
             "dive_rate" => &mut flight.dive_rate,
             "climb_rate" => &mut flight.climb_rate,
@@ -101,6 +172,7 @@ impl Default for SimConfig {
             start_time: 1_274_659_200.0,
             temperature_noise: 0.01,
             pressure_noise: 0.001,
+            timing: TimingParams::default(),
         }
     }
 }
@@ -124,6 +196,9 @@ pub enum EndReason {
     Completed,
     /// abend aborted the mission; the glider climbs to the surface.
     Aborted(AbortReason),
+    /// The battery's energy (`battery_wh`) is used up: everything stops where
+    /// the glider is.
+    BatteryExhausted,
 }
 
 impl std::fmt::Display for EndReason {
@@ -131,6 +206,7 @@ impl std::fmt::Display for EndReason {
         match self {
             EndReason::Completed => f.write_str("completed (surfaced with end_action quit)"),
             EndReason::Aborted(reason) => write!(f, "aborted: {}", reason.glider_name()),
+            EndReason::BatteryExhausted => f.write_str("battery exhausted"),
         }
     }
 }
@@ -176,6 +252,7 @@ struct SensorSlots {
     water_depth: Option<usize>,
     battery: Option<usize>,
     coulomb: Option<usize>,
+    current: Option<usize>,
     speed: Option<usize>,
     ballast: Option<usize>,
     inflections: Option<usize>,
@@ -184,6 +261,8 @@ struct SensorSlots {
     sci_present_time: Option<usize>,
     c_pitch: Option<usize>,
     c_ballast: Option<usize>,
+    c_science_on: Option<usize>,
+    m_science_on: Option<usize>,
     hook: HookSensors,
 }
 
@@ -201,6 +280,7 @@ impl SensorSlots {
             water_depth: find("m_water_depth"),
             battery: find("m_battery"),
             coulomb: find("m_coulomb_amphr_total"),
+            current: find("m_coulomb_current"),
             speed: find("m_speed"),
             ballast: find("m_ballast_pumped"),
             inflections: find("m_tot_num_inflections"),
@@ -209,6 +289,8 @@ impl SensorSlots {
             sci_present_time: find("sci_m_present_time"),
             c_pitch: find("c_pitch"),
             c_ballast: find("c_ballast_pumped"),
+            c_science_on: find("c_science_on"),
+            m_science_on: find("m_science_on"),
             hook: HookSensors {
                 behs: find("sci_ruhp_behs"),
                 dive_depth: find("sci_ruhp_dive_depth"),
@@ -225,7 +307,7 @@ const SIM_DEFAULTS: &[(&str, f64)] = &[
     ("u_reqd_depth_at_surface", 2.0),
     ("f_nominal_pitch", 0.4538),
     ("f_nominal_dive_rate", 0.15),
-    ("m_battery", 15.0),
+    ("m_battery", 13.74),
 ];
 
 /// The script behavior's machine and what it did.
@@ -249,6 +331,7 @@ pub struct Simulation {
     script: Option<Script>,
     vehicle: Vehicle,
     flight: FlightParams,
+    law: SpeedLaw,
     energy: EnergyParams,
     profile: TemperatureProfile,
     water_depth: f64,
@@ -258,6 +341,22 @@ pub struct Simulation {
     temperature_noise: f64,
     pressure_noise: f64,
     rng: Rng,
+    timing: TimingParams,
+    /// The cycle period's own random stream, so that jitter leaves the sensor
+    /// noise of a seed unchanged.
+    clock_rng: Rng,
+    /// Mission seconds at the start of the next cycle.
+    next_time: f64,
+    /// The buoyancy command the pump follows, and cycles a turn is still held.
+    applied_buoyancy: Option<f64>,
+    turn_hold: u32,
+    /// The science computer: awake, or waking until the given mission second.
+    science: Science,
+    /// Wakes so far.
+    science_wakes: u64,
+    /// Mission seconds when the next altimeter ping is due, and the last reading.
+    altimeter_due: f64,
+    altimeter_reading: f64,
     /// Cycles begun so far; the current cycle's number while one is under way.
     cycle: u64,
     /// Mission seconds at the start of the current cycle.
@@ -410,6 +509,7 @@ impl Simulation {
             script,
             vehicle,
             flight: config.flight.clone(),
+            law: SpeedLaw::new(&config.flight),
             energy: config.energy.clone(),
             profile,
             water_depth,
@@ -419,6 +519,15 @@ impl Simulation {
             temperature_noise: config.temperature_noise,
             pressure_noise: config.pressure_noise,
             rng: Rng::new(config.seed),
+            timing: config.timing.clone(),
+            clock_rng: Rng::new(config.seed ^ 0x00C1_0C4C_1C1E),
+            next_time: 0.0,
+            applied_buoyancy: None,
+            turn_hold: 0,
+            science: Science::Asleep,
+            science_wakes: 0,
+            altimeter_due: 0.0,
+            altimeter_reading: -1.0,
             cycle: 0,
             time: 0.0,
             phase: Phase::BetweenCycles,
@@ -453,7 +562,7 @@ impl Simulation {
             Phase::BetweenCycles => {}
             _ => return true,
         }
-        self.time = self.cycle as f64 * self.cycle_time;
+        self.time = self.next_time;
         self.printed.clear();
         self.stored.clear();
         self.events.clear();
@@ -571,20 +680,51 @@ impl Simulation {
                     .unwrap_or(self.vehicle.pitch),
             )
         };
+        let buoyancy = self.turn_latency(buoyancy, aborting);
+        let control = if aborting {
+            crate::flight::PitchControl::Servo
+        } else {
+            self.commands.pitch_control
+        };
         if let Some(index) = self.slots.c_pitch {
             self.sensors[index] = pitch;
         }
         if let Some(index) = self.slots.c_ballast {
-            self.sensors[index] = buoyancy;
+            // The glider clips the command to what its pump can do.
+            self.sensors[index] = buoyancy.clamp(-self.flight.pump_max, self.flight.pump_max);
         }
+        let period = self.cycle_period();
+        let science_watts = self.science_power();
         self.vehicle.fly(
-            self.cycle_time,
+            period,
             buoyancy,
             pitch,
+            control,
             self.water_depth,
             &self.flight,
+            &self.law,
             &self.energy,
+            science_watts,
         );
+        self.next_time = self.time + period;
+        if self.vehicle.exhausted(&self.energy) {
+            if !matches!(
+                self.end.map(|end| end.reason),
+                Some(EndReason::Completed | EndReason::BatteryExhausted)
+            ) {
+                self.end = Some(MissionEnd {
+                    reason: EndReason::BatteryExhausted,
+                    cycle: self.cycle,
+                    time: self.next_time,
+                    depth: self.vehicle.depth,
+                });
+            }
+            self.min_depth = self.min_depth.min(self.vehicle.depth);
+            self.max_depth = self.max_depth.max(self.vehicle.depth);
+            self.cycle += 1;
+            self.phase = Phase::Finished;
+            return;
+        }
         self.min_depth = self.min_depth.min(self.vehicle.depth);
         self.max_depth = self.max_depth.max(self.vehicle.depth);
         self.cycle += 1;
@@ -593,6 +733,80 @@ impl Simulation {
             Some(_) if self.vehicle.depth <= SURFACED_DEPTH => Phase::Finished,
             _ => Phase::BetweenCycles,
         };
+    }
+
+    /// The pump follows a reversed buoyancy command only `turn_cycles` cycles
+    /// after the behaviors turned (dynamic control starts the inflection on the
+    /// next cycle: comet's logs show the pump moving a cycle after the depth
+    /// crossed the target). An abort is not held.
+    fn turn_latency(&mut self, wanted: f64, aborting: bool) -> f64 {
+        let applied = match self.applied_buoyancy {
+            Some(applied) if !aborting => applied,
+            _ => {
+                self.applied_buoyancy = Some(wanted);
+                self.turn_hold = 0;
+                return wanted;
+            }
+        };
+        let reversed = applied != 0.0 && wanted.signum() != applied.signum();
+        if !reversed {
+            self.turn_hold = 0;
+            self.applied_buoyancy = Some(wanted);
+            return wanted;
+        }
+        let hold = (self.timing.turn_cycles.round() as u32).saturating_sub(1);
+        if self.turn_hold < hold {
+            self.turn_hold += 1;
+            return applied;
+        }
+        self.turn_hold = 0;
+        self.applied_buoyancy = Some(wanted);
+        wanted
+    }
+
+    /// The science computer's state for this cycle, from `c_science_on` (the
+    /// script or a behavior sets it; 1 wakes, 0 puts to sleep), and its power.
+    /// A wake takes `science_wake_time` at full power plus
+    /// `science_wake_joules`; `m_science_on` reads 1 once it is awake.
+    fn science_power(&mut self) -> f64 {
+        let wanted = self
+            .slots
+            .c_science_on
+            .is_some_and(|index| self.sensors[index] != 0.0 && self.sensors[index].is_finite());
+        let energy = &self.energy;
+        self.science = match (self.science, wanted) {
+            (_, false) => Science::Asleep,
+            (Science::Asleep, true) => {
+                self.science_wakes += 1;
+                self.vehicle.energy_joules += energy.science_wake_joules;
+                self.vehicle.energy_use.science += energy.science_wake_joules;
+                Science::Waking(self.time + energy.science_wake_time)
+            }
+            (Science::Waking(until), true) if self.time >= until => Science::Awake,
+            (state, true) => state,
+        };
+        if let Some(index) = self.slots.m_science_on {
+            self.sensors[index] = f64::from(u8::from(self.science == Science::Awake));
+        }
+        match self.science {
+            Science::Asleep => energy.science_sleep_power,
+            _ => energy.science_on_power,
+        }
+    }
+
+    /// This cycle's period: `u_cycle_time` plus the mean overrun and a seeded
+    /// spread, never below half of `u_cycle_time`.
+    fn cycle_period(&mut self) -> f64 {
+        let timing = &self.timing;
+        let mut period = self.cycle_time + timing.cycle_overrun;
+        if timing.cycle_jitter > 0.0 {
+            // The sum of two uniforms (triangular): the spread asked for, at a
+            // fraction of a normal's cost (no logarithm or cosine per cycle).
+            let half_width = timing.cycle_jitter * 6f64.sqrt();
+            let sum = self.clock_rng.uniform() + self.clock_rng.uniform() - 1.0;
+            period += half_width * sum;
+        }
+        period.max(0.5 * self.cycle_time)
     }
 
     fn enter_script(&mut self) -> bool {
@@ -666,10 +880,34 @@ impl Simulation {
         let vehicle = self.vehicle;
         let slots = self.slots;
         let present = self.start_time + self.time;
-        let altitude = (self.water_depth - vehicle.depth).max(0.0);
+        let true_altitude = (self.water_depth - vehicle.depth).max(0.0);
+        let timing = &self.timing;
+        // A ping: when due, diving (or every cycle with fraction 0), below the
+        // minimum depth; a fix only within range.
+        let diving = vehicle.depth_rate > 0.0 || timing.altimeter_fraction == 0.0;
+        if self.time >= self.altimeter_due && diving && vehicle.depth >= timing.altimeter_min_depth
+        {
+            if true_altitude <= timing.altimeter_range {
+                self.altimeter_reading = true_altitude;
+            }
+            let rate = vehicle.depth_rate.max(MIN_ALTIMETER_RATE);
+            self.altimeter_due = self.time + timing.altimeter_fraction * true_altitude / rate;
+        }
+        let altitude = self.altimeter_reading;
+        // The CTD samples every `ctd_period` s on its own clock; the flight
+        // computer sees its latest sample, taken up to a period before the
+        // cycle's start, at the depth the glider had then.
+        let (sample_time, sample_depth) = if self.timing.ctd_period > 0.0 {
+            let at = (self.time / self.timing.ctd_period).floor() * self.timing.ctd_period;
+            let depth = (vehicle.depth - vehicle.depth_rate * (self.time - at)).max(0.0);
+            (at, depth)
+        } else {
+            (self.time, vehicle.depth)
+        };
         let temperature =
-            self.profile.temperature(vehicle.depth) + self.temperature_noise * self.rng.normal();
-        let pressure = vehicle.depth / 10.0 + self.pressure_noise * self.rng.normal();
+            self.profile.temperature(sample_depth) + self.temperature_noise * self.rng.normal();
+        let pressure = sample_depth / 10.0 + self.pressure_noise * self.rng.normal();
+        let sample_present = self.start_time + sample_time;
         let volts = vehicle.battery_volts(&self.energy);
         let sensors = &mut self.sensors;
         let mut put = |slot: Option<usize>, value: f64| {
@@ -678,7 +916,7 @@ impl Simulation {
             }
         };
         put(slots.present_time, present);
-        put(slots.sci_present_time, present);
+        put(slots.sci_present_time, sample_present);
         put(slots.cycle_number, self.cycle as f64);
         put(slots.depth, vehicle.depth);
         put(slots.pressure, vehicle.depth / 10.0);
@@ -688,6 +926,7 @@ impl Simulation {
         put(slots.water_depth, self.water_depth);
         put(slots.battery, volts);
         put(slots.coulomb, vehicle.amp_hours);
+        put(slots.current, vehicle.current);
         put(slots.speed, vehicle.speed);
         put(slots.ballast, vehicle.ballast);
         put(slots.inflections, vehicle.inflections as f64);
@@ -713,7 +952,7 @@ impl Simulation {
     /// Mission seconds at the start of the current cycle (between cycles: of the next).
     pub fn time(&self) -> f64 {
         match self.phase {
-            Phase::BetweenCycles | Phase::Finished => self.cycle as f64 * self.cycle_time,
+            Phase::BetweenCycles | Phase::Finished => self.next_time,
             _ => self.time,
         }
     }
@@ -723,8 +962,14 @@ impl Simulation {
         self.start_time + self.time()
     }
 
+    /// `u_cycle_time`: the period the glider asks for.
     pub fn cycle_time(&self) -> f64 {
         self.cycle_time
+    }
+
+    /// The mean period a cycle really takes: `u_cycle_time` plus the overrun.
+    pub fn mean_cycle_period(&self) -> f64 {
+        (self.cycle_time + self.timing.cycle_overrun).max(0.5 * self.cycle_time)
     }
 
     pub fn phase(&self) -> Phase {
@@ -757,6 +1002,31 @@ impl Simulation {
 
     pub fn amp_hours(&self) -> f64 {
         self.vehicle.amp_hours
+    }
+
+    /// Energy used by each consumer (J).
+    pub fn energy_use(&self) -> EnergyUse {
+        self.vehicle.energy_use
+    }
+
+    /// The battery's terminal voltage now (V).
+    pub fn battery_volts(&self) -> f64 {
+        self.vehicle.battery_volts(&self.energy)
+    }
+
+    /// The water's true temperature at the glider (°C, without the CTD's noise).
+    pub fn water_temperature(&self) -> f64 {
+        self.profile.temperature(self.vehicle.depth)
+    }
+
+    /// Times the science computer was woken.
+    pub fn science_wakes(&self) -> u64 {
+        self.science_wakes
+    }
+
+    /// The battery's capacity (J).
+    pub fn battery_joules(&self) -> f64 {
+        self.energy.battery_wh * 3600.0
     }
 
     /// (shallowest, deepest) depth flown so far.
@@ -858,6 +1128,18 @@ impl Simulation {
         &self.warnings
     }
 }
+
+/// The science computer's power state.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Science {
+    Asleep,
+    /// Waking until this mission second.
+    Waking(f64),
+    Awake,
+}
+
+/// Descent rate (m/s) below which the altimeter's schedule assumes this one.
+const MIN_ALTIMETER_RATE: f64 = 0.05;
 
 /// Depth at or above which the glider counts as floating at the surface (m).
 const SURFACED_DEPTH: f64 = 0.3;

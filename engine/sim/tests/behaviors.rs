@@ -10,6 +10,20 @@
 
 use std::sync::Arc;
 
+/// The behaviors' logic is checked against hand-worked 4-second arithmetic:
+/// an ideal clock (exact 4 s cycles, turns in the same cycle).
+fn ideal_clock() -> SimConfig {
+    SimConfig {
+        timing: gloc_sim::simulation::TimingParams::ideal(),
+        ..SimConfig::default()
+    }
+}
+
+/// The hook's `bpump_value` 260 cc as `c_ballast_pumped` publishes it: clipped
+/// to the pump's 230 cc (`pump_max`), as a real glider clips (comet's log:
+/// b_arg 1000, c_ballast_pumped 233).
+const PUBLISHED_BPUMP: f64 = 230.0;
+
 use gloc_engine::gloc::{self, CheckOptions};
 use gloc_engine::program::Program;
 use gloc_engine::sensors::SensorList;
@@ -57,8 +71,7 @@ fn fly(mission: &str, script: Option<&str>, max_cycles: u64) -> (Simulation, Vec
     let mission = Mission::parse("test.mi", mission);
     assert!(!mission.has_errors(), "{}", mission.render_plain());
     let program = script.map(|text| compile(text, &list));
-    let mut sim =
-        Simulation::new(&mission, list.clone(), program, &SimConfig::default()).expect("starts");
+    let mut sim = Simulation::new(&mission, list.clone(), program, &ideal_clock()).expect("starts");
     let depth = list.lookup("m_depth").expect("m_depth");
     let behs = list.lookup("sci_ruhp_behs").expect("sci_ruhp_behs");
     let c_ballast = list.lookup("c_ballast_pumped").expect("c_ballast_pumped");
@@ -351,7 +364,7 @@ fn hook_dive_without_a_dive_depth_goes_to_its_b_arg() {
     assert!(cycles[reached - 1].depth < 12.0);
     for cycle in &cycles[1..reached] {
         assert_eq!(cycle.buoyancy_owner.as_deref(), Some("hook"), "{cycle:?}");
-        assert_eq!(cycle.c_ballast, -260.0, "{cycle:?}");
+        assert_eq!(cycle.c_ballast, -PUBLISHED_BPUMP, "{cycle:?}");
     }
     assert_eq!(cycles[reached].buoyancy_owner, None);
 }
@@ -378,10 +391,10 @@ fn hook_climb_with_a_climb_depth_set_goes_to_that_depth() {
     assert!(cycles[cleared - 1].depth > 8.0);
     for cycle in &cycles[set + 1..cleared] {
         assert_eq!(cycle.buoyancy_owner.as_deref(), Some("hook"), "{cycle:?}");
-        assert_eq!(cycle.c_ballast, 260.0, "{cycle:?}");
+        assert_eq!(cycle.c_ballast, PUBLISHED_BPUMP, "{cycle:?}");
     }
     assert_eq!(cycles[cleared].buoyancy_owner.as_deref(), Some("yo"));
-    assert_eq!(cycles[cleared].c_ballast, -260.0);
+    assert_eq!(cycles[cleared].c_ballast, -PUBLISHED_BPUMP);
 }
 
 #[test]
@@ -400,7 +413,7 @@ fn hook_with_both_bits_climbs_first_then_dives() {
     assert_eq!(cycles[climbed].behs, 64.0);
     for cycle in &cycles[set + 1..climbed] {
         assert_eq!(cycle.buoyancy_owner.as_deref(), Some("hook"), "{cycle:?}");
-        assert_eq!(cycle.c_ballast, 260.0, "{cycle:?}");
+        assert_eq!(cycle.c_ballast, PUBLISHED_BPUMP, "{cycle:?}");
     }
     let dived = first(&cycles, climbed + 1, |cycle| cycle.depth >= 20.0);
     assert!(cycles[climbed..dived]
@@ -409,7 +422,7 @@ fn hook_with_both_bits_climbs_first_then_dives() {
     assert_eq!(cycles[dived].behs, 0.0);
     for cycle in &cycles[climbed + 1..dived] {
         assert_eq!(cycle.buoyancy_owner.as_deref(), Some("hook"), "{cycle:?}");
-        assert_eq!(cycle.c_ballast, -260.0, "{cycle:?}");
+        assert_eq!(cycle.c_ballast, -PUBLISHED_BPUMP, "{cycle:?}");
     }
 }
 
@@ -441,7 +454,7 @@ fn script_stores_to_command_sensors_do_not_beat_abend() {
     // Before the abort the hook's command is what was published.
     assert!(cycles[1..abort]
         .iter()
-        .all(|cycle| cycle.c_ballast == -260.0));
+        .all(|cycle| cycle.c_ballast == -PUBLISHED_BPUMP));
     // From the abort on, the abort's full pump-out, whatever the script stored.
     assert!(cycles[abort..].iter().all(|cycle| cycle.c_ballast == 230.0));
     assert!(sim.is_finished());
@@ -460,7 +473,7 @@ fn the_hook_is_in_the_stack_of_these_missions() {
         &mission,
         list.clone(),
         Some(compile(&set_flags_past_15_m(&list, 128, None), &list)),
-        &SimConfig::default(),
+        &ideal_clock(),
     )
     .expect("starts");
     let kinds: Vec<BehaviorKind> = sim.behaviors().iter().map(|b| b.kind).collect();

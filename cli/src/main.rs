@@ -127,9 +127,20 @@ pub struct RunArgs {
     /// Write an SVG flight profile.
     #[arg(long, value_name = "FILE.svg")]
     pub plot: Option<PathBuf>,
+    /// How the summary is printed on stderr at the end: `text` (default) or `json` (one line,
+    /// for editors; the fields are in docs/simulator.md).
+    #[arg(long, value_name = "FORMAT", value_enum, default_value = "text")]
+    pub summary: SummaryFormat,
     /// Compile a GBASIC script with the optimizer.
     #[arg(short = 'O')]
     pub optimize: bool,
+}
+
+/// The form of `gloc run`'s summary.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SummaryFormat {
+    Text,
+    Json,
 }
 
 #[derive(Args, Debug)]

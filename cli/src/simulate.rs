@@ -252,6 +252,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         plot: args.plot.as_deref(),
         faults: &fault_plan,
         fault_texts: &args.faults,
+        format: args.summary,
     });
     Ok(ExitCode::SUCCESS)
 }
@@ -405,6 +406,7 @@ struct SummaryFacts<'a> {
     faults: &'a FaultPlan,
     /// The `--fault` arguments as written, in the plan's order.
     fault_texts: &'a [String],
+    format: crate::SummaryFormat,
 }
 
 fn summary(facts: &SummaryFacts<'_>) {
@@ -501,6 +503,28 @@ fn summary(facts: &SummaryFacts<'_>) {
         lines.push(format!("plot          {}", path.display()));
     }
     let mut err = std::io::stderr().lock();
+    if facts.format == crate::SummaryFormat::Json {
+        // The same facts as the text, for editors: how the mission and the script ended (the
+        // texts of the `mission end` and `script` lines) and the files written.
+        let trap_line = sim
+            .script_trap()
+            .map(|trap| facts.loaded.line_of_pc(trap.pc).unwrap_or(trap.line));
+        let json = serde_json::json!({
+            "mission": sim.mission_name(),
+            "script": facts.script_name,
+            "cycles": facts.cycles_run,
+            "simulated_seconds": simulated,
+            "mission_end": ended,
+            "completed": matches!(sim.end(), Some(end) if end.reason == EndReason::Completed),
+            "script_state": script_state,
+            "trap_line": trap_line,
+            "printed_lines": facts.printed_lines,
+            "log": facts.log.map(|path| path.display().to_string()),
+            "plot": facts.plot.map(|path| path.display().to_string()),
+        });
+        let _ = writeln!(err, "{json}");
+        return;
+    }
     for line in lines {
         let _ = writeln!(err, "{line}");
     }

@@ -1,6 +1,7 @@
 -- The gloc Neovim plugin: filetypes, the `gloc lsp` language server, the `gloc dap` debug adapter
--- for nvim-dap, and two commands (:GlocShowCompiled, :GlocRun). A thin client: all knowledge of
--- GLOC and GBASIC lives in the gloc binary.
+-- for nvim-dap, and what the commands of plugin/gloc.lua call (:GlocShowCompiled, :GlocRun,
+-- :GlocStepBack, :GlocReverseContinue). A thin client: all knowledge of GLOC and GBASIC lives in
+-- the gloc binary.
 local M = {}
 
 --- Options of `setup()`; every field is optional.
@@ -12,7 +13,6 @@ local M = {}
 --- @field dap? boolean          configure nvim-dap when it is installed (default true)
 --- @field dap_transport? string "stdio" (default) or "tcp": one `gloc dap --port 0` per Neovim,
 ---                              its session token added to each launch
---- @field commands? boolean     define :GlocShowCompiled and :GlocRun (default true)
 M.defaults = {
   gloc_path = "gloc",
   masterdata = nil,
@@ -20,7 +20,6 @@ M.defaults = {
   lsp = true,
   dap = true,
   dap_transport = "stdio",
-  commands = true,
 }
 
 --- The options in force (defaults until `setup()` is called).
@@ -480,14 +479,31 @@ function M.setup(options)
   if M.options.dap then
     M.setup_dap(M.options)
   end
-  if M.options.commands then
-    vim.api.nvim_create_user_command("GlocShowCompiled", function()
-      M.show_compiled(0)
-    end, { desc = "Show the compiled GLOC of this GBASIC buffer beside it" })
-    vim.api.nvim_create_user_command("GlocRun", function()
-      M.run(0)
-    end, { desc = "Fly this script in the simulator and open its flight profile" })
+  M.configured = true
+end
+
+--- Registers the nvim-dap adapter with the options in force unless `setup()` ran (it does that
+--- itself); plugin/gloc.lua calls it at start-up so F5 works without `setup()`.
+function M.setup_dap_unless_configured()
+  if not M.configured then
+    M.setup_dap(M.options)
   end
+end
+
+--- Runs nvim-dap's `step_back` or `reverse_continue` (the :GlocStepBack and :GlocReverseContinue
+--- commands), or says that nvim-dap is missing or no session is stopped.
+--- @param action "step_back"|"reverse_continue"
+function M.dap_step(action)
+  local ok, dap = pcall(require, "dap")
+  if not ok then
+    notify("debugging needs nvim-dap (https://codeberg.org/mfussenegger/nvim-dap)", vim.log.levels.ERROR)
+    return
+  end
+  if dap.session() == nil then
+    notify("no debug session: start one with require('dap').continue()", vim.log.levels.WARN)
+    return
+  end
+  dap[action]()
 end
 
 return M

@@ -24,15 +24,12 @@ local thermocline_path = workspace .. "/thermocline.gbas"
 H.write_file(thermocline_path, vim.fn.readfile(H.repo .. "/examples/thermocline.gbas"))
 
 -- What the adapter sent: stops and output events, in order.
-local stops, outputs, terminated = {}, {}, 0
+local stops, outputs = {}, {}
 dap.listeners.after.event_stopped.gloc_test = function(_, body)
   stops[#stops + 1] = body
 end
 dap.listeners.after.event_output.gloc_test = function(_, body)
   outputs[#outputs + 1] = body.output
-end
-dap.listeners.after.event_terminated.gloc_test = function()
-  terminated = terminated + 1
 end
 
 local function wait(what, condition, timeout)
@@ -92,11 +89,10 @@ local function set_breakpoint_at(buffer, line, condition, hit, log)
   dap.set_breakpoint(condition, hit, log)
 end
 
-local function terminate()
-  local before = terminated
+local function terminate(what)
   dap.terminate()
-  wait("the session to terminate", function()
-    return terminated > before and dap.session() == nil
+  wait("the session to end (" .. what .. ")", function()
+    return dap.session() == nil
   end)
 end
 
@@ -181,7 +177,7 @@ H.check(repl_value ~= nil and math.abs(repl_value - 2 * depth) < 1e-6, "the REPL
 repl.close()
 
 dap.clear_breakpoints()
-terminate()
+terminate("session 1")
 H.check(dap.session() == nil, "terminate ends the session")
 
 -- Session 2: a logpoint on line 2 and a hit count of 5 on line 6 (the yield of state1). Line 6
@@ -212,7 +208,7 @@ local shallower = tonumber(evaluate("m_depth"))
 H.check(frame.cycle == condition_cycle - 1 and shallower ~= nil and shallower <= 10,
   "one cycle earlier m_depth <= 10: the condition stopped at its first true cycle", { frame, shallower })
 dap.clear_breakpoints()
-terminate()
+terminate("session 2")
 
 -- Session 3: thermocline.gbas, 300 cycles in: scopes, variables, and every evaluateName.
 local thermocline
@@ -278,7 +274,7 @@ local positive = vim.tbl_filter(function(variable)
   return tonumber(variable.value) and tonumber(variable.value) > 0
 end, tsum_children or {})
 H.check(#positive > 0, "after 300 cycles some temperature bins hold sums", #positive)
-terminate()
+terminate("session 3")
 
 -- Session 4: over TCP. dap_transport = "tcp" starts one `gloc dap --port 0`; the plugin reads
 -- its port and token and adds the token to each launch.
@@ -291,10 +287,10 @@ frame = stop_after("step over over TCP", dap.step_over)
 H.equal(frame.cycle, 1, "TCP: step over moves one cycle")
 frame = stop_after("step back over TCP", dap.step_back)
 H.equal(frame.cycle, 0, "TCP: step back")
-terminate()
+terminate("TCP session 1")
 _, before = launch(fig3_path)
 frame = next_stop("a second session on the same server", before)
 H.equal(frame.cycle, 0, "TCP: a second launch on the same gloc dap --port server")
-terminate()
+terminate("TCP session 2")
 
 H.finish()

@@ -61,11 +61,12 @@ end
 --- @param options gloc.Options
 function M.lsp_config(options)
   local masterdata = expand_path(options.masterdata)
+  -- Sent once: the server asks for the `gloc` section (workspace/configuration) when it starts
+  -- and again after each didChangeConfiguration, so a changed path applies live.
   return {
     cmd = { binary(options), "lsp" },
     filetypes = M.filetypes,
     root_markers = options.root_markers,
-    init_options = masterdata and { masterdata = masterdata } or vim.empty_dict(),
     settings = { gloc = masterdata and { masterdata = masterdata } or vim.empty_dict() },
   }
 end
@@ -79,7 +80,6 @@ local function start_lsp_for_buffer(options, bufnr)
     name = "gloc",
     cmd = config.cmd,
     root_dir = marker and vim.fs.dirname(marker) or directory,
-    init_options = config.init_options,
     settings = config.settings,
   }, { bufnr = bufnr })
 end
@@ -358,23 +358,24 @@ function M.show_compiled(bufnr, on_done)
   })
 end
 
---- How the run ended, from the summary `gloc run` prints ("mission end   completed at …"; a
---- trapped script's "script        TRAPPED at …" comes first).
+--- How the run ended, from `gloc run --summary json`'s summary: its last line that is a JSON
+--- object (docs/simulator.md). A trapped script comes first, then how the mission ended.
 --- @param lines string[]
 --- @return string
 function M.run_headline(lines)
-  local mission_end, trap
-  for _, line in ipairs(lines) do
-    mission_end = mission_end or line:match("^mission end%s+(.+)$")
-    trap = trap or line:match("^script%s+(TRAPPED.+)$")
+  for index = #lines, 1, -1 do
+    local ok, summary = pcall(vim.json.decode, lines[index])
+    if ok and type(summary) == "table" and type(summary.mission_end) == "string" then
+      if type(summary.trap_line) == "number" then
+        return "script " .. summary.script_state
+      end
+      return summary.mission_end
+    end
   end
-  if trap then
-    return "script " .. trap
-  end
-  return mission_end or "the flight finished"
+  return "the flight finished"
 end
 
---- Flies the script in buffer `bufnr` with `gloc run FILE --plot FILE.svg`, shows what the run
+--- Flies the script in buffer `bufnr` with `gloc run FILE --plot FILE.svg --summary json`, shows what the run
 --- printed (its summary) in a split, and opens the flight profile with `vim.ui.open` (Neovim 0.10+;
 --- older versions print the SVG's path). `on_done(result)` is called at the end (tests use it).
 --- @param bufnr? integer
@@ -396,7 +397,7 @@ function M.run(bufnr, on_done)
     end)
   end
   local plot = vim.fn.tempname() .. "-" .. vim.fn.fnamemodify(script, ":t:r") .. ".svg"
-  local command = { binary(M.options), "run", script, "--plot", plot }
+  local command = { binary(M.options), "run", script, "--plot", plot, "--summary", "json" }
   local masterdata = expand_path(M.options.masterdata)
   if masterdata then
     vim.list_extend(command, { "--masterdata", masterdata })

@@ -55,9 +55,12 @@ impl Adapter {
             let mut sink = Vec::new();
             let _ = stderr.read_to_end(&mut sink);
         });
-        let (port, token) = parse_listening(&first_read).unwrap_or_else(|| {
-            panic!("the first read of stderr is not the whole listening line: {first_read:?}")
-        });
+        let Some((port, token)) = parse_listening(&first_read) else {
+            // No adapter to drop yet: leave no process behind.
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("the first read of stderr is not the whole listening line: {first_read:?}");
+        };
         Adapter {
             child,
             port,
@@ -370,16 +373,23 @@ fn secrets() -> (PathBuf, Vec<String>) {
     let text: String = (1..=40)
         .map(|line| format!("SECRET{line} = `hunter{line}` \"pass word\" {line}\n"))
         .collect();
+    // A well-formed mission whose sensor names are the secret: it launches, with a
+    // warning about each unknown sensor.
+    let mission: String = (1..=40)
+        .map(|line| format!("sensor: SECRET{line}hunter(m) {line}\n"))
+        .collect::<String>()
+        + "behavior: gloc\nbehavior: surface\n";
     let mut paths = Vec::new();
-    for name in [
-        "secret.txt",
-        "secret.mi",
-        "secret.gloc",
-        "secret.csv",
-        "masterdata",
+    for (name, text) in [
+        ("secret.txt", &text),
+        ("secret.mi", &text),
+        ("secret.gloc", &text),
+        ("secret.csv", &text),
+        ("masterdata", &text),
+        ("wellformed.mi", &mission),
     ] {
         let path = folder.join(name);
-        std::fs::write(&path, &text).expect("write");
+        std::fs::write(&path, text).expect("write");
         #[cfg(unix)]
         {
             use std::os::unix::fs::PermissionsExt;
@@ -437,4 +447,105 @@ fn a_connection_without_token_is_never_given_a_file() {
     assert_eq!(refused["success"], false);
     assert!(!client.everything_received().contains("SECRET"));
     let _ = std::fs::remove_dir_all(folder);
+}
+
+#[test]
+fn a_connection_that_does_not_send_the_token_is_closed_after_ten_seconds() {
+    let adapter = Adapter::start();
+    let mut client = adapter.connect();
+    initialize(&mut client);
+    let started = Instant::now();
+    assert!(client.closed(), "still open after {DEADLINE:?}");
+    // The limit is 10 s (docs/dap.md): closed by the timeout, not at once (`closed`
+    // bounds it from above by its deadline).
+    let waited = started.elapsed();
+    assert!(waited >= Duration::from_secs(8), "closed after {waited:?}");
+}
+
+#[test]
+fn trickling_bytes_does_not_extend_the_token_timeout() {
+    let adapter = Adapter::start();
+    let mut client = adapter.connect();
+    initialize(&mut client);
+    let started = Instant::now();
+    // A header a byte every second: never a frame, never ten quiet seconds either.
+    for byte in b"X-Slow: aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa".iter() {
+        if client.stream.write_all(&[*byte]).is_err() {
+            break;
+        }
+        std::thread::sleep(Duration::from_secs(1));
+        if started.elapsed() > DEADLINE {
+            break;
+        }
+    }
+    assert!(client.closed(), "still open after {:?}", started.elapsed());
+    assert!(
+        started.elapsed() < DEADLINE,
+        "closed only after {:?}",
+        started.elapsed()
+    );
+}
+
+#[test]
+fn sessions_beyond_the_cap_are_refused_until_one_ends() {
+    // gloc_dap::limits::MAX_SESSIONS, as documented in docs/dap.md.
+    const MAX_SESSIONS: usize = 16;
+    let adapter = Adapter::start();
+    let program = fixture("loop.gbas");
+    let mut sessions: Vec<Client> = (0..MAX_SESSIONS)
+        .map(|_| {
+            let mut client = adapter.connect();
+            initialize(&mut client);
+            let launched = launch(&mut client, &adapter.token, &program);
+            assert_eq!(launched["success"], true, "{launched}");
+            client
+        })
+        .collect();
+    let mut extra = adapter.connect();
+    initialize(&mut extra);
+    let refused = launch(&mut extra, &adapter.token, &program);
+    assert_eq!(refused["success"], false, "{refused}");
+    assert!(
+        refused["message"]
+            .as_str()
+            .is_some_and(|text| text.contains("16 sessions")),
+        "{refused}"
+    );
+    assert!(extra.closed());
+    let mut first = sessions.remove(0);
+    assert_eq!(first.request("disconnect", json!({}))["success"], true);
+    assert!(first.closed());
+    let mut next = adapter.connect();
+    initialize(&mut next);
+    let launched = launch(&mut next, &adapter.token, &program);
+    assert_eq!(launched["success"], true, "{launched}");
+}
+
+#[test]
+fn before_the_token_a_body_is_held_to_one_mebibyte() {
+    let adapter = Adapter::start();
+    let mut client = adapter.connect();
+    initialize(&mut client);
+    // 2 MiB of expression: refused unread before the token (docs/dap.md) ...
+    let big = "1+".repeat(1 << 20) + "1";
+    let seq = client.send("evaluate", json!({ "expression": big }));
+    let threads = client.request("threads", json!({}));
+    assert_eq!(threads["success"], false, "{threads}");
+    let everything = client.everything_received();
+    assert!(
+        everything.contains("larger than the limit of 1048576"),
+        "{everything}"
+    );
+    assert!(
+        !client
+            .received
+            .iter()
+            .any(|message| message["request_seq"] == json!(seq)),
+        "the big request was read"
+    );
+    // ... and read once the session has the token.
+    let launched = launch(&mut client, &adapter.token, &fixture("fig3.gbas"));
+    assert_eq!(launched["success"], true, "{launched}");
+    let answered = client.request("evaluate", json!({ "expression": big }));
+    assert_eq!(answered["success"], true, "{answered}");
 }

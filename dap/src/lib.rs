@@ -19,7 +19,7 @@ pub mod world;
 use std::collections::VecDeque;
 use std::io::{self, Read, Write};
 use std::net::{Shutdown, SocketAddr, TcpListener, TcpStream};
-use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::sync::mpsc::{self, RecvTimeoutError, TryRecvError};
 use std::sync::{Arc, Mutex};
 use std::thread;
@@ -46,6 +46,12 @@ pub mod limits {
     pub const IDLE_TIMEOUT: Duration = Duration::from_secs(30 * 60);
     /// A client that does not read what the adapter writes for this long is dropped.
     pub const WRITE_TIMEOUT: Duration = Duration::from_secs(60);
+    /// The framing limits before the token: `initialize` and `launch` are small, and
+    /// 64 waiting connections must not hold 64 full-size bodies (64 MiB each).
+    pub const BEFORE_TOKEN: gloc_framing::Limits = gloc_framing::Limits {
+        max_body: 1024 * 1024,
+        ..gloc_framing::LIMITS
+    };
     /// The environment variable that may hold the session token (at least
     /// `MIN_TOKEN_CHARS` characters); without it a random one is made.
     pub const TOKEN_VARIABLE: &str = "GLOC_DAP_TOKEN";
@@ -209,22 +215,38 @@ fn serve_session(
     connection: Option<Connection>,
 ) -> io::Result<()> {
     let (sender, receiver) = mpsc::channel::<Frame>();
+    // Until the token is shown, bodies are held to the smaller limit; the session sets
+    // the flag before it answers the `launch` that carried the token.
+    let authenticated = Arc::new(AtomicBool::new(false));
+    let mut reader = Reader::new(input);
+    if access != Access::Open {
+        reader.limit_until(limits::BEFORE_TOKEN, authenticated.clone());
+    }
     thread::Builder::new()
         .name("dap-reader".into())
-        .spawn(move || {
-            let mut reader = Reader::new(input);
-            loop {
-                let frame = reader.next_frame();
-                let closed = matches!(frame, Frame::Closed);
-                if sender.send(frame).is_err() || closed {
-                    break;
-                }
+        .spawn(move || loop {
+            let frame = reader.next_frame();
+            let closed = matches!(frame, Frame::Closed);
+            if sender.send(frame).is_err() || closed {
+                break;
             }
         })?;
-    let mut session = Session::new(Writer::new(Box::new(output)), access);
+    let mut session = Session::new(Writer::new(Box::new(output)), access).signalling(authenticated);
     let mut admitted = false;
-    let mut last_heard = Instant::now();
+    let opened = Instant::now();
+    let mut last_heard = opened;
     let result = loop {
+        // The token timeout is a deadline from the connection's start: a client that
+        // trickles a byte now and then does not extend it.
+        let waiting_for_token = connection.is_some() && !session.is_authenticated();
+        if waiting_for_token && opened.elapsed() >= limits::TOKEN_TIMEOUT {
+            break Ok(());
+        }
+        let wait = if waiting_for_token {
+            limits::TOKEN_TIMEOUT.saturating_sub(opened.elapsed())
+        } else {
+            limits::IDLE_TIMEOUT
+        };
         let frame = if session.is_running() {
             match receiver.try_recv() {
                 Ok(frame) => Some(frame),
@@ -232,7 +254,7 @@ fn serve_session(
                 Err(TryRecvError::Disconnected) => Some(Frame::Closed),
             }
         } else {
-            match receiver.recv_timeout(limits::IDLE_TIMEOUT) {
+            match receiver.recv_timeout(wait) {
                 Ok(frame) => Some(frame),
                 Err(RecvTimeoutError::Timeout) => Some(Frame::Idle),
                 Err(RecvTimeoutError::Disconnected) => Some(Frame::Closed),

@@ -64,6 +64,16 @@ impl<R: Read> Reader<R> {
         }
     }
 
+    /// Reads with `before` until `flag` is set, then with the full limits.
+    pub fn limit_until(
+        &mut self,
+        before: gloc_framing::Limits,
+        flag: std::sync::Arc<std::sync::atomic::AtomicBool>,
+    ) {
+        self.frames.set_limits(before);
+        self.frames.upgrade_when(flag, LIMITS);
+    }
+
     /// The next frame. A read timeout is `Idle`; another IO error or the end of the
     /// stream is `Closed`.
     pub fn next_frame(&mut self) -> Frame {

@@ -3,6 +3,8 @@
 
 use std::io;
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 use serde_json::{json, Value};
@@ -124,6 +126,8 @@ pub struct Session {
     access: Access,
     /// Whether a `launch` carried the token (always, for `Access::Open`).
     authenticated: bool,
+    /// Set with `authenticated`, for the reader's framing limits.
+    authenticated_flag: Option<Arc<AtomicBool>>,
     initialized: bool,
     launched: Option<Launched>,
     requested: Requested,
@@ -191,6 +195,7 @@ impl Session {
         Session {
             writer,
             authenticated: access == Access::Open,
+            authenticated_flag: None,
             access,
             initialized: false,
             launched: None,
@@ -203,6 +208,13 @@ impl Session {
         self.launched
             .as_ref()
             .is_some_and(|launched| launched.running.is_some())
+    }
+
+    /// Also sets `flag` when the session authenticates, before the `launch` that
+    /// carried the token is answered.
+    pub fn signalling(mut self, flag: Arc<AtomicBool>) -> Session {
+        self.authenticated_flag = Some(flag);
+        self
     }
 
     pub fn is_authenticated(&self) -> bool {
@@ -287,6 +299,9 @@ impl Session {
         let given = request.arguments.get("token").and_then(Value::as_str);
         if given.is_some_and(|given| same_secret(given, expected)) {
             self.authenticated = true;
+            if let Some(flag) = &self.authenticated_flag {
+                flag.store(true, Ordering::SeqCst);
+            }
             return Ok(None);
         }
         let message = if given.is_none() {
@@ -833,14 +848,11 @@ impl Session {
         let mut out = Vec::new();
         for (breakpoint, id) in requested.iter().zip(ids) {
             if !same_source {
-                out.push(Breakpoint {
-                    id: Some(id),
-                    verified: false,
-                    line: echo_line(breakpoint.line),
-                    message: Some(format!("{path} is not the program being debugged")),
-                    reason: Some("failed".into()),
-                    ..Breakpoint::default()
-                });
+                out.push(unverified(
+                    id,
+                    breakpoint.line,
+                    format!("{path} is not the program being debugged"),
+                ));
                 continue;
             }
             let refusal = match (breakpoint.line, debugger.info.source_lines) {
@@ -858,14 +870,7 @@ impl Session {
                     .and_then(|condition| condition_error(debugger, condition)),
             };
             if let Some(message) = refusal {
-                out.push(Breakpoint {
-                    id: Some(id),
-                    verified: false,
-                    line: echo_line(breakpoint.line),
-                    message: Some(message),
-                    reason: Some("failed".into()),
-                    ..Breakpoint::default()
-                });
+                out.push(unverified(id, breakpoint.line, message));
                 continue;
             }
             let line = u32::try_from(breakpoint.line)
@@ -879,14 +884,7 @@ impl Session {
                 Some(text) => match HitCondition::parse(text) {
                     Ok(condition) => Some(condition),
                     Err(message) => {
-                        out.push(Breakpoint {
-                            id: Some(id),
-                            verified: false,
-                            line: echo_line(breakpoint.line),
-                            message: Some(message),
-                            reason: Some("failed".into()),
-                            ..Breakpoint::default()
-                        });
+                        out.push(unverified(id, breakpoint.line, message));
                         continue;
                     }
                 },
@@ -910,14 +908,7 @@ impl Session {
                         ..Breakpoint::default()
                     });
                 }
-                None => out.push(Breakpoint {
-                    id: Some(id),
-                    verified: false,
-                    line: echo_line(breakpoint.line),
-                    message: Some("no code in this file".into()),
-                    reason: Some("failed".into()),
-                    ..Breakpoint::default()
-                }),
+                None => out.push(unverified(id, breakpoint.line, "no code in this file")),
             }
         }
         out
@@ -1160,11 +1151,17 @@ impl Session {
         let outputs = launched.debugger.take_outputs();
         let source = source_of(&launched.debugger);
         for output in outputs {
+            // Over TCP the adapter's own notices (setup warnings quote the mission's
+            // lines) blank quoted text, as launch errors do; the script's prints pass.
+            let text = match (&self.access, output.category) {
+                (Access::Token(_), "important") => redact_quotes(&output.text),
+                _ => output.text,
+            };
             self.writer.event(
                 "output",
                 OutputEventBody {
                     category: output.category.into(),
-                    output: output.text,
+                    output: text,
                     source: output.line.map(|_| source.clone()),
                     line: output.line.map(i64::from),
                     data: None,
@@ -1292,6 +1289,18 @@ fn same_secret(given: &str, expected: &str) -> bool {
             .zip(expected)
             .fold(0u8, |difference, (a, b)| difference | (a ^ b))
             == 0
+}
+
+/// A line breakpoint that was not set, with the reason.
+fn unverified(id: i64, line: i64, message: impl Into<String>) -> Breakpoint {
+    Breakpoint {
+        id: Some(id),
+        verified: false,
+        line: echo_line(line),
+        message: Some(message.into()),
+        reason: Some("failed".into()),
+        ..Breakpoint::default()
+    }
 }
 
 /// A client's line number, echoed back only when it is a line number at all.

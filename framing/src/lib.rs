@@ -14,6 +14,8 @@
 
 use std::collections::VecDeque;
 use std::io::{self, Read};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 
 /// What the decoder may buffer. The same limits serve both servers (`LIMITS`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -108,6 +110,12 @@ impl Decoder {
             body: Vec::new(),
             offset: 0,
         }
+    }
+
+    /// Changes the limits for what is read from now on (e.g. larger once a client has
+    /// authenticated).
+    pub fn set_limits(&mut self, limits: Limits) {
+        self.limits = limits;
     }
 
     /// Consumes `bytes`, appending every completed message or error to `events`.
@@ -380,6 +388,8 @@ pub struct FrameReader<R> {
     decoder: Decoder,
     ready: VecDeque<Event>,
     chunk: Vec<u8>,
+    /// Limits to switch to once the flag is set (checked before decoding each read).
+    upgrade: Option<(Arc<AtomicBool>, Limits)>,
 }
 
 impl<R: Read> FrameReader<R> {
@@ -389,7 +399,20 @@ impl<R: Read> FrameReader<R> {
             decoder: Decoder::new(limits),
             ready: VecDeque::new(),
             chunk: vec![0; 64 * 1024],
+            upgrade: None,
         }
+    }
+
+    /// Switches to `limits` for the bytes read after `flag` is set (e.g. once a client
+    /// authenticated: set the flag before answering, and its next request is decoded
+    /// with the new limits).
+    pub fn upgrade_when(&mut self, flag: Arc<AtomicBool>, limits: Limits) {
+        self.upgrade = Some((flag, limits));
+    }
+
+    /// See [`Decoder::set_limits`].
+    pub fn set_limits(&mut self, limits: Limits) {
+        self.decoder.set_limits(limits);
     }
 
     /// The next message or framing error; `Ok(None)` at end of input. A read error
@@ -406,6 +429,12 @@ impl<R: Read> FrameReader<R> {
             };
             if count == 0 {
                 return Ok(None);
+            }
+            if let Some((flag, limits)) = &self.upgrade {
+                if flag.load(Ordering::SeqCst) {
+                    self.decoder.set_limits(*limits);
+                    self.upgrade = None;
+                }
             }
             self.decoder.feed(&self.chunk[..count], &mut self.ready);
         }
@@ -589,6 +618,30 @@ mod tests {
         assert!(error_text(&events[0]).contains("has no Content-Length"));
         assert!(error_text(&events[1]).contains("`garbage` is not a header line"));
         assert_eq!(events[2], message("1"));
+    }
+
+    #[test]
+    fn a_reader_switches_limits_once_the_flag_is_set() {
+        /// Hands out one prepared chunk per read.
+        struct Chunks(VecDeque<Vec<u8>>);
+        impl Read for Chunks {
+            fn read(&mut self, buffer: &mut [u8]) -> io::Result<usize> {
+                let Some(chunk) = self.0.pop_front() else {
+                    return Ok(0);
+                };
+                buffer[..chunk.len()].copy_from_slice(&chunk);
+                Ok(chunk.len())
+            }
+        }
+        let big = encode(&[b'x'; 150]);
+        let mut reader = FrameReader::new(Chunks(VecDeque::from([big.clone(), big])), SMALL);
+        let flag = Arc::new(AtomicBool::new(false));
+        reader.upgrade_when(flag.clone(), LIMITS);
+        let refused = reader.next_event().expect("read").expect("an event");
+        assert!(error_text(&refused).contains("150 is larger than the limit of 100"));
+        flag.store(true, Ordering::SeqCst);
+        let read = reader.next_event().expect("read").expect("an event");
+        assert_eq!(read, Event::Message(vec![b'x'; 150]));
     }
 
     #[test]

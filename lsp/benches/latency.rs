@@ -1,6 +1,7 @@
 //! Latency of the language server on a 10,000-line GBASIC file, measured
 //! through the real protocol (framed JSON-RPC over in-memory pipes):
-//! `didChange` → `publishDiagnostics`, and completion / hover round trips.
+//! `didChange` → `publishDiagnostics`, completion / hover round trips, and how fast a
+//! queue of cancelled requests drains.
 //!
 //! Run: `cargo bench -p gloc-lsp --bench latency` (prints figures; asserts nothing
 //! about speed).
@@ -157,5 +158,42 @@ async fn run() {
         stale_samples.push(started.elapsed());
     }
     summary("hover right after an edit", stale_samples);
+
+    // A queue of cancelled requests: 100 `semanticTokens/full`, each followed by its
+    // `$/cancelRequest`, all sent at once; the time until the last answer.
+    let started = Instant::now();
+    client
+        .request(
+            "textDocument/semanticTokens/full",
+            json!({ "textDocument": { "uri": uri } }),
+        )
+        .await;
+    let one = started.elapsed();
+    let first_id = 10_000;
+    let count = 100;
+    let started = Instant::now();
+    for id in first_id..first_id + count {
+        client
+            .send_raw(&json!({ "jsonrpc": "2.0", "id": id, "method": "textDocument/semanticTokens/full", "params": { "textDocument": { "uri": uri } } }).to_string())
+            .await;
+        client.notify("$/cancelRequest", json!({ "id": id })).await;
+    }
+    let mut answered = 0;
+    let mut cancelled = 0;
+    while answered < count {
+        let message = client.receive().await;
+        let id = message["id"].as_i64().unwrap_or(0);
+        if message.get("method").is_none() && (first_id..first_id + count).contains(&id) {
+            answered += 1;
+            if message["error"]["code"] == json!(-32800) {
+                cancelled += 1;
+            }
+        }
+    }
+    println!(
+        "{count} cancelled semanticTokens requests drain in {:.2} ms ({cancelled} answered RequestCancelled; one uncancelled request: {:.2} ms)",
+        started.elapsed().as_secs_f64() * 1e3,
+        one.as_secs_f64() * 1e3
+    );
     client.shutdown_and_exit().await;
 }

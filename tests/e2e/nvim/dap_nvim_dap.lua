@@ -12,6 +12,17 @@ if not H.check(vim.fn.isdirectory(nvim_dap .. "/lua/dap") == 1, "nvim-dap is at 
 end
 H.check(vim.fn.executable(H.gloc_bin) == 1, "the gloc binary exists (GLOC_BIN)", H.gloc_bin)
 
+-- Without setup(): a Neovim that merely has the plugin and nvim-dap on its runtimepath (a
+-- plugin manager's doing) gets the commands and the adapter from plugin/gloc.lua.
+local probe = [[lua vim.schedule(function()
+  io.stdout:write(vim.fn.exists(":GlocRun"), vim.fn.exists(":GlocShowCompiled"), vim.fn.exists(":GlocStepBack"),
+    vim.fn.exists(":GlocReverseContinue"), " ", type(require("dap").adapters.gloc))
+  vim.cmd("qall!")
+end)]]
+local without_setup = vim.system({ vim.v.progpath, "--headless", "--clean", "--cmd",
+  "set runtimepath^=" .. H.repo .. "/editors/nvim," .. nvim_dap, "-c", probe }, { text = true }):wait(30000)
+H.equal(without_setup.stdout, "2222 table", "without setup(): the four commands and the nvim-dap adapter")
+
 -- nvim-dap installed the usual way (on the runtimepath), then the plugin as the README says.
 vim.opt.runtimepath:append(nvim_dap)
 H.load_plugin_as_readme_says({ gloc_path = H.gloc_bin, lsp = false })

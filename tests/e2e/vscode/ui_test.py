@@ -65,7 +65,7 @@ class Workbench:
             except Exception:
                 # Focus inside a webview (the SVG preview) keeps F1 from the workbench: give
                 # the focus back to the workbench and try again.
-                self.page.locator(".part.statusbar").click(position={"x": 600, "y": 5})
+                self.page.locator(".part.sidebar .pane-body").first.click(position={"x": 150, "y": 300})
         box.wait_for(state="visible", timeout=4_000)
         box.fill(">" + title)
 
@@ -255,20 +255,23 @@ def main():
 
     server, url = start_code_server(code_server, user_data, extensions, workspace, env)
     failed = None
-    with sync_playwright() as playwright:
-        browser = playwright.chromium.launch(executable_path=CHROMIUM, args=["--no-sandbox"])
-        page = browser.new_page(viewport={"width": 1400, "height": 900})
-        bench = Workbench(page, artifacts)
-        try:
-            run_checks(bench, url, workspace, user_data, base_settings, gloc_bin, home, tmp, original_fig3)
-        except Exception as error:  # noqa: BLE001 - every failure gets its screenshot
-            failed = error
-            shot = bench.shot(f"failed-{bench.step}")
-            print(f"FAILED at step {bench.step!r}: {error}\nscreenshot: {shot}", file=sys.stderr)
-        finally:
-            browser.close()
-            os.killpg(server.pid, signal.SIGTERM)
-            server.wait(timeout=30)
+    try:
+        with sync_playwright() as playwright:
+            # A missing chromium fails here, and fails the run.
+            browser = playwright.chromium.launch(executable_path=CHROMIUM, args=["--no-sandbox"])
+            page = browser.new_page(viewport={"width": 1400, "height": 900})
+            bench = Workbench(page, artifacts)
+            try:
+                run_checks(bench, url, workspace, gloc_bin, home, tmp, original_fig3)
+            except Exception as error:  # noqa: BLE001 - every failure gets its screenshot
+                failed = error
+                shot = bench.shot(f"failed-{bench.step}")
+                print(f"FAILED at step {bench.step!r}: {error}\nscreenshot: {shot}", file=sys.stderr)
+            finally:
+                browser.close()
+    finally:
+        os.killpg(server.pid, signal.SIGTERM)
+        server.wait(timeout=30)
     if failed:
         print("code-server log: " + str(user_data / "code-server.log"), file=sys.stderr)
         sys.exit(1)
@@ -281,7 +284,7 @@ def check(condition, message):
         raise Failure(message)
 
 
-def run_checks(bench, url, workspace, user_data, base_settings, gloc_bin, home, tmp, original_fig3):
+def run_checks(bench, url, workspace, gloc_bin, home, tmp, original_fig3):
     page = bench.page
     bench.step = "load"
     page.goto(url + "?folder=" + str(workspace))

@@ -153,6 +153,10 @@ pub struct RunArgs {
     /// (its own panel, e.g. `sci_ruhp_climb_depth`).
     #[arg(long, value_name = "PANELS", value_delimiter = ',')]
     pub plot_panels: Vec<String>,
+    /// How the summary is printed on stderr at the end: `text` (default) or `json` (one line,
+    /// for editors; the fields are in docs/simulator.md).
+    #[arg(long, value_name = "FORMAT", value_enum, default_value = "text")]
+    pub summary: SummaryFormat,
     /// Compile a GBASIC script with the optimizer: the default (kept for old command lines).
     #[arg(short = 'O', conflicts_with = "no_optimize")]
     pub optimize: bool,
@@ -230,6 +234,13 @@ pub struct ReindexArgs {
     /// How a masterdata file's sensors are numbered: `file` (default) or `sorted` (firmware 2014+).
     #[arg(long, value_name = "ORDER", value_parser = settings::parse_sensor_order)]
     pub sensor_order: Option<gloc_engine::sensors::SensorOrder>,
+}
+
+/// The form of `gloc run`'s summary.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SummaryFormat {
+    Text,
+    Json,
 }
 
 #[derive(Args, Debug)]

@@ -352,6 +352,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         hook_ignored,
         log_written: log_error.is_none(),
         plot_written: plot_error.is_none(),
+        format: args.summary,
     });
     if let Some(error) = log_error.or(plot_error) {
         return Err(error);
@@ -780,6 +781,7 @@ struct SummaryFacts<'a> {
     hook_ignored: Option<(u64, f64)>,
     log_written: bool,
     plot_written: bool,
+    format: crate::SummaryFormat,
 }
 
 fn summary(facts: &SummaryFacts<'_>) {
@@ -912,6 +914,37 @@ fn summary(facts: &SummaryFacts<'_>) {
         ));
     }
     let mut err = std::io::stderr().lock();
+    if facts.format == crate::SummaryFormat::Json {
+        // The same facts as the text, for editors: how the mission and the script ended (the
+        // texts of the `mission end` and `script` lines) and the files written.
+        let trap_line = sim
+            .script_trap()
+            .map(|trap| facts.loaded.line_of_pc(trap.pc).unwrap_or(trap.line));
+        let json = serde_json::json!({
+            "mission": sim.mission_name(),
+            "script": facts.script_name,
+            "cycles": facts.cycles_run,
+            "simulated_seconds": simulated,
+            "mission_end": ended,
+            "completed": matches!(sim.end(), Some(end) if end.reason == EndReason::Completed),
+            "script_state": script_state,
+            "trap_line": trap_line,
+            "printed_lines": facts.printed_lines,
+            "energy_joules": sim.energy_joules(),
+            "energy_by_consumer_joules": {
+                "hotel": sim.energy_use().hotel,
+                "pump": sim.energy_use().pump,
+                "pitch": sim.energy_use().pitch,
+                "science": sim.energy_use().science,
+            },
+            "log": facts.log.map(|path| path.display().to_string()),
+            "log_written": facts.log.is_some() && facts.log_written,
+            "plot": facts.plot.map(|path| path.display().to_string()),
+            "plot_written": facts.plot.is_some() && facts.plot_written,
+        });
+        let _ = writeln!(err, "{json}");
+        return;
+    }
     for line in lines {
         let _ = writeln!(err, "{line}");
     }

@@ -271,3 +271,26 @@ fn cycle_budget_traps_the_first_cycle_that_needs_more() {
     assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
     assert!(written.contains("\n16,128\n"), "{written}");
 }
+
+/// The README's replay example on the shipped examples/depths.csv: a dive to 20 m in 2 m steps
+/// and back. Worked by hand from Fig. 2: the first depth past 15 m is 16 m at cycle 8 (store
+/// 128), the first one under 5 m on the way up is 4 m at cycle 18 (store 0); nothing else.
+#[test]
+fn readme_replay_example_on_the_shipped_depths() {
+    let out = temp("readme-stored.csv");
+    let output = gloc(&[
+        "run",
+        &repo("examples/fig2.gloc"),
+        "--replay",
+        &repo("examples/depths.csv"),
+        "--out",
+        out.to_str().expect("utf-8 path"),
+        "--cycle-budget",
+        "5000",
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let stored = std::fs::read_to_string(&out).expect("stored.csv");
+    let rows: Vec<&str> = stored.lines().filter(|line| !line.ends_with(',')).collect();
+    assert_eq!(rows, ["cycle,sci_ruhp_behs", "8,128", "18,0"]);
+    assert_eq!(stored.lines().count(), 1 + 21, "one row per replayed cycle");
+}

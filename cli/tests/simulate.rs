@@ -221,3 +221,81 @@ fn simulator_settings_from_flags_and_gloc_toml() {
         text(&shape.stderr)
     );
 }
+
+/// The last stderr line of `gloc run --summary json`, parsed.
+fn json_summary(stderr: &str) -> serde_json::Value {
+    let last = stderr.lines().last().unwrap_or_default();
+    serde_json::from_str(last).unwrap_or_else(|error| panic!("not JSON ({error}): {last}"))
+}
+
+#[test]
+fn summary_json_is_one_line_for_editors() {
+    let folder = temp_folder("summary-json");
+    // 40 cycles of Fig. 3: the default mission is still diving (it ends at the surface, hours
+    // later) and the script never traps.
+    std::fs::copy(
+        concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/fig3.gbas"),
+        folder.join("fig3.gbas"),
+    )
+    .expect("copy fig3");
+    let output = gloc(
+        &[
+            "run",
+            "fig3.gbas",
+            "--cycles",
+            "40",
+            "--summary",
+            "json",
+            "--plot",
+            "p.svg",
+        ],
+        &folder,
+    );
+    let stderr = text(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    assert!(
+        !stderr.contains("mission end   "),
+        "no text summary with --summary json: {stderr}"
+    );
+    let summary = json_summary(&stderr);
+    assert_eq!(summary["cycles"], 40, "{summary}");
+    assert_eq!(summary["script"], "fig3.gbas", "{summary}");
+    assert_eq!(summary["completed"], false, "{summary}");
+    assert_eq!(summary["trap_line"], serde_json::Value::Null, "{summary}");
+    assert_eq!(summary["plot"], "p.svg", "{summary}");
+    assert!(
+        summary["mission_end"]
+            .as_str()
+            .unwrap_or_default()
+            .starts_with("still running"),
+        "{summary}"
+    );
+
+    // A division by zero on line 3 (counted by hand): the script traps there, the vehicle flies on.
+    std::fs::write(
+        folder.join("trap.gbas"),
+        "dim x as integer\nx = 0\nx = 10 \\ x\nyield\n",
+    )
+    .expect("write trap.gbas");
+    let output = gloc(
+        &["run", "trap.gbas", "--cycles", "5", "--summary", "json"],
+        &folder,
+    );
+    let stderr = text(&output.stderr);
+    let summary = json_summary(&stderr);
+    assert_eq!(summary["trap_line"], 3, "{summary}");
+    assert!(
+        summary["script_state"]
+            .as_str()
+            .unwrap_or_default()
+            .starts_with("TRAPPED at trap.gbas:3:"),
+        "{summary}"
+    );
+
+    let output = gloc(&["run", "trap.gbas", "--summary", "yaml"], &folder);
+    assert_eq!(
+        output.status.code(),
+        Some(2),
+        "an unknown format is refused"
+    );
+}

@@ -1471,10 +1471,11 @@ fn variables(
             return Ok((start..start.saturating_add(count).min(length))
                 .map(|index| {
                     let value = target.element(&array.name, index as i64);
-                    let name = format!("{}({index})", array.name);
+                    // Named `[10]`, which clients such as nvim-dap sort numerically; the
+                    // GBASIC expression `a(10)` is the evaluateName.
                     Variable {
-                        evaluate_name: Some(name.clone()),
-                        name,
+                        evaluate_name: Some(format!("{}({index})", array.name)),
+                        name: format!("[{index}]"),
                         value: value.map(|value| value.to_string()).unwrap_or_default(),
                         ty: Some(element_type.into()),
                         variables_reference: 0,
@@ -1584,15 +1585,32 @@ fn set_variable(
         }
         SCOPE_VEHICLE => Err("the Vehicle scope is read-only; set a sensor instead".into()),
         reference if reference >= ARRAYS => {
-            let (name, index) = arguments
+            // The element's name in the array's children (`[3]`), or its expression (`a(3)`).
+            let position = usize::try_from(reference - ARRAYS).unwrap_or(usize::MAX);
+            let array = debugger
+                .target
+                .variables()
+                .into_iter()
+                .nth(position)
+                .filter(|named| named.length.is_some())
+                .map(|named| named.name)
+                .ok_or_else(|| format!("unknown variablesReference {reference}"))?;
+            let element = arguments
                 .name
-                .strip_suffix(')')
-                .and_then(|rest| rest.split_once('('))
-                .and_then(|(name, index)| {
-                    Some((name.to_string(), index.trim().parse::<i64>().ok()?))
-                })
+                .strip_prefix('[')
+                .and_then(|rest| rest.strip_suffix(']'))
+                .map(|index| (array.clone(), index))
+                .or_else(|| {
+                    let (name, index) = arguments.name.strip_suffix(')')?.split_once('(')?;
+                    Some((name.to_string(), index))
+                });
+            let (name, index) = element
+                .and_then(|(name, index)| Some((name, index.trim().parse::<i64>().ok()?)))
                 .ok_or_else(|| {
-                    format!("`{}` is not an array element like `a(3)`", arguments.name)
+                    format!(
+                        "`{}` is not an array element like `[3]` or `{array}(3)`",
+                        arguments.name
+                    )
                 })?;
             debugger.edit(Edit::Element(name.clone(), index, value))?;
             debugger

@@ -1048,13 +1048,8 @@ fn arrays_are_expandable_evaluable_and_settable() {
     let elements = values(&mut client, reference);
     assert_eq!(
         elements,
-        [
-            ("a(0)", "0"),
-            ("a(1)", "10"),
-            ("a(2)", "20"),
-            ("a(3)", "30")
-        ]
-        .map(|(name, value)| (name.to_string(), value.to_string()))
+        [("[0]", "0"), ("[1]", "10"), ("[2]", "20"), ("[3]", "30")]
+            .map(|(name, value)| (name.to_string(), value.to_string()))
     );
     assert_eq!(value(&mut client, 1, "total"), "0");
     let body = client.ok(
@@ -1064,7 +1059,7 @@ fn arrays_are_expandable_evaluable_and_settable() {
     assert_eq!(body["result"], "50");
     let body = client.ok(
         "setVariable",
-        json!({ "variablesReference": reference, "name": "a(1)", "value": "100" }),
+        json!({ "variablesReference": reference, "name": "[1]", "value": "100" }),
     );
     assert_eq!(body["value"], "100");
     client.ok("stepOut", json!({ "threadId": 1 }));

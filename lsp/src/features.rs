@@ -16,6 +16,95 @@ use crate::lang;
 use crate::position::{end_position, offset_of, position_of, range_of, span_of, PositionWalker};
 use crate::server::COMPILED_GLOC_COMMAND;
 
+/// What the client said it can show (`initialize`'s capabilities); answers follow it.
+/// Before `initialize`, and for a client that says nothing, the protocol's defaults:
+/// no snippets, flat symbols; markdown unless the client lists formats without it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ClientFeatures {
+    pub snippets: bool,
+    pub completion_markdown: bool,
+    pub hover_markdown: bool,
+    pub hierarchical_symbols: bool,
+}
+
+impl Default for ClientFeatures {
+    fn default() -> Self {
+        ClientFeatures::from_capabilities(&ClientCapabilities::default())
+    }
+}
+
+impl ClientFeatures {
+    pub fn from_capabilities(capabilities: &ClientCapabilities) -> ClientFeatures {
+        let text = capabilities.text_document.as_ref();
+        let item = text
+            .and_then(|text| text.completion.as_ref())
+            .and_then(|completion| completion.completion_item.as_ref());
+        let markdown = |formats: Option<&Vec<MarkupKind>>| {
+            formats.is_none_or(|formats| formats.contains(&MarkupKind::Markdown))
+        };
+        ClientFeatures {
+            snippets: item.and_then(|item| item.snippet_support).unwrap_or(false),
+            completion_markdown: markdown(item.and_then(|item| item.documentation_format.as_ref())),
+            hover_markdown: markdown(
+                text.and_then(|text| text.hover.as_ref())
+                    .and_then(|hover| hover.content_format.as_ref()),
+            ),
+            hierarchical_symbols: text
+                .and_then(|text| text.document_symbol.as_ref())
+                .and_then(|symbols| symbols.hierarchical_document_symbol_support)
+                .unwrap_or(false),
+        }
+    }
+}
+
+/// `text` (markdown) as the client can show it: plain text drops the inline code
+/// marks, emphasis and code fences.
+fn markup(text: String, markdown: bool) -> MarkupContent {
+    if markdown {
+        return MarkupContent {
+            kind: MarkupKind::Markdown,
+            value: text,
+        };
+    }
+    let plain: Vec<String> = text
+        .lines()
+        .filter(|line| !line.trim_start().starts_with("```"))
+        .map(|line| line.replace("**", "").replace('`', ""))
+        .collect();
+    MarkupContent {
+        kind: MarkupKind::PlainText,
+        value: plain.join("\n"),
+    }
+}
+
+/// A snippet's text without its tab stops (`${1:r0}` gives `r0`, `$1` nothing),
+/// for a client without snippet support.
+fn snippet_text(snippet: &str) -> String {
+    let mut out = String::with_capacity(snippet.len());
+    let mut rest = snippet;
+    while let Some(at) = rest.find('$') {
+        out.push_str(&rest[..at]);
+        rest = &rest[at + 1..];
+        if let Some(inner) = rest.strip_prefix('{') {
+            // `${N:default}` or `${N}`: keep the default.
+            let end = inner.find('}').unwrap_or(inner.len());
+            let body = &inner[..end];
+            if let Some((_, default)) = body.split_once(':') {
+                out.push_str(default);
+            }
+            rest = inner.get(end + 1..).unwrap_or("");
+        } else {
+            let digits = rest.len() - rest.trim_start_matches(|c: char| c.is_ascii_digit()).len();
+            if digits == 0 {
+                out.push('$');
+            }
+            rest = &rest[digits..];
+        }
+    }
+    out.push_str(rest);
+    out
+}
+
 /// Semantic token types, in legend order.
 const TOKEN_TYPES: [SemanticTokenType; 10] = [
     SemanticTokenType::KEYWORD,
@@ -143,6 +232,7 @@ pub fn completion(
     analysis: &Analysis,
     context: &Context,
     position: Position,
+    client: ClientFeatures,
 ) -> Option<CompletionResponse> {
     let offset = offset_of(document.rope(), position);
     let completions = lang::completions(
@@ -167,17 +257,19 @@ pub fn completion(
                 CompletionKind::Register => CompletionItemKind::VARIABLE,
             }),
             detail: completion.detail,
-            documentation: completion.documentation.map(|text| {
-                Documentation::MarkupContent(MarkupContent {
-                    kind: MarkupKind::Markdown,
-                    value: text,
-                })
-            }),
+            documentation: completion
+                .documentation
+                .map(|text| Documentation::MarkupContent(markup(text, client.completion_markdown))),
             insert_text_format: completion
                 .snippet
                 .as_ref()
+                .filter(|_| client.snippets)
                 .map(|_| InsertTextFormat::SNIPPET),
-            insert_text: completion.snippet.or(completion.insert_text),
+            insert_text: match completion.snippet {
+                Some(snippet) if client.snippets => Some(snippet),
+                Some(snippet) => Some(snippet_text(&snippet)),
+                None => completion.insert_text,
+            },
             filter_text: completion.filter_text,
             sort_text: completion.sort_text,
             ..CompletionItem::default()
@@ -194,6 +286,7 @@ pub fn hover(
     analysis: &Analysis,
     context: &Context,
     position: Position,
+    client: ClientFeatures,
 ) -> Option<Hover> {
     let offset = offset_of(document.rope(), position);
     let token = analysis.token_at(offset)?;
@@ -229,10 +322,7 @@ pub fn hover(
         _ => lang::word_markdown(document.language, word, token.kind)?,
     };
     Some(Hover {
-        contents: HoverContents::Markup(MarkupContent {
-            kind: MarkupKind::Markdown,
-            value: markdown,
-        }),
+        contents: HoverContents::Markup(markup(markdown, client.hover_markdown)),
         range: Some(range_of(document.rope(), token.span)),
     })
 }
@@ -366,7 +456,14 @@ pub fn rename(
         return Err(format!("`{}` cannot be renamed", symbol.name));
     }
     let new_name = new_name.trim();
-    lang::check_new_name(document.language, symbol, new_name, analysis, context)?;
+    lang::check_new_name(
+        document.language,
+        symbol,
+        new_name,
+        analysis,
+        context,
+        document.text(),
+    )?;
     let edits = symbol
         .occurrences()
         .map(|span| TextEdit {
@@ -380,8 +477,14 @@ pub fn rename(
     }))
 }
 
+/// The document's symbols: nested `DocumentSymbol`s when the client supports them,
+/// else the flat `SymbolInformation` list of the protocol's first form.
 #[allow(deprecated)] // `DocumentSymbol::deprecated` must still be written out.
-pub fn document_symbols(document: &Document, analysis: &Analysis) -> DocumentSymbolResponse {
+pub fn document_symbols(
+    document: &Document,
+    analysis: &Analysis,
+    client: ClientFeatures,
+) -> DocumentSymbolResponse {
     let rope = document.rope();
     let symbols = analysis
         .symbols
@@ -406,8 +509,26 @@ pub fn document_symbols(document: &Document, analysis: &Analysis) -> DocumentSym
                 children: None,
             })
         })
-        .collect();
-    DocumentSymbolResponse::Nested(symbols)
+        .collect::<Vec<DocumentSymbol>>();
+    if client.hierarchical_symbols {
+        return DocumentSymbolResponse::Nested(symbols);
+    }
+    DocumentSymbolResponse::Flat(
+        symbols
+            .into_iter()
+            .map(|symbol| SymbolInformation {
+                name: symbol.name,
+                kind: symbol.kind,
+                tags: None,
+                deprecated: None,
+                location: Location {
+                    uri: document.uri.clone(),
+                    range: symbol.selection_range,
+                },
+                container_name: None,
+            })
+            .collect(),
+    )
 }
 
 pub fn folding_ranges(document: &Document, analysis: &Analysis) -> Vec<FoldingRange> {
@@ -559,6 +680,12 @@ pub fn code_actions(document: &Document, analysis: &Analysis, range: Range) -> C
 pub fn formatting(document: &Document) -> Option<Vec<TextEdit>> {
     let text = document.text();
     let formatted = lang::format(document.language, text)?;
+    // The formatters write LF; a CRLF document keeps its line ends.
+    let formatted = if text.contains("\r\n") {
+        formatted.replace("\r\n", "\n").replace('\n', "\r\n")
+    } else {
+        formatted
+    };
     if formatted == text {
         return Some(Vec::new());
     }

@@ -279,8 +279,14 @@ fn new_label(number: u32) -> Symbol {
     }
 }
 
-/// Renaming a GLOC label renumbers it: the new name must be a free label number.
-pub fn check_new_name(symbol: &Symbol, new_name: &str, analysis: &Analysis) -> Result<(), String> {
+/// Renaming a GLOC label renumbers it: the new name must be a free label number
+/// below the `nblbs` header's count.
+pub fn check_new_name(
+    symbol: &Symbol,
+    new_name: &str,
+    analysis: &Analysis,
+    text: &str,
+) -> Result<(), String> {
     let Ok(number) = new_name.parse::<u32>() else {
         return Err(format!(
             "GLOC labels are numbers; `{new_name}` is not a label number"
@@ -288,6 +294,18 @@ pub fn check_new_name(symbol: &Symbol, new_name: &str, analysis: &Analysis) -> R
     };
     if symbol.name == number.to_string() {
         return Ok(());
+    }
+    if let Some(count) = gloc::parse(text)
+        .file
+        .directive(DirectiveKind::Nblbs)
+        .map(|directive| directive.value)
+    {
+        if u64::from(number) >= count {
+            return Err(format!(
+                "label {number} is out of range: `nblbs {count}` allows labels 0 to {}; raise nblbs first",
+                count.saturating_sub(1)
+            ));
+        }
     }
     let taken = analysis.symbols.iter().any(|other| {
         other.kind == SymbolKind::Label

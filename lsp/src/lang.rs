@@ -74,9 +74,10 @@ pub fn check_new_name(
     new_name: &str,
     analysis: &Analysis,
     context: &Context,
+    text: &str,
 ) -> Result<(), String> {
     match language {
-        Language::Gloc => gloc_lang::check_new_name(symbol, new_name, analysis),
+        Language::Gloc => gloc_lang::check_new_name(symbol, new_name, analysis, text),
         Language::Gbasic => gbasic_lang::check_new_name(symbol, new_name, analysis, context),
         Language::Config => Err("nothing to rename in gloc.toml".to_string()),
     }

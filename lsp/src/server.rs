@@ -63,6 +63,8 @@ struct State {
     embedded: Option<Arc<SensorList>>,
     client_supports_configuration: bool,
     client_supports_watch_registration: bool,
+    /// What the client can show (snippets, markdown, nested symbols).
+    client_features: features::ClientFeatures,
     /// `gloc.toml` files that currently have problems (so clearing works).
     config_files_with_problems: Vec<PathBuf>,
 }
@@ -446,6 +448,8 @@ impl LanguageServer for Backend {
     async fn initialize(&self, params: InitializeParams) -> Result<InitializeResult> {
         {
             let mut state = lock(&self.state);
+            state.client_features =
+                features::ClientFeatures::from_capabilities(&params.capabilities);
             state.client_supports_configuration = params
                 .capabilities
                 .workspace
@@ -626,20 +630,22 @@ impl LanguageServer for Backend {
 
     async fn completion(&self, params: CompletionParams) -> Result<Option<CompletionResponse>> {
         let position = params.text_document_position;
+        let client = lock(&self.state).client_features;
         Ok(self.with_document(
             &position.text_document.uri,
             |document, analysis, context| {
-                features::completion(document, analysis, context, position.position)
+                features::completion(document, analysis, context, position.position, client)
             },
         ))
     }
 
     async fn hover(&self, params: HoverParams) -> Result<Option<Hover>> {
         let position = params.text_document_position_params;
+        let client = lock(&self.state).client_features;
         Ok(self.with_document(
             &position.text_document.uri,
             |document, analysis, context| {
-                features::hover(document, analysis, context, position.position)
+                features::hover(document, analysis, context, position.position, client)
             },
         ))
     }
@@ -723,9 +729,10 @@ impl LanguageServer for Backend {
         &self,
         params: DocumentSymbolParams,
     ) -> Result<Option<DocumentSymbolResponse>> {
+        let client = lock(&self.state).client_features;
         Ok(
             self.with_document(&params.text_document.uri, |document, analysis, _| {
-                Some(features::document_symbols(document, analysis))
+                Some(features::document_symbols(document, analysis, client))
             }),
         )
     }

@@ -240,12 +240,20 @@ async fn label_navigation_definition_references_highlight_and_rename() {
         .request_raw("textDocument/rename", json!({ "textDocument": { "uri": URI }, "position": { "line": 11, "character": 6 }, "newName": "top" }))
         .await;
     assert_eq!(not_a_number["error"]["code"], -32602);
-    let edit = client
-        .request("textDocument/rename", json!({ "textDocument": { "uri": URI }, "position": { "line": 11, "character": 6 }, "newName": "9" }))
+    // `nblbs 7`: labels 0 to 6, all taken; 7 or 9 would break the program (E0102).
+    for past_the_count in ["7", "9"] {
+        let refused = client
+            .request_raw("textDocument/rename", json!({ "textDocument": { "uri": URI }, "position": { "line": 11, "character": 6 }, "newName": past_the_count }))
+            .await;
+        let message = refused["error"]["message"].as_str().expect("message");
+        assert!(message.contains("out of range: `nblbs 7`"), "{message}");
+    }
+    let same = client
+        .request("textDocument/rename", json!({ "textDocument": { "uri": URI }, "position": { "line": 11, "character": 6 }, "newName": "1" }))
         .await;
-    let edits = edit["changes"][URI].as_array().expect("edits");
+    let edits = same["changes"][URI].as_array().expect("edits");
     assert_eq!(edits.len(), 3);
-    assert!(edits.iter().all(|e| e["newText"] == "9"));
+    assert!(edits.iter().all(|e| e["newText"] == "1"));
     // Nothing to navigate on an opcode or a register.
     assert_eq!(
         client

@@ -17,7 +17,7 @@ const require = createRequire(import.meta.url);
 const here = path.dirname(fileURLToPath(import.meta.url));
 const extensionDir = path.resolve(here, '../../editors/vscode');
 const manifest = JSON.parse(fs.readFileSync(path.join(extensionDir, 'package.json'), 'utf8'));
-const { createFakeVscode, loadExtension } = require('./helpers/fake-vscode.cjs');
+const { createFakeVscode, fakeContext, loadExtension } = require('./helpers/fake-vscode.cjs');
 const helpers = require(path.join(extensionDir, 'src/helpers.js'));
 const glocBin = process.env.GLOC_BIN || path.resolve(here, '../../target/debug/gloc');
 
@@ -58,12 +58,13 @@ test('Show compiled GLOC on the paper\'s Fig. 3 shows Fig. 2, through a real glo
     // The extension, its requests forwarded to the real server.
     const fakes = createFakeVscode({
       workspace,
+      settings: { 'gloc.path': glocBin },
       activeFile: path.join(workspace, 'fig3.gbas'),
       documents,
       onRequest: (method, params) => connection.sendRequest(method, params),
     });
     const extension = loadExtension(path.join(extensionDir, manifest.main), fakes);
-    await extension.activate({ subscriptions: [] });
+    await extension.activate(fakeContext());
     // The fake URIs print as file:///…; the server knows the documents by pathToFileURL, which
     // is the same string for these plain temporary paths.
     await fakes.record.commands.get('gloc.showCompiledGloc')();

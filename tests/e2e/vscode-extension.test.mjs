@@ -18,7 +18,7 @@ const extensionDir = path.resolve(here, '../../editors/vscode');
 const manifest = JSON.parse(fs.readFileSync(path.join(extensionDir, 'package.json'), 'utf8'));
 const contributes = manifest.contributes;
 const languageIds = contributes.languages.map((language) => language.id);
-const { createFakeVscode, loadExtension } = require('./helpers/fake-vscode.cjs');
+const { createFakeVscode, fakeContext, loadExtension } = require('./helpers/fake-vscode.cjs');
 const helpers = require(path.join(extensionDir, 'src/helpers.js'));
 
 // The launch attributes `gloc dap` accepts (issue 6 and /work/coord/api-dap.md).
@@ -254,6 +254,13 @@ test('vsce package builds a .vsix offline with grammars, configurations, snippet
 
 // --- the extension's glue, driven through a stand-in VS Code ---------------------------------
 
+/** An executable stand-in for the gloc binary at `file` (the extension checks that it exists). */
+function fakeBinary(file) {
+  fs.mkdirSync(path.dirname(file), { recursive: true });
+  fs.writeFileSync(file, '#!/bin/sh\nexit 0\n', { mode: 0o755 });
+  return file;
+}
+
 function activateWithFakes(options) {
   const fakes = createFakeVscode(options);
   const extension = loadExtension(path.join(extensionDir, manifest.main), fakes);
@@ -262,11 +269,13 @@ function activateWithFakes(options) {
 
 test('activate registers every contributed command, the debugger and the compiled-GLOC view', async () => {
   const workspace = fs.mkdtempSync(path.join(os.tmpdir(), 'gloc-ws-'));
-  const { extension, record } = activateWithFakes({
+  const binary = fakeBinary(path.join(workspace, 'bin/gloc'));
+  const { fakes, extension, record } = activateWithFakes({
     workspace,
-    settings: { 'gloc.path': '/opt/gloc/bin/gloc', 'gloc.masterdata': 'data/masterdata' },
+    // A relative gloc.path is taken from the workspace folder.
+    settings: { 'gloc.path': 'bin/gloc', 'gloc.masterdata': 'data/masterdata' },
   });
-  await extension.activate({ subscriptions: [] });
+  await extension.activate(fakeContext());
   assert.deepEqual(
     [...record.commands.keys()].sort(),
     contributes.commands.map((command) => command.command).sort(),
@@ -279,7 +288,7 @@ test('activate registers every contributed command, the debugger and the compile
   assert.equal(record.clients.length, 1);
   const client = record.clients[0];
   assert.equal(client.id, 'gloc', 'client id gloc makes gloc.trace.server work');
-  assert.deepEqual([client.serverOptions.command, client.serverOptions.args], ['/opt/gloc/bin/gloc', ['lsp']]);
+  assert.deepEqual([client.serverOptions.command, client.serverOptions.args], [binary, ['lsp']]);
   assert.equal(client.serverOptions.transport, undefined, 'no --stdio argument is added');
   assert.deepEqual(
     [...new Set(client.clientOptions.documentSelector.map((selector) => selector.language))].sort(),
@@ -290,7 +299,27 @@ test('activate registers every contributed command, the debugger and the compile
 
   // The debugger runs `gloc dap`.
   const descriptor = record.debugFactories.get('gloc').createDebugAdapterDescriptor({ workspaceFolder: undefined });
-  assert.deepEqual([descriptor.command, descriptor.args], ['/opt/gloc/bin/gloc', ['dap']]);
+  assert.deepEqual([descriptor.command, descriptor.args], [binary, ['dap']]);
+
+  // gloc.masterdata applies live: no new server, a didChangeConfiguration, and the server's
+  // workspace/configuration request answered with the resolved path.
+  fakes.settings['gloc.masterdata'] = '~/other.cac';
+  fakes.fireConfigurationChange(['gloc', 'gloc.masterdata']);
+  assert.equal(record.clients.length, 1, 'a masterdata change does not restart the server');
+  assert.deepEqual(client.notifications, [{ method: 'workspace/didChangeConfiguration', params: { settings: null } }]);
+  const answer = await client.clientOptions.middleware.workspace.configuration(
+    { items: [{ section: 'gloc' }] },
+    undefined,
+    () => [{ path: 'bin/gloc', masterdata: '~/other.cac' }],
+  );
+  assert.deepEqual(answer, [{ path: 'bin/gloc', masterdata: path.join(os.homedir(), 'other.cac') }]);
+  // A new binary needs a new server.
+  fakes.settings['gloc.path'] = binary;
+  fakes.fireConfigurationChange(['gloc', 'gloc.path']);
+  for (let waited = 0; record.clients.length < 2 && waited < 2000; waited += 20) {
+    await new Promise((resolve) => setTimeout(resolve, 20));
+  }
+  assert.equal(record.clients.length, 2, 'a gloc.path change restarts the server');
   await extension.deactivate();
 });
 
@@ -300,9 +329,10 @@ test('F5 without launch.json flies the active script; a configuration without pr
   const { extension, record } = activateWithFakes({
     workspace,
     activeFile: script,
+    settings: { 'gloc.path': fakeBinary(path.join(workspace, 'gloc')) },
     documents: { [script]: { languageId: 'gbasic', text: 'yield\n' } },
   });
-  await extension.activate({ subscriptions: [] });
+  await extension.activate(fakeContext());
   const provider = record.debugProviders.get('gloc');
   const resolved = await provider.resolveDebugConfiguration(undefined, {});
   assert.equal(resolved.type, 'gloc');
@@ -321,10 +351,11 @@ test('Show compiled GLOC asks the server with workspace/executeCommand gloc.comp
   const { extension, record } = activateWithFakes({
     workspace,
     activeFile: script,
+    settings: { 'gloc.path': fakeBinary(path.join(workspace, 'gloc')) },
     documents: { [script]: { languageId: 'gbasic', text: 'yield\n' } },
     onRequest: (method, params) => (method === 'workspace/executeCommand' ? 'nregs 0\n' : null),
   });
-  await extension.activate({ subscriptions: [] });
+  await extension.activate(fakeContext());
   await record.commands.get('gloc.showCompiledGloc')();
   assert.equal(record.shown.length, 1);
   const { document, options } = record.shown[0];
@@ -345,10 +376,11 @@ test('an open compiled-GLOC view refreshes shortly after its GBASIC source chang
   const { fakes, extension, record } = activateWithFakes({
     workspace,
     activeFile: script,
+    settings: { 'gloc.path': fakeBinary(path.join(workspace, 'gloc')) },
     documents: { [script]: { languageId: 'gbasic', text: 'yield\n' } },
     onRequest: () => 'nregs 0\n',
   });
-  await extension.activate({ subscriptions: [] });
+  await extension.activate(fakeContext());
   await record.commands.get('gloc.showCompiledGloc')();
   const compiled = record.shown[0].document;
   const provider = record.contentProviders.get(helpers.COMPILED_SCHEME);
@@ -375,22 +407,40 @@ test('an open compiled-GLOC view refreshes shortly after its GBASIC source chang
   await extension.deactivate();
 });
 
-test('Run mission with a missing binary says how to fix it', async () => {
+test('a missing binary: one notification with a button to gloc.path, for the server, Run mission and F5', async () => {
   const workspace = fs.mkdtempSync(path.join(os.tmpdir(), 'gloc-ws-'));
   const script = path.join(workspace, 'fig3.gbas');
   fs.writeFileSync(script, 'yield\n');
+  let dismiss;
   const { extension, record } = activateWithFakes({
     workspace,
     activeFile: script,
     settings: { 'gloc.path': path.join(workspace, 'no-such-gloc') },
     documents: { [script]: { languageId: 'gbasic', text: 'yield\n' } },
+    // The notification stays on screen until the test dismisses it.
+    choose: () => new Promise((resolve) => (dismiss = resolve)),
   });
-  await extension.activate({ subscriptions: [] });
+  await extension.activate(fakeContext());
+  assert.equal(record.clients.length, 0, 'no language client for a binary that is not there');
+  const missing = () => record.messages.filter((entry) => entry.kind === 'error' && /was not found/.test(entry.text));
+  assert.equal(missing().length, 1, JSON.stringify(record.messages));
+  assert.match(missing()[0].text, /no-such-gloc/);
+  assert.match(missing()[0].text, /gloc\.path/);
+  assert.deepEqual(missing()[0].items, ['Open Settings']);
+  // While it is on screen, Run mission and F5 add no second notification for the same cause.
   await record.commands.get('gloc.runMission')();
-  const error = record.messages.find((entry) => entry.kind === 'error' && /gloc run/.test(entry.text));
-  assert.ok(error, JSON.stringify(record.messages));
-  assert.match(error.text, /gloc\.path/);
-  assert.deepEqual(error.items, ['Open Settings']);
+  const provider = record.debugProviders.get('gloc');
+  assert.equal(await provider.resolveDebugConfiguration(undefined, {}), undefined, 'F5 starts nothing');
+  assert.throws(() => record.debugFactories.get('gloc').createDebugAdapterDescriptor({ workspaceFolder: undefined }), /gloc\.path/);
+  assert.equal(missing().length, 1, JSON.stringify(record.messages));
+  // Dismissed: F5 says it again; its button opens the setting.
+  dismiss(undefined);
+  await new Promise((resolve) => setTimeout(resolve, 10));
+  assert.equal(await provider.resolveDebugConfiguration(undefined, {}), undefined);
+  assert.equal(missing().length, 2);
+  dismiss('Open Settings');
+  await new Promise((resolve) => setTimeout(resolve, 10));
+  assert.deepEqual(record.executed.at(-1), { id: 'workbench.action.openSettings', args: ['gloc.path'] });
   await extension.deactivate();
 });
 
@@ -403,12 +453,14 @@ test('helpers: setting paths, run arguments and launch defaults', () => {
   assert.equal(helpers.resolveBinaryPath('~/bin/gloc', '/ws', '/home/u'), '/home/u/bin/gloc');
   assert.equal(helpers.resolveSettingPath('  ', '/ws', '/home/u'), undefined);
   assert.equal(helpers.resolveSettingPath('/abs/md', '/ws', '/home/u'), '/abs/md');
-  assert.deepEqual(helpers.runMissionArguments({ script: 'a.gbas', plot: '/t/a.svg' }), ['run', 'a.gbas', '--plot', '/t/a.svg']);
+  assert.deepEqual(helpers.runMissionArguments({ script: 'a.gbas', plot: '/t/a.svg' }), ['run', 'a.gbas', '--plot', '/t/a.svg', '--summary', 'json']);
   assert.deepEqual(helpers.runMissionArguments({ script: 'a.gbas', plot: 'p.svg', masterdata: 'm.cac' }), [
     'run',
     'a.gbas',
     '--plot',
     'p.svg',
+    '--summary',
+    'json',
     '--masterdata',
     'm.cac',
   ]);
@@ -423,15 +475,34 @@ test('helpers: setting paths, run arguments and launch defaults', () => {
     { masterdata: '/setting/md' },
   );
   assert.deepEqual(emptied.configuration, { type: 'gloc', request: 'launch', name: 'n', program: 'p.gloc', masterdata: '/setting/md' });
+  // The JSON summary is the last line; warnings may come before it.
   assert.deepEqual(
-    helpers.runSummary(
-      'mission       fig2 with fig3.gbas\ncycles        900 (4 s each)\nmission end   completed at cycle 899 (1 h) at 0.4 m\nscript        ran to the end of the run\n',
-    ),
-    { missionEnd: 'completed at cycle 899 (1 h) at 0.4 m' },
+    helpers.runSummary('warning: x\n{"mission_end":"completed at cycle 899 (1 h) at 0.4 m","script_state":"ran to the end of the run","trap_line":null}\n'),
+    { headline: 'completed at cycle 899 (1 h) at 0.4 m', trapped: false },
   );
-  assert.deepEqual(helpers.runSummary('mission end   ABORTED (MS_ABORT_OVERTIME) at cycle 3 (12 s) at 2.0 m\nscript        TRAPPED at a.gbas:4: division by zero (the vehicle flew on)'), {
-    missionEnd: 'ABORTED (MS_ABORT_OVERTIME) at cycle 3 (12 s) at 2.0 m',
-    scriptTrap: 'TRAPPED at a.gbas:4: division by zero (the vehicle flew on)',
+  assert.deepEqual(
+    helpers.runSummary('{"mission_end":"still running","script_state":"TRAPPED at a.gbas:4: division by zero","trap_line":4}'),
+    { headline: 'script TRAPPED at a.gbas:4: division by zero', trapped: true },
+  );
+  assert.equal(helpers.runSummary('mission end   completed at cycle 3\n'), undefined, 'text is not scraped');
+});
+
+test('helpers.locateBinary: PATH, then ~/.cargo/bin; paths relative to the workspace; what was searched', () => {
+  const present = new Set(['/usr/bin/gloc', '/home/u/.cargo/bin/gloc', '/ws/target/release/gloc']);
+  const context = (pathVariable, files = present) => ({
+    workspaceFolder: '/ws',
+    homeDirectory: '/home/u',
+    pathVariable,
+    isExecutable: (file) => files.has(file),
   });
-  assert.deepEqual(helpers.runSummary('error: nothing'), {});
+  assert.deepEqual(helpers.locateBinary('gloc', context('/opt/x:/usr/bin')), { binary: '/usr/bin/gloc' });
+  assert.deepEqual(helpers.locateBinary('', context('/usr/local/bin:/bin')), { binary: '/home/u/.cargo/bin/gloc' },
+    'a login PATH without ~/.cargo/bin still finds cargo install\'s gloc');
+  assert.deepEqual(helpers.locateBinary('target/release/gloc', context('')), { binary: '/ws/target/release/gloc' });
+  assert.deepEqual(helpers.locateBinary('~/.cargo/bin/gloc', context('')), { binary: '/home/u/.cargo/bin/gloc' });
+  assert.deepEqual(helpers.locateBinary('gloc', context('relative/dir:/bin', new Set())), {
+    missing: 'gloc',
+    searched: ['/bin', '/home/u/.cargo/bin'],
+  });
+  assert.deepEqual(helpers.locateBinary('/nope/gloc', context('/usr/bin')), { missing: '/nope/gloc', searched: ['/nope/gloc'] });
 });

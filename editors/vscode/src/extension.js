@@ -15,10 +15,15 @@ const helpers = require('./helpers');
 /** @type {LanguageClient | undefined} */
 let client;
 
+/** Where "Run mission" writes its flight profiles (the extension's storage, not a temp folder). */
+/** @type {string} */
+let runsDirectory = path.join(os.tmpdir(), 'gloc-runs');
+
 /**
  * @param {vscode.ExtensionContext} context
  */
 async function activate(context) {
+  runsDirectory = path.join((context.storageUri || context.globalStorageUri).fsPath, 'runs');
   const runOutput = vscode.window.createOutputChannel('GLOC Run');
   const serverOutput = vscode.window.createOutputChannel('GLOC Language Server');
   context.subscriptions.push(runOutput, serverOutput);
@@ -41,10 +46,12 @@ async function activate(context) {
     vscode.debug.registerDebugAdapterDescriptorFactory('gloc', new GlocDebugAdapterFactory()),
     vscode.debug.registerDebugConfigurationProvider('gloc', new GlocDebugConfigurationProvider()),
     vscode.workspace.onDidChangeConfiguration((event) => {
-      // The binary and the sensor list are fixed for the life of a server process (the masterdata
-      // travels in initializationOptions), so a change restarts the server.
-      if (event.affectsConfiguration('gloc.path') || event.affectsConfiguration('gloc.masterdata')) {
+      // A new binary needs a new server process; the server applies the other settings live: it
+      // asks for them again (workspace/configuration, answered by `resolvedConfiguration`).
+      if (event.affectsConfiguration('gloc.path')) {
         restartClient(serverOutput);
+      } else if (event.affectsConfiguration('gloc') && client) {
+        void client.sendNotification('workspace/didChangeConfiguration', { settings: null });
       }
     }),
     { dispose: () => void stopClient() },
@@ -63,10 +70,32 @@ function workspaceFolderPath(/** @type {vscode.Uri | undefined} */ uri) {
   return folder?.uri.scheme === 'file' ? folder.uri.fsPath : undefined;
 }
 
-/** The gloc binary from the `gloc.path` setting. */
+/**
+ * The gloc binary from the `gloc.path` setting (see helpers.locateBinary), or undefined after one
+ * notification that says it is missing.
+ */
 function glocBinary(/** @type {vscode.Uri | undefined} */ uri) {
   const setting = vscode.workspace.getConfiguration('gloc', uri).get('path', 'gloc');
-  return helpers.resolveBinaryPath(setting, workspaceFolderPath(uri), os.homedir());
+  const found = helpers.locateBinary(setting, {
+    workspaceFolder: workspaceFolderPath(uri),
+    homeDirectory: os.homedir(),
+    pathVariable: process.env.PATH,
+    isExecutable,
+  });
+  if ('binary' in found) {
+    return found.binary;
+  }
+  void reportMissingBinary(found.missing, found.searched);
+  return undefined;
+}
+
+function isExecutable(/** @type {string} */ file) {
+  try {
+    fs.accessSync(file, fs.constants.X_OK);
+    return fs.statSync(file).isFile();
+  } catch {
+    return false;
+  }
 }
 
 /** The masterdata file from the `gloc.masterdata` setting, or undefined for the default list. */
@@ -75,15 +104,47 @@ function masterdataPath(/** @type {vscode.Uri | undefined} */ uri) {
   return helpers.resolveSettingPath(setting, workspaceFolderPath(uri), os.homedir());
 }
 
-/** Offers to open the settings when the gloc binary cannot be started. */
-async function reportMissingBinary(/** @type {string} */ binary, /** @type {string} */ what) {
-  const choice = await vscode.window.showErrorMessage(
-    `GLOC: could not start "${binary}" for ${what}. Install gloc (cargo install --path cli) or set "gloc.path" to the gloc binary.`,
-    'Open Settings',
-  );
-  if (choice === 'Open Settings') {
-    await vscode.commands.executeCommand('workbench.action.openSettings', 'gloc.path');
+/** The missing binaries whose notification is on screen: one cause, one notification. */
+const missingShown = new Set();
+
+/** Says the gloc binary was not found, once while the notice is open, with a button to the setting. */
+async function reportMissingBinary(/** @type {string} */ binary, /** @type {string[]} */ searched) {
+  if (missingShown.has(binary)) {
+    return;
   }
+  missingShown.add(binary);
+  const where = searched.length === 1 && searched[0] === binary ? '' : ` (looked in ${searched.join(', ')})`;
+  try {
+    const choice = await vscode.window.showErrorMessage(
+      `GLOC: the gloc binary "${binary}" was not found${where}. Install it (cargo install --locked --path cli) or set "gloc.path" to it.`,
+      'Open Settings',
+    );
+    if (choice === 'Open Settings') {
+      await vscode.commands.executeCommand('workbench.action.openSettings', 'gloc.path');
+    }
+  } finally {
+    missingShown.delete(binary);
+  }
+}
+
+/**
+ * The `gloc` section for the server's workspace/configuration requests, with `masterdata` resolved
+ * as the setting says (relative to the workspace folder, `~/`), so the server applies it live.
+ * @type {import('vscode-languageclient/node').ConfigurationMiddleware['configuration']}
+ */
+async function resolvedConfiguration(params, token, next) {
+  const values = await next(params, token);
+  if (!Array.isArray(values)) {
+    return values;
+  }
+  return values.map((value, index) => {
+    const item = params.items[index];
+    if (item?.section !== 'gloc' || !value || typeof value !== 'object') {
+      return value;
+    }
+    const scope = item.scopeUri ? vscode.Uri.parse(item.scopeUri) : undefined;
+    return { ...value, masterdata: masterdataPath(scope) || '' };
+  });
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -91,6 +152,9 @@ async function reportMissingBinary(/** @type {string} */ binary, /** @type {stri
 
 async function startClient(/** @type {vscode.OutputChannel} */ outputChannel) {
   const binary = glocBinary(undefined);
+  if (!binary) {
+    return;
+  }
   const masterdata = masterdataPath(undefined);
   /** @type {import('vscode-languageclient/node').ServerOptions} */
   const serverOptions = { command: binary, args: ['lsp'], options: { cwd: workspaceFolderPath(undefined) } };
@@ -103,7 +167,7 @@ async function startClient(/** @type {vscode.OutputChannel} */ outputChannel) {
       { scheme: 'untitled', language },
     ]),
     initializationOptions: masterdata ? { masterdata } : {},
-    synchronize: { configurationSection: 'gloc' },
+    middleware: { workspace: { configuration: resolvedConfiguration } },
     outputChannel,
   };
   client = new LanguageClient('gloc', 'GLOC Language Server', serverOptions, clientOptions);
@@ -112,7 +176,7 @@ async function startClient(/** @type {vscode.OutputChannel} */ outputChannel) {
   } catch (error) {
     outputChannel.appendLine(`Could not start "${binary} lsp": ${errorMessage(error)}`);
     client = undefined;
-    await reportMissingBinary(binary, 'the language server');
+    await vscode.window.showErrorMessage(`GLOC: could not start "${binary} lsp": ${errorMessage(error)}`);
   }
 }
 
@@ -226,8 +290,9 @@ async function showCompiledGloc(/** @type {vscode.Uri | undefined} */ uri) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Run mission in simulator: `gloc run FILE --plot FILE.svg`, the summary in an output channel,
-// the flight profile opened beside the script.
+// Run mission in simulator: `gloc run FILE --plot FILE.svg --summary json`, the output in an output
+// channel, the flight profile (in the extension's storage, replaced by the next run of the same
+// script) opened beside the script.
 
 async function runMission(
   /** @type {vscode.Uri | undefined} */ uri,
@@ -249,8 +314,12 @@ async function runMission(
   }
   const script = document.uri.fsPath;
   const binary = glocBinary(document.uri);
-  const plotDirectory = fs.mkdtempSync(path.join(os.tmpdir(), 'gloc-run-'));
-  const plot = path.join(plotDirectory, `${path.basename(script, path.extname(script))}.svg`);
+  if (!binary) {
+    return;
+  }
+  fs.mkdirSync(runsDirectory, { recursive: true });
+  const plot = path.join(runsDirectory, `${path.basename(script, path.extname(script))}.svg`);
+  fs.rmSync(plot, { force: true });
   const args = helpers.runMissionArguments({ script, plot, masterdata: masterdataPath(document.uri) });
   const cwd = workspaceFolderPath(document.uri) || path.dirname(script);
 
@@ -282,11 +351,7 @@ async function runMission(
   );
 
   if (outcome.error) {
-    if (outcome.error.code === 'ENOENT') {
-      await reportMissingBinary(binary, 'gloc run');
-    } else {
-      await vscode.window.showErrorMessage(`GLOC: could not run "${binary}": ${outcome.error.message}`);
-    }
+    await vscode.window.showErrorMessage(`GLOC: could not run "${binary}": ${outcome.error.message}`);
     return;
   }
   if (outcome.code !== 0) {
@@ -311,9 +376,9 @@ async function runMission(
   // Not awaited: a notification's promise settles only when the user dismisses it.
   const summary = helpers.runSummary(outcome.stderr);
   const name = path.basename(script);
-  const notification = summary.scriptTrap
-    ? vscode.window.showWarningMessage(`GLOC: ${name}: script ${summary.scriptTrap}`, 'Show Output')
-    : vscode.window.showInformationMessage(`GLOC: ${name}: ${summary.missionEnd || 'the flight finished'}`, 'Show Output');
+  const notification = summary?.trapped
+    ? vscode.window.showWarningMessage(`GLOC: ${name}: ${summary.headline}`, 'Show Output')
+    : vscode.window.showInformationMessage(`GLOC: ${name}: ${summary?.headline || 'the flight finished'}`, 'Show Output');
   void notification.then((choice) => {
     if (choice === 'Show Output') {
       output.show();
@@ -329,9 +394,12 @@ class GlocDebugAdapterFactory {
   /** @param {vscode.DebugSession} session */
   createDebugAdapterDescriptor(session) {
     const folder = session.workspaceFolder?.uri;
-    return new vscode.DebugAdapterExecutable(glocBinary(folder), ['dap'], {
-      cwd: workspaceFolderPath(folder),
-    });
+    const binary = glocBinary(folder);
+    if (!binary) {
+      // The notification is on screen; VS Code shows this message in the debug console.
+      throw new Error('the gloc binary was not found; set "gloc.path"');
+    }
+    return new vscode.DebugAdapterExecutable(binary, ['dap'], { cwd: workspaceFolderPath(folder) });
   }
 }
 
@@ -351,6 +419,11 @@ class GlocDebugConfigurationProvider {
     });
     if ('error' in completed) {
       await vscode.window.showErrorMessage(`GLOC: ${completed.error}`);
+      return undefined;
+    }
+    // F5 with a missing binary: the notification instead of a session that never starts
+    // (undefined ends the launch quietly; the factory below checks again).
+    if (!glocBinary(folder?.uri)) {
       return undefined;
     }
     return /** @type {vscode.DebugConfiguration} */ (completed.configuration);

@@ -57,12 +57,41 @@ function resolveBinaryPath(value, workspaceFolder, homeDirectory) {
 }
 
 /**
+ * Finds the gloc binary named by the `gloc.path` setting. A path with a directory part is taken as
+ * it is (relative to the workspace folder, `~/` the home directory); a bare name is looked up on
+ * `pathVariable` (the PATH the editor was started with), then in `~/.cargo/bin`, where
+ * `cargo install` puts it (an editor started from a desktop menu often has neither on its PATH).
+ * Returns the absolute path of the binary, or `missing` with the places searched.
+ * @param {string | undefined} setting
+ * @param {{ workspaceFolder?: string, homeDirectory: string, pathVariable?: string, isExecutable: (file: string) => boolean }} context
+ * @returns {{ binary: string } | { missing: string, searched: string[] }}
+ */
+function locateBinary(setting, context) {
+  const wanted = resolveBinaryPath(setting, context.workspaceFolder, context.homeDirectory);
+  const bare = !wanted.includes('/') && !wanted.includes('\\');
+  if (!bare) {
+    return context.isExecutable(wanted) ? { binary: wanted } : { missing: wanted, searched: [wanted] };
+  }
+  const directories = (context.pathVariable || '')
+    .split(path.delimiter)
+    .filter((directory) => directory !== '' && path.isAbsolute(directory));
+  directories.push(path.join(context.homeDirectory, '.cargo', 'bin'));
+  for (const directory of directories) {
+    const candidate = path.join(directory, wanted);
+    if (context.isExecutable(candidate)) {
+      return { binary: candidate };
+    }
+  }
+  return { missing: wanted, searched: directories };
+}
+
+/**
  * The arguments of `gloc run` for "Run mission in simulator".
  * @param {{ script: string, plot: string, masterdata?: string }} options
  * @returns {string[]}
  */
 function runMissionArguments(options) {
-  const args = ['run', options.script, '--plot', options.plot];
+  const args = ['run', options.script, '--plot', options.plot, '--summary', 'json'];
   if (options.masterdata) {
     args.push('--masterdata', options.masterdata);
   }
@@ -154,26 +183,28 @@ function firstLines(stderr, maxLines) {
 }
 
 /**
- * The two facts of `gloc run`'s summary (printed on stderr) a notification shows: how the mission
- * ended (`mission end   completed at cycle 900 (1 h) at 0.4 m`) and, when the script trapped,
- * where (`script        TRAPPED at fig3.gbas:4: …`). Missing lines give `undefined`.
- * @param {string} output
- * @returns {{ missionEnd?: string, scriptTrap?: string }}
+ * What a notification says about a finished `gloc run --summary json`: its summary is the last line
+ * of its error output, one JSON object (docs/simulator.md). `headline` is how the script or the
+ * mission ended, `trapped` whether the script trapped; `undefined` when there is no summary.
+ * @param {string} stderr
+ * @returns {{ headline: string, trapped: boolean } | undefined}
  */
-function runSummary(output) {
-  /** @type {{ missionEnd?: string, scriptTrap?: string }} */
-  const summary = {};
-  for (const line of output.split(/\r?\n/)) {
-    const missionEnd = /^mission end\s+(.+)$/.exec(line);
-    if (missionEnd) {
-      summary.missionEnd = missionEnd[1].trim();
-    }
-    const script = /^script\s+(TRAPPED.*)$/.exec(line);
-    if (script) {
-      summary.scriptTrap = script[1].trim();
-    }
+function runSummary(stderr) {
+  const last = stderr.trimEnd().split(/\r?\n/).pop() || '';
+  let summary;
+  try {
+    summary = JSON.parse(last);
+  } catch {
+    return undefined;
   }
-  return summary;
+  if (!summary || typeof summary !== 'object' || typeof summary.mission_end !== 'string') {
+    return undefined;
+  }
+  const trapped = typeof summary.trap_line === 'number';
+  return {
+    headline: trapped ? `script ${summary.script_state}` : summary.mission_end,
+    trapped,
+  };
 }
 
 module.exports = {
@@ -185,6 +216,7 @@ module.exports = {
   compiledGlocText,
   completeLaunchConfiguration,
   firstLines,
+  locateBinary,
   resolveBinaryPath,
   resolveSettingPath,
   runMissionArguments,

@@ -59,8 +59,10 @@ impl TestClient {
         client
     }
 
+    /// A server initialized by a client that shows what editors show: snippets,
+    /// markdown, nested document symbols.
     pub async fn initialized() -> TestClient {
-        TestClient::initialized_with(json!({}), Value::Null).await
+        TestClient::initialized_with(editor_capabilities(), Value::Null).await
     }
 
     pub async fn send_raw(&mut self, body: &str) {
@@ -230,4 +232,18 @@ impl TestClient {
 /// `{ "textDocument": { "uri" }, "position": { line, character } }`.
 pub fn at(uri: &str, line: u32, character: u32) -> Value {
     json!({ "textDocument": { "uri": uri }, "position": { "line": line, "character": character } })
+}
+
+/// The capabilities VS Code and Neovim 0.11 send for what the tests look at.
+pub fn editor_capabilities() -> Value {
+    json!({
+        "textDocument": {
+            "completion": { "completionItem": {
+                "snippetSupport": true,
+                "documentationFormat": ["markdown", "plaintext"],
+            } },
+            "hover": { "contentFormat": ["markdown", "plaintext"] },
+            "documentSymbol": { "hierarchicalDocumentSymbolSupport": true },
+        }
+    })
 }

@@ -75,6 +75,7 @@ function createFakeVscode({ settings = {}, workspace, documents = {}, activeFile
     outputs: new Map(),
     shown: [],
     changeListeners: [],
+    configurationListeners: [],
   };
   const disposable = { dispose() {} };
   const workspaceFolder = workspace ? { uri: Uri.file(workspace), name: path.basename(workspace), index: 0 } : undefined;
@@ -158,7 +159,10 @@ function createFakeVscode({ settings = {}, workspace, documents = {}, activeFile
         record.changeListeners.push(listener);
         return disposable;
       },
-      onDidChangeConfiguration: () => disposable,
+      onDidChangeConfiguration(listener) {
+        record.configurationListeners.push(listener);
+        return disposable;
+      },
       async openTextDocument(uri) {
         return documentFor(uri);
       },
@@ -201,17 +205,35 @@ function createFakeVscode({ settings = {}, workspace, documents = {}, activeFile
       this.serverOptions = serverOptions;
       this.clientOptions = clientOptions;
       this.code2ProtocolConverter = { asUri: (uri) => uri.toString() };
+      this.notifications = [];
       record.clients.push(this);
     }
     async start() {}
     async stop() {}
+    async sendNotification(method, params) {
+      this.notifications.push({ method, params });
+    }
     async sendRequest(method, params) {
       record.requests.push({ method, params });
       return onRequest ? onRequest(method, params) : null;
     }
   }
 
-  return { vscode, languageClientModule: { LanguageClient }, record, documentFor };
+  /** Tells the extension that the settings in `sections` (e.g. `gloc.masterdata`) changed. */
+  function fireConfigurationChange(sections) {
+    const event = { affectsConfiguration: (section) => sections.includes(section) };
+    record.configurationListeners.forEach((listener) => listener(event));
+  }
+
+  return { vscode, languageClientModule: { LanguageClient }, record, documentFor, settings, fireConfigurationChange };
+}
+
+/** The ExtensionContext `activate` gets: its subscriptions and a fresh global storage folder. */
+function fakeContext() {
+  const fs = require('fs');
+  const os = require('os');
+  const storage = fs.mkdtempSync(path.join(os.tmpdir(), 'gloc-ext-storage-'));
+  return { subscriptions: [], globalStorageUri: Uri.file(storage), storageUri: undefined };
 }
 
 /** Loads the extension's main module with `vscode` and the language client replaced. */
@@ -234,4 +256,4 @@ function loadExtension(mainPath, fakes) {
   }
 }
 
-module.exports = { createFakeVscode, loadExtension, Uri };
+module.exports = { fakeContext, createFakeVscode, loadExtension, Uri };

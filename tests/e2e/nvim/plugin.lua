@@ -207,4 +207,10 @@ if connected then
 end
 package.loaded["dap"] = nil
 
+-- The masterdata path travels once, in the `gloc` settings the server asks for
+-- (workspace/configuration), not also in init_options.
+local lsp_config = require("gloc").lsp_config({ gloc_path = "gloc", masterdata = "/glider/masterdata" })
+H.equal({ lsp_config.init_options, lsp_config.settings.gloc.masterdata }, { nil, "/glider/masterdata" },
+  "the masterdata path is sent once, in settings")
+
 H.finish()

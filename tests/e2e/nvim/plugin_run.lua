@@ -38,7 +38,14 @@ H.check(vim.fn.bufnr("gloc://run/fig3.gbas") ~= -1, "the run output is shown in 
 H.check(run_result ~= nil and require("gloc").run_headline(run_result.lines):match("^completed") ~= nil
   or run_result ~= nil and require("gloc").run_headline(run_result.lines):match("^still running") ~= nil,
   "the summary says how the mission ended", run_result and run_result.lines)
-H.equal(require("gloc").run_headline({ "mission end   completed at cycle 9 (36 s) at 0.3 m", "script        TRAPPED at a.gbas:4: x" }),
-  "script TRAPPED at a.gbas:4: x", "a trap is the headline")
+H.equal(require("gloc").run_headline({
+  "warning: something",
+  '{"mission_end":"still running","script_state":"TRAPPED at a.gbas:4: x","trap_line":4}',
+}), "script TRAPPED at a.gbas:4: x", "a trap is the headline (from the JSON summary)")
+H.equal(require("gloc").run_headline({ "mission end   completed at cycle 9 (36 s) at 0.3 m" }),
+  "the flight finished", "the text summary is not scraped")
+H.check(vim.tbl_contains(run_result and run_result.lines or {}, function(line)
+  return line:find('"mission_end"', 1, true) ~= nil
+end, { predicate = true }), ":GlocRun asks gloc run for its JSON summary", run_result and run_result.lines)
 
 H.finish()

@@ -1,6 +1,7 @@
 -- The gloc Neovim plugin: filetypes, the `gloc lsp` language server, the `gloc dap` debug adapter
--- for nvim-dap, and two commands (:GlocShowCompiled, :GlocRun). A thin client: all knowledge of
--- GLOC and GBASIC lives in the gloc binary.
+-- for nvim-dap, and what the commands of plugin/gloc.lua call (:GlocShowCompiled, :GlocRun,
+-- :GlocStepBack, :GlocReverseContinue). A thin client: all knowledge of GLOC and GBASIC lives in
+-- the gloc binary.
 local M = {}
 
 --- Options of `setup()`; every field is optional.
@@ -12,7 +13,6 @@ local M = {}
 --- @field dap? boolean          configure nvim-dap when it is installed (default true)
 --- @field dap_transport? string "stdio" (default) or "tcp": one `gloc dap --port 0` per Neovim,
 ---                              its session token added to each launch
---- @field commands? boolean     define :GlocShowCompiled and :GlocRun (default true)
 M.defaults = {
   gloc_path = "gloc",
   masterdata = nil,
@@ -20,7 +20,6 @@ M.defaults = {
   lsp = true,
   dap = true,
   dap_transport = "stdio",
-  commands = true,
 }
 
 --- The options in force (defaults until `setup()` is called).
@@ -62,11 +61,12 @@ end
 --- @param options gloc.Options
 function M.lsp_config(options)
   local masterdata = expand_path(options.masterdata)
+  -- Sent once: the server asks for the `gloc` section (workspace/configuration) when it starts
+  -- and again after each didChangeConfiguration, so a changed path applies live.
   return {
     cmd = { binary(options), "lsp" },
     filetypes = M.filetypes,
     root_markers = options.root_markers,
-    init_options = masterdata and { masterdata = masterdata } or vim.empty_dict(),
     settings = { gloc = masterdata and { masterdata = masterdata } or vim.empty_dict() },
   }
 end
@@ -80,7 +80,6 @@ local function start_lsp_for_buffer(options, bufnr)
     name = "gloc",
     cmd = config.cmd,
     root_dir = marker and vim.fs.dirname(marker) or directory,
-    init_options = config.init_options,
     settings = config.settings,
   }, { bufnr = bufnr })
 end
@@ -373,23 +372,24 @@ function M.show_compiled(bufnr, on_done)
   })
 end
 
---- How the run ended, from the summary `gloc run` prints ("mission end   completed at …"; a
---- trapped script's "script        TRAPPED at …" comes first).
+--- How the run ended, from `gloc run --summary json`'s summary: its last line that is a JSON
+--- object (docs/simulator.md). A trapped script comes first, then how the mission ended.
 --- @param lines string[]
 --- @return string
 function M.run_headline(lines)
-  local mission_end, trap
-  for _, line in ipairs(lines) do
-    mission_end = mission_end or line:match("^mission end%s+(.+)$")
-    trap = trap or line:match("^script%s+(TRAPPED.+)$")
+  for index = #lines, 1, -1 do
+    local ok, summary = pcall(vim.json.decode, lines[index])
+    if ok and type(summary) == "table" and type(summary.mission_end) == "string" then
+      if type(summary.trap_line) == "number" then
+        return "script " .. summary.script_state
+      end
+      return summary.mission_end
+    end
   end
-  if trap then
-    return "script " .. trap
-  end
-  return mission_end or "the flight finished"
+  return "the flight finished"
 end
 
---- Flies the script in buffer `bufnr` with `gloc run FILE --plot FILE.svg`, shows what the run
+--- Flies the script in buffer `bufnr` with `gloc run FILE --plot FILE.svg --summary json`, shows what the run
 --- printed (its summary) in a split, and opens the flight profile with `vim.ui.open` (Neovim 0.10+;
 --- older versions print the SVG's path). `on_done(result)` is called at the end (tests use it).
 --- @param bufnr? integer
@@ -411,7 +411,7 @@ function M.run(bufnr, on_done)
     end)
   end
   local plot = vim.fn.tempname() .. "-" .. vim.fn.fnamemodify(script, ":t:r") .. ".svg"
-  local command = { binary(M.options), "run", script, "--plot", plot }
+  local command = { binary(M.options), "run", script, "--plot", plot, "--summary", "json" }
   local masterdata = expand_path(M.options.masterdata)
   if masterdata then
     vim.list_extend(command, { "--masterdata", masterdata })
@@ -494,14 +494,31 @@ function M.setup(options)
   if M.options.dap then
     M.setup_dap(M.options)
   end
-  if M.options.commands then
-    vim.api.nvim_create_user_command("GlocShowCompiled", function()
-      M.show_compiled(0)
-    end, { desc = "Show the compiled GLOC of this GBASIC buffer beside it" })
-    vim.api.nvim_create_user_command("GlocRun", function()
-      M.run(0)
-    end, { desc = "Fly this script in the simulator and open its flight profile" })
+  M.configured = true
+end
+
+--- Registers the nvim-dap adapter with the options in force unless `setup()` ran (it does that
+--- itself); plugin/gloc.lua calls it at start-up so F5 works without `setup()`.
+function M.setup_dap_unless_configured()
+  if not M.configured then
+    M.setup_dap(M.options)
   end
+end
+
+--- Runs nvim-dap's `step_back` or `reverse_continue` (the :GlocStepBack and :GlocReverseContinue
+--- commands), or says that nvim-dap is missing or no session is stopped.
+--- @param action "step_back"|"reverse_continue"
+function M.dap_step(action)
+  local ok, dap = pcall(require, "dap")
+  if not ok then
+    notify("debugging needs nvim-dap (https://codeberg.org/mfussenegger/nvim-dap)", vim.log.levels.ERROR)
+    return
+  end
+  if dap.session() == nil then
+    notify("no debug session: start one with require('dap').continue()", vim.log.levels.WARN)
+    return
+  end
+  dap[action]()
 end
 
 return M

@@ -32,10 +32,12 @@ end
 
 --- Loads the plugin as the README says: the plugin folder on the runtimepath and
 --- require("gloc").setup({...}) in init.lua. Then what a normal start does after init.lua and
---- `-u NONE` skips: `filetype plugin indent on` and `syntax on` (Neovim's defaults).
+--- `-u NONE` skips: the plugin scripts of the runtimepath (`plugin/`), `filetype plugin indent on`
+--- and `syntax on` (Neovim's defaults).
 function H.load_plugin_as_readme_says(options)
   vim.opt.runtimepath:append(H.repo .. "/editors/nvim")
   require("gloc").setup(options)
+  vim.cmd("runtime! plugin/**/*.lua")
   vim.cmd("filetype plugin indent on")
   vim.cmd("syntax on")
 end

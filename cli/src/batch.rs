@@ -365,7 +365,7 @@ fn fly(shared: &Shared<'_>, variant: &Variant) -> Result<Row, String> {
     )
     .map_err(|error| error.to_string())?;
     let max_cycles = match shared.limit {
-        Limit::Seconds(seconds) => (seconds / sim.cycle_time()).ceil() as u64,
+        Limit::Seconds(seconds) => crate::simulate::cycles_for(seconds, &sim),
         Limit::Cycles(cycles) => cycles,
     };
     let mut plan = FaultPlan::new(variant.faults.faults.clone());

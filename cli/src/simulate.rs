@@ -42,19 +42,23 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         bail!("--out belongs to --replay; to log a simulated run use --log FILE.csv or FILE.dba");
     }
     if let Some(plot) = &args.plot {
+        // Before anything is flown: the plot is no input (checked again with every input
+        // once the settings and the mission are read), and its format is known.
+        let inputs: Vec<&Path> = [&args.script, &args.mission, &args.profile]
+            .into_iter()
+            .filter_map(|path| path.as_deref())
+            .collect();
+        let outputs: Vec<Output<'_>> = [("--log", &args.log), ("--plot", &args.plot)]
+            .into_iter()
+            .filter_map(|(flag, path)| {
+                Some(Output {
+                    flag,
+                    path: path.as_deref()?,
+                })
+            })
+            .collect();
+        crate::output::check_outputs(&inputs, &outputs)?;
         PlotFormat::from_path(plot).map_err(anyhow::Error::msg)?;
-        let inputs = [
-            args.script.as_deref(),
-            args.mission.as_deref(),
-            args.profile.as_deref(),
-        ];
-        if inputs
-            .iter()
-            .flatten()
-            .any(|input| *input == plot.as_path())
-        {
-            bail!("--plot `{}` is one of the inputs", plot.display());
-        }
     }
     for panel in &args.plot_panels {
         if !matches!(panel.as_str(), "temperature" | "battery") && !panel.contains('_') {
@@ -160,15 +164,9 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         (None, Some(cycles)) if cycles > MAX_RUN_CYCLES => {
             bail!("--cycles {cycles} is more than {MAX_RUN_CYCLES}, the most one run may take")
         }
-        (Some(text), _) => {
-            let seconds = parse_duration(text)?;
-            ((seconds / sim.mean_cycle_period()).ceil() as u64, true)
-        }
+        (Some(text), _) => (cycles_for(parse_duration(text)?, &sim), true),
         (None, Some(cycles)) => (cycles, true),
-        (None, None) => (
-            (DEFAULT_LIMIT_SECONDS / sim.mean_cycle_period()).ceil() as u64,
-            false,
-        ),
+        (None, None) => (cycles_for(DEFAULT_LIMIT_SECONDS, &sim), false),
     };
 
     let inputs: Vec<&Path> = args
@@ -672,6 +670,12 @@ fn open_binary_log(
         });
     }
     Ok(parts)
+}
+
+/// The control cycles that fly `seconds` of simulated time: by the mean cycle period
+/// (`u_cycle_time` plus the mean overrun), for `gloc run` and `gloc batch` alike.
+pub(crate) fn cycles_for(seconds: f64, sim: &Simulation) -> u64 {
+    (seconds / sim.mean_cycle_period()).ceil() as u64
 }
 
 /// Parses `90s`, `45m`, `6h`, `30d`, or combinations such as `1h30m`.

@@ -4,8 +4,9 @@
 //! sensors). SVG or PNG.
 //!
 //! The time axis is in minutes, hours or days by the run's length. A long run
-//! is drawn as a min/max envelope, one column per pixel. Every store is marked
-//! (no cap); a label is drawn only where it does not overlap another.
+//! is drawn as joined min/max bars, one per pixel while a yo spans several
+//! pixels, two yos wide when it does not (see [`TrackStyle`]). Every store is
+//! marked (no cap); a label is drawn only where it does not overlap another.
 
 use std::path::Path;
 
@@ -257,11 +258,100 @@ fn time_unit(duration: f64) -> (f64, &'static str) {
     }
 }
 
-/// One pixel column of a long run: time span and depth range, mean temperature.
+/// How the depth track is drawn (chosen by [`track_style`]).
+///
+/// With no more samples than pixels the track is a line through every
+/// sample. Otherwise: a yo is a sawtooth, and drawn on a pixel grid it is
+/// only honest in two regimes. When a yo spans many pixels ([`MIN_YO_PX`] or more) the sawtooth
+/// itself is drawn: as a line through every sample when there are few samples
+/// per pixel ([`LINE_SAMPLES_PER_PX`] or fewer), otherwise as one bar per pixel
+/// column that is exactly what that line would light (see [`envelope`]). When
+/// a yo spans only a few pixels, any per-pixel drawing beats against the yo
+/// period: a column catches a turn or misses it by the phase of the yo at its
+/// edge, and the tops and bottoms wander with the beat period (about an hour
+/// for a 4-minute yo over 24 hours, drawn as 1100 columns) as if the glider
+/// had flown a wave. There the columns are made at least two median yo periods
+/// wide, so every column holds a whole yo and spans its turns: a band from the
+/// shallowest to the deepest turn that changes only where the turns do.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum TrackStyle {
+    /// Every sample joined by a line.
+    Line,
+    /// Bars `width` pixels wide over their samples (see [`envelope`]).
+    Columns { width: u32 },
+}
+
+/// A yo resolved on the plot spans at least this many pixels.
+const MIN_YO_PX: f64 = 8.0;
+/// Up to this many samples per pixel the track is drawn as a line.
+const LINE_SAMPLES_PER_PX: f64 = 8.0;
+
+/// The median time from one turn to the next, doubled: the yo period in
+/// seconds (None: fewer than two turns). A turn is a depth extreme the glider
+/// leaves by more than a tenth of the trace's depth range (at least 0.2 m),
+/// so sensor noise and small wiggles are not turns.
+fn yo_period(points: &[(f32, f32)]) -> Option<f64> {
+    let (low, high) = points
+        .iter()
+        .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(p.1), hi.max(p.1))
+        });
+    let hysteresis = ((high - low) * 0.1).max(0.2);
+    let &(first_time, first_depth) = points.first()?;
+    // Direction: 1 down, -1 up, 0 not yet known; the extreme since the last turn.
+    let (mut direction, mut extreme, mut extreme_at) = (0i8, first_depth, first_time);
+    let mut turns = Vec::new();
+    for &(time, depth) in points {
+        match direction {
+            0 if (depth - extreme).abs() > hysteresis => {
+                direction = if depth > extreme { 1 } else { -1 };
+                (extreme, extreme_at) = (depth, time);
+            }
+            1 if depth > extreme => (extreme, extreme_at) = (depth, time),
+            -1 if depth < extreme => (extreme, extreme_at) = (depth, time),
+            1 | -1 if (depth - extreme).abs() > hysteresis => {
+                turns.push(extreme_at);
+                direction = -direction;
+                (extreme, extreme_at) = (depth, time);
+            }
+            _ => {}
+        }
+    }
+    let mut halves: Vec<f64> = turns
+        .windows(2)
+        .map(|pair| (pair[1] - pair[0]) as f64)
+        .collect();
+    if halves.is_empty() {
+        return None;
+    }
+    halves.sort_by(f64::total_cmp);
+    Some(2.0 * halves[halves.len() / 2])
+}
+
+/// How to draw `points` on a plot `plot_px` pixels wide (see [`TrackStyle`]).
+fn track_style(points: &[(f32, f32)], plot_px: u32) -> TrackStyle {
+    let plot_px = plot_px.max(1) as f64;
+    let duration = points.last().map_or(0.0, |p| p.0 as f64).max(60.0);
+    let px_per_second = plot_px / duration;
+    if points.len() as f64 <= plot_px {
+        // A pixel or more per sample: the line is the data, nothing to alias.
+        return TrackStyle::Line;
+    }
+    match yo_period(points) {
+        Some(period) if period * px_per_second < MIN_YO_PX => TrackStyle::Columns {
+            width: ((2.0 * period * px_per_second).ceil() as u32).max(1),
+        },
+        _ if points.len() as f64 <= LINE_SAMPLES_PER_PX * plot_px => TrackStyle::Line,
+        _ => TrackStyle::Columns { width: 1 },
+    }
+}
+
+/// One column of the track: pixels `x..x_end` from the plot's left edge, the
+/// depth range it covers, and the temperature at its two ends.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Column {
-    start: f64,
-    end: f64,
+    x: u32,
+    x_end: u32,
     shallowest: f64,
     deepest: f64,
     /// Temperature at the shallowest and the deepest point (NaN: not recorded).
@@ -269,37 +359,64 @@ struct Column {
     deep_temperature: f64,
 }
 
-/// Per-column min and max: every turn's extreme is kept.
-fn envelope(points: &[(f32, f32)], temps: &[f32], columns: usize) -> Vec<Column> {
-    let per = points.len().div_ceil(columns.max(1)).max(1);
-    points
-        .chunks(per)
-        .enumerate()
-        .map(|(index, chunk)| {
-            let (mut shallowest, mut deepest) = (f64::INFINITY, f64::NEG_INFINITY);
-            let (mut shallow_at, mut deep_at) = (0, 0);
-            for (at, &(_, depth)) in chunk.iter().enumerate() {
-                if (depth as f64) < shallowest {
-                    shallowest = depth as f64;
-                    shallow_at = at;
-                }
-                if depth as f64 > deepest {
-                    deepest = depth as f64;
-                    deep_at = at;
-                }
+/// The track as columns `width` pixels wide on a plot `plot_px` pixels wide
+/// spanning `duration` seconds. A column spans the depths of its samples AND
+/// the last sample of the column before it (the continuity rule): the track
+/// goes from there into this column, so the bars meet and read as one line,
+/// exactly the pixels a line through every sample would light. Every extreme
+/// is kept. A column reaches the next one's left edge, so a column with no
+/// sample (a gap in time) is bridged at the last depth.
+fn envelope(
+    points: &[(f32, f32)],
+    temps: &[f32],
+    duration: f64,
+    plot_px: u32,
+    width: u32,
+) -> Vec<Column> {
+    let width = width.max(1);
+    let count = plot_px.max(1).div_ceil(width);
+    let per_second = count as f64 / duration.max(1e-9);
+    let temperature = |at: usize| temps.get(at).map_or(f64::NAN, |&t| t as f64);
+    let mut columns: Vec<Column> = Vec::new();
+    let mut current: Option<u32> = None;
+    for (at, &(time, depth)) in points.iter().enumerate() {
+        let index = ((time as f64 * per_second).max(0.0) as u32).min(count - 1);
+        let depth = depth as f64;
+        if current != Some(index) {
+            // A new column starts at the previous column's last sample.
+            let (from, from_temperature) = match at.checked_sub(1) {
+                Some(last) => (points[last].1 as f64, temperature(last)),
+                None => (depth, temperature(at)),
+            };
+            columns.push(Column {
+                x: index * width,
+                x_end: index * width + width,
+                shallowest: from,
+                deepest: from,
+                shallow_temperature: from_temperature,
+                deep_temperature: from_temperature,
+            });
+            current = Some(index);
+        }
+        if let Some(column) = columns.last_mut() {
+            if depth < column.shallowest {
+                column.shallowest = depth;
+                column.shallow_temperature = temperature(at);
             }
-            let from = index * per;
-            let temperature = |at: usize| temps.get(from + at).map_or(f64::NAN, |&t| t as f64);
-            Column {
-                start: chunk[0].0 as f64,
-                end: chunk[chunk.len() - 1].0 as f64,
-                shallowest,
-                deepest,
-                shallow_temperature: temperature(shallow_at),
-                deep_temperature: temperature(deep_at),
+            if depth > column.deepest {
+                column.deepest = depth;
+                column.deep_temperature = temperature(at);
             }
-        })
-        .collect()
+        }
+    }
+    let edges: Vec<u32> = columns.iter().skip(1).map(|column| column.x).collect();
+    for (column, edge) in columns.iter_mut().zip(edges) {
+        column.x_end = edge;
+    }
+    if let Some(last) = columns.last_mut() {
+        last.x_end = last.x_end.min(plot_px.max(1));
+    }
+    columns
 }
 
 /// Blue (cold) to red (warm).
@@ -392,20 +509,20 @@ fn draw<DB: DrawingBackend>(
     }
     let blue = RGBColor(30, 70, 200);
     let columns = (WIDTH as usize).saturating_sub(100);
-    let long = trace.points.len() > 2 * columns;
-    if long {
-        // A long run: one bar per pixel column from its shallowest to its
-        // deepest depth, coloured by its mean temperature when asked.
-        let bars = envelope(&trace.points, &trace.temps, columns);
-        // Each bar reaches the next one's start: no hairline gaps.
-        let ends: Vec<f64> = bars
-            .iter()
-            .skip(1)
-            .map(|bar| bar.start)
-            .chain(bars.last().map(|bar| bar.end))
-            .collect();
+    let (plot_px, _) = chart.plotting_area().dim_in_pixel();
+    let style = track_style(&trace.points, plot_px);
+    let long = style != TrackStyle::Line;
+    if let TrackStyle::Columns { width } = style {
+        // Drawn in the plot's pixels, so that every bar is at least one
+        // pixel wide and tall and the bars tile the width without gaps.
+        let bars = envelope(&trace.points, &trace.temps, duration, plot_px, width);
+        let area = chart.plotting_area();
+        let top = area.get_base_pixel().1;
+        let y = |depth: f64| area.map_coordinate(&(0.0, depth)).1 - top;
+        let pixels = area.strip_coord_spec();
         let pieces = if temperature { BAR_PIECES } else { 1 };
-        chart.draw_series(bars.iter().zip(&ends).flat_map(|(bar, &end)| {
+        for rectangle in bars.iter().flat_map(|bar| {
+            let (y0, y1) = (y(bar.shallowest), y(bar.deepest) + 1);
             // Coloured from the shallow end's temperature to the deep end's.
             (0..pieces).map(move |piece| {
                 let (a, b) = (
@@ -419,16 +536,15 @@ fn draw<DB: DrawingBackend>(
                 } else {
                     blue
                 };
-                let span = bar.deepest - bar.shallowest;
+                let at = |f: f64| y0 + (f64::from(y1 - y0) * f).round() as i32;
                 Rectangle::new(
-                    [
-                        (bar.start / scale, bar.shallowest + span * a),
-                        (end / scale, bar.shallowest + span * b),
-                    ],
+                    [(bar.x as i32, at(a)), (bar.x_end as i32, at(b))],
                     ShapeStyle::from(&colour).filled(),
                 )
             })
-        }))?;
+        }) {
+            pixels.draw(&rectangle)?;
+        }
     } else if temperature {
         chart.draw_series(trace.points.windows(2).zip(&trace.temps).map(|(pair, &t)| {
             PathElement::new(
@@ -564,16 +680,126 @@ fn draw<DB: DrawingBackend>(
 mod tests {
     use super::*;
 
+    /// A yo between 10 m and 23 m with a 240 s period, sampled every 4.4 s
+    /// for `hours`: comet's cycle, the thermocline example's yo.
+    fn yo_trace(hours: f64) -> Vec<(f32, f32)> {
+        let count = (hours * 3600.0 / 4.4) as usize + 1;
+        (0..count)
+            .map(|i| {
+                let t = i as f64 * 4.4;
+                let phase = (t / 240.0).fract();
+                (
+                    t as f32,
+                    (10.0 + 13.0 * (1.0 - (2.0 * phase - 1.0).abs())) as f32,
+                )
+            })
+            .collect()
+    }
+
+    fn overlaps(a: &Column, b: &Column) -> bool {
+        a.shallowest <= b.deepest && b.shallowest <= a.deepest
+    }
+
     #[test]
     fn the_envelope_keeps_extremes() {
         let points: Vec<(f32, f32)> = (0..100_000)
             .map(|i| (i as f32, ((i % 1000) as f32 - 500.0).abs()))
             .collect();
-        let columns = envelope(&points, &[], 100);
+        let columns = envelope(&points, &[], 100_000.0, 100, 1);
         assert_eq!(columns.len(), 100);
         assert!(columns
             .iter()
             .all(|c| c.shallowest == 0.0 && c.deepest == 500.0));
+    }
+
+    #[test]
+    fn the_yo_period_is_measured_from_the_turns() {
+        // 240 s by construction; turns are found to the nearest 4.4 s sample.
+        let period = yo_period(&yo_trace(6.0)).expect("a yo");
+        assert!((period - 240.0).abs() <= 2.0 * 4.4, "{period}");
+        // A dive that never turns has no period.
+        let dive: Vec<(f32, f32)> = (0..100).map(|i| (i as f32 * 4.0, i as f32)).collect();
+        assert_eq!(yo_period(&dive), None);
+    }
+
+    #[test]
+    fn bars_connect_from_column_to_column() {
+        // 6 h drawn as one bar per pixel: about 4.5 samples per column, each
+        // a metre apart, so bars over their own samples only would leave
+        // gaps between them (the dashes the first renderer drew).
+        let points = yo_trace(6.0);
+        let duration = points.last().expect("points").0 as f64;
+        let columns = envelope(&points, &[], duration, 1100, 1);
+        assert!(columns.len() > 1000, "{}", columns.len());
+        let mut next = 0;
+        for pair in columns.windows(2) {
+            assert!(overlaps(&pair[0], &pair[1]), "{pair:?}");
+            // Tiled: each bar reaches the next one's left edge.
+            assert_eq!(pair[0].x_end, pair[1].x, "{pair:?}");
+            // The bar holds the previous column's last sample.
+            while next < points.len()
+                && (points[next].0 as f64) * 1100.0 / duration < pair[1].x as f64
+            {
+                next += 1;
+            }
+            let last = points[next - 1].1 as f64;
+            assert!(
+                pair[1].shallowest <= last && last <= pair[1].deepest,
+                "{pair:?} {last}"
+            );
+        }
+    }
+
+    #[test]
+    fn one_sample_per_column_draws_the_samples() {
+        // One sample in the middle of each pixel: each bar runs from the
+        // previous sample's depth to its own, the pixels of the line between.
+        let depths: Vec<f32> = (0..100).map(|i| ((i * 37) % 11) as f32).collect();
+        let points: Vec<(f32, f32)> = depths
+            .iter()
+            .enumerate()
+            .map(|(i, &d)| (i as f32 + 0.5, d))
+            .collect();
+        let columns = envelope(&points, &[], 100.0, 100, 1);
+        assert_eq!(columns.len(), 100);
+        assert_eq!((columns[0].shallowest, columns[0].deepest), (0.0, 0.0));
+        for (i, column) in columns.iter().enumerate().skip(1) {
+            let (a, b) = (depths[i - 1] as f64, depths[i] as f64);
+            assert_eq!((column.shallowest, column.deepest), (a.min(b), a.max(b)));
+            assert_eq!((column.x, column.x_end), (i as u32, i as u32 + 1));
+        }
+        // So few samples are drawn as the line itself.
+        assert_eq!(track_style(&points, 100), TrackStyle::Line);
+    }
+
+    #[test]
+    fn an_unresolved_yo_is_drawn_as_a_band() {
+        // 24 h of 4-minute yos over 1100 pixels: 3.1 pixels per yo.
+        let points = yo_trace(24.0);
+        let duration = points.last().expect("points").0 as f64;
+        // One bar per pixel aliases: some columns miss the top turn by more
+        // than 3 m (the wave the first renderer drew).
+        let aliased = envelope(&points, &[], duration, 1100, 1);
+        assert!(aliased.iter().any(|c| c.shallowest > 13.0));
+        // The chosen columns hold two yos each: 2 × 240 s × 1100 / 86400 s
+        // = 6.1 pixels, so 7; every full column spans both turns (samples
+        // land within 4.4 s × 13 m / 120 s = 0.48 m of a turn).
+        let style = track_style(&points, 1100);
+        assert_eq!(style, TrackStyle::Columns { width: 7 });
+        let band = envelope(&points, &[], duration, 1100, 7);
+        let full = &band[..band.len() - 1];
+        assert!(full.len() > 150, "{}", full.len());
+        for column in full {
+            assert!(
+                column.shallowest < 10.5 && column.deepest > 22.5,
+                "{column:?}"
+            );
+        }
+        // A yo of 12 pixels (6 h) is drawn as the sawtooth, 4.5 samples a pixel.
+        assert_eq!(track_style(&yo_trace(6.0), 1100), TrackStyle::Line);
+        // 30 days: a fifth of a pixel per yo, bars of one pixel.
+        let month: Vec<(f32, f32)> = yo_trace(30.0 * 24.0);
+        assert_eq!(track_style(&month, 1100), TrackStyle::Columns { width: 1 });
     }
 
     #[test]

@@ -48,16 +48,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
             .into_iter()
             .filter_map(|path| path.as_deref())
             .collect();
-        let outputs: Vec<Output<'_>> = [("--log", &args.log), ("--plot", &args.plot)]
-            .into_iter()
-            .filter_map(|(flag, path)| {
-                Some(Output {
-                    flag,
-                    path: path.as_deref()?,
-                })
-            })
-            .collect();
-        crate::output::check_outputs(&inputs, &outputs)?;
+        crate::output::check_outputs(&inputs, &run_outputs(&args))?;
         PlotFormat::from_path(plot).map_err(anyhow::Error::msg)?;
     }
     for panel in &args.plot_panels {
@@ -177,16 +168,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         .chain(args.profile.iter().map(PathBuf::as_path))
         .chain(mission.sources.iter().map(|source| source.path.as_path()))
         .collect();
-    let outputs: Vec<Output<'_>> = [("--log", &args.log), ("--plot", &args.plot)]
-        .into_iter()
-        .filter_map(|(flag, path)| {
-            Some(Output {
-                flag,
-                path: path.as_deref()?,
-            })
-        })
-        .collect();
-    crate::output::check_outputs(&inputs, &outputs)?;
+    crate::output::check_outputs(&inputs, &run_outputs(&args))?;
 
     let mut log = match &args.log {
         Some(path) => Some(open_log(
@@ -670,6 +652,19 @@ fn open_binary_log(
         });
     }
     Ok(parts)
+}
+
+/// The files a simulated run writes, with their flags.
+fn run_outputs(args: &crate::RunArgs) -> Vec<Output<'_>> {
+    [("--log", &args.log), ("--plot", &args.plot)]
+        .into_iter()
+        .filter_map(|(flag, path)| {
+            Some(Output {
+                flag,
+                path: path.as_deref()?,
+            })
+        })
+        .collect()
 }
 
 /// The control cycles that fly `seconds` of simulated time: by the mean cycle period

@@ -38,10 +38,15 @@ if client then
   H.equal(client.config.cmd, { "gloc", "lsp" }, "the server is started as `gloc lsp` from PATH")
 end
 
--- The user types a store to the read-only m_depth at the end (0-based line 127: the file has
--- 127 lines) and a half-written name on the next line.
+-- The user types a store to the read-only m_depth at the end (the 0-based line after the
+-- file's last: its line count, read with Lua's own io.lines) and a half-written name on the
+-- next line.
+local file_lines = 0
+for _ in io.lines(example) do
+  file_lines = file_lines + 1
+end
 local last = vim.api.nvim_buf_line_count(buffer)
-H.equal(last, 127, "the example has 127 lines")
+H.equal(last, file_lines, "the buffer has the example's lines")
 vim.api.nvim_buf_set_lines(buffer, last, last, false, { "m_depth = 1.0", "bin = int(m_dep" })
 local function errors_on(line)
   return vim.tbl_filter(function(diagnostic)
@@ -49,17 +54,17 @@ local function errors_on(line)
   end, vim.diagnostic.get(buffer))
 end
 vim.wait(10000, function()
-  return #errors_on(127) > 0
+  return #errors_on(last) > 0
 end, 50)
-local read_only = errors_on(127)[1]
+local read_only = errors_on(last)[1]
 H.check(read_only ~= nil and read_only.message:find("m_depth", 1, true) ~= nil,
   "typing `m_depth = 1.0` gives an error naming m_depth", vim.diagnostic.get(buffer))
 local elsewhere = vim.tbl_filter(function(diagnostic)
-  return diagnostic.lnum < 127 and diagnostic.severity == vim.diagnostic.severity.ERROR
+  return diagnostic.lnum < last and diagnostic.severity == vim.diagnostic.severity.ERROR
 end, vim.diagnostic.get(buffer))
 H.equal(#elsewhere, 0, "the example itself has no errors")
 
-local labels = H.completion_labels(buffer, 128, #"bin = int(m_dep")
+local labels = H.completion_labels(buffer, last + 1, #"bin = int(m_dep")
 H.check(vim.tbl_contains(labels, "m_depth"), "completion after `m_dep` offers m_depth", #labels)
 
 H.check(vim.bo[buffer].modified, "the example was changed in the buffer only")

@@ -90,18 +90,11 @@ pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
             sensor_cache: None,
         },
     )?;
-    let sensor_list = match &settings.masterdata {
-        Some(path) => match crate::check::load_sensors(path, settings.sensor_order, &mut tally)? {
-            Some(list) => list,
-            None => return Ok(ExitCode::FAILURE),
-        },
-        None => SensorList::embedded(),
+    let Some(sensor_list) = crate::check::active_sensors(&settings, &mut tally)? else {
+        return Ok(ExitCode::FAILURE);
     };
     let sensor_list = Arc::new(sensor_list);
     let cycle_budget = settings.cycle_budget.unwrap_or(DEFAULT_CYCLE_BUDGET);
-    if cycle_budget == 0 {
-        bail!("--cycle-budget must be at least 1");
-    }
     // Every axis is checked before anything flies: a typo costs nothing.
     let seeds = match &args.seeds {
         Some(text) => parse_seeds(text).map_err(|error| anyhow::anyhow!("--seeds {error}"))?,

@@ -96,6 +96,19 @@ pub fn written_for(
     gloc::identity::find_written_for(text, active, &folders)
 }
 
+/// The active sensor list of resolved settings: the masterdata file they name (see
+/// [`load_sensors`]) or the embedded list. One place for `run`, `batch`, `compile` and
+/// the replay.
+pub fn active_sensors(
+    settings: &crate::settings::Settings,
+    tally: &mut Tally,
+) -> anyhow::Result<Option<SensorList>> {
+    match &settings.masterdata {
+        Some(path) => load_sensors(path, settings.sensor_order, tally),
+        None => Ok(Some(SensorList::embedded())),
+    }
+}
+
 /// Loads `--masterdata`: prints its diagnostics; `None` when it has errors.
 pub fn load_sensors(
     path: &Path,

@@ -20,12 +20,8 @@ pub fn main(args: crate::CompileArgs) -> anyhow::Result<ExitCode> {
             ..Default::default()
         },
     )?;
-    let sensors = match &settings.masterdata {
-        Some(path) => match crate::check::load_sensors(path, settings.sensor_order, &mut tally)? {
-            Some(list) => list,
-            None => return Ok(ExitCode::FAILURE),
-        },
-        None => SensorList::embedded(),
+    let Some(sensors) = crate::check::active_sensors(&settings, &mut tally)? else {
+        return Ok(ExitCode::FAILURE);
     };
     let text = gloc_engine::files::read_text(&args.file, gloc_engine::files::SCRIPT)
         .with_context(|| format!("cannot read the GBASIC file `{}`", args.file.display()))?;

@@ -179,13 +179,15 @@ pub struct BatchArgs {
     /// Mission file (`.mi`); default: the embedded Fig. 2 mission.
     #[arg(long, value_name = "M.mi")]
     pub mission: Option<PathBuf>,
+    /// The sensor list (masterdata or `.cac`/`.ccc`); default: gloc.toml's, else the
+    /// embedded 2008 list.
     #[arg(long, value_name = "FILE")]
     pub masterdata: Option<PathBuf>,
     /// How a masterdata file's sensors are numbered: `file` (default) or `sorted` (firmware 2014+).
     #[arg(long, value_name = "ORDER", value_parser = settings::parse_sensor_order)]
     pub sensor_order: Option<gloc_engine::sensors::SensorOrder>,
-    /// Per-cycle instruction budget.
-    #[arg(long, value_name = "N")]
+    /// Per-cycle instruction budget, 1 to 1,000,000,000 (default 10,000, or gloc.toml's).
+    #[arg(long, value_name = "N", value_parser = settings::parse_cycle_budget)]
     pub cycle_budget: Option<u64>,
     /// Simulated duration of each mission, e.g. `6h`, `30d`.
     #[arg(long, conflicts_with = "cycles")]

@@ -55,12 +55,8 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
             ..Default::default()
         },
     )?;
-    let sensors = match &settings.masterdata {
-        Some(path) => match crate::check::load_sensors(path, settings.sensor_order, &mut tally)? {
-            Some(list) => list,
-            None => return Ok(ExitCode::FAILURE),
-        },
-        None => SensorList::embedded(),
+    let Some(sensors) = crate::check::active_sensors(&settings, &mut tally)? else {
+        return Ok(ExitCode::FAILURE);
     };
     let Some(script) = load_script(
         args.script.as_deref(),

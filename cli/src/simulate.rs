@@ -68,12 +68,8 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
             ..Default::default()
         },
     )?;
-    let sensor_list = match &settings.masterdata {
-        Some(path) => match crate::check::load_sensors(path, settings.sensor_order, &mut tally)? {
-            Some(list) => list,
-            None => return Ok(ExitCode::FAILURE),
-        },
-        None => SensorList::embedded(),
+    let Some(sensor_list) = crate::check::active_sensors(&settings, &mut tally)? else {
+        return Ok(ExitCode::FAILURE);
     };
     let sensor_list = Arc::new(sensor_list);
     // Bad faults are a bad command line: stop before anything is flown.
@@ -86,9 +82,6 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         .collect::<anyhow::Result<Vec<Fault>>>()?;
     let mut fault_plan = FaultPlan::new(faults);
     let cycle_budget = settings.cycle_budget.unwrap_or(DEFAULT_CYCLE_BUDGET);
-    if cycle_budget == 0 {
-        bail!("--cycle-budget must be at least 1");
-    }
 
     let Some(Script {
         name: script_name,

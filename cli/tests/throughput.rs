@@ -286,6 +286,20 @@ fn a_batch_keeps_the_run_limits_and_never_writes_over_an_input() {
         stderr.contains("--cycles 100000001 is more than 100000000"),
         "{stderr}"
     );
+    // The cycle budget has gloc run's bound (10^9), from the same parser.
+    let (ok, _, stderr) = gloc(&[
+        "batch",
+        "examples/thermocline.gbas",
+        "--cycles",
+        "5",
+        "--cycle-budget",
+        "1000000001",
+    ]);
+    assert!(!ok);
+    assert!(
+        stderr.contains("the cycle budget must be 1 to 1000000000"),
+        "{stderr}"
+    );
     let folder = std::env::temp_dir().join(format!("gloc-batch-csv-{}", std::process::id()));
     std::fs::create_dir_all(&folder).expect("a folder");
     let script = folder.join("tracker.gbas");

@@ -147,12 +147,16 @@ fn info(args: InfoArgs) -> anyhow::Result<ExitCode> {
             time.map_or("none", |column| sensors[column].name.as_str())
         );
         println!("  cycles: {cycles}");
-        println!(
-            "  time span: {} .. {} ({:.0} s)",
-            utc(first),
-            utc(last),
-            last - first
-        );
+        if first.is_finite() && last.is_finite() {
+            println!(
+                "  time span: {} .. {} ({:.0} s)",
+                utc(first),
+                utc(last),
+                last - first
+            );
+        } else {
+            println!("  time span: none (no cycle with a time)");
+        }
         if args.sensors {
             for sensor in sensors.iter() {
                 println!(

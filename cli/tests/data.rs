@@ -214,3 +214,36 @@ fn a_binary_run_log_reads_back_as_the_csv_log() {
     assert!(rows > 100, "{rows} rows");
     let _ = std::fs::remove_dir_all(&folder);
 }
+
+/// A log cut before its first complete cycle: `info` says it has no time span (it
+/// printed `- .. - (NaN s)`) and warns at the byte where the damage starts.
+#[test]
+fn info_on_a_log_without_a_complete_cycle_has_no_time_span() {
+    let shared = shared_data().expect("../shared/data beside the repository");
+    let folder = temp_folder("cut");
+    let real = std::fs::read(shared.join("comet/from-glider/comet-2019-222-02-154.dbd"))
+        .expect("comet's log");
+    std::fs::write(folder.join("cut.dbd"), &real[..3000]).expect("write");
+    let cache = shared.join("cac");
+    let output = gloc(
+        &[
+            "data",
+            "info",
+            "cut.dbd",
+            "--sensor-cache",
+            cache.to_str().expect("UTF-8 path"),
+        ],
+        &folder,
+    );
+    let stdout = text(&output.stdout);
+    let stderr = text(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    assert!(stdout.contains("  cycles: 0\n"), "{stdout}");
+    assert!(
+        stdout.contains("  time span: none (no cycle with a time)"),
+        "{stdout}"
+    );
+    assert!(!stdout.contains("NaN"), "{stdout}");
+    assert!(stderr.contains("cut.dbd: byte"), "{stderr}");
+    std::fs::remove_dir_all(&folder).expect("clean up");
+}

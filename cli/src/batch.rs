@@ -82,10 +82,10 @@ pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
     let settings = crate::settings::resolve(
         args.script.as_deref(),
         crate::settings::Flags {
-            masterdata: args.masterdata.as_deref(),
-            cycle_budget: args.cycle_budget,
-            mission: args.mission.as_deref(),
-            sensor_order: args.sensor_order,
+            masterdata: args.flight.masterdata.as_deref(),
+            cycle_budget: args.flight.cycle_budget,
+            mission: args.flight.mission.as_deref(),
+            sensor_order: args.flight.sensor_order,
             simulator: &[],
             sensor_cache: None,
         },

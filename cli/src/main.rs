@@ -107,17 +107,8 @@ pub struct RunArgs {
     /// With --replay: write the sensors the script stored, one row per cycle.
     #[arg(long, value_name = "OUT.csv")]
     pub out: Option<PathBuf>,
-    /// Per-cycle instruction budget, 1 to 1,000,000,000 (a script that runs longer traps with "cycle overrun").
-    #[arg(long, value_name = "N", value_parser = settings::parse_cycle_budget)]
-    pub cycle_budget: Option<u64>,
-    /// Mission file (`.mi`); default: the embedded Fig. 2 mission.
-    #[arg(long, value_name = "M.mi")]
-    pub mission: Option<PathBuf>,
-    #[arg(long, value_name = "FILE")]
-    pub masterdata: Option<PathBuf>,
-    /// How a masterdata file's sensors are numbered: `file` (default) or `sorted` (firmware 2014+).
-    #[arg(long, value_name = "ORDER", value_parser = settings::parse_sensor_order)]
-    pub sensor_order: Option<gloc_engine::sensors::SensorOrder>,
+    #[command(flatten)]
+    pub flight: FlightArgs,
     /// Temperature profile CSV (`depth_m,temp_degC`); default: the built-in summer shelf profile.
     #[arg(long, value_name = "T.csv")]
     pub profile: Option<PathBuf>,
@@ -165,6 +156,26 @@ pub struct RunArgs {
     pub no_optimize: bool,
 }
 
+/// The flags `gloc run` and `gloc batch` share for the mission, the sensor list and the
+/// budget (one definition, so both parse and bound them alike).
+#[derive(Args, Debug)]
+pub struct FlightArgs {
+    /// Per-cycle instruction budget, 1 to 1,000,000,000 (default 10,000, or gloc.toml's;
+    /// a script that runs longer traps with "cycle overrun").
+    #[arg(long, value_name = "N", value_parser = settings::parse_cycle_budget)]
+    pub cycle_budget: Option<u64>,
+    /// Mission file (`.mi`); default: gloc.toml's, else the embedded Fig. 2 mission.
+    #[arg(long, value_name = "M.mi")]
+    pub mission: Option<PathBuf>,
+    /// The sensor list (masterdata or `.cac`/`.ccc`); default: gloc.toml's, else the
+    /// embedded 2008 list.
+    #[arg(long, value_name = "FILE")]
+    pub masterdata: Option<PathBuf>,
+    /// How a masterdata file's sensors are numbered: `file` (default) or `sorted` (firmware 2014+).
+    #[arg(long, value_name = "ORDER", value_parser = settings::parse_sensor_order)]
+    pub sensor_order: Option<gloc_engine::sensors::SensorOrder>,
+}
+
 impl RunArgs {
     /// GBASIC runs optimized unless `--no-optimize` says otherwise.
     pub fn optimized(&self) -> bool {
@@ -176,19 +187,8 @@ impl RunArgs {
 pub struct BatchArgs {
     /// A `.gloc` or `.gbas` script (default: the paper's Fig. 2 script).
     pub script: Option<PathBuf>,
-    /// Mission file (`.mi`); default: the embedded Fig. 2 mission.
-    #[arg(long, value_name = "M.mi")]
-    pub mission: Option<PathBuf>,
-    /// The sensor list (masterdata or `.cac`/`.ccc`); default: gloc.toml's, else the
-    /// embedded 2008 list.
-    #[arg(long, value_name = "FILE")]
-    pub masterdata: Option<PathBuf>,
-    /// How a masterdata file's sensors are numbered: `file` (default) or `sorted` (firmware 2014+).
-    #[arg(long, value_name = "ORDER", value_parser = settings::parse_sensor_order)]
-    pub sensor_order: Option<gloc_engine::sensors::SensorOrder>,
-    /// Per-cycle instruction budget, 1 to 1,000,000,000 (default 10,000, or gloc.toml's).
-    #[arg(long, value_name = "N", value_parser = settings::parse_cycle_budget)]
-    pub cycle_budget: Option<u64>,
+    #[command(flatten)]
+    pub flight: FlightArgs,
     /// Simulated duration of each mission, e.g. `6h`, `30d`.
     #[arg(long, conflicts_with = "cycles")]
     pub duration: Option<String>,

@@ -31,7 +31,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         bail!("--replay FILES is required here");
     }
     for (given, flag) in [
-        (args.mission.is_some(), "--mission"),
+        (args.flight.mission.is_some(), "--mission"),
         (args.profile.is_some(), "--profile"),
         (args.duration.is_some(), "--duration"),
         (args.cycles.is_some(), "--cycles"),
@@ -48,9 +48,9 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
     let settings = crate::settings::resolve(
         args.script.as_deref(),
         crate::settings::Flags {
-            masterdata: args.masterdata.as_deref(),
-            cycle_budget: args.cycle_budget,
-            sensor_order: args.sensor_order,
+            masterdata: args.flight.masterdata.as_deref(),
+            cycle_budget: args.flight.cycle_budget,
+            sensor_order: args.flight.sensor_order,
             sensor_cache: args.sensor_cache.as_deref(),
             ..Default::default()
         },

@@ -44,7 +44,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
     if let Some(plot) = &args.plot {
         // Before anything is flown: the plot is no input (checked again with every input
         // once the settings and the mission are read), and its format is known.
-        let inputs: Vec<&Path> = [&args.script, &args.mission, &args.profile]
+        let inputs: Vec<&Path> = [&args.script, &args.flight.mission, &args.profile]
             .into_iter()
             .filter_map(|path| path.as_deref())
             .collect();
@@ -60,10 +60,10 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
     let settings = crate::settings::resolve(
         args.script.as_deref(),
         crate::settings::Flags {
-            masterdata: args.masterdata.as_deref(),
-            cycle_budget: args.cycle_budget,
-            mission: args.mission.as_deref(),
-            sensor_order: args.sensor_order,
+            masterdata: args.flight.masterdata.as_deref(),
+            cycle_budget: args.flight.cycle_budget,
+            mission: args.flight.mission.as_deref(),
+            sensor_order: args.flight.sensor_order,
             simulator: &args.simulator,
             ..Default::default()
         },

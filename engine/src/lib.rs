@@ -2,7 +2,6 @@
 //! language (parser, printer, safety checker) and the interpreter.
 //!
 //! Nothing here does network IO, starts threads or knows about LSP or DAP.
-#![deny(clippy::unwrap_used)]
 
 pub mod config;
 pub mod diagnostic;

@@ -8,34 +8,12 @@ use tower_lsp_server::ls_types::{TextDocumentContentChangeEvent, Uri};
 
 use crate::position;
 
-/// The languages the server answers for.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Language {
-    Gloc,
-    Gbasic,
-    /// A `gloc.toml`: the server only reports its problems.
-    Config,
-}
+pub use gloc_ide::Language;
 
-impl Language {
-    /// From the client's `languageId`, falling back to the file extension.
-    pub fn detect(language_id: &str, uri: &Uri) -> Option<Language> {
-        match language_id.to_ascii_lowercase().as_str() {
-            "gloc" => return Some(Language::Gloc),
-            "gbasic" | "gbas" => return Some(Language::Gbasic),
-            _ => {}
-        }
-        let path = uri.path().as_str().to_ascii_lowercase();
-        if path.ends_with(".gloc") {
-            Some(Language::Gloc)
-        } else if path.ends_with(".gbas") || path.ends_with(".gbasic") {
-            Some(Language::Gbasic)
-        } else if path.ends_with("/gloc.toml") || path == "gloc.toml" {
-            Some(Language::Config)
-        } else {
-            None
-        }
-    }
+/// The document's language from the client's `languageId`, falling back to the
+/// file extension of its URI.
+pub fn detect_language(language_id: &str, uri: &Uri) -> Option<Language> {
+    Language::detect(language_id, uri.path().as_str())
 }
 
 #[derive(Debug)]
@@ -161,17 +139,17 @@ mod tests {
     #[test]
     fn language_from_id_or_extension() {
         assert_eq!(
-            Language::detect("gloc", &uri("untitled:1")),
+            detect_language("gloc", &uri("untitled:1")),
             Some(Language::Gloc)
         );
         assert_eq!(
-            Language::detect("plaintext", &uri("file:///x/y.GBAS")),
+            detect_language("plaintext", &uri("file:///x/y.GBAS")),
             Some(Language::Gbasic)
         );
         assert_eq!(
-            Language::detect("toml", &uri("file:///x/gloc.toml")),
+            detect_language("toml", &uri("file:///x/gloc.toml")),
             Some(Language::Config)
         );
-        assert_eq!(Language::detect("rust", &uri("file:///x/y.rs")), None);
+        assert_eq!(detect_language("rust", &uri("file:///x/y.rs")), None);
     }
 }

@@ -10,11 +10,11 @@ use serde_json::Value;
 use tower_lsp_server::jsonrpc;
 use tower_lsp_server::ls_types::*;
 
-use crate::analysis::{Analysis, CompletionKind, Context, SymbolKind as Kind, TokenKind};
 use crate::document::{Document, Language};
-use crate::lang;
 use crate::position::{end_position, offset_of, position_of, range_of, span_of, PositionWalker};
 use crate::server::COMPILED_GLOC_COMMAND;
+use gloc_ide::analysis::{Analysis, CompletionKind, Context, SymbolKind as Kind, TokenKind};
+use gloc_ide::lang;
 
 /// What the client said it can show (`initialize`'s capabilities); answers follow it.
 /// Before `initialize`, and for a client that says nothing, the protocol's defaults:
@@ -863,7 +863,7 @@ mod tests {
         for (name, language, text) in texts {
             let uri = "file:///fixture".parse().expect("uri");
             let document = Document::new(uri, language, 1, &text);
-            let analysis = crate::lang::analyze(language, &text, &context);
+            let analysis = gloc_ide::lang::analyze(language, &text, &context);
             let tokens = semantic_tokens(&document, &analysis, &context);
             let expected = reference_tokens(&document, &analysis, &context);
             assert_eq!(flat(&tokens), expected, "{name}");

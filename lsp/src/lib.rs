@@ -4,12 +4,11 @@
 //! `gloc-engine` and `gloc-compiler` for every answer and converts byte spans
 //! to LSP positions in one module (`position`).
 
-mod analysis;
+// Stdout is the protocol: nothing else may print there.
+#![deny(clippy::print_stdout)]
+
 mod document;
 mod features;
-mod gbasic_lang;
-mod gloc_lang;
-mod lang;
 mod position;
 mod server;
 mod transport;
@@ -25,6 +24,8 @@ use tokio::io::{AsyncRead, AsyncWrite, AsyncWriteExt};
 use tower_lsp_server::jsonrpc::{Error, Id, Request, Response};
 use tower_lsp_server::{LspService, Server};
 use tower_service::Service;
+
+use gloc_ide::{analysis, lang};
 
 pub use server::{settings_from, Settings, COMPILED_GLOC_COMMAND};
 

@@ -20,9 +20,10 @@ use tower_lsp_server::jsonrpc::{Error, Result};
 use tower_lsp_server::ls_types::*;
 use tower_lsp_server::{Client, LanguageServer};
 
-use crate::analysis::{Analysis, Context};
 use crate::document::{Document, Language};
-use crate::{features, lang};
+use crate::features;
+use gloc_ide::analysis::{Analysis, Context};
+use gloc_ide::lang;
 
 /// The command that returns the compiled GLOC of a GBASIC document.
 pub const COMPILED_GLOC_COMMAND: &str = "gloc.compiledGloc";
@@ -489,7 +490,7 @@ impl LanguageServer for Backend {
 
     async fn did_open(&self, params: DidOpenTextDocumentParams) {
         let item = params.text_document;
-        let Some(language) = Language::detect(&item.language_id, &item.uri) else {
+        let Some(language) = crate::document::detect_language(&item.language_id, &item.uri) else {
             return;
         };
         let publishes = {

@@ -14,7 +14,6 @@
 //!
 //! Pure and deterministic: no IO except what a caller asks for (loading a
 //! mission, writing a log), no threads, and the same seed gives the same run.
-#![deny(clippy::unwrap_used)]
 
 pub mod behaviors;
 pub mod calibrate;

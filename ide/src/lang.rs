@@ -11,7 +11,7 @@ use gloc_engine::{Diagnostic, LineIndex, Span};
 use crate::analysis::{
     Analysis, Completion, CompletionKind, Context, Signature, Symbol, TokenKind,
 };
-use crate::document::Language;
+use crate::Language;
 use crate::{gbasic_lang, gloc_lang};
 
 /// Code of the diagnostic shown when the core panicked on a document.

@@ -10,6 +10,7 @@ pub mod files;
 pub mod gloc;
 pub mod lz4;
 pub mod program;
+pub mod render;
 pub mod sensors;
 pub mod suggest;
 pub mod vm;

@@ -29,6 +29,10 @@ pub enum TokenKind {
     Gt,
     Ge,
     Newline,
+    /// A `'` comment, to the end of its line (without the line end). The parser
+    /// skips these; `rem` is a comment only in statement position, so the parser
+    /// decides that one.
+    Comment,
     /// A character that starts no token.
     Unknown,
     Eof,
@@ -40,9 +44,8 @@ pub struct Token {
     pub span: Span,
 }
 
-/// Splits `text` into tokens. Comments (`'` and `rem` as a statement) are dropped here
-/// for `'`; `rem` is left to the parser because it is only a comment in statement
-/// position.
+/// Splits `text` into tokens. A `'` outside a string starts a `Comment` token; `rem`
+/// is left to the parser because it is only a comment in statement position.
 pub fn lex(text: &str) -> Vec<Token> {
     let bytes = text.as_bytes();
     let mut tokens = Vec::new();
@@ -63,6 +66,16 @@ pub fn lex(text: &str) -> Vec<Token> {
                 while at < bytes.len() && bytes[at] != b'\n' {
                     at += 1;
                 }
+                // A CRLF line's `\r` ends the line, not the comment's text.
+                let end = if at > start && bytes[at - 1] == b'\r' {
+                    at - 1
+                } else {
+                    at
+                };
+                tokens.push(Token {
+                    kind: TokenKind::Comment,
+                    span: Span::new(start, end),
+                });
                 continue;
             }
             b'"' => {
@@ -189,12 +202,23 @@ mod tests {
         use TokenKind::*;
         assert_eq!(
             kinds("x = 1.5e-3 <> .5 ' note\n"),
-            vec![Ident, Eq, Float, Ne, Float, Newline, Eof]
+            vec![Ident, Eq, Float, Ne, Float, Comment, Newline, Eof]
         );
         assert_eq!(
             kinds("a(1) \\ 2"),
             vec![Ident, LParen, Int, RParen, Backslash, Int, Eof]
         );
+    }
+
+    #[test]
+    fn comments_are_tokens_to_the_line_end_and_a_quote_in_a_string_is_none() {
+        let text = "print \"it's\" ' done\r\n' whole line\nx = 1 '";
+        let comments: Vec<&str> = lex(text)
+            .into_iter()
+            .filter(|token| token.kind == TokenKind::Comment)
+            .map(|token| &text[token.span.range()])
+            .collect();
+        assert_eq!(comments, ["' done", "' whole line", "'"]);
     }
 
     #[test]

@@ -34,7 +34,11 @@ pub fn parse(text: &str) -> Parsed {
     }
     let mut parser = Parser {
         text,
-        tokens: lex(text),
+        // Comments are tokens for the editor; the grammar never sees them.
+        tokens: lex(text)
+            .into_iter()
+            .filter(|token| token.kind != TokenKind::Comment)
+            .collect(),
         pos: 0,
         diagnostics: Vec::new(),
         open: Vec::new(),

@@ -73,6 +73,32 @@ fn gbasic_findings_on_the_compiled_gloc_land_on_the_whole_statement() {
 }
 
 #[test]
+fn gbasic_a_float_assigned_to_an_integer_until_int() {
+    // docs/gbasic.md: a float becomes an integer only through int(); sensors are
+    // floats, so `m_depth * 2.0` is a float and may not go into `n` (E2201, on the
+    // expression).
+    check_diagnostics(
+        Gbasic,
+        "dim n as integer\nn = m_depth * 2.0\nyield\n",
+        expect![[r#"
+            dim n as integer
+            n = m_depth * 2.0
+                ^^^^^^^^^^^^^ E2201 error: this assignment needs an integer, but this is a float (help: convert with `int(…)`, which truncates toward zero)
+            yield
+        "#]],
+    );
+    check_diagnostics(
+        Gbasic,
+        "dim n as integer\nn = int(m_depth * 2.0)\nyield\n",
+        expect![[r#"
+            dim n as integer
+            n = int(m_depth * 2.0)
+            yield
+        "#]],
+    );
+}
+
+#[test]
 fn gbasic_a_duplicate_label_points_at_the_first() {
     check_diagnostics(
         Gbasic,

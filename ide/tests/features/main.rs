@@ -5,7 +5,9 @@
 //! (`expect![[...]]`), worked out by hand from docs/gbasic.md, docs/gloc.md and
 //! the embedded sensor list. Renderings: spans are drawn under their line
 //! (`^^^` with a note; `|` marks an empty span), positions are `line:column`
-//! from 0, edits are shown applied.
+//! from 0, edits are shown applied. Never regenerate them with `UPDATE_EXPECT=1`
+//! without checking each change by hand: an expectation copied from the output
+//! tests nothing.
 
 mod actions;
 mod completion;

@@ -29,9 +29,9 @@ pub enum TokenKind {
     Gt,
     Ge,
     Newline,
-    /// A `'` comment, to the end of its line (without the line end). The parser
-    /// skips these; `rem` is a comment only in statement position, so the parser
-    /// decides that one.
+    /// A comment, to the end of its line (without the line end): from a `'` outside
+    /// a string, or from `rem` as the first word of a line (where a statement
+    /// starts). The parser skips these.
     Comment,
     /// A character that starts no token.
     Unknown,
@@ -44,8 +44,8 @@ pub struct Token {
     pub span: Span,
 }
 
-/// Splits `text` into tokens. A `'` outside a string starts a `Comment` token; `rem`
-/// is left to the parser because it is only a comment in statement position.
+/// Splits `text` into tokens. A `'` outside a string, and `rem` as a line's first
+/// word, start a `Comment` token to the end of the line.
 pub fn lex(text: &str) -> Vec<Token> {
     let bytes = text.as_bytes();
     let mut tokens = Vec::new();
@@ -63,19 +63,7 @@ pub fn lex(text: &str) -> Vec<Token> {
                 continue;
             }
             b'\'' => {
-                while at < bytes.len() && bytes[at] != b'\n' {
-                    at += 1;
-                }
-                // A CRLF line's `\r` ends the line, not the comment's text.
-                let end = if at > start && bytes[at - 1] == b'\r' {
-                    at - 1
-                } else {
-                    at
-                };
-                tokens.push(Token {
-                    kind: TokenKind::Comment,
-                    span: Span::new(start, end),
-                });
+                tokens.push(comment_to_line_end(bytes, start, &mut at));
                 continue;
             }
             b'"' => {
@@ -100,6 +88,13 @@ pub fn lex(text: &str) -> Vec<Token> {
             b'a'..=b'z' | b'A'..=b'Z' | b'_' => {
                 while at < bytes.len() && (bytes[at].is_ascii_alphanumeric() || bytes[at] == b'_') {
                     at += 1;
+                }
+                let first_on_line = tokens
+                    .last()
+                    .is_none_or(|token: &Token| token.kind == TokenKind::Newline);
+                if first_on_line && text[start..at].eq_ignore_ascii_case("rem") {
+                    tokens.push(comment_to_line_end(bytes, start, &mut at));
+                    continue;
                 }
                 TokenKind::Ident
             }
@@ -139,6 +134,23 @@ pub fn lex(text: &str) -> Vec<Token> {
         span: Span::new(bytes.len(), bytes.len()),
     });
     tokens
+}
+
+/// The comment from `start` to the end of its line; a CRLF line's `\r` ends the
+/// line, not the comment.
+fn comment_to_line_end(bytes: &[u8], start: usize, at: &mut usize) -> Token {
+    while *at < bytes.len() && bytes[*at] != b'\n' {
+        *at += 1;
+    }
+    let end = if *at > start && bytes[*at - 1] == b'\r' {
+        *at - 1
+    } else {
+        *at
+    };
+    Token {
+        kind: TokenKind::Comment,
+        span: Span::new(start, end),
+    }
 }
 
 fn single(at: &mut usize, kind: TokenKind) -> TokenKind {
@@ -212,13 +224,19 @@ mod tests {
 
     #[test]
     fn comments_are_tokens_to_the_line_end_and_a_quote_in_a_string_is_none() {
-        let text = "print \"it's\" ' done\r\n' whole line\nx = 1 '";
+        let text =
+            "print \"it's\" ' done\r\n' whole line\nx = 1 '\n  REM old, 'quoted'\r\nremark = 1\nx = rem\n";
         let comments: Vec<&str> = lex(text)
             .into_iter()
             .filter(|token| token.kind == TokenKind::Comment)
             .map(|token| &text[token.span.range()])
             .collect();
-        assert_eq!(comments, ["' done", "' whole line", "'"]);
+        // `rem` is a comment as a line's first word only (`remark` is another word;
+        // after `=` it is a misplaced keyword the parser reports).
+        assert_eq!(
+            comments,
+            ["' done", "' whole line", "'", "REM old, 'quoted'"]
+        );
     }
 
     #[test]

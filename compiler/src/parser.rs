@@ -374,10 +374,6 @@ impl<'a> Parser<'a> {
         let start = self.peek().span;
         let word = self.word_at(0);
         let result = match word.as_deref() {
-            Some("rem") => {
-                self.skip_line();
-                return None;
-            }
             Some("if") => return self.parse_if(),
             Some("while") => return self.parse_while(),
             Some("do") => return self.parse_do(),

@@ -264,40 +264,16 @@ fn collect_tokens(
         }
     }
     let tokens = lexer::lex(text);
-    // On a `rem` line everything after `rem` is its comment.
-    let mut in_rem_line = false;
-    let mut first_on_line = true;
     for token in &tokens {
-        let start = token.span.start as usize;
-        if token.kind == Lexed::Newline {
-            first_on_line = true;
-            in_rem_line = false;
-            continue;
-        }
-        if in_rem_line {
-            continue;
-        }
         if token.kind == Lexed::Comment {
             push(analysis, token.span, TokenKind::Comment, None);
             continue;
         }
         let word = &text[token.span.range()];
         let kind = match &token.kind {
-            Lexed::Ident if first_on_line && word.eq_ignore_ascii_case("rem") => {
-                let end = text[start..].find('\n').map_or(text.len(), |at| start + at);
-                let end = if text[..end].ends_with('\r') {
-                    end - 1
-                } else {
-                    end
-                };
-                push(analysis, Span::new(start, end), TokenKind::Comment, None);
-                in_rem_line = true;
-                continue;
-            }
             Lexed::Ident => match by_span.get(&token.span.start) {
                 Some((kind, sensor)) => {
                     push(analysis, token.span, *kind, *sensor);
-                    first_on_line = false;
                     continue;
                 }
                 None if builtin(word).is_some() && !word.eq_ignore_ascii_case("float") => {
@@ -307,7 +283,6 @@ fn collect_tokens(
                 None => match context.sensors.lookup(word) {
                     Some(id) => {
                         push(analysis, token.span, TokenKind::SensorRead, Some(id));
-                        first_on_line = false;
                         continue;
                     }
                     None => TokenKind::Variable,
@@ -317,17 +292,14 @@ fn collect_tokens(
             Lexed::Str { .. } => TokenKind::String,
             Lexed::Unknown
             | Lexed::Eof
+            | Lexed::Newline
             | Lexed::LParen
             | Lexed::RParen
             | Lexed::Comma
-            | Lexed::Colon => {
-                first_on_line = false;
-                continue;
-            }
+            | Lexed::Colon => continue,
             _ => TokenKind::Operator,
         };
         push(analysis, token.span, kind, None);
-        first_on_line = false;
     }
     analysis.tokens.sort_by_key(|token| token.span.start);
 }
@@ -414,7 +386,6 @@ fn position(text: &str, offset: usize) -> Position {
         .collect();
     let last_symbol = complete.trim_end().chars().last();
     match words.last().map(String::as_str) {
-        _ if words.first().is_some_and(|word| word == "rem") => Position::Nothing,
         Some("goto") => Position::Label,
         Some("as") => Position::Type,
         Some("dim" | "const" | "label") => Position::Nothing,
@@ -665,7 +636,7 @@ pub fn format(text: &str) -> Option<String> {
             || matches!(first, "while" | "for")
             || (first == "do")
             || reopens;
-        if opens && first != "rem" {
+        if opens {
             depth += 1;
         }
     }

@@ -55,3 +55,15 @@ fn gloc_label_sections() {
         "#]],
     );
 }
+
+#[test]
+fn gbasic_crlf_lines_fold_alike() {
+    check_folding(
+        Gbasic,
+        "label: top\r\nwhile 1\r\n  yield\r\nwend\r\ngoto top\r\n",
+        expect![[r#"
+            0..=4: label: top
+            1..=3: while 1
+        "#]],
+    );
+}

@@ -135,3 +135,17 @@ fn gloc_numbers_and_strings() {
         "#]],
     );
 }
+
+#[test]
+fn gbasic_comments_end_before_a_crlf() {
+    // The `\r` of a CRLF line end is no part of either comment form.
+    check_tokens(
+        Gbasic,
+        "rem top\r\nyield ' wait\r\n",
+        expect![[r#"
+            0:0 rem top Comment
+            1:0 yield Keyword
+            1:6 ' wait Comment
+        "#]],
+    );
+}

@@ -1437,3 +1437,34 @@ fn a_trap_summary_names_the_line_the_stop_named() {
     assert!(summary.contains("line 5"), "{summary}");
     assert!(!summary.contains("line 7"), "{summary}");
 }
+
+#[test]
+fn an_array_index_out_of_bounds_is_named_as_gloc_run_names_it() {
+    // `print a(i)` with i = 5 and `dim a(4)` is line 5 (by hand); compiled GBASIC
+    // checks the index by reading address -1, which `gloc run` calls an array index
+    // out of bounds (cli/src/simulate.rs, through `LoadedScript::trap_message`).
+    let program = fixture("bounds.gbas");
+    let mut client = start(json!({ "program": program, "maxCycles": 2 }));
+    client.ok("configurationDone", json!({}));
+    let stop = stopped(&mut client);
+    let text = stop["text"].as_str().unwrap_or_default().to_string();
+    assert!(
+        text.starts_with("array index out of bounds at line 5 "),
+        "{text}"
+    );
+    let info = client.ok("exceptionInfo", json!({ "threadId": 1 }));
+    assert!(
+        info["description"]
+            .as_str()
+            .unwrap_or_default()
+            .starts_with("array index out of bounds"),
+        "{info}"
+    );
+    client.ok("continue", json!({ "threadId": 1 }));
+    client.event("terminated");
+    let summary = cut_short_summary(&client);
+    assert!(
+        summary.contains("script trapped: array index out of bounds at line 5 "),
+        "{summary}"
+    );
+}

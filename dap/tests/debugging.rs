@@ -1468,3 +1468,25 @@ fn an_array_index_out_of_bounds_is_named_as_gloc_run_names_it() {
         "{summary}"
     );
 }
+
+#[test]
+fn prints_from_two_sites_name_their_own_lines_in_a_fused_run() {
+    // prints.gbas (by hand): `print "odd", n, i` is on line 9, `print "third", n` on
+    // line 11. In cycle c (n = c + 1), i from 1 to 3 prints when n + i is odd; a third
+    // line follows when n is a multiple of 3.
+    let program = fixture("prints.gbas");
+    let mut client = start(json!({ "program": program, "maxCycles": 3 }));
+    client.ok("configurationDone", json!({}));
+    client.event("terminated");
+    let expected: Vec<(String, Option<i64>)> = [
+        ("odd 1 2\n", 9),
+        ("odd 2 1\n", 9),
+        ("odd 2 3\n", 9),
+        ("odd 3 2\n", 9),
+        ("third 3\n", 11),
+    ]
+    .into_iter()
+    .map(|(text, line)| (text.to_string(), Some(line)))
+    .collect();
+    assert_eq!(printed_lines(&client), expected);
+}

@@ -66,6 +66,74 @@ pub fn parse(text: &str) -> Parsed {
     }
 }
 
+/// One expression alone (a debugger's condition, watch or hover), parsed by the same
+/// rules as in a script; `expr` is `None` when it has a syntax error.
+#[derive(Clone, Debug, Default)]
+pub struct ParsedExpression {
+    pub expr: Option<Expr>,
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+/// Parses `text` as one GBASIC expression: anything after it is an error.
+pub fn parse_expression(text: &str) -> ParsedExpression {
+    if let Some(diagnostic) = gloc_engine::gloc::source_too_large(text) {
+        return ParsedExpression {
+            expr: None,
+            diagnostics: vec![diagnostic],
+        };
+    }
+    let mut parser = Parser {
+        text,
+        tokens: lex(text),
+        pos: 0,
+        diagnostics: Vec::new(),
+        open: Vec::new(),
+        expression_depth: 0,
+    };
+    if parser.peek().kind == TokenKind::Eof {
+        parser.diagnostics.push(Diagnostic::error(
+            codes::SYNTAX,
+            Span::default(),
+            "the expression is empty",
+        ));
+        return ParsedExpression {
+            expr: None,
+            diagnostics: parser.diagnostics,
+        };
+    }
+    let expr = parser.parse_expr();
+    if expr.is_some() && parser.peek().kind != TokenKind::Eof {
+        let token = parser.peek().clone();
+        let found = parser.describe(&token);
+        let mut diagnostic = Diagnostic::error(
+            codes::SYNTAX,
+            token.span,
+            format!("unexpected {found} after the expression"),
+        );
+        if let Some(help) = operator_hint(parser.slice(token.span)) {
+            diagnostic = diagnostic.with_help(help);
+        }
+        parser.diagnostics.push(diagnostic);
+    }
+    let has_errors = parser.diagnostics.iter().any(Diagnostic::is_error);
+    ParsedExpression {
+        expr: expr.filter(|_| !has_errors),
+        diagnostics: parser.diagnostics,
+    }
+}
+
+/// GBASIC's spelling of an operator written as in C (`&&`, `!=`, `%`), for a hint.
+fn operator_hint(found: &str) -> Option<&'static str> {
+    Some(match found {
+        "&" | "&&" => "GBASIC writes `and`",
+        "|" | "||" => "GBASIC writes `or`",
+        "!" => "GBASIC writes `not`, and `<>` for `!=`",
+        "%" => "GBASIC writes `mod`",
+        "=" | "==" => "GBASIC compares with a single `=`",
+        _ => return None,
+    })
+}
+
 /// A word that ends (or continues) a block.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Closer {
@@ -245,11 +313,15 @@ impl<'a> Parser<'a> {
     fn error_here(&mut self, expected: &str) {
         let token = self.peek().clone();
         let found = self.describe(&token);
-        self.diagnostics.push(Diagnostic::error(
+        let mut diagnostic = Diagnostic::error(
             codes::SYNTAX,
             token.span,
             format!("expected {expected}, found {found}"),
-        ));
+        );
+        if let Some(help) = operator_hint(self.slice(token.span)) {
+            diagnostic = diagnostic.with_help(help);
+        }
+        self.diagnostics.push(diagnostic);
     }
 
     /// Ends a statement: anything left on the line is an error (reported once).
@@ -1339,11 +1411,15 @@ impl<'a> Parser<'a> {
             }
             TokenKind::Unknown => {
                 let text = self.slice(token.span).to_string();
-                self.diagnostics.push(Diagnostic::error(
+                let mut diagnostic = Diagnostic::error(
                     codes::BAD_CHARACTER,
                     token.span,
                     format!("unexpected character `{text}`"),
-                ));
+                );
+                if let Some(help) = operator_hint(&text) {
+                    diagnostic = diagnostic.with_help(help);
+                }
+                self.diagnostics.push(diagnostic);
                 None
             }
             _ => {

@@ -39,6 +39,7 @@ pub fn parse(text: &str) -> Parsed {
         diagnostics: Vec::new(),
         open: Vec::new(),
         expression_depth: 0,
+        end_name: "the end of the file",
     };
     let mut body = Vec::new();
     loop {
@@ -89,6 +90,7 @@ pub fn parse_expression(text: &str) -> ParsedExpression {
         diagnostics: Vec::new(),
         open: Vec::new(),
         expression_depth: 0,
+        end_name: "the end of the expression",
     };
     if parser.peek().kind == TokenKind::Eof {
         parser.diagnostics.push(Diagnostic::error(
@@ -199,6 +201,8 @@ struct Parser<'a> {
     open: Vec<BlockKind>,
     /// Expression nesting (parentheses, unary operators, call arguments) under way.
     expression_depth: usize,
+    /// What the end of the text is called in messages (a file, or a lone expression).
+    end_name: &'static str,
 }
 
 /// Deeper nesting is refused with a diagnostic, so no input can exhaust the stack
@@ -304,7 +308,7 @@ impl<'a> Parser<'a> {
     fn describe(&self, token: &Token) -> String {
         match token.kind {
             TokenKind::Newline => "the end of the line".to_string(),
-            TokenKind::Eof => "the end of the file".to_string(),
+            TokenKind::Eof => self.end_name.to_string(),
             TokenKind::Str { .. } => "a string".to_string(),
             _ => format!("`{}`", self.slice(token.span)),
         }

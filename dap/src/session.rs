@@ -13,12 +13,13 @@ use crate::debugger::{
     Clock, CycleBreakpoint, CycleBreakpointKind, DataBreakpoint, Debugger, Edit, ExceptionFilters,
     HistoryConfig, HitCondition, InstructionBreakpoint, LineBreakpoint, Progress, RunMode, Stop,
 };
-use crate::expr::Number;
+use crate::expr::Watched;
 use crate::program::Language;
 use crate::protocol::{Malformed, Request, Writer};
 use crate::target::{Named, Phase, Target};
 use crate::types::*;
 use crate::world::{self, LaunchConfig, World};
+use gloc_compiler::typed::Ty;
 
 pub const THREAD_ID: i64 = 1;
 const FRAME_ID: i64 = 1;
@@ -612,7 +613,7 @@ impl Session {
                         "Variables",
                         Some("locals"),
                         SCOPE_VARIABLES,
-                        target.variables().len(),
+                        target.variables().len() + launched.debugger.info.scope.constants().len(),
                     ),
                     scope(
                         "Registers",
@@ -651,13 +652,30 @@ impl Session {
             "evaluate" => {
                 let arguments: EvaluateArguments = arguments(request)?;
                 let launched = self.launched_mut()?;
-                let value = launched.debugger.evaluate(&arguments.expression)?;
-                self.writer
-                    .respond(
-                        request,
-                        json!({ "result": value.to_string(), "type": value.type_name(), "variablesReference": 0 }),
-                    )
-                    .map_err(io_error)?;
+                let body = match launched.debugger.watch(&arguments.expression)? {
+                    Watched::Value(value) => json!({
+                        "result": value.to_string(),
+                        "type": crate::expr::type_name(value),
+                        "variablesReference": 0
+                    }),
+                    Watched::Array { name, shown } => {
+                        let variables = launched.debugger.target.variables();
+                        let position = variables.iter().position(|named| named.name == name);
+                        let length = position
+                            .and_then(|position| variables[position].length)
+                            .unwrap_or(0);
+                        json!({
+                            "result": shown,
+                            "type": variables
+                                .iter()
+                                .find(|named| named.name == name)
+                                .map_or("array", |named| named.ty),
+                            "variablesReference": position.map_or(0, |position| ARRAYS + position as i64),
+                            "indexedVariables": length
+                        })
+                    }
+                };
+                self.writer.respond(request, body).map_err(io_error)?;
             }
             "exceptionInfo" => {
                 let launched = self.launched_mut()?;
@@ -1303,16 +1321,13 @@ fn redact_quotes(text: &str) -> String {
 }
 
 /// Why a breakpoint condition can never be evaluated (a syntax error, an unknown
-/// name), checked on the current values; a division by zero on them is not a
-/// reason, since other values may not divide by zero.
+/// name, a type error); a division by zero on the current values is not a reason,
+/// since other values may not divide by zero, so it is checked, not evaluated.
 fn condition_error(debugger: &Debugger<World>, condition: &str) -> Option<String> {
-    match debugger.evaluate(condition) {
-        Ok(_) => None,
-        Err(message) if message == crate::expr::DIVISION_BY_ZERO => None,
-        Err(message) => Some(format!(
-            "the condition `{condition}` is not valid: {message}"
-        )),
-    }
+    debugger
+        .check_expression(condition)
+        .err()
+        .map(|message| format!("the condition `{condition}` is not valid: {message}"))
 }
 
 /// Compares a token with the expected one in time that does not depend on where
@@ -1404,7 +1419,7 @@ fn scope(name: &str, hint: Option<&str>, reference: i64, count: usize) -> Scope 
 
 fn plain(named: Named) -> Variable {
     Variable {
-        evaluate_name: Some(named.name.clone()),
+        evaluate_name: named.evaluate_name,
         name: named.name,
         value: named.value,
         ty: Some(named.ty.into()),
@@ -1446,6 +1461,19 @@ fn variables(
                 }
                 variable
             })
+            // The script's constants after its variables (so array positions hold).
+            .chain(debugger.info.scope.constants().iter().map(|constant| {
+                plain(Named {
+                    name: constant.name.clone(),
+                    value: constant.value.clone(),
+                    ty: match constant.ty {
+                        Ty::Float => "float constant",
+                        _ => "integer constant",
+                    },
+                    length: None,
+                    evaluate_name: Some(constant.name.clone()),
+                })
+            }))
             .collect(),
         reference if reference >= ARRAYS => {
             let position = usize::try_from(reference - ARRAYS).unwrap_or(usize::MAX);
@@ -1492,7 +1520,7 @@ fn variables(
             .map(|(index, value)| Variable {
                 name: format!("r{index}"),
                 value: value.to_string(),
-                ty: Some(value.type_name().into()),
+                ty: Some(crate::expr::type_name(value).into()),
                 variables_reference: 0,
                 named_variables: None,
                 indexed_variables: None,
@@ -1546,13 +1574,24 @@ fn set_variable(
     debugger: &mut Debugger<World>,
     arguments: &SetVariableArguments,
 ) -> Result<String, String> {
-    let value = match Number::parse(&arguments.value) {
-        Some(value) => value,
-        None => debugger
-            .evaluate(&arguments.value)
-            .map_err(|message| format!("`{}` is not a value: {message}", arguments.value))?,
-    };
+    // A GBASIC expression, as the right side of an assignment in the script.
+    let value = debugger
+        .evaluate(&arguments.value)
+        .map_err(|message| format!("`{}` is not a value: {message}", arguments.value))?;
     match arguments.variables_reference {
+        SCOPE_VARIABLES
+            if debugger
+                .info
+                .scope
+                .constants()
+                .iter()
+                .any(|constant| constant.name.eq_ignore_ascii_case(&arguments.name)) =>
+        {
+            Err(format!(
+                "`{}` is a constant; change its `const` line and restart",
+                arguments.name
+            ))
+        }
         SCOPE_VARIABLES => {
             debugger.edit(Edit::Variable(arguments.name.clone(), value))?;
             debugger

@@ -336,6 +336,7 @@ mod tests {
         assert_eq!(error("1 \\ (state - 2)"), "integer division by zero");
         assert!(error(&"(".repeat(100_000)).contains("nested"));
         assert!(error(&vec!["1"; 1000].join(" + ")).contains("deep"));
+        assert!(error(&"1+".repeat(40_000)).contains("at most 65536"));
         assert!(error("a").contains("array"));
         assert!(error("NBINS(1)").contains("constant"));
     }

@@ -75,12 +75,23 @@ pub struct ParsedExpression {
     pub diagnostics: Vec<Diagnostic>,
 }
 
+/// The longest expression [`parse_expression`] reads: a condition or a watch is a
+/// line, and the limit bounds the memory a hostile one can take.
+pub const MAX_EXPRESSION_BYTES: usize = 1 << 16;
+
 /// Parses `text` as one GBASIC expression: anything after it is an error.
 pub fn parse_expression(text: &str) -> ParsedExpression {
-    if let Some(diagnostic) = gloc_engine::gloc::source_too_large(text) {
+    if text.len() > MAX_EXPRESSION_BYTES {
         return ParsedExpression {
             expr: None,
-            diagnostics: vec![diagnostic],
+            diagnostics: vec![Diagnostic::error(
+                codes::EXPRESSION_TOO_LONG,
+                Span::default(),
+                format!(
+                    "the expression is {} bytes; an expression is at most {MAX_EXPRESSION_BYTES}",
+                    text.len()
+                ),
+            )],
         };
     }
     let mut parser = Parser {

@@ -334,7 +334,9 @@ mod tests {
         assert!(error("a(5)").contains("out of bounds"));
         assert_eq!(error("a(state + 2)"), "index 4 is outside `a` (0 to 2)");
         assert_eq!(error("1 \\ (state - 2)"), "integer division by zero");
-        assert!(error(&"(".repeat(100_000)).contains("nested"));
+        assert!(error(&"(".repeat(60_000)).contains("nested"));
+        assert!(error(&"-".repeat(60_000)).contains("nested"));
+        assert!(error(&"not ".repeat(16_000)).contains("nested"));
         assert!(error(&vec!["1"; 1000].join(" + ")).contains("deep"));
         assert!(error(&"1+".repeat(40_000)).contains("at most 65536"));
         assert!(error("a").contains("array"));

@@ -517,6 +517,44 @@ fn every_evaluate_name_of_the_thermocline_tracker_evaluates_to_its_value() {
     every_evaluate_name_evaluates(&mut client, "next boundary");
 }
 
+#[test]
+fn every_evaluate_name_of_a_replayed_deployment_evaluates_to_its_value() {
+    // comet's real logs (../shared/data): the Vehicle scope shows recorded sensors.
+    let shared = root().join("../shared/data");
+    let logs = shared.join("comet/from-glider/comet-2019-222-02-154");
+    let mut client = Client::start();
+    client.ok(
+        "initialize",
+        json!({ "adapterID": "gloc", "linesStartAt1": true }),
+    );
+    client.ok(
+        "launch",
+        json!({
+            "program": root().join("dap/tests/fixtures/fig3.gbas"),
+            "replay": [logs.with_extension("dbd"), logs.with_extension("ebd")],
+            "sensorCache": shared.join("cac"),
+        }),
+    );
+    client.event("initialized");
+    client.ok(
+        "setFunctionBreakpoints",
+        json!({ "breakpoints": [{ "name": "cycle 40" }] }),
+    );
+    client.ok("configurationDone", json!({}));
+    stopped(&mut client);
+    let count = every_evaluate_name_evaluates(&mut client, "replay cycle 40");
+    let names: Vec<String> = walk_every_scope(&mut client)
+        .into_iter()
+        .map(|(name, _, _)| name)
+        .collect();
+    for expected in ["m_depth", "m_pitch", "sci_water_temp", "state1"] {
+        let handed_out = names.iter().any(|name| name == expected);
+        // `state1` is a label of fig3.gbas, not a value: never handed out.
+        assert_eq!(handed_out, expected != "state1", "`{expected}`: {names:?}");
+    }
+    assert!(count > 100, "{count}");
+}
+
 // ---------------------------------------------------------------------------------------
 // The cases found: the old evaluator's rules against the script's
 

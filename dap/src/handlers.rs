@@ -10,7 +10,7 @@ use serde::de::IgnoredAny;
 
 use crate::debugger::{Debugger, Edit, RunMode, Stop, StopReason};
 use crate::dispatch::{Dispatcher, Failure};
-use crate::expr::Number;
+use crate::expr::Watched;
 use crate::program::Language;
 use crate::session::{
     address, capabilities, parse_address, source_of, LaunchArguments, RestartArguments, Running,
@@ -20,6 +20,7 @@ use crate::session::{
 use crate::target::{Named, Phase, Target};
 use crate::types::*;
 use crate::world::World;
+use gloc_compiler::typed::Ty;
 
 type Answer<T> = Result<T, Failure>;
 
@@ -364,14 +365,15 @@ fn stack_trace(session: &mut Session, arguments: StackTraceArguments) -> Answer<
 }
 
 fn scopes(session: &mut Session, _: ScopesArguments) -> Answer<ScopesBody> {
-    let target = &session.launched_mut()?.debugger.target;
+    let debugger = &session.launched_mut()?.debugger;
+    let target = &debugger.target;
     Ok(ScopesBody {
         scopes: vec![
             scope(
                 "Variables",
                 Some("locals"),
                 SCOPE_VARIABLES,
-                target.variables().len(),
+                target.variables().len() + debugger.info.scope.constants().len(),
             ),
             scope(
                 "Registers",
@@ -405,14 +407,28 @@ fn set_variable(session: &mut Session, arguments: SetVariableArguments) -> Answe
 }
 
 fn evaluate(session: &mut Session, arguments: EvaluateArguments) -> Answer<EvaluateBody> {
-    let value = session
-        .launched_mut()?
-        .debugger
-        .evaluate(&arguments.expression)?;
-    Ok(EvaluateBody {
-        result: value.to_string(),
-        ty: value.type_name().into(),
-        variables_reference: 0,
+    let debugger = &session.launched_mut()?.debugger;
+    Ok(match debugger.watch(&arguments.expression)? {
+        Watched::Value(value) => EvaluateBody {
+            result: value.to_string(),
+            ty: crate::expr::type_name(value).into(),
+            variables_reference: 0,
+            indexed_variables: None,
+        },
+        // A whole array: shown as the Variables view shows it, expandable.
+        Watched::Array { name, shown } => {
+            let variables = debugger.target.variables();
+            let position = variables.iter().position(|named| named.name == name);
+            let named = position.and_then(|position| variables.get(position));
+            EvaluateBody {
+                result: shown,
+                ty: named.map_or("array", |named| named.ty).into(),
+                variables_reference: position.map_or(0, |position| ARRAYS + position as i64),
+                indexed_variables: named
+                    .and_then(|named| named.length)
+                    .map(|length| length as i64),
+            }
+        }
     })
 }
 
@@ -495,7 +511,7 @@ fn scope(name: &str, hint: Option<&str>, reference: i64, count: usize) -> Scope 
 
 fn plain(named: Named) -> Variable {
     Variable {
-        evaluate_name: Some(named.name.clone()),
+        evaluate_name: named.evaluate_name,
         name: named.name,
         value: named.value,
         ty: Some(named.ty.into()),
@@ -537,6 +553,19 @@ fn variable_list(
                 }
                 variable
             })
+            // The script's constants after its variables (so array positions hold).
+            .chain(debugger.info.scope.constants().iter().map(|constant| {
+                plain(Named {
+                    name: constant.name.clone(),
+                    value: constant.value.clone(),
+                    ty: match constant.ty {
+                        Ty::Float => "float constant",
+                        _ => "integer constant",
+                    },
+                    length: None,
+                    evaluate_name: Some(constant.name.clone()),
+                })
+            }))
             .collect(),
         reference if reference >= ARRAYS => {
             let position = usize::try_from(reference - ARRAYS).unwrap_or(usize::MAX);
@@ -583,7 +612,7 @@ fn variable_list(
             .map(|(index, value)| Variable {
                 name: format!("r{index}"),
                 value: value.to_string(),
-                ty: Some(value.type_name().into()),
+                ty: Some(crate::expr::type_name(value).into()),
                 variables_reference: 0,
                 named_variables: None,
                 indexed_variables: None,
@@ -637,13 +666,24 @@ fn set_value(
     debugger: &mut Debugger<World>,
     arguments: &SetVariableArguments,
 ) -> Result<String, String> {
-    let value = match Number::parse(&arguments.value) {
-        Some(value) => value,
-        None => debugger
-            .evaluate(&arguments.value)
-            .map_err(|message| format!("`{}` is not a value: {message}", arguments.value))?,
-    };
+    // A GBASIC expression, as the right side of an assignment in the script.
+    let value = debugger
+        .evaluate(&arguments.value)
+        .map_err(|message| format!("`{}` is not a value: {message}", arguments.value))?;
     match arguments.variables_reference {
+        SCOPE_VARIABLES
+            if debugger
+                .info
+                .scope
+                .constants()
+                .iter()
+                .any(|constant| constant.name.eq_ignore_ascii_case(&arguments.name)) =>
+        {
+            Err(format!(
+                "`{}` is a constant; change its `const` line and restart",
+                arguments.name
+            ))
+        }
         SCOPE_VARIABLES => {
             debugger.edit(Edit::Variable(arguments.name.clone(), value))?;
             debugger

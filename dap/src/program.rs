@@ -5,6 +5,7 @@ use std::collections::{BTreeSet, HashMap};
 use std::path::PathBuf;
 use std::sync::Arc;
 
+use gloc_compiler::expression::ExpressionScope;
 use gloc_compiler::LoadedScript;
 use gloc_engine::program::{Flow, Program};
 
@@ -79,6 +80,9 @@ pub struct DebugInfo {
     /// Lines of the source as an editor shows them (the empty line after a final
     /// newline included), when known: a breakpoint past them is refused.
     pub source_lines: Option<u32>,
+    /// The names the debugger's expressions may use: the script's variables and
+    /// constants and the sensor list (empty until [`DebugInfo::with_scope`]).
+    pub scope: ExpressionScope,
 }
 
 impl DebugInfo {
@@ -99,6 +103,7 @@ impl DebugInfo {
             flow: Vec::new(),
             label_pcs: Vec::new(),
             source_lines: None,
+            scope: ExpressionScope::new(Arc::default()),
         };
         info.line_entry = info.line_entries();
         info
@@ -118,6 +123,12 @@ impl DebugInfo {
             .map(|pc| pc.index())
             .collect();
         self.line_entry = self.line_entries();
+        self
+    }
+
+    /// Sets the names the debugger's expressions may use.
+    pub fn with_scope(mut self, scope: ExpressionScope) -> DebugInfo {
+        self.scope = scope;
         self
     }
 

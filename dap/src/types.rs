@@ -414,6 +414,9 @@ pub struct EvaluateBody {
     #[serde(rename = "type")]
     pub ty: String,
     pub variables_reference: i64,
+    /// For a whole array: its number of elements (fetched as indexed children).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub indexed_variables: Option<i64>,
 }
 
 #[derive(Debug, Serialize, Clone)]

@@ -5,6 +5,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+use gloc_compiler::expression::{scope_of_source_map, ExpressionScope};
 use gloc_compiler::loader::load_script_written_for;
 use gloc_compiler::{Language as ScriptLanguage, LoadOptions, LoadedScript, Storage};
 use gloc_engine::program::{Pc, Program, Reg, Value};
@@ -101,13 +102,22 @@ pub(crate) struct DebugScript {
 /// recording, with `replay`), and opens cycle 0.
 pub fn launch(config: &LaunchConfig) -> Result<(World, DebugInfo), String> {
     let script = load_debug_script(config)?;
-    let info = debug_info(&script);
+    let info = debug_info(&script).with_scope(expression_scope(&script));
     let world = if config.replay.is_empty() {
         World::Sim(launch_sim(config, script)?)
     } else {
         World::Replay(ReplayWorld::launch(config, script)?)
     };
     Ok((world, info))
+}
+
+/// The names a GBASIC script's expressions use: its symbols (from the source map) and
+/// the sensor list; a GLOC script has only the sensors (and, in the debugger, registers).
+fn expression_scope(script: &DebugScript) -> ExpressionScope {
+    match &script.loaded.source_map {
+        Some(map) => scope_of_source_map(map, script.sensor_list.clone()),
+        None => ExpressionScope::new(script.sensor_list.clone()),
+    }
 }
 
 fn load_debug_script(config: &LaunchConfig) -> Result<DebugScript, String> {
@@ -476,6 +486,7 @@ pub(crate) fn variables_of(machine: Option<&Machine>, slots: &[VariableSlot]) ->
                     value: value.to_string(),
                     ty: if variable.float { "float" } else { "integer" },
                     length: None,
+                    evaluate_name: Some(variable.name.clone()),
                 }
             }
             Storage::Memory { base, size } => {
@@ -484,7 +495,7 @@ pub(crate) fn variables_of(machine: Option<&Machine>, slots: &[VariableSlot]) ->
                     .iter()
                     .skip(base as usize)
                     .take(size as usize)
-                    .map(Value::to_string)
+                    .map(|cell| typed_cell(variable, *cell).to_string())
                     .collect();
                 Named {
                     name: variable.name.clone(),
@@ -495,6 +506,7 @@ pub(crate) fn variables_of(machine: Option<&Machine>, slots: &[VariableSlot]) ->
                         "integer array"
                     },
                     length: Some(size as usize),
+                    evaluate_name: Some(variable.name.clone()),
                 }
             }
         })
@@ -560,8 +572,17 @@ pub(crate) fn element_of(
     machine?
         .memory()
         .get((base + index) as usize)
-        .copied()
-        .map(to_number)
+        .map(|cell| typed_cell(variable, *cell))
+}
+
+/// A memory cell as the script reads it: cells never written hold integer 0, and a
+/// float array's read converts (`0.0`), as the compiled `loadm; i2d` does.
+fn typed_cell(variable: &VariableSlot, cell: Value) -> Number {
+    if variable.float {
+        Value::Float(cell.as_f64())
+    } else {
+        cell
+    }
 }
 
 pub(crate) fn set_element_in(
@@ -586,18 +607,18 @@ pub(crate) fn set_element_in(
         .map_err(|error| error.to_string())
 }
 
-/// Keeps a variable's declared type, as an assignment in the script would.
+/// Keeps a variable's declared type by GBASIC's assignment rule: an integer widens
+/// into a float variable; a float is refused by an integer one (as the checker
+/// refuses `i = 2.0`).
 fn typed_value(variable: &VariableSlot, value: Number) -> Result<Value, String> {
     if variable.float {
         return Ok(Value::Float(value.as_f64()));
     }
     match value {
         Number::Int(value) => Ok(Value::Int(value)),
-        Number::Float(value) if value.fract() == 0.0 && value.abs() < 9.0e15 => {
-            Ok(Value::Int(value as i64))
-        }
         Number::Float(value) => Err(format!(
-            "`{}` is an integer variable; {value:?} is not a whole number",
+            "`{}` is an integer variable, and {value:?} is a float (convert with `int(…)`, \
+             which truncates toward zero)",
             variable.name
         )),
     }
@@ -772,6 +793,20 @@ impl Target for SimWorld {
             value,
             ty,
             length: None,
+            evaluate_name: None,
+        };
+        // The vehicle's state, named by the sensor the simulator writes it to at each
+        // boundary while the sensor holds exactly the value shown.
+        let mirrored = |name: &str, value: f64, sensor: &str| {
+            let shown = format!("{value:?}");
+            let evaluate_name = self
+                .sensor_index(sensor)
+                .filter(|index| format!("{:?}", self.sensor(*index)) == shown)
+                .map(|_| sensor.to_string());
+            Named {
+                evaluate_name,
+                ..named(name, shown, "float")
+            }
         };
         let active: Vec<&str> = self.sim.active_behaviors().collect();
         let phase = match self.sim.phase() {
@@ -789,13 +824,9 @@ impl Target for SimWorld {
                 format!("{:?}", self.sim.time()),
                 "float",
             ),
-            named(
-                "m_present_time",
-                format!("{:?}", self.sim.present_time()),
-                "float",
-            ),
-            named("depth (m)", format!("{:?}", self.sim.depth()), "float"),
-            named("pitch (rad)", format!("{:?}", self.sim.pitch()), "float"),
+            mirrored("m_present_time", self.sim.present_time(), "m_present_time"),
+            mirrored("depth (m)", self.sim.depth(), "m_depth"),
+            mirrored("pitch (rad)", self.sim.pitch(), "m_pitch"),
             named(
                 "pitch (deg)",
                 format!("{:.2}", self.sim.pitch().to_degrees()),
@@ -812,11 +843,7 @@ impl Target for SimWorld {
                 format!("{:.4}", self.sim.amp_hours()),
                 "float",
             ),
-            named(
-                "water depth (m)",
-                format!("{:?}", self.sim.water_depth()),
-                "float",
-            ),
+            mirrored("water depth (m)", self.sim.water_depth(), "m_water_depth"),
         ]
     }
 }

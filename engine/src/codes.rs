@@ -101,6 +101,7 @@ registry! {
         BAD_NEXT = "E2007", Error, "`next V` that does not match the loop variable";
         TOO_DEEP = "E2008", Error, "blocks, parentheses or prefix operators nested more than 100 levels deep";
         EXPRESSION_TOO_DEEP = "E2009", Error, "an expression more than 256 operators deep: each term of a chain `1 + 1 + …` is a level; split it into several assignments";
+        EXPRESSION_TOO_LONG = "E2010", Error, "a debugger expression (condition, watch, logpoint, `setVariable` value) longer than 64 KiB";
         UNDECLARED = "E2101", Error, "a name that is neither declared nor a sensor (\"did you mean\")";
         DUPLICATE = "E2102", Error, "a name declared twice, or reusing a sensor's or built-in's name";
         UNDEFINED_LABEL = "E2103", Error, "`goto` to an undefined label";

@@ -12,16 +12,31 @@ use crate::analysis::{
     Analysis, Completion, CompletionKind, Context, Signature, Symbol, TokenKind,
 };
 use crate::Language;
-use crate::{gbasic_lang, gloc_lang};
+use crate::{gbasic_lang, gloc_lang, mission};
 
 /// Code of the diagnostic shown when the core panicked on a document.
 pub const CODE_INTERNAL_ERROR: &str = "E0999";
 
 pub fn analyze(language: Language, text: &str, context: &Context) -> Analysis {
+    analyze_at(language, text, None, context)
+}
+
+/// As [`analyze`], for the document at `path`: a mission reads the `.ma` files
+/// beside it (`../mafiles/`), as `gloc run` does.
+pub fn analyze_at(
+    language: Language,
+    text: &str,
+    path: Option<&Path>,
+    context: &Context,
+) -> Analysis {
     let outcome = catch_unwind(AssertUnwindSafe(|| match language {
         Language::Gloc => gloc_lang::analyze(text, context),
         Language::Gbasic => gbasic_lang::analyze(text, context),
         Language::Config => Analysis::default(),
+        Language::Mission | Language::MissionArgs => match language.mission_file() {
+            Some(kind) => mission::analyze(kind, text, path, &context.sensors),
+            None => Analysis::default(),
+        },
     }));
     outcome.unwrap_or_else(|_| Analysis {
         diagnostics: vec![Diagnostic::error(
@@ -44,6 +59,10 @@ pub fn completions(
         Language::Gloc => gloc_lang::completions(text, offset, analysis, context),
         Language::Gbasic => gbasic_lang::completions(text, offset, analysis, context),
         Language::Config => Vec::new(),
+        Language::Mission | Language::MissionArgs => match language.mission_file() {
+            Some(kind) => mission::completions(kind, text, offset, &context.sensors),
+            None => Vec::new(),
+        },
     }))
     .unwrap_or_default()
 }
@@ -53,7 +72,7 @@ pub fn word_markdown(language: Language, word: &str, kind: TokenKind) -> Option<
     match language {
         Language::Gloc => gloc_lang::word_markdown(word, kind),
         Language::Gbasic => gbasic_lang::word_markdown(word, kind),
-        Language::Config => None,
+        Language::Config | Language::Mission | Language::MissionArgs => None,
     }
 }
 
@@ -61,7 +80,7 @@ pub fn signature(language: Language, text: &str, offset: usize) -> Option<Signat
     catch_unwind(AssertUnwindSafe(|| match language {
         Language::Gloc => gloc_lang::signature(text, offset),
         Language::Gbasic => gbasic_lang::signature(text, offset),
-        Language::Config => None,
+        Language::Config | Language::Mission | Language::MissionArgs => None,
     }))
     .ok()
     .flatten()
@@ -80,6 +99,9 @@ pub fn check_new_name(
         Language::Gloc => gloc_lang::check_new_name(symbol, new_name, analysis, text),
         Language::Gbasic => gbasic_lang::check_new_name(symbol, new_name, analysis, context),
         Language::Config => Err("nothing to rename in gloc.toml".to_string()),
+        Language::Mission | Language::MissionArgs => {
+            Err("nothing to rename in a mission file".to_string())
+        }
     }
 }
 
@@ -90,6 +112,7 @@ pub fn format(language: Language, text: &str) -> Option<String> {
         Language::Gloc => gloc_lang::format(text),
         Language::Gbasic => gbasic_lang::format(text),
         Language::Config => None,
+        Language::Mission | Language::MissionArgs => mission::format(text),
     }))
     .ok()
     .flatten()

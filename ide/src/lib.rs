@@ -8,6 +8,7 @@ pub mod analysis;
 pub mod gbasic_lang;
 pub mod gloc_lang;
 pub mod lang;
+pub mod mission;
 
 /// The languages the editor tooling answers for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -16,15 +17,30 @@ pub enum Language {
     Gbasic,
     /// A `gloc.toml`: only its problems are reported.
     Config,
+    /// A Slocum mission file (`.mi`).
+    Mission,
+    /// A Slocum mission argument file (`.ma`).
+    MissionArgs,
 }
 
 impl Language {
+    /// The mission language this is, if it is one.
+    pub fn mission_file(self) -> Option<mission::MissionFile> {
+        match self {
+            Language::Mission => Some(mission::MissionFile::Mission),
+            Language::MissionArgs => Some(mission::MissionFile::Args),
+            _ => None,
+        }
+    }
+
     /// From an editor's language id, falling back to the file's path (or URI
     /// path) extension.
     pub fn detect(language_id: &str, path: &str) -> Option<Language> {
         match language_id.to_ascii_lowercase().as_str() {
             "gloc" => return Some(Language::Gloc),
             "gbasic" | "gbas" => return Some(Language::Gbasic),
+            "slocum_mission" => return Some(Language::Mission),
+            "slocum_ma" => return Some(Language::MissionArgs),
             _ => {}
         }
         let path = path.to_ascii_lowercase();
@@ -32,6 +48,10 @@ impl Language {
             Some(Language::Gloc)
         } else if path.ends_with(".gbas") || path.ends_with(".gbasic") {
             Some(Language::Gbasic)
+        } else if path.ends_with(".mi") {
+            Some(Language::Mission)
+        } else if path.ends_with(".ma") {
+            Some(Language::MissionArgs)
         } else if path.ends_with("/gloc.toml") || path == "gloc.toml" {
             Some(Language::Config)
         } else {

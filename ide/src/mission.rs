@@ -226,7 +226,8 @@ pub fn definition(text: &str, offset: usize, path: &Path) -> Option<PathBuf> {
                 .loaded_at
                 .is_some_and(|at| at.start as usize <= offset && offset <= at.end as usize)
         })
-        .map(|source| source.path.clone())
+        // `missions/../mafiles/yo10.ma` as the file it is, where the file system can say.
+        .map(|source| std::fs::canonicalize(&source.path).unwrap_or_else(|_| source.path.clone()))
 }
 
 /// The text with the glider's layout kept (indentation, alignment, comments and

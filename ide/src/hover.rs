@@ -21,6 +21,10 @@ pub fn hover(
     context: &Context,
     offset: usize,
 ) -> Option<HoverInfo> {
+    if language == Language::Masterdata {
+        let (span, markdown) = crate::masterdata::hover(text, offset)?;
+        return Some(HoverInfo { markdown, span });
+    }
     if let Some(kind) = language.mission_file() {
         let (span, markdown) = crate::mission::hover(kind, text, offset, &context.sensors)?;
         return Some(HoverInfo { markdown, span });

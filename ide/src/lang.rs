@@ -10,7 +10,7 @@ use gloc_engine::{Diagnostic, LineIndex, Span};
 
 use crate::analysis::{Analysis, Completion, CompletionKind, Context, TokenKind};
 use crate::Language;
-use crate::{gbasic_lang, gloc_lang, mission};
+use crate::{gbasic_lang, gloc_lang, masterdata, mission};
 
 /// Code of the diagnostic shown when the core panicked on a document.
 pub const CODE_INTERNAL_ERROR: &str = "E0999";
@@ -31,6 +31,7 @@ pub fn analyze_at(
         Language::Gloc => gloc_lang::analyze(text, context),
         Language::Gbasic => gbasic_lang::analyze(text, context),
         Language::Config => Analysis::default(),
+        Language::Masterdata => masterdata::analyze(text),
         Language::Mission | Language::MissionArgs => match language.mission_file() {
             Some(kind) => mission::analyze(kind, text, path, &context.sensors),
             None => Analysis::default(),
@@ -51,7 +52,7 @@ pub fn word_markdown(language: Language, word: &str, kind: TokenKind) -> Option<
     match language {
         Language::Gloc => gloc_lang::word_markdown(word, kind),
         Language::Gbasic => gbasic_lang::word_markdown(word, kind),
-        Language::Config | Language::Mission | Language::MissionArgs => None,
+        Language::Config | Language::Mission | Language::MissionArgs | Language::Masterdata => None,
     }
 }
 

@@ -17,6 +17,7 @@ pub mod gloc_lang;
 pub mod hints;
 pub mod hover;
 pub mod lang;
+pub mod masterdata;
 pub mod mission;
 pub mod references;
 pub mod rename;
@@ -35,6 +36,8 @@ pub enum Language {
     Mission,
     /// A Slocum mission argument file (`.ma`).
     MissionArgs,
+    /// A sensor list: a masterdata file or a `.cac` list (hover and navigation).
+    Masterdata,
 }
 
 impl Language {
@@ -55,6 +58,7 @@ impl Language {
             "gbasic" | "gbas" => return Some(Language::Gbasic),
             "slocum_mission" => return Some(Language::Mission),
             "slocum_ma" => return Some(Language::MissionArgs),
+            "slocum_masterdata" => return Some(Language::Masterdata),
             _ => {}
         }
         let path = path.to_ascii_lowercase();
@@ -66,6 +70,8 @@ impl Language {
             Some(Language::Mission)
         } else if path.ends_with(".ma") {
             Some(Language::MissionArgs)
+        } else if path.ends_with(".cac") || path.ends_with("/masterdata") || path == "masterdata" {
+            Some(Language::Masterdata)
         } else if path.ends_with("/gloc.toml") || path == "gloc.toml" {
             Some(Language::Config)
         } else {

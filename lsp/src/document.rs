@@ -167,5 +167,17 @@ mod tests {
             detect_language("plaintext", &uri("file:///g/mafiles/yo10.ma")),
             Some(Language::MissionArgs)
         );
+        assert_eq!(
+            detect_language("plaintext", &uri("file:///g/cac/813B137D.CAC")),
+            Some(Language::Masterdata)
+        );
+        assert_eq!(
+            detect_language("plaintext", &uri("file:///g/config/masterdata")),
+            Some(Language::Masterdata)
+        );
+        assert_eq!(
+            detect_language("slocum_masterdata", &uri("untitled:4")),
+            Some(Language::Masterdata)
+        );
     }
 }

@@ -30,6 +30,7 @@ for (const [language, file] of [
   ['GLOC', 'gloc.test.gloc'],
   ['Slocum mission', 'mission.test.mi'],
   ['Slocum mission arguments', 'args.test.ma'],
+  ['Slocum sensor list', 'masterdata.test.cac'],
 ]) {
   test(`${language} scopes match the assertions in test/syntax/${file}`, () => {
     const result = runGrammarTest(path.join(syntaxDir, file));
@@ -88,6 +89,17 @@ const requiredScopes = {
     'constant.numeric.slocum_ma',
     'constant.numeric.longitude.slocum_ma',
     'comment.line.number-sign.slocum_ma',
+  ],
+  'masterdata.test.cac': [
+    'keyword.other.sensor.slocum_masterdata',
+    'support.variable.sensor.slocum_masterdata',
+    'support.type.units.slocum_masterdata',
+    'constant.numeric.slocum_masterdata',
+    'comment.line.metadata.slocum_masterdata',
+    'entity.name.function.behavior.slocum_masterdata',
+    'variable.parameter.argument.slocum_masterdata',
+    'constant.numeric.index.slocum_masterdata',
+    'comment.line.number-sign.slocum_masterdata',
   ],
 };
 

@@ -47,7 +47,7 @@ function readJson(relativePath) {
 
 // --- package.json consistency ---------------------------------------------------------------
 
-test('languages: gbasic (.gbas), gloc (.gloc) and the mission files (.mi, .ma), each with a language configuration that loads', () => {
+test('languages: gbasic (.gbas), gloc (.gloc), the mission files (.mi, .ma) and sensor lists (.cac, masterdata), each with a language configuration that loads', () => {
   assert.deepEqual(
     contributes.languages.map((language) => [language.id, language.extensions]),
     [
@@ -55,8 +55,10 @@ test('languages: gbasic (.gbas), gloc (.gloc) and the mission files (.mi, .ma), 
       ['gloc', ['.gloc']],
       ['slocum_mission', ['.mi']],
       ['slocum_ma', ['.ma']],
+      ['slocum_masterdata', ['.cac']],
     ],
   );
+  assert.deepEqual(contributes.languages.find((language) => language.id === 'slocum_masterdata').filenames, ['masterdata']);
   for (const language of contributes.languages) {
     const configuration = readJson(language.configuration);
     assert.ok(configuration.comments.lineComment, `${language.id} has a line comment`);
@@ -303,7 +305,7 @@ test('activate registers every contributed command, the debugger and the compile
   assert.equal(client.serverOptions.transport, undefined, 'no --stdio argument is added');
   assert.deepEqual(
     [...new Set(client.clientOptions.documentSelector.map((selector) => selector.language))].sort(),
-    ['gbasic', 'gloc', 'slocum_ma', 'slocum_mission'],
+    ['gbasic', 'gloc', 'slocum_ma', 'slocum_masterdata', 'slocum_mission'],
   );
   assert.ok(client.clientOptions.documentSelector.every((selector) => ['file', 'untitled'].includes(selector.scheme)));
   assert.deepEqual(client.clientOptions.initializationOptions, { masterdata: path.join(workspace, 'data/masterdata') });

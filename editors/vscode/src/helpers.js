@@ -9,8 +9,9 @@ const path = require('path');
 /** The script languages the extension serves; their ids are also the debugger's languages. */
 const LANGUAGE_IDS = ['gbasic', 'gloc'];
 
-/** Slocum mission files (`.mi`) and mission argument files (`.ma`): served by gloc lsp, not flown. */
-const MISSION_LANGUAGE_IDS = ['slocum_mission', 'slocum_ma'];
+/** Slocum mission files (`.mi`), mission argument files (`.ma`) and sensor lists (masterdata,
+ * `.cac`): served by gloc lsp, not flown. */
+const MISSION_LANGUAGE_IDS = ['slocum_mission', 'slocum_ma', 'slocum_masterdata'];
 
 /** Every language the language client hands to gloc lsp. */
 const SERVED_LANGUAGE_IDS = [...LANGUAGE_IDS, ...MISSION_LANGUAGE_IDS];

@@ -17,6 +17,7 @@ from pytest_lsp import LanguageClient
 from test_gloc_lsp import GLOC, REPO, open_document, vscode  # noqa: F401 (vscode is a fixture)
 
 COMET = REPO.parent / "shared" / "data" / "comet"
+CAC = REPO.parent / "shared" / "data" / "813b137d.cac"
 
 MISSION = """\
 # a hand-made mission: a yo from a .ma file, an abend with a bad value
@@ -181,3 +182,23 @@ async def test_formatting_comets_real_mission_only_trims_line_ends(vscode, tmp_p
         after = [lines[edit.range.end.line][edit.range.end.character :]] + lines[edit.range.end.line + 1 :]
         lines = (("\n".join(before) + edit.new_text + "\n".join(after))).split("\n")
     assert "\n".join(lines) == "\n".join(line.rstrip(" \t") for line in text.split("\n"))
+
+
+@pytest.mark.skipif(not CAC.is_file(), reason="../shared/data is not beside this clone")
+async def test_a_real_cac_list_has_its_sensors_as_symbols_and_hover(vscode, tmp_path):  # noqa: F811
+    text = CAC.read_text()
+    uri = open_document(vscode, tmp_path / "813b137d.cac", "slocum_masterdata", text)
+    symbols = await vscode.text_document_document_symbol_async(
+        types.DocumentSymbolParams(text_document=types.TextDocumentIdentifier(uri=uri))
+    )
+    lines = text.splitlines()
+    sensor_lines = [number for number, line in enumerate(lines) if line.startswith("s:")]
+    assert len(symbols) == len(sensor_lines) == 1385
+    depth_line = next(number for number, line in enumerate(lines) if line.split()[-2:-1] == ["m_depth"])
+    depth = next(symbol for symbol in symbols if symbol.name == "m_depth")
+    assert depth.selection_range.start.line == depth_line
+    hover = await vscode.text_document_hover_async(
+        types.HoverParams(text_document=types.TextDocumentIdentifier(uri=uri), position=types.Position(line=depth_line, character=0))
+    )
+    # The paper's index of m_depth in this 2008 list (data README).
+    assert hover.contents.value.startswith("**m_depth** (m)\n\nsensor 444")

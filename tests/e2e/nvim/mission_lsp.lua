@@ -1,6 +1,7 @@
 -- Headless Neovim test of the editors/nvim plugin on Slocum mission files with the real
 -- `gloc lsp`: `.mi` and `.ma` get their filetypes and syntax, the server attaches, shows the
--- simulator's diagnostics, hovers an argument and goes from `args_from_file` to the `.ma` file.
+-- simulator's diagnostics, hovers an argument and goes from `args_from_file` to the `.ma` file;
+-- sensor lists (masterdata, `.cac`) get theirs, their sensors as symbols and hover.
 -- Run: GLOC_BIN=target/debug/gloc nvim --headless -u NONE -l tests/e2e/nvim/mission_lsp.lua
 local here = vim.fn.fnamemodify(debug.getinfo(1, "S").source:sub(2), ":p:h")
 package.path = here .. "/helpers/?.lua;" .. package.path
@@ -114,5 +115,48 @@ vim.wait(3000, function()
   return false
 end, 50)
 H.equal(vim.diagnostic.get(yo), {}, "the .ma file has no problems")
+
+-- A sensor list ---------------------------------------------------------------------------------
+local cac_path = dir .. "/cac/0badcafe.cac"
+H.write_file(cac_path, {
+  "s: T    0    0 8 m_present_time timestamp", -- 1
+  "s: F    1   -1 4 m_depth m", -- 2
+})
+local cac = H.edit(cac_path)
+H.equal(vim.bo[cac].filetype, "slocum_masterdata", ".cac has filetype slocum_masterdata")
+H.equal(vim.b[cac].current_syntax, "slocum_masterdata", "syntax/slocum_masterdata.vim is loaded")
+expect_syntax(2, 1, "slocumMdCacKeyword", "Keyword") -- s:
+expect_syntax(2, 18, "slocumMdSensor", "Special") -- m_depth
+local masterdata_path = dir .. "/config/masterdata"
+H.write_file(masterdata_path, { "sensor: m_depth(m) 0 # measured depth" })
+local masterdata = H.edit(masterdata_path)
+H.equal(vim.bo[masterdata].filetype, "slocum_masterdata", "a file named masterdata has filetype slocum_masterdata")
+expect_syntax(1, 9, "slocumMdSensor", "Special") -- m_depth
+expect_syntax(1, 22, "slocumMdComment", "Comment") -- # measured depth
+vim.cmd.buffer(cac)
+local cac_attached = vim.wait(10000, function()
+  local client = gloc_client(cac)
+  return client ~= nil and client.initialized
+end, 50)
+H.check(cac_attached, "gloc lsp attaches to the .cac buffer")
+local symbols = vim.lsp.buf_request_sync(cac, "textDocument/documentSymbol", {
+  textDocument = { uri = vim.uri_from_bufnr(cac) },
+}, 10000)
+local names = {}
+for _, answer in pairs(symbols or {}) do
+  for _, symbol in ipairs(answer.result or {}) do
+    names[#names + 1] = symbol.name
+  end
+end
+H.equal(names, { "m_present_time", "m_depth" }, "the .cac list's sensors are its symbols")
+local cac_hover = vim.lsp.buf_request_sync(cac, "textDocument/hover", {
+  textDocument = { uri = vim.uri_from_bufnr(cac) },
+  position = { line = 1, character = 0 },
+}, 10000)
+local cac_text = ""
+for _, answer in pairs(cac_hover or {}) do
+  cac_text = answer.result and answer.result.contents.value or cac_text
+end
+H.check(cac_text:find("**m_depth** (m)\n\nsensor 1", 1, true) == 1, "hover on a .cac line describes its sensor", cac_text)
 
 H.finish()

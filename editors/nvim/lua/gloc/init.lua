@@ -28,14 +28,18 @@ M.options = vim.deepcopy(M.defaults)
 --- The script filetypes: the ones the debugger flies and :GlocRun runs.
 M.filetypes = { "gbasic", "gloc" }
 
---- Slocum mission files (`.mi`) and mission argument files (`.ma`): served by `gloc lsp`, not flown.
-M.mission_filetypes = { "slocum_mission", "slocum_ma" }
+--- Slocum mission files (`.mi`), mission argument files (`.ma`) and sensor lists (masterdata,
+--- `.cac`): served by `gloc lsp`, not flown.
+M.mission_filetypes = { "slocum_mission", "slocum_ma", "slocum_masterdata" }
 
 --- Every filetype `gloc lsp` attaches to.
 M.lsp_filetypes = vim.list_extend(vim.deepcopy(M.filetypes), M.mission_filetypes)
 
---- The filetype of each extension the plugin knows (ftdetect/gloc.lua and setup() register it).
-M.extensions = { gbas = "gbasic", gloc = "gloc", mi = "slocum_mission", ma = "slocum_ma" }
+--- The filetypes the plugin detects, for vim.filetype.add (ftdetect/gloc.lua and setup()).
+M.filetype_detection = {
+  extension = { gbas = "gbasic", gloc = "gloc", mi = "slocum_mission", ma = "slocum_ma", cac = "slocum_masterdata" },
+  filename = { masterdata = "slocum_masterdata" },
+}
 
 --- The LSP command that returns the compiled GLOC of a GBASIC document.
 M.compiled_gloc_command = "gloc.compiledGloc"
@@ -491,7 +495,7 @@ function M.setup(options)
   M.options = vim.tbl_deep_extend("force", vim.deepcopy(M.defaults), options or {})
   -- Also done by ftdetect/gloc.lua; repeated so that plugin managers that load the plugin late
   -- still get the filetypes.
-  vim.filetype.add({ extension = M.extensions })
+  vim.filetype.add(M.filetype_detection)
   if M.options.lsp then
     M.setup_lsp(M.options)
     M.link_semantic_highlights()

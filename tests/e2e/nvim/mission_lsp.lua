@@ -38,6 +38,19 @@ local function gloc_client(bufnr)
   return vim.lsp.get_clients({ bufnr = bufnr, name = "gloc" })[1]
 end
 
+--- The hover text at 0-based `line`, `character` of `buffer` ("" when there is none).
+local function hover_text(buffer, line, character)
+  local response = vim.lsp.buf_request_sync(buffer, "textDocument/hover", {
+    textDocument = { uri = vim.uri_from_bufnr(buffer) },
+    position = { line = line, character = character },
+  }, 10000)
+  local text = ""
+  for _, answer in pairs(response or {}) do
+    text = answer.result and answer.result.contents.value or text
+  end
+  return text
+end
+
 -- The mission file -------------------------------------------------------------------------------
 local mission = H.edit(mission_path)
 H.equal(vim.bo[mission].filetype, "slocum_mission", ".mi has filetype slocum_mission")
@@ -68,15 +81,8 @@ H.equal(
   "one diagnostic: S0015 on `deep` (0-based line 1, column 27), as gloc run reports it"
 )
 
-local hover = vim.lsp.buf_request_sync(mission, "textDocument/hover", {
-  textDocument = { uri = vim.uri_from_bufnr(mission) },
-  position = { line = 1, character = 13 },
-}, 10000)
-local hover_text = ""
-for _, answer in pairs(hover or {}) do
-  hover_text = answer.result and answer.result.contents.value or hover_text
-end
-H.check(hover_text:find("**overdepth**(m) · abend · default 10000", 1, true) == 1, "hover on overdepth: units, behavior, default", hover_text)
+local overdepth = hover_text(mission, 1, 13)
+H.check(overdepth:find("**overdepth**(m) · abend · default 10000", 1, true) == 1, "hover on overdepth: units, behavior, default", overdepth)
 
 local definition = vim.lsp.buf_request_sync(mission, "textDocument/definition", {
   textDocument = { uri = vim.uri_from_bufnr(mission) },
@@ -149,14 +155,7 @@ for _, answer in pairs(symbols or {}) do
   end
 end
 H.equal(names, { "m_present_time", "m_depth" }, "the .cac list's sensors are its symbols")
-local cac_hover = vim.lsp.buf_request_sync(cac, "textDocument/hover", {
-  textDocument = { uri = vim.uri_from_bufnr(cac) },
-  position = { line = 1, character = 0 },
-}, 10000)
-local cac_text = ""
-for _, answer in pairs(cac_hover or {}) do
-  cac_text = answer.result and answer.result.contents.value or cac_text
-end
+local cac_text = hover_text(cac, 1, 0)
 H.check(cac_text:find("**m_depth** (m)\n\nsensor 1", 1, true) == 1, "hover on a .cac line describes its sensor", cac_text)
 
 H.finish()

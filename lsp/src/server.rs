@@ -305,6 +305,25 @@ impl State {
         publishes
     }
 
+    /// Analyses every open mission (`.mi`) again, for a `.ma` file saved.
+    fn reanalyze_missions(&mut self) -> Vec<Publish> {
+        let missions: Vec<Uri> = self
+            .documents
+            .iter()
+            .filter(|(_, open)| open.document.language == Language::Mission)
+            .map(|(uri, _)| uri.clone())
+            .collect();
+        let mut publishes = Vec::new();
+        for uri in missions {
+            if let Some(open) = self.documents.get_mut(&uri) {
+                open.analyzed_version = None;
+                open.published_version = None;
+            }
+            publishes.extend(self.analyzed_publish(&uri));
+        }
+        publishes
+    }
+
     fn refresh_all(&mut self) -> Vec<Publish> {
         let uris: Vec<Uri> = self.documents.keys().cloned().collect();
         let mut publishes = Vec::new();
@@ -573,15 +592,19 @@ impl LanguageServer for Backend {
     async fn did_save(&self, params: DidSaveTextDocumentParams) {
         let publishes = {
             let mut state = lock(&self.state);
-            let is_config = state
+            let language = state
                 .documents
                 .get(&params.text_document.uri)
-                .is_some_and(|open| open.document.language == Language::Config);
-            if !is_config {
-                return;
+                .map(|open| open.document.language);
+            match language {
+                Some(Language::Config) => {
+                    state.sensor_lists.clear();
+                    state.refresh_all()
+                }
+                // The missions read their `.ma` files from disk: check them again.
+                Some(Language::MissionArgs) => state.reanalyze_missions(),
+                _ => return,
             }
-            state.sensor_lists.clear();
-            state.refresh_all()
         };
         send(&self.client, publishes).await;
     }

@@ -202,3 +202,20 @@ async def test_a_real_cac_list_has_its_sensors_as_symbols_and_hover(vscode, tmp_
     )
     # The paper's index of m_depth in this 2008 list (data README).
     assert hover.contents.value.startswith("**m_depth** (m)\n\nsensor 444")
+
+
+async def test_saving_a_ma_file_checks_the_open_missions_again(vscode, tmp_path):  # noqa: F811
+    path = write_mission(tmp_path)
+    uri = open_document(vscode, path, "slocum_mission", MISSION)
+    before = await diagnostics_of(vscode, uri)
+    assert any(d.message.startswith("yo10.ma:") for d in before)
+    fixed = YO10.replace("shallow", "3").replace("\tb_arg: bogus(m) 1\n", "")
+    ma_uri = open_document(vscode, tmp_path / "mafiles" / "yo10.ma", "slocum_ma", fixed)
+    vscode.text_document_did_save(types.DidSaveTextDocumentParams(text_document=types.TextDocumentIdentifier(uri=ma_uri)))
+    for _ in range(200):
+        if not any(d.message.startswith("yo10.ma:") for d in vscode.diagnostics[uri]):
+            break
+        await asyncio.sleep(0.05)
+    # Only the mission's own problem (`deep`) is left.
+    assert [d.code for d in vscode.diagnostics[uri]] == ["S0015"]
+    assert not vscode.diagnostics[uri][0].message.startswith("yo10.ma:")

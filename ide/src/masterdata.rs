@@ -216,6 +216,23 @@ mod tests {
     }
 
     #[test]
+    fn no_text_and_no_cursor_makes_it_panic() {
+        for text in [
+            "",
+            "s:",
+            "sensor:",
+            "sensor: é(m",
+            "s: T 1 2 3 𝄞 m\nsensor: x(m) 1\n",
+            "behavior:\n b_arg: x(m)\n",
+        ] {
+            let _ = analyze(text);
+            for offset in 0..=text.len() + 2 {
+                let _ = hover(text, offset);
+            }
+        }
+    }
+
+    #[test]
     fn bad_lines_are_the_parsers_diagnostics() {
         let analysis = analyze("sensor: broken\nsensor: ok(m) 1\n");
         assert_eq!(analysis.diagnostics.len(), 1, "{:?}", analysis.diagnostics);

@@ -830,6 +830,31 @@ mod tests {
     }
 
     #[test]
+    fn no_text_and_no_cursor_makes_it_panic() {
+        let sensors = SensorList::embedded();
+        for text in [
+            "",
+            "\0",
+            "behavior:",
+            "b_arg:",
+            "behavior: yo\n b_arg: é(m) ü # ☃\n",
+            "behavior_name=\n<start:b_arg>\nb_arg: (\n",
+            "sensor: 𝄞(m) 1\r\nbehavior: y𝄞o\r\n  b_arg: args_from_file(enum) 1e300\r\n",
+            "  #\n\t\tb_arg: d_target_depth(m)(m) 1 2 3",
+        ] {
+            for kind in [MissionFile::Mission, MissionFile::Args] {
+                let _ = analyze(kind, text, None, &sensors);
+                for offset in 0..=text.len() + 2 {
+                    let _ = completions(kind, text, offset, &sensors);
+                    let _ = hover(kind, text, offset, &sensors);
+                    let _ = definition(text, offset, Path::new("/nonexistent/missions/m.mi"));
+                }
+            }
+            let _ = format(text);
+        }
+    }
+
+    #[test]
     fn formatting_trims_line_ends_and_keeps_the_layout() {
         let text = "behavior: yo \t\n\tb_arg: d_target_depth(m)   50   # c  \r\n\n#end";
         assert_eq!(

@@ -124,7 +124,7 @@ pub fn completions(
         return Vec::new();
     };
     match (line.keyword.as_deref(), line.word_index) {
-        (None, 0) => keywords(kind),
+        (None, 0) => keywords(kind, line.typed_bracket),
         (Some("behavior:"), 1) if kind == MissionFile::Mission => BehaviorKind::all()
             .map(|behavior| Completion {
                 label: behavior.name().to_string(),
@@ -265,7 +265,9 @@ fn arg_markdown(behavior: BehaviorKind, arg: &ArgDef) -> String {
     )
 }
 
-fn keywords(kind: MissionFile) -> Vec<Completion> {
+/// The keywords that start a line. After a typed `<` the `<…>` keywords are inserted
+/// without it: a client replaces the word before the cursor, and `<` is not part of one.
+fn keywords(kind: MissionFile, typed_bracket: bool) -> Vec<Completion> {
     let words: &[(&str, &str)] = match kind {
         MissionFile::Mission => &[
             (
@@ -303,6 +305,8 @@ fn keywords(kind: MissionFile) -> Vec<Completion> {
             snippet: None,
             insert_text: Some(if word.ends_with(':') {
                 format!("{word} ")
+            } else if typed_bracket {
+                word.trim_start_matches('<').to_string()
             } else {
                 word.to_string()
             }),
@@ -422,6 +426,8 @@ struct CursorLine {
     word: Option<Span>,
     /// The value of a `b_arg:`/`sensor:` line, when it reads as a number.
     value: Option<f64>,
+    /// For completion: the word being typed starts with `<`.
+    typed_bracket: bool,
 }
 
 impl CursorLine {
@@ -446,6 +452,7 @@ impl CursorLine {
             word_index,
             word: None,
             value: None,
+            typed_bracket: typing && words.last().is_some_and(|word| word.starts_with('<')),
         })
     }
 
@@ -497,6 +504,7 @@ impl CursorLine {
             word_index,
             word: Some(Span::new(line_start + word_start, line_start + word_end)),
             value,
+            typed_bracket: false,
         })
     }
 }
@@ -690,6 +698,23 @@ mod tests {
                 "<end:waypoints>"
             ]
         );
+    }
+
+    #[test]
+    fn a_typed_bracket_is_not_inserted_twice() {
+        let insert = |fixture: &str| {
+            let (text, offset) = cursor(fixture);
+            completions(MissionFile::Args, &text, offset, &SensorList::embedded())
+                .into_iter()
+                .find(|item| item.label == "<end:b_arg>")
+                .and_then(|item| item.insert_text)
+        };
+        // The client replaces `en` (the word before the cursor), so `<` must not come again.
+        assert_eq!(
+            insert("<start:b_arg>\n<en$0").as_deref(),
+            Some("end:b_arg>")
+        );
+        assert_eq!(insert("<start:b_arg>\n$0").as_deref(), Some("<end:b_arg>"));
     }
 
     #[test]

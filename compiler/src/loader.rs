@@ -243,7 +243,11 @@ fn translate(
             .unwrap_or(script.len())
             .min(script.len());
         let text = script.get(start..end).unwrap_or("");
-        let code = text.split('\'').next().unwrap_or("");
+        // The statement without its comment (the lexer knows a `'` in a string).
+        let code = crate::lexer::lex(text)
+            .iter()
+            .find(|token| token.kind == crate::lexer::TokenKind::Comment)
+            .map_or(text, |comment| &text[..comment.span.start as usize]);
         let leading = code.len() - code.trim_start().len();
         Span::new(start + leading, start + code.trim_end().len().max(leading))
     };
@@ -277,5 +281,35 @@ fn budget_warning(stats: &Stats, options: &LoadOptions, span: Span) -> Option<Di
             .with_help("add a `yield` inside long loops, or raise the budget"),
         ),
         _ => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A finding on the compiled GLOC lands on its GBASIC statement, the whole of
+    /// it: a `'` inside a string starts no comment.
+    #[test]
+    fn a_quote_in_a_string_does_not_cut_the_translated_span() {
+        // "label: a\n" (9 bytes) + "yield\n" (6) + "goto a\n" (7): the unreachable
+        // `print "it's"` runs from byte 22 to 34, with or without a comment after it.
+        for text in [
+            "label: a\nyield\ngoto a\nprint \"it's\"\n",
+            "label: a\nyield\ngoto a\nprint \"it's\" ' never runs\n",
+        ] {
+            let loaded = load_script(
+                text,
+                Language::Gbasic,
+                &SensorList::embedded(),
+                &LoadOptions::default(),
+            );
+            let unreachable = loaded
+                .diagnostics
+                .iter()
+                .find(|diagnostic| diagnostic.code == "W0112")
+                .expect("the print is unreachable");
+            assert_eq!(unreachable.span, Span::new(22, 34), "{text:?}");
+        }
     }
 }

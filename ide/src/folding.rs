@@ -25,3 +25,21 @@ fn crosses_a_line_break(text: &str, span: Span) -> bool {
         _ => false,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn line_breaks_as_the_editor_counts_them() {
+        let text = "a\r\nb\rc";
+        // "a\r": the `\n` of its CRLF lies past the span, so one line.
+        assert!(!crosses_a_line_break(text, Span::new(0, 2)));
+        assert!(crosses_a_line_break(text, Span::new(0, 3)));
+        // A lone `\r` is a line break.
+        assert!(crosses_a_line_break(text, Span::new(3, 5)));
+        assert!(!crosses_a_line_break(text, Span::new(5, 6)));
+        // A span past the end is clamped.
+        assert!(!crosses_a_line_break(text, Span::new(5, 99)));
+    }
+}

@@ -8,8 +8,9 @@ use gloc_engine::Span;
 use crate::analysis::TextEdit;
 use crate::{gbasic_lang, gloc_lang, Language};
 
-/// The canonical form of the text, or `None` when it cannot be formatted
-/// (GLOC with syntax errors: formatting must never lose text).
+/// The canonical form of the text (formatting never loses text: GLOC lines that
+/// do not parse are kept verbatim), or `None` for a gloc.toml or when the
+/// formatter panicked.
 pub fn format(language: Language, text: &str) -> Option<String> {
     catch_unwind(AssertUnwindSafe(|| match language {
         Language::Gloc => gloc_lang::format(text),

@@ -217,17 +217,27 @@ pub fn hover(
 /// The `.ma` file that the `args_from_file` line under `offset` loads, when the
 /// mission (at `path`) loaded it.
 pub fn definition(text: &str, offset: usize, path: &Path) -> Option<PathBuf> {
+    links(text, path)
+        .into_iter()
+        .find(|(at, _)| at.start as usize <= offset && offset <= at.end as usize)
+        .map(|(_, target)| target)
+}
+
+/// Every `args_from_file` line of the mission at `path` with the `.ma` file it
+/// loaded (for document links): only files that exist, as the file system names them.
+pub fn links(text: &str, path: &Path) -> Vec<(Span, PathBuf)> {
     let mission = parse(MissionFile::Mission, text, Some(path));
     mission
         .sources
         .iter()
-        .find(|source| {
-            source
-                .loaded_at
-                .is_some_and(|at| at.start as usize <= offset && offset <= at.end as usize)
+        .filter_map(|source| {
+            let at = source.loaded_at?;
+            // `missions/../mafiles/yo10.ma` as the file it is.
+            let target =
+                std::fs::canonicalize(&source.path).unwrap_or_else(|_| source.path.clone());
+            Some((at, target))
         })
-        // `missions/../mafiles/yo10.ma` as the file it is, where the file system can say.
-        .map(|source| std::fs::canonicalize(&source.path).unwrap_or_else(|_| source.path.clone()))
+        .collect()
 }
 
 /// The text with the glider's layout kept (indentation, alignment, comments and
@@ -822,6 +832,12 @@ mod tests {
         );
         // Not on another line.
         assert_eq!(definition(&text, 20, &path), None);
+        // The one link: `b_arg: args_from_file(enum) 10`; its line starts at 18 + 28 = 46,
+        // `b_arg:` at 48 after the indentation, and `10` ends at 48 + 7 + 20 + 3 = 78.
+        let links = links(&text, &path);
+        assert_eq!(links.len(), 1);
+        assert_eq!(links[0].0, Span::new(48, 78));
+        assert!(links[0].1.ends_with("mafiles/surfac10.ma"));
         let _ = std::fs::remove_dir_all(root);
     }
 

@@ -256,7 +256,9 @@ fn translate(
         label.span = to_script(label.span);
     }
     diagnostic.fixes.clear();
-    if diagnostic.code == "W0111" || diagnostic.code == "E0111" {
+    if diagnostic.code == gloc_engine::codes::gloc::LOOP_MAY_OVERRUN
+        || diagnostic.code == gloc_engine::codes::gloc::LOOP_WITHOUT_YIELD
+    {
         // The GLOC help speaks of loop bounds; in GBASIC those come from `for`.
         diagnostic.help = Some(
             "add a `yield` inside the loop (a `for` loop with constant limits counts as bounded)"

@@ -10,7 +10,7 @@ use gloc_compiler::{Language as ScriptLanguage, LoadOptions, LoadedScript, Stora
 use gloc_engine::program::{Pc, Program, Reg, Value};
 use gloc_engine::sensors::{SensorId, SensorList, SensorOrder};
 use gloc_engine::vm::{CycleEnd, Machine, TrapKind as VmTrapKind};
-use gloc_engine::{Diagnostic, LineIndex};
+use gloc_engine::Diagnostic;
 use gloc_sim::behaviors::EventKind;
 use gloc_sim::{EndReason, Mission, Phase as SimPhase, SimConfig, Simulation, TemperatureProfile};
 
@@ -351,17 +351,11 @@ pub(crate) fn load_sensor_list(path: &Path, order: SensorOrder) -> Result<Sensor
     Ok(loaded.list)
 }
 
-/// `file:line:column: severity[CODE]: message`, as the CLI prints it.
+/// `file:line:column: severity[CODE]: message`: the headline of the one renderer
+/// (`gloc_engine::render`), as the CLI prints it.
 pub(crate) fn render(path: &Path, text: &str, diagnostic: &Diagnostic) -> String {
-    let index = LineIndex::new(text);
-    let (line, column) = index.line_col(text, diagnostic.span.start as usize);
-    format!(
-        "{}:{line}:{column}: {}[{}]: {}",
-        path.display(),
-        diagnostic.severity,
-        diagnostic.code,
-        diagnostic.message
-    )
+    let display = path.display().to_string();
+    gloc_engine::render::SourceFile::new(&display, text).headline(diagnostic)
 }
 
 impl SimWorld {

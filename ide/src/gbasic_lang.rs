@@ -164,7 +164,9 @@ fn add_fixes(text: &str, blocks: &[gloc_compiler::Block], diagnostics: &mut [Dia
                 });
             }
         }
-        if (diagnostic.code == "W0111" || diagnostic.code == "E0111") && diagnostic.fixes.is_empty()
+        if (diagnostic.code == gloc_engine::codes::gloc::LOOP_MAY_OVERRUN
+            || diagnostic.code == gloc_engine::codes::gloc::LOOP_WITHOUT_YIELD)
+            && diagnostic.fixes.is_empty()
         {
             // A structured loop: before its closing line (`wend`, `loop`, `next`),
             // one level deeper. A `goto` loop: before the jump back.

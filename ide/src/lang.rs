@@ -13,7 +13,7 @@ use crate::Language;
 use crate::{gbasic_lang, gloc_lang, masterdata, mission};
 
 /// Code of the diagnostic shown when the core panicked on a document.
-pub const CODE_INTERNAL_ERROR: &str = "E0999";
+pub const CODE_INTERNAL_ERROR: &str = gloc_engine::codes::settings::INTERNAL_ERROR;
 
 pub fn analyze(language: Language, text: &str, context: &Context) -> Analysis {
     analyze_at(language, text, None, context)

@@ -172,7 +172,7 @@ impl State {
                 Err(message) => {
                     problems.push(
                         Diagnostic::error(
-                            "E0903",
+                            gloc_engine::codes::settings::SENSOR_LIST_UNLOADABLE,
                             gloc_engine::Span::default(),
                             format!(
                                 "cannot load the sensor list {}: {message}; using the embedded 2008 list",

@@ -9,8 +9,8 @@ use std::collections::HashMap;
 mod files;
 
 pub use files::{
-    find_cac, is_crc, load_sensor_file, parse_cac, parse_cac_entries, parse_masterdata, CacEntry,
-    LoadedSensorList, SensorOrder, MAX_SENSORS,
+    find_cac, is_crc, load_sensor_file, looks_like_cac, parse_cac, parse_cac_entries,
+    parse_masterdata, CacEntry, LoadedSensorList, SensorOrder, MAX_SENSORS,
 };
 
 /// The CRC that names the embedded list: its indices 0 to 1384 are those of the

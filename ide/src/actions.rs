@@ -50,6 +50,12 @@ pub fn compiled_gloc(
         crate::Language::Config => {
             return Err("`gloc.compiledGloc` takes a GBASIC document, not gloc.toml".to_string())
         }
+        crate::Language::Mission | crate::Language::MissionArgs | crate::Language::Masterdata => {
+            return Err(
+                "`gloc.compiledGloc` takes a GBASIC document, not a mission or sensor list"
+                    .to_string(),
+            )
+        }
     }
     if let Some(gloc) = &analysis.compiled {
         return Ok(gloc.clone());

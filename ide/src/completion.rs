@@ -17,7 +17,11 @@ pub fn completions(
     catch_unwind(AssertUnwindSafe(|| match language {
         Language::Gloc => gloc_lang::completions(text, offset, analysis, context),
         Language::Gbasic => gbasic_lang::completions(text, offset, analysis, context),
-        Language::Config => Vec::new(),
+        Language::Config | Language::Masterdata => Vec::new(),
+        Language::Mission | Language::MissionArgs => match language.mission_file() {
+            Some(kind) => crate::mission::completions(kind, text, offset, &context.sensors),
+            None => Vec::new(),
+        },
     }))
     .unwrap_or_default()
 }

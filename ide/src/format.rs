@@ -15,7 +15,8 @@ pub fn format(language: Language, text: &str) -> Option<String> {
     catch_unwind(AssertUnwindSafe(|| match language {
         Language::Gloc => gloc_lang::format(text),
         Language::Gbasic => gbasic_lang::format(text),
-        Language::Config => None,
+        Language::Config | Language::Masterdata => None,
+        Language::Mission | Language::MissionArgs => crate::mission::format(text),
     }))
     .ok()
     .flatten()

@@ -21,6 +21,14 @@ pub fn hover(
     context: &Context,
     offset: usize,
 ) -> Option<HoverInfo> {
+    if language == Language::Masterdata {
+        let (span, markdown) = crate::masterdata::hover(text, offset)?;
+        return Some(HoverInfo { markdown, span });
+    }
+    if let Some(kind) = language.mission_file() {
+        let (span, markdown) = crate::mission::hover(kind, text, offset, &context.sensors)?;
+        return Some(HoverInfo { markdown, span });
+    }
     let token = analysis.token_at(offset)?;
     let word = text.get(token.span.range()).unwrap_or_default();
     let markdown = match token.kind {
@@ -35,6 +43,7 @@ pub fn hover(
                 SymbolKind::Array => "array",
                 SymbolKind::Constant => "constant",
                 SymbolKind::Sensor => "sensor",
+                SymbolKind::Behavior => "behavior",
             };
             let uses = symbol.references.len();
             let mut text = format!("{what} `{}`", symbol.name);

@@ -17,6 +17,8 @@ pub mod gloc_lang;
 pub mod hints;
 pub mod hover;
 pub mod lang;
+pub mod masterdata;
+pub mod mission;
 pub mod references;
 pub mod rename;
 pub mod signature;
@@ -30,15 +32,33 @@ pub enum Language {
     Gbasic,
     /// A `gloc.toml`: only its problems are reported.
     Config,
+    /// A Slocum mission file (`.mi`).
+    Mission,
+    /// A Slocum mission argument file (`.ma`).
+    MissionArgs,
+    /// A sensor list: a masterdata file or a `.cac` list (hover and navigation).
+    Masterdata,
 }
 
 impl Language {
+    /// The mission language this is, if it is one.
+    pub fn mission_file(self) -> Option<mission::MissionFile> {
+        match self {
+            Language::Mission => Some(mission::MissionFile::Mission),
+            Language::MissionArgs => Some(mission::MissionFile::Args),
+            _ => None,
+        }
+    }
+
     /// From an editor's language id, falling back to the file's path (or URI
     /// path) extension.
     pub fn detect(language_id: &str, path: &str) -> Option<Language> {
         match language_id.to_ascii_lowercase().as_str() {
             "gloc" => return Some(Language::Gloc),
             "gbasic" | "gbas" => return Some(Language::Gbasic),
+            "slocum_mission" => return Some(Language::Mission),
+            "slocum_ma" => return Some(Language::MissionArgs),
+            "slocum_masterdata" => return Some(Language::Masterdata),
             _ => {}
         }
         let path = path.to_ascii_lowercase();
@@ -46,6 +66,12 @@ impl Language {
             Some(Language::Gloc)
         } else if path.ends_with(".gbas") || path.ends_with(".gbasic") {
             Some(Language::Gbasic)
+        } else if path.ends_with(".mi") {
+            Some(Language::Mission)
+        } else if path.ends_with(".ma") {
+            Some(Language::MissionArgs)
+        } else if path.ends_with(".cac") || path.ends_with("/masterdata") || path == "masterdata" {
+            Some(Language::Masterdata)
         } else if path.ends_with("/gloc.toml") || path == "gloc.toml" {
             Some(Language::Config)
         } else {

@@ -340,6 +340,14 @@ pub fn definition(
     position: Position,
 ) -> Option<GotoDefinitionResponse> {
     let offset = offset_of(document.rope(), position);
+    if document.language == gloc_ide::Language::Mission {
+        // `args_from_file(enum) N` goes to the `.ma` file it loads.
+        let target = gloc_ide::mission::definition(document.text(), offset, &document.path()?)?;
+        return Some(GotoDefinitionResponse::Scalar(Location {
+            uri: Uri::from_file_path(&target)?,
+            range: Range::default(),
+        }));
+    }
     let definition = gloc_ide::references::definition(analysis, offset)?;
     Some(GotoDefinitionResponse::Scalar(Location {
         uri: document.uri.clone(),
@@ -451,6 +459,7 @@ pub fn document_symbols(
                 Kind::Array => SymbolKind::ARRAY,
                 Kind::Constant => SymbolKind::CONSTANT,
                 Kind::Sensor => SymbolKind::FIELD,
+                Kind::Behavior => SymbolKind::OBJECT,
             },
             tags: None,
             deprecated: None,

@@ -226,8 +226,12 @@ impl State {
         {
             return;
         }
-        let mut analysis =
-            lang::analyze(open.document.language, open.document.text(), &open.context);
+        let mut analysis = lang::analyze_at(
+            open.document.language,
+            open.document.text(),
+            open.document.path().as_deref(),
+            &open.context,
+        );
         analysis
             .diagnostics
             .extend(open.context_problems.iter().cloned());
@@ -298,6 +302,25 @@ impl State {
             }
         }
         self.config_files_with_problems = with_problems;
+        publishes
+    }
+
+    /// Analyses every open mission (`.mi`) again, for a `.ma` file saved.
+    fn reanalyze_missions(&mut self) -> Vec<Publish> {
+        let missions: Vec<Uri> = self
+            .documents
+            .iter()
+            .filter(|(_, open)| open.document.language == Language::Mission)
+            .map(|(uri, _)| uri.clone())
+            .collect();
+        let mut publishes = Vec::new();
+        for uri in missions {
+            if let Some(open) = self.documents.get_mut(&uri) {
+                open.analyzed_version = None;
+                open.published_version = None;
+            }
+            publishes.extend(self.analyzed_publish(&uri));
+        }
         publishes
     }
 
@@ -569,15 +592,19 @@ impl LanguageServer for Backend {
     async fn did_save(&self, params: DidSaveTextDocumentParams) {
         let publishes = {
             let mut state = lock(&self.state);
-            let is_config = state
+            let language = state
                 .documents
                 .get(&params.text_document.uri)
-                .is_some_and(|open| open.document.language == Language::Config);
-            if !is_config {
-                return;
+                .map(|open| open.document.language);
+            match language {
+                Some(Language::Config) => {
+                    state.sensor_lists.clear();
+                    state.refresh_all()
+                }
+                // The missions read their `.ma` files from disk: check them again.
+                Some(Language::MissionArgs) => state.reanalyze_missions(),
+                _ => return,
             }
-            state.sensor_lists.clear();
-            state.refresh_all()
         };
         send(&self.client, publishes).await;
     }

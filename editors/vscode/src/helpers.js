@@ -6,8 +6,15 @@
 
 const path = require('path');
 
-/** The languages the extension serves; their ids are also the debugger's languages. */
+/** The script languages the extension serves; their ids are also the debugger's languages. */
 const LANGUAGE_IDS = ['gbasic', 'gloc'];
+
+/** Slocum mission files (`.mi`), mission argument files (`.ma`) and sensor lists (masterdata,
+ * `.cac`): served by gloc lsp, not flown. */
+const MISSION_LANGUAGE_IDS = ['slocum_mission', 'slocum_ma', 'slocum_masterdata'];
+
+/** Every language the language client hands to gloc lsp. */
+const SERVED_LANGUAGE_IDS = [...LANGUAGE_IDS, ...MISSION_LANGUAGE_IDS];
 
 /** The LSP command (workspace/executeCommand) that returns the compiled GLOC of a GBASIC document. */
 const COMPILED_GLOC_COMMAND = 'gloc.compiledGloc';
@@ -211,6 +218,8 @@ module.exports = {
   COMPILED_GLOC_COMMAND,
   COMPILED_SCHEME,
   LANGUAGE_IDS,
+  MISSION_LANGUAGE_IDS,
+  SERVED_LANGUAGE_IDS,
   compiledDocumentPath,
   compiledGlocRequest,
   compiledGlocText,

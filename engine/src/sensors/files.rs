@@ -77,11 +77,7 @@ pub fn load_sensor_file(path: &Path, order: SensorOrder) -> std::io::Result<Load
         || path
             .extension()
             .is_some_and(|extension| extension.eq_ignore_ascii_case("cac"))
-        || text
-            .lines()
-            .map(str::trim)
-            .find(|line| !line.is_empty())
-            .is_some_and(|line| line.starts_with("s:"));
+        || looks_like_cac(&text);
     let (mut list, diagnostics) = if is_cac {
         parse_cac(&text)
     } else {
@@ -106,6 +102,15 @@ pub fn load_sensor_file(path: &Path, order: SensorOrder) -> std::io::Result<Load
         text,
         added_hook_sensors,
     })
+}
+
+/// Whether a sensor list's text is a `.cac` list (its first meaningful line starts
+/// with `s:`) rather than masterdata.
+pub fn looks_like_cac(text: &str) -> bool {
+    text.lines()
+        .map(str::trim)
+        .find(|line| !line.is_empty())
+        .is_some_and(|line| line.starts_with("s:"))
 }
 
 /// The first `<crc>.cac` (or `.CAC`, or the compressed `.ccc`) in `folders`, in order.

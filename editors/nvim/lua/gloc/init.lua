@@ -25,7 +25,21 @@ M.defaults = {
 --- The options in force (defaults until `setup()` is called).
 M.options = vim.deepcopy(M.defaults)
 
+--- The script filetypes: the ones the debugger flies and :GlocRun runs.
 M.filetypes = { "gbasic", "gloc" }
+
+--- Slocum mission files (`.mi`), mission argument files (`.ma`) and sensor lists (masterdata,
+--- `.cac`): served by `gloc lsp`, not flown.
+M.mission_filetypes = { "slocum_mission", "slocum_ma", "slocum_masterdata" }
+
+--- Every filetype `gloc lsp` attaches to.
+M.lsp_filetypes = vim.list_extend(vim.deepcopy(M.filetypes), M.mission_filetypes)
+
+--- The filetypes the plugin detects, for vim.filetype.add (ftdetect/gloc.lua and setup()).
+M.filetype_detection = {
+  extension = { gbas = "gbasic", gloc = "gloc", mi = "slocum_mission", ma = "slocum_ma", cac = "slocum_masterdata" },
+  filename = { masterdata = "slocum_masterdata" },
+}
 
 --- The LSP command that returns the compiled GLOC of a GBASIC document.
 M.compiled_gloc_command = "gloc.compiledGloc"
@@ -65,7 +79,7 @@ function M.lsp_config(options)
   -- and again after each didChangeConfiguration, so a changed path applies live.
   return {
     cmd = { binary(options), "lsp" },
-    filetypes = M.filetypes,
+    filetypes = M.lsp_filetypes,
     root_markers = options.root_markers,
     settings = { gloc = masterdata and { masterdata = masterdata } or vim.empty_dict() },
   }
@@ -100,14 +114,14 @@ function M.setup_lsp(options)
   local group = vim.api.nvim_create_augroup("gloc_lsp", { clear = true })
   vim.api.nvim_create_autocmd("FileType", {
     group = group,
-    pattern = M.filetypes,
+    pattern = M.lsp_filetypes,
     callback = function(event)
       start_lsp_for_buffer(options, event.buf)
     end,
   })
   -- Buffers that were already open when setup() ran.
   for _, bufnr in ipairs(vim.api.nvim_list_bufs()) do
-    if vim.api.nvim_buf_is_loaded(bufnr) and vim.tbl_contains(M.filetypes, vim.bo[bufnr].filetype) then
+    if vim.api.nvim_buf_is_loaded(bufnr) and vim.tbl_contains(M.lsp_filetypes, vim.bo[bufnr].filetype) then
       start_lsp_for_buffer(options, bufnr)
     end
   end
@@ -481,7 +495,7 @@ function M.setup(options)
   M.options = vim.tbl_deep_extend("force", vim.deepcopy(M.defaults), options or {})
   -- Also done by ftdetect/gloc.lua; repeated so that plugin managers that load the plugin late
   -- still get the filetypes.
-  vim.filetype.add({ extension = { gbas = "gbasic", gloc = "gloc" } })
+  vim.filetype.add(M.filetype_detection)
   if M.options.lsp then
     M.setup_lsp(M.options)
     M.link_semantic_highlights()

@@ -1,0 +1,2 @@
+-- Slocum sensor list (masterdata, .cac) buffer settings: comments start with #.
+require("gloc.ftplugin").hash_comments()

@@ -1,0 +1,2 @@
+-- Slocum mission (.mi) buffer settings: comments start with #.
+require("gloc.ftplugin").hash_comments()

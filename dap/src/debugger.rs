@@ -171,6 +171,8 @@ pub enum Edit {
     Variable(String, Number),
     Element(String, i64, Number),
     Sensor(usize, f64),
+    /// A `goto`: the script's next instruction.
+    Pc(usize),
 }
 
 /// How much reverse history to keep.
@@ -1079,6 +1081,7 @@ fn apply<T: Target>(target: &mut T, edit: &Edit) -> Result<(), String> {
         Edit::Variable(name, value) => target.set_variable(name, *value),
         Edit::Element(name, index, value) => target.set_element(name, *index, *value),
         Edit::Sensor(index, value) => target.set_sensor(*index, *value),
+        Edit::Pc(pc) => target.set_pc(*pc),
     }
 }
 

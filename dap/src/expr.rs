@@ -37,11 +37,29 @@ impl Number {
         }
     }
 
-    /// Parses what a user types into the Variables view: `12`, `-3`, `15.5`, `1e-3`.
+    /// Parses what a user types into the Variables view: `12`, `-3`, `15.5`, `1e-3`, and
+    /// the hex the view shows with the hex format (`0xc0`, `-0x10`).
     pub fn parse(text: &str) -> Option<Number> {
         let text = text.trim();
         if let Ok(value) = text.parse::<i64>() {
             return Some(Number::Int(value));
+        }
+        let (negative, unsigned) = match text.strip_prefix('-') {
+            Some(rest) => (true, rest),
+            None => (false, text),
+        };
+        if let Some(digits) = unsigned
+            .strip_prefix("0x")
+            .or_else(|| unsigned.strip_prefix("0X"))
+        {
+            // Hex is an integer's 64 bits: `0xffffffffffffffff` is -1, as printed.
+            let bits = u64::from_str_radix(digits, 16).ok()?;
+            let value = bits as i64;
+            return Some(Number::Int(if negative {
+                value.wrapping_neg()
+            } else {
+                value
+            }));
         }
         text.parse::<f64>()
             .ok()
@@ -51,11 +69,18 @@ impl Number {
 }
 
 impl fmt::Display for Number {
-    /// Integers without a point, floats as Rust's `{:?}`: the GLOC `print` format.
+    /// The GLOC `print` text, from the engine's one formatter: integers without a point,
+    /// floats in the shortest text that reads back to the same double.
     fn fmt(&self, formatter: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Number::Int(value) => write!(formatter, "{value}"),
-            Number::Float(value) => write!(formatter, "{value:?}"),
+        fmt::Display::fmt(&gloc_engine::program::Value::from(*self), formatter)
+    }
+}
+
+impl From<Number> for gloc_engine::program::Value {
+    fn from(number: Number) -> Self {
+        match number {
+            Number::Int(value) => gloc_engine::program::Value::Int(value),
+            Number::Float(value) => gloc_engine::program::Value::Float(value),
         }
     }
 }

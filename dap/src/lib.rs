@@ -4,13 +4,18 @@
 //! Layers: `protocol` (framing, envelope, the one writer), `types` (serde structs),
 //! `session` (request dispatch), `debugger` (breakpoints, stepping, history; protocol
 //! free), `target` (what the debugger needs from a world), `world` (that, over the
-//! engine and simulator), `expr` (GBASIC expressions for conditions and watches).
+//! engine and simulator), `expr` (GBASIC expressions for conditions and watches),
+//! `edits` (setExpression, goto, the console's names), `completion` (filtering and
+//! ranking them), `format` (values as `print` writes them, or hex).
 
 // Stdout is the protocol: nothing else may print there.
 #![deny(clippy::print_stdout)]
 
+pub mod completion;
 pub mod debugger;
+pub mod edits;
 pub mod expr;
+pub mod format;
 pub mod program;
 pub mod protocol;
 pub mod replay_world;

@@ -34,6 +34,8 @@ pub struct DebugInfo {
     pub source_lines: Option<u32>,
     /// The pc after each `print`/`prints` (where the script stands once it printed).
     print_successors: Vec<usize>,
+    /// GBASIC constants as (name, declaration: `const N = 40`), for completions.
+    pub constants: Vec<(String, String)>,
 }
 
 /// The source line the debugger attaches to a printed line: the line of the instruction
@@ -68,6 +70,7 @@ impl DebugInfo {
             print_lines: PrintLines::Several,
             source_lines: None,
             print_successors: Vec::new(),
+            constants: Vec::new(),
         };
         info.line_entry = info.line_entries();
         info
@@ -253,6 +256,20 @@ impl DebugInfo {
             .copied()
     }
 
+    /// Where a `goto` to `line` lands: the pcs that enter the line (`is_line_entry`), in
+    /// order, after moving it to the nearest line with code as a breakpoint moves (a
+    /// `label:` line has no code of its own: its label's code is on the next line).
+    /// Empty when the script has no code.
+    pub fn goto_targets(&self, line: u32) -> (Option<u32>, Vec<usize>) {
+        let Some(line) = self.resolve_line(line) else {
+            return (None, Vec::new());
+        };
+        let pcs = (0..self.instruction_count())
+            .filter(|pc| self.line(*pc) == Some(line) && self.is_line_entry(*pc))
+            .collect();
+        (Some(line), pcs)
+    }
+
     pub fn lines_with_code(&self) -> impl Iterator<Item = u32> + '_ {
         self.lines_with_code.iter().copied()
     }
@@ -322,6 +339,12 @@ mod tests {
         assert!(!info.is_line_entry(4));
         // A `goto` on its own line is that line's entry.
         assert!(info.is_line_entry(5));
+        // A jump to line 2 enters the loop at its start, never at the jump back.
+        assert_eq!(info.goto_targets(2), (Some(2), vec![0]));
+        assert_eq!(info.goto_targets(3), (Some(3), vec![3]));
+        // Line 1 has no code: the next line's entry (a `label:` line's label).
+        assert_eq!(info.goto_targets(1), (Some(2), vec![0]));
+        assert_eq!(info.goto_targets(9), (Some(5), vec![5]));
     }
 
     #[test]

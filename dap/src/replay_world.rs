@@ -14,8 +14,8 @@ use gloc_replay::{Input, Recording};
 use crate::expr::Number;
 use crate::target::{Named, Notice, Phase, StepEvent, Target};
 use crate::world::{
-    element_of, registers_of, set_element_in, set_register_in, set_variable_in, trap_event,
-    variable_of, variables_of, DebugScript, LaunchConfig, VariableSlot,
+    element_of, registers_of, set_element_in, set_pc_in, set_register_in, set_variable_in,
+    trap_event, variable_of, variables_of, DebugScript, LaunchConfig, VariableSlot,
 };
 
 /// What never changes during a replay; shared by every snapshot.
@@ -223,6 +223,10 @@ impl Target for ReplayWorld {
 
     fn take_notices(&mut self) -> Vec<Notice> {
         std::mem::take(&mut self.notices)
+    }
+
+    fn set_pc(&mut self, pc: usize) -> Result<(), String> {
+        set_pc_in(Some(&mut self.machine), pc)
     }
 
     fn registers(&self) -> Vec<Number> {

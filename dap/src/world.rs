@@ -218,9 +218,25 @@ fn debug_info(script: &DebugScript) -> DebugInfo {
             (Language::Gloc, lines, texts)
         }
     };
-    DebugInfo::new(script.path.clone(), language, line_of_pc, instruction_text)
+    let mut info = DebugInfo::new(script.path.clone(), language, line_of_pc, instruction_text)
         .with_program(program)
-        .with_source_text(&script.text)
+        .with_source_text(&script.text);
+    if language == Language::Gbasic {
+        info.constants = constants_of(&script.text, &script.sensor_list);
+    }
+    info
+}
+
+/// The GBASIC constants as (name, declaration), from the compiler's analysis (the
+/// loader keeps no symbols: constants are folded into the code).
+fn constants_of(text: &str, sensor_list: &SensorList) -> Vec<(String, String)> {
+    use gloc_compiler::analysis::{analyze, SymbolKind};
+    analyze(text, sensor_list, &gloc_compiler::CompileOptions::default())
+        .symbols
+        .into_iter()
+        .filter(|symbol| symbol.kind == SymbolKind::Constant)
+        .map(|symbol| (symbol.name, symbol.detail))
+        .collect()
 }
 
 /// The simulator world: the mission and the profile, cycle 0 opened.
@@ -445,6 +461,14 @@ pub(crate) fn registers_of(machine: Option<&Machine>) -> Vec<Number> {
         .unwrap_or_default()
 }
 
+pub(crate) fn set_pc_in(machine: Option<&mut Machine>, pc: usize) -> Result<(), String> {
+    let pc = u32::try_from(pc).map_err(|_| format!("pc {pc} is not an instruction"))?;
+    machine
+        .ok_or("no script is running")?
+        .set_pc(Pc(pc))
+        .map_err(|error| error.to_string())
+}
+
 pub(crate) fn set_register_in(
     machine: Option<&mut Machine>,
     index: usize,
@@ -452,7 +476,7 @@ pub(crate) fn set_register_in(
 ) -> Result<(), String> {
     machine
         .ok_or("no script is running")?
-        .set_register(Reg(index as u32), to_value(value))
+        .set_register(Reg(index as u32), Value::from(value))
         .map_err(|error| error.to_string())
 }
 
@@ -608,13 +632,6 @@ fn to_number(value: Value) -> Number {
     }
 }
 
-fn to_value(number: Number) -> Value {
-    match number {
-        Number::Int(value) => Value::Int(value),
-        Number::Float(value) => Value::Float(value),
-    }
-}
-
 impl Target for SimWorld {
     fn cycle(&self) -> u64 {
         self.sim.cycle()
@@ -700,6 +717,10 @@ impl Target for SimWorld {
 
     fn take_notices(&mut self) -> Vec<Notice> {
         std::mem::take(&mut self.notices)
+    }
+
+    fn set_pc(&mut self, pc: usize) -> Result<(), String> {
+        set_pc_in(self.sim.script_parts().map(|(machine, _)| machine), pc)
     }
 
     fn registers(&self) -> Vec<Number> {
@@ -850,6 +871,9 @@ impl Target for World {
     }
     fn take_notices(&mut self) -> Vec<Notice> {
         each_world!(self, world => world.take_notices())
+    }
+    fn set_pc(&mut self, pc: usize) -> Result<(), String> {
+        each_world!(self, world => world.set_pc(pc))
     }
     fn registers(&self) -> Vec<Number> {
         each_world!(self, world => world.registers())

@@ -70,10 +70,9 @@ impl Vocabulary {
 }
 
 /// The names that complete the word ending at byte `cursor` of `line` (clamped to the
-/// line and to a character boundary). Matching ignores case, since GBASIC names do;
-/// names that start with the word come first (exact case before other case), then
-/// names that hold it further on (`depth` finds `m_depth`), each group by kind, then
-/// shorter names, then alphabetically.
+/// line and to a character boundary): the names that start with it, ignoring case as
+/// GBASIC does; exact case first, then by kind (the script's names, then the sensors it
+/// uses, then the others), shorter names, alphabetically.
 pub fn complete(line: &str, cursor: usize, vocabulary: &Vocabulary, limit: usize) -> Completions {
     let mut cursor = cursor.min(line.len());
     while !line.is_char_boundary(cursor) {
@@ -106,8 +105,6 @@ pub fn complete(line: &str, cursor: usize, vocabulary: &Vocabulary, limit: usize
                 0
             } else if label.starts_with(&lower) {
                 1
-            } else if !lower.is_empty() && label.contains(&lower) {
-                2
             } else {
                 return None;
             };
@@ -166,20 +163,11 @@ mod tests {
 
     #[test]
     fn the_word_before_the_cursor_filters_and_ranks() {
-        // Prefix matches (the script's sensor before the others, shorter first), then
-        // names holding the word.
+        // The script's sensor before the others, then shorter first.
         let completions = check("m_dep$0", &["m_depth", "m_dep_x", "m_depth_rate"]);
         assert_eq!((completions.start, completions.length), (0, 5));
-        let completions = check(
-            "x > dep$0",
-            &[
-                "depth",
-                "m_depth",
-                "m_dep_x",
-                "m_depth_rate",
-                "c_dive_target_depth",
-            ],
-        );
+        // Only names that start with the word.
+        let completions = check("x > dep$0", &["depth"]);
         assert_eq!((completions.start, completions.length), (4, 3));
         // Case is ignored, exact case first.
         check("max$0", &["max", "MAXD"]);

@@ -11,10 +11,12 @@
 // Stdout is the protocol: nothing else may print there.
 #![deny(clippy::print_stdout)]
 
+pub mod cancel;
 pub mod completion;
 pub mod debugger;
 pub mod edits;
 pub mod expr;
+pub mod features;
 pub mod format;
 pub mod program;
 pub mod protocol;
@@ -230,16 +232,26 @@ fn serve_session(
     if access != Access::Open {
         reader.limit_until(limits::BEFORE_TOKEN, authenticated.clone());
     }
+    // A reverse run holds this thread: the reader notes `cancel`s for it to see.
+    let cancellations = cancel::Cancellations::default();
+    let noted = cancellations.clone();
     thread::Builder::new()
         .name("dap-reader".into())
         .spawn(move || loop {
             let frame = reader.next_frame();
+            if let Frame::Request(request) = &frame {
+                if request.command == "cancel" {
+                    noted.note(&request.arguments);
+                }
+            }
             let closed = matches!(frame, Frame::Closed);
             if sender.send(frame).is_err() || closed {
                 break;
             }
         })?;
-    let mut session = Session::new(Writer::new(Box::new(output)), access).signalling(authenticated);
+    let mut session = Session::new(Writer::new(Box::new(output)), access)
+        .signalling(authenticated)
+        .cancelling(cancellations);
     let mut admitted = false;
     let opened = Instant::now();
     let mut last_heard = opened;

@@ -14,8 +14,9 @@ use gloc_replay::{Input, Recording};
 use crate::expr::Number;
 use crate::target::{Named, Notice, Phase, StepEvent, Target};
 use crate::world::{
-    element_of, registers_of, set_element_in, set_pc_in, set_register_in, set_variable_in,
-    trap_event, variable_of, variables_of, DebugScript, LaunchConfig, VariableSlot,
+    element_of, float_text, registers_of, set_element_in, set_pc_in, set_register_in,
+    set_variable_in, trap_event, variable_of, variables_of, DebugScript, LaunchConfig,
+    VariableSlot,
 };
 
 /// What never changes during a replay; shared by every snapshot.
@@ -301,10 +302,8 @@ impl Target for ReplayWorld {
             length: None,
         };
         let recorded = |name: &str| {
-            self.value_of(name).map_or_else(
-                || "not in the sensor list".to_string(),
-                |value| format!("{value:?}"),
-            )
+            self.value_of(name)
+                .map_or_else(|| "not in the sensor list".to_string(), float_text)
         };
         let phase = match self.phase {
             Phase::Boundary => "cycle boundary",

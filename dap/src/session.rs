@@ -9,11 +9,14 @@ use std::sync::Arc;
 use serde::{Deserialize, Serialize};
 use serde_json::{json, Value};
 
+use crate::cancel::Cancellations;
 use crate::debugger::{
-    Clock, CycleBreakpoint, CycleBreakpointKind, DataBreakpoint, Debugger, Edit, ExceptionFilters,
-    HistoryConfig, HitCondition, InstructionBreakpoint, LineBreakpoint, Progress, RunMode, Stop,
+    Clock, CycleBreakpoint, CycleBreakpointKind, DataBreakpoint, Debugger, Edit, HistoryConfig,
+    HitCondition, InstructionBreakpoint, LineBreakpoint, Progress, RunMode, Stop,
 };
-use crate::expr::Number;
+use crate::edits;
+use crate::features::{self, ClientOptions};
+use crate::format::ValueFormat;
 use crate::program::Language;
 use crate::protocol::{Malformed, Request, Writer};
 use crate::target::{Named, Phase, Target};
@@ -28,7 +31,7 @@ const SCOPE_SENSORS: i64 = 3;
 const SCOPE_VEHICLE: i64 = 4;
 const ALL_SENSORS: i64 = 5;
 /// `ARRAYS + i`: the elements of the i-th GBASIC variable (an array).
-const ARRAYS: i64 = 1000;
+pub(crate) const ARRAYS: i64 = 1000;
 /// Steps run between two looks at the incoming queue while running.
 const SLICE_STEPS: u64 = 50_000;
 
@@ -130,6 +133,10 @@ pub enum Flow {
 struct Running {
     mode: RunMode,
     start: Clock,
+    /// The request that started the run (a `cancel` may name it).
+    request_seq: i64,
+    /// The progress shown while the run lasts longer than a slice.
+    progress: Option<String>,
 }
 
 struct Launched {
@@ -147,6 +154,7 @@ struct Requested {
     data: Vec<crate::types::DataBreakpoint>,
     instructions: Vec<crate::types::InstructionBreakpoint>,
     filters: Option<Vec<String>>,
+    filter_options: Vec<ExceptionFilterOptions>,
 }
 
 pub struct Session {
@@ -160,33 +168,9 @@ pub struct Session {
     launched: Option<Launched>,
     requested: Requested,
     next_breakpoint_id: i64,
-}
-
-fn exception_filters() -> Vec<ExceptionBreakpointsFilter> {
-    vec![
-        ExceptionBreakpointsFilter {
-            filter: "trap".into(),
-            label: "Runtime traps".into(),
-            description: Some(
-                "Stop when the script traps (division by zero, bad jump, ...)".into(),
-            ),
-            default: Some(true),
-        },
-        ExceptionBreakpointsFilter {
-            filter: "overrun".into(),
-            label: "Cycle overrun".into(),
-            description: Some(
-                "Stop when the script exceeds its per-cycle instruction budget".into(),
-            ),
-            default: Some(true),
-        },
-        ExceptionBreakpointsFilter {
-            filter: "abend".into(),
-            label: "Abend".into(),
-            description: Some("Stop when the mission aborts".into()),
-            default: Some(true),
-        },
-    ]
+    /// `cancel`s, noted by the reader thread as they arrive.
+    cancellations: Cancellations,
+    client: ClientOptions,
 }
 
 fn capabilities() -> Capabilities {
@@ -196,7 +180,7 @@ fn capabilities() -> Capabilities {
         supports_conditional_breakpoints: Some(true),
         supports_hit_conditional_breakpoints: Some(true),
         supports_evaluate_for_hovers: Some(true),
-        exception_breakpoint_filters: Some(exception_filters()),
+        exception_breakpoint_filters: Some(crate::features::exception_breakpoint_filters()),
         supports_set_variable: Some(true),
         supports_restart_request: Some(true),
         supports_log_points: Some(true),
@@ -210,6 +194,12 @@ fn capabilities() -> Capabilities {
         supports_loaded_sources_request: Some(true),
         // Announced after launch with a `capabilities` event when history is on.
         supports_step_back: None,
+        supports_completions_request: Some(true),
+        supports_set_expression: Some(true),
+        supports_goto_targets_request: Some(true),
+        supports_value_formatting_options: Some(true),
+        supports_cancel_request: Some(true),
+        supports_exception_filter_options: Some(true),
     }
 }
 
@@ -229,7 +219,15 @@ impl Session {
             launched: None,
             requested: Requested::default(),
             next_breakpoint_id: 1,
+            cancellations: Cancellations::default(),
+            client: ClientOptions::default(),
         }
+    }
+
+    /// Shares the list of `cancel`s the reader thread notes.
+    pub fn cancelling(mut self, cancellations: Cancellations) -> Session {
+        self.cancellations = cancellations;
+        self
     }
 
     pub fn is_running(&self) -> bool {
@@ -346,7 +344,8 @@ impl Session {
         let io_error = |error: io::Error| format!("cannot write to the client: {error}");
         match request.command.as_str() {
             "initialize" => {
-                let _: InitializeArguments = arguments(request)?;
+                let arguments: InitializeArguments = arguments(request)?;
+                self.client = ClientOptions::of(&arguments);
                 self.initialized = true;
                 self.writer
                     .respond(request, capabilities())
@@ -408,16 +407,16 @@ impl Session {
             }
             "setExceptionBreakpoints" => {
                 let arguments: SetExceptionBreakpointsArguments = arguments(request)?;
-                for filter in &arguments.filters {
-                    if !["trap", "overrun", "abend"].contains(&filter.as_str()) {
-                        return Err(format!(
-                            "unknown exception filter `{filter}` (known: trap, overrun, abend)"
-                        ));
-                    }
-                }
+                let debugger = self.launched.as_ref().map(|launched| &launched.debugger);
+                let (_, breakpoints) = features::exception_filters(&arguments, |condition| {
+                    debugger.and_then(|debugger| condition_error(debugger, condition))
+                })?;
                 self.requested.filters = Some(arguments.filters);
+                self.requested.filter_options = arguments.filter_options.unwrap_or_default();
                 self.apply_filters();
-                self.writer.respond(request, ()).map_err(io_error)?;
+                self.writer
+                    .respond(request, json!({ "breakpoints": breakpoints }))
+                    .map_err(io_error)?;
             }
             "setInstructionBreakpoints" => {
                 let arguments: SetInstructionBreakpointsArguments = arguments(request)?;
@@ -507,6 +506,8 @@ impl Session {
                         launched.running = Some(Running {
                             mode: RunMode::Continue,
                             start,
+                            request_seq: request.seq,
+                            progress: None,
                         });
                     }
                     self.writer.respond(request, ()).map_err(io_error)?;
@@ -546,7 +547,12 @@ impl Session {
                     other => other,
                 };
                 let start = launched.debugger.clock();
-                launched.running = Some(Running { mode, start });
+                launched.running = Some(Running {
+                    mode,
+                    start,
+                    request_seq: request.seq,
+                    progress: None,
+                });
                 let body = if mode == RunMode::Continue {
                     json!({ "allThreadsContinued": true })
                 } else {
@@ -578,7 +584,28 @@ impl Session {
                 let stop = if request.command == "stepBack" {
                     launched.debugger.step_back()?
                 } else {
-                    launched.debugger.reverse_continue()?
+                    let progress = format!("reverse-{}", request.seq);
+                    if self.client.supports_progress_reporting {
+                        self.start_progress(&progress, "Running backwards", request.seq)
+                            .map_err(io_error)?;
+                    }
+                    let cancellations = self.cancellations.clone();
+                    let launched = self.launched_mut()?;
+                    let stop = launched.debugger.reverse_continue_unless(&|| {
+                        cancellations.cancelled(request.seq, Some(&progress))
+                    });
+                    if self.client.supports_progress_reporting {
+                        self.writer
+                            .event(
+                                "progressEnd",
+                                ProgressEventBody {
+                                    progress_id: progress,
+                                    message: None,
+                                },
+                            )
+                            .map_err(io_error)?;
+                    }
+                    stop?
                 };
                 self.writer.respond(request, ()).map_err(io_error)?;
                 self.send_stop(stop).map_err(io_error)?;
@@ -586,14 +613,17 @@ impl Session {
             "stackTrace" => {
                 let arguments: StackTraceArguments = arguments(request)?;
                 let launched = self.launched_mut()?;
+                let format = features::value_format(arguments.format);
                 // One frame (the script has no calls): `startFrame` past it gives none;
                 // `levels` 0 or absent means all.
                 let frames = match (arguments.start_frame.unwrap_or(0), arguments.levels) {
                     (start, _) if start < 0 => {
                         return Err(format!("`startFrame` {start} is negative"))
                     }
-                    (0, None) => vec![stack_frame(&launched.debugger)],
-                    (0, Some(levels)) if levels >= 0 => vec![stack_frame(&launched.debugger)],
+                    (0, None) => vec![stack_frame(&launched.debugger, format)],
+                    (0, Some(levels)) if levels >= 0 => {
+                        vec![stack_frame(&launched.debugger, format)]
+                    }
                     (_, Some(levels)) if levels < 0 => {
                         return Err(format!("`levels` {levels} is negative"))
                     }
@@ -651,13 +681,58 @@ impl Session {
             "evaluate" => {
                 let arguments: EvaluateArguments = arguments(request)?;
                 let launched = self.launched_mut()?;
-                let value = launched.debugger.evaluate(&arguments.expression)?;
+                let body = features::evaluate(&launched.debugger, &arguments)?;
+                self.writer.respond(request, body).map_err(io_error)?;
+            }
+            "setExpression" => {
+                let arguments: SetExpressionArguments = arguments(request)?;
+                let debugger = self.paused()?;
+                let body = features::set_expression(debugger, &arguments)?;
+                // The response names the new value `value` (evaluate's `result`).
+                let mut body = serde_json::to_value(body).map_err(|error| error.to_string())?;
+                if let Some(object) = body.as_object_mut() {
+                    if let Some(result) = object.remove("result") {
+                        object.insert("value".into(), result);
+                    }
+                }
+                self.writer.respond(request, body).map_err(io_error)?;
+            }
+            "completions" => {
+                let arguments: CompletionsArguments = arguments(request)?;
+                let client = self.client;
+                let launched = self.launched_mut()?;
+                let targets = features::completions(&launched.debugger, &arguments, client);
                 self.writer
-                    .respond(
-                        request,
-                        json!({ "result": value.to_string(), "type": value.type_name(), "variablesReference": 0 }),
-                    )
+                    .respond(request, json!({ "targets": targets }))
                     .map_err(io_error)?;
+            }
+            "gotoTargets" => {
+                let arguments: GotoTargetsArguments = arguments(request)?;
+                let client = self.client;
+                let launched = self.launched_mut()?;
+                let targets = features::goto_targets(&launched.debugger, &arguments, client)?;
+                self.writer
+                    .respond(request, json!({ "targets": targets }))
+                    .map_err(io_error)?;
+            }
+            "goto" => {
+                let arguments: GotoArguments = arguments(request)?;
+                let debugger = self.paused()?;
+                let description = features::goto(debugger, &arguments)?;
+                self.writer.respond(request, ()).map_err(io_error)?;
+                self.send_stop(Stop {
+                    reason: "goto",
+                    description,
+                    text: None,
+                    hit_breakpoint_ids: Vec::new(),
+                })
+                .map_err(io_error)?;
+            }
+            "cancel" => {
+                // The reader thread noted it; a run asks the list between slices (and a
+                // reverse run between steps). Cancelling what is over does nothing.
+                let _: CancelArguments = arguments(request)?;
+                self.writer.respond(request, ()).map_err(io_error)?;
             }
             "exceptionInfo" => {
                 let launched = self.launched_mut()?;
@@ -707,12 +782,36 @@ impl Session {
                     launched.running = Some(Running {
                         mode: RunMode::Continue,
                         start,
+                        request_seq: request.seq,
+                        progress: None,
                     });
                 }
             }
             other => return Err(format!("unknown command `{other}`")),
         }
         Ok(Flow::Continue)
+    }
+
+    /// The debugger of a launched program that is not running.
+    fn paused(&mut self) -> Result<&mut Debugger<World>, String> {
+        let launched = self.launched_mut()?;
+        if launched.running.is_some() {
+            return Err("the program is running; `pause` first".into());
+        }
+        Ok(&mut launched.debugger)
+    }
+
+    fn start_progress(&mut self, id: &str, title: &str, request_seq: i64) -> io::Result<()> {
+        self.writer.event(
+            "progressStart",
+            ProgressStartEventBody {
+                progress_id: id.to_string(),
+                title: title.into(),
+                request_id: Some(request_seq),
+                cancellable: true,
+                message: None,
+            },
+        )
     }
 
     fn launched_mut(&mut self) -> Result<&mut Launched, String> {
@@ -1133,13 +1232,17 @@ impl Session {
         let Some(filters) = &self.requested.filters else {
             return;
         };
-        let has = |name: &str| filters.iter().any(|filter| filter == name);
-        let chosen = ExceptionFilters {
-            trap: has("trap"),
-            overrun: has("overrun"),
-            abend: has("abend"),
+        let arguments = SetExceptionBreakpointsArguments {
+            filters: filters.clone(),
+            filter_options: Some(self.requested.filter_options.clone()),
         };
-        if let Some(launched) = &mut self.launched {
+        let Some(launched) = &mut self.launched else {
+            return;
+        };
+        let debugger = &launched.debugger;
+        if let Ok((chosen, _)) = features::exception_filters(&arguments, |condition| {
+            condition_error(debugger, condition)
+        }) {
             launched.debugger.filters = chosen;
         }
     }
@@ -1152,13 +1255,44 @@ impl Session {
         let Some(running) = &launched.running else {
             return Ok(Flow::Continue);
         };
-        let progress = launched
-            .debugger
-            .run(running.mode, running.start, SLICE_STEPS);
+        let shown = running.progress.clone();
+        let progress = if self
+            .cancellations
+            .cancelled(running.request_seq, shown.as_deref())
+        {
+            // A cancelled run stops where the last slice left it (a step boundary).
+            Progress::Stopped(Stop {
+                reason: "pause",
+                description: format!("Run cancelled at cycle {}", launched.debugger.clock().cycle),
+                text: None,
+                hit_breakpoint_ids: Vec::new(),
+            })
+        } else {
+            launched
+                .debugger
+                .run(running.mode, running.start, SLICE_STEPS)
+        };
+        let request_seq = running.request_seq;
         if !matches!(progress, Progress::Running) {
             launched.running = None;
+        } else if shown.is_none() && self.client.supports_progress_reporting {
+            // Longer than one slice: show a progress the user can cancel.
+            let id = format!("run-{request_seq}");
+            if let Some(running) = &mut launched.running {
+                running.progress = Some(id.clone());
+            }
+            self.start_progress(&id, "Running", request_seq)?;
         }
         self.flush_outputs()?;
+        if let (Some(id), false) = (shown, matches!(progress, Progress::Running)) {
+            self.writer.event(
+                "progressEnd",
+                ProgressEventBody {
+                    progress_id: id,
+                    message: None,
+                },
+            )?;
+        }
         match progress {
             Progress::Running => {}
             Progress::Stopped(stop) => self.send_stop(stop)?,
@@ -1344,7 +1478,7 @@ fn echo_line(line: i64) -> Option<i64> {
     (1..=i64::from(u32::MAX)).contains(&line).then_some(line)
 }
 
-fn address(pc: usize) -> String {
+pub(crate) fn address(pc: usize) -> String {
     format!("0x{pc:x}")
 }
 
@@ -1363,7 +1497,7 @@ fn source_of(debugger: &Debugger<World>) -> Source {
     }
 }
 
-fn stack_frame(debugger: &Debugger<World>) -> StackFrame {
+fn stack_frame(debugger: &Debugger<World>, format: ValueFormat) -> StackFrame {
     let target = &debugger.target;
     let pc = debugger.shown_pc();
     let instruction = debugger
@@ -1382,8 +1516,9 @@ fn stack_frame(debugger: &Debugger<World>) -> StackFrame {
     StackFrame {
         id: FRAME_ID,
         name: format!(
-            "cycle {} ({phase}) · {pc}: {instruction}",
-            debugger.clock().cycle
+            "cycle {} ({phase}) · {}: {instruction}",
+            debugger.clock().cycle,
+            format.count(pc)
         ),
         source: Some(source_of(debugger)),
         line: i64::from(line),
@@ -1414,12 +1549,12 @@ fn plain(named: Named) -> Variable {
     }
 }
 
-fn sensor_variable(target: &World, index: usize) -> Variable {
+fn sensor_variable(target: &World, index: usize, format: ValueFormat) -> Variable {
     let name = target.sensor_name(index).unwrap_or("?").to_string();
     Variable {
         evaluate_name: Some(name.clone()),
         name,
-        value: format!("{:?}", target.sensor(index)),
+        value: format.sensor(target.sensor(index)),
         ty: Some(format!("sensor {index}")),
         variables_reference: 0,
         named_variables: None,
@@ -1432,6 +1567,7 @@ fn variables(
     arguments: &VariablesArguments,
 ) -> Result<Vec<Variable>, String> {
     let target = &debugger.target;
+    let format = features::value_format(arguments.format);
     let all: Vec<Variable> = match arguments.variables_reference {
         SCOPE_VARIABLES => target
             .variables()
@@ -1439,7 +1575,14 @@ fn variables(
             .enumerate()
             .map(|(position, named)| {
                 let length = named.length;
+                let value = match length {
+                    Some(length) => features::array_summary(debugger, &named.name, length, format),
+                    None => target
+                        .variable(&named.name)
+                        .map_or_else(|| named.value.clone(), |value| format.number(value)),
+                };
                 let mut variable = plain(named);
+                variable.value = value;
                 if let Some(length) = length {
                     variable.variables_reference = ARRAYS + position as i64;
                     variable.indexed_variables = Some(length as i64);
@@ -1476,7 +1619,7 @@ fn variables(
                     Variable {
                         evaluate_name: Some(format!("{}({index})", array.name)),
                         name: format!("[{index}]"),
-                        value: value.map(|value| value.to_string()).unwrap_or_default(),
+                        value: value.map(|value| format.number(value)).unwrap_or_default(),
                         ty: Some(element_type.into()),
                         variables_reference: 0,
                         named_variables: None,
@@ -1491,7 +1634,7 @@ fn variables(
             .enumerate()
             .map(|(index, value)| Variable {
                 name: format!("r{index}"),
-                value: value.to_string(),
+                value: format.number(value),
                 ty: Some(value.type_name().into()),
                 variables_reference: 0,
                 named_variables: None,
@@ -1503,7 +1646,7 @@ fn variables(
             let mut list: Vec<Variable> = target
                 .touched_sensors()
                 .into_iter()
-                .map(|index| sensor_variable(target, index))
+                .map(|index| sensor_variable(target, index, format))
                 .collect();
             list.push(Variable {
                 name: "All sensors".into(),
@@ -1527,7 +1670,7 @@ fn variables(
             };
             let end = start.saturating_add(count).min(target.sensor_count());
             return Ok((start.min(end)..end)
-                .map(|index| sensor_variable(target, index))
+                .map(|index| sensor_variable(target, index, format))
                 .collect());
         }
         other => return Err(format!("unknown variablesReference {other}")),
@@ -1546,19 +1689,15 @@ fn set_variable(
     debugger: &mut Debugger<World>,
     arguments: &SetVariableArguments,
 ) -> Result<String, String> {
-    let value = match Number::parse(&arguments.value) {
-        Some(value) => value,
-        None => debugger
-            .evaluate(&arguments.value)
-            .map_err(|message| format!("`{}` is not a value: {message}", arguments.value))?,
-    };
+    let value = edits::value_of(debugger, &arguments.value)?;
+    let format = features::value_format(arguments.format);
     match arguments.variables_reference {
         SCOPE_VARIABLES => {
             debugger.edit(Edit::Variable(arguments.name.clone(), value))?;
             debugger
                 .target
                 .variable(&arguments.name)
-                .map(|value| value.to_string())
+                .map(|value| format.number(value))
                 .ok_or_else(|| format!("no variable `{}`", arguments.name))
         }
         SCOPE_REGISTERS => {
@@ -1572,7 +1711,7 @@ fn set_variable(
                 .target
                 .registers()
                 .get(index)
-                .map(|value| value.to_string())
+                .map(|value| format.number(*value))
                 .ok_or_else(|| format!("no register `{}`", arguments.name))
         }
         SCOPE_SENSORS | ALL_SENSORS => {
@@ -1581,7 +1720,7 @@ fn set_variable(
                 .sensor_index(&arguments.name)
                 .ok_or_else(|| format!("`{}` is not a sensor", arguments.name))?;
             debugger.edit(Edit::Sensor(index, value.as_f64()))?;
-            Ok(format!("{:?}", debugger.target.sensor(index)))
+            Ok(format.sensor(debugger.target.sensor(index)))
         }
         SCOPE_VEHICLE => Err("the Vehicle scope is read-only; set a sensor instead".into()),
         reference if reference >= ARRAYS => {
@@ -1616,7 +1755,7 @@ fn set_variable(
             debugger
                 .target
                 .element(&name, index)
-                .map(|value| value.to_string())
+                .map(|value| format.number(value))
                 .ok_or_else(|| format!("no element `{}`", arguments.name))
         }
         other => Err(format!("unknown variablesReference {other}")),

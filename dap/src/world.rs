@@ -625,6 +625,11 @@ fn typed_value(variable: &VariableSlot, value: Number) -> Result<Value, String> 
     }
 }
 
+/// A float as the script's `print` writes it (the shortest text that reads back exactly).
+pub(crate) fn float_text(value: f64) -> String {
+    Value::Float(value).to_string()
+}
+
 fn to_number(value: Value) -> Number {
     match value {
         Value::Int(value) => Number::Int(value),
@@ -803,37 +808,29 @@ impl Target for SimWorld {
         vec![
             named("cycle", self.sim.cycle().to_string(), "integer"),
             named("phase", phase.to_string(), "string"),
-            named(
-                "mission time (s)",
-                format!("{:?}", self.sim.time()),
-                "float",
-            ),
+            named("mission time (s)", float_text(self.sim.time()), "float"),
             named(
                 "m_present_time",
-                format!("{:?}", self.sim.present_time()),
+                float_text(self.sim.present_time()),
                 "float",
             ),
-            named("depth (m)", format!("{:?}", self.sim.depth()), "float"),
-            named("pitch (rad)", format!("{:?}", self.sim.pitch()), "float"),
+            named("depth (m)", float_text(self.sim.depth()), "float"),
+            named("pitch (rad)", float_text(self.sim.pitch()), "float"),
             named(
                 "pitch (deg)",
-                format!("{:.2}", self.sim.pitch().to_degrees()),
+                float_text(self.sim.pitch().to_degrees()),
                 "float",
             ),
             named("active behaviors", active.join(", "), "string"),
-            named(
-                "energy (J)",
-                format!("{:.1}", self.sim.energy_joules()),
-                "float",
-            ),
+            named("energy (J)", float_text(self.sim.energy_joules()), "float"),
             named(
                 "charge used (Ah)",
-                format!("{:.4}", self.sim.amp_hours()),
+                float_text(self.sim.amp_hours()),
                 "float",
             ),
             named(
                 "water depth (m)",
-                format!("{:?}", self.sim.water_depth()),
+                float_text(self.sim.water_depth()),
                 "float",
             ),
         ]

@@ -7,7 +7,6 @@
 use crate::completion::{self, Kind};
 use crate::debugger::{Debugger, ExceptionConditions, ExceptionFilters};
 use crate::edits;
-use crate::expr::Number;
 use crate::format::ValueFormat;
 use crate::session::{address, ARRAYS};
 use crate::target::Target;
@@ -197,37 +196,37 @@ pub fn completions(
 pub fn evaluate(
     debugger: &Debugger<World>,
     arguments: &EvaluateArguments,
-) -> Result<EvaluateResponseBody, String> {
+) -> Result<EvaluateBody, String> {
     let format = value_format(arguments.format);
     if let Some((position, array)) = edits::array(debugger, &arguments.expression) {
         let length = array.length.unwrap_or(0);
-        return Ok(EvaluateResponseBody {
+        return Ok(EvaluateBody {
             result: array_summary(debugger, &array.name, length, format),
-            ty: Some(array.ty.to_string()),
+            ty: array.ty.to_string(),
             variables_reference: ARRAYS + position as i64,
             indexed_variables: Some(length as i64),
         });
     }
     let value = debugger.evaluate(&arguments.expression)?;
-    Ok(plain_result(value, format))
+    Ok(EvaluateBody {
+        result: format.number(value),
+        ty: value.type_name().into(),
+        variables_reference: 0,
+        indexed_variables: None,
+    })
 }
 
 /// `setExpression`: assigns, journaled, and answers the new value as `evaluate` would.
 pub fn set_expression(
     debugger: &mut Debugger<World>,
     arguments: &SetExpressionArguments,
-) -> Result<EvaluateResponseBody, String> {
+) -> Result<SetExpressionBody, String> {
     let value = edits::assign(debugger, &arguments.expression, &arguments.value)?;
-    Ok(plain_result(value, value_format(arguments.format)))
-}
-
-fn plain_result(value: Number, format: ValueFormat) -> EvaluateResponseBody {
-    EvaluateResponseBody {
-        result: format.number(value),
-        ty: Some(value.type_name().into()),
+    Ok(SetExpressionBody {
+        value: value_format(arguments.format).number(value),
+        ty: value.type_name().into(),
         variables_reference: 0,
-        indexed_variables: None,
-    }
+    })
 }
 
 /// The most elements an array's one-line summary lists (its children list them all).

@@ -2,11 +2,13 @@
 //! the GLOC interpreter inside the glider simulator, cycle by cycle, forwards and back.
 //!
 //! Layers: `protocol` (framing, envelope, the one writer), `types` (serde structs),
-//! `session` (request dispatch), `debugger` (breakpoints, stepping, history; protocol
-//! free), `target` (what the debugger needs from a world), `world` (that, over the
+//! `session` (the session's state and the protocol edge), `dispatch` and `handlers`
+//! (the command table: one typed handler per command), `debugger` (breakpoints,
+//! stepping, history; protocol free), `target` (what the debugger needs from a world), `world` (that, over the
 //! engine and simulator), `expr` (GBASIC expressions for conditions and watches),
 //! `edits` (setExpression, goto, the console's names), `completion` (filtering and
-//! ranking them), `format` (values as `print` writes them, or hex).
+//! ranking them), `format` (values as `print` writes them, or hex), `features` (the
+//! console's, Watch's and goto's answers), `cancel` (`cancel`s noted as they arrive).
 
 // Stdout is the protocol: nothing else may print there.
 #![deny(clippy::print_stdout)]
@@ -14,10 +16,12 @@
 pub mod cancel;
 pub mod completion;
 pub mod debugger;
+pub mod dispatch;
 pub mod edits;
 pub mod expr;
 pub mod features;
 pub mod format;
+mod handlers;
 pub mod program;
 pub mod protocol;
 pub mod replay_world;

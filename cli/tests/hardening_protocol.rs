@@ -546,6 +546,13 @@ fn before_the_token_a_body_is_held_to_one_mebibyte() {
     // ... and read once the session has the token.
     let launched = launch(&mut client, &adapter.token, &fixture("fig3.gbas"));
     assert_eq!(launched["success"], true, "{launched}");
+    // Read and answered: a debugger expression is at most 64 KiB (docs/gbasic.md E2010).
     let answered = client.request("evaluate", json!({ "expression": big }));
-    assert_eq!(answered["success"], true, "{answered}");
+    assert_eq!(answered["success"], false, "{answered}");
+    assert!(
+        answered["message"]
+            .as_str()
+            .is_some_and(|message| message.contains("at most 65536")),
+        "{answered}"
+    );
 }

@@ -43,6 +43,116 @@ pub fn check(program: &ast::Program, sensors: &SensorList) -> Checked {
     }
 }
 
+/// The names a lone expression may use (a debugger's condition or watch): the script's
+/// variables and constants, and the sensor list. Built from a compiled script's symbol
+/// table ([`crate::SourceMap`]); the debugger may add names of its own (registers).
+#[derive(Clone, Debug)]
+pub struct ExpressionScope {
+    sensors: std::sync::Arc<SensorList>,
+    symbols: Symbols,
+    constant_values: Vec<Literal>,
+    names: HashMap<String, Symbol>,
+}
+
+/// A lone expression checked against an [`ExpressionScope`].
+#[derive(Clone, Debug)]
+pub struct CheckedExpression {
+    pub expr: typed::Expr,
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+impl ExpressionScope {
+    pub fn new(sensors: std::sync::Arc<SensorList>) -> ExpressionScope {
+        ExpressionScope {
+            sensors,
+            symbols: Symbols::default(),
+            constant_values: Vec::new(),
+            names: HashMap::new(),
+        }
+    }
+
+    /// Declares a variable (`size`: `Some(n)` for an array); `None` when the name is
+    /// already taken in the scope, which keeps the first.
+    pub fn declare_variable(&mut self, name: &str, ty: Ty, size: Option<usize>) -> Option<VarId> {
+        let key = name.to_ascii_lowercase();
+        if self.names.contains_key(&key) {
+            return None;
+        }
+        let id = VarId(self.symbols.variables.len());
+        self.symbols.variables.push(typed::Variable {
+            name: name.to_string(),
+            ty,
+            size,
+            definition: Span::default(),
+            references: Vec::new(),
+        });
+        self.names.insert(key, Symbol::Variable(id));
+        Some(id)
+    }
+
+    /// Declares a constant; false when the name is already taken.
+    pub fn declare_constant(&mut self, name: &str, value: Literal) -> bool {
+        let key = name.to_ascii_lowercase();
+        if self.names.contains_key(&key) {
+            return false;
+        }
+        self.symbols.constants.push(typed::Constant {
+            name: name.to_string(),
+            ty: literal_ty(&value),
+            value: match value {
+                Literal::Int(value) => value.to_string(),
+                Literal::Float(value) => format_float(value),
+            },
+            definition: Span::default(),
+            references: Vec::new(),
+        });
+        self.names
+            .insert(key, Symbol::Constant(self.constant_values.len()));
+        self.constant_values.push(value);
+        true
+    }
+
+    pub fn variables(&self) -> &[typed::Variable] {
+        &self.symbols.variables
+    }
+
+    pub fn constants(&self) -> &[typed::Constant] {
+        &self.symbols.constants
+    }
+
+    pub fn sensors(&self) -> &SensorList {
+        &self.sensors
+    }
+
+    /// The variable `name` (any case), if it is one.
+    pub fn variable(&self, name: &str) -> Option<VarId> {
+        match self.names.get(&name.to_ascii_lowercase()) {
+            Some(Symbol::Variable(id)) => Some(*id),
+            _ => None,
+        }
+    }
+}
+
+/// Type-checks one expression by the rules of a script: the same names, conversions
+/// and errors as `check` gives the same text inside a program.
+pub fn check_expression(expr: &ast::Expr, scope: &ExpressionScope) -> CheckedExpression {
+    let mut checker = Checker {
+        sensors: &scope.sensors,
+        symbols: scope.symbols.clone(),
+        diagnostics: Vec::new(),
+        names: scope.names.clone(),
+        labels: HashMap::new(),
+        sensor_uses: HashMap::new(),
+        loops: Vec::new(),
+        constant_values: scope.constant_values.clone(),
+    };
+    let expr = checker.check_expr(expr);
+    CheckedExpression {
+        expr,
+        diagnostics: checker.diagnostics,
+    }
+}
+
 #[derive(Clone, Copy, Debug)]
 enum Symbol {
     Variable(VarId),

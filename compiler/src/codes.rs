@@ -20,6 +20,8 @@ pub const BAD_NEXT: &str = "E2007";
 pub const TOO_DEEP: &str = "E2008";
 /// An expression tree deeper than 256 operators (a long chain `1 + 1 + …` included).
 pub const EXPRESSION_TOO_DEEP: &str = "E2009";
+/// A lone expression (a debugger's condition or watch) longer than 64 KiB.
+pub const EXPRESSION_TOO_LONG: &str = "E2010";
 
 /// A name that is neither declared nor a sensor.
 pub const UNDECLARED: &str = "E2101";

@@ -9,6 +9,7 @@ pub mod ast;
 pub mod check;
 pub mod codegen;
 pub mod codes;
+pub mod expression;
 pub mod ir;
 pub mod lexer;
 pub mod loader;
@@ -25,7 +26,7 @@ pub use analysis::{analyze, Analysis, Block, SymbolInfo, SymbolKind};
 pub use codegen::{ForBound, Storage};
 
 pub use loader::{load_script, Language, LoadOptions, LoadedScript};
-pub use source_map::{Origin, SourceMap};
+pub use source_map::{ConstantValue, Origin, SourceMap};
 
 /// How to compile.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -39,6 +39,7 @@ pub fn parse(text: &str) -> Parsed {
         diagnostics: Vec::new(),
         open: Vec::new(),
         expression_depth: 0,
+        end_name: "the end of the file",
     };
     let mut body = Vec::new();
     loop {
@@ -64,6 +65,86 @@ pub fn parse(text: &str) -> Parsed {
         program: Program { body },
         diagnostics: parser.diagnostics,
     }
+}
+
+/// One expression alone (a debugger's condition, watch or hover), parsed by the same
+/// rules as in a script; `expr` is `None` when it has a syntax error.
+#[derive(Clone, Debug, Default)]
+pub struct ParsedExpression {
+    pub expr: Option<Expr>,
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+/// The longest expression [`parse_expression`] reads: a condition or a watch is a
+/// line, and the limit bounds the memory a hostile one can take.
+pub const MAX_EXPRESSION_BYTES: usize = 1 << 16;
+
+/// Parses `text` as one GBASIC expression: anything after it is an error.
+pub fn parse_expression(text: &str) -> ParsedExpression {
+    if text.len() > MAX_EXPRESSION_BYTES {
+        return ParsedExpression {
+            expr: None,
+            diagnostics: vec![Diagnostic::error(
+                codes::EXPRESSION_TOO_LONG,
+                Span::default(),
+                format!(
+                    "the expression is {} bytes; an expression is at most {MAX_EXPRESSION_BYTES}",
+                    text.len()
+                ),
+            )],
+        };
+    }
+    let mut parser = Parser {
+        text,
+        tokens: lex(text),
+        pos: 0,
+        diagnostics: Vec::new(),
+        open: Vec::new(),
+        expression_depth: 0,
+        end_name: "the end of the expression",
+    };
+    if parser.peek().kind == TokenKind::Eof {
+        parser.diagnostics.push(Diagnostic::error(
+            codes::SYNTAX,
+            Span::default(),
+            "the expression is empty",
+        ));
+        return ParsedExpression {
+            expr: None,
+            diagnostics: parser.diagnostics,
+        };
+    }
+    let expr = parser.parse_expr();
+    if expr.is_some() && parser.peek().kind != TokenKind::Eof {
+        let token = parser.peek().clone();
+        let found = parser.describe(&token);
+        let mut diagnostic = Diagnostic::error(
+            codes::SYNTAX,
+            token.span,
+            format!("unexpected {found} after the expression"),
+        );
+        if let Some(help) = operator_hint(parser.slice(token.span)) {
+            diagnostic = diagnostic.with_help(help);
+        }
+        parser.diagnostics.push(diagnostic);
+    }
+    let has_errors = parser.diagnostics.iter().any(Diagnostic::is_error);
+    ParsedExpression {
+        expr: expr.filter(|_| !has_errors),
+        diagnostics: parser.diagnostics,
+    }
+}
+
+/// GBASIC's spelling of an operator written as in C (`&&`, `!=`, `%`), for a hint.
+fn operator_hint(found: &str) -> Option<&'static str> {
+    Some(match found {
+        "&" | "&&" => "GBASIC writes `and`",
+        "|" | "||" => "GBASIC writes `or`",
+        "!" => "GBASIC writes `not`, and `<>` for `!=`",
+        "%" => "GBASIC writes `mod`",
+        "=" | "==" => "GBASIC compares with a single `=`",
+        _ => return None,
+    })
 }
 
 /// A word that ends (or continues) a block.
@@ -131,6 +212,8 @@ struct Parser<'a> {
     open: Vec<BlockKind>,
     /// Expression nesting (parentheses, unary operators, call arguments) under way.
     expression_depth: usize,
+    /// What the end of the text is called in messages (a file, or a lone expression).
+    end_name: &'static str,
 }
 
 /// Deeper nesting is refused with a diagnostic, so no input can exhaust the stack
@@ -236,7 +319,7 @@ impl<'a> Parser<'a> {
     fn describe(&self, token: &Token) -> String {
         match token.kind {
             TokenKind::Newline => "the end of the line".to_string(),
-            TokenKind::Eof => "the end of the file".to_string(),
+            TokenKind::Eof => self.end_name.to_string(),
             TokenKind::Str { .. } => "a string".to_string(),
             _ => format!("`{}`", self.slice(token.span)),
         }
@@ -245,11 +328,15 @@ impl<'a> Parser<'a> {
     fn error_here(&mut self, expected: &str) {
         let token = self.peek().clone();
         let found = self.describe(&token);
-        self.diagnostics.push(Diagnostic::error(
+        let mut diagnostic = Diagnostic::error(
             codes::SYNTAX,
             token.span,
             format!("expected {expected}, found {found}"),
-        ));
+        );
+        if let Some(help) = operator_hint(self.slice(token.span)) {
+            diagnostic = diagnostic.with_help(help);
+        }
+        self.diagnostics.push(diagnostic);
     }
 
     /// Ends a statement: anything left on the line is an error (reported once).
@@ -1339,11 +1426,15 @@ impl<'a> Parser<'a> {
             }
             TokenKind::Unknown => {
                 let text = self.slice(token.span).to_string();
-                self.diagnostics.push(Diagnostic::error(
+                let mut diagnostic = Diagnostic::error(
                     codes::BAD_CHARACTER,
                     token.span,
                     format!("unexpected character `{text}`"),
-                ));
+                );
+                if let Some(help) = operator_hint(&text) {
+                    diagnostic = diagnostic.with_help(help);
+                }
+                self.diagnostics.push(diagnostic);
                 None
             }
             _ => {

@@ -41,6 +41,27 @@ pub struct VariableLocation {
     pub line: u32,
 }
 
+/// A `const` of the script and its value, for the debugger's expressions.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct ConstantValue {
+    pub name: String,
+    #[serde(rename = "type")]
+    pub ty: Ty,
+    /// As GBASIC prints it (`45`, `4.0`).
+    pub value: String,
+}
+
+impl ConstantValue {
+    /// The value as a literal (`None` only for a value the checker never writes).
+    pub fn literal(&self) -> Option<crate::ast::Literal> {
+        match self.ty {
+            Ty::Integer => self.value.parse().ok().map(crate::ast::Literal::Int),
+            Ty::Float => self.value.parse().ok().map(crate::ast::Literal::Float),
+            Ty::Error => None,
+        }
+    }
+}
+
 #[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
 pub struct LabelLocation {
     pub name: String,
@@ -53,6 +74,7 @@ pub struct SourceMap {
     /// One per GLOC line after the header, in order.
     pub lines: Vec<Origin>,
     pub variables: Vec<VariableLocation>,
+    pub constants: Vec<ConstantValue>,
     pub labels: Vec<LabelLocation>,
     /// The number of lines before the first instruction: the header (3, or 4 with
     /// `nmem`), plus the `# sensors:` line when there is one.
@@ -96,6 +118,15 @@ impl SourceMap {
                 line: index.line_col(text, variable.definition.start as usize).0 as u32,
             })
             .collect();
+        let constants = symbols
+            .constants
+            .iter()
+            .map(|constant| ConstantValue {
+                name: constant.name.clone(),
+                ty: constant.ty,
+                value: constant.value.clone(),
+            })
+            .collect();
         let labels = symbols
             .labels
             .iter()
@@ -108,6 +139,7 @@ impl SourceMap {
         SourceMap {
             lines,
             variables,
+            constants,
             labels,
             header_lines,
         }

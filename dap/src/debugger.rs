@@ -8,7 +8,7 @@
 
 use std::collections::{BTreeMap, HashMap};
 
-use crate::expr::{self, Names, Number};
+use crate::expr::{self, Number, Watched};
 use crate::program::{DebugInfo, PrintLines};
 use crate::target::{Notice, Phase, StepEvent, Target, TrapKind};
 
@@ -873,7 +873,7 @@ impl<T: Target> Debugger<T> {
         hits: impl FnOnce(&mut Self) -> &mut u64,
     ) -> bool {
         if let Some(condition) = condition.filter(|text| !text.trim().is_empty()) {
-            match expr::evaluate(condition, &Scope { debugger: self }) {
+            match self.evaluate(condition) {
                 Ok(value) if value.is_true() => {}
                 Ok(_) => return false,
                 Err(message) => {
@@ -932,8 +932,9 @@ impl<T: Target> Debugger<T> {
                 return out;
             };
             let expression = &rest[open + 1..open + close];
-            match self.evaluate(expression) {
-                Ok(value) => out.push_str(&value.to_string()),
+            match self.watch(expression) {
+                Ok(Watched::Value(value)) => out.push_str(&value.to_string()),
+                Ok(Watched::Array { shown, .. }) => out.push_str(&shown),
                 Err(message) => out.push_str(&format!("<{message}>")),
             }
             rest = &rest[open + close + 1..];
@@ -942,8 +943,19 @@ impl<T: Target> Debugger<T> {
         out
     }
 
+    /// The value of a GBASIC expression on the paused world.
     pub fn evaluate(&self, expression: &str) -> Result<Number, String> {
-        expr::evaluate(expression, &Scope { debugger: self })
+        expr::evaluate(expression, &self.info.scope, &self.target)
+    }
+
+    /// As [`Debugger::evaluate`], and a whole array named alone is shown.
+    pub fn watch(&self, expression: &str) -> Result<Watched, String> {
+        expr::watch(expression, &self.info.scope, &self.target)
+    }
+
+    /// Why `expression` can never be evaluated (a syntax, name or type error).
+    pub fn check_expression(&self, expression: &str) -> Result<(), String> {
+        expr::check(expression, &self.info.scope, &self.target)
     }
 
     // -----------------------------------------------------------------------------------
@@ -1177,34 +1189,5 @@ fn apply<T: Target>(target: &mut T, edit: &Edit) -> Result<(), String> {
         Edit::Element(name, index, value) => target.set_element(name, *index, *value),
         Edit::Sensor(index, value) => target.set_sensor(*index, *value),
         Edit::Pc(pc) => target.set_pc(*pc),
-    }
-}
-
-/// Name lookup for expressions: variable, then register `rN`, then sensor.
-struct Scope<'a, T: Target> {
-    debugger: &'a Debugger<T>,
-}
-
-impl<T: Target> Names for Scope<'_, T> {
-    fn lookup(&self, name: &str) -> Option<Number> {
-        let target = &self.debugger.target;
-        if let Some(value) = target.variable(name) {
-            return Some(value);
-        }
-        if let Some(index) = name
-            .strip_prefix(['r', 'R'])
-            .and_then(|digits| digits.parse::<usize>().ok())
-        {
-            if let Some(value) = target.registers().get(index) {
-                return Some(*value);
-            }
-        }
-        target
-            .sensor_index(name)
-            .map(|index| Number::Float(target.sensor(index)))
-    }
-
-    fn element(&self, name: &str, index: i64) -> Option<Number> {
-        self.debugger.target.element(name, index)
     }
 }

@@ -19,10 +19,11 @@ pub enum Place {
     Sensor(usize),
 }
 
-/// The value the user typed: a number as the Variables view shows it (decimal or hex),
-/// else a GBASIC expression over the paused state (`m_depth + 1`).
+/// The value the user typed: hex as the hex format shows it (`0xc0`), else a GBASIC
+/// expression over the paused state (`12`, `m_depth + 1`), as the right side of an
+/// assignment in the script.
 pub fn value_of<T: Target>(debugger: &Debugger<T>, text: &str) -> Result<Number, String> {
-    match Number::parse(text) {
+    match crate::format::parse_hex(text) {
         Some(value) => Ok(value),
         None => debugger
             .evaluate(text)
@@ -162,8 +163,9 @@ pub fn vocabulary<T: Target>(debugger: &Debugger<T>) -> Vocabulary {
         };
         vocabulary.push(named.name, kind, detail);
     }
-    for (name, declaration) in &debugger.info.constants {
-        vocabulary.push(name.clone(), Kind::Constant, declaration.clone());
+    for constant in debugger.info.scope.constants() {
+        let declaration = format!("const {} = {}", constant.name, constant.value);
+        vocabulary.push(constant.name.clone(), Kind::Constant, declaration);
     }
     let touched = target.touched_sensors();
     for index in 0..target.sensor_count() {

@@ -7,6 +7,7 @@
 use crate::completion::{self, Kind};
 use crate::debugger::{Debugger, ExceptionConditions, ExceptionFilters};
 use crate::edits;
+use crate::expr::{type_name, Watched};
 use crate::format::ValueFormat;
 use crate::session::{address, ARRAYS};
 use crate::target::Target;
@@ -198,22 +199,31 @@ pub fn evaluate(
     arguments: &EvaluateArguments,
 ) -> Result<EvaluateBody, String> {
     let format = value_format(arguments.format);
-    if let Some((position, array)) = edits::array(debugger, &arguments.expression) {
-        let length = array.length.unwrap_or(0);
-        return Ok(EvaluateBody {
-            result: array_summary(debugger, &array.name, length, format),
-            ty: array.ty.to_string(),
-            variables_reference: ARRAYS + position as i64,
-            indexed_variables: Some(length as i64),
-        });
+    match debugger.watch(&arguments.expression)? {
+        Watched::Value(value) => Ok(EvaluateBody {
+            result: format.number(value),
+            ty: type_name(value).into(),
+            variables_reference: 0,
+            indexed_variables: None,
+        }),
+        Watched::Array { name, shown } => {
+            let Some((position, array)) = edits::array(debugger, &name) else {
+                return Ok(EvaluateBody {
+                    result: shown,
+                    ty: "array".into(),
+                    variables_reference: 0,
+                    indexed_variables: None,
+                });
+            };
+            let length = array.length.unwrap_or(0);
+            Ok(EvaluateBody {
+                result: array_summary(debugger, &array.name, length, format),
+                ty: array.ty.to_string(),
+                variables_reference: ARRAYS + position as i64,
+                indexed_variables: Some(length as i64),
+            })
+        }
     }
-    let value = debugger.evaluate(&arguments.expression)?;
-    Ok(EvaluateBody {
-        result: format.number(value),
-        ty: value.type_name().into(),
-        variables_reference: 0,
-        indexed_variables: None,
-    })
 }
 
 /// `setExpression`: assigns, journaled, and answers the new value as `evaluate` would.
@@ -224,7 +234,7 @@ pub fn set_expression(
     let value = edits::assign(debugger, &arguments.expression, &arguments.value)?;
     Ok(SetExpressionBody {
         value: value_format(arguments.format).number(value),
-        ty: value.type_name().into(),
+        ty: type_name(value).into(),
         variables_reference: 0,
     })
 }

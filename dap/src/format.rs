@@ -19,7 +19,7 @@ pub struct ValueFormat {
 
 impl ValueFormat {
     /// An integer register, variable or element: hex is its 64 bits (two's
-    /// complement, as `Number::parse` reads it back); a float that holds a whole number
+    /// complement, as `parse_hex` reads it back); a float that holds a whole number
     /// (a sensor such as `sci_ruhp_behs` = 192.0) is written as that integer.
     pub fn number(self, number: Number) -> String {
         match (self.hex, number) {
@@ -45,6 +45,26 @@ impl ValueFormat {
             value.to_string()
         }
     }
+}
+
+/// Reads what the hex format shows back (`0xc0`, `0xffffffffffffffff` = -1, `-0x10`):
+/// an integer's 64 bits. `None` for anything else (GBASIC has no hex literals, so a
+/// value typed in the Variables view is tried as hex first, then as an expression).
+pub fn parse_hex(text: &str) -> Option<Number> {
+    let text = text.trim();
+    let (negative, unsigned) = match text.strip_prefix('-') {
+        Some(rest) => (true, rest.trim_start()),
+        None => (false, text),
+    };
+    let digits = unsigned
+        .strip_prefix("0x")
+        .or_else(|| unsigned.strip_prefix("0X"))?;
+    let value = u64::from_str_radix(digits, 16).ok()? as i64;
+    Some(Number::Int(if negative {
+        value.wrapping_neg()
+    } else {
+        value
+    }))
 }
 
 /// The float as an integer when it is a whole number that a double holds exactly.
@@ -90,7 +110,12 @@ mod tests {
         // What hex shows reads back as the same integer.
         for value in [0, 1, 192, -1, -16, i64::MIN, i64::MAX] {
             let text = HEX.number(Number::Int(value));
-            assert_eq!(Number::parse(&text), Some(Number::Int(value)), "{text}");
+            assert_eq!(parse_hex(&text), Some(Number::Int(value)), "{text}");
+        }
+        assert_eq!(parse_hex("-0x10"), Some(Number::Int(-16)));
+        assert_eq!(parse_hex("0XFF"), Some(Number::Int(255)));
+        for not_hex in ["12", "0x", "0xg", "0x1ffffffffffffffff", "x10", ""] {
+            assert_eq!(parse_hex(not_hex), None, "{not_hex}");
         }
     }
 }

@@ -22,6 +22,7 @@ use crate::session::{
 use crate::target::{Named, Phase, Target};
 use crate::types::*;
 use crate::world::World;
+use gloc_compiler::typed::Ty;
 
 type Answer<T> = Result<T, Failure>;
 
@@ -439,14 +440,15 @@ fn stack_trace(session: &mut Session, arguments: StackTraceArguments) -> Answer<
 }
 
 fn scopes(session: &mut Session, _: ScopesArguments) -> Answer<ScopesBody> {
-    let target = &session.launched_mut()?.debugger.target;
+    let debugger = &session.launched_mut()?.debugger;
+    let target = &debugger.target;
     Ok(ScopesBody {
         scopes: vec![
             scope(
                 "Variables",
                 Some("locals"),
                 SCOPE_VARIABLES,
-                target.variables().len(),
+                target.variables().len() + debugger.info.scope.constants().len(),
             ),
             scope(
                 "Registers",
@@ -565,7 +567,7 @@ fn scope(name: &str, hint: Option<&str>, reference: i64, count: usize) -> Scope 
 
 fn plain(named: Named) -> Variable {
     Variable {
-        evaluate_name: Some(named.name.clone()),
+        evaluate_name: named.evaluate_name,
         name: named.name,
         value: named.value,
         ty: Some(named.ty.into()),
@@ -615,6 +617,19 @@ fn variable_list(
                 }
                 variable
             })
+            // The script's constants after its variables (so array positions hold).
+            .chain(debugger.info.scope.constants().iter().map(|constant| {
+                plain(Named {
+                    name: constant.name.clone(),
+                    value: constant.value.clone(),
+                    ty: match constant.ty {
+                        Ty::Float => "float constant",
+                        _ => "integer constant",
+                    },
+                    length: None,
+                    evaluate_name: Some(constant.name.clone()),
+                })
+            }))
             .collect(),
         reference if reference >= ARRAYS => {
             let position = usize::try_from(reference - ARRAYS).unwrap_or(usize::MAX);
@@ -661,7 +676,7 @@ fn variable_list(
             .map(|(index, value)| Variable {
                 name: format!("r{index}"),
                 value: format.number(value),
-                ty: Some(value.type_name().into()),
+                ty: Some(crate::expr::type_name(value).into()),
                 variables_reference: 0,
                 named_variables: None,
                 indexed_variables: None,
@@ -718,6 +733,19 @@ fn set_value(
     let value = edits::value_of(debugger, &arguments.value)?;
     let format = features::value_format(arguments.format);
     match arguments.variables_reference {
+        SCOPE_VARIABLES
+            if debugger
+                .info
+                .scope
+                .constants()
+                .iter()
+                .any(|constant| constant.name.eq_ignore_ascii_case(&arguments.name)) =>
+        {
+            Err(format!(
+                "`{}` is a constant; change its `const` line and restart",
+                arguments.name
+            ))
+        }
         SCOPE_VARIABLES => {
             debugger.edit(Edit::Variable(arguments.name.clone(), value))?;
             debugger

@@ -3,6 +3,9 @@
 
 use std::collections::{BTreeSet, HashMap};
 use std::path::PathBuf;
+use std::sync::Arc;
+
+use gloc_compiler::expression::ExpressionScope;
 
 use gloc_engine::program::{Flow, Program};
 
@@ -34,8 +37,9 @@ pub struct DebugInfo {
     pub source_lines: Option<u32>,
     /// The pc after each `print`/`prints` (where the script stands once it printed).
     print_successors: Vec<usize>,
-    /// GBASIC constants as (name, declaration: `const N = 40`), for completions.
-    pub constants: Vec<(String, String)>,
+    /// The names the debugger's expressions may use: the script's variables and
+    /// constants and the sensor list (empty until [`DebugInfo::with_scope`]).
+    pub scope: ExpressionScope,
 }
 
 /// The source line the debugger attaches to a printed line: the line of the instruction
@@ -70,7 +74,7 @@ impl DebugInfo {
             print_lines: PrintLines::Several,
             source_lines: None,
             print_successors: Vec::new(),
-            constants: Vec::new(),
+            scope: ExpressionScope::new(Arc::default()),
         };
         info.line_entry = info.line_entries();
         info
@@ -102,6 +106,12 @@ impl DebugInfo {
             Some(first) if lines.all(|line| line == first) => PrintLines::One(first),
             Some(_) => PrintLines::Several,
         };
+        self
+    }
+
+    /// Sets the names the debugger's expressions may use.
+    pub fn with_scope(mut self, scope: ExpressionScope) -> DebugInfo {
+        self.scope = scope;
         self
     }
 

@@ -300,10 +300,15 @@ impl Target for ReplayWorld {
             value,
             ty,
             length: None,
+            evaluate_name: None,
         };
-        let recorded = |name: &str| {
-            self.value_of(name)
-                .map_or_else(|| "not in the sensor list".to_string(), float_text)
+        // A recorded sensor, named by itself when the list has it.
+        let recorded = |label: &str, sensor: &str| match self.value_of(sensor) {
+            Some(value) => Named {
+                evaluate_name: Some(sensor.to_string()),
+                ..named(label, float_text(value), "float")
+            },
+            None => named(label, "not in the sensor list".to_string(), "float"),
         };
         let phase = match self.phase {
             Phase::Boundary => "cycle boundary",
@@ -323,10 +328,10 @@ impl Target for ReplayWorld {
                 ),
                 "string",
             ),
-            named("m_present_time", recorded("m_present_time"), "float"),
-            named("m_depth (m)", recorded("m_depth"), "float"),
-            named("m_pitch (rad)", recorded("m_pitch"), "float"),
-            named("sci_water_temp (°C)", recorded("sci_water_temp"), "float"),
+            recorded("m_present_time", "m_present_time"),
+            recorded("m_depth (m)", "m_depth"),
+            recorded("m_pitch (rad)", "m_pitch"),
+            recorded("sci_water_temp (°C)", "sci_water_temp"),
         ]
     }
 }

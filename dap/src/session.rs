@@ -992,16 +992,13 @@ fn redact_quotes(text: &str) -> String {
 }
 
 /// Why a breakpoint condition can never be evaluated (a syntax error, an unknown
-/// name), checked on the current values; a division by zero on them is not a
-/// reason, since other values may not divide by zero.
+/// name, a type error); a division by zero on the current values is not a reason,
+/// since other values may not divide by zero, so it is checked, not evaluated.
 pub(crate) fn condition_error(debugger: &Debugger<World>, condition: &str) -> Option<String> {
-    match debugger.evaluate(condition) {
-        Ok(_) => None,
-        Err(message) if message == crate::expr::DIVISION_BY_ZERO => None,
-        Err(message) => Some(format!(
-            "the condition `{condition}` is not valid: {message}"
-        )),
-    }
+    debugger
+        .check_expression(condition)
+        .err()
+        .map(|message| format!("the condition `{condition}` is not valid: {message}"))
 }
 
 /// What every requested breakpoint carries besides its place.

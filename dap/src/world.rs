@@ -5,6 +5,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+use gloc_compiler::expression::{scope_of_source_map, ExpressionScope};
 use gloc_compiler::loader::load_script_written_for;
 use gloc_compiler::{Language as ScriptLanguage, LoadOptions, LoadedScript, Storage};
 use gloc_engine::program::{Pc, Program, Reg, Value};
@@ -96,13 +97,22 @@ pub(crate) struct DebugScript {
 /// recording, with `replay`), and opens cycle 0.
 pub fn launch(config: &LaunchConfig) -> Result<(World, DebugInfo), String> {
     let script = load_debug_script(config)?;
-    let info = debug_info(&script);
+    let info = debug_info(&script).with_scope(expression_scope(&script));
     let world = if config.replay.is_empty() {
         World::Sim(launch_sim(config, script)?)
     } else {
         World::Replay(ReplayWorld::launch(config, script)?)
     };
     Ok((world, info))
+}
+
+/// The names a GBASIC script's expressions use: its symbols (from the source map) and
+/// the sensor list; a GLOC script has only the sensors (and, in the debugger, registers).
+fn expression_scope(script: &DebugScript) -> ExpressionScope {
+    match &script.loaded.source_map {
+        Some(map) => scope_of_source_map(map, script.sensor_list.clone()),
+        None => ExpressionScope::new(script.sensor_list.clone()),
+    }
 }
 
 fn load_debug_script(config: &LaunchConfig) -> Result<DebugScript, String> {
@@ -218,25 +228,9 @@ fn debug_info(script: &DebugScript) -> DebugInfo {
             (Language::Gloc, lines, texts)
         }
     };
-    let mut info = DebugInfo::new(script.path.clone(), language, line_of_pc, instruction_text)
+    DebugInfo::new(script.path.clone(), language, line_of_pc, instruction_text)
         .with_program(program)
-        .with_source_text(&script.text);
-    if language == Language::Gbasic {
-        info.constants = constants_of(&script.text, &script.sensor_list);
-    }
-    info
-}
-
-/// The GBASIC constants as (name, declaration), from the compiler's analysis (the
-/// loader keeps no symbols: constants are folded into the code).
-fn constants_of(text: &str, sensor_list: &SensorList) -> Vec<(String, String)> {
-    use gloc_compiler::analysis::{analyze, SymbolKind};
-    analyze(text, sensor_list, &gloc_compiler::CompileOptions::default())
-        .symbols
-        .into_iter()
-        .filter(|symbol| symbol.kind == SymbolKind::Constant)
-        .map(|symbol| (symbol.name, symbol.detail))
-        .collect()
+        .with_source_text(&script.text)
 }
 
 /// The simulator world: the mission and the profile, cycle 0 opened.
@@ -476,7 +470,7 @@ pub(crate) fn set_register_in(
 ) -> Result<(), String> {
     machine
         .ok_or("no script is running")?
-        .set_register(Reg(index as u32), Value::from(value))
+        .set_register(Reg(index as u32), value)
         .map_err(|error| error.to_string())
 }
 
@@ -498,6 +492,7 @@ pub(crate) fn variables_of(machine: Option<&Machine>, slots: &[VariableSlot]) ->
                     value: value.to_string(),
                     ty: if variable.float { "float" } else { "integer" },
                     length: None,
+                    evaluate_name: Some(variable.name.clone()),
                 }
             }
             Storage::Memory { base, size } => {
@@ -506,7 +501,7 @@ pub(crate) fn variables_of(machine: Option<&Machine>, slots: &[VariableSlot]) ->
                     .iter()
                     .skip(base as usize)
                     .take(size as usize)
-                    .map(Value::to_string)
+                    .map(|cell| typed_cell(variable, *cell).to_string())
                     .collect();
                 Named {
                     name: variable.name.clone(),
@@ -517,6 +512,7 @@ pub(crate) fn variables_of(machine: Option<&Machine>, slots: &[VariableSlot]) ->
                         "integer array"
                     },
                     length: Some(size as usize),
+                    evaluate_name: Some(variable.name.clone()),
                 }
             }
         })
@@ -582,8 +578,17 @@ pub(crate) fn element_of(
     machine?
         .memory()
         .get((base + index) as usize)
-        .copied()
-        .map(to_number)
+        .map(|cell| typed_cell(variable, *cell))
+}
+
+/// A memory cell as the script reads it: cells never written hold integer 0, and a
+/// float array's read converts (`0.0`), as the compiled `loadm; i2d` does.
+fn typed_cell(variable: &VariableSlot, cell: Value) -> Number {
+    if variable.float {
+        Value::Float(cell.as_f64())
+    } else {
+        cell
+    }
 }
 
 pub(crate) fn set_element_in(
@@ -608,18 +613,18 @@ pub(crate) fn set_element_in(
         .map_err(|error| error.to_string())
 }
 
-/// Keeps a variable's declared type, as an assignment in the script would.
+/// Keeps a variable's declared type by GBASIC's assignment rule: an integer widens
+/// into a float variable; a float is refused by an integer one (as the checker
+/// refuses `i = 2.0`).
 fn typed_value(variable: &VariableSlot, value: Number) -> Result<Value, String> {
     if variable.float {
         return Ok(Value::Float(value.as_f64()));
     }
     match value {
         Number::Int(value) => Ok(Value::Int(value)),
-        Number::Float(value) if value.fract() == 0.0 && value.abs() < 9.0e15 => {
-            Ok(Value::Int(value as i64))
-        }
         Number::Float(value) => Err(format!(
-            "`{}` is an integer variable; {value:?} is not a whole number",
+            "`{}` is an integer variable, and {value:?} is a float (convert with `int(…)`, \
+             which truncates toward zero)",
             variable.name
         )),
     }
@@ -796,6 +801,20 @@ impl Target for SimWorld {
             value,
             ty,
             length: None,
+            evaluate_name: None,
+        };
+        // The vehicle's state, named by the sensor the simulator writes it to at each
+        // boundary while the sensor holds exactly the value shown.
+        let mirrored = |name: &str, value: f64, sensor: &str| {
+            let shown = float_text(value);
+            let evaluate_name = self
+                .sensor_index(sensor)
+                .filter(|index| self.sensor(*index).to_bits() == value.to_bits())
+                .map(|_| sensor.to_string());
+            Named {
+                evaluate_name,
+                ..named(name, shown, "float")
+            }
         };
         let active: Vec<&str> = self.sim.active_behaviors().collect();
         let phase = match self.sim.phase() {
@@ -809,13 +828,9 @@ impl Target for SimWorld {
             named("cycle", self.sim.cycle().to_string(), "integer"),
             named("phase", phase.to_string(), "string"),
             named("mission time (s)", float_text(self.sim.time()), "float"),
-            named(
-                "m_present_time",
-                float_text(self.sim.present_time()),
-                "float",
-            ),
-            named("depth (m)", float_text(self.sim.depth()), "float"),
-            named("pitch (rad)", float_text(self.sim.pitch()), "float"),
+            mirrored("m_present_time", self.sim.present_time(), "m_present_time"),
+            mirrored("depth (m)", self.sim.depth(), "m_depth"),
+            mirrored("pitch (rad)", self.sim.pitch(), "m_pitch"),
             named(
                 "pitch (deg)",
                 float_text(self.sim.pitch().to_degrees()),
@@ -828,11 +843,7 @@ impl Target for SimWorld {
                 float_text(self.sim.amp_hours()),
                 "float",
             ),
-            named(
-                "water depth (m)",
-                float_text(self.sim.water_depth()),
-                "float",
-            ),
+            mirrored("water depth (m)", self.sim.water_depth(), "m_water_depth"),
         ]
     }
 }

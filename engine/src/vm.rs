@@ -732,6 +732,77 @@ fn indirect_target(program: &Program, value: Value, code_len: usize) -> Result<u
     }
 }
 
+/// A two-operand machine operation, for code that computes on values outside a run:
+/// the debugger evaluates GBASIC expressions with [`apply_binary`], so a watch
+/// computes exactly what the script computes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BinaryOperation {
+    Add,
+    Sub,
+    Mul,
+    Div,
+    Mod,
+    Min,
+    Max,
+    And,
+    Or,
+    CmpEq,
+    CmpNe,
+    CmpLt,
+    CmpLe,
+    CmpGt,
+    CmpGe,
+}
+
+/// A one-operand machine operation (see [`BinaryOperation`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum UnaryOperation {
+    Neg,
+    Abs,
+    Sqrt,
+    IntToFloat,
+    FloatToInt,
+    Not,
+}
+
+/// `left op right` as the machine computes it, or the trap it raises (an integer
+/// `div` or `mod` by zero).
+pub fn apply_binary(op: BinaryOperation, left: Value, right: Value) -> Result<Value, TrapKind> {
+    use BinaryOperation as B;
+    if matches!(op, B::Div | B::Mod) && integer_division_by_zero(left, right) {
+        return Err(TrapKind::DivisionByZero);
+    }
+    Ok(match op {
+        B::Add => add(left, right),
+        B::Sub => sub(left, right),
+        B::Mul => mul(left, right),
+        B::Div => div(left, right),
+        B::Mod => rem(left, right),
+        B::Min => arithmetic(left, right, i64::min, f64::min),
+        B::Max => arithmetic(left, right, i64::max, f64::max),
+        B::And => Value::Int(left.as_i64() & right.as_i64()),
+        B::Or => Value::Int(left.as_i64() | right.as_i64()),
+        B::CmpEq => truth(compare(Cmp::Eq, left, right)),
+        B::CmpNe => truth(compare(Cmp::Ne, left, right)),
+        B::CmpLt => truth(compare(Cmp::Lt, left, right)),
+        B::CmpLe => truth(compare(Cmp::Le, left, right)),
+        B::CmpGt => truth(compare(Cmp::Gt, left, right)),
+        B::CmpGe => truth(compare(Cmp::Ge, left, right)),
+    })
+}
+
+/// `op value` as the machine computes it.
+pub fn apply_unary(op: UnaryOperation, value: Value) -> Value {
+    match op {
+        UnaryOperation::Neg => negate(value),
+        UnaryOperation::Abs => absolute(value),
+        UnaryOperation::Sqrt => Value::Float(value.as_f64().sqrt()),
+        UnaryOperation::IntToFloat => Value::Float(value.as_f64()),
+        UnaryOperation::FloatToInt => Value::Int(value.as_i64()),
+        UnaryOperation::Not => truth(!value.is_true()),
+    }
+}
+
 /// An integer `div` or `mod` by zero, which traps (float division does not).
 #[inline(always)]
 fn integer_division_by_zero(left: Value, right: Value) -> bool {

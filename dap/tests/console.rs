@@ -442,3 +442,47 @@ fn cancel_stops_a_reverse_run() {
     client.ok("reverseContinue", json!({ "threadId": 1 }));
     assert_eq!(stopped(&mut client)["reason"], "entry");
 }
+
+#[test]
+fn overrun_and_abend_filters_take_conditions_too() {
+    /// The first `stopped` or `terminated` after `continue`.
+    fn outcome(client: &mut Client) -> Value {
+        client.ok("continue", json!({ "threadId": 1 }));
+        loop {
+            let message = client.next_message();
+            if message["type"] == "event"
+                && (message["event"] == "stopped" || message["event"] == "terminated")
+            {
+                return message;
+            }
+        }
+    }
+    // overrun.gloc with a budget of 1,000 traps on its 1,000th instruction, the add of
+    // the 250th pass (2 loads, then 4 instructions a pass: 4 × 250 = 1,000): r0 = 250.
+    for (condition, expected) in [("r0 = 250", "stopped"), ("r0 = 249", "terminated")] {
+        let mut client = start(json!({
+            "program": fixture("overrun.gloc"), "cycleBudget": 1000, "maxCycles": 3,
+        }));
+        client.ok(
+            "setExceptionBreakpoints",
+            json!({ "filters": [], "filterOptions": [{ "filterId": "overrun", "condition": condition }] }),
+        );
+        let event = outcome(&mut client);
+        assert_eq!(event["event"], expected, "{condition}: {event}");
+        if expected == "stopped" {
+            assert_eq!(event["body"]["reason"], "exception");
+        }
+    }
+    // abend.mi aborts for overdepth at 10 m (dap/tests/debugging.rs checks the depth).
+    for (condition, expected) in [("m_depth > 5", "stopped"), ("m_depth < 0", "terminated")] {
+        let mut client = start(json!({
+            "program": fixture("fig3.gbas"), "mission": fixture("abend.mi"), "history": false,
+        }));
+        client.ok(
+            "setExceptionBreakpoints",
+            json!({ "filters": [], "filterOptions": [{ "filterId": "abend", "condition": condition }] }),
+        );
+        let event = outcome(&mut client);
+        assert_eq!(event["event"], expected, "{condition}: {event}");
+    }
+}

@@ -168,3 +168,31 @@ test('cancel stops a long run through its progress', async () => {
   assert.equal((await ended).body.progressId, start.progressId);
   await dc.stop();
 });
+
+test('cancel names a reverseContinue by its request', async () => {
+  const { dc } = await atEntry(
+    { program: fixture('fig3.gbas'), mission: fixture('endless.mi') },
+    { supportsProgressReporting: true },
+  );
+  await dc.setFunctionBreakpointsRequest({ breakpoints: [{ name: 'cycle 3000' }] });
+  const reached = await stopAfter(dc, dc.continueRequest({ threadId: 1 }));
+  assert.equal(reached.reason, 'function breakpoint');
+  await dc.setFunctionBreakpointsRequest({ breakpoints: [] });
+  // A reverse run from cycle 3000 takes some 20 ms here, less than a round trip may, so
+  // the `cancel` goes first, naming the seq the reverseContinue will carry: the adapter
+  // reads it first, and the reverse run gives up at its first look, where it started.
+  const stopped = dc.waitForEvent('stopped');
+  const cancel = dc.customRequest('cancel', { requestId: dc.sequence + 1 });
+  const reverse = dc.reverseContinueRequest({ threadId: 1 });
+  const progress = (await dc.waitForEvent('progressStart')).body;
+  assert.equal(progress.cancellable, true);
+  await cancel;
+  await reverse;
+  const stop = (await stopped).body;
+  assert.equal(stop.reason, 'pause', JSON.stringify(stop));
+  assert.match(stop.description, /Reverse run cancelled at cycle 3000/);
+  // Not cancelled, the same run goes back to the start.
+  const back = await stopAfter(dc, dc.reverseContinueRequest({ threadId: 1 }));
+  assert.equal(back.reason, 'entry');
+  await dc.stop();
+});

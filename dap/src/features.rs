@@ -148,7 +148,7 @@ pub fn completions(
 ) -> Vec<CompletionItem> {
     let line_index = arguments
         .line
-        .map(|line| line - i64::from(client.lines_start_at1))
+        .map(|line| line.saturating_sub(i64::from(client.lines_start_at1)))
         .unwrap_or(0);
     let Some(line) = usize::try_from(line_index)
         .ok()
@@ -157,7 +157,7 @@ pub fn completions(
         return Vec::new();
     };
     let base = i64::from(client.columns_start_at1);
-    let column = usize::try_from(arguments.column - base).unwrap_or(0);
+    let column = usize::try_from(arguments.column.saturating_sub(base)).unwrap_or(0);
     let cursor = byte_offset(line, column);
     let found = completion::complete(
         line,
@@ -281,7 +281,9 @@ pub fn goto_targets(
             info.source_name()
         ));
     }
-    let requested = arguments.line + i64::from(!client.lines_start_at1);
+    let requested = arguments
+        .line
+        .saturating_add(i64::from(!client.lines_start_at1));
     let line = u32::try_from(requested)
         .ok()
         .filter(|line| *line >= 1)

@@ -486,3 +486,25 @@ fn overrun_and_abend_filters_take_conditions_too() {
         assert_eq!(event["event"], expected, "{condition}: {event}");
     }
 }
+
+#[test]
+fn vehicle_values_are_not_rounded() {
+    // Fig. 3 under the default mission: by cycle 40 the glider dives, pitched down.
+    let mut client = start(json!({ "program": fixture("fig3.gbas") }));
+    for _ in 0..40 {
+        next(&mut client);
+    }
+    let vehicle = support::values(&mut client, support::VEHICLE);
+    let get = |name: &str| -> f64 {
+        vehicle
+            .iter()
+            .find(|(known, _)| known == name)
+            .and_then(|(_, value)| value.parse().ok())
+            .unwrap_or_else(|| panic!("no number for `{name}` in {vehicle:?}"))
+    };
+    let radians = get("pitch (rad)");
+    assert!(radians != 0.0);
+    // Both are the shortest texts that read back exactly, so the degrees are the
+    // radians' `to_degrees` to the last bit (two decimals, as before, are not).
+    assert_eq!(get("pitch (deg)").to_bits(), radians.to_degrees().to_bits());
+}

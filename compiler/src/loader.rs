@@ -99,6 +99,25 @@ impl LoadedScript {
             None => self.program.as_ref().map(|program| program.line(pc)),
         }
     }
+
+    /// [`LoadedScript::line_of_pc`] of every pc of the program, in one pass.
+    pub fn lines_of_pcs(&self) -> Vec<Option<u32>> {
+        let Some(program) = &self.program else {
+            return Vec::new();
+        };
+        let count = program.instrs.len();
+        match &self.source_map {
+            Some(map) => {
+                let mut origins = map.pc_origins();
+                (0..count)
+                    .map(|_| origins.next().map(|origin| origin.line))
+                    .collect()
+            }
+            None => (0..count)
+                .map(|pc| Some(program.line(Pc(pc as u32))))
+                .collect(),
+        }
+    }
 }
 
 pub fn load_script(

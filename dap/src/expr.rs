@@ -39,7 +39,7 @@ pub fn evaluate<T: Target>(
     scope: &ExpressionScope,
     target: &T,
 ) -> Result<Number, String> {
-    let (scope, registers) = with_registers(scope, target);
+    let (scope, registers) = with_registers(text, scope, target);
     let expr = expression::compile_expression(text, &scope)?;
     let state = State {
         target,
@@ -73,7 +73,7 @@ pub fn watch<T: Target>(
 /// Why `text` can never be evaluated here (a syntax, name or type error); a value
 /// that only fails on the current state (a division by zero) is not such a reason.
 pub fn check<T: Target>(text: &str, scope: &ExpressionScope, target: &T) -> Result<(), String> {
-    let (scope, _) = with_registers(scope, target);
+    let (scope, _) = with_registers(text, scope, target);
     expression::compile_expression(text, &scope).map(|_| ())
 }
 
@@ -88,25 +88,75 @@ fn array_named(text: &str, scope: &ExpressionScope) -> Option<String> {
     variable.size.map(|_| variable.name.clone())
 }
 
-/// The scope with the registers added (after the script's names, which win), and the
-/// id of the first register.
-fn with_registers<T: Target>(scope: &ExpressionScope, target: &T) -> (ExpressionScope, Registers) {
+/// The scope with the registers the expression names added (after the script's
+/// names, which win), typed by what they hold now, and their values.
+fn with_registers<T: Target>(
+    text: &str,
+    scope: &ExpressionScope,
+    target: &T,
+) -> (ExpressionScope, Registers) {
     let mut scope = scope.clone();
+    let mut named = Vec::new();
+    if let Some(expr) = expression::parse_expression(text).expr {
+        register_names(&expr, &mut named);
+    }
+    if named.is_empty() {
+        return (scope, Registers::default());
+    }
+    let values = target.registers();
     let mut ids = Vec::new();
-    for (index, value) in target.registers().iter().enumerate() {
+    for (name, index) in named {
+        let Some(value) = values.get(index) else {
+            continue;
+        };
         let ty = match value {
             Number::Int(_) => Ty::Integer,
             Number::Float(_) => Ty::Float,
         };
-        if let Some(id) = scope.declare_variable(&format!("r{index}"), ty, None) {
-            ids.push((id, index));
+        if let Some(id) = scope.declare_variable(&name, ty, None) {
+            ids.push((id, *value));
         }
     }
     (scope, Registers(ids))
 }
 
-/// Register variables of a scope: (id, register index).
-struct Registers(Vec<(VarId, usize)>);
+/// The names of the form `rN` in `expr` (with N), which may be registers.
+fn register_names(expr: &ast::Expr, out: &mut Vec<(String, usize)>) {
+    let mut add = |name: &ast::Name| {
+        let index = name
+            .key
+            .strip_prefix('r')
+            .filter(|digits| digits.bytes().all(|byte| byte.is_ascii_digit()))
+            .and_then(|digits| digits.parse::<usize>().ok());
+        if let Some(index) = index {
+            if !out
+                .iter()
+                .any(|(known, _)| known.eq_ignore_ascii_case(&name.text))
+            {
+                out.push((name.text.clone(), index));
+            }
+        }
+    };
+    match &expr.kind {
+        ast::ExprKind::Name(name) => add(name),
+        ast::ExprKind::Call { name, args } => {
+            add(name);
+            for arg in args {
+                register_names(arg, out);
+            }
+        }
+        ast::ExprKind::Unary { operand, .. } => register_names(operand, out),
+        ast::ExprKind::Binary { left, right, .. } => {
+            register_names(left, out);
+            register_names(right, out);
+        }
+        ast::ExprKind::Literal(_) | ast::ExprKind::Error => {}
+    }
+}
+
+/// The registers an expression names: (id in its scope, value now).
+#[derive(Default)]
+struct Registers(Vec<(VarId, Number)>);
 
 struct State<'a, T: Target> {
     target: &'a T,
@@ -116,8 +166,8 @@ struct State<'a, T: Target> {
 
 impl<T: Target> ExpressionState for State<'_, T> {
     fn variable(&self, id: VarId) -> Option<Number> {
-        if let Some((_, index)) = self.registers.0.iter().find(|(known, _)| *known == id) {
-            return self.target.registers().get(*index).copied();
+        if let Some((_, value)) = self.registers.0.iter().find(|(known, _)| *known == id) {
+            return Some(*value);
         }
         let variable = self.scope.variables().get(id.0)?;
         self.target.variable(&variable.name)

@@ -16,7 +16,7 @@ use gloc_sim::behaviors::EventKind;
 use gloc_sim::{EndReason, Mission, Phase as SimPhase, SimConfig, Simulation, TemperatureProfile};
 
 use crate::expr::Number;
-use crate::program::{DebugInfo, Language};
+use crate::program::{DebugInfo, Language, SourceLines};
 use crate::replay_world::ReplayWorld;
 use crate::target::{Named, Notice, Phase, StepEvent, Target, TrapKind};
 
@@ -52,6 +52,7 @@ pub(crate) struct VariableSlot {
 #[derive(Debug)]
 struct Fixed {
     variables: Vec<VariableSlot>,
+    lines: SourceLines,
     touched: Vec<usize>,
     max_cycles: Option<u64>,
     sensor_list: Arc<SensorList>,
@@ -87,6 +88,8 @@ pub(crate) struct DebugScript {
     pub text: String,
     pub program: Arc<Program>,
     pub loaded: LoadedScript,
+    /// The source line of each pc.
+    pub lines: SourceLines,
     pub variables: Vec<VariableSlot>,
     /// The sensors the script loads or stores, in first-use order.
     pub touched: Vec<usize>,
@@ -177,6 +180,7 @@ fn load_debug_script(config: &LaunchConfig) -> Result<DebugScript, String> {
         path: path.clone(),
         text,
         program,
+        lines: SourceLines::of(&loaded),
         loaded,
         variables,
         touched,
@@ -184,51 +188,38 @@ fn load_debug_script(config: &LaunchConfig) -> Result<DebugScript, String> {
     })
 }
 
-/// Lines and instruction texts per pc, in the script's own language.
+/// Lines (the loaded script's one pc → line map) and instruction texts per pc.
 fn debug_info(script: &DebugScript) -> DebugInfo {
     let program = &script.program;
     let loaded = &script.loaded;
     let gloc_text = loaded.gloc_text.clone().unwrap_or_default();
     let gloc_lines: Vec<&str> = gloc_text.lines().collect();
     let count = program.instrs.len();
-    let (language, line_of_pc, instruction_text) = match &loaded.source_map {
+    // The line of the GLOC text each instruction was read from (none for the final
+    // `halt` added after the script's end).
+    let text_lines: Vec<Option<u32>> = match &loaded.source_map {
         Some(map) => {
-            let origins: Vec<_> = map.lines.iter().filter(|origin| !origin.is_label).collect();
-            let lines = (0..count)
-                .map(|pc| origins.get(pc).map(|origin| origin.line))
-                .collect();
-            let texts = (0..count)
-                .map(|pc| match origins.get(pc) {
-                    Some(origin) => gloc_line_text(&gloc_lines, origin.gloc_line),
-                    None => "halt    # end of script".to_string(),
-                })
-                .collect();
-            (Language::Gbasic, lines, texts)
+            let mut origins = map.pc_origins();
+            (0..count)
+                .map(|_| origins.next().map(|origin| origin.gloc_line))
+                .collect()
         }
-        None => {
-            let lines = (0..count)
-                .map(|pc| Some(program.line(Pc(pc as u32))).filter(|line| *line > 0))
-                .collect::<Vec<_>>();
-            let texts = (0..count)
-                .map(|pc| {
-                    if pc + 1 == count {
-                        "halt    # end of script".to_string()
-                    } else {
-                        gloc_line_text(&gloc_lines, program.line(Pc(pc as u32)))
-                    }
-                })
-                .collect();
-            // The implicit final halt has no line of its own.
-            let mut lines = lines;
-            if let Some(last) = lines.last_mut() {
-                if count > 1 {
-                    *last = None;
-                }
-            }
-            (Language::Gloc, lines, texts)
-        }
+        None => (0..count)
+            .map(|pc| (pc + 1 < count).then(|| program.line(Pc(pc as u32))))
+            .collect(),
     };
-    DebugInfo::new(script.path.clone(), language, line_of_pc, instruction_text)
+    let texts = text_lines
+        .into_iter()
+        .map(|line| match line {
+            Some(line) => gloc_line_text(&gloc_lines, line),
+            None => "halt    # end of script".to_string(),
+        })
+        .collect();
+    let language = match loaded.source_map {
+        Some(_) => Language::Gbasic,
+        None => Language::Gloc,
+    };
+    DebugInfo::new(script.path.clone(), language, script.lines.clone(), texts)
         .with_program(program)
         .with_source_text(&script.text)
 }
@@ -239,6 +230,7 @@ fn launch_sim(config: &LaunchConfig, script: DebugScript) -> Result<SimWorld, St
         path,
         text,
         program,
+        lines,
         loaded,
         variables,
         touched,
@@ -315,6 +307,7 @@ fn launch_sim(config: &LaunchConfig, script: DebugScript) -> Result<SimWorld, St
     }
     let fixed = Arc::new(Fixed {
         variables,
+        lines,
         touched,
         max_cycles: config.max_cycles,
         sensor_list,
@@ -380,9 +373,18 @@ impl SimWorld {
         // Called after every step: the common case, nothing new, costs two compares.
         let printed = self.sim.printed_text();
         if printed.len() > self.printed_reported {
-            let new = printed.get(self.printed_reported..).unwrap_or("");
-            self.notices
-                .extend(new.lines().map(|line| Notice::Print(line.to_string())));
+            // Each printed line with the pc of its `print` (every line has its site).
+            let sites = self.sim.print_sites();
+            let mut start = self.printed_reported;
+            let first = sites.partition_point(|(end, _)| *end <= start);
+            for &(end, pc) in &sites[first..] {
+                let text = printed.get(start..end).unwrap_or("");
+                self.notices.extend(text.lines().map(|line| Notice::Print {
+                    text: line.to_string(),
+                    pc: pc.index(),
+                }));
+                start = end;
+            }
             self.printed_reported = printed.len();
         }
         let events = self.sim.events();
@@ -428,7 +430,7 @@ impl SimWorld {
             (None, false) => "mission ended".to_string(),
         };
         let script = match self.sim.script_trap() {
-            Some(trap) => format!("; script trapped: {trap}"),
+            Some(trap) => format!("; script trapped: {}", trap_words(&trap, &self.fixed.lines)),
             None => match self.sim.script_last_end() {
                 Some(CycleEnd::Halted) => "; script halted".to_string(),
                 _ => String::new(),
@@ -924,6 +926,15 @@ impl Target for World {
     }
     fn vehicle(&self) -> Vec<Named> {
         each_world!(self, world => world.vehicle())
+    }
+}
+
+/// A trap as an end-of-run summary words it: what and where, its line from the one
+/// pc → line map (as the stop at the trap said it).
+pub(crate) fn trap_words(trap: &gloc_engine::vm::Trap, lines: &SourceLines) -> String {
+    match lines.line(trap.pc.index()) {
+        Some(line) => format!("{} at line {line} (pc {})", trap.kind, trap.pc.0),
+        None => format!("{} (pc {})", trap.kind, trap.pc.0),
     }
 }
 

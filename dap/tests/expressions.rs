@@ -494,6 +494,30 @@ fn every_evaluate_name_of_the_thermocline_tracker_evaluates_to_its_value() {
             "`{expected}` is not handed out: {names:?}"
         );
     }
+    // The Vehicle entries the simulator writes to sensors are named by them.
+    let vehicle = client.ok(
+        "variables",
+        json!({ "variablesReference": support::VEHICLE }),
+    );
+    let named: Vec<(String, String)> = vehicle["variables"]
+        .as_array()
+        .expect("variables")
+        .iter()
+        .filter_map(|variable| {
+            Some((
+                variable["name"].as_str()?.to_string(),
+                variable["evaluateName"].as_str()?.to_string(),
+            ))
+        })
+        .collect();
+    let expected = [
+        ("m_present_time", "m_present_time"),
+        ("depth (m)", "m_depth"),
+        ("pitch (rad)", "m_pitch"),
+        ("water depth (m)", "m_water_depth"),
+    ]
+    .map(|(name, sensor)| (name.to_string(), sensor.to_string()));
+    assert_eq!(named, expected);
     // The sensors of the list (1389), the script's 21 variables, 45 × 4 elements,
     // 7 constants, registers and the Vehicle entries named by their sensors.
     assert!(at_entry > 1389 + 22 + 180 + 7, "{at_entry}");
@@ -650,4 +674,24 @@ fn the_debugger_computes_as_the_script_does() {
         Some(json!({ "variablesReference": 1, "name": "DIVE", "value": "1" })),
     );
     assert_eq!(response["success"], false, "{response}");
+    // A sensor set by hand no longer holds the vehicle's depth: the Vehicle entry keeps
+    // showing the vehicle's and hands out no evaluateName that would give another value.
+    let set = client.ok(
+        "setVariable",
+        json!({ "variablesReference": support::SENSORS, "name": "m_depth", "value": "NBINS + 0.5" }),
+    );
+    assert_eq!(set["value"], "45.5");
+    let vehicle = client.ok(
+        "variables",
+        json!({ "variablesReference": support::VEHICLE }),
+    );
+    let depth = vehicle["variables"]
+        .as_array()
+        .expect("variables")
+        .iter()
+        .find(|variable| variable["name"] == "depth (m)")
+        .expect("depth")
+        .clone();
+    assert_ne!(depth["value"], "45.5", "{depth}");
+    assert!(depth.get("evaluateName").is_none(), "{depth}");
 }

@@ -15,9 +15,9 @@ use crate::features::{self, ClientOptions};
 use crate::format::ValueFormat;
 use crate::program::Language;
 use crate::session::{
-    address, capabilities, condition_error, parse_address, source_of, LaunchArguments, Running,
-    Session, Then, ALL_SENSORS, ARRAYS, FRAME_ID, MAX_DISASSEMBLE, SCOPE_REGISTERS, SCOPE_SENSORS,
-    SCOPE_VARIABLES, SCOPE_VEHICLE, THREAD_ID,
+    address, capabilities, condition_error, parse_address, source_of, LaunchArguments,
+    RestartArguments, Running, Session, Then, ALL_SENSORS, ARRAYS, FRAME_ID, MAX_DISASSEMBLE,
+    SCOPE_REGISTERS, SCOPE_SENSORS, SCOPE_VARIABLES, SCOPE_VEHICLE, THREAD_ID,
 };
 use crate::target::{Named, Phase, Target};
 use crate::types::*;
@@ -117,11 +117,9 @@ fn terminate(session: &mut Session, _: IgnoredAny) -> Answer<()> {
 
 fn restart(session: &mut Session, request: RestartArguments) -> Answer<()> {
     let launched = session.launched_mut()?;
-    let mut arguments = launched.arguments.clone();
-    if let Some(new) = request.arguments {
-        arguments = serde_json::from_value(new)
-            .map_err(|error| format!("invalid arguments for `restart`: {error}"))?;
-    }
+    let arguments = request
+        .arguments
+        .unwrap_or_else(|| launched.arguments.clone());
     session.launched = None;
     session.launch(arguments)?;
     let request_seq = session.request_seq;

@@ -380,6 +380,39 @@ mod tests {
     }
 
     #[test]
+    fn source_lines_are_the_loaders_line_of_pc_for_both_languages() {
+        use gloc_compiler::{load_script, Language as ScriptLanguage, LoadOptions};
+        use gloc_engine::program::Pc;
+        use gloc_engine::sensors::SensorList;
+        let examples = concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/");
+        for (name, language) in [
+            ("thermocline.gbas", ScriptLanguage::Gbasic),
+            ("fig3.gbas", ScriptLanguage::Gbasic),
+            ("fig2.gloc", ScriptLanguage::Gloc),
+        ] {
+            let text = std::fs::read_to_string(format!("{examples}{name}")).expect("example");
+            let loaded = load_script(
+                &text,
+                language,
+                &SensorList::embedded(),
+                &LoadOptions::default(),
+            );
+            let count = loaded.program.as_ref().expect("checks").instrs.len();
+            let lines = SourceLines::of(&loaded);
+            assert_eq!(lines.len(), count, "{name}");
+            // Pc by pc through `line_of_pc` (`origin_of_pc` for GBASIC); a GLOC
+            // script's final implicit `halt` has no line of its own.
+            for pc in 0..count {
+                let expected = match language {
+                    ScriptLanguage::Gloc if pc + 1 == count => None,
+                    _ => loaded.line_of_pc(Pc(pc as u32)).filter(|line| *line > 0),
+                };
+                assert_eq!(lines.line(pc), expected, "{name} pc {pc}");
+            }
+        }
+    }
+
+    #[test]
     fn steps_to_a_stop_follow_jumps_branches_and_indirect_jumps_within_a_share() {
         use gloc_compiler::{load_script, Language as ScriptLanguage, LoadOptions};
         use gloc_engine::sensors::SensorList;

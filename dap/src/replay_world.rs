@@ -7,6 +7,7 @@
 
 use std::sync::Arc;
 
+use gloc_compiler::LoadedScript;
 use gloc_engine::program::Pc;
 use gloc_engine::sensors::{SensorId, SensorList};
 use gloc_engine::vm::{CycleEnd, Host, Machine, MachineConfig, Status, DEFAULT_CYCLE_BUDGET};
@@ -27,6 +28,8 @@ struct Fixed {
     recording: Recording,
     variables: Vec<VariableSlot>,
     lines: SourceLines,
+    /// The loaded script, which names traps for the script's author.
+    loaded: LoadedScript,
     /// The script's sensors first, then the recorded ones the list has.
     touched: Vec<usize>,
     max_cycles: Option<u64>,
@@ -119,6 +122,7 @@ impl ReplayWorld {
                 recording,
                 variables: script.variables,
                 lines: script.lines,
+                loaded: script.loaded,
                 touched,
                 max_cycles: config.max_cycles,
                 sensor_list: script.sensor_list,
@@ -153,7 +157,10 @@ impl ReplayWorld {
         };
         let script = match self.machine.status() {
             Status::Trapped(trap) => {
-                format!("; script trapped: {}", trap_words(&trap, &self.fixed.lines))
+                format!(
+                    "; script trapped: {}",
+                    trap_words(&trap, &self.fixed.lines, &self.fixed.loaded)
+                )
             }
             Status::Halted => "; script halted".to_string(),
             Status::Running => String::new(),
@@ -214,7 +221,7 @@ impl Target for ReplayWorld {
                         match end {
                             CycleEnd::Yielded => StepEvent::Yielded,
                             CycleEnd::Halted => StepEvent::Halted,
-                            CycleEnd::Trapped(trap) => trap_event(&trap),
+                            CycleEnd::Trapped(trap) => trap_event(&trap, &self.fixed.loaded),
                         }
                     }
                 }

@@ -103,6 +103,13 @@ pub struct LaunchArguments {
     pub sensor_cache: Option<String>,
 }
 
+#[derive(Debug, Default, Deserialize)]
+#[serde(default)]
+pub struct RestartArguments {
+    /// The new launch configuration; absent (or `null`) keeps the last one.
+    pub arguments: Option<LaunchArguments>,
+}
+
 /// `replay`: a path, a list of paths, or empty (`""`, `[]`, `null`: simulate).
 fn replay_paths(value: Option<&Value>) -> Result<Vec<PathBuf>, String> {
     const FORM: &str = "`replay` must be a path or a list of paths (a CSV file or glider logs)";
@@ -295,7 +302,7 @@ impl Session {
 
     /// Handles one request through the handler table: the response (an error in the
     /// request becomes an error response), then what the handler queued.
-    pub fn handle(&mut self, request: Request) -> io::Result<Flow> {
+    pub fn handle(&mut self, mut request: Request) -> io::Result<Flow> {
         if !self.authenticated {
             if let Some(flow) = self.authenticate(&request)? {
                 return Ok(flow);
@@ -303,7 +310,8 @@ impl Session {
         }
         self.then.clear();
         self.request_seq = request.seq;
-        let answer = handlers::table().dispatch(self, &request.command, request.arguments.clone());
+        let arguments = std::mem::take(&mut request.arguments);
+        let answer = handlers::table().dispatch(self, &request.command, arguments);
         let body = match answer {
             Ok(body) => body,
             Err(Failure(message)) => {

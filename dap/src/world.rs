@@ -53,6 +53,8 @@ pub(crate) struct VariableSlot {
 struct Fixed {
     variables: Vec<VariableSlot>,
     lines: SourceLines,
+    /// The loaded script, which names traps for the script's author.
+    loaded: LoadedScript,
     touched: Vec<usize>,
     max_cycles: Option<u64>,
     sensor_list: Arc<SensorList>,
@@ -308,6 +310,7 @@ fn launch_sim(config: &LaunchConfig, script: DebugScript) -> Result<SimWorld, St
     let fixed = Arc::new(Fixed {
         variables,
         lines,
+        loaded,
         touched,
         max_cycles: config.max_cycles,
         sensor_list,
@@ -430,7 +433,10 @@ impl SimWorld {
             (None, false) => "mission ended".to_string(),
         };
         let script = match self.sim.script_trap() {
-            Some(trap) => format!("; script trapped: {}", trap_words(&trap, &self.fixed.lines)),
+            Some(trap) => format!(
+                "; script trapped: {}",
+                trap_words(&trap, &self.fixed.lines, &self.fixed.loaded)
+            ),
             None => match self.sim.script_last_end() {
                 Some(CycleEnd::Halted) => "; script halted".to_string(),
                 _ => String::new(),
@@ -674,7 +680,7 @@ impl Target for SimWorld {
                 None => StepEvent::Executed,
                 Some(CycleEnd::Yielded) => StepEvent::Yielded,
                 Some(CycleEnd::Halted) => StepEvent::Halted,
-                Some(CycleEnd::Trapped(trap)) => trap_event(&trap),
+                Some(CycleEnd::Trapped(trap)) => trap_event(&trap, &self.fixed.loaded),
             },
             SimPhase::ScriptDone | SimPhase::BetweenCycles => {
                 self.sim.finish_cycle();
@@ -718,7 +724,7 @@ impl Target for SimWorld {
             None => StepEvent::Executed,
             Some(CycleEnd::Yielded) => StepEvent::Yielded,
             Some(CycleEnd::Halted) => StepEvent::Halted,
-            Some(CycleEnd::Trapped(trap)) => trap_event(&trap),
+            Some(CycleEnd::Trapped(trap)) => trap_event(&trap, &self.fixed.loaded),
         };
         // Every instruction is one step, the one that ends the share included; a share
         // that could not run after all is one step, as `script_step` answers it.
@@ -931,20 +937,26 @@ impl Target for World {
 
 /// A trap as an end-of-run summary words it: what and where, its line from the one
 /// pc → line map (as the stop at the trap said it).
-pub(crate) fn trap_words(trap: &gloc_engine::vm::Trap, lines: &SourceLines) -> String {
+pub(crate) fn trap_words(
+    trap: &gloc_engine::vm::Trap,
+    lines: &SourceLines,
+    loaded: &LoadedScript,
+) -> String {
+    let message = loaded.trap_message(&trap.kind);
     match lines.line(trap.pc.index()) {
-        Some(line) => format!("{} at line {line} (pc {})", trap.kind, trap.pc.0),
-        None => format!("{} (pc {})", trap.kind, trap.pc.0),
+        Some(line) => format!("{message} at line {line} (pc {})", trap.pc.0),
+        None => format!("{message} (pc {})", trap.pc.0),
     }
 }
 
-/// A machine trap as the debugger's exception kind and message.
-pub(crate) fn trap_event(trap: &gloc_engine::vm::Trap) -> StepEvent {
+/// A machine trap as the debugger's exception kind and message (the message the
+/// loader words for the script's author, as `gloc run` shows it).
+pub(crate) fn trap_event(trap: &gloc_engine::vm::Trap, loaded: &LoadedScript) -> StepEvent {
     StepEvent::Trapped {
         kind: match trap.kind {
             VmTrapKind::CycleOverrun { .. } => TrapKind::CycleOverrun,
             _ => TrapKind::Runtime,
         },
-        message: trap.kind.to_string(),
+        message: loaded.trap_message(&trap.kind),
     }
 }

@@ -1439,3 +1439,56 @@ fn a_trap_summary_names_the_line_the_stop_named() {
     assert!(summary.contains("line 5"), "{summary}");
     assert!(!summary.contains("line 7"), "{summary}");
 }
+
+#[test]
+fn an_array_index_out_of_bounds_is_named_as_gloc_run_names_it() {
+    // `print a(i)` with i = 5 and `dim a(4)` is line 5 (by hand); compiled GBASIC
+    // checks the index by reading address -1, which `gloc run` calls an array index
+    // out of bounds (cli/src/simulate.rs, through `LoadedScript::trap_message`).
+    let program = fixture("bounds.gbas");
+    let mut client = start(json!({ "program": program, "maxCycles": 2 }));
+    client.ok("configurationDone", json!({}));
+    let stop = stopped(&mut client);
+    let text = stop["text"].as_str().unwrap_or_default().to_string();
+    assert!(
+        text.starts_with("array index out of bounds at line 5 "),
+        "{text}"
+    );
+    let info = client.ok("exceptionInfo", json!({ "threadId": 1 }));
+    assert!(
+        info["description"]
+            .as_str()
+            .unwrap_or_default()
+            .starts_with("array index out of bounds"),
+        "{info}"
+    );
+    client.ok("continue", json!({ "threadId": 1 }));
+    client.event("terminated");
+    let summary = cut_short_summary(&client);
+    assert!(
+        summary.contains("script trapped: array index out of bounds at line 5 "),
+        "{summary}"
+    );
+}
+
+#[test]
+fn prints_from_two_sites_name_their_own_lines_in_a_fused_run() {
+    // prints.gbas (by hand): `print "odd", n, i` is on line 9, `print "third", n` on
+    // line 11. In cycle c (n = c + 1), i from 1 to 3 prints when n + i is odd; a third
+    // line follows when n is a multiple of 3.
+    let program = fixture("prints.gbas");
+    let mut client = start(json!({ "program": program, "maxCycles": 3 }));
+    client.ok("configurationDone", json!({}));
+    client.event("terminated");
+    let expected: Vec<(String, Option<i64>)> = [
+        ("odd 1 2\n", 9),
+        ("odd 2 1\n", 9),
+        ("odd 2 3\n", 9),
+        ("odd 3 2\n", 9),
+        ("third 3\n", 11),
+    ]
+    .into_iter()
+    .map(|(text, line)| (text.to_string(), Some(line)))
+    .collect();
+    assert_eq!(printed_lines(&client), expected);
+}

@@ -508,3 +508,38 @@ fn vehicle_values_are_not_rounded() {
     // radians' `to_degrees` to the last bit (two decimals, as before, are not).
     assert_eq!(get("pitch (deg)").to_bits(), radians.to_degrees().to_bits());
 }
+
+#[test]
+fn cancel_names_a_forward_run_by_its_request() {
+    // No progress reporting: the run is named by the `continue` that started it.
+    let mut client = Client::start();
+    client.ok("initialize", json!({ "adapterID": "gloc" }));
+    client.ok(
+        "launch",
+        json!({ "program": fixture("fig3.gbas"), "mission": fixture("endless.mi"), "stopOnEntry": true }),
+    );
+    client.event("initialized");
+    client.ok("configurationDone", json!({}));
+    stopped(&mut client);
+    let run = client.send("continue", Some(json!({ "threadId": 1 })));
+    assert_eq!(client.response(run)["success"], true);
+    client.ok("cancel", json!({ "requestId": run }));
+    let stop = stopped(&mut client);
+    assert_eq!(stop["reason"], "pause");
+    let description = stop["description"].as_str().unwrap_or_default();
+    assert!(
+        description.starts_with("Run cancelled at cycle "),
+        "{description}"
+    );
+    assert!(
+        !client
+            .received
+            .iter()
+            .any(|message| message["event"] == "progressStart"),
+        "no progress for a client that did not ask for them"
+    );
+    // A cancel of what is over changes nothing: the next run goes on until cancelled.
+    client.ok("cancel", json!({ "requestId": 1 }));
+    client.ok("next", json!({ "threadId": 1 }));
+    assert_eq!(stopped(&mut client)["reason"], "step");
+}

@@ -31,57 +31,92 @@ pub fn value_of<T: Target>(debugger: &Debugger<T>, text: &str) -> Result<Number,
     }
 }
 
-/// What `expression` assigns to: `name` (a scalar variable, then a register `rN`, then
-/// a sensor: the order expressions look names up in) or `name(index)` (an element of an
-/// array; the index is an expression).
+/// What `expression` assigns to, read by GBASIC's own expression parser: a name (a
+/// scalar variable, then a register `rN`, then a sensor: the order expressions look
+/// names up in) or `name(index)` (an element of an array; the index is an expression,
+/// evaluated now).
 pub fn place<T: Target>(debugger: &Debugger<T>, expression: &str) -> Result<Place, String> {
+    use gloc_compiler::ast::ExprKind;
     let text = expression.trim();
+    let parsed = gloc_compiler::parser::parse_expression(text);
+    if let Some(error) = parsed
+        .diagnostics
+        .iter()
+        .find(|diagnostic| diagnostic.is_error())
+    {
+        return Err(format!("`{text}` is not an expression: {}", error.message));
+    }
+    let cannot = || {
+        format!(
+            "`{text}` cannot be assigned: write a variable, an array element like `a(3)`, a register like `r2` or a sensor"
+        )
+    };
     let target = &debugger.target;
-    if let Some((name, rest)) = text.split_once('(') {
-        let name = name.trim();
-        let index = rest
-            .strip_suffix(')')
-            .ok_or_else(|| format!("`{text}` is not an element like `{name}(3)`"))?;
-        let is_array = target
-            .variables()
-            .iter()
-            .any(|named| named.length.is_some() && named.name.eq_ignore_ascii_case(name));
-        if !is_array {
-            return Err(format!("`{name}` is not an array of the script"));
+    let kind = parsed.expr.map(|expr| expr.kind).ok_or_else(cannot)?;
+    match kind {
+        ExprKind::Call { name, args } => {
+            let is_array = target
+                .variables()
+                .iter()
+                .any(|named| named.length.is_some() && named.name.eq_ignore_ascii_case(&name.text));
+            if !is_array {
+                return Err(format!("`{}` is not an array of the script", name.text));
+            }
+            let [index] = args.as_slice() else {
+                return Err(format!("an element of `{}` takes one index", name.text));
+            };
+            let span = index.span;
+            let index_text = text
+                .get(span.start as usize..span.end as usize)
+                .ok_or_else(cannot)?;
+            match debugger.evaluate(index_text)? {
+                Number::Int(index) => Ok(Place::Element(name.text, index)),
+                Number::Float(value) => Err(format!(
+                    "the index of `{}` must be an integer, not {value:?}",
+                    name.text
+                )),
+            }
         }
-        return match debugger.evaluate(index)? {
-            Number::Int(index) => Ok(Place::Element(name.to_string(), index)),
-            Number::Float(value) => Err(format!(
-                "the index of `{name}` must be an integer, not {value:?}"
-            )),
-        };
+        ExprKind::Name(name) => {
+            let name = name.text;
+            if let Some(named) = target
+                .variables()
+                .into_iter()
+                .find(|named| named.name.eq_ignore_ascii_case(&name))
+            {
+                return match named.length {
+                    Some(_) => Err(format!(
+                        "`{}` is an array: assign to one element, like `{}(0)`",
+                        named.name, named.name
+                    )),
+                    None => Ok(Place::Variable(named.name)),
+                };
+            }
+            if debugger
+                .info
+                .scope
+                .constants()
+                .iter()
+                .any(|constant| constant.name.eq_ignore_ascii_case(&name))
+            {
+                return Err(format!(
+                    "`{name}` is a constant; change its `const` line and restart"
+                ));
+            }
+            if let Some(index) = name
+                .strip_prefix(['r', 'R'])
+                .and_then(|digits| digits.parse::<usize>().ok())
+                .filter(|index| *index < target.registers().len())
+            {
+                return Ok(Place::Register(index));
+            }
+            target
+                .sensor_index(&name)
+                .map(Place::Sensor)
+                .ok_or_else(cannot)
+        }
+        _ => Err(cannot()),
     }
-    if let Some(named) = target
-        .variables()
-        .into_iter()
-        .find(|named| named.name.eq_ignore_ascii_case(text))
-    {
-        return match named.length {
-            Some(_) => Err(format!(
-                "`{}` is an array: assign to one element, like `{}(0)`",
-                named.name, named.name
-            )),
-            None => Ok(Place::Variable(named.name)),
-        };
-    }
-    if let Some(index) = text
-        .strip_prefix(['r', 'R'])
-        .and_then(|digits| digits.parse::<usize>().ok())
-        .filter(|index| *index < target.registers().len())
-    {
-        return Ok(Place::Register(index));
-    }
-    if let Some(index) = target.sensor_index(text) {
-        return Ok(Place::Sensor(index));
-    }
-    Err(format!(
-        "`{text}` cannot be assigned: write a variable, an array element like `a(3)`, a register like `r2` or a sensor"
-    ))
 }
 
 /// `setExpression`: stores `value` (see `value_of`) at the place `expression` names,

@@ -228,6 +228,10 @@ fn set_expression_edits_an_element_and_reverse_and_replay_keep_it() {
         ("grad(1.5)", "integer"),
         ("nosuch", "cannot be assigned"),
         ("abs(1)", "not an array"),
+        ("N", "is a constant"),
+        ("grad(1) +", "not an expression"),
+        ("grad(1) + 1", "cannot be assigned"),
+        ("grad(1, 2)", "one index"),
     ] {
         let response = client.request(
             "setExpression",

@@ -39,8 +39,10 @@ pub struct Completions {
 /// As many items as LuaLS sends: enough to browse, small enough to send per keystroke.
 pub const LIMIT: usize = 100;
 
-/// The words of GBASIC expressions that are not names.
-const KEYWORDS: &[&str] = &["and", "or", "not", "mod", "true", "false"];
+/// GBASIC's keywords that are operators of expressions.
+fn is_operator(word: &str) -> bool {
+    matches!(word, "and" | "or" | "not" | "mod")
+}
 
 /// Every name an expression may use in this session, in no particular order.
 #[derive(Clone, Debug, Default)]
@@ -62,8 +64,11 @@ impl Vocabulary {
         for (name, signature) in gloc_compiler::analysis::builtins() {
             self.push(*name, Kind::Builtin, *signature);
         }
-        for word in KEYWORDS {
-            self.push(*word, Kind::Keyword, "operator");
+        // From the compiler's keyword table, so no word is offered that GBASIC lacks.
+        for word in gloc_compiler::analysis::keywords() {
+            if is_operator(word) {
+                self.push(*word, Kind::Keyword, "operator");
+            }
         }
         self
     }
@@ -173,6 +178,7 @@ mod tests {
         check("max$0", &["max", "MAXD"]);
         check("ab$0", &["abs"]);
         check("NO$0", &["not"]);
+        check("mo$0", &["mod"]);
         // The cursor inside a word completes what stands before it.
         check("ts$0um", &["tsum"]);
     }

@@ -333,8 +333,11 @@ impl<'a> Parser<'a> {
             token.span,
             format!("expected {expected}, found {found}"),
         );
-        if let Some(help) = operator_hint(self.slice(token.span)) {
-            diagnostic = diagnostic.with_help(help);
+        // Where an operand was due, a C operator (`==`'s second `=`, `!`) gets GBASIC's.
+        if expected == "an expression" {
+            if let Some(help) = operator_hint(self.slice(token.span)) {
+                diagnostic = diagnostic.with_help(help);
+            }
         }
         self.diagnostics.push(diagnostic);
     }
@@ -351,7 +354,10 @@ impl<'a> Parser<'a> {
                     span,
                     format!("unexpected {found} after the end of the statement"),
                 )
-                .with_help("put each statement on its own line"),
+                .with_help(
+                    operator_hint(self.slice(token.span))
+                        .unwrap_or("put each statement on its own line"),
+                ),
             );
         }
         self.skip_line();

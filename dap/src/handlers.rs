@@ -131,12 +131,7 @@ fn restart(session: &mut Session, request: RestartArguments) -> Answer<()> {
         )));
     } else {
         let start = launched.debugger.clock();
-        launched.running = Some(Running {
-            mode: RunMode::Continue,
-            start,
-            request_seq,
-            progress: None,
-        });
+        launched.running = Some(Running::new(RunMode::Continue, start, request_seq));
     }
     Ok(())
 }
@@ -264,12 +259,7 @@ fn configuration_done(session: &mut Session, _: IgnoredAny) -> Answer<()> {
     let first = launched.debugger.check_start();
     if first.is_none() {
         let start = launched.debugger.clock();
-        launched.running = Some(Running {
-            mode: RunMode::Continue,
-            start,
-            request_seq,
-            progress: None,
-        });
+        launched.running = Some(Running::new(RunMode::Continue, start, request_seq));
     }
     session.then(Then::Outputs);
     if let Some(stop) = first {
@@ -322,12 +312,7 @@ fn resume(session: &mut Session, mode: RunMode, _: &StepArguments) -> Answer<()>
         other => other,
     };
     let start = launched.debugger.clock();
-    launched.running = Some(Running {
-        mode,
-        start,
-        request_seq,
-        progress: None,
-    });
+    launched.running = Some(Running::new(mode, start, request_seq));
     Ok(())
 }
 

@@ -5,6 +5,7 @@ use std::io;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 use serde::{Deserialize, Serialize};
 use serde_json::{json, Value};
@@ -141,9 +142,25 @@ pub(crate) struct Running {
     pub start: Clock,
     /// The request that started the run (a `cancel` may name it).
     pub request_seq: i64,
-    /// The progress shown while the run lasts longer than a slice.
-    pub progress: Option<String>,
+    /// The progress shown while the run lasts longer than a slice, and when it last
+    /// said which cycle the run is in.
+    pub progress: Option<(String, Instant)>,
 }
+
+impl Running {
+    /// A run about to start from `start`, on behalf of request `request_seq`.
+    pub fn new(mode: RunMode, start: Clock, request_seq: i64) -> Running {
+        Running {
+            mode,
+            start,
+            request_seq,
+            progress: None,
+        }
+    }
+}
+
+/// How often a long run's progress says which cycle it is in.
+const PROGRESS_UPDATES: Duration = Duration::from_secs(1);
 
 pub(crate) struct Launched {
     pub debugger: Debugger<World>,
@@ -800,7 +817,7 @@ impl Session {
         let Some(running) = &launched.running else {
             return Ok(Flow::Continue);
         };
-        let shown = running.progress.clone();
+        let shown = running.progress.clone().map(|(id, _)| id);
         let request_seq = running.request_seq;
         let progress = if self.cancellations.cancelled(request_seq, shown.as_deref()) {
             // A cancelled run stops where the last slice left it (a step boundary).
@@ -817,13 +834,31 @@ impl Session {
         };
         if !matches!(progress, Progress::Running) {
             launched.running = None;
-        } else if shown.is_none() && self.client.supports_progress_reporting {
-            // Longer than one slice: show a progress the user can cancel.
-            let id = format!("run-{request_seq}");
-            if let Some(running) = &mut launched.running {
-                running.progress = Some(id.clone());
+        } else if self.client.supports_progress_reporting {
+            let cycle = launched.debugger.clock().cycle;
+            let Some(running) = &mut launched.running else {
+                return Ok(Flow::Continue);
+            };
+            match &mut running.progress {
+                // Longer than one slice: show a progress the user can cancel.
+                None => {
+                    let id = format!("run-{request_seq}");
+                    running.progress = Some((id.clone(), Instant::now()));
+                    self.start_progress(&id, "Running", request_seq)?;
+                }
+                Some((id, updated)) if updated.elapsed() >= PROGRESS_UPDATES => {
+                    *updated = Instant::now();
+                    let id = id.clone();
+                    self.writer.event(
+                        "progressUpdate",
+                        ProgressEventBody {
+                            progress_id: id,
+                            message: Some(format!("cycle {cycle}")),
+                        },
+                    )?;
+                }
+                Some(_) => {}
             }
-            self.start_progress(&id, "Running", request_seq)?;
         }
         self.flush_outputs()?;
         if let (Some(id), false) = (shown, matches!(progress, Progress::Running)) {

@@ -403,6 +403,15 @@ fn cancel_stops_a_long_forward_run_through_its_progress() {
     let progress = client.event("progressStart");
     assert_eq!(progress["body"]["cancellable"], true);
     let id = progress["body"]["progressId"].clone();
+    // Once a second the progress says which cycle the run is in.
+    let update = client.event("progressUpdate");
+    assert_eq!(update["body"]["progressId"], id);
+    let message = update["body"]["message"].as_str().unwrap_or_default();
+    let cycle: u64 = message
+        .strip_prefix("cycle ")
+        .and_then(|number| number.parse().ok())
+        .unwrap_or_else(|| panic!("{message}"));
+    assert!(cycle > 0, "{message}");
     client.ok("cancel", json!({ "progressId": id }));
     let stop = stopped(&mut client);
     assert_eq!(stop["reason"], "pause");

@@ -48,6 +48,8 @@ pub enum StopReason {
     InstructionBreakpoint,
     /// A trap, a cycle overrun or an abend that its filter stops on.
     Exception,
+    /// A `goto` moved the script's next instruction.
+    Goto,
 }
 
 /// Why the run stopped.
@@ -179,11 +181,21 @@ impl HitCondition {
 }
 
 /// Which runtime failures stop the run (DAP exception filters).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct ExceptionFilters {
     pub overrun: bool,
     pub trap: bool,
     pub abend: bool,
+    /// GBASIC conditions (DAP `exceptionFilterOptions`): an enabled filter with one
+    /// stops only where it holds, evaluated on the state at the failure.
+    pub conditions: ExceptionConditions,
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct ExceptionConditions {
+    pub overrun: Option<String>,
+    pub trap: Option<String>,
+    pub abend: Option<String>,
 }
 
 impl Default for ExceptionFilters {
@@ -192,6 +204,7 @@ impl Default for ExceptionFilters {
             overrun: true,
             trap: true,
             abend: true,
+            conditions: ExceptionConditions::default(),
         }
     }
 }
@@ -203,6 +216,8 @@ pub enum Edit {
     Variable(String, Number),
     Element(String, i64, Number),
     Sensor(usize, f64),
+    /// A `goto`: the script's next instruction.
+    Pc(usize),
 }
 
 /// How much reverse history to keep.
@@ -392,7 +407,11 @@ impl<T: Target> Debugger<T> {
                 Some(notices) => self.report_notices(notices),
                 None => self.collect_notices(),
             };
-            if let (Some(reason), true) = (abend, self.filters.abend) {
+            let abend_condition = self.filters.conditions.abend.clone();
+            let abend_stops = abend.is_some()
+                && self.filters.abend
+                && self.exception_condition_holds(abend_condition.as_deref(), &Check::Live);
+            if let (Some(reason), true) = (abend, abend_stops) {
                 return Progress::Stopped(Stop {
                     reason: StopReason::Exception,
                     description: "Paused on abend".into(),
@@ -617,11 +636,14 @@ impl<T: Target> Debugger<T> {
                         line,
                     });
                 }
-                let wanted = match kind {
-                    TrapKind::CycleOverrun => self.filters.overrun,
-                    TrapKind::Runtime => self.filters.trap,
+                let (wanted, condition) = match kind {
+                    TrapKind::CycleOverrun => (
+                        self.filters.overrun,
+                        self.filters.conditions.overrun.clone(),
+                    ),
+                    TrapKind::Runtime => (self.filters.trap, self.filters.conditions.trap.clone()),
                 };
-                if wanted {
+                if wanted && self.exception_condition_holds(condition.as_deref(), &check) {
                     let filter = match kind {
                         TrapKind::CycleOverrun => "overrun",
                         TrapKind::Runtime => "trap",
@@ -860,6 +882,27 @@ impl<T: Target> Debugger<T> {
         }
     }
 
+    /// Whether an exception filter's condition holds now (no condition: it does). A
+    /// condition that cannot be evaluated stops, as a breakpoint's does, and says why.
+    fn exception_condition_holds(&mut self, condition: Option<&str>, check: &Check) -> bool {
+        let Some(condition) = condition.filter(|text| !text.trim().is_empty()) else {
+            return true;
+        };
+        match self.evaluate(condition) {
+            Ok(value) => value.is_true(),
+            Err(message) => {
+                if let Check::Live = check {
+                    self.outputs.push(Output {
+                        category: Category::Error,
+                        text: format!("exception condition `{condition}`: {message}\n"),
+                        line: None,
+                    });
+                }
+                true
+            }
+        }
+    }
+
     /// Replaces `{expression}` in a logpoint message by its value.
     pub fn interpolate(&self, message: &str) -> String {
         let mut out = String::new();
@@ -1022,6 +1065,16 @@ impl<T: Target> Debugger<T> {
 
     /// Back to the most recent breakpoint hit before now, or the start of the history.
     pub fn reverse_continue(&mut self) -> Result<Stop, String> {
+        self.reverse_continue_unless(&|| false)
+    }
+
+    /// `reverse_continue`, which gives up when `cancelled()` turns true (it is asked
+    /// between steps): it then stops at the earliest point from which everything up to
+    /// where it started was checked for breakpoints (a segment's end, a snapshot).
+    pub fn reverse_continue_unless(
+        &mut self,
+        cancelled: &dyn Fn() -> bool,
+    ) -> Result<Stop, String> {
         let present = self.clock;
         self.refresh_stops();
         let Some(history) = &self.history else {
@@ -1043,6 +1096,14 @@ impl<T: Target> Debugger<T> {
                 .filter(|(clock, _)| *clock > segment_start && *clock <= segment_end)
                 .peekable();
             while self.clock < segment_end {
+                if cancelled() {
+                    self.travel_to(segment_end)?;
+                    self.outputs.clear();
+                    return Ok(stopped_body(
+                        StopReason::Pause,
+                        format!("Reverse run cancelled at cycle {}", self.clock.cycle),
+                    ));
+                }
                 // Breakpoints count here: no further than the next place one can stop.
                 let limit = (segment_end.cycle > self.clock.cycle)
                     .then(|| self.fusable(RunMode::Continue))
@@ -1109,5 +1170,6 @@ fn apply<T: Target>(target: &mut T, edit: &Edit) -> Result<(), String> {
         Edit::Variable(name, value) => target.set_variable(name, *value),
         Edit::Element(name, index, value) => target.set_element(name, *index, *value),
         Edit::Sensor(index, value) => target.set_sensor(*index, *value),
+        Edit::Pc(pc) => target.set_pc(*pc),
     }
 }

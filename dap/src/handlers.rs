@@ -10,12 +10,14 @@ use serde::de::IgnoredAny;
 
 use crate::debugger::{Debugger, Edit, RunMode, Stop, StopReason};
 use crate::dispatch::{Dispatcher, Failure};
-use crate::expr::Watched;
+use crate::edits;
+use crate::features::{self, ClientOptions};
+use crate::format::ValueFormat;
 use crate::program::Language;
 use crate::session::{
-    address, capabilities, parse_address, source_of, LaunchArguments, RestartArguments, Running,
-    Session, Then, ALL_SENSORS, ARRAYS, FRAME_ID, MAX_DISASSEMBLE, SCOPE_REGISTERS, SCOPE_SENSORS,
-    SCOPE_VARIABLES, SCOPE_VEHICLE, THREAD_ID,
+    address, capabilities, condition_error, parse_address, source_of, LaunchArguments,
+    RestartArguments, Running, Session, Then, ALL_SENSORS, ARRAYS, FRAME_ID, MAX_DISASSEMBLE,
+    SCOPE_REGISTERS, SCOPE_SENSORS, SCOPE_VARIABLES, SCOPE_VEHICLE, THREAD_ID,
 };
 use crate::target::{Named, Phase, Target};
 use crate::types::*;
@@ -59,10 +61,16 @@ pub fn table() -> &'static Dispatcher<Session> {
             .on("exceptionInfo", exception_info)
             .on("disassemble", disassemble)
             .on("loadedSources", loaded_sources)
+            .on("completions", completions)
+            .on("setExpression", set_expression)
+            .on("gotoTargets", goto_targets)
+            .on("goto", goto)
+            .on("cancel", cancel)
     })
 }
 
-fn initialize(session: &mut Session, _: InitializeArguments) -> Answer<Capabilities> {
+fn initialize(session: &mut Session, arguments: InitializeArguments) -> Answer<Capabilities> {
+    session.client = ClientOptions::of(&arguments);
     session.initialized = true;
     Ok(capabilities())
 }
@@ -114,6 +122,7 @@ fn restart(session: &mut Session, request: RestartArguments) -> Answer<()> {
         .unwrap_or_else(|| launched.arguments.clone());
     session.launched = None;
     session.launch(arguments)?;
+    let request_seq = session.request_seq;
     let launched = session.launched_mut()?;
     if launched.stop_on_entry {
         session.then(Then::Stop(stopped(
@@ -122,10 +131,7 @@ fn restart(session: &mut Session, request: RestartArguments) -> Answer<()> {
         )));
     } else {
         let start = launched.debugger.clock();
-        launched.running = Some(Running {
-            mode: RunMode::Continue,
-            start,
-        });
+        launched.running = Some(Running::new(RunMode::Continue, start, request_seq));
     }
     Ok(())
 }
@@ -148,21 +154,20 @@ fn set_function_breakpoints(
     })
 }
 
+/// Filters with conditions (`filterOptions`): one breakpoint per filter and option in
+/// the answer, unverified where the condition is not a valid expression.
 fn set_exception_breakpoints(
     session: &mut Session,
     arguments: SetExceptionBreakpointsArguments,
-) -> Answer<()> {
-    for filter in &arguments.filters {
-        if !["trap", "overrun", "abend"].contains(&filter.as_str()) {
-            return Err(format!(
-                "unknown exception filter `{filter}` (known: trap, overrun, abend)"
-            )
-            .into());
-        }
-    }
+) -> Answer<BreakpointsBody> {
+    let debugger = session.launched.as_ref().map(|launched| &launched.debugger);
+    let (_, breakpoints) = features::exception_filters(&arguments, |condition| {
+        debugger.and_then(|debugger| condition_error(debugger, condition))
+    })?;
     session.requested.filters = Some(arguments.filters);
+    session.requested.filter_options = arguments.filter_options.unwrap_or_default();
     session.apply_filters();
-    Ok(())
+    Ok(BreakpointsBody { breakpoints })
 }
 
 fn set_instruction_breakpoints(
@@ -245,6 +250,7 @@ fn breakpoint_locations(
 }
 
 fn configuration_done(session: &mut Session, _: IgnoredAny) -> Answer<()> {
+    let request_seq = session.request_seq;
     let launched = session.launched_mut()?;
     if launched.stop_on_entry {
         session.then(Then::Stop(stopped(StopReason::Entry, "Paused on entry")));
@@ -253,10 +259,7 @@ fn configuration_done(session: &mut Session, _: IgnoredAny) -> Answer<()> {
     let first = launched.debugger.check_start();
     if first.is_none() {
         let start = launched.debugger.clock();
-        launched.running = Some(Running {
-            mode: RunMode::Continue,
-            start,
-        });
+        launched.running = Some(Running::new(RunMode::Continue, start, request_seq));
     }
     session.then(Then::Outputs);
     if let Some(stop) = first {
@@ -296,6 +299,7 @@ fn step_out(session: &mut Session, arguments: StepArguments) -> Answer<()> {
 
 /// Starts a forward run; `run_slice` carries it out.
 fn resume(session: &mut Session, mode: RunMode, _: &StepArguments) -> Answer<()> {
+    let request_seq = session.request_seq;
     let launched = session.launched_mut()?;
     if launched.running.is_some() {
         return Err("the program is already running; `pause` first".into());
@@ -308,7 +312,7 @@ fn resume(session: &mut Session, mode: RunMode, _: &StepArguments) -> Answer<()>
         other => other,
     };
     let start = launched.debugger.clock();
-    launched.running = Some(Running { mode, start });
+    launched.running = Some(Running::new(mode, start, request_seq));
     Ok(())
 }
 
@@ -329,10 +333,63 @@ fn step_back(session: &mut Session, _: IgnoredAny) -> Answer<()> {
     Ok(())
 }
 
+/// Runs backwards to the last breakpoint hit, showing a cancellable progress (when the
+/// client shows them); a `cancel` of the request or of the progress, which the reader
+/// thread notes while this runs, stops it (`Debugger::reverse_continue_unless`).
 fn reverse_continue(session: &mut Session, _: IgnoredAny) -> Answer<()> {
-    let debugger = paused(session)?;
-    let stop = debugger.reverse_continue()?;
-    session.then(Then::Stop(stop));
+    paused(session)?;
+    let request_seq = session.request_seq;
+    let progress = format!("reverse-{request_seq}");
+    let shows_progress = session.client.supports_progress_reporting;
+    if shows_progress {
+        session
+            .start_progress(&progress, "Running backwards", request_seq)
+            .map_err(|error| format!("cannot write to the client: {error}"))?;
+    }
+    let cancellations = session.cancellations.clone();
+    let stop = paused(session)?
+        .reverse_continue_unless(&|| cancellations.cancelled(request_seq, Some(&progress)));
+    if shows_progress {
+        session
+            .end_progress(progress)
+            .map_err(|error| format!("cannot write to the client: {error}"))?;
+    }
+    session.then(Then::Stop(stop?));
+    Ok(())
+}
+
+fn completions(session: &mut Session, arguments: CompletionsArguments) -> Answer<CompletionsBody> {
+    let client = session.client;
+    let debugger = &session.launched_mut()?.debugger;
+    Ok(CompletionsBody {
+        targets: features::completions(debugger, &arguments, client),
+    })
+}
+
+fn set_expression(
+    session: &mut Session,
+    arguments: SetExpressionArguments,
+) -> Answer<SetExpressionBody> {
+    Ok(features::set_expression(paused(session)?, &arguments)?)
+}
+
+fn goto_targets(session: &mut Session, arguments: GotoTargetsArguments) -> Answer<GotoTargetsBody> {
+    let client = session.client;
+    let debugger = &session.launched_mut()?.debugger;
+    Ok(GotoTargetsBody {
+        targets: features::goto_targets(debugger, &arguments, client)?,
+    })
+}
+
+fn goto(session: &mut Session, arguments: GotoArguments) -> Answer<()> {
+    let description = features::goto(paused(session)?, &arguments)?;
+    session.then(Then::Stop(stopped(StopReason::Goto, &description)));
+    Ok(())
+}
+
+/// The reader thread noted the `cancel` as it arrived; a forward run asks the list
+/// between slices, a reverse run between steps. Cancelling what is over does nothing.
+fn cancel(_: &mut Session, _: CancelArguments) -> Answer<()> {
     Ok(())
 }
 
@@ -347,12 +404,13 @@ fn paused(session: &mut Session) -> Answer<&mut Debugger<World>> {
 
 fn stack_trace(session: &mut Session, arguments: StackTraceArguments) -> Answer<StackTraceBody> {
     let debugger = &session.launched_mut()?.debugger;
+    let format = features::value_format(arguments.format);
     // One frame (the script has no calls): `startFrame` past it gives none; `levels`
     // 0 or absent means all.
     let stack_frames = match (arguments.start_frame.unwrap_or(0), arguments.levels) {
         (start, _) if start < 0 => return Err(format!("`startFrame` {start} is negative").into()),
-        (0, None) => vec![stack_frame(debugger)],
-        (0, Some(levels)) if levels >= 0 => vec![stack_frame(debugger)],
+        (0, None) => vec![stack_frame(debugger, format)],
+        (0, Some(levels)) if levels >= 0 => vec![stack_frame(debugger, format)],
         (_, Some(levels)) if levels < 0 => {
             return Err(format!("`levels` {levels} is negative").into())
         }
@@ -406,30 +464,10 @@ fn set_variable(session: &mut Session, arguments: SetVariableArguments) -> Answe
     })
 }
 
+/// A value in the asked format, or an array (`tsum`) with its elements as children.
 fn evaluate(session: &mut Session, arguments: EvaluateArguments) -> Answer<EvaluateBody> {
     let debugger = &session.launched_mut()?.debugger;
-    Ok(match debugger.watch(&arguments.expression)? {
-        Watched::Value(value) => EvaluateBody {
-            result: value.to_string(),
-            ty: crate::expr::type_name(value).into(),
-            variables_reference: 0,
-            indexed_variables: None,
-        },
-        // A whole array: shown as the Variables view shows it, expandable.
-        Watched::Array { name, shown } => {
-            let variables = debugger.target.variables();
-            let position = variables.iter().position(|named| named.name == name);
-            let named = position.and_then(|position| variables.get(position));
-            EvaluateBody {
-                result: shown,
-                ty: named.map_or("array", |named| named.ty).into(),
-                variables_reference: position.map_or(0, |position| ARRAYS + position as i64),
-                indexed_variables: named
-                    .and_then(|named| named.length)
-                    .map(|length| length as i64),
-            }
-        }
-    })
+    Ok(features::evaluate(debugger, &arguments)?)
 }
 
 fn exception_info(session: &mut Session, _: IgnoredAny) -> Answer<ExceptionInfoBody> {
@@ -470,7 +508,7 @@ fn stopped(reason: StopReason, description: &str) -> Stop {
 // ---------------------------------------------------------------------------------------
 // Views of the debugger's state
 
-fn stack_frame(debugger: &Debugger<World>) -> StackFrame {
+fn stack_frame(debugger: &Debugger<World>, format: ValueFormat) -> StackFrame {
     let target = &debugger.target;
     let pc = debugger.shown_pc();
     let instruction = debugger
@@ -489,8 +527,9 @@ fn stack_frame(debugger: &Debugger<World>) -> StackFrame {
     StackFrame {
         id: FRAME_ID,
         name: format!(
-            "cycle {} ({phase}) · {pc}: {instruction}",
-            debugger.clock().cycle
+            "cycle {} ({phase}) · {}: {instruction}",
+            debugger.clock().cycle,
+            format.count(pc)
         ),
         source: Some(source_of(debugger)),
         line: i64::from(line),
@@ -521,12 +560,12 @@ fn plain(named: Named) -> Variable {
     }
 }
 
-fn sensor_variable(target: &World, index: usize) -> Variable {
+fn sensor_variable(target: &World, index: usize, format: ValueFormat) -> Variable {
     let name = target.sensor_name(index).unwrap_or("?").to_string();
     Variable {
         evaluate_name: Some(name.clone()),
         name,
-        value: format!("{:?}", target.sensor(index)),
+        value: format.sensor(target.sensor(index)),
         ty: Some(format!("sensor {index}")),
         variables_reference: 0,
         named_variables: None,
@@ -539,6 +578,7 @@ fn variable_list(
     arguments: &VariablesArguments,
 ) -> Result<Vec<Variable>, String> {
     let target = &debugger.target;
+    let format = features::value_format(arguments.format);
     let all: Vec<Variable> = match arguments.variables_reference {
         SCOPE_VARIABLES => target
             .variables()
@@ -546,7 +586,14 @@ fn variable_list(
             .enumerate()
             .map(|(position, named)| {
                 let length = named.length;
+                let value = match length {
+                    Some(length) => features::array_summary(debugger, &named.name, length, format),
+                    None => target
+                        .variable(&named.name)
+                        .map_or_else(|| named.value.clone(), |value| format.number(value)),
+                };
                 let mut variable = plain(named);
+                variable.value = value;
                 if let Some(length) = length {
                     variable.variables_reference = ARRAYS + position as i64;
                     variable.indexed_variables = Some(length as i64);
@@ -596,7 +643,7 @@ fn variable_list(
                     Variable {
                         evaluate_name: Some(format!("{}({index})", array.name)),
                         name: format!("[{index}]"),
-                        value: value.map(|value| value.to_string()).unwrap_or_default(),
+                        value: value.map(|value| format.number(value)).unwrap_or_default(),
                         ty: Some(element_type.into()),
                         variables_reference: 0,
                         named_variables: None,
@@ -611,7 +658,7 @@ fn variable_list(
             .enumerate()
             .map(|(index, value)| Variable {
                 name: format!("r{index}"),
-                value: value.to_string(),
+                value: format.number(value),
                 ty: Some(crate::expr::type_name(value).into()),
                 variables_reference: 0,
                 named_variables: None,
@@ -623,7 +670,7 @@ fn variable_list(
             let mut list: Vec<Variable> = target
                 .touched_sensors()
                 .into_iter()
-                .map(|index| sensor_variable(target, index))
+                .map(|index| sensor_variable(target, index, format))
                 .collect();
             list.push(Variable {
                 name: "All sensors".into(),
@@ -647,7 +694,7 @@ fn variable_list(
             };
             let end = start.saturating_add(count).min(target.sensor_count());
             return Ok((start.min(end)..end)
-                .map(|index| sensor_variable(target, index))
+                .map(|index| sensor_variable(target, index, format))
                 .collect());
         }
         other => return Err(format!("unknown variablesReference {other}")),
@@ -666,10 +713,8 @@ fn set_value(
     debugger: &mut Debugger<World>,
     arguments: &SetVariableArguments,
 ) -> Result<String, String> {
-    // A GBASIC expression, as the right side of an assignment in the script.
-    let value = debugger
-        .evaluate(&arguments.value)
-        .map_err(|message| format!("`{}` is not a value: {message}", arguments.value))?;
+    let value = edits::value_of(debugger, &arguments.value)?;
+    let format = features::value_format(arguments.format);
     match arguments.variables_reference {
         SCOPE_VARIABLES
             if debugger
@@ -689,7 +734,7 @@ fn set_value(
             debugger
                 .target
                 .variable(&arguments.name)
-                .map(|value| value.to_string())
+                .map(|value| format.number(value))
                 .ok_or_else(|| format!("no variable `{}`", arguments.name))
         }
         SCOPE_REGISTERS => {
@@ -703,7 +748,7 @@ fn set_value(
                 .target
                 .registers()
                 .get(index)
-                .map(|value| value.to_string())
+                .map(|value| format.number(*value))
                 .ok_or_else(|| format!("no register `{}`", arguments.name))
         }
         SCOPE_SENSORS | ALL_SENSORS => {
@@ -712,7 +757,7 @@ fn set_value(
                 .sensor_index(&arguments.name)
                 .ok_or_else(|| format!("`{}` is not a sensor", arguments.name))?;
             debugger.edit(Edit::Sensor(index, value.as_f64()))?;
-            Ok(format!("{:?}", debugger.target.sensor(index)))
+            Ok(format.sensor(debugger.target.sensor(index)))
         }
         SCOPE_VEHICLE => Err("the Vehicle scope is read-only; set a sensor instead".into()),
         reference if reference >= ARRAYS => {
@@ -747,7 +792,7 @@ fn set_value(
             debugger
                 .target
                 .element(&name, index)
-                .map(|value| value.to_string())
+                .map(|value| format.number(value))
                 .ok_or_else(|| format!("no element `{}`", arguments.name))
         }
         other => Err(format!("unknown variablesReference {other}")),

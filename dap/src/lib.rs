@@ -5,14 +5,22 @@
 //! `session` (the session's state and the protocol edge), `dispatch` and `handlers`
 //! (the command table: one typed handler per command), `debugger` (breakpoints,
 //! stepping, history; protocol free), `target` (what the debugger needs from a world), `world` (that, over the
-//! engine and simulator), `expr` (GBASIC expressions for conditions and watches).
+//! engine and simulator), `expr` (GBASIC expressions for conditions and watches),
+//! `edits` (setExpression, goto, the console's names), `completion` (filtering and
+//! ranking them), `format` (values as `print` writes them, or hex), `features` (the
+//! console's, Watch's and goto's answers), `cancel` (`cancel`s noted as they arrive).
 
 // Stdout is the protocol: nothing else may print there.
 #![deny(clippy::print_stdout)]
 
+pub mod cancel;
+pub mod completion;
 pub mod debugger;
 pub mod dispatch;
+pub mod edits;
 pub mod expr;
+pub mod features;
+pub mod format;
 mod handlers;
 pub mod program;
 pub mod protocol;
@@ -228,16 +236,26 @@ fn serve_session(
     if access != Access::Open {
         reader.limit_until(limits::BEFORE_TOKEN, authenticated.clone());
     }
+    // A reverse run holds this thread: the reader notes `cancel`s for it to see.
+    let cancellations = cancel::Cancellations::default();
+    let noted = cancellations.clone();
     thread::Builder::new()
         .name("dap-reader".into())
         .spawn(move || loop {
             let frame = reader.next_frame();
+            if let Frame::Request(request) = &frame {
+                if request.command == "cancel" {
+                    noted.note(&request.arguments);
+                }
+            }
             let closed = matches!(frame, Frame::Closed);
             if sender.send(frame).is_err() || closed {
                 break;
             }
         })?;
-    let mut session = Session::new(Writer::new(Box::new(output)), access).signalling(authenticated);
+    let mut session = Session::new(Writer::new(Box::new(output)), access)
+        .signalling(authenticated)
+        .cancelling(cancellations);
     let mut admitted = false;
     let opened = Instant::now();
     let mut last_heard = opened;

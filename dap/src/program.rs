@@ -272,6 +272,20 @@ impl DebugInfo {
             .copied()
     }
 
+    /// Where a `goto` to `line` lands: the pcs that enter the line (`is_line_entry`), in
+    /// order, after moving it to the nearest line with code as a breakpoint moves (a
+    /// `label:` line has no code of its own: its label's code is on the next line).
+    /// Empty when the script has no code.
+    pub fn goto_targets(&self, line: u32) -> (Option<u32>, Vec<usize>) {
+        let Some(line) = self.resolve_line(line) else {
+            return (None, Vec::new());
+        };
+        let pcs = (0..self.instruction_count())
+            .filter(|pc| self.line(*pc) == Some(line) && self.is_line_entry(*pc))
+            .collect();
+        (Some(line), pcs)
+    }
+
     pub fn lines_with_code(&self) -> impl Iterator<Item = u32> + '_ {
         self.lines_with_code.iter().copied()
     }
@@ -356,6 +370,13 @@ mod tests {
         assert_eq!(jump_back.len(), 1, "{:?}", info.lines);
         assert!(matches!(program.instrs[jump_back[0]].flow(), Flow::Jump(_)));
         assert!(!info.is_line_entry(jump_back[0]));
+        // A jump to the `while` line enters it at its test, never at the jump back; a
+        // jump to `label: top` (no code of its own) goes to the `while`.
+        let (line, targets) = info.goto_targets(3);
+        assert_eq!(line, Some(3));
+        assert_eq!(targets.len(), 1);
+        assert!(targets[0] < first_of_4 && !targets.contains(&jump_back[0]));
+        assert_eq!(info.goto_targets(2), (Some(3), targets.clone()));
     }
 
     #[test]

@@ -17,8 +17,9 @@ use crate::expr::Number;
 use crate::program::SourceLines;
 use crate::target::{Named, Notice, Phase, StepEvent, Target};
 use crate::world::{
-    element_of, registers_of, set_element_in, set_register_in, set_variable_in, trap_event,
-    trap_words, variable_of, variables_of, DebugScript, LaunchConfig, VariableSlot,
+    element_of, float_text, registers_of, set_element_in, set_pc_in, set_register_in,
+    set_variable_in, trap_event, trap_words, variable_of, variables_of, DebugScript, LaunchConfig,
+    VariableSlot,
 };
 
 /// What never changes during a replay; shared by every snapshot.
@@ -246,6 +247,10 @@ impl Target for ReplayWorld {
         std::mem::take(&mut self.notices)
     }
 
+    fn set_pc(&mut self, pc: usize) -> Result<(), String> {
+        set_pc_in(Some(&mut self.machine), pc)
+    }
+
     fn registers(&self) -> Vec<Number> {
         registers_of(Some(&self.machine))
     }
@@ -322,7 +327,7 @@ impl Target for ReplayWorld {
         let recorded = |label: &str, sensor: &str| match self.value_of(sensor) {
             Some(value) => Named {
                 evaluate_name: Some(sensor.to_string()),
-                ..named(label, format!("{value:?}"), "float")
+                ..named(label, float_text(value), "float")
             },
             None => named(label, "not in the sensor list".to_string(), "float"),
         };

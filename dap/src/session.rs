@@ -5,15 +5,18 @@ use std::io;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 use serde::{Deserialize, Serialize};
 use serde_json::{json, Value};
 
+use crate::cancel::Cancellations;
 use crate::debugger::{
-    self, Category, Clock, CycleBreakpointKind, Debugger, ExceptionFilters, HistoryConfig,
-    HitCondition, LineBreakpoint, Pc, Progress, RunMode, Stop, StopReason,
+    self, Category, Clock, CycleBreakpointKind, Debugger, HistoryConfig, HitCondition,
+    LineBreakpoint, Pc, Progress, RunMode, Stop, StopReason,
 };
 use crate::dispatch::Failure;
+use crate::features::{self, ClientOptions};
 use crate::handlers;
 use crate::protocol::{Malformed, Request, Writer};
 use crate::target::Target;
@@ -137,7 +140,27 @@ pub enum Flow {
 pub(crate) struct Running {
     pub mode: RunMode,
     pub start: Clock,
+    /// The request that started the run (a `cancel` may name it).
+    pub request_seq: i64,
+    /// The progress shown while the run lasts longer than a slice, and when it last
+    /// said which cycle the run is in.
+    pub progress: Option<(String, Instant)>,
 }
+
+impl Running {
+    /// A run about to start from `start`, on behalf of request `request_seq`.
+    pub fn new(mode: RunMode, start: Clock, request_seq: i64) -> Running {
+        Running {
+            mode,
+            start,
+            request_seq,
+            progress: None,
+        }
+    }
+}
+
+/// How often a long run's progress says which cycle it is in.
+const PROGRESS_UPDATES: Duration = Duration::from_secs(1);
 
 pub(crate) struct Launched {
     pub debugger: Debugger<World>,
@@ -166,6 +189,7 @@ pub(crate) struct Requested {
     pub data: Vec<crate::types::DataBreakpoint>,
     pub instructions: Vec<crate::types::InstructionBreakpoint>,
     pub filters: Option<Vec<String>>,
+    pub filter_options: Vec<ExceptionFilterOptions>,
 }
 
 pub struct Session {
@@ -181,33 +205,12 @@ pub struct Session {
     next_breakpoint_id: i64,
     /// What the running handler queued for after its response.
     then: Vec<Then>,
-}
-
-fn exception_filters() -> Vec<ExceptionBreakpointsFilter> {
-    vec![
-        ExceptionBreakpointsFilter {
-            filter: "trap".into(),
-            label: "Runtime traps".into(),
-            description: Some(
-                "Stop when the script traps (division by zero, bad jump, ...)".into(),
-            ),
-            default: Some(true),
-        },
-        ExceptionBreakpointsFilter {
-            filter: "overrun".into(),
-            label: "Cycle overrun".into(),
-            description: Some(
-                "Stop when the script exceeds its per-cycle instruction budget".into(),
-            ),
-            default: Some(true),
-        },
-        ExceptionBreakpointsFilter {
-            filter: "abend".into(),
-            label: "Abend".into(),
-            description: Some("Stop when the mission aborts".into()),
-            default: Some(true),
-        },
-    ]
+    /// The `seq` of the request being handled.
+    pub(crate) request_seq: i64,
+    /// `cancel`s, noted by the reader thread as they arrive.
+    pub(crate) cancellations: Cancellations,
+    /// How the client counts lines and columns, and whether it shows progress.
+    pub(crate) client: ClientOptions,
 }
 
 pub(crate) fn capabilities() -> Capabilities {
@@ -217,7 +220,7 @@ pub(crate) fn capabilities() -> Capabilities {
         supports_conditional_breakpoints: Some(true),
         supports_hit_conditional_breakpoints: Some(true),
         supports_evaluate_for_hovers: Some(true),
-        exception_breakpoint_filters: Some(exception_filters()),
+        exception_breakpoint_filters: Some(features::exception_breakpoint_filters()),
         supports_set_variable: Some(true),
         supports_restart_request: Some(true),
         supports_log_points: Some(true),
@@ -231,6 +234,12 @@ pub(crate) fn capabilities() -> Capabilities {
         supports_loaded_sources_request: Some(true),
         // Announced after launch with a `capabilities` event when history is on.
         supports_step_back: None,
+        supports_completions_request: Some(true),
+        supports_set_expression: Some(true),
+        supports_goto_targets_request: Some(true),
+        supports_value_formatting_options: Some(true),
+        supports_cancel_request: Some(true),
+        supports_exception_filter_options: Some(true),
     }
 }
 
@@ -246,7 +255,16 @@ impl Session {
             requested: Requested::default(),
             next_breakpoint_id: 1,
             then: Vec::new(),
+            request_seq: 0,
+            cancellations: Cancellations::default(),
+            client: ClientOptions::default(),
         }
+    }
+
+    /// Shares the list of `cancel`s the reader thread notes.
+    pub fn cancelling(mut self, cancellations: Cancellations) -> Session {
+        self.cancellations = cancellations;
+        self
     }
 
     pub fn is_running(&self) -> bool {
@@ -308,6 +326,7 @@ impl Session {
             }
         }
         self.then.clear();
+        self.request_seq = request.seq;
         let arguments = std::mem::take(&mut request.arguments);
         let answer = handlers::table().dispatch(self, &request.command, arguments);
         let body = match answer {
@@ -746,15 +765,48 @@ impl Session {
         let Some(filters) = &self.requested.filters else {
             return;
         };
-        let has = |name: &str| filters.iter().any(|filter| filter == name);
-        let chosen = ExceptionFilters {
-            trap: has("trap"),
-            overrun: has("overrun"),
-            abend: has("abend"),
+        let arguments = SetExceptionBreakpointsArguments {
+            filters: filters.clone(),
+            filter_options: Some(self.requested.filter_options.clone()),
         };
-        if let Some(launched) = &mut self.launched {
+        let Some(launched) = &mut self.launched else {
+            return;
+        };
+        let debugger = &launched.debugger;
+        if let Ok((chosen, _)) = features::exception_filters(&arguments, |condition| {
+            condition_error(debugger, condition)
+        }) {
             launched.debugger.filters = chosen;
         }
+    }
+
+    /// Shows a cancellable progress for a long run (when the client shows them).
+    pub(crate) fn start_progress(
+        &mut self,
+        id: &str,
+        title: &str,
+        request_seq: i64,
+    ) -> io::Result<()> {
+        self.writer.event(
+            "progressStart",
+            ProgressStartEventBody {
+                progress_id: id.to_string(),
+                title: title.into(),
+                request_id: Some(request_seq),
+                cancellable: true,
+                message: None,
+            },
+        )
+    }
+
+    pub(crate) fn end_progress(&mut self, id: String) -> io::Result<()> {
+        self.writer.event(
+            "progressEnd",
+            ProgressEventBody {
+                progress_id: id,
+                message: None,
+            },
+        )
     }
 
     /// Runs one slice of a forward run and reports a stop or the end.
@@ -765,13 +817,53 @@ impl Session {
         let Some(running) = &launched.running else {
             return Ok(Flow::Continue);
         };
-        let progress = launched
-            .debugger
-            .run(running.mode, running.start, SLICE_STEPS);
+        let shown = running.progress.clone().map(|(id, _)| id);
+        let request_seq = running.request_seq;
+        let progress = if self.cancellations.cancelled(request_seq, shown.as_deref()) {
+            // A cancelled run stops where the last slice left it (a step boundary).
+            Progress::Stopped(Stop {
+                reason: StopReason::Pause,
+                description: format!("Run cancelled at cycle {}", launched.debugger.clock().cycle),
+                text: None,
+                hit_breakpoint_ids: Vec::new(),
+            })
+        } else {
+            launched
+                .debugger
+                .run(running.mode, running.start, SLICE_STEPS)
+        };
         if !matches!(progress, Progress::Running) {
             launched.running = None;
+        } else if self.client.supports_progress_reporting {
+            let cycle = launched.debugger.clock().cycle;
+            let Some(running) = &mut launched.running else {
+                return Ok(Flow::Continue);
+            };
+            match &mut running.progress {
+                // Longer than one slice: show a progress the user can cancel.
+                None => {
+                    let id = format!("run-{request_seq}");
+                    running.progress = Some((id.clone(), Instant::now()));
+                    self.start_progress(&id, "Running", request_seq)?;
+                }
+                Some((id, updated)) if updated.elapsed() >= PROGRESS_UPDATES => {
+                    *updated = Instant::now();
+                    let id = id.clone();
+                    self.writer.event(
+                        "progressUpdate",
+                        ProgressEventBody {
+                            progress_id: id,
+                            message: Some(format!("cycle {cycle}")),
+                        },
+                    )?;
+                }
+                Some(_) => {}
+            }
         }
         self.flush_outputs()?;
+        if let (Some(id), false) = (shown, matches!(progress, Progress::Running)) {
+            self.end_progress(id)?;
+        }
         match progress {
             Progress::Running => {}
             Progress::Stopped(stop) => self.send_stop(stop)?,
@@ -856,6 +948,7 @@ fn reason_name(reason: StopReason) -> &'static str {
         StopReason::DataBreakpoint => "data breakpoint",
         StopReason::InstructionBreakpoint => "instruction breakpoint",
         StopReason::Exception => "exception",
+        StopReason::Goto => "goto",
     }
 }
 
@@ -944,7 +1037,7 @@ fn redact_quotes(text: &str) -> String {
 /// Why a breakpoint condition can never be evaluated (a syntax error, an unknown
 /// name, a type error); a division by zero on the current values is not a reason,
 /// since other values may not divide by zero, so it is checked, not evaluated.
-fn condition_error(debugger: &Debugger<World>, condition: &str) -> Option<String> {
+pub(crate) fn condition_error(debugger: &Debugger<World>, condition: &str) -> Option<String> {
     debugger
         .check_expression(condition)
         .err()

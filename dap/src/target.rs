@@ -97,6 +97,10 @@ pub trait Target: Clone {
     /// Takes what was printed or changed since the last call.
     fn take_notices(&mut self) -> Vec<Notice>;
 
+    /// Moves the script's next instruction to `pc` (a `goto`); refused when the script
+    /// halted or trapped, or `pc` is not an instruction.
+    fn set_pc(&mut self, pc: usize) -> Result<(), String>;
+
     fn registers(&self) -> Vec<Number>;
     fn set_register(&mut self, index: usize, value: Number) -> Result<(), String>;
     /// Source-level variables (GBASIC names through the source map), in declaration order.

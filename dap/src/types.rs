@@ -18,6 +18,7 @@ pub struct InitializeArguments {
     pub adapter_id: Option<String>,
     pub lines_start_at1: Option<bool>,
     pub columns_start_at1: Option<bool>,
+    pub supports_progress_reporting: Option<bool>,
 }
 
 #[derive(Debug, Default, Deserialize, Clone)]
@@ -64,6 +65,15 @@ pub struct SetFunctionBreakpointsArguments {
 #[serde(default, rename_all = "camelCase")]
 pub struct SetExceptionBreakpointsArguments {
     pub filters: Vec<String>,
+    pub filter_options: Option<Vec<ExceptionFilterOptions>>,
+}
+
+#[derive(Debug, Default, Deserialize, Clone)]
+#[serde(default, rename_all = "camelCase")]
+pub struct ExceptionFilterOptions {
+    pub filter_id: String,
+    pub condition: Option<String>,
+    pub mode: Option<String>,
 }
 
 #[derive(Debug, Default, Deserialize, Clone)]
@@ -116,6 +126,14 @@ pub struct StackTraceArguments {
     pub thread_id: i64,
     pub start_frame: Option<i64>,
     pub levels: Option<i64>,
+    pub format: Option<ValueFormatArgument>,
+}
+
+/// `ValueFormat` / `StackFrameFormat`: only `hex` changes what the adapter writes.
+#[derive(Debug, Default, Deserialize, Clone, Copy)]
+#[serde(default, rename_all = "camelCase")]
+pub struct ValueFormatArgument {
+    pub hex: Option<bool>,
 }
 
 #[derive(Debug, Default, Deserialize)]
@@ -131,6 +149,7 @@ pub struct VariablesArguments {
     pub filter: Option<String>,
     pub start: Option<i64>,
     pub count: Option<i64>,
+    pub format: Option<ValueFormatArgument>,
 }
 
 #[derive(Debug, Default, Deserialize)]
@@ -139,6 +158,7 @@ pub struct SetVariableArguments {
     pub variables_reference: i64,
     pub name: String,
     pub value: String,
+    pub format: Option<ValueFormatArgument>,
 }
 
 #[derive(Debug, Default, Deserialize)]
@@ -147,6 +167,47 @@ pub struct EvaluateArguments {
     pub expression: String,
     pub frame_id: Option<i64>,
     pub context: Option<String>,
+    pub format: Option<ValueFormatArgument>,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(default, rename_all = "camelCase")]
+pub struct SetExpressionArguments {
+    pub expression: String,
+    pub value: String,
+    pub frame_id: Option<i64>,
+    pub format: Option<ValueFormatArgument>,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(default, rename_all = "camelCase")]
+pub struct CompletionsArguments {
+    pub frame_id: Option<i64>,
+    pub text: String,
+    pub column: i64,
+    pub line: Option<i64>,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(default, rename_all = "camelCase")]
+pub struct GotoTargetsArguments {
+    pub source: SourceArgument,
+    pub line: i64,
+    pub column: Option<i64>,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(default, rename_all = "camelCase")]
+pub struct GotoArguments {
+    pub thread_id: i64,
+    pub target_id: i64,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(default, rename_all = "camelCase")]
+pub struct CancelArguments {
+    pub request_id: Option<i64>,
+    pub progress_id: Option<String>,
 }
 
 #[derive(Debug, Default, Deserialize)]
@@ -216,6 +277,18 @@ pub struct Capabilities {
     pub supports_exception_info_request: Option<bool>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub supports_loaded_sources_request: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub supports_completions_request: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub supports_set_expression: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub supports_goto_targets_request: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub supports_value_formatting_options: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub supports_cancel_request: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub supports_exception_filter_options: Option<bool>,
 }
 
 #[derive(Debug, Serialize, Clone)]
@@ -227,6 +300,10 @@ pub struct ExceptionBreakpointsFilter {
     pub description: Option<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub default: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub supports_condition: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub condition_description: Option<String>,
 }
 
 #[derive(Debug, Serialize, Clone, Default)]
@@ -339,6 +416,52 @@ pub struct OutputEventBody {
     pub data: Option<Value>,
 }
 
+#[derive(Debug, Serialize, Clone)]
+#[serde(rename_all = "camelCase")]
+pub struct CompletionItem {
+    pub label: String,
+    #[serde(rename = "type", skip_serializing_if = "Option::is_none")]
+    pub ty: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub detail: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sort_text: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub start: Option<i64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub length: Option<i64>,
+}
+
+#[derive(Debug, Serialize, Clone)]
+#[serde(rename_all = "camelCase")]
+pub struct GotoTarget {
+    pub id: i64,
+    pub label: String,
+    pub line: i64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub instruction_pointer_reference: Option<String>,
+}
+
+#[derive(Debug, Serialize, Clone)]
+#[serde(rename_all = "camelCase")]
+pub struct ProgressStartEventBody {
+    pub progress_id: String,
+    pub title: String,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub request_id: Option<i64>,
+    pub cancellable: bool,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub message: Option<String>,
+}
+
+#[derive(Debug, Serialize, Clone)]
+#[serde(rename_all = "camelCase")]
+pub struct ProgressEventBody {
+    pub progress_id: String,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub message: Option<String>,
+}
+
 /// The body of `setBreakpoints`, `setFunctionBreakpoints`, `setDataBreakpoints` and
 /// `setInstructionBreakpoints`.
 #[derive(Debug, Serialize, Clone)]
@@ -414,9 +537,28 @@ pub struct EvaluateBody {
     #[serde(rename = "type")]
     pub ty: String,
     pub variables_reference: i64,
-    /// For a whole array: its number of elements (fetched as indexed children).
+    /// An array's element count (its children are indexed).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub indexed_variables: Option<i64>,
+}
+
+#[derive(Debug, Serialize, Clone)]
+#[serde(rename_all = "camelCase")]
+pub struct SetExpressionBody {
+    pub value: String,
+    #[serde(rename = "type")]
+    pub ty: String,
+    pub variables_reference: i64,
+}
+
+#[derive(Debug, Serialize, Clone)]
+pub struct CompletionsBody {
+    pub targets: Vec<CompletionItem>,
+}
+
+#[derive(Debug, Serialize, Clone)]
+pub struct GotoTargetsBody {
+    pub targets: Vec<GotoTarget>,
 }
 
 #[derive(Debug, Serialize, Clone)]

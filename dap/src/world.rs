@@ -457,6 +457,14 @@ pub(crate) fn registers_of(machine: Option<&Machine>) -> Vec<Number> {
         .unwrap_or_default()
 }
 
+pub(crate) fn set_pc_in(machine: Option<&mut Machine>, pc: usize) -> Result<(), String> {
+    let pc = u32::try_from(pc).map_err(|_| format!("pc {pc} is not an instruction"))?;
+    machine
+        .ok_or("no script is running")?
+        .set_pc(Pc(pc))
+        .map_err(|error| error.to_string())
+}
+
 pub(crate) fn set_register_in(
     machine: Option<&mut Machine>,
     index: usize,
@@ -464,7 +472,7 @@ pub(crate) fn set_register_in(
 ) -> Result<(), String> {
     machine
         .ok_or("no script is running")?
-        .set_register(Reg(index as u32), to_value(value))
+        .set_register(Reg(index as u32), value)
         .map_err(|error| error.to_string())
 }
 
@@ -624,17 +632,15 @@ fn typed_value(variable: &VariableSlot, value: Number) -> Result<Value, String> 
     }
 }
 
+/// A float as the script's `print` writes it (the shortest text that reads back exactly).
+pub(crate) fn float_text(value: f64) -> String {
+    Value::Float(value).to_string()
+}
+
 fn to_number(value: Value) -> Number {
     match value {
         Value::Int(value) => Number::Int(value),
         Value::Float(value) => Number::Float(value),
-    }
-}
-
-fn to_value(number: Number) -> Value {
-    match number {
-        Number::Int(value) => Value::Int(value),
-        Number::Float(value) => Value::Float(value),
     }
 }
 
@@ -725,6 +731,10 @@ impl Target for SimWorld {
         std::mem::take(&mut self.notices)
     }
 
+    fn set_pc(&mut self, pc: usize) -> Result<(), String> {
+        set_pc_in(self.sim.script_parts().map(|(machine, _)| machine), pc)
+    }
+
     fn registers(&self) -> Vec<Number> {
         registers_of(self.sim.machine())
     }
@@ -798,10 +808,10 @@ impl Target for SimWorld {
         // The vehicle's state, named by the sensor the simulator writes it to at each
         // boundary while the sensor holds exactly the value shown.
         let mirrored = |name: &str, value: f64, sensor: &str| {
-            let shown = format!("{value:?}");
+            let shown = float_text(value);
             let evaluate_name = self
                 .sensor_index(sensor)
-                .filter(|index| format!("{:?}", self.sensor(*index)) == shown)
+                .filter(|index| self.sensor(*index).to_bits() == value.to_bits())
                 .map(|_| sensor.to_string());
             Named {
                 evaluate_name,
@@ -819,28 +829,20 @@ impl Target for SimWorld {
         vec![
             named("cycle", self.sim.cycle().to_string(), "integer"),
             named("phase", phase.to_string(), "string"),
-            named(
-                "mission time (s)",
-                format!("{:?}", self.sim.time()),
-                "float",
-            ),
+            named("mission time (s)", float_text(self.sim.time()), "float"),
             mirrored("m_present_time", self.sim.present_time(), "m_present_time"),
             mirrored("depth (m)", self.sim.depth(), "m_depth"),
             mirrored("pitch (rad)", self.sim.pitch(), "m_pitch"),
             named(
                 "pitch (deg)",
-                format!("{:.2}", self.sim.pitch().to_degrees()),
+                float_text(self.sim.pitch().to_degrees()),
                 "float",
             ),
             named("active behaviors", active.join(", "), "string"),
-            named(
-                "energy (J)",
-                format!("{:.1}", self.sim.energy_joules()),
-                "float",
-            ),
+            named("energy (J)", float_text(self.sim.energy_joules()), "float"),
             named(
                 "charge used (Ah)",
-                format!("{:.4}", self.sim.amp_hours()),
+                float_text(self.sim.amp_hours()),
                 "float",
             ),
             mirrored("water depth (m)", self.sim.water_depth(), "m_water_depth"),
@@ -879,6 +881,9 @@ impl Target for World {
     }
     fn take_notices(&mut self) -> Vec<Notice> {
         each_world!(self, world => world.take_notices())
+    }
+    fn set_pc(&mut self, pc: usize) -> Result<(), String> {
+        each_world!(self, world => world.set_pc(pc))
     }
     fn registers(&self) -> Vec<Number> {
         each_world!(self, world => world.registers())

@@ -103,6 +103,10 @@ pub enum AccessError {
     NoSuchRegister(u32),
     #[error("memory address {0} does not exist")]
     NoSuchAddress(u32),
+    #[error("pc {0} is not an instruction of the program")]
+    NoSuchInstruction(u32),
+    #[error("the script has stopped (halted or trapped); it cannot go on")]
+    Stopped,
 }
 
 /// How the interpreter dispatches ops. Both run the same code with the same
@@ -281,6 +285,19 @@ impl Machine {
             .get_mut(address as usize)
             .ok_or(AccessError::NoSuchAddress(address))?;
         *slot = value;
+        Ok(())
+    }
+
+    /// Moves the next instruction to `pc` (a debugger's "jump"), in or between cycles:
+    /// the instructions run this cycle still count against the budget.
+    pub fn set_pc(&mut self, pc: Pc) -> Result<(), AccessError> {
+        if pc.index() >= self.program.instrs.len() {
+            return Err(AccessError::NoSuchInstruction(pc.0));
+        }
+        if self.status != Status::Running {
+            return Err(AccessError::Stopped);
+        }
+        self.pc = pc.0;
         Ok(())
     }
 

@@ -317,3 +317,23 @@ fn a_cloned_machine_is_an_independent_snapshot() {
     assert_eq!(machine.pc(), Pc(0));
     assert_eq!(machine.registers()[0], Value::Int(0));
 }
+
+#[test]
+fn setting_the_pc_jumps_and_refuses_what_is_not_code() {
+    // pc 0 loadi 1,r0; 1 yield; 2 loadi 2,r0; 3 yield; 4 the implicit halt.
+    let text = "nregs 1\nnblbs 0\nninstr 4\nloadi 1,r0\nyield\nloadi 2,r0\nyield\n";
+    let mut machine = machine(text);
+    let mut host = TestHost::default();
+    // Between cycles: the next share starts where the pc is set.
+    machine.set_pc(Pc(2)).expect("pc 2 is code");
+    assert_eq!(machine.run_cycle(&mut host), CycleEnd::Yielded);
+    assert_eq!(machine.registers()[0], Value::Int(2));
+    assert_eq!(machine.pc(), Pc(4));
+    // The implicit halt is an instruction; past it is not.
+    assert!(machine.set_pc(Pc(4)).is_ok());
+    assert!(machine.set_pc(Pc(5)).is_err());
+    assert_eq!(machine.pc(), Pc(4));
+    assert_eq!(machine.run_cycle(&mut host), CycleEnd::Halted);
+    // A halted script stays halted.
+    assert!(machine.set_pc(Pc(0)).is_err());
+}

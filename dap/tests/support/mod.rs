@@ -108,6 +108,11 @@ impl Client {
         seq
     }
 
+    /// The `seq` the next request will carry.
+    pub fn next_seq_peek(&self) -> i64 {
+        self.next_seq
+    }
+
     /// Closes the adapter's input, as a client that goes away does.
     pub fn close(&mut self) {
         self.to_adapter = None;

@@ -6,7 +6,7 @@
 use std::collections::HashMap;
 
 use gloc_engine::sensors::{Access, SensorId, SensorList};
-use gloc_engine::{Diagnostic, Span};
+use gloc_engine::{suggest, Diagnostic, Span};
 
 use crate::ast::{self, BinaryOp, Literal, LoopKind, TypeName, UnaryOp};
 use crate::codes;
@@ -287,28 +287,18 @@ impl<'a> Checker<'a> {
 
     /// The closest declared name or sensor to `key`, for "did you mean".
     fn suggest(&self, key: &str) -> Option<String> {
-        let limit = (key.len() / 3).max(1);
-        let mut best: Option<(usize, String)> = None;
-        let mut consider = |candidate: &str| {
-            let distance = edit_distance(key, &candidate.to_ascii_lowercase());
-            if distance <= limit
-                && best
-                    .as_ref()
-                    .is_none_or(|(best_distance, _)| distance < *best_distance)
-            {
-                best = Some((distance, candidate.to_string()));
-            }
-        };
-        for variable in &self.symbols.variables {
-            consider(&variable.name);
-        }
-        for constant in &self.symbols.constants {
-            consider(&constant.name);
-        }
-        for (_, sensor) in self.sensors.iter() {
-            consider(&sensor.name);
-        }
-        best.map(|(_, name)| name)
+        let variables = self
+            .symbols
+            .variables
+            .iter()
+            .map(|variable| variable.name.as_str());
+        let constants = self
+            .symbols
+            .constants
+            .iter()
+            .map(|constant| constant.name.as_str());
+        let sensors = self.sensors.iter().map(|(_, sensor)| sensor.name.as_str());
+        suggest::closest(key, variables.chain(constants).chain(sensors)).map(str::to_string)
     }
 
     fn undeclared(&mut self, name: &ast::Name) {
@@ -385,20 +375,11 @@ impl<'a> Checker<'a> {
                         name.span,
                         format!("there is no label `{}`", name.text),
                     );
-                    let limit = (name.key.len() / 3).max(1);
-                    let closest = self
-                        .symbols
-                        .labels
-                        .iter()
-                        .map(|label| {
-                            (
-                                edit_distance(&name.key, &label.name.to_ascii_lowercase()),
-                                &label.name,
-                            )
-                        })
-                        .filter(|(distance, _)| *distance <= limit)
-                        .min_by_key(|(distance, _)| *distance)
-                        .map(|(_, label)| label.clone());
+                    let closest = suggest::closest(
+                        &name.key,
+                        self.symbols.labels.iter().map(|label| label.name.as_str()),
+                    )
+                    .map(str::to_string);
                     diagnostic = match closest {
                         Some(label) => diagnostic
                             .with_help(format!("did you mean `{label}`?"))
@@ -1017,25 +998,14 @@ impl<'a> Checker<'a> {
                     name.span,
                     format!("`{}` is not an array or a built-in function", name.text),
                 );
-                let limit = (name.key.len() / 3).max(1);
-                let closest = BUILTINS
+                let arrays = self
+                    .symbols
+                    .variables
                     .iter()
-                    .map(|builtin| (edit_distance(&name.key, builtin), *builtin))
-                    .chain(
-                        self.symbols
-                            .variables
-                            .iter()
-                            .filter(|variable| variable.size.is_some())
-                            .map(|variable| {
-                                (
-                                    edit_distance(&name.key, &variable.name.to_ascii_lowercase()),
-                                    variable.name.as_str(),
-                                )
-                            }),
-                    )
-                    .filter(|(distance, _)| *distance <= limit)
-                    .min_by_key(|(distance, _)| *distance)
-                    .map(|(_, name)| name.to_string());
+                    .filter(|variable| variable.size.is_some())
+                    .map(|variable| variable.name.as_str());
+                let closest = suggest::closest(&name.key, BUILTINS.iter().copied().chain(arrays))
+                    .map(str::to_string);
                 diagnostic = match closest {
                     Some(suggestion) => diagnostic
                         .with_help(format!("did you mean `{suggestion}`?"))
@@ -1270,23 +1240,4 @@ fn for_each_child_block(stmt: &ast::Stmt, mut visit: impl FnMut(&[ast::Stmt])) {
         | ast::StmtKind::For { body, .. } => visit(body),
         _ => {}
     }
-}
-
-/// Levenshtein distance on bytes (names are ASCII).
-pub fn edit_distance(a: &str, b: &str) -> usize {
-    let a = a.as_bytes();
-    let b = b.as_bytes();
-    let mut previous: Vec<usize> = (0..=b.len()).collect();
-    let mut current = vec![0; b.len() + 1];
-    for (i, &byte_a) in a.iter().enumerate() {
-        current[0] = i + 1;
-        for (j, &byte_b) in b.iter().enumerate() {
-            let cost = usize::from(byte_a != byte_b);
-            current[j + 1] = (previous[j] + cost)
-                .min(previous[j + 1] + 1)
-                .min(current[j] + 1);
-        }
-        std::mem::swap(&mut previous, &mut current);
-    }
-    previous[b.len()]
 }

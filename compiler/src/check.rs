@@ -9,8 +9,9 @@ use gloc_engine::sensors::{Access, SensorId, SensorList};
 use gloc_engine::{suggest, Diagnostic, Span};
 
 use crate::ast::{self, BinaryOp, Literal, LoopKind, TypeName, UnaryOp};
+use crate::builtins::{self, Param, Returns, BUILTINS};
 use crate::codes;
-use crate::parser::{BUILTINS, KEYWORDS};
+use crate::parser::KEYWORDS;
 use crate::typed::{self, Builtin, ExprKind, LabelId, Place, Symbols, Ty, VarId};
 
 /// A type-checked program.
@@ -99,7 +100,7 @@ impl<'a> Checker<'a> {
             );
             return false;
         }
-        if BUILTINS.contains(&name.key.as_str()) || KEYWORDS.contains(&name.key.as_str()) {
+        if Builtin::of_name(&name.key).is_some() || KEYWORDS.contains(&name.key.as_str()) {
             self.error(
                 Diagnostic::error(
                     codes::DUPLICATE,
@@ -801,7 +802,7 @@ impl<'a> Checker<'a> {
                         }
                     }
                     None => {
-                        if BUILTINS.contains(&name.key.as_str()) {
+                        if Builtin::of_name(&name.key).is_some() {
                             self.error(
                                 Diagnostic::error(
                                     codes::WRONG_KIND,
@@ -1004,8 +1005,11 @@ impl<'a> Checker<'a> {
                     .iter()
                     .filter(|variable| variable.size.is_some())
                     .map(|variable| variable.name.as_str());
-                let closest = suggest::closest(&name.key, BUILTINS.iter().copied().chain(arrays))
-                    .map(str::to_string);
+                let closest = suggest::closest(
+                    &name.key,
+                    BUILTINS.iter().map(|info| info.name).chain(arrays),
+                )
+                .map(str::to_string);
                 diagnostic = match closest {
                     Some(suggestion) => diagnostic
                         .with_help(format!("did you mean `{suggestion}`?"))
@@ -1014,9 +1018,8 @@ impl<'a> Checker<'a> {
                             name.span,
                             suggestion,
                         ),
-                    None => {
-                        diagnostic.with_help("the built-ins are abs, sqrt, min, max, int and float")
-                    }
+                    None => diagnostic
+                        .with_help(format!("the built-ins are {}", builtins::names_in_prose())),
                 };
                 self.error(diagnostic);
             }
@@ -1042,44 +1045,32 @@ impl<'a> Checker<'a> {
         }
         let any_error = args.iter().any(|arg| arg.ty == Ty::Error);
         let any_float = args.iter().any(|arg| arg.ty == Ty::Float);
-        let (args, ty) = match builtin {
-            Builtin::Abs => {
-                let ty = args[0].ty;
-                (args, ty)
-            }
-            Builtin::Min | Builtin::Max => {
-                let ty = if any_float { Ty::Float } else { Ty::Integer };
-                (args.into_iter().map(|arg| widen(arg, ty)).collect(), ty)
-            }
-            Builtin::Sqrt => (
-                args.into_iter().map(|arg| widen(arg, Ty::Float)).collect(),
-                Ty::Float,
-            ),
-            Builtin::Float => {
-                // `float(x)` of a float is the float itself.
-                let mut args = args;
-                let arg = args.remove(0);
-                let arg = widen(arg, Ty::Float);
-                return typed::Expr {
-                    kind: arg.kind,
-                    ty: if any_error { Ty::Error } else { Ty::Float },
-                    span,
-                };
-            }
-            Builtin::Int => {
-                // `int(x)` of an integer is the integer itself.
-                if args[0].ty == Ty::Integer {
-                    let mut args = args;
-                    let arg = args.remove(0);
-                    return typed::Expr {
-                        kind: arg.kind,
-                        ty: Ty::Integer,
-                        span,
-                    };
-                }
-                (args, Ty::Integer)
-            }
+        let info = builtin.info();
+        let ty = match info.returns {
+            Returns::Integer => Ty::Integer,
+            Returns::Float => Ty::Float,
+            Returns::Widest if any_float => Ty::Float,
+            Returns::Widest => Ty::Integer,
         };
+        let mut args: Vec<typed::Expr> = args
+            .into_iter()
+            .zip(info.params)
+            .map(|(arg, (_, param))| match (param, info.returns) {
+                (Param::Float, _) => widen(arg, Ty::Float),
+                (Param::Number, Returns::Widest) => widen(arg, ty),
+                (Param::Number, _) => arg,
+            })
+            .collect();
+        // `int(x)` of an integer and `float(x)` of a float (or of a widened integer)
+        // is the value itself.
+        if builtin.is_conversion() && (args[0].ty == ty || any_error) {
+            let arg = args.remove(0);
+            return typed::Expr {
+                kind: arg.kind,
+                ty: if any_error { Ty::Error } else { ty },
+                span,
+            };
+        }
         typed::Expr {
             kind: ExprKind::Call { builtin, args },
             ty: if any_error { Ty::Error } else { ty },

@@ -18,6 +18,10 @@ pub enum Ty {
 }
 
 impl Ty {
+    /// The types a `dim` or `const` can give, in the order the editor offers them.
+    pub const DECLARABLE: [Ty; 2] = [Ty::Integer, Ty::Float];
+
+    /// As GBASIC spells it (`dim x as float`).
     pub fn name(self) -> &'static str {
         match self {
             Ty::Integer => "integer",

@@ -6,12 +6,8 @@ use std::path::PathBuf;
 
 use gloc_engine::program::{Flow, Program};
 
-/// The source language the user debugs.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Language {
-    Gbasic,
-    Gloc,
-}
+/// The source language the user debugs: the compiler's one `Language`.
+pub use gloc_compiler::Language;
 
 #[derive(Clone, Debug)]
 pub struct DebugInfo {

@@ -2,9 +2,10 @@
 //! off `gloc-compiler` (its analysis API, lexer, keyword and built-in tables,
 //! and the loader that also checks the compiled GLOC).
 
-use gloc_compiler::builtins::{BuiltinInfo, BUILTINS};
+use gloc_compiler::builtins::{Builtin, BuiltinInfo, BUILTINS};
 use gloc_compiler::lexer::{self, TokenKind as Lexed};
 use gloc_compiler::loader::LoadOptions;
+use gloc_compiler::typed::Ty;
 use gloc_compiler::SymbolKind as CompilerKind;
 use gloc_engine::diagnostic::Fix;
 use gloc_engine::gloc::Bound;
@@ -157,7 +158,7 @@ fn add_fixes(text: &str, blocks: &[gloc_compiler::Block], diagnostics: &mut [Dia
                 .rfind('\n')
                 .map_or(0, |at| at + 1);
             let indent = indentation(&text[line_start..]);
-            for ty in ["integer", "float"] {
+            for ty in Ty::DECLARABLE.map(Ty::name) {
                 diagnostic.fixes.push(Fix {
                     title: format!("declare `{name}` with `dim {name} as {ty}`"),
                     span: Span::new(line_start, line_start),
@@ -275,7 +276,8 @@ fn collect_tokens(
                     push(analysis, token.span, *kind, *sensor);
                     continue;
                 }
-                None if builtin(word).is_some() && !word.eq_ignore_ascii_case("float") => {
+                // `float` is a type keyword as well as a built-in.
+                None if builtin(word).is_some_and(|info| info.builtin != Builtin::Float) => {
                     TokenKind::Function
                 }
                 None if is_keyword(word) => TokenKind::Keyword,
@@ -430,9 +432,9 @@ pub fn completions(
     match position(text, offset) {
         Position::Nothing => Vec::new(),
         Position::Label => symbols(&[SymbolKind::Label]),
-        Position::Type => ["integer", "float"]
+        Position::Type => Ty::DECLARABLE
             .iter()
-            .map(|ty| keyword_item(ty))
+            .map(|ty| keyword_item(ty.name()))
             .collect(),
         Position::Statement => {
             let mut items = symbols(&[SymbolKind::Variable, SymbolKind::Array]);

@@ -23,7 +23,9 @@ pub mod signature;
 pub mod symbols;
 pub mod tokens;
 
-/// The languages the editor tooling answers for.
+/// The kinds of document the editor tooling answers for: a script in one of the
+/// two languages (`Gloc`, `Gbasic`: the compiler's [`gloc_compiler::Language`],
+/// whose file extensions `detect` uses) or an editor-only kind.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Language {
     Gloc,
@@ -41,15 +43,26 @@ impl Language {
             "gbasic" | "gbas" => return Some(Language::Gbasic),
             _ => {}
         }
+        let script = std::path::Path::new(path)
+            .extension()
+            .and_then(|extension| extension.to_str())
+            .and_then(gloc_compiler::Language::of_extension);
         let path = path.to_ascii_lowercase();
-        if path.ends_with(".gloc") {
-            Some(Language::Gloc)
-        } else if path.ends_with(".gbas") || path.ends_with(".gbasic") {
-            Some(Language::Gbasic)
+        if let Some(script) = script {
+            Some(script.into())
         } else if path.ends_with("/gloc.toml") || path == "gloc.toml" {
             Some(Language::Config)
         } else {
             None
+        }
+    }
+}
+
+impl From<gloc_compiler::Language> for Language {
+    fn from(language: gloc_compiler::Language) -> Language {
+        match language {
+            gloc_compiler::Language::Gloc => Language::Gloc,
+            gloc_compiler::Language::Gbasic => Language::Gbasic,
         }
     }
 }

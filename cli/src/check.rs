@@ -38,10 +38,7 @@ pub fn main(args: crate::CheckArgs) -> anyhow::Result<ExitCode> {
                 continue;
             }
         };
-        let is_gbas = path
-            .extension()
-            .is_some_and(|extension| extension.eq_ignore_ascii_case("gbas"));
-        if is_gbas {
+        if gloc_compiler::Language::of_path(path) == gloc_compiler::Language::Gbasic {
             check_gbas(&display, &text, &sensors, args.stats, &mut tally);
             continue;
         }

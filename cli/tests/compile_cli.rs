@@ -88,6 +88,33 @@ fn check_accepts_gbasic_and_reports_on_gbasic_lines() {
 }
 
 #[test]
+fn check_and_compile_agree_on_which_language_a_file_is() {
+    // `.bas` and `.gbasic` are GBASIC for `gloc compile`; `gloc check` read them as
+    // GLOC (27 "expected" errors for Fig. 3) before both used the compiler's one table.
+    let dir = scratch("extensions");
+    let fig3 = std::fs::read_to_string(root().join("examples/fig3.gbas")).expect("fig3");
+    for name in ["fig3.bas", "fig3.GBASIC"] {
+        let path = dir.join(name);
+        std::fs::write(&path, &fig3).expect("write");
+        for command in ["check", "compile"] {
+            let mut gloc = gloc();
+            gloc.arg(command).arg(&path);
+            if command == "compile" {
+                gloc.arg("-o").arg(dir.join("out.gloc"));
+            }
+            let output = gloc.output().expect("gloc runs");
+            assert!(
+                output.status.success(),
+                "gloc {command} {name}: {}{}",
+                String::from_utf8_lossy(&output.stdout),
+                String::from_utf8_lossy(&output.stderr)
+            );
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn a_missing_file_is_a_clear_error() {
     let output = gloc()
         .args(["compile", "no/such/file.gbas"])

@@ -6,7 +6,7 @@ use gloc_engine::sensors::SensorList;
 use gloc_engine::{Diagnostic, Span};
 
 use crate::ast;
-use crate::parser::{BUILTINS, KEYWORDS};
+use crate::parser::KEYWORDS;
 use crate::typed::Ty;
 use crate::{check, parser, CompileOptions, SourceMap};
 
@@ -82,20 +82,6 @@ impl Analysis {
 /// GBASIC's keywords, for completion and highlighting.
 pub fn keywords() -> &'static [&'static str] {
     KEYWORDS
-}
-
-/// GBASIC's built-in functions with a one-line signature each.
-pub fn builtins() -> &'static [(&'static str, &'static str)] {
-    const SIGNATURES: &[(&str, &str)] = &[
-        ("abs", "abs(x): |x|, same type as x"),
-        ("sqrt", "sqrt(x): square root, a float"),
-        ("min", "min(a, b): the smaller; float if either is"),
-        ("max", "max(a, b): the larger; float if either is"),
-        ("int", "int(x): float to integer, truncating toward zero"),
-        ("float", "float(x): integer to float"),
-    ];
-    debug_assert_eq!(SIGNATURES.len(), BUILTINS.len());
-    SIGNATURES
 }
 
 pub fn analyze(text: &str, sensors: &SensorList, options: &CompileOptions) -> Analysis {

@@ -6,11 +6,12 @@
 use std::collections::HashMap;
 
 use gloc_engine::sensors::{Access, SensorId, SensorList};
-use gloc_engine::{Diagnostic, Span};
+use gloc_engine::{suggest, Diagnostic, Span};
 
 use crate::ast::{self, BinaryOp, Literal, LoopKind, TypeName, UnaryOp};
+use crate::builtins::{self, Param, Returns, BUILTINS};
 use crate::codes;
-use crate::parser::{BUILTINS, KEYWORDS};
+use crate::parser::KEYWORDS;
 use crate::typed::{self, Builtin, ExprKind, LabelId, Place, Symbols, Ty, VarId};
 
 /// A type-checked program.
@@ -209,7 +210,7 @@ impl<'a> Checker<'a> {
             );
             return false;
         }
-        if BUILTINS.contains(&name.key.as_str()) || KEYWORDS.contains(&name.key.as_str()) {
+        if Builtin::of_name(&name.key).is_some() || KEYWORDS.contains(&name.key.as_str()) {
             self.error(
                 Diagnostic::error(
                     codes::DUPLICATE,
@@ -397,28 +398,18 @@ impl<'a> Checker<'a> {
 
     /// The closest declared name or sensor to `key`, for "did you mean".
     fn suggest(&self, key: &str) -> Option<String> {
-        let limit = (key.len() / 3).max(1);
-        let mut best: Option<(usize, String)> = None;
-        let mut consider = |candidate: &str| {
-            let distance = edit_distance(key, &candidate.to_ascii_lowercase());
-            if distance <= limit
-                && best
-                    .as_ref()
-                    .is_none_or(|(best_distance, _)| distance < *best_distance)
-            {
-                best = Some((distance, candidate.to_string()));
-            }
-        };
-        for variable in &self.symbols.variables {
-            consider(&variable.name);
-        }
-        for constant in &self.symbols.constants {
-            consider(&constant.name);
-        }
-        for (_, sensor) in self.sensors.iter() {
-            consider(&sensor.name);
-        }
-        best.map(|(_, name)| name)
+        let variables = self
+            .symbols
+            .variables
+            .iter()
+            .map(|variable| variable.name.as_str());
+        let constants = self
+            .symbols
+            .constants
+            .iter()
+            .map(|constant| constant.name.as_str());
+        let sensors = self.sensors.iter().map(|(_, sensor)| sensor.name.as_str());
+        suggest::closest(key, variables.chain(constants).chain(sensors)).map(str::to_string)
     }
 
     fn undeclared(&mut self, name: &ast::Name) {
@@ -495,20 +486,11 @@ impl<'a> Checker<'a> {
                         name.span,
                         format!("there is no label `{}`", name.text),
                     );
-                    let limit = (name.key.len() / 3).max(1);
-                    let closest = self
-                        .symbols
-                        .labels
-                        .iter()
-                        .map(|label| {
-                            (
-                                edit_distance(&name.key, &label.name.to_ascii_lowercase()),
-                                &label.name,
-                            )
-                        })
-                        .filter(|(distance, _)| *distance <= limit)
-                        .min_by_key(|(distance, _)| *distance)
-                        .map(|(_, label)| label.clone());
+                    let closest = suggest::closest(
+                        &name.key,
+                        self.symbols.labels.iter().map(|label| label.name.as_str()),
+                    )
+                    .map(str::to_string);
                     diagnostic = match closest {
                         Some(label) => diagnostic
                             .with_help(format!("did you mean `{label}`?"))
@@ -930,7 +912,7 @@ impl<'a> Checker<'a> {
                         }
                     }
                     None => {
-                        if BUILTINS.contains(&name.key.as_str()) {
+                        if Builtin::of_name(&name.key).is_some() {
                             self.error(
                                 Diagnostic::error(
                                     codes::WRONG_KIND,
@@ -1127,25 +1109,17 @@ impl<'a> Checker<'a> {
                     name.span,
                     format!("`{}` is not an array or a built-in function", name.text),
                 );
-                let limit = (name.key.len() / 3).max(1);
-                let closest = BUILTINS
+                let arrays = self
+                    .symbols
+                    .variables
                     .iter()
-                    .map(|builtin| (edit_distance(&name.key, builtin), *builtin))
-                    .chain(
-                        self.symbols
-                            .variables
-                            .iter()
-                            .filter(|variable| variable.size.is_some())
-                            .map(|variable| {
-                                (
-                                    edit_distance(&name.key, &variable.name.to_ascii_lowercase()),
-                                    variable.name.as_str(),
-                                )
-                            }),
-                    )
-                    .filter(|(distance, _)| *distance <= limit)
-                    .min_by_key(|(distance, _)| *distance)
-                    .map(|(_, name)| name.to_string());
+                    .filter(|variable| variable.size.is_some())
+                    .map(|variable| variable.name.as_str());
+                let closest = suggest::closest(
+                    &name.key,
+                    BUILTINS.iter().map(|info| info.name).chain(arrays),
+                )
+                .map(str::to_string);
                 diagnostic = match closest {
                     Some(suggestion) => diagnostic
                         .with_help(format!("did you mean `{suggestion}`?"))
@@ -1154,9 +1128,8 @@ impl<'a> Checker<'a> {
                             name.span,
                             suggestion,
                         ),
-                    None => {
-                        diagnostic.with_help("the built-ins are abs, sqrt, min, max, int and float")
-                    }
+                    None => diagnostic
+                        .with_help(format!("the built-ins are {}", builtins::names_in_prose())),
                 };
                 self.error(diagnostic);
             }
@@ -1182,44 +1155,32 @@ impl<'a> Checker<'a> {
         }
         let any_error = args.iter().any(|arg| arg.ty == Ty::Error);
         let any_float = args.iter().any(|arg| arg.ty == Ty::Float);
-        let (args, ty) = match builtin {
-            Builtin::Abs => {
-                let ty = args[0].ty;
-                (args, ty)
-            }
-            Builtin::Min | Builtin::Max => {
-                let ty = if any_float { Ty::Float } else { Ty::Integer };
-                (args.into_iter().map(|arg| widen(arg, ty)).collect(), ty)
-            }
-            Builtin::Sqrt => (
-                args.into_iter().map(|arg| widen(arg, Ty::Float)).collect(),
-                Ty::Float,
-            ),
-            Builtin::Float => {
-                // `float(x)` of a float is the float itself.
-                let mut args = args;
-                let arg = args.remove(0);
-                let arg = widen(arg, Ty::Float);
-                return typed::Expr {
-                    kind: arg.kind,
-                    ty: if any_error { Ty::Error } else { Ty::Float },
-                    span,
-                };
-            }
-            Builtin::Int => {
-                // `int(x)` of an integer is the integer itself.
-                if args[0].ty == Ty::Integer {
-                    let mut args = args;
-                    let arg = args.remove(0);
-                    return typed::Expr {
-                        kind: arg.kind,
-                        ty: Ty::Integer,
-                        span,
-                    };
-                }
-                (args, Ty::Integer)
-            }
+        let info = builtin.info();
+        let ty = match info.returns {
+            Returns::Integer => Ty::Integer,
+            Returns::Float => Ty::Float,
+            Returns::Widest if any_float => Ty::Float,
+            Returns::Widest => Ty::Integer,
         };
+        let mut args: Vec<typed::Expr> = args
+            .into_iter()
+            .zip(info.params)
+            .map(|(arg, (_, param))| match (param, info.returns) {
+                (Param::Float, _) => widen(arg, Ty::Float),
+                (Param::Number, Returns::Widest) => widen(arg, ty),
+                (Param::Number, _) => arg,
+            })
+            .collect();
+        // `int(x)` of an integer and `float(x)` of a float (or of a widened integer)
+        // is the value itself.
+        if builtin.is_conversion() && (args[0].ty == ty || any_error) {
+            let arg = args.remove(0);
+            return typed::Expr {
+                kind: arg.kind,
+                ty: if any_error { Ty::Error } else { ty },
+                span,
+            };
+        }
         typed::Expr {
             kind: ExprKind::Call { builtin, args },
             ty: if any_error { Ty::Error } else { ty },
@@ -1380,23 +1341,4 @@ fn for_each_child_block(stmt: &ast::Stmt, mut visit: impl FnMut(&[ast::Stmt])) {
         | ast::StmtKind::For { body, .. } => visit(body),
         _ => {}
     }
-}
-
-/// Levenshtein distance on bytes (names are ASCII).
-pub fn edit_distance(a: &str, b: &str) -> usize {
-    let a = a.as_bytes();
-    let b = b.as_bytes();
-    let mut previous: Vec<usize> = (0..=b.len()).collect();
-    let mut current = vec![0; b.len() + 1];
-    for (i, &byte_a) in a.iter().enumerate() {
-        current[0] = i + 1;
-        for (j, &byte_b) in b.iter().enumerate() {
-            let cost = usize::from(byte_a != byte_b);
-            current[j + 1] = (previous[j] + cost)
-                .min(previous[j + 1] + 1)
-                .min(current[j] + 1);
-        }
-        std::mem::swap(&mut previous, &mut current);
-    }
-    previous[b.len()]
 }

@@ -6,8 +6,9 @@
 use gloc_engine::Span;
 
 use crate::ast::{BinaryOp, LoopKind};
+use crate::builtins::Instruction;
 use crate::ir::{Addr, Code, Instr, Lbl, Op1, Op2, Reg};
-use crate::typed::{self, Builtin, ExprKind, Place, Symbols, Ty, VarId};
+use crate::typed::{self, ExprKind, Place, Symbols, Ty, VarId};
 
 /// Where a variable lives at run time.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -632,35 +633,14 @@ impl Generator {
                 let dst = self.fresh();
                 let first = registers.first().copied().unwrap_or(dst);
                 let second = registers.get(1).copied().unwrap_or(first);
-                let instr = match builtin {
-                    Builtin::Abs => Instr::Unary {
-                        op: Op1::Abs,
+                let instr = match builtin.info().instruction {
+                    Instruction::Unary(op) => Instr::Unary {
+                        op,
                         src: first,
                         dst,
                     },
-                    Builtin::Sqrt => Instr::Unary {
-                        op: Op1::Sqrt,
-                        src: first,
-                        dst,
-                    },
-                    Builtin::Int => Instr::Unary {
-                        op: Op1::D2i,
-                        src: first,
-                        dst,
-                    },
-                    Builtin::Float => Instr::Unary {
-                        op: Op1::I2d,
-                        src: first,
-                        dst,
-                    },
-                    Builtin::Min => Instr::Binary {
-                        op: Op2::Min,
-                        a: first,
-                        b: second,
-                        dst,
-                    },
-                    Builtin::Max => Instr::Binary {
-                        op: Op2::Max,
+                    Instruction::Binary(op) => Instr::Binary {
+                        op,
                         a: first,
                         b: second,
                         dst,

@@ -4,7 +4,7 @@
 
 use std::fmt::Write as _;
 
-use gloc_engine::Span;
+use gloc_engine::{gloc, Span};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct Reg(pub u32);
@@ -294,20 +294,6 @@ impl Code {
     }
 }
 
-fn quote(text: &str) -> String {
-    let mut quoted = String::with_capacity(text.len() + 2);
-    quoted.push('"');
-    for character in text.chars() {
-        match character {
-            '"' => quoted.push_str("\\\""),
-            '\\' => quoted.push_str("\\\\"),
-            _ => quoted.push(character),
-        }
-    }
-    quoted.push('"');
-    quoted
-}
-
 fn addr(addr: &Addr) -> String {
     match addr {
         Addr::Reg(Reg(reg)) => format!("r{reg}"),
@@ -338,8 +324,8 @@ fn write_instr(text: &mut String, instr: &Instr) {
         Instr::LoadM { addr: at, dst } => write!(text, "loadm {},r{}", addr(at), dst.0),
         Instr::StoreM { src, addr: at } => write!(text, "storem r{},{}", src.0, addr(at)),
         Instr::Write(reg) => write!(text, "write r{}", reg.0),
-        Instr::Writes(words) => write!(text, "writes {}", quote(words)),
+        Instr::Writes(words) => write!(text, "writes {}", gloc::quote(words)),
         Instr::Print(reg) => write!(text, "print r{}", reg.0),
-        Instr::Prints(words) => write!(text, "prints {}", quote(words)),
+        Instr::Prints(words) => write!(text, "prints {}", gloc::quote(words)),
     };
 }

@@ -15,24 +15,33 @@ use gloc_engine::{Diagnostic, LineIndex, Span};
 
 use crate::{compile, CodeStats, CompileOptions, Compiled, SourceMap};
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// Which of the two languages a script is in. The one such type: the CLI, the
+/// debugger and the loader use it as it is, and the editor's document kind
+/// (`gloc_ide::Language`) is built from it beside its non-script documents.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Language {
     Gbasic,
     Gloc,
 }
 
 impl Language {
-    /// By file extension: `.gbas` (or `.bas`) is GBASIC, anything else GLOC.
-    pub fn of_path(path: &Path) -> Language {
-        match path
-            .extension()
-            .and_then(|extension| extension.to_str())
-            .map(str::to_ascii_lowercase)
-            .as_deref()
-        {
-            Some("gbas") | Some("bas") => Language::Gbasic,
-            _ => Language::Gloc,
+    /// By file extension, in any case: `gbas`, `gbasic` or `bas` is GBASIC, `gloc`
+    /// is GLOC; any other is neither.
+    pub fn of_extension(extension: &str) -> Option<Language> {
+        match extension.to_ascii_lowercase().as_str() {
+            "gbas" | "gbasic" | "bas" => Some(Language::Gbasic),
+            "gloc" => Some(Language::Gloc),
+            _ => None,
         }
+    }
+
+    /// By the path's extension ([`Language::of_extension`]); a file with any other
+    /// extension, or none, is read as GLOC.
+    pub fn of_path(path: &Path) -> Language {
+        path.extension()
+            .and_then(|extension| extension.to_str())
+            .and_then(Language::of_extension)
+            .unwrap_or(Language::Gloc)
     }
 }
 
@@ -308,6 +317,23 @@ fn budget_warning(stats: &Stats, options: &LoadOptions, span: Span) -> Option<Di
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn one_extension_table_for_every_front_end() {
+        use std::path::Path;
+        for gbasic in ["a.gbas", "b.GBAS", "c.gbasic", "d.bas"] {
+            assert_eq!(
+                Language::of_path(Path::new(gbasic)),
+                Language::Gbasic,
+                "{gbasic}"
+            );
+        }
+        for gloc in ["fig2.gloc", "x.GLOC", "notes.txt", "no_extension", "gbas"] {
+            assert_eq!(Language::of_path(Path::new(gloc)), Language::Gloc, "{gloc}");
+        }
+        assert_eq!(Language::of_extension("txt"), None);
+        assert_eq!(Language::of_extension("Gloc"), Some(Language::Gloc));
+    }
 
     /// A finding on the compiled GLOC lands on its GBASIC statement, the whole of
     /// it: a `'` inside a string starts no comment.

@@ -22,9 +22,6 @@ pub const KEYWORDS: &[&str] = &[
     "step", "then", "to", "until", "wend", "while", "yield",
 ];
 
-/// Built-in functions (also reserved as names).
-pub const BUILTINS: &[&str] = &["abs", "sqrt", "min", "max", "int", "float"];
-
 pub fn parse(text: &str) -> Parsed {
     if let Some(diagnostic) = gloc_engine::gloc::source_too_large(text) {
         return Parsed {

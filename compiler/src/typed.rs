@@ -5,6 +5,7 @@ use gloc_engine::sensors::SensorId;
 use gloc_engine::Span;
 
 use crate::ast::{BinaryOp, LoopKind};
+pub use crate::builtins::Builtin;
 
 /// A GBASIC type. `Error` stands for an expression already reported as wrong; it
 /// matches every type so one mistake gives one diagnostic.
@@ -17,6 +18,10 @@ pub enum Ty {
 }
 
 impl Ty {
+    /// The types a `dim` or `const` can give, in the order the editor offers them.
+    pub const DECLARABLE: [Ty; 2] = [Ty::Integer, Ty::Float];
+
+    /// As GBASIC spells it (`dim x as float`).
     pub fn name(self) -> &'static str {
         match self {
             Ty::Integer => "integer",
@@ -33,39 +38,6 @@ pub struct VarId(pub usize);
 /// Index into `Symbols::labels`; equal to the user label's GLOC number.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct LabelId(pub usize);
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Builtin {
-    Abs,
-    Sqrt,
-    Min,
-    Max,
-    /// `int(x)`: float to integer (truncates toward zero).
-    Int,
-    /// `float(x)`: integer to float.
-    Float,
-}
-
-impl Builtin {
-    pub fn of_name(name: &str) -> Option<Builtin> {
-        Some(match name {
-            "abs" => Builtin::Abs,
-            "sqrt" => Builtin::Sqrt,
-            "min" => Builtin::Min,
-            "max" => Builtin::Max,
-            "int" => Builtin::Int,
-            "float" => Builtin::Float,
-            _ => return None,
-        })
-    }
-
-    pub fn arity(self) -> usize {
-        match self {
-            Builtin::Min | Builtin::Max => 2,
-            _ => 1,
-        }
-    }
-}
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum ExprKind {

@@ -9,12 +9,8 @@ use gloc_compiler::expression::ExpressionScope;
 use gloc_compiler::LoadedScript;
 use gloc_engine::program::{Flow, Program};
 
-/// The source language the user debugs.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Language {
-    Gbasic,
-    Gloc,
-}
+/// The source language the user debugs: the compiler's one `Language`.
+pub use gloc_compiler::Language;
 
 /// The source line of each pc (`None`: generated code with no line of its own), shared
 /// by the debug info and the world: every line the user sees (stops, printed lines, trap

@@ -172,7 +172,7 @@ fn load_debug_script(config: &LaunchConfig) -> Result<DebugScript, String> {
                 .iter()
                 .map(|variable| VariableSlot {
                     name: variable.name.clone(),
-                    float: variable.ty.name() == "float",
+                    float: variable.ty == gloc_compiler::typed::Ty::Float,
                     storage: variable.storage,
                 })
                 .collect()

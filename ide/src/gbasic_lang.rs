@@ -2,8 +2,10 @@
 //! off `gloc-compiler` (its analysis API, lexer, keyword and built-in tables,
 //! and the loader that also checks the compiled GLOC).
 
+use gloc_compiler::builtins::{Builtin, BuiltinInfo, BUILTINS};
 use gloc_compiler::lexer::{self, TokenKind as Lexed};
 use gloc_compiler::loader::LoadOptions;
+use gloc_compiler::typed::Ty;
 use gloc_compiler::SymbolKind as CompilerKind;
 use gloc_engine::diagnostic::Fix;
 use gloc_engine::gloc::Bound;
@@ -156,7 +158,7 @@ fn add_fixes(text: &str, blocks: &[gloc_compiler::Block], diagnostics: &mut [Dia
                 .rfind('\n')
                 .map_or(0, |at| at + 1);
             let indent = indentation(&text[line_start..]);
-            for ty in ["integer", "float"] {
+            for ty in Ty::DECLARABLE.map(Ty::name) {
                 diagnostic.fixes.push(Fix {
                     title: format!("declare `{name}` with `dim {name} as {ty}`"),
                     span: Span::new(line_start, line_start),
@@ -229,12 +231,8 @@ fn is_keyword(word: &str) -> bool {
     gloc_compiler::analysis::keywords().contains(&word.to_ascii_lowercase().as_str())
 }
 
-fn builtin(word: &str) -> Option<&'static str> {
-    let lower = word.to_ascii_lowercase();
-    gloc_compiler::analysis::builtins()
-        .iter()
-        .find(|(name, _)| *name == lower)
-        .map(|(_, signature)| *signature)
+fn builtin(word: &str) -> Option<&'static BuiltinInfo> {
+    BuiltinInfo::of_name(&word.to_ascii_lowercase())
 }
 
 fn collect_tokens(
@@ -278,7 +276,8 @@ fn collect_tokens(
                     push(analysis, token.span, *kind, *sensor);
                     continue;
                 }
-                None if builtin(word).is_some() && !word.eq_ignore_ascii_case("float") => {
+                // `float` is a type keyword as well as a built-in.
+                None if builtin(word).is_some_and(|info| info.builtin != Builtin::Float) => {
                     TokenKind::Function
                 }
                 None if is_keyword(word) => TokenKind::Keyword,
@@ -433,9 +432,9 @@ pub fn completions(
     match position(text, offset) {
         Position::Nothing => Vec::new(),
         Position::Label => symbols(&[SymbolKind::Label]),
-        Position::Type => ["integer", "float"]
+        Position::Type => Ty::DECLARABLE
             .iter()
-            .map(|ty| keyword_item(ty))
+            .map(|ty| keyword_item(ty.name()))
             .collect(),
         Position::Statement => {
             let mut items = symbols(&[SymbolKind::Variable, SymbolKind::Array]);
@@ -453,20 +452,16 @@ pub fn completions(
                 SymbolKind::Array,
                 SymbolKind::Constant,
             ]);
-            items.extend(
-                gloc_compiler::analysis::builtins()
-                    .iter()
-                    .map(|(name, signature)| Completion {
-                        label: name.to_string(),
-                        kind: CompletionKind::Function,
-                        detail: Some(signature.to_string()),
-                        documentation: None,
-                        snippet: Some(format!("{name}($1)")),
-                        insert_text: None,
-                        filter_text: None,
-                        sort_text: Some(format!("1{name}")),
-                    }),
-            );
+            items.extend(BUILTINS.iter().map(|info| Completion {
+                label: info.name.to_string(),
+                kind: CompletionKind::Function,
+                detail: Some(info.summary()),
+                documentation: None,
+                snippet: Some(format!("{}($1)", info.name)),
+                insert_text: None,
+                filter_text: None,
+                sort_text: Some(format!("1{}", info.name)),
+            }));
             items.extend(
                 ["and", "or", "not", "mod", "then", "to", "step"]
                     .iter()
@@ -542,7 +537,7 @@ fn keyword_doc(keyword: &str) -> Option<&'static str> {
 pub fn word_markdown(word: &str, kind: TokenKind) -> Option<String> {
     match kind {
         TokenKind::Function => {
-            builtin(word).map(|signature| format!("```gbasic\n{signature}\n```"))
+            builtin(word).map(|info| format!("```gbasic\n{}\n```", info.summary()))
         }
         TokenKind::Keyword => keyword_doc(word).map(str::to_string),
         _ => None,
@@ -576,19 +571,11 @@ pub fn signature(text: &str, offset: usize) -> Option<Signature> {
         .rfind(|character: char| !character.is_ascii_alphanumeric() && character != '_')
         .map_or(0, |at| at + 1);
     let name = before[name_start..open].trim();
-    let signature = builtin(name)?;
-    let (label, documentation) = signature.split_once(": ").unwrap_or((signature, ""));
-    let inner_start = label.find('(')? + 1;
-    let inner_end = label.rfind(')')?;
-    let mut parameters = Vec::new();
-    let mut position = inner_start;
-    for piece in label[inner_start..inner_end].split(", ") {
-        parameters.push((position, position + piece.len()));
-        position += piece.len() + 2;
-    }
+    let info = builtin(name)?;
+    let (label, parameters) = info.signature_and_params();
     Some(Signature {
-        label: label.to_string(),
-        documentation: documentation.to_string(),
+        label,
+        documentation: info.doc.to_string(),
         active_parameter: commas.min(parameters.len().saturating_sub(1)),
         parameters,
     })
@@ -669,6 +656,22 @@ mod tests {
         assert!(matches!(position("x = abs(m_", 10), Position::Expression));
         assert!(matches!(position("print \"m_", 9), Position::Nothing));
         assert!(matches!(position("x = 1 ' m_", 10), Position::Nothing));
+    }
+
+    #[test]
+    fn every_builtin_has_hover_text_and_a_signature() {
+        for info in BUILTINS {
+            let hover = word_markdown(&info.name.to_ascii_uppercase(), TokenKind::Function)
+                .unwrap_or_default();
+            assert!(hover.contains(info.doc), "{}: {hover}", info.name);
+            let text = format!("x = {}(", info.name);
+            let help = signature(&text, text.len()).expect(info.name);
+            assert_eq!(help.documentation, info.doc);
+            assert_eq!(help.parameters.len(), info.params.len(), "{}", info.name);
+            for ((start, end), (param, _)) in help.parameters.iter().zip(info.params) {
+                assert_eq!(&help.label[*start..*end], *param, "{}", help.label);
+            }
+        }
     }
 
     #[test]

@@ -25,7 +25,9 @@ pub mod signature;
 pub mod symbols;
 pub mod tokens;
 
-/// The languages the editor tooling answers for.
+/// The kinds of document the editor tooling answers for: a script in one of the
+/// two languages (`Gloc`, `Gbasic`: the compiler's [`gloc_compiler::Language`],
+/// whose file extensions `detect` uses) or an editor-only kind.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Language {
     Gloc,
@@ -61,11 +63,13 @@ impl Language {
             "slocum_masterdata" => return Some(Language::Masterdata),
             _ => {}
         }
+        let script = std::path::Path::new(path)
+            .extension()
+            .and_then(|extension| extension.to_str())
+            .and_then(gloc_compiler::Language::of_extension);
         let path = path.to_ascii_lowercase();
-        if path.ends_with(".gloc") {
-            Some(Language::Gloc)
-        } else if path.ends_with(".gbas") || path.ends_with(".gbasic") {
-            Some(Language::Gbasic)
+        if let Some(script) = script {
+            Some(script.into())
         } else if path.ends_with(".mi") {
             Some(Language::Mission)
         } else if path.ends_with(".ma") {
@@ -76,6 +80,15 @@ impl Language {
             Some(Language::Config)
         } else {
             None
+        }
+    }
+}
+
+impl From<gloc_compiler::Language> for Language {
+    fn from(language: gloc_compiler::Language) -> Language {
+        match language {
+            gloc_compiler::Language::Gloc => Language::Gloc,
+            gloc_compiler::Language::Gbasic => Language::Gbasic,
         }
     }
 }

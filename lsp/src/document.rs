@@ -150,6 +150,15 @@ mod tests {
             detect_language("toml", &uri("file:///x/gloc.toml")),
             Some(Language::Config)
         );
+        // The compiler's extensions: what `gloc check` reads as GBASIC, the editor does.
+        assert_eq!(
+            detect_language("plaintext", &uri("file:///x/old.bas")),
+            Some(Language::Gbasic)
+        );
+        assert_eq!(
+            detect_language("plaintext", &uri("file:///x/y.gbasic")),
+            Some(Language::Gbasic)
+        );
         assert_eq!(detect_language("rust", &uri("file:///x/y.rs")), None);
         assert_eq!(
             detect_language("slocum_mission", &uri("untitled:2")),

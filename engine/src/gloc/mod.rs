@@ -68,6 +68,14 @@ pub fn print(file: &ast::File) -> String {
     printer::print_file(file)
 }
 
+/// `text` as a GLOC string literal (the one quoter: the printer and the GBASIC
+/// compiler's code generator both use it); [`parse`] reads it back as `text`.
+pub fn quote(text: &str) -> String {
+    let mut quoted = String::new();
+    printer::write_quoted(&mut quoted, text);
+    quoted
+}
+
 /// What a caller knows that the checker cannot see.
 #[derive(Clone, Debug, Default)]
 pub struct CheckOptions {

@@ -50,15 +50,21 @@ fn print_operand(out: &mut String, operand: &Operand) {
         OperandKind::Float(value) => {
             let _ = write!(out, "{value:?}");
         }
-        OperandKind::Text(text) => {
-            out.push('"');
-            for character in text.chars() {
-                if matches!(character, '"' | '\\') {
-                    out.push('\\');
-                }
-                out.push(character);
-            }
-            out.push('"');
-        }
+        OperandKind::Text(text) => write_quoted(out, text),
     }
+}
+
+/// Appends `text` as a GLOC string literal: in quotes, `"` and `\` escaped, every
+/// other character as it is. A GLOC string ends at its line, so `text` holds no line
+/// break (neither a parsed GLOC string nor a GBASIC one can).
+pub fn write_quoted(out: &mut String, text: &str) {
+    out.reserve(text.len() + 2);
+    out.push('"');
+    for character in text.chars() {
+        if matches!(character, '"' | '\\') {
+            out.push('\\');
+        }
+        out.push(character);
+    }
+    out.push('"');
 }

@@ -61,8 +61,8 @@ impl Vocabulary {
 
     /// Adds GBASIC's built-in functions (the compiler's table) and operator words.
     pub fn with_language_words(mut self) -> Vocabulary {
-        for (name, signature) in gloc_compiler::analysis::builtins() {
-            self.push(*name, Kind::Builtin, *signature);
+        for builtin in gloc_compiler::builtins::BUILTINS {
+            self.push(builtin.name, Kind::Builtin, builtin.signature());
         }
         // From the compiler's keyword table, so no word is offered that GBASIC lacks.
         for word in gloc_compiler::analysis::keywords() {

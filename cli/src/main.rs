@@ -11,12 +11,12 @@ mod calibrate;
 mod check;
 mod compile;
 mod data;
+mod exit;
 mod output;
 mod reindex;
 pub mod render;
 mod replay;
 mod run;
-mod settings;
 mod simulate;
 
 #[derive(Parser, Debug)]
@@ -63,31 +63,40 @@ pub struct CheckArgs {
     /// Print registers, labels, instructions and the worst-case instructions per cycle.
     #[arg(long)]
     pub stats: bool,
-    /// A masterdata file or a `.cac` sensor list replacing the embedded list.
+    /// The sensor list (masterdata or `.cac`/`.ccc`); default: gloc.toml's, else the
+    /// embedded 2008 list.
     #[arg(long, value_name = "FILE")]
     pub masterdata: Option<PathBuf>,
-    /// How a masterdata file's sensors are numbered: `file` (default) or `sorted` (firmware 2014+).
-    #[arg(long, value_name = "ORDER", value_parser = settings::parse_sensor_order)]
+    /// How a masterdata file's sensors are numbered: `file` or `sorted` (firmware 2014+);
+    /// default: gloc.toml's, else `file`.
+    #[arg(long, value_name = "ORDER", value_parser = gloc_project::settings::parse_sensor_order)]
     pub sensor_order: Option<gloc_engine::sensors::SensorOrder>,
+    /// Per-cycle instruction budget the worst case is held against (warning W2302), 1 to
+    /// 1,000,000,000; default: gloc.toml's, else 10,000.
+    #[arg(long, value_name = "N", value_parser = gloc_project::settings::parse_cycle_budget)]
+    pub cycle_budget: Option<u64>,
 }
 
 #[derive(Args, Debug)]
 pub struct CompileArgs {
     /// The GBASIC source.
     pub file: PathBuf,
-    /// Where to write the GLOC (default: the source with `.gloc`).
+    /// Where to write the GLOC; default: the source with `.gloc`.
     #[arg(short = 'o', long = "output", value_name = "OUT")]
     pub output: Option<PathBuf>,
-    /// Optimize.
+    /// Optimize (default: not optimized, the code the debugger runs).
     #[arg(short = 'O')]
     pub optimize: bool,
     /// Also write the source map (`OUT.map.json`).
     #[arg(long)]
     pub emit_map: bool,
+    /// The sensor list (masterdata or `.cac`/`.ccc`); default: gloc.toml's, else the
+    /// embedded 2008 list.
     #[arg(long, value_name = "FILE")]
     pub masterdata: Option<PathBuf>,
-    /// How a masterdata file's sensors are numbered: `file` (default) or `sorted` (firmware 2014+).
-    #[arg(long, value_name = "ORDER", value_parser = settings::parse_sensor_order)]
+    /// How a masterdata file's sensors are numbered: `file` or `sorted` (firmware 2014+);
+    /// default: gloc.toml's, else `file`.
+    #[arg(long, value_name = "ORDER", value_parser = gloc_project::settings::parse_sensor_order)]
     pub sensor_order: Option<gloc_engine::sensors::SensorOrder>,
 }
 
@@ -112,13 +121,14 @@ pub struct RunArgs {
     /// Temperature profile CSV (`depth_m,temp_degC`); default: the built-in summer shelf profile.
     #[arg(long, value_name = "T.csv")]
     pub profile: Option<PathBuf>,
-    /// Simulated duration, e.g. `90m`, `6h`, `30d`.
+    /// Simulated duration, e.g. `90m`, `6h`, `30d`; default: until the mission ends, at
+    /// most 24 h.
     #[arg(long, conflicts_with = "cycles")]
     pub duration: Option<String>,
-    /// Number of control cycles to simulate.
+    /// Number of control cycles to simulate (at most 100,000,000); default: see --duration.
     #[arg(long)]
     pub cycles: Option<u64>,
-    /// Seed for sensor noise.
+    /// Seed for sensor noise; default 1.
     #[arg(long)]
     pub seed: Option<u64>,
     /// Log file: `.csv`, Slocum ASCII (`.dba`), or Slocum binary (`.dbd`, plus `.ebd` for the
@@ -134,7 +144,7 @@ pub struct RunArgs {
     pub faults: Vec<String>,
     /// Set a flight or energy constant (repeatable), e.g. `dive_rate=0.2`; wins over
     /// `[simulator]` in gloc.toml. The names and ranges are in docs/simulator.md.
-    #[arg(long = "sim", value_name = "NAME=VALUE", value_parser = settings::parse_simulator_setting)]
+    #[arg(long = "sim", value_name = "NAME=VALUE", value_parser = gloc_project::settings::parse_simulator_setting)]
     pub simulator: Vec<(String, f64)>,
     /// Write the flight profile: SVG or PNG by the extension.
     #[arg(long, value_name = "FILE.svg|FILE.png")]
@@ -160,9 +170,9 @@ pub struct RunArgs {
 /// budget (one definition, so both parse and bound them alike).
 #[derive(Args, Debug)]
 pub struct FlightArgs {
-    /// Per-cycle instruction budget, 1 to 1,000,000,000 (default 10,000, or gloc.toml's;
-    /// a script that runs longer traps with "cycle overrun").
-    #[arg(long, value_name = "N", value_parser = settings::parse_cycle_budget)]
+    /// Per-cycle instruction budget, 1 to 1,000,000,000; default: gloc.toml's, else 10,000
+    /// (a script that runs longer traps with "cycle overrun").
+    #[arg(long, value_name = "N", value_parser = gloc_project::settings::parse_cycle_budget)]
     pub cycle_budget: Option<u64>,
     /// Mission file (`.mi`); default: gloc.toml's, else the embedded Fig. 2 mission.
     #[arg(long, value_name = "M.mi")]
@@ -171,8 +181,9 @@ pub struct FlightArgs {
     /// embedded 2008 list.
     #[arg(long, value_name = "FILE")]
     pub masterdata: Option<PathBuf>,
-    /// How a masterdata file's sensors are numbered: `file` (default) or `sorted` (firmware 2014+).
-    #[arg(long, value_name = "ORDER", value_parser = settings::parse_sensor_order)]
+    /// How a masterdata file's sensors are numbered: `file` or `sorted` (firmware 2014+);
+    /// default: gloc.toml's, else `file`.
+    #[arg(long, value_name = "ORDER", value_parser = gloc_project::settings::parse_sensor_order)]
     pub sensor_order: Option<gloc_engine::sensors::SensorOrder>,
 }
 
@@ -189,32 +200,35 @@ pub struct BatchArgs {
     pub script: Option<PathBuf>,
     #[command(flatten)]
     pub flight: FlightArgs,
-    /// Simulated duration of each mission, e.g. `6h`, `30d`.
+    /// Simulated duration of each mission, e.g. `6h`, `30d`; default: until the mission
+    /// ends, at most 24 h.
     #[arg(long, conflicts_with = "cycles")]
     pub duration: Option<String>,
-    /// Control cycles of each mission.
+    /// Control cycles of each mission; default: see --duration.
     #[arg(long)]
     pub cycles: Option<u64>,
     /// Seeds to fly: numbers and inclusive ranges, e.g. `1-100` or `1,5,9-12` (default 1).
     #[arg(long, value_name = "LIST")]
     pub seeds: Option<String>,
-    /// A temperature profile CSV to fly (repeatable; `builtin` for the built-in profile).
+    /// A temperature profile CSV to fly (repeatable; `builtin` for the built-in profile);
+    /// default: `builtin`.
     #[arg(long = "profile", value_name = "T.csv")]
     pub profiles: Vec<String>,
     /// The faults of one variant, comma-separated as `gloc run --fault` takes them
-    /// (repeatable; `none` for a variant without faults).
+    /// (repeatable; `none` for a variant without faults); default: `none`.
     #[arg(long = "fault-set", value_name = "FAULTS")]
     pub fault_sets: Vec<String>,
-    /// A simulator setting and the values to sweep (repeatable), e.g. `dive_rate=0.15,0.2`.
+    /// A simulator setting and the values to sweep (repeatable), e.g. `dive_rate=0.15,0.2`;
+    /// default: gloc.toml's `[simulator]`, else the built-in constants.
     #[arg(long = "sim", value_name = "NAME=V1,V2")]
     pub simulator: Vec<String>,
     /// Missions flown at once (default: the number of cores).
     #[arg(long, short = 'j')]
     pub jobs: Option<usize>,
-    /// Also write the table as CSV.
+    /// Also write the table as CSV (default: the table on stdout only).
     #[arg(long, value_name = "FILE.csv")]
     pub csv: Option<PathBuf>,
-    /// Compile a GBASIC script without the optimizer.
+    /// Compile a GBASIC script without the optimizer (default: optimized).
     #[arg(long)]
     pub no_optimize: bool,
 }
@@ -233,8 +247,9 @@ pub struct ReindexArgs {
     /// Where to write the result (never the input).
     #[arg(short = 'o', long = "output", value_name = "OUT.gloc")]
     pub output: PathBuf,
-    /// How a masterdata file's sensors are numbered: `file` (default) or `sorted` (firmware 2014+).
-    #[arg(long, value_name = "ORDER", value_parser = settings::parse_sensor_order)]
+    /// How a masterdata file's sensors are numbered: `file` or `sorted` (firmware 2014+);
+    /// default: `file`.
+    #[arg(long, value_name = "ORDER", value_parser = gloc_project::settings::parse_sensor_order)]
     pub sensor_order: Option<gloc_engine::sensors::SensorOrder>,
 }
 
@@ -247,7 +262,7 @@ pub enum SummaryFormat {
 
 #[derive(Args, Debug)]
 pub struct DapArgs {
-    /// Listen on 127.0.0.1:PORT instead of stdio (0: any free port). Prints the port and
+    /// Listen on 127.0.0.1:PORT instead of stdio (0: any free port); default: stdio. Prints the port and
     /// the session token that each client's `launch` must carry (`token` attribute).
     #[arg(long)]
     pub port: Option<u16>,
@@ -270,7 +285,7 @@ fn main() -> ExitCode {
         Ok(code) => code,
         Err(error) => {
             eprintln!("error: {error:#}");
-            ExitCode::from(2)
+            exit::code(exit::of_error(&error))
         }
     }
 }

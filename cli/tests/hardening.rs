@@ -92,12 +92,13 @@ fn text(output: &Output) -> String {
     )
 }
 
-/// Ended by an exit code (not a signal such as SIGABRT), a failure, saying `expected`.
+/// Ended by an exit code (not a signal such as SIGABRT), a failure, saying `expected`:
+/// 1 (errors), 2 (usage) or 3 (an input cannot be read), README "Exit codes".
 fn assert_refused(output: &Output, expected: &str) {
     let all = text(output);
     let shown: String = all.chars().take(2000).collect();
     assert!(
-        matches!(output.status.code(), Some(1 | 2)),
+        matches!(output.status.code(), Some(1..=3)),
         "{:?}: {shown}",
         output.status
     );

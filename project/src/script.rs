@@ -108,13 +108,6 @@ fn other(language: Language) -> Language {
     }
 }
 
-fn name(language: Language) -> &'static str {
-    match language {
-        Language::Gloc => "GLOC",
-        Language::Gbasic => "GBASIC",
-    }
-}
-
 /// By content: the script has errors as `language`, and reads as the other language
 /// (it loads there without errors, or opens with GLOC's header / GBASIC's `dim`).
 pub fn language_hint(
@@ -149,20 +142,9 @@ pub fn language_hint(
         );
         !as_other.has_errors()
     };
-    looks_like.then(|| {
-        let other_name = name(other(language));
-        let extension = match other(language) {
-            Language::Gloc => "`.gloc`",
-            Language::Gbasic => "`.gbas`",
-        };
-        format!(
-            "this looks like {other_name}, but it was read as {}; {other_name} files end in {extension} (`.gbas` and `.bas` are read as GBASIC, anything else as GLOC){}",
-            name(language),
-            match other(language) {
-                Language::Gloc => "; a GLOC file needs no compiling: `gloc check` and `gloc run` take it as it is",
-                Language::Gbasic => "",
-            }
-        )
+    looks_like.then(|| match other(language) {
+        Language::Gbasic => "this looks like GBASIC, but it was read as GLOC: only `.gbas` and `.bas` files are read as GBASIC; rename it to end in `.gbas`".to_string(),
+        Language::Gloc => "this looks like GLOC, but it was read as GBASIC (`gloc compile`, `.gbas` and `.bas` files are GBASIC); a GLOC file needs no compiling: name it `.gloc`, and `gloc check` and `gloc run` take it as it is".to_string(),
     })
 }
 

@@ -109,7 +109,21 @@ fn print_list(loaded: LoadedSensors, tally: &mut Tally) -> Option<SensorList> {
         print!("{}", source.render(diagnostic));
     }
     tally.add(&loaded.diagnostics);
-    (!loaded.has_errors()).then_some(loaded.list)
+    match loaded.errors() {
+        // Errors the diagnostics above did not show (a file without sensors).
+        Some(error)
+            if !loaded
+                .diagnostics
+                .iter()
+                .any(gloc_engine::Diagnostic::is_error) =>
+        {
+            println!("error: {error}");
+            tally.errors += 1;
+            None
+        }
+        Some(_) => None,
+        None => Some(loaded.list),
+    }
 }
 
 fn print_stats(

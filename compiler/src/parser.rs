@@ -643,6 +643,23 @@ impl<'a> Parser<'a> {
                 return None;
             }
             self.error_here("`=` (an assignment)");
+            // A lone word that is no statement: most likely a misspelt keyword (`yeild`).
+            if let Target::Name(name) = &target {
+                let keyword = gloc_engine::suggest::closest(&name.key, KEYWORDS.iter().copied());
+                if let (Some(keyword), Some(last)) = (keyword, self.diagnostics.pop()) {
+                    self.diagnostics.push(
+                        last.with_help(format!(
+                            "`{}` is not a keyword: did you mean `{keyword}`?",
+                            name.text
+                        ))
+                        .with_fix(
+                            format!("replace with `{keyword}`"),
+                            name.span,
+                            keyword,
+                        ),
+                    );
+                }
+            }
             return None;
         }
         self.bump();

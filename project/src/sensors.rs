@@ -32,20 +32,28 @@ impl LoadedSensors {
         }
     }
 
+    /// Errors in the file, or a file that holds no sensors.
     pub fn has_errors(&self) -> bool {
-        self.diagnostics.iter().any(Diagnostic::is_error)
+        self.diagnostics.iter().any(Diagnostic::is_error) || self.is_empty_file()
+    }
+
+    fn is_empty_file(&self) -> bool {
+        self.path.is_some() && self.list.is_empty()
     }
 
     /// The list's errors as one project error (`the sensor list `F` has errors:` and
     /// one `F:LINE:COL: error[CODE]: …` line each), or `None` when it has none.
     pub fn errors(&self) -> Option<ProjectError> {
         let path = self.path.as_deref().unwrap_or(Path::new("<embedded>"));
-        let lines: Vec<String> = self
+        let mut lines: Vec<String> = self
             .diagnostics
             .iter()
             .filter(|diagnostic| diagnostic.is_error())
             .map(|diagnostic| one_line(path, &self.text, diagnostic))
             .collect();
+        if lines.is_empty() && self.is_empty_file() {
+            lines.push(format!("{}: it holds no sensors", path.display()));
+        }
         (!lines.is_empty()).then(|| {
             ProjectError::new(
                 ErrorKind::Invalid,

@@ -14,7 +14,7 @@ use std::time::Instant;
 use gloc_compiler::{load_script, Language, LoadOptions};
 use gloc_dap::debugger::{
     CycleBreakpoint, CycleBreakpointKind, Debugger, HistoryConfig, LineBreakpoint, Progress,
-    RunMode,
+    RunMode, StopReason,
 };
 use gloc_dap::target::Target;
 use gloc_dap::world::{self, LaunchConfig};
@@ -31,12 +31,8 @@ fn main() {
     // A breakpoint that never stops, on a line of the tracker's leg end (`total = 0.0`,
     // reached every few hundred cycles): the shares that may reach it are stepped up to it.
     let leg_end = LineBreakpoint {
-        id: 2,
-        line: 70,
         condition: Some("n < 0".into()),
-        hit_condition: None,
-        log_message: None,
-        hits: 0,
+        ..LineBreakpoint::new(2, 70)
     };
     for (name, program, mission, breakpoint) in [
         (
@@ -116,16 +112,13 @@ fn debug(program: &Path, mission: &Path, fast: bool, breakpoint: Option<LineBrea
     let (world, info) = world::launch(&config).expect("launch");
     let mut debugger = Debugger::new(world, info, Some(HistoryConfig::default()));
     debugger.fast_shares = fast;
-    debugger.cycle_breakpoints.push(CycleBreakpoint {
-        id: 1,
-        kind: CycleBreakpointKind::At(TARGET_CYCLE),
-        condition: None,
-        hit_condition: None,
-        hits: 0,
-    });
+    debugger.cycle_breakpoints.push(CycleBreakpoint::new(
+        1,
+        CycleBreakpointKind::At(TARGET_CYCLE),
+    ));
     let mut label = String::new();
     if let Some(breakpoint) = breakpoint {
-        label += &format!(" (breakpoint on line {})", breakpoint.line);
+        label += &format!(" (breakpoint on line {})", breakpoint.at);
         debugger.line_breakpoints.push(breakpoint);
     }
     if !fast {
@@ -137,7 +130,7 @@ fn debug(program: &Path, mission: &Path, fast: bool, breakpoint: Option<LineBrea
         match debugger.run(RunMode::Continue, start, 50_000) {
             Progress::Running => continue,
             Progress::Stopped(stop) => {
-                assert_eq!(stop.reason, "function breakpoint");
+                assert_eq!(stop.reason, StopReason::CycleBreakpoint);
                 break;
             }
             Progress::Ended { summary } => panic!("the mission ended early: {summary}"),

@@ -33,11 +33,27 @@ pub enum RunMode {
     StepOut,
 }
 
-/// Why the run stopped, in DAP terms.
+/// Why the run stopped (the protocol layer names it).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StopReason {
+    /// Paused before the first step (stopOnEntry, restart, the start of the history).
+    Entry,
+    Pause,
+    Step,
+    Breakpoint,
+    /// A cycle breakpoint (set as a function breakpoint `cycle N` / `every N`).
+    CycleBreakpoint,
+    /// A watched sensor changed.
+    DataBreakpoint,
+    InstructionBreakpoint,
+    /// A trap, a cycle overrun or an abend that its filter stops on.
+    Exception,
+}
+
+/// Why the run stopped.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Stop {
-    /// DAP `StoppedEvent.reason`.
-    pub reason: &'static str,
+    pub reason: StopReason,
     pub description: String,
     pub text: Option<String>,
     pub hit_breakpoint_ids: Vec<i64>,
@@ -51,55 +67,71 @@ pub enum Progress {
     Ended { summary: String },
 }
 
-/// Something to tell the user (DAP `output` events).
+/// What kind of thing an output is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Category {
+    /// A line the script printed.
+    Script,
+    /// Something the run went wrong on (a trap, a broken condition).
+    Error,
+    /// The debugger's own notes (logpoints, behavior changes).
+    Note,
+    /// What the user must see (setup warnings, an abend).
+    Important,
+}
+
+/// Something to tell the user, with the source line it belongs to.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Output {
-    pub category: &'static str,
+    pub category: Category,
     pub text: String,
     pub line: Option<u32>,
 }
 
+/// A breakpoint of any kind: where it stops (`at`: a source line, a cycle, a watched
+/// sensor, an instruction) and what it shares with every other kind.
 #[derive(Clone, Debug)]
-pub struct LineBreakpoint {
+pub struct Breakpoint<At> {
     pub id: i64,
-    pub line: u32,
+    pub at: At,
     pub condition: Option<String>,
     pub hit_condition: Option<HitCondition>,
+    /// A logpoint prints this (with `{expression}`s filled in) instead of stopping.
     pub log_message: Option<String>,
     pub hits: u64,
 }
 
-#[derive(Clone, Debug)]
+impl<At> Breakpoint<At> {
+    /// A breakpoint at `at` with no condition.
+    pub fn new(id: i64, at: At) -> Breakpoint<At> {
+        Breakpoint {
+            id,
+            at,
+            condition: None,
+            hit_condition: None,
+            log_message: None,
+            hits: 0,
+        }
+    }
+}
+
+/// At a source line's entry.
+pub type LineBreakpoint = Breakpoint<u32>;
+/// At a cycle boundary.
+pub type CycleBreakpoint = Breakpoint<CycleBreakpointKind>;
+/// On a change of the sensor with this index, seen at a cycle boundary.
+pub type DataBreakpoint = Breakpoint<usize>;
+/// Before the instruction at this pc.
+pub type InstructionBreakpoint = Breakpoint<Pc>;
+
+/// An instruction's index in the program.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Pc(pub usize);
+
+#[derive(Clone, Copy, Debug)]
 pub enum CycleBreakpointKind {
     At(u64),
     Every(u64),
-}
-
-#[derive(Clone, Debug)]
-pub struct CycleBreakpoint {
-    pub id: i64,
-    pub kind: CycleBreakpointKind,
-    pub condition: Option<String>,
-    pub hit_condition: Option<HitCondition>,
-    pub hits: u64,
-}
-
-#[derive(Clone, Debug)]
-pub struct DataBreakpoint {
-    pub id: i64,
-    pub sensor: usize,
-    pub condition: Option<String>,
-    pub hit_condition: Option<HitCondition>,
-    pub hits: u64,
-}
-
-#[derive(Clone, Debug)]
-pub struct InstructionBreakpoint {
-    pub id: i64,
-    pub pc: usize,
-    pub condition: Option<String>,
-    pub hit_condition: Option<HitCondition>,
-    pub hits: u64,
 }
 
 /// `N` / `== N` (the N-th hit), `> N`, `>= N`, `< N`, `<= N`, `% N` (every N-th).
@@ -314,7 +346,7 @@ impl<T: Target> Debugger<T> {
         self.baseline = self
             .data_breakpoints
             .iter()
-            .map(|breakpoint| (breakpoint.sensor, self.target.sensor(breakpoint.sensor)))
+            .map(|breakpoint| (breakpoint.at, self.target.sensor(breakpoint.at)))
             .collect();
     }
 
@@ -352,7 +384,7 @@ impl<T: Target> Debugger<T> {
             };
             if let Err(message) = self.replay_edits() {
                 self.outputs.push(Output {
-                    category: "stderr",
+                    category: Category::Error,
                     text: format!("could not replay an earlier edit: {message}\n"),
                     line: None,
                 });
@@ -373,7 +405,7 @@ impl<T: Target> Debugger<T> {
             };
             if let (Some(reason), true) = (abend, self.filters.abend) {
                 return Progress::Stopped(Stop {
-                    reason: "exception",
+                    reason: StopReason::Exception,
                     description: "Paused on abend".into(),
                     text: Some(reason),
                     hit_breakpoint_ids: Vec::new(),
@@ -420,7 +452,7 @@ impl<T: Target> Debugger<T> {
         let mut stops: Vec<usize> = self
             .instruction_breakpoints
             .iter()
-            .map(|breakpoint| breakpoint.pc)
+            .map(|breakpoint| breakpoint.at.0)
             .collect();
         if !self.line_breakpoints.is_empty() {
             for pc in 0..self.info.instruction_count() {
@@ -431,7 +463,7 @@ impl<T: Target> Debugger<T> {
                 if self
                     .line_breakpoints
                     .iter()
-                    .any(|breakpoint| Some(breakpoint.line) == line)
+                    .any(|breakpoint| Some(breakpoint.at) == line)
                 {
                     stops.push(pc);
                 }
@@ -546,12 +578,12 @@ impl<T: Target> Debugger<T> {
         for notice in notices {
             // Only what the script printed points at a source line.
             let (category, text, line) = match notice {
-                Notice::Print(text) => ("stdout", text, line),
-                Notice::Behavior(text) => ("console", format!("behavior: {text}"), None),
-                Notice::Warning(text) => ("important", text, None),
+                Notice::Print(text) => (Category::Script, text, line),
+                Notice::Behavior(text) => (Category::Note, format!("behavior: {text}"), None),
+                Notice::Warning(text) => (Category::Important, text, None),
                 Notice::Abend(text) => {
                     abend = Some(text.clone());
-                    ("important", format!("abend: {text}"), None)
+                    (Category::Important, format!("abend: {text}"), None)
                 }
             };
             self.outputs.push(Output {
@@ -598,7 +630,7 @@ impl<T: Target> Debugger<T> {
                 self.trap = Some(text.clone());
                 if let Check::Live = check {
                     self.outputs.push(Output {
-                        category: "stderr",
+                        category: Category::Error,
                         text: format!("script trap: {text}\n"),
                         line,
                     });
@@ -613,7 +645,7 @@ impl<T: Target> Debugger<T> {
                         TrapKind::Runtime => "trap",
                     };
                     return Some(Progress::Stopped(Stop {
-                        reason: "exception",
+                        reason: StopReason::Exception,
                         description: format!("Paused on {filter}: {message}"),
                         text: Some(text),
                         hit_breakpoint_ids: Vec::new(),
@@ -634,159 +666,117 @@ impl<T: Target> Debugger<T> {
             if let Check::Live = check {
                 if self.pause_requested {
                     return Some(stopped(
-                        "pause",
+                        StopReason::Pause,
                         "Paused at the cycle boundary".into(),
                         Vec::new(),
                     ));
                 }
             }
             let cycle = self.clock.cycle;
-            let mut hit = Vec::new();
-            for index in 0..self.cycle_breakpoints.len() {
-                let matches = match self.cycle_breakpoints[index].kind {
+            let hit = self.hits(
+                &check,
+                |debugger| &mut debugger.cycle_breakpoints,
+                |_, at| match at {
                     CycleBreakpointKind::At(at) => cycle == at,
                     CycleBreakpointKind::Every(every) => every > 0 && cycle.is_multiple_of(every),
-                };
-                if matches {
-                    let breakpoint = &self.cycle_breakpoints[index];
-                    let (id, condition, hit_condition) = (
-                        breakpoint.id,
-                        breakpoint.condition.clone(),
-                        breakpoint.hit_condition,
-                    );
-                    if self.passes(condition.as_deref(), hit_condition, &check, |debugger| {
-                        &mut debugger.cycle_breakpoints[index].hits
-                    }) {
-                        hit.push(id);
-                    }
-                }
-            }
+                },
+            );
             if !hit.is_empty() {
                 return Some(stopped(
-                    "function breakpoint",
+                    StopReason::CycleBreakpoint,
                     format!("Paused at cycle {cycle}"),
                     hit,
                 ));
             }
-            let mut changed = Vec::new();
-            for index in 0..self.data_breakpoints.len() {
-                let sensor = self.data_breakpoints[index].sensor;
-                let value = self.target.sensor(sensor);
-                let before = self.baseline.get(&sensor).copied();
-                let differs = before.is_some_and(|before| before.to_bits() != value.to_bits());
-                if differs {
-                    let breakpoint = &self.data_breakpoints[index];
-                    let (id, condition, hit_condition) = (
-                        breakpoint.id,
-                        breakpoint.condition.clone(),
-                        breakpoint.hit_condition,
-                    );
-                    if self.passes(condition.as_deref(), hit_condition, &check, |debugger| {
-                        &mut debugger.data_breakpoints[index].hits
-                    }) {
-                        let name = self.target.sensor_name(sensor).unwrap_or("?").to_string();
-                        let before = before.unwrap_or(value);
-                        changed.push((id, format!("{name}: {before:?} → {value:?}")));
-                    }
-                }
-            }
+            let changed_from = |debugger: &Self, sensor: usize| {
+                let before = debugger.baseline.get(&sensor).copied()?;
+                let value = debugger.target.sensor(sensor);
+                (before.to_bits() != value.to_bits()).then_some(before)
+            };
+            let hit = self.hits(
+                &check,
+                |debugger| &mut debugger.data_breakpoints,
+                |debugger, sensor| changed_from(debugger, sensor).is_some(),
+            );
+            let changed: Vec<String> = self
+                .data_breakpoints
+                .iter()
+                .filter(|breakpoint| hit.contains(&breakpoint.id))
+                .filter_map(|breakpoint| {
+                    let before = changed_from(self, breakpoint.at)?;
+                    let name = self.target.sensor_name(breakpoint.at).unwrap_or("?");
+                    let value = self.target.sensor(breakpoint.at);
+                    Some(format!("{name}: {before:?} → {value:?}"))
+                })
+                .collect();
             for breakpoint in &self.data_breakpoints {
                 self.baseline
-                    .insert(breakpoint.sensor, self.target.sensor(breakpoint.sensor));
+                    .insert(breakpoint.at, self.target.sensor(breakpoint.at));
             }
-            if !changed.is_empty() {
-                let text = changed
-                    .iter()
-                    .map(|(_, text)| text.as_str())
-                    .collect::<Vec<_>>()
-                    .join(", ");
+            if !hit.is_empty() {
+                let text = changed.join(", ");
                 return Some(Progress::Stopped(Stop {
-                    reason: "data breakpoint",
+                    reason: StopReason::DataBreakpoint,
                     description: format!("Paused at cycle {cycle}: {text}"),
                     text: Some(text),
-                    hit_breakpoint_ids: changed.into_iter().map(|(id, _)| id).collect(),
+                    hit_breakpoint_ids: hit,
                 }));
             }
             if mode == RunMode::Next && cycle > start.cycle {
-                return Some(stopped("step", format!("Cycle {cycle}"), Vec::new()));
+                return Some(stopped(
+                    StopReason::Step,
+                    format!("Cycle {cycle}"),
+                    Vec::new(),
+                ));
             }
         }
         let script_can_run =
             matches!(phase, Phase::Boundary | Phase::InScript) && self.target.script_alive();
         if script_can_run {
             let pc = self.target.pc();
-            let mut hit = Vec::new();
-            for index in 0..self.instruction_breakpoints.len() {
-                if self.instruction_breakpoints[index].pc == pc {
-                    let breakpoint = &self.instruction_breakpoints[index];
-                    let (id, condition, hit_condition) = (
-                        breakpoint.id,
-                        breakpoint.condition.clone(),
-                        breakpoint.hit_condition,
-                    );
-                    if self.passes(condition.as_deref(), hit_condition, &check, |debugger| {
-                        &mut debugger.instruction_breakpoints[index].hits
-                    }) {
-                        hit.push(id);
-                    }
-                }
-            }
+            let hit = self.hits(
+                &check,
+                |debugger| &mut debugger.instruction_breakpoints,
+                |_, at| at == Pc(pc),
+            );
             if !hit.is_empty() {
                 return Some(stopped(
-                    "instruction breakpoint",
+                    StopReason::InstructionBreakpoint,
                     format!("Paused at instruction {pc}"),
                     hit,
                 ));
             }
             if self.info.is_line_entry(pc) {
                 let line = self.info.line(pc);
-                let mut hit = Vec::new();
-                for index in 0..self.line_breakpoints.len() {
-                    if Some(self.line_breakpoints[index].line) != line {
-                        continue;
-                    }
-                    let breakpoint = &self.line_breakpoints[index];
-                    let (id, condition, hit_condition, log_message) = (
-                        breakpoint.id,
-                        breakpoint.condition.clone(),
-                        breakpoint.hit_condition,
-                        breakpoint.log_message.clone(),
-                    );
-                    if let (Some(message), Check::Probe) = (&log_message, &check) {
-                        let _ = message;
-                        continue;
-                    }
-                    if self.passes(condition.as_deref(), hit_condition, &check, |debugger| {
-                        &mut debugger.line_breakpoints[index].hits
-                    }) {
-                        if let Some(message) = log_message {
-                            let text = self.interpolate(&message);
-                            self.outputs.push(Output {
-                                category: "console",
-                                text: format!("{text}\n"),
-                                line,
-                            });
-                        } else {
-                            hit.push(id);
-                        }
-                    }
-                }
+                let hit = self.hits(
+                    &check,
+                    |debugger| &mut debugger.line_breakpoints,
+                    |_, at| Some(at) == line,
+                );
                 if !hit.is_empty() {
                     let line = line.unwrap_or(0);
-                    return Some(stopped("breakpoint", format!("Paused on line {line}"), hit));
+                    return Some(stopped(
+                        StopReason::Breakpoint,
+                        format!("Paused on line {line}"),
+                        hit,
+                    ));
                 }
             }
         }
         match mode {
             RunMode::StepIn { instruction: true } => Some(stopped(
-                "step",
+                StopReason::Step,
                 "Stepped one instruction".into(),
                 Vec::new(),
             )),
             RunMode::StepIn { instruction: false } => {
                 let at_statement = script_can_run && self.info.is_statement_start(self.target.pc());
                 if at_statement || *event == StepEvent::CycleBegan {
-                    Some(stopped("step", "Stepped one statement".into(), Vec::new()))
+                    Some(stopped(
+                        StopReason::Step,
+                        "Stepped one statement".into(),
+                        Vec::new(),
+                    ))
                 } else {
                     None
                 }
@@ -794,7 +784,7 @@ impl<T: Target> Debugger<T> {
             RunMode::StepOut => {
                 if matches!(event, StepEvent::Yielded | StepEvent::Halted) {
                     Some(stopped(
-                        "step",
+                        StopReason::Step,
                         format!("End of the script's share of cycle {}", self.clock.cycle),
                         Vec::new(),
                     ))
@@ -804,6 +794,52 @@ impl<T: Target> Debugger<T> {
             }
             _ => None,
         }
+    }
+
+    /// The ids of the breakpoints in `list` whose place `matches` and that pass their
+    /// condition and hit count. A logpoint among them prints its message instead (on a
+    /// live run; a probe skips it).
+    fn hits<At: Copy + 'static>(
+        &mut self,
+        check: &Check,
+        list: fn(&mut Self) -> &mut Vec<Breakpoint<At>>,
+        matches: impl Fn(&Self, At) -> bool,
+    ) -> Vec<i64> {
+        let mut hit = Vec::new();
+        for index in 0..list(self).len() {
+            let breakpoint = &list(self)[index];
+            let at = breakpoint.at;
+            if !matches(self, at) {
+                continue;
+            }
+            let breakpoint = &list(self)[index];
+            let (id, condition, hit_condition, log_message) = (
+                breakpoint.id,
+                breakpoint.condition.clone(),
+                breakpoint.hit_condition,
+                breakpoint.log_message.clone(),
+            );
+            if log_message.is_some() && matches!(check, Check::Probe) {
+                continue;
+            }
+            if self.passes(condition.as_deref(), hit_condition, check, |debugger| {
+                &mut list(debugger)[index].hits
+            }) {
+                match log_message {
+                    Some(message) => {
+                        let text = self.interpolate(&message);
+                        let line = self.current_line();
+                        self.outputs.push(Output {
+                            category: Category::Note,
+                            text: format!("{text}\n"),
+                            line,
+                        });
+                    }
+                    None => hit.push(id),
+                }
+            }
+        }
+        hit
     }
 
     /// Checks a condition and a hit count; on a live run a true condition counts a hit.
@@ -822,7 +858,7 @@ impl<T: Target> Debugger<T> {
                     // A broken condition stops, as in other debuggers, and says why.
                     if let Check::Live = check {
                         self.outputs.push(Output {
-                            category: "stderr",
+                            category: Category::Error,
                             text: format!("breakpoint condition `{condition}`: {message}\n"),
                             line: None,
                         });
@@ -968,7 +1004,7 @@ impl<T: Target> Debugger<T> {
         let target = if self.clock.steps == 0 {
             if self.clock <= self.origin {
                 return Ok(stopped_body(
-                    "step",
+                    StopReason::Step,
                     "Already at the start of the run".into(),
                 ));
             }
@@ -985,7 +1021,7 @@ impl<T: Target> Debugger<T> {
         let target = target.max(self.origin);
         self.travel_to(target)?;
         Ok(stopped_body(
-            "step",
+            StopReason::Step,
             format!("Back to cycle {}", self.clock.cycle),
         ))
     }
@@ -1049,13 +1085,13 @@ impl<T: Target> Debugger<T> {
         self.travel_to(origin)?;
         self.outputs.clear();
         Ok(stopped_body(
-            "entry",
+            StopReason::Entry,
             "Reached the start of the history".into(),
         ))
     }
 }
 
-fn stopped(reason: &'static str, description: String, hit_breakpoint_ids: Vec<i64>) -> Progress {
+fn stopped(reason: StopReason, description: String, hit_breakpoint_ids: Vec<i64>) -> Progress {
     Progress::Stopped(Stop {
         reason,
         description,
@@ -1064,7 +1100,7 @@ fn stopped(reason: &'static str, description: String, hit_breakpoint_ids: Vec<i6
     })
 }
 
-fn stopped_body(reason: &'static str, description: String) -> Stop {
+fn stopped_body(reason: StopReason, description: String) -> Stop {
     Stop {
         reason,
         description,

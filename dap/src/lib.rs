@@ -2,15 +2,18 @@
 //! the GLOC interpreter inside the glider simulator, cycle by cycle, forwards and back.
 //!
 //! Layers: `protocol` (framing, envelope, the one writer), `types` (serde structs),
-//! `session` (request dispatch), `debugger` (breakpoints, stepping, history; protocol
-//! free), `target` (what the debugger needs from a world), `world` (that, over the
+//! `session` (the session's state and the protocol edge), `dispatch` and `handlers`
+//! (the command table: one typed handler per command), `debugger` (breakpoints,
+//! stepping, history; protocol free), `target` (what the debugger needs from a world), `world` (that, over the
 //! engine and simulator), `expr` (GBASIC expressions for conditions and watches).
 
 // Stdout is the protocol: nothing else may print there.
 #![deny(clippy::print_stdout)]
 
 pub mod debugger;
+pub mod dispatch;
 pub mod expr;
+mod handlers;
 pub mod program;
 pub mod protocol;
 pub mod replay_world;

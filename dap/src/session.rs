@@ -10,25 +10,25 @@ use serde::{Deserialize, Serialize};
 use serde_json::{json, Value};
 
 use crate::debugger::{
-    Clock, CycleBreakpoint, CycleBreakpointKind, DataBreakpoint, Debugger, Edit, ExceptionFilters,
-    HistoryConfig, HitCondition, InstructionBreakpoint, LineBreakpoint, Progress, RunMode, Stop,
+    self, Category, Clock, CycleBreakpointKind, Debugger, ExceptionFilters, HistoryConfig,
+    HitCondition, LineBreakpoint, Pc, Progress, RunMode, Stop, StopReason,
 };
-use crate::expr::Number;
-use crate::program::Language;
+use crate::dispatch::Failure;
+use crate::handlers;
 use crate::protocol::{Malformed, Request, Writer};
-use crate::target::{Named, Phase, Target};
+use crate::target::Target;
 use crate::types::*;
 use crate::world::{self, LaunchConfig, World};
 
 pub const THREAD_ID: i64 = 1;
-const FRAME_ID: i64 = 1;
-const SCOPE_VARIABLES: i64 = 1;
-const SCOPE_REGISTERS: i64 = 2;
-const SCOPE_SENSORS: i64 = 3;
-const SCOPE_VEHICLE: i64 = 4;
-const ALL_SENSORS: i64 = 5;
+pub(crate) const FRAME_ID: i64 = 1;
+pub(crate) const SCOPE_VARIABLES: i64 = 1;
+pub(crate) const SCOPE_REGISTERS: i64 = 2;
+pub(crate) const SCOPE_SENSORS: i64 = 3;
+pub(crate) const SCOPE_VEHICLE: i64 = 4;
+pub(crate) const ALL_SENSORS: i64 = 5;
 /// `ARRAYS + i`: the elements of the i-th GBASIC variable (an array).
-const ARRAYS: i64 = 1000;
+pub(crate) const ARRAYS: i64 = 1000;
 /// Steps run between two looks at the incoming queue while running.
 const SLICE_STEPS: u64 = 50_000;
 
@@ -127,26 +127,38 @@ pub enum Flow {
     Exit,
 }
 
-struct Running {
-    mode: RunMode,
-    start: Clock,
+pub(crate) struct Running {
+    pub mode: RunMode,
+    pub start: Clock,
 }
 
-struct Launched {
-    debugger: Debugger<World>,
-    arguments: LaunchArguments,
-    running: Option<Running>,
-    stop_on_entry: bool,
+pub(crate) struct Launched {
+    pub debugger: Debugger<World>,
+    pub arguments: LaunchArguments,
+    pub running: Option<Running>,
+    pub stop_on_entry: bool,
+}
+
+/// What a handler leaves for after its response, in order.
+pub(crate) enum Then {
+    /// An event with its body.
+    Event(&'static str, Value),
+    /// The debugger's pending outputs.
+    Outputs,
+    /// The outputs, then the `stopped` event.
+    Stop(Stop),
+    /// End the session.
+    Exit,
 }
 
 /// Breakpoints as the client last sent them, kept so `restart` can re-apply them.
 #[derive(Default)]
-struct Requested {
-    sources: Vec<(String, Vec<SourceBreakpoint>)>,
-    functions: Vec<FunctionBreakpoint>,
-    data: Vec<crate::types::DataBreakpoint>,
-    instructions: Vec<crate::types::InstructionBreakpoint>,
-    filters: Option<Vec<String>>,
+pub(crate) struct Requested {
+    pub sources: Vec<(String, Vec<SourceBreakpoint>)>,
+    pub functions: Vec<FunctionBreakpoint>,
+    pub data: Vec<crate::types::DataBreakpoint>,
+    pub instructions: Vec<crate::types::InstructionBreakpoint>,
+    pub filters: Option<Vec<String>>,
 }
 
 pub struct Session {
@@ -156,10 +168,12 @@ pub struct Session {
     authenticated: bool,
     /// Set with `authenticated`, for the reader's framing limits.
     authenticated_flag: Option<Arc<AtomicBool>>,
-    initialized: bool,
-    launched: Option<Launched>,
-    requested: Requested,
+    pub(crate) initialized: bool,
+    pub(crate) launched: Option<Launched>,
+    pub(crate) requested: Requested,
     next_breakpoint_id: i64,
+    /// What the running handler queued for after its response.
+    then: Vec<Then>,
 }
 
 fn exception_filters() -> Vec<ExceptionBreakpointsFilter> {
@@ -189,7 +203,7 @@ fn exception_filters() -> Vec<ExceptionBreakpointsFilter> {
     ]
 }
 
-fn capabilities() -> Capabilities {
+pub(crate) fn capabilities() -> Capabilities {
     Capabilities {
         supports_configuration_done_request: Some(true),
         supports_function_breakpoints: Some(true),
@@ -213,11 +227,6 @@ fn capabilities() -> Capabilities {
     }
 }
 
-fn arguments<T: for<'de> Deserialize<'de>>(request: &Request) -> Result<T, String> {
-    serde_json::from_value(request.arguments.clone())
-        .map_err(|error| format!("invalid arguments for `{}`: {error}", request.command))
-}
-
 impl Session {
     pub fn new(writer: Writer, access: Access) -> Session {
         Session {
@@ -229,6 +238,7 @@ impl Session {
             launched: None,
             requested: Requested::default(),
             next_breakpoint_id: 1,
+            then: Vec::new(),
         }
     }
 
@@ -270,7 +280,7 @@ impl Session {
         self.writer.event(
             "output",
             OutputEventBody {
-                category: "important".into(),
+                category: category_name(Category::Important).into(),
                 output: format!(
                     "gloc dap: ignored a malformed message: {}\n",
                     malformed.message
@@ -282,21 +292,47 @@ impl Session {
         )
     }
 
-    /// Handles one request; an error in the request becomes an error response.
+    /// Handles one request through the handler table: the response (an error in the
+    /// request becomes an error response), then what the handler queued.
     pub fn handle(&mut self, request: Request) -> io::Result<Flow> {
         if !self.authenticated {
             if let Some(flow) = self.authenticate(&request)? {
                 return Ok(flow);
             }
         }
-        match self.dispatch(&request) {
-            Ok(flow) => Ok(flow),
-            Err(message) => {
+        self.then.clear();
+        let answer = handlers::table().dispatch(self, &request.command, request.arguments.clone());
+        let body = match answer {
+            Ok(body) => body,
+            Err(Failure(message)) => {
+                self.then.clear();
                 self.writer
                     .respond_error(request.seq, &request.command, &message)?;
-                Ok(Flow::Continue)
+                return Ok(Flow::Continue);
+            }
+        };
+        self.writer.respond(&request, body)?;
+        let mut flow = Flow::Continue;
+        for then in std::mem::take(&mut self.then) {
+            match then {
+                Then::Event(event, body) => self.writer.event(event, body)?,
+                Then::Outputs => self.flush_outputs()?,
+                Then::Stop(stop) => self.send_stop(stop)?,
+                Then::Exit => flow = Flow::Exit,
             }
         }
+        Ok(flow)
+    }
+
+    /// Queues `then` for after the response of the request being handled.
+    pub(crate) fn then(&mut self, then: Then) {
+        self.then.push(then);
+    }
+
+    /// Queues an event for after the response.
+    pub(crate) fn then_event(&mut self, event: &'static str, body: impl Serialize) {
+        let body = serde_json::to_value(body).unwrap_or(Value::Null);
+        self.then.push(Then::Event(event, body));
     }
 
     /// Answers `request` with an error and ends the session.
@@ -342,386 +378,13 @@ impl Session {
         Ok(Some(Flow::Exit))
     }
 
-    fn dispatch(&mut self, request: &Request) -> Result<Flow, String> {
-        let io_error = |error: io::Error| format!("cannot write to the client: {error}");
-        match request.command.as_str() {
-            "initialize" => {
-                let _: InitializeArguments = arguments(request)?;
-                self.initialized = true;
-                self.writer
-                    .respond(request, capabilities())
-                    .map_err(io_error)?;
-            }
-            "launch" => {
-                if !self.initialized {
-                    return Err("send `initialize` before `launch`".into());
-                }
-                if self.launched.is_some() {
-                    return Err(
-                        "a program is already running; `restart` or `disconnect` first".into(),
-                    );
-                }
-                let launch: LaunchArguments = arguments(request)?;
-                self.launch(launch)?;
-                self.writer.respond(request, ()).map_err(io_error)?;
-                if self
-                    .launched
-                    .as_ref()
-                    .is_some_and(|launched| launched.debugger.has_history())
-                {
-                    self.writer
-                        .event(
-                            "capabilities",
-                            json!({ "capabilities": { "supportsStepBack": true } }),
-                        )
-                        .map_err(io_error)?;
-                }
-                self.writer.event("initialized", ()).map_err(io_error)?;
-            }
-            "attach" => return Err("`attach` is not supported: use `launch`".into()),
-            "disconnect" => {
-                let _: DisconnectArguments = arguments(request)?;
-                self.writer.respond(request, ()).map_err(io_error)?;
-                return Ok(Flow::Exit);
-            }
-            "terminate" => {
-                self.writer.respond(request, ()).map_err(io_error)?;
-                if let Some(launched) = &mut self.launched {
-                    launched.running = None;
-                }
-                self.writer.event("terminated", ()).map_err(io_error)?;
-            }
-            "setBreakpoints" => {
-                let arguments: SetBreakpointsArguments = arguments(request)?;
-                let breakpoints = self.set_breakpoints(arguments)?;
-                self.writer
-                    .respond(request, json!({ "breakpoints": breakpoints }))
-                    .map_err(io_error)?;
-            }
-            "setFunctionBreakpoints" => {
-                let arguments: SetFunctionBreakpointsArguments = arguments(request)?;
-                self.requested.functions = arguments.breakpoints;
-                let breakpoints = self.apply_function_breakpoints();
-                self.writer
-                    .respond(request, json!({ "breakpoints": breakpoints }))
-                    .map_err(io_error)?;
-            }
-            "setExceptionBreakpoints" => {
-                let arguments: SetExceptionBreakpointsArguments = arguments(request)?;
-                for filter in &arguments.filters {
-                    if !["trap", "overrun", "abend"].contains(&filter.as_str()) {
-                        return Err(format!(
-                            "unknown exception filter `{filter}` (known: trap, overrun, abend)"
-                        ));
-                    }
-                }
-                self.requested.filters = Some(arguments.filters);
-                self.apply_filters();
-                self.writer.respond(request, ()).map_err(io_error)?;
-            }
-            "setInstructionBreakpoints" => {
-                let arguments: SetInstructionBreakpointsArguments = arguments(request)?;
-                self.requested.instructions = arguments.breakpoints;
-                let breakpoints = self.apply_instruction_breakpoints();
-                self.writer
-                    .respond(request, json!({ "breakpoints": breakpoints }))
-                    .map_err(io_error)?;
-            }
-            "dataBreakpointInfo" => {
-                let arguments: DataBreakpointInfoArguments = arguments(request)?;
-                let launched = self.launched_mut()?;
-                let target = &launched.debugger.target;
-                let in_sensor_scope = matches!(
-                    arguments.variables_reference,
-                    None | Some(SCOPE_SENSORS) | Some(ALL_SENSORS)
-                );
-                let sensor = if in_sensor_scope {
-                    target.sensor_index(arguments.name.trim())
-                } else {
-                    None
-                };
-                let body = match sensor {
-                    Some(index) => {
-                        let name = target.sensor_name(index).unwrap_or_default().to_string();
-                        json!({
-                            "dataId": format!("sensor:{name}"),
-                            "description": format!("{name} changes (checked at each cycle boundary)"),
-                            "accessTypes": ["write"],
-                            "canPersist": true,
-                        })
-                    }
-                    None => json!({
-                        "dataId": null,
-                        "description": format!("`{}` is not a sensor: only sensors can be watched", arguments.name),
-                    }),
-                };
-                self.writer.respond(request, body).map_err(io_error)?;
-            }
-            "setDataBreakpoints" => {
-                let arguments: SetDataBreakpointsArguments = arguments(request)?;
-                self.requested.data = arguments.breakpoints;
-                let breakpoints = self.apply_data_breakpoints();
-                self.writer
-                    .respond(request, json!({ "breakpoints": breakpoints }))
-                    .map_err(io_error)?;
-            }
-            "breakpointLocations" => {
-                let arguments: BreakpointLocationsArguments = arguments(request)?;
-                let launched = self.launched_mut()?;
-                let info = &launched.debugger.info;
-                let end = arguments.end_line.unwrap_or(arguments.line);
-                let same = arguments
-                    .source
-                    .path
-                    .as_deref()
-                    .is_some_and(|path| info.is_same_source(path));
-                let lines: Vec<Value> = if same {
-                    info.lines_with_code()
-                        .filter(|line| {
-                            i64::from(*line) >= arguments.line && i64::from(*line) <= end
-                        })
-                        .map(|line| json!({ "line": line }))
-                        .collect()
-                } else {
-                    Vec::new()
-                };
-                self.writer
-                    .respond(request, json!({ "breakpoints": lines }))
-                    .map_err(io_error)?;
-            }
-            "configurationDone" => {
-                let launched = self.launched_mut()?;
-                if launched.stop_on_entry {
-                    self.writer.respond(request, ()).map_err(io_error)?;
-                    self.send_stop(Stop {
-                        reason: "entry",
-                        description: "Paused on entry".into(),
-                        text: None,
-                        hit_breakpoint_ids: Vec::new(),
-                    })
-                    .map_err(io_error)?;
-                } else {
-                    let first = launched.debugger.check_start();
-                    if first.is_none() {
-                        let start = launched.debugger.clock();
-                        launched.running = Some(Running {
-                            mode: RunMode::Continue,
-                            start,
-                        });
-                    }
-                    self.writer.respond(request, ()).map_err(io_error)?;
-                    self.flush_outputs().map_err(io_error)?;
-                    if let Some(stop) = first {
-                        self.send_stop(stop).map_err(io_error)?;
-                    }
-                }
-            }
-            "threads" => {
-                self.writer
-                    .respond(
-                        request,
-                        json!({ "threads": [{ "id": THREAD_ID, "name": "script" }] }),
-                    )
-                    .map_err(io_error)?;
-            }
-            "continue" | "next" | "stepIn" | "stepOut" => {
-                let arguments: StepArguments = arguments(request)?;
-                let instruction = arguments.granularity.as_deref() == Some("instruction");
-                let mode = match request.command.as_str() {
-                    "continue" => RunMode::Continue,
-                    "next" => RunMode::Next,
-                    "stepIn" => RunMode::StepIn { instruction },
-                    _ => RunMode::StepOut,
-                };
-                let launched = self.launched_mut()?;
-                if launched.running.is_some() {
-                    return Err("the program is already running; `pause` first".into());
-                }
-                let language = launched.debugger.info.language;
-                let mode = match mode {
-                    // In GLOC a statement is an instruction.
-                    RunMode::StepIn { .. } if language == Language::Gloc => {
-                        RunMode::StepIn { instruction: true }
-                    }
-                    other => other,
-                };
-                let start = launched.debugger.clock();
-                launched.running = Some(Running { mode, start });
-                let body = if mode == RunMode::Continue {
-                    json!({ "allThreadsContinued": true })
-                } else {
-                    Value::Null
-                };
-                self.writer.respond(request, body).map_err(io_error)?;
-            }
-            "pause" => {
-                let launched = self.launched_mut()?;
-                if launched.running.is_some() {
-                    launched.debugger.request_pause();
-                    self.writer.respond(request, ()).map_err(io_error)?;
-                } else {
-                    self.writer.respond(request, ()).map_err(io_error)?;
-                    self.send_stop(Stop {
-                        reason: "pause",
-                        description: "Paused".into(),
-                        text: None,
-                        hit_breakpoint_ids: Vec::new(),
-                    })
-                    .map_err(io_error)?;
-                }
-            }
-            "stepBack" | "reverseContinue" => {
-                let launched = self.launched_mut()?;
-                if launched.running.is_some() {
-                    return Err("the program is running; `pause` first".into());
-                }
-                let stop = if request.command == "stepBack" {
-                    launched.debugger.step_back()?
-                } else {
-                    launched.debugger.reverse_continue()?
-                };
-                self.writer.respond(request, ()).map_err(io_error)?;
-                self.send_stop(stop).map_err(io_error)?;
-            }
-            "stackTrace" => {
-                let arguments: StackTraceArguments = arguments(request)?;
-                let launched = self.launched_mut()?;
-                // One frame (the script has no calls): `startFrame` past it gives none;
-                // `levels` 0 or absent means all.
-                let frames = match (arguments.start_frame.unwrap_or(0), arguments.levels) {
-                    (start, _) if start < 0 => {
-                        return Err(format!("`startFrame` {start} is negative"))
-                    }
-                    (0, None) => vec![stack_frame(&launched.debugger)],
-                    (0, Some(levels)) if levels >= 0 => vec![stack_frame(&launched.debugger)],
-                    (_, Some(levels)) if levels < 0 => {
-                        return Err(format!("`levels` {levels} is negative"))
-                    }
-                    _ => Vec::new(),
-                };
-                self.writer
-                    .respond(request, json!({ "stackFrames": frames, "totalFrames": 1 }))
-                    .map_err(io_error)?;
-            }
-            "scopes" => {
-                let _: ScopesArguments = arguments(request)?;
-                let launched = self.launched_mut()?;
-                let target = &launched.debugger.target;
-                let scopes = vec![
-                    scope(
-                        "Variables",
-                        Some("locals"),
-                        SCOPE_VARIABLES,
-                        target.variables().len(),
-                    ),
-                    scope(
-                        "Registers",
-                        Some("registers"),
-                        SCOPE_REGISTERS,
-                        target.registers().len(),
-                    ),
-                    scope(
-                        "Sensors",
-                        None,
-                        SCOPE_SENSORS,
-                        target.touched_sensors().len() + 1,
-                    ),
-                    scope("Vehicle", None, SCOPE_VEHICLE, target.vehicle().len()),
-                ];
-                self.writer
-                    .respond(request, json!({ "scopes": scopes }))
-                    .map_err(io_error)?;
-            }
-            "variables" => {
-                let arguments: VariablesArguments = arguments(request)?;
-                let launched = self.launched_mut()?;
-                let variables = variables(&launched.debugger, &arguments)?;
-                self.writer
-                    .respond(request, json!({ "variables": variables }))
-                    .map_err(io_error)?;
-            }
-            "setVariable" => {
-                let arguments: SetVariableArguments = arguments(request)?;
-                let launched = self.launched_mut()?;
-                let value = set_variable(&mut launched.debugger, &arguments)?;
-                self.writer
-                    .respond(request, json!({ "value": value }))
-                    .map_err(io_error)?;
-            }
-            "evaluate" => {
-                let arguments: EvaluateArguments = arguments(request)?;
-                let launched = self.launched_mut()?;
-                let value = launched.debugger.evaluate(&arguments.expression)?;
-                self.writer
-                    .respond(
-                        request,
-                        json!({ "result": value.to_string(), "type": value.type_name(), "variablesReference": 0 }),
-                    )
-                    .map_err(io_error)?;
-            }
-            "exceptionInfo" => {
-                let launched = self.launched_mut()?;
-                let Some(trap) = launched.debugger.trap.clone() else {
-                    return Err("the program is not stopped on an exception".into());
-                };
-                self.writer
-                    .respond(request, json!({ "exceptionId": "trap", "description": trap, "breakMode": "always" }))
-                    .map_err(io_error)?;
-            }
-            "disassemble" => {
-                let arguments: DisassembleArguments = arguments(request)?;
-                let launched = self.launched_mut()?;
-                let instructions = disassemble(&launched.debugger, &arguments)?;
-                self.writer
-                    .respond(request, json!({ "instructions": instructions }))
-                    .map_err(io_error)?;
-            }
-            "loadedSources" => {
-                let launched = self.launched_mut()?;
-                let source = source_of(&launched.debugger);
-                self.writer
-                    .respond(request, json!({ "sources": [source] }))
-                    .map_err(io_error)?;
-            }
-            "restart" => {
-                let launched = self.launched_mut()?;
-                let mut arguments = launched.arguments.clone();
-                if let Some(new) = request.arguments.get("arguments") {
-                    arguments = serde_json::from_value(new.clone())
-                        .map_err(|error| format!("invalid arguments for `restart`: {error}"))?;
-                }
-                self.launched = None;
-                self.launch(arguments)?;
-                self.writer.respond(request, ()).map_err(io_error)?;
-                let launched = self.launched_mut()?;
-                if launched.stop_on_entry {
-                    self.send_stop(Stop {
-                        reason: "entry",
-                        description: "Restarted: paused on entry".into(),
-                        text: None,
-                        hit_breakpoint_ids: Vec::new(),
-                    })
-                    .map_err(io_error)?;
-                } else {
-                    let start = launched.debugger.clock();
-                    launched.running = Some(Running {
-                        mode: RunMode::Continue,
-                        start,
-                    });
-                }
-            }
-            other => return Err(format!("unknown command `{other}`")),
-        }
-        Ok(Flow::Continue)
-    }
-
-    fn launched_mut(&mut self) -> Result<&mut Launched, String> {
+    pub(crate) fn launched_mut(&mut self) -> Result<&mut Launched, String> {
         self.launched
             .as_mut()
             .ok_or_else(|| "no program is loaded: send `launch` first".to_string())
     }
 
-    fn launch(&mut self, arguments: LaunchArguments) -> Result<(), String> {
+    pub(crate) fn launch(&mut self, arguments: LaunchArguments) -> Result<(), String> {
         let program = arguments
             .program
             .clone()
@@ -823,7 +486,7 @@ impl Session {
         id
     }
 
-    fn set_breakpoints(
+    pub(crate) fn set_breakpoints(
         &mut self,
         arguments: SetBreakpointsArguments,
     ) -> Result<Vec<Breakpoint>, String> {
@@ -929,12 +592,10 @@ impl Session {
             match line {
                 Some(line) => {
                     debugger.line_breakpoints.push(LineBreakpoint {
-                        id,
-                        line,
                         condition: breakpoint.condition.clone(),
                         hit_condition,
                         log_message: breakpoint.log_message.clone(),
-                        hits: 0,
+                        ..LineBreakpoint::new(id, line)
                     });
                     out.push(Breakpoint {
                         id: Some(id),
@@ -950,186 +611,130 @@ impl Session {
         out
     }
 
-    fn apply_function_breakpoints(&mut self) -> Vec<Breakpoint> {
+    pub(crate) fn apply_function_breakpoints(&mut self) -> Vec<Breakpoint> {
         let requested = self.requested.functions.clone();
-        let mut out = Vec::new();
-        let mut accepted = Vec::new();
-        for breakpoint in &requested {
-            let id = self.new_id();
-            let words: Vec<&str> = breakpoint.name.split_whitespace().collect();
-            let kind = match words.as_slice() {
-                [word, number] if word.eq_ignore_ascii_case("cycle") => {
-                    number.parse().ok().map(CycleBreakpointKind::At)
-                }
-                [word, number] if word.eq_ignore_ascii_case("every") => number
-                    .parse()
-                    .ok()
-                    .filter(|every| *every > 0)
-                    .map(CycleBreakpointKind::Every),
-                _ => None,
-            };
-            let hit_condition = breakpoint
-                .hit_condition
-                .as_deref()
-                .filter(|text| !text.trim().is_empty())
-                .map(HitCondition::parse)
-                .transpose();
-            match (kind, hit_condition) {
-                (Some(kind), Ok(hit_condition)) => {
-                    accepted.push(CycleBreakpoint {
-                        id,
-                        kind,
-                        condition: breakpoint.condition.clone(),
-                        hit_condition,
-                        hits: 0,
-                    });
-                    out.push(Breakpoint { id: Some(id), verified: true, ..Breakpoint::default() });
-                }
-                (_, Err(message)) => out.push(Breakpoint {
-                    id: Some(id),
-                    verified: false,
-                    message: Some(message),
-                    reason: Some("failed".into()),
-                    ..Breakpoint::default()
-                }),
-                (None, _) => out.push(Breakpoint {
-                    id: Some(id),
-                    verified: false,
-                    message: Some(format!(
-                        "`{}` is not a cycle breakpoint: write `cycle N` (stop at cycle N) or `every N` (every N cycles)",
-                        breakpoint.name
-                    )),
-                    reason: Some("failed".into()),
-                    ..Breakpoint::default()
-                }),
-            }
-        }
-        if let Some(launched) = &mut self.launched {
-            launched.debugger.cycle_breakpoints = accepted;
-        }
-        out
+        self.apply(
+            &requested,
+            |_, breakpoint| {
+                let words: Vec<&str> = breakpoint.name.split_whitespace().collect();
+                let kind = match words.as_slice() {
+                    [word, number] if word.eq_ignore_ascii_case("cycle") => {
+                        number.parse().ok().map(CycleBreakpointKind::At)
+                    }
+                    [word, number] if word.eq_ignore_ascii_case("every") => number
+                        .parse()
+                        .ok()
+                        .filter(|every| *every > 0)
+                        .map(CycleBreakpointKind::Every),
+                    _ => None,
+                };
+                let kind = kind.ok_or_else(|| format!(
+                    "`{}` is not a cycle breakpoint: write `cycle N` (stop at cycle N) or `every N` (every N cycles)",
+                    breakpoint.name
+                ))?;
+                Ok((kind, Breakpoint::default()))
+            },
+            |debugger| &mut debugger.cycle_breakpoints,
+        )
     }
 
-    fn apply_data_breakpoints(&mut self) -> Vec<Breakpoint> {
+    pub(crate) fn apply_data_breakpoints(&mut self) -> Vec<Breakpoint> {
         let requested = self.requested.data.clone();
-        let mut out = Vec::new();
-        let mut accepted = Vec::new();
-        for breakpoint in &requested {
-            let id = self.new_id();
-            let name = breakpoint
-                .data_id
-                .strip_prefix("sensor:")
-                .unwrap_or(&breakpoint.data_id);
-            let sensor = self
-                .launched
-                .as_ref()
-                .and_then(|launched| launched.debugger.target.sensor_index(name));
-            let hit_condition = breakpoint
-                .hit_condition
-                .as_deref()
-                .filter(|text| !text.trim().is_empty())
-                .map(HitCondition::parse)
-                .transpose();
-            match (sensor, hit_condition) {
-                (Some(sensor), Ok(hit_condition)) => {
-                    accepted.push(DataBreakpoint {
-                        id,
-                        sensor,
-                        condition: breakpoint.condition.clone(),
-                        hit_condition,
-                        hits: 0,
-                    });
-                    out.push(Breakpoint {
-                        id: Some(id),
-                        verified: true,
-                        ..Breakpoint::default()
-                    });
-                }
-                (_, Err(message)) => out.push(Breakpoint {
-                    id: Some(id),
-                    verified: false,
-                    message: Some(message),
-                    reason: Some("failed".into()),
-                    ..Breakpoint::default()
-                }),
-                (None, _) => out.push(Breakpoint {
-                    id: Some(id),
-                    verified: false,
-                    message: Some(format!("`{name}` is not a sensor")),
-                    reason: Some("failed".into()),
-                    ..Breakpoint::default()
-                }),
-            }
-        }
+        let out = self.apply(
+            &requested,
+            |debugger, breakpoint| {
+                let name = breakpoint
+                    .data_id
+                    .strip_prefix("sensor:")
+                    .unwrap_or(&breakpoint.data_id);
+                let sensor = debugger
+                    .and_then(|debugger| debugger.target.sensor_index(name))
+                    .ok_or_else(|| format!("`{name}` is not a sensor"))?;
+                Ok((sensor, Breakpoint::default()))
+            },
+            |debugger| &mut debugger.data_breakpoints,
+        );
         if let Some(launched) = &mut self.launched {
-            launched.debugger.data_breakpoints = accepted;
             launched.debugger.reset_baseline();
         }
         out
     }
 
-    fn apply_instruction_breakpoints(&mut self) -> Vec<Breakpoint> {
+    pub(crate) fn apply_instruction_breakpoints(&mut self) -> Vec<Breakpoint> {
         let requested = self.requested.instructions.clone();
+        self.apply(
+            &requested,
+            |debugger, breakpoint| {
+                let count = debugger.map_or(0, |debugger| debugger.info.instruction_count());
+                let pc = parse_address(&breakpoint.instruction_reference)
+                    .and_then(|base| base.checked_add(breakpoint.offset.unwrap_or(0)))
+                    .and_then(|pc| usize::try_from(pc).ok())
+                    .filter(|pc| *pc < count)
+                    .ok_or_else(|| {
+                        format!(
+                            "`{}` is not an instruction of the program",
+                            breakpoint.instruction_reference
+                        )
+                    })?;
+                let shown = Breakpoint {
+                    instruction_reference: Some(address(pc)),
+                    ..Breakpoint::default()
+                };
+                Ok((Pc(pc), shown))
+            },
+            |debugger| &mut debugger.instruction_breakpoints,
+        )
+    }
+
+    /// Sets the breakpoints of one kind as requested: each gets a new id, its hit
+    /// count is parsed, and `place` finds where it stops (with what the answer shows
+    /// of it) or says why it cannot; the accepted ones replace the kind's `list`.
+    fn apply<R: Conditions, At>(
+        &mut self,
+        requested: &[R],
+        place: impl Fn(Option<&Debugger<World>>, &R) -> Result<(At, Breakpoint), String>,
+        list: fn(&mut Debugger<World>) -> &mut Vec<debugger::Breakpoint<At>>,
+    ) -> Vec<Breakpoint> {
         let mut out = Vec::new();
         let mut accepted = Vec::new();
-        let count = self
-            .launched
-            .as_ref()
-            .map_or(0, |launched| launched.debugger.info.instruction_count());
-        for breakpoint in &requested {
+        for breakpoint in requested {
             let id = self.new_id();
-            let pc = parse_address(&breakpoint.instruction_reference)
-                .and_then(|base| base.checked_add(breakpoint.offset.unwrap_or(0)))
-                .and_then(|pc| usize::try_from(pc).ok())
-                .filter(|pc| *pc < count);
-            let hit_condition = breakpoint
-                .hit_condition
-                .as_deref()
+            let debugger = self.launched.as_ref().map(|launched| &launched.debugger);
+            let placed = breakpoint
+                .hit_condition()
                 .filter(|text| !text.trim().is_empty())
                 .map(HitCondition::parse)
-                .transpose();
-            match (pc, hit_condition) {
-                (Some(pc), Ok(hit_condition)) => {
-                    accepted.push(InstructionBreakpoint {
-                        id,
-                        pc,
-                        condition: breakpoint.condition.clone(),
+                .transpose()
+                .and_then(|hit_condition| Ok((place(debugger, breakpoint)?, hit_condition)));
+            match placed {
+                Ok(((at, shown), hit_condition)) => {
+                    accepted.push(debugger::Breakpoint {
+                        condition: breakpoint.condition().cloned(),
                         hit_condition,
-                        hits: 0,
+                        ..debugger::Breakpoint::new(id, at)
                     });
                     out.push(Breakpoint {
                         id: Some(id),
                         verified: true,
-                        instruction_reference: Some(address(pc)),
-                        ..Breakpoint::default()
+                        ..shown
                     });
                 }
-                (_, Err(message)) => out.push(Breakpoint {
+                Err(message) => out.push(Breakpoint {
                     id: Some(id),
                     verified: false,
                     message: Some(message),
                     reason: Some("failed".into()),
                     ..Breakpoint::default()
                 }),
-                (None, _) => out.push(Breakpoint {
-                    id: Some(id),
-                    verified: false,
-                    message: Some(format!(
-                        "`{}` is not an instruction of the program",
-                        breakpoint.instruction_reference
-                    )),
-                    reason: Some("failed".into()),
-                    ..Breakpoint::default()
-                }),
             }
         }
         if let Some(launched) = &mut self.launched {
-            launched.debugger.instruction_breakpoints = accepted;
+            *list(&mut launched.debugger) = accepted;
         }
         out
     }
 
-    fn apply_filters(&mut self) {
+    pub(crate) fn apply_filters(&mut self) {
         let Some(filters) = &self.requested.filters else {
             return;
         };
@@ -1166,14 +771,15 @@ impl Session {
                 self.writer.event(
                     "output",
                     OutputEventBody {
-                        category: "console".into(),
+                        category: category_name(Category::Note).into(),
                         output: format!("{summary}\n"),
                         source: None,
                         line: None,
                         data: None,
                     },
                 )?;
-                self.writer.event("exited", json!({ "exitCode": 0 }))?;
+                self.writer
+                    .event("exited", ExitedEventBody { exit_code: 0 })?;
                 self.writer.event("terminated", ())?;
             }
         }
@@ -1190,13 +796,13 @@ impl Session {
             // Over TCP the adapter's own notices (setup warnings quote the mission's
             // lines) blank quoted text, as launch errors do; the script's prints pass.
             let text = match (&self.access, output.category) {
-                (Access::Token(_), "important") => redact_quotes(&output.text),
+                (Access::Token(_), Category::Important) => redact_quotes(&output.text),
                 _ => output.text,
             };
             self.writer.event(
                 "output",
                 OutputEventBody {
-                    category: output.category.into(),
+                    category: category_name(output.category).into(),
                     output: text,
                     source: output.line.map(|_| source.clone()),
                     line: output.line.map(i64::from),
@@ -1215,7 +821,7 @@ impl Session {
         self.writer.event(
             "stopped",
             StoppedEventBody {
-                reason: stop.reason.into(),
+                reason: reason_name(stop.reason).into(),
                 description: Some(stop.description),
                 thread_id: THREAD_ID,
                 text: stop.text,
@@ -1227,6 +833,31 @@ impl Session {
                 },
             },
         )
+    }
+}
+
+/// The DAP `StoppedEvent.reason` of a stop.
+fn reason_name(reason: StopReason) -> &'static str {
+    match reason {
+        StopReason::Entry => "entry",
+        StopReason::Pause => "pause",
+        StopReason::Step => "step",
+        StopReason::Breakpoint => "breakpoint",
+        // Cycle breakpoints are set as function breakpoints.
+        StopReason::CycleBreakpoint => "function breakpoint",
+        StopReason::DataBreakpoint => "data breakpoint",
+        StopReason::InstructionBreakpoint => "instruction breakpoint",
+        StopReason::Exception => "exception",
+    }
+}
+
+/// The DAP `OutputEvent.category` of an output.
+fn category_name(category: Category) -> &'static str {
+    match category {
+        Category::Script => "stdout",
+        Category::Error => "stderr",
+        Category::Note => "console",
+        Category::Important => "important",
     }
 }
 
@@ -1315,6 +946,31 @@ fn condition_error(debugger: &Debugger<World>, condition: &str) -> Option<String
     }
 }
 
+/// What every requested breakpoint carries besides its place.
+trait Conditions {
+    fn condition(&self) -> Option<&String>;
+    fn hit_condition(&self) -> Option<&str>;
+}
+
+macro_rules! conditions {
+    ($($kind:ty),*) => {$(
+        impl Conditions for $kind {
+            fn condition(&self) -> Option<&String> {
+                self.condition.as_ref()
+            }
+            fn hit_condition(&self) -> Option<&str> {
+                self.hit_condition.as_deref()
+            }
+        }
+    )*};
+}
+
+conditions!(
+    FunctionBreakpoint,
+    crate::types::DataBreakpoint,
+    crate::types::InstructionBreakpoint
+);
+
 /// Compares a token with the expected one in time that does not depend on where
 /// they differ.
 fn same_secret(given: &str, expected: &str) -> bool {
@@ -1344,11 +1000,11 @@ fn echo_line(line: i64) -> Option<i64> {
     (1..=i64::from(u32::MAX)).contains(&line).then_some(line)
 }
 
-fn address(pc: usize) -> String {
+pub(crate) fn address(pc: usize) -> String {
     format!("0x{pc:x}")
 }
 
-fn parse_address(text: &str) -> Option<i64> {
+pub(crate) fn parse_address(text: &str) -> Option<i64> {
     let text = text.trim();
     match text.strip_prefix("0x").or_else(|| text.strip_prefix("0X")) {
         Some(hex) => i64::from_str_radix(hex, 16).ok(),
@@ -1356,339 +1012,9 @@ fn parse_address(text: &str) -> Option<i64> {
     }
 }
 
-fn source_of(debugger: &Debugger<World>) -> Source {
+pub(crate) fn source_of(debugger: &Debugger<World>) -> Source {
     Source {
         name: Some(debugger.info.source_name()),
         path: Some(debugger.info.path.display().to_string()),
     }
-}
-
-fn stack_frame(debugger: &Debugger<World>) -> StackFrame {
-    let target = &debugger.target;
-    let pc = debugger.shown_pc();
-    let instruction = debugger
-        .info
-        .instruction_text
-        .get(pc)
-        .cloned()
-        .unwrap_or_default();
-    let line = debugger.current_line().unwrap_or(1);
-    let phase = match target.phase() {
-        Phase::Boundary => "boundary",
-        Phase::InScript => "script",
-        Phase::ScriptDone => "after yield",
-        Phase::Ended => "ended",
-    };
-    StackFrame {
-        id: FRAME_ID,
-        name: format!(
-            "cycle {} ({phase}) · {pc}: {instruction}",
-            debugger.clock().cycle
-        ),
-        source: Some(source_of(debugger)),
-        line: i64::from(line),
-        column: 1,
-        instruction_pointer_reference: Some(address(pc)),
-    }
-}
-
-fn scope(name: &str, hint: Option<&str>, reference: i64, count: usize) -> Scope {
-    Scope {
-        name: name.into(),
-        presentation_hint: hint.map(str::to_string),
-        variables_reference: reference,
-        named_variables: Some(count as i64),
-        expensive: false,
-    }
-}
-
-fn plain(named: Named) -> Variable {
-    Variable {
-        evaluate_name: Some(named.name.clone()),
-        name: named.name,
-        value: named.value,
-        ty: Some(named.ty.into()),
-        variables_reference: 0,
-        named_variables: None,
-        indexed_variables: None,
-    }
-}
-
-fn sensor_variable(target: &World, index: usize) -> Variable {
-    let name = target.sensor_name(index).unwrap_or("?").to_string();
-    Variable {
-        evaluate_name: Some(name.clone()),
-        name,
-        value: format!("{:?}", target.sensor(index)),
-        ty: Some(format!("sensor {index}")),
-        variables_reference: 0,
-        named_variables: None,
-        indexed_variables: None,
-    }
-}
-
-fn variables(
-    debugger: &Debugger<World>,
-    arguments: &VariablesArguments,
-) -> Result<Vec<Variable>, String> {
-    let target = &debugger.target;
-    let all: Vec<Variable> = match arguments.variables_reference {
-        SCOPE_VARIABLES => target
-            .variables()
-            .into_iter()
-            .enumerate()
-            .map(|(position, named)| {
-                let length = named.length;
-                let mut variable = plain(named);
-                if let Some(length) = length {
-                    variable.variables_reference = ARRAYS + position as i64;
-                    variable.indexed_variables = Some(length as i64);
-                }
-                variable
-            })
-            .collect(),
-        reference if reference >= ARRAYS => {
-            let position = usize::try_from(reference - ARRAYS).unwrap_or(usize::MAX);
-            let array = target
-                .variables()
-                .into_iter()
-                .nth(position)
-                .filter(|named| named.length.is_some())
-                .ok_or_else(|| format!("unknown variablesReference {reference}"))?;
-            let length = array.length.unwrap_or(0);
-            let start = usize::try_from(arguments.start.unwrap_or(0))
-                .unwrap_or(0)
-                .min(length);
-            let count = match arguments.count {
-                Some(count) if count > 0 => usize::try_from(count).unwrap_or(usize::MAX),
-                _ => length,
-            };
-            let element_type = if array.ty.starts_with("float") {
-                "float"
-            } else {
-                "integer"
-            };
-            return Ok((start..start.saturating_add(count).min(length))
-                .map(|index| {
-                    let value = target.element(&array.name, index as i64);
-                    // Named `[10]`, which clients such as nvim-dap sort numerically; the
-                    // GBASIC expression `a(10)` is the evaluateName.
-                    Variable {
-                        evaluate_name: Some(format!("{}({index})", array.name)),
-                        name: format!("[{index}]"),
-                        value: value.map(|value| value.to_string()).unwrap_or_default(),
-                        ty: Some(element_type.into()),
-                        variables_reference: 0,
-                        named_variables: None,
-                        indexed_variables: None,
-                    }
-                })
-                .collect());
-        }
-        SCOPE_REGISTERS => target
-            .registers()
-            .into_iter()
-            .enumerate()
-            .map(|(index, value)| Variable {
-                name: format!("r{index}"),
-                value: value.to_string(),
-                ty: Some(value.type_name().into()),
-                variables_reference: 0,
-                named_variables: None,
-                indexed_variables: None,
-                evaluate_name: Some(format!("r{index}")),
-            })
-            .collect(),
-        SCOPE_SENSORS => {
-            let mut list: Vec<Variable> = target
-                .touched_sensors()
-                .into_iter()
-                .map(|index| sensor_variable(target, index))
-                .collect();
-            list.push(Variable {
-                name: "All sensors".into(),
-                value: format!("{} sensors", target.sensor_count()),
-                ty: None,
-                variables_reference: ALL_SENSORS,
-                // Indexed, so clients fetch it lazily in pages (VS Code: 100 at a time).
-                named_variables: None,
-                indexed_variables: Some(target.sensor_count() as i64),
-                evaluate_name: None,
-            });
-            list
-        }
-        SCOPE_VEHICLE => target.vehicle().into_iter().map(plain).collect(),
-        ALL_SENSORS if arguments.filter.as_deref() == Some("named") => return Ok(Vec::new()),
-        ALL_SENSORS => {
-            let start = usize::try_from(arguments.start.unwrap_or(0)).unwrap_or(0);
-            let count = match arguments.count {
-                Some(count) if count > 0 => usize::try_from(count).unwrap_or(usize::MAX),
-                _ => target.sensor_count(),
-            };
-            let end = start.saturating_add(count).min(target.sensor_count());
-            return Ok((start.min(end)..end)
-                .map(|index| sensor_variable(target, index))
-                .collect());
-        }
-        other => return Err(format!("unknown variablesReference {other}")),
-    };
-    let start = usize::try_from(arguments.start.unwrap_or(0))
-        .unwrap_or(0)
-        .min(all.len());
-    let count = match arguments.count {
-        Some(count) if count > 0 => usize::try_from(count).unwrap_or(usize::MAX),
-        _ => all.len(),
-    };
-    Ok(all.into_iter().skip(start).take(count).collect())
-}
-
-fn set_variable(
-    debugger: &mut Debugger<World>,
-    arguments: &SetVariableArguments,
-) -> Result<String, String> {
-    let value = match Number::parse(&arguments.value) {
-        Some(value) => value,
-        None => debugger
-            .evaluate(&arguments.value)
-            .map_err(|message| format!("`{}` is not a value: {message}", arguments.value))?,
-    };
-    match arguments.variables_reference {
-        SCOPE_VARIABLES => {
-            debugger.edit(Edit::Variable(arguments.name.clone(), value))?;
-            debugger
-                .target
-                .variable(&arguments.name)
-                .map(|value| value.to_string())
-                .ok_or_else(|| format!("no variable `{}`", arguments.name))
-        }
-        SCOPE_REGISTERS => {
-            let index = arguments
-                .name
-                .strip_prefix('r')
-                .and_then(|digits| digits.parse::<usize>().ok())
-                .ok_or_else(|| format!("`{}` is not a register", arguments.name))?;
-            debugger.edit(Edit::Register(index, value))?;
-            debugger
-                .target
-                .registers()
-                .get(index)
-                .map(|value| value.to_string())
-                .ok_or_else(|| format!("no register `{}`", arguments.name))
-        }
-        SCOPE_SENSORS | ALL_SENSORS => {
-            let index = debugger
-                .target
-                .sensor_index(&arguments.name)
-                .ok_or_else(|| format!("`{}` is not a sensor", arguments.name))?;
-            debugger.edit(Edit::Sensor(index, value.as_f64()))?;
-            Ok(format!("{:?}", debugger.target.sensor(index)))
-        }
-        SCOPE_VEHICLE => Err("the Vehicle scope is read-only; set a sensor instead".into()),
-        reference if reference >= ARRAYS => {
-            // The element's name in the array's children (`[3]`), or its expression (`a(3)`).
-            let position = usize::try_from(reference - ARRAYS).unwrap_or(usize::MAX);
-            let array = debugger
-                .target
-                .variables()
-                .into_iter()
-                .nth(position)
-                .filter(|named| named.length.is_some())
-                .map(|named| named.name)
-                .ok_or_else(|| format!("unknown variablesReference {reference}"))?;
-            let element = arguments
-                .name
-                .strip_prefix('[')
-                .and_then(|rest| rest.strip_suffix(']'))
-                .map(|index| (array.clone(), index))
-                .or_else(|| {
-                    let (name, index) = arguments.name.strip_suffix(')')?.split_once('(')?;
-                    Some((name.to_string(), index))
-                });
-            let (name, index) = element
-                .and_then(|(name, index)| Some((name, index.trim().parse::<i64>().ok()?)))
-                .ok_or_else(|| {
-                    format!(
-                        "`{}` is not an array element like `[3]` or `{array}(3)`",
-                        arguments.name
-                    )
-                })?;
-            debugger.edit(Edit::Element(name.clone(), index, value))?;
-            debugger
-                .target
-                .element(&name, index)
-                .map(|value| value.to_string())
-                .ok_or_else(|| format!("no element `{}`", arguments.name))
-        }
-        other => Err(format!("unknown variablesReference {other}")),
-    }
-}
-
-fn disassemble(
-    debugger: &Debugger<World>,
-    arguments: &DisassembleArguments,
-) -> Result<Vec<DisassembledInstruction>, String> {
-    let base = parse_address(&arguments.memory_reference).ok_or_else(|| {
-        format!(
-            "`{}` is not an instruction address",
-            arguments.memory_reference
-        )
-    })?;
-    let first = base
-        .saturating_add(arguments.offset.unwrap_or(0))
-        .saturating_add(arguments.instruction_offset.unwrap_or(0));
-    let count = arguments.instruction_count;
-    if !(0..=MAX_DISASSEMBLE).contains(&count) {
-        return Err(format!(
-            "`instructionCount` {count} is outside 0 to {MAX_DISASSEMBLE}"
-        ));
-    }
-    let source = source_of(debugger);
-    let mut out = Vec::with_capacity(count as usize);
-    let mut last_line = None;
-    // Exactly `count` entries, as the spec requires: addresses that hold no code
-    // (before 0, past the end, past i64) are "invalid" entries.
-    for step in 0..count {
-        let Some(pc) = first.checked_add(step) else {
-            out.push(DisassembledInstruction {
-                address: format!("0x{:x}", (first as i128) + i128::from(step)),
-                instruction: String::new(),
-                symbol: None,
-                location: None,
-                line: None,
-                presentation_hint: Some("invalid".into()),
-            });
-            continue;
-        };
-        let valid = usize::try_from(pc)
-            .ok()
-            .filter(|pc| *pc < debugger.info.instruction_count());
-        match valid {
-            Some(pc) => {
-                let line = debugger.info.line(pc);
-                let new_line = line != last_line;
-                last_line = line;
-                out.push(DisassembledInstruction {
-                    address: address(pc),
-                    instruction: debugger.info.instruction_text[pc].clone(),
-                    symbol: None,
-                    location: if new_line { Some(source.clone()) } else { None },
-                    line: line.map(i64::from),
-                    presentation_hint: None,
-                });
-            }
-            None => out.push(DisassembledInstruction {
-                address: if pc < 0 {
-                    format!("-0x{:x}", pc.unsigned_abs())
-                } else {
-                    format!("0x{pc:x}")
-                },
-                instruction: String::new(),
-                symbol: None,
-                location: None,
-                line: None,
-                presentation_hint: Some("invalid".into()),
-            }),
-        }
-    }
-    Ok(out)
 }

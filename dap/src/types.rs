@@ -338,3 +338,117 @@ pub struct OutputEventBody {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub data: Option<Value>,
 }
+
+/// The body of `setBreakpoints`, `setFunctionBreakpoints`, `setDataBreakpoints` and
+/// `setInstructionBreakpoints`.
+#[derive(Debug, Serialize, Clone)]
+pub struct BreakpointsBody {
+    pub breakpoints: Vec<Breakpoint>,
+}
+
+#[derive(Debug, Serialize, Clone)]
+#[serde(rename_all = "camelCase")]
+pub struct DataBreakpointInfoBody {
+    /// `null` (sent as such, the schema allows it) when nothing can be watched.
+    pub data_id: Option<String>,
+    pub description: String,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub access_types: Option<Vec<String>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub can_persist: Option<bool>,
+}
+
+#[derive(Debug, Serialize, Clone)]
+pub struct BreakpointLocation {
+    pub line: i64,
+}
+
+#[derive(Debug, Serialize, Clone)]
+pub struct BreakpointLocationsBody {
+    pub breakpoints: Vec<BreakpointLocation>,
+}
+
+#[derive(Debug, Serialize, Clone)]
+pub struct Thread {
+    pub id: i64,
+    pub name: String,
+}
+
+#[derive(Debug, Serialize, Clone)]
+pub struct ThreadsBody {
+    pub threads: Vec<Thread>,
+}
+
+#[derive(Debug, Serialize, Clone)]
+#[serde(rename_all = "camelCase")]
+pub struct ContinueBody {
+    pub all_threads_continued: bool,
+}
+
+#[derive(Debug, Serialize, Clone)]
+#[serde(rename_all = "camelCase")]
+pub struct StackTraceBody {
+    pub stack_frames: Vec<StackFrame>,
+    pub total_frames: i64,
+}
+
+#[derive(Debug, Serialize, Clone)]
+pub struct ScopesBody {
+    pub scopes: Vec<Scope>,
+}
+
+#[derive(Debug, Serialize, Clone)]
+pub struct VariablesBody {
+    pub variables: Vec<Variable>,
+}
+
+#[derive(Debug, Serialize, Clone)]
+pub struct SetVariableBody {
+    pub value: String,
+}
+
+#[derive(Debug, Serialize, Clone)]
+#[serde(rename_all = "camelCase")]
+pub struct EvaluateBody {
+    pub result: String,
+    #[serde(rename = "type")]
+    pub ty: String,
+    pub variables_reference: i64,
+}
+
+#[derive(Debug, Serialize, Clone)]
+#[serde(rename_all = "camelCase")]
+pub struct ExceptionInfoBody {
+    pub exception_id: String,
+    pub description: String,
+    pub break_mode: String,
+}
+
+#[derive(Debug, Serialize, Clone)]
+pub struct DisassembleBody {
+    pub instructions: Vec<DisassembledInstruction>,
+}
+
+#[derive(Debug, Serialize, Clone)]
+pub struct LoadedSourcesBody {
+    pub sources: Vec<Source>,
+}
+
+/// The `capabilities` event: what changed after `launch`.
+#[derive(Debug, Serialize, Clone)]
+pub struct CapabilitiesEventBody {
+    pub capabilities: Capabilities,
+}
+
+#[derive(Debug, Serialize, Clone)]
+#[serde(rename_all = "camelCase")]
+pub struct ExitedEventBody {
+    pub exit_code: i64,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(default, rename_all = "camelCase")]
+pub struct RestartArguments {
+    /// The new launch configuration; absent keeps the last one.
+    pub arguments: Option<Value>,
+}

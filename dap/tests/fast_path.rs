@@ -8,7 +8,7 @@ use std::path::PathBuf;
 
 use gloc_dap::debugger::{
     CycleBreakpoint, CycleBreakpointKind, DataBreakpoint, Debugger, Edit, HistoryConfig,
-    HitCondition, InstructionBreakpoint, LineBreakpoint, Progress, RunMode,
+    HitCondition, InstructionBreakpoint, LineBreakpoint, Pc, Progress, RunMode,
 };
 use gloc_dap::expr::Number;
 use gloc_dap::target::Target;
@@ -105,12 +105,10 @@ fn session(
                 log,
             } => {
                 debugger.line_breakpoints.push(LineBreakpoint {
-                    id: next_id,
-                    line: *line,
                     condition: condition.map(str::to_string),
                     hit_condition: hit.map(|text| HitCondition::parse(text).expect("hit")),
                     log_message: log.map(str::to_string),
-                    hits: 0,
+                    ..LineBreakpoint::new(next_id, *line)
                 });
                 next_id += 1;
                 String::new()
@@ -118,36 +116,22 @@ fn session(
             Instruction(pc) => {
                 debugger
                     .instruction_breakpoints
-                    .push(InstructionBreakpoint {
-                        id: next_id,
-                        pc: *pc,
-                        condition: None,
-                        hit_condition: None,
-                        hits: 0,
-                    });
+                    .push(InstructionBreakpoint::new(next_id, Pc(*pc)));
                 next_id += 1;
                 String::new()
             }
             Cycle(kind) => {
-                debugger.cycle_breakpoints.push(CycleBreakpoint {
-                    id: next_id,
-                    kind: kind.clone(),
-                    condition: None,
-                    hit_condition: None,
-                    hits: 0,
-                });
+                debugger
+                    .cycle_breakpoints
+                    .push(CycleBreakpoint::new(next_id, *kind));
                 next_id += 1;
                 String::new()
             }
             Data(name) => {
                 let sensor = debugger.target.sensor_index(name).expect("a sensor");
-                debugger.data_breakpoints.push(DataBreakpoint {
-                    id: next_id,
-                    sensor,
-                    condition: None,
-                    hit_condition: None,
-                    hits: 0,
-                });
+                debugger
+                    .data_breakpoints
+                    .push(DataBreakpoint::new(next_id, sensor));
                 next_id += 1;
                 debugger.reset_baseline();
                 String::new()

@@ -1,0 +1,787 @@
+//! One handler per DAP command, registered in [`table`]: each takes its typed
+//! arguments and the session, and returns its typed body or a [`Failure`]; events
+//! that follow the response are queued with [`Session::then`]. The views of the
+//! debugger's state that the answers show (frames, scopes, variables, disassembly)
+//! are built here too.
+
+use std::sync::OnceLock;
+
+use serde::de::IgnoredAny;
+
+use crate::debugger::{Debugger, Edit, RunMode, Stop, StopReason};
+use crate::dispatch::{Dispatcher, Failure};
+use crate::expr::Number;
+use crate::program::Language;
+use crate::session::{
+    address, capabilities, parse_address, source_of, LaunchArguments, Running, Session, Then,
+    ALL_SENSORS, ARRAYS, FRAME_ID, MAX_DISASSEMBLE, SCOPE_REGISTERS, SCOPE_SENSORS,
+    SCOPE_VARIABLES, SCOPE_VEHICLE, THREAD_ID,
+};
+use crate::target::{Named, Phase, Target};
+use crate::types::*;
+use crate::world::World;
+
+type Answer<T> = Result<T, Failure>;
+
+/// Every command the adapter answers, with its handler.
+pub fn table() -> &'static Dispatcher<Session> {
+    static TABLE: OnceLock<Dispatcher<Session>> = OnceLock::new();
+    TABLE.get_or_init(|| {
+        Dispatcher::new()
+            .on("initialize", initialize)
+            .on("launch", launch)
+            .on("attach", attach)
+            .on("disconnect", disconnect)
+            .on("terminate", terminate)
+            .on("restart", restart)
+            .on("setBreakpoints", set_breakpoints)
+            .on("setFunctionBreakpoints", set_function_breakpoints)
+            .on("setExceptionBreakpoints", set_exception_breakpoints)
+            .on("setInstructionBreakpoints", set_instruction_breakpoints)
+            .on("dataBreakpointInfo", data_breakpoint_info)
+            .on("setDataBreakpoints", set_data_breakpoints)
+            .on("breakpointLocations", breakpoint_locations)
+            .on("configurationDone", configuration_done)
+            .on("threads", threads)
+            .on("continue", continue_)
+            .on("next", next)
+            .on("stepIn", step_in)
+            .on("stepOut", step_out)
+            .on("pause", pause)
+            .on("stepBack", step_back)
+            .on("reverseContinue", reverse_continue)
+            .on("stackTrace", stack_trace)
+            .on("scopes", scopes)
+            .on("variables", variables)
+            .on("setVariable", set_variable)
+            .on("evaluate", evaluate)
+            .on("exceptionInfo", exception_info)
+            .on("disassemble", disassemble)
+            .on("loadedSources", loaded_sources)
+    })
+}
+
+fn initialize(session: &mut Session, _: InitializeArguments) -> Answer<Capabilities> {
+    session.initialized = true;
+    Ok(capabilities())
+}
+
+fn launch(session: &mut Session, arguments: LaunchArguments) -> Answer<()> {
+    if !session.initialized {
+        return Err("send `initialize` before `launch`".into());
+    }
+    if session.launched.is_some() {
+        return Err("a program is already running; `restart` or `disconnect` first".into());
+    }
+    session.launch(arguments)?;
+    if session.launched_mut()?.debugger.has_history() {
+        session.then_event(
+            "capabilities",
+            CapabilitiesEventBody {
+                capabilities: Capabilities {
+                    supports_step_back: Some(true),
+                    ..Capabilities::default()
+                },
+            },
+        );
+    }
+    session.then_event("initialized", ());
+    Ok(())
+}
+
+fn attach(_: &mut Session, _: IgnoredAny) -> Answer<()> {
+    Err("`attach` is not supported: use `launch`".into())
+}
+
+fn disconnect(session: &mut Session, _: DisconnectArguments) -> Answer<()> {
+    session.then(Then::Exit);
+    Ok(())
+}
+
+fn terminate(session: &mut Session, _: IgnoredAny) -> Answer<()> {
+    if let Some(launched) = &mut session.launched {
+        launched.running = None;
+    }
+    session.then_event("terminated", ());
+    Ok(())
+}
+
+fn restart(session: &mut Session, request: RestartArguments) -> Answer<()> {
+    let launched = session.launched_mut()?;
+    let mut arguments = launched.arguments.clone();
+    if let Some(new) = request.arguments {
+        arguments = serde_json::from_value(new)
+            .map_err(|error| format!("invalid arguments for `restart`: {error}"))?;
+    }
+    session.launched = None;
+    session.launch(arguments)?;
+    let launched = session.launched_mut()?;
+    if launched.stop_on_entry {
+        session.then(Then::Stop(stopped(
+            StopReason::Entry,
+            "Restarted: paused on entry",
+        )));
+    } else {
+        let start = launched.debugger.clock();
+        launched.running = Some(Running {
+            mode: RunMode::Continue,
+            start,
+        });
+    }
+    Ok(())
+}
+
+fn set_breakpoints(
+    session: &mut Session,
+    arguments: SetBreakpointsArguments,
+) -> Answer<BreakpointsBody> {
+    let breakpoints = session.set_breakpoints(arguments)?;
+    Ok(BreakpointsBody { breakpoints })
+}
+
+fn set_function_breakpoints(
+    session: &mut Session,
+    arguments: SetFunctionBreakpointsArguments,
+) -> Answer<BreakpointsBody> {
+    session.requested.functions = arguments.breakpoints;
+    Ok(BreakpointsBody {
+        breakpoints: session.apply_function_breakpoints(),
+    })
+}
+
+fn set_exception_breakpoints(
+    session: &mut Session,
+    arguments: SetExceptionBreakpointsArguments,
+) -> Answer<()> {
+    for filter in &arguments.filters {
+        if !["trap", "overrun", "abend"].contains(&filter.as_str()) {
+            return Err(format!(
+                "unknown exception filter `{filter}` (known: trap, overrun, abend)"
+            )
+            .into());
+        }
+    }
+    session.requested.filters = Some(arguments.filters);
+    session.apply_filters();
+    Ok(())
+}
+
+fn set_instruction_breakpoints(
+    session: &mut Session,
+    arguments: SetInstructionBreakpointsArguments,
+) -> Answer<BreakpointsBody> {
+    session.requested.instructions = arguments.breakpoints;
+    Ok(BreakpointsBody {
+        breakpoints: session.apply_instruction_breakpoints(),
+    })
+}
+
+fn data_breakpoint_info(
+    session: &mut Session,
+    arguments: DataBreakpointInfoArguments,
+) -> Answer<DataBreakpointInfoBody> {
+    let target = &session.launched_mut()?.debugger.target;
+    let in_sensor_scope = matches!(
+        arguments.variables_reference,
+        None | Some(SCOPE_SENSORS) | Some(ALL_SENSORS)
+    );
+    let sensor = if in_sensor_scope {
+        target.sensor_index(arguments.name.trim())
+    } else {
+        None
+    };
+    Ok(match sensor {
+        Some(index) => {
+            let name = target.sensor_name(index).unwrap_or_default();
+            DataBreakpointInfoBody {
+                data_id: Some(format!("sensor:{name}")),
+                description: format!("{name} changes (checked at each cycle boundary)"),
+                access_types: Some(vec!["write".into()]),
+                can_persist: Some(true),
+            }
+        }
+        None => DataBreakpointInfoBody {
+            data_id: None,
+            description: format!(
+                "`{}` is not a sensor: only sensors can be watched",
+                arguments.name
+            ),
+            access_types: None,
+            can_persist: None,
+        },
+    })
+}
+
+fn set_data_breakpoints(
+    session: &mut Session,
+    arguments: SetDataBreakpointsArguments,
+) -> Answer<BreakpointsBody> {
+    session.requested.data = arguments.breakpoints;
+    Ok(BreakpointsBody {
+        breakpoints: session.apply_data_breakpoints(),
+    })
+}
+
+fn breakpoint_locations(
+    session: &mut Session,
+    arguments: BreakpointLocationsArguments,
+) -> Answer<BreakpointLocationsBody> {
+    let info = &session.launched_mut()?.debugger.info;
+    let end = arguments.end_line.unwrap_or(arguments.line);
+    let same = arguments
+        .source
+        .path
+        .as_deref()
+        .is_some_and(|path| info.is_same_source(path));
+    let breakpoints = if same {
+        info.lines_with_code()
+            .map(i64::from)
+            .filter(|line| *line >= arguments.line && *line <= end)
+            .map(|line| BreakpointLocation { line })
+            .collect()
+    } else {
+        Vec::new()
+    };
+    Ok(BreakpointLocationsBody { breakpoints })
+}
+
+fn configuration_done(session: &mut Session, _: IgnoredAny) -> Answer<()> {
+    let launched = session.launched_mut()?;
+    if launched.stop_on_entry {
+        session.then(Then::Stop(stopped(StopReason::Entry, "Paused on entry")));
+        return Ok(());
+    }
+    let first = launched.debugger.check_start();
+    if first.is_none() {
+        let start = launched.debugger.clock();
+        launched.running = Some(Running {
+            mode: RunMode::Continue,
+            start,
+        });
+    }
+    session.then(Then::Outputs);
+    if let Some(stop) = first {
+        session.then(Then::Stop(stop));
+    }
+    Ok(())
+}
+
+fn threads(_: &mut Session, _: IgnoredAny) -> Answer<ThreadsBody> {
+    Ok(ThreadsBody {
+        threads: vec![Thread {
+            id: THREAD_ID,
+            name: "script".into(),
+        }],
+    })
+}
+
+fn continue_(session: &mut Session, arguments: StepArguments) -> Answer<ContinueBody> {
+    resume(session, RunMode::Continue, &arguments)?;
+    Ok(ContinueBody {
+        all_threads_continued: true,
+    })
+}
+
+fn next(session: &mut Session, arguments: StepArguments) -> Answer<()> {
+    resume(session, RunMode::Next, &arguments)
+}
+
+fn step_in(session: &mut Session, arguments: StepArguments) -> Answer<()> {
+    let instruction = arguments.granularity.as_deref() == Some("instruction");
+    resume(session, RunMode::StepIn { instruction }, &arguments)
+}
+
+fn step_out(session: &mut Session, arguments: StepArguments) -> Answer<()> {
+    resume(session, RunMode::StepOut, &arguments)
+}
+
+/// Starts a forward run; `run_slice` carries it out.
+fn resume(session: &mut Session, mode: RunMode, _: &StepArguments) -> Answer<()> {
+    let launched = session.launched_mut()?;
+    if launched.running.is_some() {
+        return Err("the program is already running; `pause` first".into());
+    }
+    let mode = match mode {
+        // In GLOC a statement is an instruction.
+        RunMode::StepIn { .. } if launched.debugger.info.language == Language::Gloc => {
+            RunMode::StepIn { instruction: true }
+        }
+        other => other,
+    };
+    let start = launched.debugger.clock();
+    launched.running = Some(Running { mode, start });
+    Ok(())
+}
+
+fn pause(session: &mut Session, _: IgnoredAny) -> Answer<()> {
+    let launched = session.launched_mut()?;
+    if launched.running.is_some() {
+        launched.debugger.request_pause();
+    } else {
+        session.then(Then::Stop(stopped(StopReason::Pause, "Paused")));
+    }
+    Ok(())
+}
+
+fn step_back(session: &mut Session, _: IgnoredAny) -> Answer<()> {
+    let debugger = paused(session)?;
+    let stop = debugger.step_back()?;
+    session.then(Then::Stop(stop));
+    Ok(())
+}
+
+fn reverse_continue(session: &mut Session, _: IgnoredAny) -> Answer<()> {
+    let debugger = paused(session)?;
+    let stop = debugger.reverse_continue()?;
+    session.then(Then::Stop(stop));
+    Ok(())
+}
+
+/// The debugger of a launched program that is not running.
+fn paused(session: &mut Session) -> Answer<&mut Debugger<World>> {
+    let launched = session.launched_mut()?;
+    if launched.running.is_some() {
+        return Err("the program is running; `pause` first".into());
+    }
+    Ok(&mut launched.debugger)
+}
+
+fn stack_trace(session: &mut Session, arguments: StackTraceArguments) -> Answer<StackTraceBody> {
+    let debugger = &session.launched_mut()?.debugger;
+    // One frame (the script has no calls): `startFrame` past it gives none; `levels`
+    // 0 or absent means all.
+    let stack_frames = match (arguments.start_frame.unwrap_or(0), arguments.levels) {
+        (start, _) if start < 0 => return Err(format!("`startFrame` {start} is negative").into()),
+        (0, None) => vec![stack_frame(debugger)],
+        (0, Some(levels)) if levels >= 0 => vec![stack_frame(debugger)],
+        (_, Some(levels)) if levels < 0 => {
+            return Err(format!("`levels` {levels} is negative").into())
+        }
+        _ => Vec::new(),
+    };
+    Ok(StackTraceBody {
+        stack_frames,
+        total_frames: 1,
+    })
+}
+
+fn scopes(session: &mut Session, _: ScopesArguments) -> Answer<ScopesBody> {
+    let target = &session.launched_mut()?.debugger.target;
+    Ok(ScopesBody {
+        scopes: vec![
+            scope(
+                "Variables",
+                Some("locals"),
+                SCOPE_VARIABLES,
+                target.variables().len(),
+            ),
+            scope(
+                "Registers",
+                Some("registers"),
+                SCOPE_REGISTERS,
+                target.registers().len(),
+            ),
+            scope(
+                "Sensors",
+                None,
+                SCOPE_SENSORS,
+                target.touched_sensors().len() + 1,
+            ),
+            scope("Vehicle", None, SCOPE_VEHICLE, target.vehicle().len()),
+        ],
+    })
+}
+
+fn variables(session: &mut Session, arguments: VariablesArguments) -> Answer<VariablesBody> {
+    let debugger = &session.launched_mut()?.debugger;
+    Ok(VariablesBody {
+        variables: variable_list(debugger, &arguments)?,
+    })
+}
+
+fn set_variable(session: &mut Session, arguments: SetVariableArguments) -> Answer<SetVariableBody> {
+    let debugger = &mut session.launched_mut()?.debugger;
+    Ok(SetVariableBody {
+        value: set_value(debugger, &arguments)?,
+    })
+}
+
+fn evaluate(session: &mut Session, arguments: EvaluateArguments) -> Answer<EvaluateBody> {
+    let value = session
+        .launched_mut()?
+        .debugger
+        .evaluate(&arguments.expression)?;
+    Ok(EvaluateBody {
+        result: value.to_string(),
+        ty: value.type_name().into(),
+        variables_reference: 0,
+    })
+}
+
+fn exception_info(session: &mut Session, _: IgnoredAny) -> Answer<ExceptionInfoBody> {
+    let Some(trap) = session.launched_mut()?.debugger.trap.clone() else {
+        return Err("the program is not stopped on an exception".into());
+    };
+    Ok(ExceptionInfoBody {
+        exception_id: "trap".into(),
+        description: trap,
+        break_mode: "always".into(),
+    })
+}
+
+fn disassemble(session: &mut Session, arguments: DisassembleArguments) -> Answer<DisassembleBody> {
+    let debugger = &session.launched_mut()?.debugger;
+    Ok(DisassembleBody {
+        instructions: instructions(debugger, &arguments)?,
+    })
+}
+
+fn loaded_sources(session: &mut Session, _: IgnoredAny) -> Answer<LoadedSourcesBody> {
+    let debugger = &session.launched_mut()?.debugger;
+    Ok(LoadedSourcesBody {
+        sources: vec![source_of(debugger)],
+    })
+}
+
+/// A stop the adapter decides itself (not the debugger's run).
+fn stopped(reason: StopReason, description: &str) -> Stop {
+    Stop {
+        reason,
+        description: description.into(),
+        text: None,
+        hit_breakpoint_ids: Vec::new(),
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Views of the debugger's state
+
+fn stack_frame(debugger: &Debugger<World>) -> StackFrame {
+    let target = &debugger.target;
+    let pc = debugger.shown_pc();
+    let instruction = debugger
+        .info
+        .instruction_text
+        .get(pc)
+        .cloned()
+        .unwrap_or_default();
+    let line = debugger.current_line().unwrap_or(1);
+    let phase = match target.phase() {
+        Phase::Boundary => "boundary",
+        Phase::InScript => "script",
+        Phase::ScriptDone => "after yield",
+        Phase::Ended => "ended",
+    };
+    StackFrame {
+        id: FRAME_ID,
+        name: format!(
+            "cycle {} ({phase}) · {pc}: {instruction}",
+            debugger.clock().cycle
+        ),
+        source: Some(source_of(debugger)),
+        line: i64::from(line),
+        column: 1,
+        instruction_pointer_reference: Some(address(pc)),
+    }
+}
+
+fn scope(name: &str, hint: Option<&str>, reference: i64, count: usize) -> Scope {
+    Scope {
+        name: name.into(),
+        presentation_hint: hint.map(str::to_string),
+        variables_reference: reference,
+        named_variables: Some(count as i64),
+        expensive: false,
+    }
+}
+
+fn plain(named: Named) -> Variable {
+    Variable {
+        evaluate_name: Some(named.name.clone()),
+        name: named.name,
+        value: named.value,
+        ty: Some(named.ty.into()),
+        variables_reference: 0,
+        named_variables: None,
+        indexed_variables: None,
+    }
+}
+
+fn sensor_variable(target: &World, index: usize) -> Variable {
+    let name = target.sensor_name(index).unwrap_or("?").to_string();
+    Variable {
+        evaluate_name: Some(name.clone()),
+        name,
+        value: format!("{:?}", target.sensor(index)),
+        ty: Some(format!("sensor {index}")),
+        variables_reference: 0,
+        named_variables: None,
+        indexed_variables: None,
+    }
+}
+
+fn variable_list(
+    debugger: &Debugger<World>,
+    arguments: &VariablesArguments,
+) -> Result<Vec<Variable>, String> {
+    let target = &debugger.target;
+    let all: Vec<Variable> = match arguments.variables_reference {
+        SCOPE_VARIABLES => target
+            .variables()
+            .into_iter()
+            .enumerate()
+            .map(|(position, named)| {
+                let length = named.length;
+                let mut variable = plain(named);
+                if let Some(length) = length {
+                    variable.variables_reference = ARRAYS + position as i64;
+                    variable.indexed_variables = Some(length as i64);
+                }
+                variable
+            })
+            .collect(),
+        reference if reference >= ARRAYS => {
+            let position = usize::try_from(reference - ARRAYS).unwrap_or(usize::MAX);
+            let array = target
+                .variables()
+                .into_iter()
+                .nth(position)
+                .filter(|named| named.length.is_some())
+                .ok_or_else(|| format!("unknown variablesReference {reference}"))?;
+            let length = array.length.unwrap_or(0);
+            let start = usize::try_from(arguments.start.unwrap_or(0))
+                .unwrap_or(0)
+                .min(length);
+            let count = match arguments.count {
+                Some(count) if count > 0 => usize::try_from(count).unwrap_or(usize::MAX),
+                _ => length,
+            };
+            let element_type = if array.ty.starts_with("float") {
+                "float"
+            } else {
+                "integer"
+            };
+            return Ok((start..start.saturating_add(count).min(length))
+                .map(|index| {
+                    let value = target.element(&array.name, index as i64);
+                    // Named `[10]`, which clients such as nvim-dap sort numerically; the
+                    // GBASIC expression `a(10)` is the evaluateName.
+                    Variable {
+                        evaluate_name: Some(format!("{}({index})", array.name)),
+                        name: format!("[{index}]"),
+                        value: value.map(|value| value.to_string()).unwrap_or_default(),
+                        ty: Some(element_type.into()),
+                        variables_reference: 0,
+                        named_variables: None,
+                        indexed_variables: None,
+                    }
+                })
+                .collect());
+        }
+        SCOPE_REGISTERS => target
+            .registers()
+            .into_iter()
+            .enumerate()
+            .map(|(index, value)| Variable {
+                name: format!("r{index}"),
+                value: value.to_string(),
+                ty: Some(value.type_name().into()),
+                variables_reference: 0,
+                named_variables: None,
+                indexed_variables: None,
+                evaluate_name: Some(format!("r{index}")),
+            })
+            .collect(),
+        SCOPE_SENSORS => {
+            let mut list: Vec<Variable> = target
+                .touched_sensors()
+                .into_iter()
+                .map(|index| sensor_variable(target, index))
+                .collect();
+            list.push(Variable {
+                name: "All sensors".into(),
+                value: format!("{} sensors", target.sensor_count()),
+                ty: None,
+                variables_reference: ALL_SENSORS,
+                // Indexed, so clients fetch it lazily in pages (VS Code: 100 at a time).
+                named_variables: None,
+                indexed_variables: Some(target.sensor_count() as i64),
+                evaluate_name: None,
+            });
+            list
+        }
+        SCOPE_VEHICLE => target.vehicle().into_iter().map(plain).collect(),
+        ALL_SENSORS if arguments.filter.as_deref() == Some("named") => return Ok(Vec::new()),
+        ALL_SENSORS => {
+            let start = usize::try_from(arguments.start.unwrap_or(0)).unwrap_or(0);
+            let count = match arguments.count {
+                Some(count) if count > 0 => usize::try_from(count).unwrap_or(usize::MAX),
+                _ => target.sensor_count(),
+            };
+            let end = start.saturating_add(count).min(target.sensor_count());
+            return Ok((start.min(end)..end)
+                .map(|index| sensor_variable(target, index))
+                .collect());
+        }
+        other => return Err(format!("unknown variablesReference {other}")),
+    };
+    let start = usize::try_from(arguments.start.unwrap_or(0))
+        .unwrap_or(0)
+        .min(all.len());
+    let count = match arguments.count {
+        Some(count) if count > 0 => usize::try_from(count).unwrap_or(usize::MAX),
+        _ => all.len(),
+    };
+    Ok(all.into_iter().skip(start).take(count).collect())
+}
+
+fn set_value(
+    debugger: &mut Debugger<World>,
+    arguments: &SetVariableArguments,
+) -> Result<String, String> {
+    let value = match Number::parse(&arguments.value) {
+        Some(value) => value,
+        None => debugger
+            .evaluate(&arguments.value)
+            .map_err(|message| format!("`{}` is not a value: {message}", arguments.value))?,
+    };
+    match arguments.variables_reference {
+        SCOPE_VARIABLES => {
+            debugger.edit(Edit::Variable(arguments.name.clone(), value))?;
+            debugger
+                .target
+                .variable(&arguments.name)
+                .map(|value| value.to_string())
+                .ok_or_else(|| format!("no variable `{}`", arguments.name))
+        }
+        SCOPE_REGISTERS => {
+            let index = arguments
+                .name
+                .strip_prefix('r')
+                .and_then(|digits| digits.parse::<usize>().ok())
+                .ok_or_else(|| format!("`{}` is not a register", arguments.name))?;
+            debugger.edit(Edit::Register(index, value))?;
+            debugger
+                .target
+                .registers()
+                .get(index)
+                .map(|value| value.to_string())
+                .ok_or_else(|| format!("no register `{}`", arguments.name))
+        }
+        SCOPE_SENSORS | ALL_SENSORS => {
+            let index = debugger
+                .target
+                .sensor_index(&arguments.name)
+                .ok_or_else(|| format!("`{}` is not a sensor", arguments.name))?;
+            debugger.edit(Edit::Sensor(index, value.as_f64()))?;
+            Ok(format!("{:?}", debugger.target.sensor(index)))
+        }
+        SCOPE_VEHICLE => Err("the Vehicle scope is read-only; set a sensor instead".into()),
+        reference if reference >= ARRAYS => {
+            // The element's name in the array's children (`[3]`), or its expression (`a(3)`).
+            let position = usize::try_from(reference - ARRAYS).unwrap_or(usize::MAX);
+            let array = debugger
+                .target
+                .variables()
+                .into_iter()
+                .nth(position)
+                .filter(|named| named.length.is_some())
+                .map(|named| named.name)
+                .ok_or_else(|| format!("unknown variablesReference {reference}"))?;
+            let element = arguments
+                .name
+                .strip_prefix('[')
+                .and_then(|rest| rest.strip_suffix(']'))
+                .map(|index| (array.clone(), index))
+                .or_else(|| {
+                    let (name, index) = arguments.name.strip_suffix(')')?.split_once('(')?;
+                    Some((name.to_string(), index))
+                });
+            let (name, index) = element
+                .and_then(|(name, index)| Some((name, index.trim().parse::<i64>().ok()?)))
+                .ok_or_else(|| {
+                    format!(
+                        "`{}` is not an array element like `[3]` or `{array}(3)`",
+                        arguments.name
+                    )
+                })?;
+            debugger.edit(Edit::Element(name.clone(), index, value))?;
+            debugger
+                .target
+                .element(&name, index)
+                .map(|value| value.to_string())
+                .ok_or_else(|| format!("no element `{}`", arguments.name))
+        }
+        other => Err(format!("unknown variablesReference {other}")),
+    }
+}
+
+fn instructions(
+    debugger: &Debugger<World>,
+    arguments: &DisassembleArguments,
+) -> Result<Vec<DisassembledInstruction>, String> {
+    let base = parse_address(&arguments.memory_reference).ok_or_else(|| {
+        format!(
+            "`{}` is not an instruction address",
+            arguments.memory_reference
+        )
+    })?;
+    let first = base
+        .saturating_add(arguments.offset.unwrap_or(0))
+        .saturating_add(arguments.instruction_offset.unwrap_or(0));
+    let count = arguments.instruction_count;
+    if !(0..=MAX_DISASSEMBLE).contains(&count) {
+        return Err(format!(
+            "`instructionCount` {count} is outside 0 to {MAX_DISASSEMBLE}"
+        ));
+    }
+    let source = source_of(debugger);
+    let mut out = Vec::with_capacity(count as usize);
+    let mut last_line = None;
+    // Exactly `count` entries, as the spec requires: addresses that hold no code
+    // (before 0, past the end, past i64) are "invalid" entries.
+    for step in 0..count {
+        let Some(pc) = first.checked_add(step) else {
+            out.push(DisassembledInstruction {
+                address: format!("0x{:x}", (first as i128) + i128::from(step)),
+                instruction: String::new(),
+                symbol: None,
+                location: None,
+                line: None,
+                presentation_hint: Some("invalid".into()),
+            });
+            continue;
+        };
+        let valid = usize::try_from(pc)
+            .ok()
+            .filter(|pc| *pc < debugger.info.instruction_count());
+        match valid {
+            Some(pc) => {
+                let line = debugger.info.line(pc);
+                let new_line = line != last_line;
+                last_line = line;
+                out.push(DisassembledInstruction {
+                    address: address(pc),
+                    instruction: debugger.info.instruction_text[pc].clone(),
+                    symbol: None,
+                    location: if new_line { Some(source.clone()) } else { None },
+                    line: line.map(i64::from),
+                    presentation_hint: None,
+                });
+            }
+            None => out.push(DisassembledInstruction {
+                address: if pc < 0 {
+                    format!("-0x{:x}", pc.unsigned_abs())
+                } else {
+                    format!("0x{pc:x}")
+                },
+                instruction: String::new(),
+                symbol: None,
+                location: None,
+                line: None,
+                presentation_hint: Some("invalid".into()),
+            }),
+        }
+    }
+    Ok(out)
+}

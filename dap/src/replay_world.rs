@@ -8,7 +8,7 @@
 use std::sync::Arc;
 
 use gloc_engine::sensors::{SensorId, SensorList};
-use gloc_engine::vm::{CycleEnd, Host, Machine, MachineConfig, Status, DEFAULT_CYCLE_BUDGET};
+use gloc_engine::vm::{CycleEnd, Host, Machine, MachineConfig, Status};
 use gloc_replay::{Input, Recording};
 
 use crate::expr::Number;
@@ -70,9 +70,10 @@ impl ReplayWorld {
     /// opens its first cycle.
     pub(crate) fn launch(
         config: &LaunchConfig,
+        settings: &gloc_project::Settings,
         script: DebugScript,
     ) -> Result<ReplayWorld, String> {
-        let input = Input::open(&config.replay, config.sensor_cache.as_deref())
+        let input = Input::open(&config.replay, settings.sensor_cache.as_deref())
             .map_err(|error| error.to_string())?;
         let recording =
             Recording::read(input, &script.sensor_list).map_err(|error| error.to_string())?;
@@ -98,7 +99,7 @@ impl ReplayWorld {
         let machine = Machine::new(
             script.program.clone(),
             MachineConfig {
-                cycle_budget: config.cycle_budget.unwrap_or(DEFAULT_CYCLE_BUDGET),
+                cycle_budget: settings.cycle_budget.value.get(),
             },
         );
         let mut world = ReplayWorld {

@@ -48,7 +48,7 @@ pub struct ConvertArgs {
     /// The output: `.csv` or `.dba`. Never one of the inputs.
     #[arg(short = 'o', long = "output", value_name = "OUT")]
     pub output: PathBuf,
-    /// Only these sensors, comma-separated, in this order.
+    /// Only these sensors, comma-separated, in this order (default: every sensor).
     #[arg(long, value_name = "NAMES")]
     pub sensors: Option<String>,
 }

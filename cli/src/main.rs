@@ -106,14 +106,14 @@ pub struct RunArgs {
     pub script: Option<PathBuf>,
     /// Replay recorded sensor values instead of simulating: one CSV file (a header of
     /// sensor names, one row per cycle) or glider logs (.dbd .ebd .sbd .tbd …, .dcd …,
-    /// .dba; several files are a deployment, flight and science logs merged).
+    /// .dba; several files are a deployment, flight and science logs merged); default: simulate.
     #[arg(long, value_name = "FILES", num_args = 1..)]
     pub replay: Vec<PathBuf>,
     /// With --replay of glider logs: the folder searched first for their sensor lists
     /// (`<crc>.cac` / `.ccc`); default: `sensor_cache` in gloc.toml.
     #[arg(long, value_name = "DIR")]
     pub sensor_cache: Option<PathBuf>,
-    /// With --replay: write the sensors the script stored, one row per cycle.
+    /// With --replay: write the sensors the script stored, one row per cycle (default: none).
     #[arg(long, value_name = "OUT.csv")]
     pub out: Option<PathBuf>,
     #[command(flatten)]
@@ -132,7 +132,7 @@ pub struct RunArgs {
     #[arg(long)]
     pub seed: Option<u64>,
     /// Log file: `.csv`, Slocum ASCII (`.dba`), or Slocum binary (`.dbd`, plus `.ebd` for the
-    /// `sci_` sensors, each with its `<crc>.cac` beside it).
+    /// `sci_` sensors, each with its `<crc>.cac` beside it); default: no log.
     #[arg(long, value_name = "FILE")]
     pub log: Option<PathBuf>,
     /// Sensors to log, comma-separated (default: what a pilot looks at, plus the sensors the script stores).
@@ -146,12 +146,13 @@ pub struct RunArgs {
     /// `[simulator]` in gloc.toml. The names and ranges are in docs/simulator.md.
     #[arg(long = "sim", value_name = "NAME=VALUE", value_parser = gloc_project::settings::parse_simulator_setting)]
     pub simulator: Vec<(String, f64)>,
-    /// Write the flight profile: SVG or PNG by the extension.
+    /// Write the flight profile: SVG or PNG by the extension (default: no plot).
     #[arg(long, value_name = "FILE.svg|FILE.png")]
     pub plot: Option<PathBuf>,
     /// Extra plot panels, comma-separated: `temperature` (the track coloured by
     /// the water temperature), `battery` (a voltage panel), or a sensor's name
-    /// (its own panel, e.g. `sci_ruhp_climb_depth`).
+    /// (its own panel, e.g. `sci_ruhp_climb_depth`); default: none (the depth track and
+    /// the store events only).
     #[arg(long, value_name = "PANELS", value_delimiter = ',')]
     pub plot_panels: Vec<String>,
     /// How the summary is printed on stderr at the end: `text` (default) or `json` (one line,
@@ -313,4 +314,101 @@ fn gloc_dap_main(args: DapArgs) -> anyhow::Result<ExitCode> {
         .with_context(|| format!("debug adapter on 127.0.0.1:{port}"))?,
     }
     Ok(ExitCode::SUCCESS)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::CommandFactory;
+
+    /// Every subcommand, nested ones too, with its path (`gloc data info`).
+    fn all(command: &clap::Command, path: String, out: &mut Vec<(String, clap::Command)>) {
+        out.push((path.clone(), command.clone()));
+        for sub in command.get_subcommands() {
+            all(sub, format!("{path} {}", sub.get_name()), out);
+        }
+    }
+
+    #[test]
+    fn every_flag_of_every_subcommand_has_a_description() {
+        let mut commands = Vec::new();
+        all(&Cli::command(), "gloc".into(), &mut commands);
+        let mut missing = Vec::new();
+        for (path, command) in &commands {
+            for argument in command.get_arguments() {
+                let name = argument.get_id().as_str();
+                if matches!(name, "help" | "version") {
+                    continue;
+                }
+                if argument.get_help().is_none() && argument.get_long_help().is_none() {
+                    missing.push(format!("{path} {name}"));
+                }
+            }
+        }
+        assert!(missing.is_empty(), "without a description: {missing:?}");
+    }
+
+    #[test]
+    fn help_shows_every_default() {
+        // The defaults, from the code that applies them: the budget (CycleBudget),
+        // the seed (SimConfig), the run's length (DEFAULT_LIMIT_SECONDS = 24 h).
+        assert_eq!(gloc_project::CycleBudget::DEFAULT.get(), 10_000);
+        assert_eq!(gloc_sim::SimConfig::default().seed, 1);
+        assert_eq!(simulate::DEFAULT_LIMIT_SECONDS, 24.0 * 3600.0);
+        let mut root = Cli::command();
+        let help = |root: &mut clap::Command, name: &str| {
+            root.find_subcommand_mut(name)
+                .map(|command| command.render_long_help().to_string())
+                .unwrap_or_default()
+        };
+        let run = help(&mut root, "run");
+        for default in [
+            "else 10,000",
+            "default 1",
+            "at most 24 h",
+            "the embedded 2008 list",
+        ] {
+            assert!(
+                run.contains(default),
+                "run --help lacks `{default}`:\n{run}"
+            );
+        }
+        let check = help(&mut root, "check");
+        assert!(check.contains("else 10,000"), "{check}");
+        let compile = help(&mut root, "compile");
+        assert!(compile.contains("the embedded 2008 list"), "{compile}");
+        // Every option that takes a value and has no clap default says its default.
+        let mut commands = Vec::new();
+        all(&Cli::command(), "gloc".into(), &mut commands);
+        let mut silent = Vec::new();
+        for (path, command) in &commands {
+            for argument in command.get_arguments() {
+                let takes_value = argument.get_action().takes_values();
+                let optional = !argument.is_required_set() && !argument.is_positional();
+                let help = format!(
+                    "{}{}",
+                    argument
+                        .get_help()
+                        .map(ToString::to_string)
+                        .unwrap_or_default(),
+                    argument
+                        .get_long_help()
+                        .map(ToString::to_string)
+                        .unwrap_or_default()
+                )
+                .to_lowercase();
+                // A repeatable flag given no times is simply not applied.
+                let said = help.contains("default")
+                    || !argument.get_default_values().is_empty()
+                    || help.contains("repeatable");
+                if takes_value && optional && !said {
+                    silent.push(format!("{path} --{}", argument.get_id()));
+                }
+            }
+        }
+        assert!(
+            silent.is_empty(),
+            "options that do not say their default: {silent:?}"
+        );
+    }
 }

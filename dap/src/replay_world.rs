@@ -80,10 +80,17 @@ impl ReplayWorld {
         if recording.is_empty() {
             return Err(format!("{} has no recorded cycles", recording.source));
         }
-        let mut notices: Vec<Notice> = recording
+        let mut notices: Vec<Notice> = script
             .warnings
             .iter()
-            .map(|warning| Notice::Warning(format!("{}: {warning}", recording.source)))
+            .cloned()
+            .map(Notice::Warning)
+            .chain(
+                recording
+                    .warnings
+                    .iter()
+                    .map(|warning| Notice::Warning(format!("{}: {warning}", recording.source))),
+            )
             .collect();
         notices.push(Notice::Warning(format!(
             "replaying {} recorded cycles of {}",

@@ -107,6 +107,9 @@ pub(crate) struct DebugScript {
     /// The sensors the script loads or stores, in first-use order.
     pub touched: Vec<usize>,
     pub sensor_list: Arc<SensorList>,
+    /// The script's warnings (W2302 over the budget, …), one line each, shown at
+    /// launch as `gloc check` shows them.
+    pub warnings: Vec<String>,
 }
 
 /// Loads the script and the sensor list, then the mission and the profile (or the
@@ -140,10 +143,10 @@ fn load_debug_script(config: &LaunchConfig, settings: &Settings) -> Result<Debug
         .map_err(|error| error.to_string())?;
     let gloc_project::script::Script { text, loaded, .. } = script;
     let Some(program) = loaded.program.clone() else {
+        // Every diagnostic, warnings too, as `gloc check` lists them.
         let errors: Vec<String> = loaded
             .diagnostics
             .iter()
-            .filter(|diagnostic| diagnostic.is_error())
             .map(|diagnostic| render(path, &text, diagnostic))
             .collect();
         return Err(format!(
@@ -172,6 +175,12 @@ fn load_debug_script(config: &LaunchConfig, settings: &Settings) -> Result<Debug
                 .collect()
         })
         .unwrap_or_default();
+    let warnings = loaded
+        .diagnostics
+        .iter()
+        .filter(|diagnostic| !diagnostic.is_error())
+        .map(|diagnostic| render(path, &text, diagnostic))
+        .collect();
     Ok(DebugScript {
         path: path.clone(),
         text,
@@ -180,6 +189,7 @@ fn load_debug_script(config: &LaunchConfig, settings: &Settings) -> Result<Debug
         variables,
         touched,
         sensor_list: Arc::new(sensor_list),
+        warnings,
     })
 }
 
@@ -247,6 +257,7 @@ fn launch_sim(
         variables,
         touched,
         sensor_list,
+        warnings,
     } = script;
     let mission =
         gloc_project::simulation::load_mission(settings).map_err(|error| error.to_string())?;
@@ -276,10 +287,10 @@ fn launch_sim(
         &sim_config,
     )
     .map_err(|error| error.to_string())?;
-    let mut notices: Vec<Notice> = sim
-        .warnings()
-        .iter()
-        .map(|warning| Notice::Warning(warning.clone()))
+    let mut notices: Vec<Notice> = warnings
+        .into_iter()
+        .chain(sim.warnings().iter().cloned())
+        .map(Notice::Warning)
         .collect();
     // The mission against the list and the script: S0106 and S0107.
     for entry in mission.check_sensor_settings(&sensor_list) {

@@ -15,7 +15,7 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use gloc_engine::config::{Config, ConfigError};
 use gloc_engine::sensors::{SensorList, SensorOrder};
 use gloc_engine::Diagnostic;
-use gloc_project::settings::{Settings as ProjectSettings, Sourced};
+use gloc_project::settings::{config_path_for, read_config, Settings as ProjectSettings, Sourced};
 use gloc_project::{Overrides, Surface};
 use serde_json::Value;
 use tower_lsp_server::jsonrpc::{Error, Result};
@@ -120,7 +120,7 @@ impl State {
     /// The `gloc.toml` that applies to a document, preferring the editor's
     /// unsaved text when the file is open.
     fn config_for(&self, path: Option<&Path>) -> std::result::Result<Config, ConfigError> {
-        let Some(config_path) = path.and_then(Config::find) else {
+        let Some(config_path) = path.and_then(config_path_for) else {
             return Ok(Config::default());
         };
         let open_text = self.documents.values().find_map(|open| {
@@ -128,22 +128,7 @@ impl State {
                 && open.document.path().as_deref() == Some(config_path.as_path()))
             .then(|| open.document.text().to_string())
         });
-        match open_text {
-            Some(text) => {
-                let folder = config_path.parent().unwrap_or(Path::new("."));
-                Config::parse(&text, folder)
-                    .map(|mut config| {
-                        config.path = Some(config_path.clone());
-                        config
-                    })
-                    .map_err(|diagnostic| ConfigError {
-                        path: config_path.clone(),
-                        text: Some(text),
-                        diagnostic,
-                    })
-            }
-            None => Config::load(&config_path),
-        }
+        read_config(&config_path, open_text)
     }
 
     fn sensor_list(
@@ -290,7 +275,7 @@ impl State {
             .values()
             .filter_map(|open| match open.document.language {
                 Language::Config => open.document.path(),
-                _ => open.document.path().as_deref().and_then(Config::find),
+                _ => open.document.path().as_deref().and_then(config_path_for),
             })
             .collect();
         config_paths.sort();

@@ -347,6 +347,32 @@ impl Settings {
     }
 }
 
+/// The `gloc.toml` that applies to a script: the nearest in its folder or above.
+pub fn config_path_for(script: &Path) -> Option<PathBuf> {
+    Config::find(script)
+}
+
+/// Reads the `gloc.toml` at `path`; `unsaved` is an editor's text of it when open
+/// (it wins over the file on disk). Errors keep the text, for positions.
+pub fn read_config(path: &Path, unsaved: Option<String>) -> Result<Config, ConfigError> {
+    match unsaved {
+        None => Config::load(path),
+        Some(text) => {
+            let folder = path.parent().unwrap_or(Path::new("."));
+            Config::parse(&text, folder)
+                .map(|mut config| {
+                    config.path = Some(path.to_path_buf());
+                    config
+                })
+                .map_err(|diagnostic| ConfigError {
+                    path: path.to_path_buf(),
+                    text: Some(text),
+                    diagnostic,
+                })
+        }
+    }
+}
+
 /// A `gloc.toml` that cannot be used, as a project error at its line and column.
 pub fn config_error(error: ConfigError) -> ProjectError {
     let kind = if error.diagnostic.code == CODE_UNREADABLE_CONFIG {

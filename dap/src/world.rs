@@ -141,7 +141,9 @@ fn load_debug_script(config: &LaunchConfig, settings: &Settings) -> Result<Debug
     // The debugger runs the unoptimized code, so that every line has its instructions.
     let script = gloc_project::script::load_script(path, &sensor_list, settings, false)
         .map_err(|error| error.to_string())?;
-    let gloc_project::script::Script { text, loaded, .. } = script;
+    let gloc_project::script::Script {
+        text, loaded, hint, ..
+    } = script;
     let Some(program) = loaded.program.clone() else {
         // Every diagnostic, warnings too, as `gloc check` lists them.
         let errors: Vec<String> = loaded
@@ -149,8 +151,11 @@ fn load_debug_script(config: &LaunchConfig, settings: &Settings) -> Result<Debug
             .iter()
             .map(|diagnostic| render(path, &text, diagnostic))
             .collect();
+        let note = hint
+            .map(|hint| format!("\n{}: note: {hint}", path.display()))
+            .unwrap_or_default();
         return Err(format!(
-            "{} has errors:\n{}",
+            "{} has errors:\n{}{note}",
             path.display(),
             errors.join("\n")
         ));

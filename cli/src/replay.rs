@@ -89,6 +89,15 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
             }],
         )?;
     }
+    // A recording that is not there is an input that cannot be read (exit code 3).
+    for path in &args.replay {
+        if let Err(error) = std::fs::metadata(path) {
+            return Err(anyhow::Error::new(crate::exit::Unreadable(format!(
+                "cannot read the recording `{}`: {error}",
+                path.display()
+            ))));
+        }
+    }
     let input = Input::open(&args.replay, settings.sensor_cache.as_deref())?;
     replay(&script, &sensors, input, args.out.as_ref(), config)
 }

@@ -505,7 +505,11 @@ fn a_full_disk_leaves_the_old_file_and_still_gives_the_summary() {
     let compile = run(gloc().arg("compile").arg(&source).arg("-o").arg(&gloc_out));
     assert_eq!(std::fs::read_to_string(&gloc_out).expect("read"), "old\n");
     assert_refused(&compile, "the disk is full");
-    assert_eq!(compile.status.code(), Some(4), "an output cannot be written");
+    assert_eq!(
+        compile.status.code(),
+        Some(4),
+        "an output cannot be written"
+    );
 
     let log = disk.0.join("log.csv");
     std::fs::write(&log, "old\n").expect("write");

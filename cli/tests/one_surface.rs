@@ -49,6 +49,10 @@ fn a_missing_input_is_exit_code_3_in_every_subcommand() {
             all(&output)
         );
     }
+    std::fs::write(here.join("good.gbas"), SCRIPT).expect("write");
+    let output = gloc_in(&here, &["run", "good.gbas", "--replay", "nosuch.csv"]);
+    assert_eq!(output.status.code(), Some(3), "{}", all(&output));
+    assert!(all(&output).contains("cannot read the recording `nosuch.csv`"));
     // A bad argument is 2, a script with errors 1, in every subcommand alike.
     std::fs::write(here.join("bad.gbas"), "dim x as integer\nx = \n").expect("write");
     for args in [

@@ -12,6 +12,7 @@ mod check;
 mod compile;
 mod data;
 mod exit;
+mod explain;
 mod output;
 mod reindex;
 pub mod render;
@@ -53,6 +54,8 @@ enum Command {
     Data(data::DataCommand),
     /// Fit the simulator's constants from a glider's own logs; writes a [simulator] table.
     Calibrate(calibrate::CalibrateArgs),
+    /// Explain a diagnostic code (`gloc explain E0101`), or list them all.
+    Explain(explain::ExplainArgs),
 }
 
 #[derive(Args, Debug)]
@@ -281,6 +284,7 @@ fn main() -> ExitCode {
         Command::Dap(args) => gloc_dap_main(args),
         Command::Data(command) => data::main(command),
         Command::Calibrate(args) => calibrate::main(args),
+        Command::Explain(args) => explain::main(args),
     };
     match result {
         Ok(code) => code,

@@ -295,3 +295,41 @@ fn readme_replay_example_on_the_shipped_depths() {
     assert_eq!(rows, ["cycle,sci_ruhp_behs", "8,128", "18,0"]);
     assert_eq!(stored.lines().count(), 1 + 21, "one row per replayed cycle");
 }
+
+#[test]
+fn explain_prints_a_code_from_the_registry_in_any_case() {
+    // The meaning is docs/diagnostics.md's row for E0104, written there by hand.
+    let output = gloc(&["explain", "e0104"]);
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    assert_eq!(
+        stdout(&output),
+        "E0104 error (GLOC): jump or branch to a label that is never defined\n"
+    );
+    let output = gloc(&["explain", "S0107"]);
+    assert!(
+        stdout(&output).starts_with("S0107 warning (missions): the script stores `sci_ruhp_behs`"),
+        "{}",
+        stdout(&output)
+    );
+}
+
+#[test]
+fn explain_refuses_an_unknown_code_and_lists_all_without_one() {
+    let output = gloc(&["explain", "E4242"]);
+    assert_ne!(output.status.code(), Some(0));
+    assert!(
+        stderr(&output).contains("`E4242` is not a gloc diagnostic code"),
+        "{}",
+        stderr(&output)
+    );
+    let output = gloc(&["explain"]);
+    assert_eq!(output.status.code(), Some(0));
+    let listed = stdout(&output);
+    // One line per registered code: E0001 first, the GLOC parse errors before the checks.
+    assert!(
+        listed.starts_with("E0001 error (GLOC): unknown instruction"),
+        "{listed}"
+    );
+    assert!(listed.lines().count() >= 90, "{listed}");
+    assert!(listed.contains("\nW2302 warning (GBASIC): "), "{listed}");
+}

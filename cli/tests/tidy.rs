@@ -102,3 +102,60 @@ fn every_crate_takes_the_workspace_lints() {
         );
     }
 }
+
+/// The code literals (`"E0101"`, `"W2302"`, `"S0107"`) in the non-test part of a file
+/// (before its first `#[cfg(test)]`), with their line numbers.
+fn code_literals(text: &str) -> Vec<(usize, String)> {
+    let code_part = text.split("#[cfg(test)]").next().unwrap_or("");
+    let mut found = Vec::new();
+    for (number, line) in code_part.lines().enumerate() {
+        let bytes = line.as_bytes();
+        for start in 0..bytes.len().saturating_sub(6) {
+            let candidate = &bytes[start..start + 7];
+            if candidate[0] == b'"'
+                && candidate[6] == b'"'
+                && matches!(candidate[1], b'E' | b'W' | b'S')
+                && candidate[2..6].iter().all(u8::is_ascii_digit)
+            {
+                found.push((number + 1, line[start + 1..start + 6].to_string()));
+            }
+        }
+    }
+    found
+}
+
+#[test]
+fn every_diagnostic_code_in_the_sources_is_registered() {
+    let root = workspace_root();
+    let mut files = Vec::new();
+    for member in members(&root) {
+        rust_files(&root.join(member).join("src"), &mut files);
+    }
+    let mut unregistered = Vec::new();
+    let mut seen = 0;
+    for path in &files {
+        let text = std::fs::read_to_string(path).unwrap_or_default();
+        for (line, code) in code_literals(&text) {
+            seen += 1;
+            if gloc_engine::codes::lookup(&code).is_none() {
+                let shown = path
+                    .strip_prefix(&root)
+                    .unwrap_or(path)
+                    .display()
+                    .to_string();
+                unregistered.push(format!("{shown}:{line}: {code}"));
+            }
+        }
+    }
+    assert!(
+        unregistered.is_empty(),
+        "codes used but not in gloc_engine::codes (register them there, with a one-line doc, \
+         and in docs/diagnostics.md):\n  {}",
+        unregistered.join("\n  ")
+    );
+    // The registry's own table is the one place codes are written as literals.
+    assert!(
+        seen >= 90,
+        "only {seen} code literals found: is the registry still scanned?"
+    );
+}

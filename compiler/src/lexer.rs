@@ -29,6 +29,10 @@ pub enum TokenKind {
     Gt,
     Ge,
     Newline,
+    /// A comment, to the end of its line (without the line end): from a `'` outside
+    /// a string, or from `rem` as the first word of a line (where a statement
+    /// starts). The parser skips these.
+    Comment,
     /// A character that starts no token.
     Unknown,
     Eof,
@@ -40,9 +44,8 @@ pub struct Token {
     pub span: Span,
 }
 
-/// Splits `text` into tokens. Comments (`'` and `rem` as a statement) are dropped here
-/// for `'`; `rem` is left to the parser because it is only a comment in statement
-/// position.
+/// Splits `text` into tokens. A `'` outside a string, and `rem` as a line's first
+/// word, start a `Comment` token to the end of the line.
 pub fn lex(text: &str) -> Vec<Token> {
     let bytes = text.as_bytes();
     let mut tokens = Vec::new();
@@ -60,9 +63,7 @@ pub fn lex(text: &str) -> Vec<Token> {
                 continue;
             }
             b'\'' => {
-                while at < bytes.len() && bytes[at] != b'\n' {
-                    at += 1;
-                }
+                tokens.push(comment_to_line_end(bytes, start, &mut at));
                 continue;
             }
             b'"' => {
@@ -87,6 +88,13 @@ pub fn lex(text: &str) -> Vec<Token> {
             b'a'..=b'z' | b'A'..=b'Z' | b'_' => {
                 while at < bytes.len() && (bytes[at].is_ascii_alphanumeric() || bytes[at] == b'_') {
                     at += 1;
+                }
+                let first_on_line = tokens
+                    .last()
+                    .is_none_or(|token: &Token| token.kind == TokenKind::Newline);
+                if first_on_line && text[start..at].eq_ignore_ascii_case("rem") {
+                    tokens.push(comment_to_line_end(bytes, start, &mut at));
+                    continue;
                 }
                 TokenKind::Ident
             }
@@ -126,6 +134,23 @@ pub fn lex(text: &str) -> Vec<Token> {
         span: Span::new(bytes.len(), bytes.len()),
     });
     tokens
+}
+
+/// The comment from `start` to the end of its line; a CRLF line's `\r` ends the
+/// line, not the comment.
+fn comment_to_line_end(bytes: &[u8], start: usize, at: &mut usize) -> Token {
+    while *at < bytes.len() && bytes[*at] != b'\n' {
+        *at += 1;
+    }
+    let end = if *at > start && bytes[*at - 1] == b'\r' {
+        *at - 1
+    } else {
+        *at
+    };
+    Token {
+        kind: TokenKind::Comment,
+        span: Span::new(start, end),
+    }
 }
 
 fn single(at: &mut usize, kind: TokenKind) -> TokenKind {
@@ -189,11 +214,28 @@ mod tests {
         use TokenKind::*;
         assert_eq!(
             kinds("x = 1.5e-3 <> .5 ' note\n"),
-            vec![Ident, Eq, Float, Ne, Float, Newline, Eof]
+            vec![Ident, Eq, Float, Ne, Float, Comment, Newline, Eof]
         );
         assert_eq!(
             kinds("a(1) \\ 2"),
             vec![Ident, LParen, Int, RParen, Backslash, Int, Eof]
+        );
+    }
+
+    #[test]
+    fn comments_are_tokens_to_the_line_end_and_a_quote_in_a_string_is_none() {
+        let text =
+            "print \"it's\" ' done\r\n' whole line\nx = 1 '\n  REM old, 'quoted'\r\nremark = 1\nx = rem\n";
+        let comments: Vec<&str> = lex(text)
+            .into_iter()
+            .filter(|token| token.kind == TokenKind::Comment)
+            .map(|token| &text[token.span.range()])
+            .collect();
+        // `rem` is a comment as a line's first word only (`remark` is another word;
+        // after `=` it is a misplaced keyword the parser reports).
+        assert_eq!(
+            comments,
+            ["' done", "' whole line", "'", "REM old, 'quoted'"]
         );
     }
 

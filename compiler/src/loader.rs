@@ -99,6 +99,25 @@ impl LoadedScript {
             None => self.program.as_ref().map(|program| program.line(pc)),
         }
     }
+
+    /// [`LoadedScript::line_of_pc`] of every pc of the program, in one pass.
+    pub fn lines_of_pcs(&self) -> Vec<Option<u32>> {
+        let Some(program) = &self.program else {
+            return Vec::new();
+        };
+        let count = program.instrs.len();
+        match &self.source_map {
+            Some(map) => {
+                let mut origins = map.pc_origins();
+                (0..count)
+                    .map(|_| origins.next().map(|origin| origin.line))
+                    .collect()
+            }
+            None => (0..count)
+                .map(|pc| Some(program.line(Pc(pc as u32))))
+                .collect(),
+        }
+    }
 }
 
 pub fn load_script(
@@ -243,7 +262,11 @@ fn translate(
             .unwrap_or(script.len())
             .min(script.len());
         let text = script.get(start..end).unwrap_or("");
-        let code = text.split('\'').next().unwrap_or("");
+        // The statement without its comment (the lexer knows a `'` in a string).
+        let code = crate::lexer::lex(text)
+            .iter()
+            .find(|token| token.kind == crate::lexer::TokenKind::Comment)
+            .map_or(text, |comment| &text[..comment.span.start as usize]);
         let leading = code.len() - code.trim_start().len();
         Span::new(start + leading, start + code.trim_end().len().max(leading))
     };
@@ -252,7 +275,9 @@ fn translate(
         label.span = to_script(label.span);
     }
     diagnostic.fixes.clear();
-    if diagnostic.code == "W0111" || diagnostic.code == "E0111" {
+    if diagnostic.code == gloc_engine::codes::gloc::LOOP_MAY_OVERRUN
+        || diagnostic.code == gloc_engine::codes::gloc::LOOP_WITHOUT_YIELD
+    {
         // The GLOC help speaks of loop bounds; in GBASIC those come from `for`.
         diagnostic.help = Some(
             "add a `yield` inside the loop (a `for` loop with constant limits counts as bounded)"
@@ -277,5 +302,35 @@ fn budget_warning(stats: &Stats, options: &LoadOptions, span: Span) -> Option<Di
             .with_help("add a `yield` inside long loops, or raise the budget"),
         ),
         _ => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A finding on the compiled GLOC lands on its GBASIC statement, the whole of
+    /// it: a `'` inside a string starts no comment.
+    #[test]
+    fn a_quote_in_a_string_does_not_cut_the_translated_span() {
+        // "label: a\n" (9 bytes) + "yield\n" (6) + "goto a\n" (7): the unreachable
+        // `print "it's"` runs from byte 22 to 34, with or without a comment after it.
+        for text in [
+            "label: a\nyield\ngoto a\nprint \"it's\"\n",
+            "label: a\nyield\ngoto a\nprint \"it's\" ' never runs\n",
+        ] {
+            let loaded = load_script(
+                text,
+                Language::Gbasic,
+                &SensorList::embedded(),
+                &LoadOptions::default(),
+            );
+            let unreachable = loaded
+                .diagnostics
+                .iter()
+                .find(|diagnostic| diagnostic.code == "W0112")
+                .expect("the print is unreachable");
+            assert_eq!(unreachable.span, Span::new(22, 34), "{text:?}");
+        }
     }
 }

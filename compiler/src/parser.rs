@@ -34,7 +34,11 @@ pub fn parse(text: &str) -> Parsed {
     }
     let mut parser = Parser {
         text,
-        tokens: lex(text),
+        // Comments are tokens for the editor; the grammar never sees them.
+        tokens: lex(text)
+            .into_iter()
+            .filter(|token| token.kind != TokenKind::Comment)
+            .collect(),
         pos: 0,
         diagnostics: Vec::new(),
         open: Vec::new(),
@@ -370,10 +374,6 @@ impl<'a> Parser<'a> {
         let start = self.peek().span;
         let word = self.word_at(0);
         let result = match word.as_deref() {
-            Some("rem") => {
-                self.skip_line();
-                return None;
-            }
             Some("if") => return self.parse_if(),
             Some("while") => return self.parse_while(),
             Some("do") => return self.parse_do(),

@@ -122,10 +122,12 @@ impl SourceMap {
     /// Where the executed instruction `pc` came from. A GLOC `Program` numbers its
     /// instructions without the label lines; this counts the same way.
     pub fn origin_of_pc(&self, pc: u32) -> Option<&Origin> {
-        self.lines
-            .iter()
-            .filter(|origin| !origin.is_label)
-            .nth(pc as usize)
+        self.pc_origins().nth(pc as usize)
+    }
+
+    /// The origin of each pc in order (the `label` lines are no instruction).
+    pub fn pc_origins(&self) -> impl Iterator<Item = &Origin> {
+        self.lines.iter().filter(|origin| !origin.is_label)
     }
 
     /// The first pc (labels not counted) whose GBASIC line is `line` or later, for

@@ -9,7 +9,7 @@
 use std::collections::{BTreeMap, HashMap};
 
 use crate::expr::{self, Names, Number};
-use crate::program::{DebugInfo, PrintLines};
+use crate::program::DebugInfo;
 use crate::target::{Notice, Phase, StepEvent, Target, TrapKind};
 
 /// A point in a run: the cycle, and how many steps were taken in it (0 = its boundary).
@@ -248,8 +248,7 @@ pub struct Debugger<T: Target> {
     /// Values of the watched sensors at the last boundary (or stop).
     baseline: HashMap<usize, f64>,
     history: Option<History<T>>,
-    /// Where a fused run must stop (sorted): the pcs where a breakpoint can stop and,
-    /// when print sites give different source lines, the pc after each print site. For
+    /// Where a fused run must stop (sorted): the pcs where a breakpoint can stop. For
     /// each pc, how many instructions can run fused from it before landing on one.
     stop_pcs: Vec<usize>,
     steps_to_stop: Vec<u64>,
@@ -390,17 +389,7 @@ impl<T: Target> Debugger<T> {
                 });
             }
             let abend = match fused_notices {
-                Some(notices) if notices.is_empty() => None,
-                Some(notices) => {
-                    let line = match self.info.print_lines() {
-                        // Every print site gives this line.
-                        PrintLines::One(line) => line,
-                        // A fused run stops right after a print (`refresh_stops`), so a
-                        // line it printed belongs where it stopped, as after one step.
-                        PrintLines::Never | PrintLines::Several => self.current_line(),
-                    };
-                    self.report_notices(notices, line)
-                }
+                Some(notices) => self.report_notices(notices),
                 None => self.collect_notices(),
             };
             if let (Some(reason), true) = (abend, self.filters.abend) {
@@ -468,9 +457,6 @@ impl<T: Target> Debugger<T> {
                     stops.push(pc);
                 }
             }
-        }
-        if self.info.print_lines() == PrintLines::Several {
-            stops.extend(self.info.print_successors());
         }
         stops.sort_unstable();
         stops.dedup();
@@ -565,20 +551,16 @@ impl<T: Target> Debugger<T> {
     /// Turns the world's notices into output; returns the abort reason if one happened.
     fn collect_notices(&mut self) -> Option<String> {
         let notices = self.target.take_notices();
-        if notices.is_empty() {
-            return None;
-        }
-        let line = self.current_line();
-        self.report_notices(notices, line)
+        self.report_notices(notices)
     }
 
-    /// Turns notices into output, printed lines pointing at `line`.
-    fn report_notices(&mut self, notices: Vec<Notice>, line: Option<u32>) -> Option<String> {
+    /// Turns notices into output, a printed line pointing at the line of its `print`.
+    fn report_notices(&mut self, notices: Vec<Notice>) -> Option<String> {
         let mut abend = None;
         for notice in notices {
             // Only what the script printed points at a source line.
             let (category, text, line) = match notice {
-                Notice::Print(text) => (Category::Script, text, line),
+                Notice::Print { text, pc } => (Category::Script, text, self.info.line(pc)),
                 Notice::Behavior(text) => (Category::Note, format!("behavior: {text}"), None),
                 Notice::Warning(text) => (Category::Important, text, None),
                 Notice::Abend(text) => {

@@ -81,11 +81,6 @@ impl<S: 'static> Dispatcher<S> {
             None => Err(Failure(format!("unknown command `{command}`"))),
         }
     }
-
-    /// True when `command` has a handler.
-    pub fn handles(&self, command: &str) -> bool {
-        self.handlers.contains_key(command)
-    }
 }
 
 #[cfg(test)]

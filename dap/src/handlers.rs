@@ -13,8 +13,8 @@ use crate::dispatch::{Dispatcher, Failure};
 use crate::expr::Number;
 use crate::program::Language;
 use crate::session::{
-    address, capabilities, parse_address, source_of, LaunchArguments, Running, Session, Then,
-    ALL_SENSORS, ARRAYS, FRAME_ID, MAX_DISASSEMBLE, SCOPE_REGISTERS, SCOPE_SENSORS,
+    address, capabilities, parse_address, source_of, LaunchArguments, RestartArguments, Running,
+    Session, Then, ALL_SENSORS, ARRAYS, FRAME_ID, MAX_DISASSEMBLE, SCOPE_REGISTERS, SCOPE_SENSORS,
     SCOPE_VARIABLES, SCOPE_VEHICLE, THREAD_ID,
 };
 use crate::target::{Named, Phase, Target};
@@ -108,11 +108,9 @@ fn terminate(session: &mut Session, _: IgnoredAny) -> Answer<()> {
 
 fn restart(session: &mut Session, request: RestartArguments) -> Answer<()> {
     let launched = session.launched_mut()?;
-    let mut arguments = launched.arguments.clone();
-    if let Some(new) = request.arguments {
-        arguments = serde_json::from_value(new)
-            .map_err(|error| format!("invalid arguments for `restart`: {error}"))?;
-    }
+    let arguments = request
+        .arguments
+        .unwrap_or_else(|| launched.arguments.clone());
     session.launched = None;
     session.launch(arguments)?;
     let launched = session.launched_mut()?;

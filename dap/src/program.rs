@@ -3,7 +3,9 @@
 
 use std::collections::{BTreeSet, HashMap};
 use std::path::PathBuf;
+use std::sync::Arc;
 
+use gloc_compiler::LoadedScript;
 use gloc_engine::program::{Flow, Program};
 
 /// The source language the user debugs.
@@ -13,12 +15,58 @@ pub enum Language {
     Gloc,
 }
 
+/// The source line of each pc (`None`: generated code with no line of its own), shared
+/// by the debug info and the world: every line the user sees (stops, printed lines, trap
+/// texts and summaries) comes from it.
+#[derive(Clone, Debug, Default)]
+pub struct SourceLines(Arc<[Option<u32>]>);
+
+impl SourceLines {
+    pub fn new(lines: Vec<Option<u32>>) -> SourceLines {
+        SourceLines(lines.into())
+    }
+
+    /// The loaded script's own map (`LoadedScript::line_of_pc`), except that the
+    /// implicit final `halt` of a GLOC script (reached by falling off its end) has no
+    /// line, and neither has a GLOC line 0.
+    pub fn of(loaded: &LoadedScript) -> SourceLines {
+        let mut lines = loaded.lines_of_pcs();
+        if loaded.source_map.is_none() {
+            for line in &mut lines {
+                *line = line.filter(|line| *line > 0);
+            }
+            if lines.len() > 1 {
+                if let Some(last) = lines.last_mut() {
+                    *last = None;
+                }
+            }
+        }
+        SourceLines::new(lines)
+    }
+
+    pub fn line(&self, pc: usize) -> Option<u32> {
+        self.0.get(pc).copied().flatten()
+    }
+
+    pub fn len(&self) -> usize {
+        self.0.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+
+    pub fn iter(&self) -> impl Iterator<Item = Option<u32>> + '_ {
+        self.0.iter().copied()
+    }
+}
+
 #[derive(Clone, Debug)]
 pub struct DebugInfo {
     pub path: PathBuf,
     pub language: Language,
-    /// 1-based source line of each instruction (`None`: generated code with no line).
-    pub line_of_pc: Vec<Option<u32>>,
+    /// The source line of each instruction.
+    pub lines: SourceLines,
     /// The GLOC text of each instruction, for `disassemble`.
     pub instruction_text: Vec<String>,
     lines_with_code: BTreeSet<u32>,
@@ -28,55 +76,38 @@ pub struct DebugInfo {
     /// when unknown, and then nothing is run fused.
     flow: Vec<Flow>,
     label_pcs: Vec<usize>,
-    print_lines: PrintLines,
     /// Lines of the source as an editor shows them (the empty line after a final
     /// newline included), when known: a breakpoint past them is refused.
     pub source_lines: Option<u32>,
-    /// The pc after each `print`/`prints` (where the script stands once it printed).
-    print_successors: Vec<usize>,
-}
-
-/// The source line the debugger attaches to a printed line: the line of the instruction
-/// after the `print` that printed it (where the script stands once it printed).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum PrintLines {
-    /// The script never prints.
-    Never,
-    /// Every print site gives this line.
-    One(Option<u32>),
-    /// Print sites give different lines, or they are unknown.
-    Several,
 }
 
 impl DebugInfo {
     pub fn new(
         path: PathBuf,
         language: Language,
-        line_of_pc: Vec<Option<u32>>,
+        lines: SourceLines,
         instruction_text: Vec<String>,
     ) -> DebugInfo {
-        let lines_with_code = line_of_pc.iter().flatten().copied().collect();
+        let lines_with_code = lines.iter().flatten().collect();
         let mut info = DebugInfo {
             path,
             language,
-            line_of_pc,
+            lines,
             instruction_text,
             lines_with_code,
             line_entry: Vec::new(),
             flow: Vec::new(),
             label_pcs: Vec::new(),
-            print_lines: PrintLines::Several,
             source_lines: None,
-            print_successors: Vec::new(),
         };
         info.line_entry = info.line_entries();
         info
     }
 
-    /// Adds what the fast path needs from the checked program: control flow and print
-    /// sites (`program` is the one `line_of_pc` describes).
+    /// Adds the control flow of the checked program (the one `lines` describes): what
+    /// the fast path and the line entries (which jumps go back) need.
     pub fn with_program(mut self, program: &Program) -> DebugInfo {
-        if program.instrs.len() != self.line_of_pc.len() {
+        if program.instrs.len() != self.lines.len() {
             return self;
         }
         self.flow = program.instrs.iter().map(|instr| instr.flow()).collect();
@@ -86,28 +117,8 @@ impl DebugInfo {
             .flatten()
             .map(|pc| pc.index())
             .collect();
-        self.print_successors = program
-            .instrs
-            .iter()
-            .enumerate()
-            .filter(|(_, instr)| instr.prints())
-            .map(|(pc, _)| pc + 1)
-            .collect();
-        let mut lines = self.print_successors.iter().map(|pc| self.line(*pc));
-        self.print_lines = match lines.next() {
-            None => PrintLines::Never,
-            Some(first) if lines.all(|line| line == first) => PrintLines::One(first),
-            Some(_) => PrintLines::Several,
-        };
+        self.line_entry = self.line_entries();
         self
-    }
-
-    pub fn print_lines(&self) -> PrintLines {
-        self.print_lines
-    }
-
-    pub fn print_successors(&self) -> &[usize] {
-        &self.print_successors
     }
 
     /// True when the control flow is known, so that `stop_reach` can be trusted.
@@ -196,11 +207,11 @@ impl DebugInfo {
     }
 
     pub fn instruction_count(&self) -> usize {
-        self.line_of_pc.len()
+        self.lines.len()
     }
 
     pub fn line(&self, pc: usize) -> Option<u32> {
-        self.line_of_pc.get(pc).copied().flatten()
+        self.lines.line(pc)
     }
 
     /// True when `pc` opens a statement: its line differs from the previous
@@ -225,7 +236,7 @@ impl DebugInfo {
     /// is before this one.
     fn line_entries(&self) -> Vec<bool> {
         let mut first_pc: HashMap<u32, usize> = HashMap::new();
-        (0..self.line_of_pc.len())
+        (0..self.lines.len())
             .map(|pc| {
                 let Some(line) = self.line(pc) else {
                     return false;
@@ -234,10 +245,7 @@ impl DebugInfo {
                 if !self.is_statement_start(pc) {
                     return false;
                 }
-                let is_jump = self
-                    .instruction_text
-                    .get(pc)
-                    .is_some_and(|text| text.trim_start().starts_with("jumpi "));
+                let is_jump = matches!(self.flow.get(pc), Some(Flow::Jump(_)));
                 !(is_jump && first < pc)
             })
             .collect()
@@ -285,7 +293,7 @@ mod tests {
         let info = DebugInfo::new(
             PathBuf::from("a.gbas"),
             Language::Gbasic,
-            vec![Some(2), Some(2), Some(3), None, Some(6)],
+            SourceLines::new(vec![Some(2), Some(2), Some(3), None, Some(6)]),
             vec![String::new(); 5],
         );
         assert_eq!(info.resolve_line(1), Some(2));
@@ -299,29 +307,77 @@ mod tests {
 
     #[test]
     fn a_jump_back_into_an_earlier_line_is_not_its_entry() {
-        // `while i < 3` (line 2) / `i = i + 1` (line 3) / `wend`: the jump back to the
-        // test is attributed to line 2, after line 3's code.
-        let text = [
-            "loadi 3,r1",
-            "cmplt r0,r1,r2",
-            "cbr r2,1,2",
-            "add r0,r3,r0",
-            "jumpi 0",
-            "jumpi 7",
-        ];
+        use gloc_compiler::{load_script, Language as ScriptLanguage, LoadOptions};
+        use gloc_engine::sensors::SensorList;
+        // The jump back from `wend` to the test is attributed to the `while` line (3),
+        // after line 4's code: it opens a statement but is not line 3's entry.
+        let text =
+            "dim i as integer\nlabel: top\nwhile i < 3\n  i = i + 1\nwend\nyield\ngoto top\n";
+        let loaded = load_script(
+            text,
+            ScriptLanguage::Gbasic,
+            &SensorList::embedded(),
+            &LoadOptions::default(),
+        );
+        let program = loaded
+            .program
+            .clone()
+            .unwrap_or_else(|| panic!("{:?}", loaded.diagnostics));
+        let count = program.instrs.len();
         let info = DebugInfo::new(
             PathBuf::from("a.gbas"),
             Language::Gbasic,
-            vec![Some(2), Some(2), Some(2), Some(3), Some(2), Some(5)],
-            text.iter().map(|text| text.to_string()).collect(),
-        );
-        assert!(info.is_line_entry(0));
-        assert!(info.is_line_entry(3));
-        // A statement start, but line 2 began at pc 0.
-        assert!(info.is_statement_start(4));
-        assert!(!info.is_line_entry(4));
-        // A `goto` on its own line is that line's entry.
-        assert!(info.is_line_entry(5));
+            SourceLines::of(&loaded),
+            vec![String::new(); count],
+        )
+        .with_program(&program);
+        let info = &info;
+        let on_line = |line: u32| (0..count).filter(move |pc| info.line(*pc) == Some(line));
+        let entries = |line: u32| on_line(line).filter(|pc| info.is_line_entry(*pc)).count();
+        assert_eq!(entries(3), 1);
+        assert_eq!(entries(4), 1);
+        assert_eq!(entries(6), 1);
+        assert_eq!(entries(7), 1);
+        let first_of_4 = on_line(4).next().unwrap_or(0);
+        let jump_back: Vec<usize> = on_line(3)
+            .filter(|pc| *pc > first_of_4 && info.is_statement_start(*pc))
+            .collect();
+        assert_eq!(jump_back.len(), 1, "{:?}", info.lines);
+        assert!(matches!(program.instrs[jump_back[0]].flow(), Flow::Jump(_)));
+        assert!(!info.is_line_entry(jump_back[0]));
+    }
+
+    #[test]
+    fn source_lines_are_the_loaders_line_of_pc_for_both_languages() {
+        use gloc_compiler::{load_script, Language as ScriptLanguage, LoadOptions};
+        use gloc_engine::program::Pc;
+        use gloc_engine::sensors::SensorList;
+        let examples = concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/");
+        for (name, language) in [
+            ("thermocline.gbas", ScriptLanguage::Gbasic),
+            ("fig3.gbas", ScriptLanguage::Gbasic),
+            ("fig2.gloc", ScriptLanguage::Gloc),
+        ] {
+            let text = std::fs::read_to_string(format!("{examples}{name}")).expect("example");
+            let loaded = load_script(
+                &text,
+                language,
+                &SensorList::embedded(),
+                &LoadOptions::default(),
+            );
+            let count = loaded.program.as_ref().expect("checks").instrs.len();
+            let lines = SourceLines::of(&loaded);
+            assert_eq!(lines.len(), count, "{name}");
+            // Pc by pc through `line_of_pc` (`origin_of_pc` for GBASIC); a GLOC
+            // script's final implicit `halt` has no line of its own.
+            for pc in 0..count {
+                let expected = match language {
+                    ScriptLanguage::Gloc if pc + 1 == count => None,
+                    _ => loaded.line_of_pc(Pc(pc as u32)).filter(|line| *line > 0),
+                };
+                assert_eq!(lines.line(pc), expected, "{name} pc {pc}");
+            }
+        }
     }
 
     #[test]
@@ -345,7 +401,7 @@ mod tests {
         let info = DebugInfo::new(
             PathBuf::from("a.gloc"),
             Language::Gloc,
-            vec![Some(1); 7],
+            SourceLines::new(vec![Some(1); 7]),
             vec![String::new(); 7],
         )
         .with_program(&program);

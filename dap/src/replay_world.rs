@@ -7,15 +7,18 @@
 
 use std::sync::Arc;
 
+use gloc_compiler::LoadedScript;
+use gloc_engine::program::Pc;
 use gloc_engine::sensors::{SensorId, SensorList};
 use gloc_engine::vm::{CycleEnd, Host, Machine, MachineConfig, Status};
 use gloc_replay::{Input, Recording};
 
 use crate::expr::Number;
+use crate::program::SourceLines;
 use crate::target::{Named, Notice, Phase, StepEvent, Target};
 use crate::world::{
     element_of, registers_of, set_element_in, set_register_in, set_variable_in, trap_event,
-    variable_of, variables_of, DebugScript, LaunchConfig, VariableSlot,
+    trap_words, variable_of, variables_of, DebugScript, LaunchConfig, VariableSlot,
 };
 
 /// What never changes during a replay; shared by every snapshot.
@@ -23,6 +26,9 @@ use crate::world::{
 struct Fixed {
     recording: Recording,
     variables: Vec<VariableSlot>,
+    lines: SourceLines,
+    /// The loaded script, which names traps for the script's author.
+    loaded: LoadedScript,
     /// The script's sensors first, then the recorded ones the list has.
     touched: Vec<usize>,
     max_cycles: Option<u64>,
@@ -61,7 +67,15 @@ impl Host for ReplayHost<'_> {
     }
 
     fn print_line(&mut self, line: &str) {
-        self.notices.push(Notice::Print(line.to_string()));
+        // The machine calls `print_line_at`; a line without its pc has none to name.
+        self.print_line_at(line, Pc(u32::MAX));
+    }
+
+    fn print_line_at(&mut self, line: &str, pc: Pc) {
+        self.notices.push(Notice::Print {
+            text: line.to_string(),
+            pc: pc.index(),
+        });
     }
 }
 
@@ -114,6 +128,8 @@ impl ReplayWorld {
             fixed: Arc::new(Fixed {
                 recording,
                 variables: script.variables,
+                lines: script.lines,
+                loaded: script.loaded,
                 touched,
                 max_cycles: config.max_cycles,
                 sensor_list: script.sensor_list,
@@ -147,7 +163,12 @@ impl ReplayWorld {
             "end of the recording".to_string()
         };
         let script = match self.machine.status() {
-            Status::Trapped(trap) => format!("; script trapped: {}", trap.kind),
+            Status::Trapped(trap) => {
+                format!(
+                    "; script trapped: {}",
+                    trap_words(&trap, &self.fixed.lines, &self.fixed.loaded)
+                )
+            }
             Status::Halted => "; script halted".to_string(),
             Status::Running => String::new(),
         };
@@ -207,7 +228,7 @@ impl Target for ReplayWorld {
                         match end {
                             CycleEnd::Yielded => StepEvent::Yielded,
                             CycleEnd::Halted => StepEvent::Halted,
-                            CycleEnd::Trapped(trap) => trap_event(&trap),
+                            CycleEnd::Trapped(trap) => trap_event(&trap, &self.fixed.loaded),
                         }
                     }
                 }

@@ -101,6 +101,13 @@ pub struct LaunchArguments {
     pub sensor_cache: Option<String>,
 }
 
+#[derive(Debug, Default, Deserialize)]
+#[serde(default)]
+pub struct RestartArguments {
+    /// The new launch configuration; absent (or `null`) keeps the last one.
+    pub arguments: Option<LaunchArguments>,
+}
+
 /// `replay`: a path, a list of paths, or empty (`""`, `[]`, `null`: simulate).
 fn replay_paths(value: Option<&Value>) -> Result<Vec<PathBuf>, String> {
     const FORM: &str = "`replay` must be a path or a list of paths (a CSV file or glider logs)";
@@ -294,14 +301,15 @@ impl Session {
 
     /// Handles one request through the handler table: the response (an error in the
     /// request becomes an error response), then what the handler queued.
-    pub fn handle(&mut self, request: Request) -> io::Result<Flow> {
+    pub fn handle(&mut self, mut request: Request) -> io::Result<Flow> {
         if !self.authenticated {
             if let Some(flow) = self.authenticate(&request)? {
                 return Ok(flow);
             }
         }
         self.then.clear();
-        let answer = handlers::table().dispatch(self, &request.command, request.arguments.clone());
+        let arguments = std::mem::take(&mut request.arguments);
+        let answer = handlers::table().dispatch(self, &request.command, arguments);
         let body = match answer {
             Ok(body) => body,
             Err(Failure(message)) => {

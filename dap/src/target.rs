@@ -50,8 +50,8 @@ pub enum TrapKind {
 /// Something the world wants the user to see, in order.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Notice {
-    /// A line the script printed.
-    Print(String),
+    /// A line the script printed, and the pc of the instruction that printed it.
+    Print { text: String, pc: usize },
     /// A setup warning (a mission setting the sensor list lacks, ...).
     Warning(String),
     /// The set of active behaviors changed (a description of the change).

@@ -445,10 +445,3 @@ pub struct CapabilitiesEventBody {
 pub struct ExitedEventBody {
     pub exit_code: i64,
 }
-
-#[derive(Debug, Default, Deserialize)]
-#[serde(default, rename_all = "camelCase")]
-pub struct RestartArguments {
-    /// The new launch configuration; absent keeps the last one.
-    pub arguments: Option<Value>,
-}

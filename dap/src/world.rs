@@ -16,7 +16,7 @@ use gloc_sim::behaviors::EventKind;
 use gloc_sim::{EndReason, Phase as SimPhase, Simulation};
 
 use crate::expr::Number;
-use crate::program::{DebugInfo, Language};
+use crate::program::{DebugInfo, Language, SourceLines};
 use crate::replay_world::ReplayWorld;
 use crate::target::{Named, Notice, Phase, StepEvent, Target, TrapKind};
 
@@ -68,6 +68,9 @@ pub(crate) struct VariableSlot {
 #[derive(Debug)]
 struct Fixed {
     variables: Vec<VariableSlot>,
+    lines: SourceLines,
+    /// The loaded script, which names traps for the script's author.
+    loaded: LoadedScript,
     touched: Vec<usize>,
     max_cycles: Option<u64>,
     sensor_list: Arc<SensorList>,
@@ -103,6 +106,8 @@ pub(crate) struct DebugScript {
     pub text: String,
     pub program: Arc<Program>,
     pub loaded: LoadedScript,
+    /// The source line of each pc.
+    pub lines: SourceLines,
     pub variables: Vec<VariableSlot>,
     /// The sensors the script loads or stores, in first-use order.
     pub touched: Vec<usize>,
@@ -190,6 +195,7 @@ fn load_debug_script(config: &LaunchConfig, settings: &Settings) -> Result<Debug
         path: path.clone(),
         text,
         program,
+        lines: SourceLines::of(&loaded),
         loaded,
         variables,
         touched,
@@ -198,51 +204,38 @@ fn load_debug_script(config: &LaunchConfig, settings: &Settings) -> Result<Debug
     })
 }
 
-/// Lines and instruction texts per pc, in the script's own language.
+/// Lines (the loaded script's one pc → line map) and instruction texts per pc.
 fn debug_info(script: &DebugScript) -> DebugInfo {
     let program = &script.program;
     let loaded = &script.loaded;
     let gloc_text = loaded.gloc_text.clone().unwrap_or_default();
     let gloc_lines: Vec<&str> = gloc_text.lines().collect();
     let count = program.instrs.len();
-    let (language, line_of_pc, instruction_text) = match &loaded.source_map {
+    // The line of the GLOC text each instruction was read from (none for the final
+    // `halt` added after the script's end).
+    let text_lines: Vec<Option<u32>> = match &loaded.source_map {
         Some(map) => {
-            let origins: Vec<_> = map.lines.iter().filter(|origin| !origin.is_label).collect();
-            let lines = (0..count)
-                .map(|pc| origins.get(pc).map(|origin| origin.line))
-                .collect();
-            let texts = (0..count)
-                .map(|pc| match origins.get(pc) {
-                    Some(origin) => gloc_line_text(&gloc_lines, origin.gloc_line),
-                    None => "halt    # end of script".to_string(),
-                })
-                .collect();
-            (Language::Gbasic, lines, texts)
+            let mut origins = map.pc_origins();
+            (0..count)
+                .map(|_| origins.next().map(|origin| origin.gloc_line))
+                .collect()
         }
-        None => {
-            let lines = (0..count)
-                .map(|pc| Some(program.line(Pc(pc as u32))).filter(|line| *line > 0))
-                .collect::<Vec<_>>();
-            let texts = (0..count)
-                .map(|pc| {
-                    if pc + 1 == count {
-                        "halt    # end of script".to_string()
-                    } else {
-                        gloc_line_text(&gloc_lines, program.line(Pc(pc as u32)))
-                    }
-                })
-                .collect();
-            // The implicit final halt has no line of its own.
-            let mut lines = lines;
-            if let Some(last) = lines.last_mut() {
-                if count > 1 {
-                    *last = None;
-                }
-            }
-            (Language::Gloc, lines, texts)
-        }
+        None => (0..count)
+            .map(|pc| (pc + 1 < count).then(|| program.line(Pc(pc as u32))))
+            .collect(),
     };
-    DebugInfo::new(script.path.clone(), language, line_of_pc, instruction_text)
+    let texts = text_lines
+        .into_iter()
+        .map(|line| match line {
+            Some(line) => gloc_line_text(&gloc_lines, line),
+            None => "halt    # end of script".to_string(),
+        })
+        .collect();
+    let language = match loaded.source_map {
+        Some(_) => Language::Gbasic,
+        None => Language::Gloc,
+    };
+    DebugInfo::new(script.path.clone(), language, script.lines.clone(), texts)
         .with_program(program)
         .with_source_text(&script.text)
 }
@@ -258,6 +251,7 @@ fn launch_sim(
         path,
         text,
         program,
+        lines,
         loaded,
         variables,
         touched,
@@ -314,6 +308,8 @@ fn launch_sim(
     }
     let fixed = Arc::new(Fixed {
         variables,
+        lines,
+        loaded,
         touched,
         max_cycles: config.max_cycles,
         sensor_list,
@@ -341,9 +337,11 @@ fn gloc_line_text(lines: &[&str], line: u32) -> String {
     text.split('#').next().unwrap_or("").trim().to_string()
 }
 
-/// `file:line:column: severity[CODE]: message`, as the project layer writes it.
+/// `file:line:column: severity[CODE]: message`: the headline of the one renderer
+/// (`gloc_engine::render`), as the CLI prints it.
 pub(crate) fn render(path: &Path, text: &str, diagnostic: &Diagnostic) -> String {
-    gloc_project::error::one_line(path, text, diagnostic)
+    let display = path.display().to_string();
+    gloc_engine::render::SourceFile::new(&display, text).headline(diagnostic)
 }
 
 impl SimWorld {
@@ -352,9 +350,18 @@ impl SimWorld {
         // Called after every step: the common case, nothing new, costs two compares.
         let printed = self.sim.printed_text();
         if printed.len() > self.printed_reported {
-            let new = printed.get(self.printed_reported..).unwrap_or("");
-            self.notices
-                .extend(new.lines().map(|line| Notice::Print(line.to_string())));
+            // Each printed line with the pc of its `print` (every line has its site).
+            let sites = self.sim.print_sites();
+            let mut start = self.printed_reported;
+            let first = sites.partition_point(|(end, _)| *end <= start);
+            for &(end, pc) in &sites[first..] {
+                let text = printed.get(start..end).unwrap_or("");
+                self.notices.extend(text.lines().map(|line| Notice::Print {
+                    text: line.to_string(),
+                    pc: pc.index(),
+                }));
+                start = end;
+            }
             self.printed_reported = printed.len();
         }
         let events = self.sim.events();
@@ -400,7 +407,10 @@ impl SimWorld {
             (None, false) => "mission ended".to_string(),
         };
         let script = match self.sim.script_trap() {
-            Some(trap) => format!("; script trapped: {trap}"),
+            Some(trap) => format!(
+                "; script trapped: {}",
+                trap_words(&trap, &self.fixed.lines, &self.fixed.loaded)
+            ),
             None => match self.sim.script_last_end() {
                 Some(CycleEnd::Halted) => "; script halted".to_string(),
                 _ => String::new(),
@@ -627,7 +637,7 @@ impl Target for SimWorld {
                 None => StepEvent::Executed,
                 Some(CycleEnd::Yielded) => StepEvent::Yielded,
                 Some(CycleEnd::Halted) => StepEvent::Halted,
-                Some(CycleEnd::Trapped(trap)) => trap_event(&trap),
+                Some(CycleEnd::Trapped(trap)) => trap_event(&trap, &self.fixed.loaded),
             },
             SimPhase::ScriptDone | SimPhase::BetweenCycles => {
                 self.sim.finish_cycle();
@@ -671,7 +681,7 @@ impl Target for SimWorld {
             None => StepEvent::Executed,
             Some(CycleEnd::Yielded) => StepEvent::Yielded,
             Some(CycleEnd::Halted) => StepEvent::Halted,
-            Some(CycleEnd::Trapped(trap)) => trap_event(&trap),
+            Some(CycleEnd::Trapped(trap)) => trap_event(&trap, &self.fixed.loaded),
         };
         // Every instruction is one step, the one that ends the share included; a share
         // that could not run after all is one step, as `script_step` answers it.
@@ -877,13 +887,28 @@ impl Target for World {
     }
 }
 
-/// A machine trap as the debugger's exception kind and message.
-pub(crate) fn trap_event(trap: &gloc_engine::vm::Trap) -> StepEvent {
+/// A trap as an end-of-run summary words it: what and where, its line from the one
+/// pc → line map (as the stop at the trap said it).
+pub(crate) fn trap_words(
+    trap: &gloc_engine::vm::Trap,
+    lines: &SourceLines,
+    loaded: &LoadedScript,
+) -> String {
+    let message = loaded.trap_message(&trap.kind);
+    match lines.line(trap.pc.index()) {
+        Some(line) => format!("{message} at line {line} (pc {})", trap.pc.0),
+        None => format!("{message} (pc {})", trap.pc.0),
+    }
+}
+
+/// A machine trap as the debugger's exception kind and message (the message the
+/// loader words for the script's author, as `gloc run` shows it).
+pub(crate) fn trap_event(trap: &gloc_engine::vm::Trap, loaded: &LoadedScript) -> StepEvent {
     StepEvent::Trapped {
         kind: match trap.kind {
             VmTrapKind::CycleOverrun { .. } => TrapKind::CycleOverrun,
             _ => TrapKind::Runtime,
         },
-        message: trap.kind.to_string(),
+        message: loaded.trap_message(&trap.kind),
     }
 }

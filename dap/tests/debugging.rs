@@ -953,20 +953,25 @@ fn history_off_means_no_step_back() {
     );
 }
 
-#[test]
-fn max_cycles_ends_the_session_with_a_summary() {
-    let program = fixture("fig3.gbas");
-    let mut client = start(json!({ "program": program, "maxCycles": 10 }));
-    client.ok("configurationDone", json!({}));
-    client.event("terminated");
-    let summary = client
+/// The end-of-run summary of a run cut short by `maxCycles`.
+fn cut_short_summary(client: &Client) -> String {
+    client
         .received
         .iter()
         .filter(|message| message["event"] == "output")
         .filter_map(|message| message["body"]["output"].as_str())
         .find(|text| text.contains("maxCycles"))
         .expect("a summary")
-        .to_string();
+        .to_string()
+}
+
+#[test]
+fn max_cycles_ends_the_session_with_a_summary() {
+    let program = fixture("fig3.gbas");
+    let mut client = start(json!({ "program": program, "maxCycles": 10 }));
+    client.ok("configurationDone", json!({}));
+    client.event("terminated");
+    let summary = cut_short_summary(&client);
     assert!(summary.contains("after 10 cycles"), "{summary}");
 }
 
@@ -1365,4 +1370,123 @@ fn a_while_line_is_hit_once_per_test_not_again_at_its_jump_back() {
     assert_eq!(top_line(&mut client), 5);
     assert_eq!(cycle(&mut client), 1);
     assert_eq!(value(&mut client, 1, "i"), "0");
+}
+
+/// The `line` of every `stdout` output event received so far, with its text.
+fn printed_lines(client: &Client) -> Vec<(String, Option<i64>)> {
+    client
+        .received
+        .iter()
+        .filter(|message| message["event"] == "output" && message["body"]["category"] == "stdout")
+        .map(|message| {
+            (
+                message["body"]["output"]
+                    .as_str()
+                    .unwrap_or_default()
+                    .to_string(),
+                message["body"]["line"].as_i64(),
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn a_printed_line_names_the_line_of_its_print() {
+    // `print "three", x` is on line 3 of the fixture (by hand); line 4 follows it.
+    let program = fixture("print_line.gbas");
+    let expected = vec![("three 0\n".to_string(), Some(3))];
+    // A run to the end (the fast path), then the same by single steps.
+    let mut client = start(json!({ "program": program, "maxCycles": 3 }));
+    client.ok("configurationDone", json!({}));
+    client.event("terminated");
+    assert_eq!(printed_lines(&client), expected);
+    let mut client = start(json!({ "program": program, "stopOnEntry": true }));
+    client.ok("configurationDone", json!({}));
+    stopped(&mut client);
+    for _ in 0..3 {
+        client.ok("stepIn", json!({ "threadId": 1 }));
+        stopped(&mut client);
+    }
+    assert_eq!(printed_lines(&client), expected);
+    // A line breakpoint elsewhere makes the run step up to it; the print still names 3.
+    let mut client = start(json!({ "program": program, "maxCycles": 3 }));
+    client.ok(
+        "setBreakpoints",
+        json!({ "source": { "path": program }, "breakpoints": [{ "line": 5, "condition": "x < 0" }] }),
+    );
+    client.ok("configurationDone", json!({}));
+    client.event("terminated");
+    assert_eq!(printed_lines(&client), expected);
+}
+
+#[test]
+fn a_trap_summary_names_the_line_the_stop_named() {
+    // `x = 1 \ zero` is line 5 of a six-line script (by hand).
+    let program = fixture("trap6.gbas");
+    let mut client = start(json!({ "program": program, "maxCycles": 2 }));
+    client.ok("configurationDone", json!({}));
+    let stop = stopped(&mut client);
+    assert_eq!(stop["reason"], "exception");
+    let text = stop["text"].as_str().unwrap_or_default().to_string();
+    assert!(text.contains("at line 5 "), "{text}");
+    assert_eq!(top_line(&mut client), 5);
+    client.ok("continue", json!({ "threadId": 1 }));
+    client.event("terminated");
+    let summary = cut_short_summary(&client);
+    assert!(summary.contains("script trapped"), "{summary}");
+    assert!(summary.contains("line 5"), "{summary}");
+    assert!(!summary.contains("line 7"), "{summary}");
+}
+
+#[test]
+fn an_array_index_out_of_bounds_is_named_as_gloc_run_names_it() {
+    // `print a(i)` with i = 5 and `dim a(4)` is line 5 (by hand); compiled GBASIC
+    // checks the index by reading address -1, which `gloc run` calls an array index
+    // out of bounds (cli/src/simulate.rs, through `LoadedScript::trap_message`).
+    let program = fixture("bounds.gbas");
+    let mut client = start(json!({ "program": program, "maxCycles": 2 }));
+    client.ok("configurationDone", json!({}));
+    let stop = stopped(&mut client);
+    let text = stop["text"].as_str().unwrap_or_default().to_string();
+    assert!(
+        text.starts_with("array index out of bounds at line 5 "),
+        "{text}"
+    );
+    let info = client.ok("exceptionInfo", json!({ "threadId": 1 }));
+    assert!(
+        info["description"]
+            .as_str()
+            .unwrap_or_default()
+            .starts_with("array index out of bounds"),
+        "{info}"
+    );
+    client.ok("continue", json!({ "threadId": 1 }));
+    client.event("terminated");
+    let summary = cut_short_summary(&client);
+    assert!(
+        summary.contains("script trapped: array index out of bounds at line 5 "),
+        "{summary}"
+    );
+}
+
+#[test]
+fn prints_from_two_sites_name_their_own_lines_in_a_fused_run() {
+    // prints.gbas (by hand): `print "odd", n, i` is on line 9, `print "third", n` on
+    // line 11. In cycle c (n = c + 1), i from 1 to 3 prints when n + i is odd; a third
+    // line follows when n is a multiple of 3.
+    let program = fixture("prints.gbas");
+    let mut client = start(json!({ "program": program, "maxCycles": 3 }));
+    client.ok("configurationDone", json!({}));
+    client.event("terminated");
+    let expected: Vec<(String, Option<i64>)> = [
+        ("odd 1 2\n", 9),
+        ("odd 2 1\n", 9),
+        ("odd 2 3\n", 9),
+        ("odd 3 2\n", 9),
+        ("third 3\n", 11),
+    ]
+    .into_iter()
+    .map(|(text, line)| (text.to_string(), Some(line)))
+    .collect();
+    assert_eq!(printed_lines(&client), expected);
 }

@@ -30,9 +30,9 @@ use crate::sensors::SensorOrder;
 pub const FILE_NAME: &str = "gloc.toml";
 
 /// Code of every problem in a `gloc.toml` (syntax, unknown key, wrong type).
-pub const CODE_BAD_CONFIG: &str = "E0901";
+pub const CODE_BAD_CONFIG: &str = crate::codes::settings::BAD_CONFIG;
 /// Code of a `gloc.toml` that cannot be read at all.
-pub const CODE_UNREADABLE_CONFIG: &str = "E0902";
+pub const CODE_UNREADABLE_CONFIG: &str = crate::codes::settings::UNREADABLE_CONFIG;
 
 /// Settings from a `gloc.toml`. Every field is optional; a missing file is the
 /// same as an empty one. Paths are absolute (resolved against the folder that

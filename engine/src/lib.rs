@@ -3,12 +3,14 @@
 //!
 //! Nothing here does network IO, starts threads or knows about LSP or DAP.
 
+pub mod codes;
 pub mod config;
 pub mod diagnostic;
 pub mod files;
 pub mod gloc;
 pub mod lz4;
 pub mod program;
+pub mod render;
 pub mod sensors;
 pub mod suggest;
 pub mod vm;

@@ -31,6 +31,13 @@ pub trait Host {
     fn store_sensor(&mut self, sensor: SensorId, value: f64);
     /// One finished output line (from `print` or `prints`), without a newline.
     fn print_line(&mut self, line: &str);
+    /// [`Host::print_line`] with the pc of the instruction that ended the line (a
+    /// `print`/`prints`, or a `write` that made it too long); the machine calls this
+    /// one. A host that shows where output comes from overrides it.
+    fn print_line_at(&mut self, line: &str, pc: Pc) {
+        let _ = pc;
+        self.print_line(line);
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -484,22 +491,22 @@ impl Machine {
                         Op::Nop {} => {}
                         Op::Write { src } => {
                             append_item(output, |out| write_value(out, reg!(src)));
-                            cap_output_line(output, host);
+                            cap_output_line(output, host, pc);
                         }
                         Op::WriteText { text } => {
                             let text = program.texts.get(text as usize).map_or("", |text| text);
                             append_item(output, |out| out.push_str(text));
-                            cap_output_line(output, host);
+                            cap_output_line(output, host, pc);
                         }
                         Op::Print { src } => {
                             append_item(output, |out| write_value(out, reg!(src)));
-                            host.print_line(output);
+                            host.print_line_at(output, Pc(pc as u32));
                             output.clear();
                         }
                         Op::PrintText { text } => {
                             let text = program.texts.get(text as usize).map_or("", |text| text);
                             append_item(output, |out| out.push_str(text));
-                            host.print_line(output);
+                            host.print_line_at(output, Pc(pc as u32));
                             output.clear();
                         }
                         // Fused groups: each writes what its instructions write, in their order.
@@ -821,10 +828,10 @@ pub const MAX_OUTPUT_LINE: usize = 65_536;
 pub const OUTPUT_LINE_CONTINUED: &str = " [continued]";
 
 /// Hands an unfinished line to the host once it is over [`MAX_OUTPUT_LINE`].
-fn cap_output_line(output: &mut String, host: &mut impl Host) {
+fn cap_output_line(output: &mut String, host: &mut impl Host, pc: usize) {
     if output.len() > MAX_OUTPUT_LINE {
         output.push_str(OUTPUT_LINE_CONTINUED);
-        host.print_line(output);
+        host.print_line_at(output, Pc(pc as u32));
         output.clear();
     }
 }

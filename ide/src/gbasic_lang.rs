@@ -164,7 +164,9 @@ fn add_fixes(text: &str, blocks: &[gloc_compiler::Block], diagnostics: &mut [Dia
                 });
             }
         }
-        if (diagnostic.code == "W0111" || diagnostic.code == "E0111") && diagnostic.fixes.is_empty()
+        if (diagnostic.code == gloc_engine::codes::gloc::LOOP_MAY_OVERRUN
+            || diagnostic.code == gloc_engine::codes::gloc::LOOP_WITHOUT_YIELD)
+            && diagnostic.fixes.is_empty()
         {
             // A structured loop: before its closing line (`wend`, `loop`, `next`),
             // one level deeper. A `goto` loop: before the jump back.
@@ -264,60 +266,16 @@ fn collect_tokens(
         }
     }
     let tokens = lexer::lex(text);
-    let mut comment_line_start: Option<usize> = None;
-    let mut line_start = 0usize;
-    let mut first_on_line = true;
-    let mut previous_end = 0usize;
     for token in &tokens {
-        let start = token.span.start as usize;
-        // A `'` comment lies in the gap the lexer skipped.
-        if let Some(gap) = text.get(previous_end..start) {
-            if let Some(quote) = gap.find('\'') {
-                let comment_start = previous_end + quote;
-                let comment_end = gap[quote..]
-                    .find('\n')
-                    .map_or(start, |at| comment_start + at);
-                let comment_end = if text[..comment_end].ends_with('\r') {
-                    comment_end - 1
-                } else {
-                    comment_end
-                };
-                push(
-                    analysis,
-                    Span::new(comment_start, comment_end),
-                    TokenKind::Comment,
-                    None,
-                );
-            }
-        }
-        previous_end = token.span.end as usize;
-        if token.kind == Lexed::Newline {
-            line_start = token.span.end as usize;
-            first_on_line = true;
-            comment_line_start = None;
-            continue;
-        }
-        if comment_line_start.is_some() {
+        if token.kind == Lexed::Comment {
+            push(analysis, token.span, TokenKind::Comment, None);
             continue;
         }
         let word = &text[token.span.range()];
         let kind = match &token.kind {
-            Lexed::Ident if first_on_line && word.eq_ignore_ascii_case("rem") => {
-                let end = text[start..].find('\n').map_or(text.len(), |at| start + at);
-                let end = if text[..end].ends_with('\r') {
-                    end - 1
-                } else {
-                    end
-                };
-                push(analysis, Span::new(start, end), TokenKind::Comment, None);
-                comment_line_start = Some(line_start);
-                previous_end = end;
-                continue;
-            }
             Lexed::Ident => match by_span.get(&token.span.start) {
                 Some((kind, sensor)) => {
                     push(analysis, token.span, *kind, *sensor);
-                    first_on_line = false;
                     continue;
                 }
                 None if builtin(word).is_some() && !word.eq_ignore_ascii_case("float") => {
@@ -327,7 +285,6 @@ fn collect_tokens(
                 None => match context.sensors.lookup(word) {
                     Some(id) => {
                         push(analysis, token.span, TokenKind::SensorRead, Some(id));
-                        first_on_line = false;
                         continue;
                     }
                     None => TokenKind::Variable,
@@ -337,25 +294,14 @@ fn collect_tokens(
             Lexed::Str { .. } => TokenKind::String,
             Lexed::Unknown
             | Lexed::Eof
+            | Lexed::Newline
             | Lexed::LParen
             | Lexed::RParen
             | Lexed::Comma
-            | Lexed::Colon => {
-                first_on_line = false;
-                continue;
-            }
+            | Lexed::Colon => continue,
             _ => TokenKind::Operator,
         };
         push(analysis, token.span, kind, None);
-        first_on_line = false;
-    }
-    // A trailing comment after the last token.
-    if let Some(gap) = text.get(previous_end..) {
-        if let Some(quote) = gap.find('\'') {
-            let start = previous_end + quote;
-            let end = gap[quote..].find('\n').map_or(text.len(), |at| start + at);
-            push(analysis, Span::new(start, end), TokenKind::Comment, None);
-        }
     }
     analysis.tokens.sort_by_key(|token| token.span.start);
 }
@@ -420,7 +366,16 @@ fn position(text: &str, offset: usize) -> Position {
     let Some(before) = text.get(line_start..offset) else {
         return Position::Nothing;
     };
-    if before.contains('\'') || before.matches('"').count() % 2 == 1 {
+    // In a comment or an unterminated string: nothing (the lexer knows a `'` or a
+    // `""` inside a string).
+    let tokens = lexer::lex(before);
+    let in_comment_or_string = tokens.iter().any(|token| {
+        matches!(
+            token.kind,
+            Lexed::Comment | Lexed::Str { terminated: false }
+        )
+    });
+    if in_comment_or_string {
         return Position::Nothing;
     }
     // The words before the one being typed.
@@ -433,7 +388,6 @@ fn position(text: &str, offset: usize) -> Position {
         .collect();
     let last_symbol = complete.trim_end().chars().last();
     match words.last().map(String::as_str) {
-        _ if words.first().is_some_and(|word| word == "rem") => Position::Nothing,
         Some("goto") => Position::Label,
         Some("as") => Position::Type,
         Some("dim" | "const" | "label") => Position::Nothing,
@@ -665,7 +619,7 @@ pub fn format(text: &str) -> Option<String> {
         let second = words.get(1).map(String::as_str).unwrap_or("");
         let last_token_is_then = lexer::lex(content)
             .iter()
-            .rfind(|token| !matches!(token.kind, Lexed::Newline | Lexed::Eof))
+            .rfind(|token| !matches!(token.kind, Lexed::Newline | Lexed::Comment | Lexed::Eof))
             .is_some_and(|token| content[token.span.range()].eq_ignore_ascii_case("then"));
         let closes = matches!(first, "endif" | "wend" | "loop" | "next")
             || (first == "end" && second == "if");
@@ -684,7 +638,7 @@ pub fn format(text: &str) -> Option<String> {
             || matches!(first, "while" | "for")
             || (first == "do")
             || reopens;
-        if opens && first != "rem" {
+        if opens {
             depth += 1;
         }
     }

@@ -101,7 +101,9 @@ fn cycle_hint(offset: usize, which: &str, bound: Bound, context: &Context) -> Hi
 fn add_yield_fixes(text: &str, file: &File, statements: u32, diagnostics: &mut [Diagnostic]) {
     let ninstr = file.directive(DirectiveKind::Ninstr);
     for diagnostic in diagnostics.iter_mut() {
-        if diagnostic.code != "W0111" && diagnostic.code != "E0111" {
+        if diagnostic.code != gloc_engine::codes::gloc::LOOP_MAY_OVERRUN
+            && diagnostic.code != gloc_engine::codes::gloc::LOOP_WITHOUT_YIELD
+        {
             continue;
         }
         // Before the jump back when the checker names it, else before the loop's first line.

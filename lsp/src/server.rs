@@ -27,10 +27,6 @@ use crate::features;
 use gloc_ide::analysis::{Analysis, Context};
 use gloc_ide::lang;
 
-/// Code of an editor setting the project layer refuses (a `cycleBudget` of 0),
-/// reported on each script.
-pub const CODE_BAD_EDITOR_SETTING: &str = "E0904";
-
 /// The command that returns the compiled GLOC of a GBASIC document.
 pub const COMPILED_GLOC_COMMAND: &str = "gloc.compiledGloc";
 
@@ -170,7 +166,7 @@ impl State {
             Err(error) => {
                 problems.push(
                     Diagnostic::error(
-                        CODE_BAD_EDITOR_SETTING,
+                        gloc_engine::codes::settings::BAD_EDITOR_SETTING,
                         gloc_engine::Span::default(),
                         format!("{error}; the editor's gloc settings are not used"),
                     )
@@ -188,7 +184,7 @@ impl State {
                 Err(message) => {
                     problems.push(
                         Diagnostic::error(
-                            "E0903",
+                            gloc_engine::codes::settings::SENSOR_LIST_UNLOADABLE,
                             gloc_engine::Span::default(),
                             format!("{message}; using the embedded 2008 list"),
                         )

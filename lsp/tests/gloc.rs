@@ -1,7 +1,10 @@
-//! Protocol tests of every feature on GLOC documents, driven through framed
-//! JSON-RPC like a real client. Expected values are worked out by hand from
-//! the paper's Fig. 2 (m_depth is sensor 444, sci_ruhp_behs 1387 in the
-//! embedded 2008 list).
+//! Protocol tests on GLOC documents, driven through framed JSON-RPC like a real
+//! client: each LSP method for what the conversion decides (UTF-16 ranges, LSP
+//! kinds, the relative encoding of semantic tokens, edits, refusals as errors)
+//! and the settings a document is analysed with. What each feature answers is
+//! tested on fixtures in gloc-ide (ide/tests/features). Expected values are
+//! worked out by hand from the paper's Fig. 2 (m_depth is sensor 444,
+//! sci_ruhp_behs 1387 in the embedded 2008 list).
 
 mod support;
 
@@ -64,7 +67,7 @@ async fn diagnostics_have_codes_and_related_information() {
 }
 
 #[tokio::test]
-async fn completion_offers_mnemonics_labels_registers_and_the_right_sensors() {
+async fn completion_after_incremental_edits_snippets_and_sensor_indices() {
     let mut client = fig2().await;
     // Start of a new line: mnemonics with operand shapes, `label`, directives.
     client
@@ -113,51 +116,10 @@ async fn completion_offers_mnemonics_labels_registers_and_the_right_sensors() {
         .as_str()
         .expect("detail")
         .contains("writable"));
-
-    // A load may read any sensor.
-    let result = client
-        .request("textDocument/completion", at(URI, 4, 6))
-        .await;
-    let depth = result["items"]
-        .as_array()
-        .expect("items")
-        .iter()
-        .find(|i| i["label"] == "444 m_depth")
-        .cloned()
-        .expect("m_depth");
-    assert_eq!(depth["detail"], "sensor 444 (m), read-only");
-    assert!(depth["documentation"]["value"]
-        .as_str()
-        .expect("docs")
-        .contains("Measured depth"));
-
-    // Labels after jumpi / cbr; registers where a register goes.
-    let result = client
-        .request("textDocument/completion", at(URI, 11, 6))
-        .await;
-    assert_eq!(
-        labels(&result["items"]),
-        ["0", "1", "2", "3", "4", "5", "6"]
-    );
-    let result = client
-        .request("textDocument/completion", at(URI, 7, 7))
-        .await;
-    assert_eq!(
-        labels(&result["items"]).len(),
-        7,
-        "cbr's true target is a label"
-    );
-    let result = client
-        .request("textDocument/completion", at(URI, 6, 6))
-        .await;
-    assert_eq!(
-        labels(&result["items"]),
-        ["r0", "r1", "r2", "r3", "r4", "r5", "r6", "r7"]
-    );
 }
 
 #[tokio::test]
-async fn hover_explains_sensor_indices_instructions_and_labels() {
+async fn hover_range_is_the_sensor_index() {
     let mut client = fig2().await;
     let hover = client.request("textDocument/hover", at(URI, 4, 7)).await;
     let text = hover["contents"]["value"].as_str().expect("markdown");
@@ -166,32 +128,7 @@ async fn hover_explains_sensor_indices_instructions_and_labels() {
         "{text}"
     );
     assert_eq!(hover["range"], range(4, 6, 4, 9));
-    let hover = client.request("textDocument/hover", at(URI, 10, 11)).await;
-    assert!(hover["contents"]["value"]
-        .as_str()
-        .expect("md")
-        .starts_with("**sci_ruhp_behs** (enum)\n\nsensor 1387 · writable"));
-    let hover = client.request("textDocument/hover", at(URI, 7, 1)).await;
-    let text = hover["contents"]["value"].as_str().expect("md");
-    assert!(
-        text.contains("cbr r,LABEL,LABEL")
-            && text.contains("goto (c != 0 ? Ltrue : Lfalse)")
-            && text.contains("from the paper"),
-        "{text}"
-    );
-    let hover = client.request("textDocument/hover", at(URI, 7, 7)).await;
-    assert!(
-        hover["contents"]["value"]
-            .as_str()
-            .expect("md")
-            .starts_with("label `3`"),
-        "{hover}"
-    );
-    let hover = client.request("textDocument/hover", at(URI, 0, 2)).await;
-    assert!(hover["contents"]["value"]
-        .as_str()
-        .expect("md")
-        .contains("registers `r0` to"));
+    assert_eq!(hover["contents"]["kind"], "markdown");
 }
 
 #[tokio::test]
@@ -240,33 +177,6 @@ async fn label_navigation_definition_references_highlight_and_rename() {
         .request_raw("textDocument/rename", json!({ "textDocument": { "uri": URI }, "position": { "line": 11, "character": 6 }, "newName": "top" }))
         .await;
     assert_eq!(not_a_number["error"]["code"], -32602);
-    // `nblbs 7`: labels 0 to 6, all taken; 7 or 9 would break the program (E0102).
-    for past_the_count in ["7", "9"] {
-        let refused = client
-            .request_raw("textDocument/rename", json!({ "textDocument": { "uri": URI }, "position": { "line": 11, "character": 6 }, "newName": past_the_count }))
-            .await;
-        let message = refused["error"]["message"].as_str().expect("message");
-        assert!(message.contains("out of range: `nblbs 7`"), "{message}");
-    }
-    let same = client
-        .request("textDocument/rename", json!({ "textDocument": { "uri": URI }, "position": { "line": 11, "character": 6 }, "newName": "1" }))
-        .await;
-    let edits = same["changes"][URI].as_array().expect("edits");
-    assert_eq!(edits.len(), 3);
-    assert!(edits.iter().all(|e| e["newText"] == "1"));
-    // Nothing to navigate on an opcode or a register.
-    assert_eq!(
-        client
-            .request("textDocument/definition", at(URI, 4, 1))
-            .await,
-        Value::Null
-    );
-    assert_eq!(
-        client
-            .request("textDocument/prepareRename", at(URI, 4, 11))
-            .await,
-        Value::Null
-    );
 }
 
 #[tokio::test]
@@ -396,7 +306,7 @@ fn decode(data: &[u64]) -> Vec<(u64, u64, u64, u64, u64)> {
 }
 
 #[tokio::test]
-async fn code_actions_insert_yield_and_fix_typos() {
+async fn code_actions_are_quick_fixes_with_workspace_edits() {
     let mut client = TestClient::initialized().await;
     let uri = "file:///p/spin.gloc";
     let text = "nregs 1\nnblbs 1\nninstr 3\nlabel 0\nloadi 1,r0\njumpi 0\n";
@@ -428,28 +338,8 @@ async fn code_actions_insert_yield_and_fix_typos() {
         ninstr,
         &json!({ "range": range(2, 7, 2, 8), "newText": "4" })
     );
-    // Applying both gives a clean script.
-    let fixed = "nregs 1\nnblbs 1\nninstr 4\nlabel 0\nloadi 1,r0\nyield\njumpi 0\n";
-    let clean = client.open("file:///p/fixed.gloc", "gloc", fixed).await;
-    assert_eq!(clean["diagnostics"], json!([]));
-
-    let typo = client
-        .open(
-            "file:///p/typo.gloc",
-            "gloc",
-            "nregs 1\nnblbs 0\nninstr 2\nlods 444,r0\nyield\n",
-        )
-        .await;
-    let diagnostic = typo["diagnostics"][0].clone();
-    let actions = client
-        .request("textDocument/codeAction", json!({ "textDocument": { "uri": "file:///p/typo.gloc" }, "range": range(3, 1, 3, 1), "context": { "diagnostics": [] } }))
-        .await;
     assert_eq!(actions[0]["kind"], "quickfix");
-    assert_eq!(
-        actions[0]["edit"]["changes"]["file:///p/typo.gloc"][0]["newText"],
-        "loads"
-    );
-    assert_eq!(actions[0]["diagnostics"][0]["code"], diagnostic["code"]);
+    assert_eq!(actions[0]["diagnostics"][0]["code"], "E0111");
 }
 
 #[tokio::test]

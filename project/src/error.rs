@@ -50,19 +50,12 @@ impl fmt::Display for ProjectError {
 impl std::error::Error for ProjectError {}
 
 /// `FILE:LINE:COL: severity[CODE]: message`, the one-line form of a diagnostic used
-/// inside a project error (the CLI renders diagnostics of the script in full).
+/// inside a project error: the headline of the one renderer (`gloc_engine::render`).
 pub fn one_line(
     path: &std::path::Path,
     text: &str,
     diagnostic: &gloc_engine::Diagnostic,
 ) -> String {
-    let index = gloc_engine::LineIndex::new(text);
-    let (line, column) = index.line_col(text, diagnostic.span.start as usize);
-    format!(
-        "{}:{line}:{column}: {}[{}]: {}",
-        path.display(),
-        diagnostic.severity,
-        diagnostic.code,
-        diagnostic.message
-    )
+    let display = path.display().to_string();
+    gloc_engine::render::SourceFile::new(&display, text).headline(diagnostic)
 }

@@ -124,7 +124,7 @@ impl Mission {
                 mission.diagnostics.push(MissionDiagnostic {
                     file: 0,
                     diagnostic: Diagnostic::error(
-                        "S0001",
+                        gloc_engine::codes::mission::CANNOT_READ_MISSION,
                         Span::default(),
                         format!("cannot read mission file `{}`: {error}", path.display()),
                     ),
@@ -188,7 +188,7 @@ impl Mission {
             .map(|setting| MissionDiagnostic {
                 file: setting.at.file,
                 diagnostic: Diagnostic::warning(
-                    "S0106",
+                    gloc_engine::codes::mission::SENSOR_NOT_IN_LIST,
                     setting.name_span,
                     format!(
                         "sensor `{}` is not in the sensor list; the setting is ignored",
@@ -244,7 +244,7 @@ impl Mission {
             |source| source.path.display().to_string(),
         );
         let mut diagnostic = Diagnostic::warning(
-            "S0107",
+            gloc_engine::codes::mission::HOOK_MISSING,
             *first,
             format!(
                 "the script stores `sci_ruhp_behs`, but the mission {path} has no `behavior: hook`: \
@@ -343,7 +343,7 @@ fn parse_setting(
 ) -> Result<(String, String, f64), Diagnostic> {
     let Some(first) = rest.first() else {
         return Err(Diagnostic::error(
-            "S0010",
+            gloc_engine::codes::mission::EXPECTED_SETTING,
             Span::new(end, end),
             format!("expected `NAME(UNITS) VALUE` after `{}`", keyword.text),
         )
@@ -376,7 +376,7 @@ fn parse_setting(
     let (text, start, name_end) = name_units;
     let Some(open) = text.find('(') else {
         return Err(Diagnostic::error(
-            "S0011",
+            gloc_engine::codes::mission::MISSING_UNITS,
             Span::new(start, name_end),
             format!("`{text}` has no units: expected `NAME(UNITS)`"),
         )
@@ -385,21 +385,21 @@ fn parse_setting(
     let name = &text[..open];
     if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
         return Err(Diagnostic::error(
-            "S0012",
+            gloc_engine::codes::mission::BAD_SETTING_NAME,
             Span::new(start, start + open.max(1)),
             format!("`{name}` is not a valid name: use letters, digits and `_`"),
         ));
     }
     let Some(close) = text[open..].find(')').map(|at| at + open) else {
         return Err(Diagnostic::error(
-            "S0011",
+            gloc_engine::codes::mission::MISSING_UNITS,
             Span::new(start + open, name_end),
             "unclosed `(` in the units: expected `)`",
         ));
     };
     if close + 1 != text.len() {
         return Err(Diagnostic::error(
-            "S0013",
+            gloc_engine::codes::mission::TRAILING_TEXT,
             Span::new(start + close + 1, name_end),
             "unexpected text after the units: expected whitespace and a value",
         ));
@@ -407,14 +407,14 @@ fn parse_setting(
     let units = &text[open + 1..close];
     let Some(value_word) = value_words.first() else {
         return Err(Diagnostic::error(
-            "S0014",
+            gloc_engine::codes::mission::MISSING_VALUE,
             Span::new(end, end),
             format!("`{name}` has no value: expected a number after `{text}`"),
         ));
     };
     let value = parse_number(value_word.text).ok_or_else(|| {
         Diagnostic::error(
-            "S0015",
+            gloc_engine::codes::mission::VALUE_NOT_A_NUMBER,
             value_word.span(),
             format!("`{}` is not a number", value_word.text),
         )
@@ -422,7 +422,7 @@ fn parse_setting(
     })?;
     if let Some(extra) = value_words.get(1) {
         return Err(Diagnostic::error(
-            "S0013",
+            gloc_engine::codes::mission::TRAILING_TEXT,
             extra.span(),
             format!(
                 "unexpected `{}` after the value (start a comment with `#`)",
@@ -491,7 +491,7 @@ impl Parser<'_> {
             self.error(
                 0,
                 Diagnostic::error(
-                    "S0002",
+                    gloc_engine::codes::mission::MISSION_NOT_TEXT,
                     Span::new(at, at + 1),
                     "this is not a text file (it contains a NUL byte)",
                 ),
@@ -535,7 +535,7 @@ impl Parser<'_> {
                 _ => self.error(
                     0,
                     Diagnostic::error(
-                        "S0003",
+                        gloc_engine::codes::mission::UNEXPECTED_MISSION_LINE,
                         keyword.span(),
                         format!(
                             "unexpected `{}`: expected `sensor:`, `behavior:` or `b_arg:`",
@@ -559,7 +559,7 @@ impl Parser<'_> {
             self.error(
                 0,
                 Diagnostic::error(
-                    "S0016",
+                    gloc_engine::codes::mission::MISSING_BEHAVIOR_NAME,
                     Span::new(end, end),
                     "expected a behavior name after `behavior:`",
                 ),
@@ -571,7 +571,7 @@ impl Parser<'_> {
             self.error(
                 0,
                 Diagnostic::error(
-                    "S0013",
+                    gloc_engine::codes::mission::TRAILING_TEXT,
                     extra.span(),
                     format!("unexpected `{}` after the behavior name", extra.text),
                 ),
@@ -592,7 +592,7 @@ impl Parser<'_> {
                 self.error(
                     0,
                     Diagnostic::warning(
-                        "S0101",
+                        gloc_engine::codes::mission::UNKNOWN_BEHAVIOR,
                         name.span(),
                         format!(
                             "unknown behavior `{}`: it is ignored with its arguments",
@@ -619,7 +619,7 @@ impl Parser<'_> {
             self.error(
                 file,
                 Diagnostic::error(
-                    "S0017",
+                    gloc_engine::codes::mission::ARG_BEFORE_BEHAVIOR,
                     keyword.span(),
                     "`b_arg:` before any `behavior:` line",
                 )
@@ -637,7 +637,7 @@ impl Parser<'_> {
                 self.error(
                     file,
                     Diagnostic::warning(
-                        "S0102",
+                        gloc_engine::codes::mission::NESTED_ARGS_FROM_FILE,
                         at.span,
                         "`args_from_file` inside a `.ma` file is ignored",
                     ),
@@ -653,7 +653,7 @@ impl Parser<'_> {
             self.error(
                 file,
                 Diagnostic::warning(
-                    "S0103",
+                    gloc_engine::codes::mission::UNKNOWN_ARGUMENT,
                     at.span,
                     format!(
                         "unknown argument `{name}` for behavior `{behavior_name}`: it is ignored"
@@ -679,7 +679,7 @@ impl Parser<'_> {
             self.error(
                 at.file,
                 Diagnostic::error(
-                    "S0004",
+                    gloc_engine::codes::mission::CANNOT_READ_MA,
                     at.span,
                     format!(
                         "`args_from_file` needs `{file_name}`, but this mission has no mafiles folder"
@@ -695,7 +695,7 @@ impl Parser<'_> {
                 self.error(
                     at.file,
                     Diagnostic::error(
-                        "S0004",
+                        gloc_engine::codes::mission::CANNOT_READ_MA,
                         at.span,
                         format!(
                             "cannot read mission argument file `{}`: {error}",
@@ -737,7 +737,7 @@ impl Parser<'_> {
                     self.error(
                         file,
                         Diagnostic::error(
-                            "S0021",
+                            gloc_engine::codes::mission::NESTED_SECTION,
                             first.span(),
                             format!("`{}` inside another section: close it first", first.text),
                         ),
@@ -750,7 +750,7 @@ impl Parser<'_> {
                 "<end:b_arg>" | "<end:waypoints>" => self.error(
                     file,
                     Diagnostic::error(
-                        "S0022",
+                        gloc_engine::codes::mission::UNMATCHED_SECTION_END,
                         first.span(),
                         format!("`{}` without a matching start", first.text),
                     ),
@@ -762,7 +762,7 @@ impl Parser<'_> {
                         self.error(
                             file,
                             Diagnostic::warning(
-                                "S0104",
+                                gloc_engine::codes::mission::MA_FOR_OTHER_BEHAVIOR,
                                 first.span(),
                                 format!(
                                     "this file is for behavior `{named}`, but behavior `{behavior}` loads it"
@@ -792,7 +792,7 @@ impl Parser<'_> {
                         self.error(
                             file,
                             Diagnostic::error(
-                                "S0023",
+                                gloc_engine::codes::mission::BAD_WAYPOINT,
                                 first.span(),
                                 "expected a waypoint `LON LAT` (DDDMM.MMMM DDMM.MMMM)",
                             ),
@@ -802,7 +802,7 @@ impl Parser<'_> {
                 _ => self.error(
                     file,
                     Diagnostic::error(
-                        "S0024",
+                        gloc_engine::codes::mission::UNEXPECTED_MA_LINE,
                         first.span(),
                         format!(
                             "unexpected `{}`: expected `behavior_name=`, `<start:b_arg>`, `b_arg:` or `<end:b_arg>`",
@@ -816,7 +816,7 @@ impl Parser<'_> {
             self.error(
                 file,
                 Diagnostic::error(
-                    "S0025",
+                    gloc_engine::codes::mission::UNCLOSED_SECTION,
                     Span::new(last_end, last_end),
                     "the file ends inside a section: expected `<end:b_arg>` or `<end:waypoints>`",
                 ),
@@ -826,7 +826,7 @@ impl Parser<'_> {
             self.error(
                 file,
                 Diagnostic::warning(
-                    "S0105",
+                    gloc_engine::codes::mission::MA_WITHOUT_BEHAVIOR_NAME,
                     Span::default(),
                     format!("no `behavior_name=` line (loaded for `{behavior}`)"),
                 ),

@@ -18,7 +18,7 @@
 
 use std::sync::Arc;
 
-use gloc_engine::program::Program;
+use gloc_engine::program::{Pc, Program};
 use gloc_engine::sensors::{SensorId, SensorList};
 use gloc_engine::vm::{CycleEnd, Host, Machine, MachineConfig, Status, Trap};
 
@@ -367,6 +367,9 @@ pub struct Simulation {
     end: Option<MissionEnd>,
     /// Per-cycle outputs (cleared each cycle, capacity kept).
     printed: String,
+    /// For each line in `printed`: where it ends (after its `\n`) and the pc of the
+    /// instruction that printed it.
+    print_sites: Vec<(usize, Pc)>,
     stored: Vec<SensorId>,
     events: Vec<BehaviorEvent>,
     warnings: Vec<String>,
@@ -535,6 +538,7 @@ impl Simulation {
             last_surface_time: 0.0,
             end: None,
             printed: String::with_capacity(256),
+            print_sites: Vec::new(),
             stored: Vec::with_capacity(16),
             events: Vec::with_capacity(16),
             warnings,
@@ -564,6 +568,7 @@ impl Simulation {
         }
         self.time = self.next_time;
         self.printed.clear();
+        self.print_sites.clear();
         self.stored.clear();
         self.events.clear();
         self.commands = Commands::default();
@@ -637,6 +642,7 @@ impl Simulation {
             SimHost {
                 sensors: &mut self.sensors,
                 printed: &mut self.printed,
+                print_sites: &mut self.print_sites,
                 stored: &mut self.stored,
             },
         ))
@@ -1101,6 +1107,12 @@ impl Simulation {
         &self.printed
     }
 
+    /// For each line of [`Simulation::printed_text`], in order: the byte where it ends
+    /// (after its `\n`) and the pc of the instruction that printed it.
+    pub fn print_sites(&self) -> &[(usize, Pc)] {
+        &self.print_sites
+    }
+
     /// Sensors the script stored this cycle, in first-store order.
     pub fn stored(&self) -> &[SensorId] {
         &self.stored
@@ -1179,6 +1191,7 @@ fn shelf_profile(mission_set: &mut dyn FnMut(&str) -> Option<f64>) -> Temperatur
 pub struct SimHost<'a> {
     sensors: &'a mut [f64],
     printed: &'a mut String,
+    print_sites: &'a mut Vec<(usize, Pc)>,
     stored: &'a mut Vec<SensorId>,
 }
 
@@ -1199,5 +1212,10 @@ impl Host for SimHost<'_> {
     fn print_line(&mut self, line: &str) {
         self.printed.push_str(line);
         self.printed.push('\n');
+    }
+
+    fn print_line_at(&mut self, line: &str, pc: Pc) {
+        self.print_line(line);
+        self.print_sites.push((self.printed.len(), pc));
     }
 }

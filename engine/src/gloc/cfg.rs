@@ -442,7 +442,7 @@ fn unreachable_code(program: &Program, reachable: &[bool]) -> Vec<Diagnostic> {
         let count = pc - start;
         let first = program.spans[start];
         let mut diagnostic = Diagnostic::warning(
-            "W0112",
+            crate::codes::gloc::UNREACHABLE,
             first,
             if count == 1 {
                 "unreachable instruction: no path from the start of the script reaches it".to_string()
@@ -477,14 +477,14 @@ fn loop_diagnostic(
     let closing: Span = program.span(Pc(last));
     let mut diagnostic = if yield_free_loop.has_exit {
         Diagnostic::warning(
-            "W0111",
+            crate::codes::gloc::LOOP_MAY_OVERRUN,
             span,
             "this loop can repeat without a `yield`: it may overrun the 4-second control cycle",
         )
         .with_help("add a `yield` inside the loop, or pass its trip count as a loop bound")
     } else {
         Diagnostic::error(
-            "E0111",
+            crate::codes::gloc::LOOP_WITHOUT_YIELD,
             span,
             "this loop never yields and has no way out: it would hang the vehicle's control cycle",
         )

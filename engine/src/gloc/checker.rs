@@ -51,7 +51,7 @@ pub fn check_parsed(parsed: &Parsed, sensors: &SensorList, options: &CheckOption
         if declared != statement_count {
             checker.diagnostics.push(
                 Diagnostic::error(
-                    "E0105",
+                    crate::codes::gloc::NINSTR_MISMATCH,
                     span,
                     format!(
                         "`ninstr {declared}` does not match the body: it has {statement_count} \
@@ -143,7 +143,7 @@ impl Checker<'_> {
             if seen_statement {
                 self.diagnostics.push(
                     Diagnostic::error(
-                        "E0011",
+                        crate::codes::gloc::MISPLACED_HEADER,
                         span,
                         format!(
                             "`{}` must come in the header, before the first label or instruction",
@@ -157,7 +157,7 @@ impl Checker<'_> {
             if let Some(first) = first_defined.get(canonical) {
                 self.diagnostics.push(
                     Diagnostic::error(
-                        "E0011",
+                        crate::codes::gloc::MISPLACED_HEADER,
                         span,
                         format!("the header declares `{canonical}` twice"),
                     )
@@ -176,7 +176,7 @@ impl Checker<'_> {
             if let Some(limit) = limit {
                 if directive.value > limit {
                     self.diagnostics.push(Diagnostic::error(
-                        "E0012",
+                        crate::codes::gloc::HEADER_OVER_LIMIT,
                         directive.value_span,
                         format!(
                             "`{} {}` is more than this engine allows ({limit})",
@@ -227,11 +227,12 @@ impl Checker<'_> {
             } else {
                 format!("the header is missing `{}`", missing.join("`, `"))
             };
-            self.diagnostics
-                .push(Diagnostic::error("E0010", span, message).with_help(
+            self.diagnostics.push(
+                Diagnostic::error(crate::codes::gloc::MISSING_HEADER, span, message).with_help(
                     "start the file with `nregs N` (registers), `nblbs N` (labels) and `ninstr N` \
                      (lines after the header)",
-                ));
+                ),
+            );
         }
         header
     }
@@ -263,7 +264,7 @@ impl Checker<'_> {
                     if let Some(first) = label_spans.get(&label.number) {
                         self.diagnostics.push(
                             Diagnostic::error(
-                                "E0103",
+                                crate::codes::gloc::LABEL_DEFINED_TWICE,
                                 label.number_span,
                                 format!("label {} is defined twice", label.number),
                             )
@@ -332,7 +333,7 @@ impl Checker<'_> {
                     {
                         self.diagnostics.push(
                             Diagnostic::error(
-                                "E0104",
+                                crate::codes::gloc::UNDEFINED_LABEL,
                                 span,
                                 format!("label {label} is never defined"),
                             )
@@ -371,7 +372,7 @@ impl Checker<'_> {
             return true;
         }
         let mut diagnostic = Diagnostic::error(
-            "E0102",
+            crate::codes::gloc::LABEL_OUT_OF_RANGE,
             span,
             format!(
                 "label {label} is out of range: `nblbs {limit}` allows labels 0 to {}",
@@ -668,7 +669,7 @@ impl Resolver<'_, '_, '_> {
         if let Some(limit) = self.register_limit {
             if u64::from(register) >= limit {
                 let mut diagnostic = Diagnostic::error(
-                    "E0101",
+                    crate::codes::gloc::REGISTER_OUT_OF_RANGE,
                     span,
                     if limit == 0 {
                         format!("register r{register} is out of range: `nregs 0` allows no registers")
@@ -697,7 +698,7 @@ impl Resolver<'_, '_, '_> {
         let Some(sensor) = sensors.get(id) else {
             self.checker.diagnostics.push(
                 Diagnostic::error(
-                    "E0107",
+                    crate::codes::gloc::UNKNOWN_SENSOR_INDEX,
                     span,
                     format!(
                         "sensor {index} does not exist: the active sensor list has {} sensors (0 to {})",
@@ -713,7 +714,7 @@ impl Resolver<'_, '_, '_> {
             match sensor.access() {
                 Access::ReadOnly => self.checker.diagnostics.push(
                     Diagnostic::error(
-                        "E0108",
+                        crate::codes::gloc::STORE_TO_READ_ONLY,
                         span,
                         format!(
                             "sensor {index} `{}` is read-only: scripts may not store to `m_` and `x_` sensors",
@@ -724,7 +725,7 @@ impl Resolver<'_, '_, '_> {
                 ),
                 Access::Factory => self.checker.diagnostics.push(
                     Diagnostic::warning(
-                        "W0109",
+                        crate::codes::gloc::STORE_TO_FACTORY,
                         span,
                         format!(
                             "sensor {index} `{}` is a factory setting (`f_`); changing it from a script is risky",
@@ -742,7 +743,7 @@ impl Resolver<'_, '_, '_> {
         let in_range = u64::try_from(address).is_ok_and(|address| address < self.memory_size);
         if !in_range {
             let mut diagnostic = Diagnostic::error(
-                "E0110",
+                crate::codes::gloc::MEMORY_OUT_OF_RANGE,
                 span,
                 if self.memory_size == 0 {
                     format!(

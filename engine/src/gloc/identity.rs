@@ -11,7 +11,11 @@ use crate::gloc::Parsed;
 use crate::sensors::{is_crc, SensorList, EMBEDDED_CRC};
 
 /// The codes of this check (E0113, W0114, W0115).
-pub const CODES: [&str; 3] = ["E0113", "W0114", "W0115"];
+pub const CODES: [&str; 3] = [
+    crate::codes::gloc::INDEX_NAMES_ANOTHER_SENSOR,
+    crate::codes::gloc::LIST_NOT_STATED,
+    crate::codes::gloc::LIST_NOT_VERIFIED,
+];
 
 /// What a file's `# sensors: CRC` line says.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -146,7 +150,7 @@ pub fn check_identity(
         Some(Ok(stated)) => stated,
         Some(Err(span)) => {
             return vec![Diagnostic::warning(
-                "W0115",
+                crate::codes::gloc::LIST_NOT_VERIFIED,
                 span,
                 "`# sensors:` names a sensor list by its CRC, eight hex digits such as `813b137d`; \
                  the sensor indices were not verified by name",
@@ -161,7 +165,7 @@ pub fn check_identity(
                 return Vec::new();
             };
             return vec![Diagnostic::warning(
-                "W0114",
+                crate::codes::gloc::LIST_NOT_STATED,
                 span,
                 format!(
                     "the sensor indices were not verified by name: this file does not say which \
@@ -185,7 +189,7 @@ pub fn check_identity(
             Some(list) => list,
             None => {
                 return vec![Diagnostic::warning(
-                    "W0115",
+                    crate::codes::gloc::LIST_NOT_VERIFIED,
                     stated.span,
                     format!(
                         "this file's indices were written for sensor list {}, which was not found; \
@@ -221,7 +225,7 @@ pub fn check_identity(
         };
         diagnostics.push(
             Diagnostic::error(
-                "E0113",
+                crate::codes::gloc::INDEX_NAMES_ANOTHER_SENSOR,
                 span,
                 format!(
                     "index {index} is `{was}` in {} but `{is}` in {}",
@@ -285,7 +289,7 @@ pub fn reindex(
             .and_then(|index| from.name(crate::sensors::SensorId(index)));
         let Some(name) = name else {
             problems.push(Diagnostic::error(
-                "E0116",
+                crate::codes::gloc::REINDEX_NAME_MISSING,
                 span,
                 format!(
                     "index {index} is not in {} ({} sensors): nothing to rewrite it by",
@@ -299,7 +303,7 @@ pub fn reindex(
             Some(id) => edits.push((span, id.0.to_string())),
             None => problems.push(
                 Diagnostic::error(
-                    "E0116",
+                    crate::codes::gloc::REINDEX_NAME_MISSING,
                     span,
                     format!(
                         "index {index} is `{name}` in {}, and {} has no sensor `{name}`",

@@ -45,7 +45,7 @@ pub fn parse(text: &str) -> Parsed {
 pub const MAX_SOURCE_BYTES: usize = 16 << 20;
 
 /// The diagnostic code of a script over [`MAX_SOURCE_BYTES`].
-pub const SOURCE_TOO_LARGE: &str = "E0013";
+pub const SOURCE_TOO_LARGE: &str = crate::codes::gloc::SOURCE_TOO_LARGE;
 
 /// E0013 when `text` is over [`MAX_SOURCE_BYTES`] (for both languages).
 pub fn source_too_large(text: &str) -> Option<Diagnostic> {

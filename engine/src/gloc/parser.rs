@@ -40,7 +40,7 @@ pub fn parse_file(text: &str) -> (File, Vec<Diagnostic>) {
     if parser.suppressed > 0 {
         let span = parser.last_span;
         parser.diagnostics.push(Diagnostic::error(
-            "E0008",
+            crate::codes::gloc::TOO_MANY_PARSE_ERRORS,
             span,
             format!(
                 "{} more parse errors not shown (the first {MAX_PARSE_ERRORS} are listed)",
@@ -126,7 +126,7 @@ impl Parser {
             };
             let value = u64::try_from(*value).map_err(|_| {
                 Diagnostic::error(
-                    "E0005",
+                    crate::codes::gloc::BAD_NUMBER_OR_REGISTER,
                     *value_span,
                     format!("`{word}` needs a count of 0 or more"),
                 )
@@ -141,7 +141,7 @@ impl Parser {
         if lower == "label" {
             let [(operand, number_span)] = operands.as_slice() else {
                 return Err(Diagnostic::error(
-                    "E0003",
+                    crate::codes::gloc::OPERAND_COUNT,
                     word_span,
                     format!("`label` takes one label number, found {}", operands.len()),
                 )
@@ -154,8 +154,11 @@ impl Parser {
             }));
         }
         let Some(opcode) = Opcode::from_name(&lower) else {
-            let mut diagnostic =
-                Diagnostic::error("E0001", word_span, format!("unknown instruction `{word}`"));
+            let mut diagnostic = Diagnostic::error(
+                crate::codes::gloc::UNKNOWN_INSTRUCTION,
+                word_span,
+                format!("unknown instruction `{word}`"),
+            );
             let candidates = Opcode::ALL
                 .iter()
                 .map(|opcode| opcode.name())
@@ -181,7 +184,7 @@ impl Parser {
                 None => word_span.cover(operands.last().map_or(word_span, |(_, span)| *span)),
             };
             return Err(Diagnostic::error(
-                "E0003",
+                crate::codes::gloc::OPERAND_COUNT,
                 span,
                 format!(
                     "`{}` takes {} operand{}, found {}",
@@ -197,7 +200,7 @@ impl Parser {
             let span = *span;
             if !fits(kind, *shape) {
                 return Err(Diagnostic::error(
-                    "E0004",
+                    crate::codes::gloc::OPERAND_KIND,
                     span,
                     format!(
                         "`{}` expects {} here, found {}",
@@ -229,7 +232,7 @@ fn expect_single_count(
 ) -> Diagnostic {
     let span = operands.first().map_or(word_span, |(_, span)| *span);
     Diagnostic::error(
-        "E0003",
+        crate::codes::gloc::OPERAND_COUNT,
         span,
         format!("`{word}` takes one count, a whole number such as `8`"),
     )
@@ -240,13 +243,13 @@ fn label_number(operand: &OperandKind, span: Span) -> Result<u32, Diagnostic> {
     match operand {
         OperandKind::Integer(value) => u32::try_from(*value).map_err(|_| {
             Diagnostic::error(
-                "E0005",
+                crate::codes::gloc::BAD_NUMBER_OR_REGISTER,
                 span,
                 format!("label number {value} is out of range (0 to 4294967295)"),
             )
         }),
         other => Err(Diagnostic::error(
-            "E0004",
+            crate::codes::gloc::OPERAND_KIND,
             span,
             format!(
                 "expected a label number such as `3`, found {}",
@@ -285,7 +288,7 @@ fn unexpected_character(text: &str, at: usize) -> Diagnostic {
     let span = Span::new(at, at + character.len_utf8());
     if character == '\u{FFFD}' || character.is_control() {
         Diagnostic::error(
-            "E0002",
+            crate::codes::gloc::UNEXPECTED_CHARACTER,
             span,
             format!(
                 "unexpected character {:?}: this does not look like GLOC text",
@@ -294,8 +297,12 @@ fn unexpected_character(text: &str, at: usize) -> Diagnostic {
         )
         .with_help("is this a binary file? GLOC is plain text, one instruction a line")
     } else {
-        Diagnostic::error("E0002", span, format!("unexpected character `{character}`"))
-            .with_help("a GLOC line is `instruction operand,operand,…` (comments start with `#`)")
+        Diagnostic::error(
+            crate::codes::gloc::UNEXPECTED_CHARACTER,
+            span,
+            format!("unexpected character `{character}`"),
+        )
+        .with_help("a GLOC line is `instruction operand,operand,…` (comments start with `#`)")
     }
 }
 
@@ -340,7 +347,7 @@ fn tokenize(text: &str, base: usize, word: &str) -> Result<Vec<(OperandKind, Spa
             let span = Span::new(base + start, base + at);
             if expect_operand {
                 return Err(Diagnostic::error(
-                    "E0007",
+                    crate::codes::gloc::COMMA,
                     span,
                     format!("expected an operand of `{word}` before `,`"),
                 ));
@@ -371,10 +378,12 @@ fn tokenize(text: &str, base: usize, word: &str) -> Result<Vec<(OperandKind, Spa
         };
         let span = Span::new(base + start, base + at);
         if !expect_operand {
-            return Err(
-                Diagnostic::error("E0007", span, "expected `,` between operands")
-                    .with_help("operands are separated by commas: `cmpgt r0,r1,r2`"),
-            );
+            return Err(Diagnostic::error(
+                crate::codes::gloc::COMMA,
+                span,
+                "expected `,` between operands",
+            )
+            .with_help("operands are separated by commas: `cmpgt r0,r1,r2`"));
         }
         if operands.capacity() == 0 {
             operands.reserve_exact(3);
@@ -385,7 +394,7 @@ fn tokenize(text: &str, base: usize, word: &str) -> Result<Vec<(OperandKind, Spa
     if expect_operand {
         if let Some(comma) = last_comma {
             return Err(Diagnostic::error(
-                "E0007",
+                crate::codes::gloc::COMMA,
                 comma,
                 "trailing `,`: an operand is missing",
             ));
@@ -403,7 +412,11 @@ fn operand_word(word: &str, span: Span) -> Result<OperandKind, Diagnostic> {
                 .parse::<u32>()
                 .map(OperandKind::Register)
                 .map_err(|_| {
-                    Diagnostic::error("E0005", span, format!("register `{word}` is out of range"))
+                    Diagnostic::error(
+                        crate::codes::gloc::BAD_NUMBER_OR_REGISTER,
+                        span,
+                        format!("register `{word}` is out of range"),
+                    )
                 });
         }
     }
@@ -419,18 +432,20 @@ fn operand_word(word: &str, span: Span) -> Result<OperandKind, Diagnostic> {
             return Ok(OperandKind::Integer(value));
         } else if word.bytes().skip(1).all(|byte| byte.is_ascii_digit()) {
             return Err(Diagnostic::error(
-                "E0005",
+                crate::codes::gloc::BAD_NUMBER_OR_REGISTER,
                 span,
                 format!("integer `{word}` does not fit in 64 bits"),
             ));
         }
-        return Err(
-            Diagnostic::error("E0005", span, format!("malformed number `{word}`"))
-                .with_help("write an integer (`128`, `-3`) or a float (`15.0`, `1.5e-3`)"),
-        );
+        return Err(Diagnostic::error(
+            crate::codes::gloc::BAD_NUMBER_OR_REGISTER,
+            span,
+            format!("malformed number `{word}`"),
+        )
+        .with_help("write an integer (`128`, `-3`) or a float (`15.0`, `1.5e-3`)"));
     }
     Err(Diagnostic::error(
-        "E0004",
+        crate::codes::gloc::OPERAND_KIND,
         span,
         format!("expected an operand, found `{word}`"),
     )
@@ -453,7 +468,7 @@ fn string_literal(text: &str, start: usize, base: usize) -> Result<(String, usiz
                 Some((_, '\\')) => value.push('\\'),
                 Some((_, other)) => {
                     return Err(Diagnostic::error(
-                        "E0006",
+                        crate::codes::gloc::BAD_STRING,
                         Span::new(base + at, base + at + 1 + other.len_utf8()),
                         format!("unknown escape `\\{other}` in a string"),
                     )
@@ -465,7 +480,7 @@ fn string_literal(text: &str, start: usize, base: usize) -> Result<(String, usiz
         }
     }
     Err(Diagnostic::error(
-        "E0006",
+        crate::codes::gloc::BAD_STRING,
         Span::new(base + start, base + text.len()),
         "unterminated string",
     )

@@ -179,7 +179,7 @@ pub fn parse_masterdata(text: &str, order: SensorOrder) -> (SensorList, Vec<Diag
                 continues = None;
                 if sensors.len() == MAX_SENSORS {
                     diagnostics.push(Diagnostic::error(
-                        "E0208",
+                        crate::codes::sensors::TOO_MANY_SENSORS,
                         Span::new(base + indent, base + line.len()),
                         format!(
                             "more than {MAX_SENSORS} sensors: the rest of the file is not read"
@@ -194,7 +194,7 @@ pub fn parse_masterdata(text: &str, order: SensorOrder) -> (SensorList, Vec<Diag
                         if let Some((first_line, first_span)) = first_line_of.get(&key) {
                             diagnostics.push(
                                 Diagnostic::warning(
-                                    "W0203",
+                                    crate::codes::sensors::DUPLICATE_SENSOR,
                                     span,
                                     format!(
                                         "sensor `{}` is declared again (first on line {first_line}); \
@@ -240,7 +240,7 @@ pub fn parse_masterdata(text: &str, order: SensorOrder) -> (SensorList, Vec<Diag
                 continues = None;
                 if name.is_empty() {
                     diagnostics.push(Diagnostic::error(
-                        "E0201",
+                        crate::codes::sensors::BAD_MASTERDATA_LINE,
                         Span::new(base + indent, base + line.len()),
                         "expected a behavior name after `behavior:`",
                     ));
@@ -256,7 +256,7 @@ pub fn parse_masterdata(text: &str, order: SensorOrder) -> (SensorList, Vec<Diag
                 continues = None;
                 let Some(behavior_index) = behaviors.len().checked_sub(1) else {
                     diagnostics.push(Diagnostic::warning(
-                        "W0204",
+                        crate::codes::sensors::NOT_MASTERDATA,
                         Span::new(base + indent, base + line.len()),
                         "`b_arg:` outside a `behavior:` section is ignored",
                     ));
@@ -293,7 +293,7 @@ pub fn parse_masterdata(text: &str, order: SensorOrder) -> (SensorList, Vec<Diag
                 continues = None;
                 diagnostics.push(
                     Diagnostic::warning(
-                        "W0204",
+                        crate::codes::sensors::NOT_MASTERDATA,
                         Span::new(base + indent, base + line.len()),
                         "line ignored: a masterdata line starts with `sensor:`, `behavior:`, `b_arg:` or `#`",
                     ),
@@ -303,8 +303,12 @@ pub fn parse_masterdata(text: &str, order: SensorOrder) -> (SensorList, Vec<Diag
     }
     if sensors.is_empty() {
         diagnostics.push(
-            Diagnostic::error("E0207", Span::new(0, 0), "no `sensor:` lines found")
-                .with_help("a masterdata line reads `sensor: NAME(UNITS) [DEFAULT] [# comment]`"),
+            Diagnostic::error(
+                crate::codes::sensors::NO_SENSORS,
+                Span::new(0, 0),
+                "no `sensor:` lines found",
+            )
+            .with_help("a masterdata line reads `sensor: NAME(UNITS) [DEFAULT] [# comment]`"),
         );
     }
     if order == SensorOrder::SortedByName {
@@ -364,7 +368,7 @@ pub fn parse_cac_entries(text: &str) -> (Vec<CacEntry>, Vec<Diagnostic>) {
         if field(0) != Some("s:") {
             diagnostics.push(
                 Diagnostic::error(
-                    "E0205",
+                    crate::codes::sensors::BAD_CAC_LINE,
                     field_span(0),
                     "expected a `.cac` line starting with `s:`",
                 )
@@ -393,8 +397,12 @@ pub fn parse_cac_entries(text: &str) -> (Vec<CacEntry>, Vec<Diagnostic>) {
         };
         if let Some((position, message)) = problem {
             diagnostics.push(
-                Diagnostic::error("E0205", field_span(position), message)
-                    .with_help("a `.cac` line reads `s: T|F INDEX COLUMN BYTES NAME UNITS`"),
+                Diagnostic::error(
+                    crate::codes::sensors::BAD_CAC_LINE,
+                    field_span(position),
+                    message,
+                )
+                .with_help("a `.cac` line reads `s: T|F INDEX COLUMN BYTES NAME UNITS`"),
             );
             continue;
         }
@@ -424,7 +432,7 @@ pub fn parse_cac(text: &str) -> (SensorList, Vec<Diagnostic>) {
         let sensor_index = entry.index as usize;
         if sensor_index >= MAX_SENSORS {
             diagnostics.push(Diagnostic::error(
-                "E0206",
+                crate::codes::sensors::BAD_CAC_INDICES,
                 entry.index_span,
                 format!(
                     "sensor index {sensor_index} is over the limit: a sensor list has at most \
@@ -440,7 +448,7 @@ pub fn parse_cac(text: &str) -> (SensorList, Vec<Diagnostic>) {
         if slots[sensor_index].is_some() {
             diagnostics.push(
                 Diagnostic::error(
-                    "E0206",
+                    crate::codes::sensors::BAD_CAC_INDICES,
                     entry.index_span,
                     format!("sensor index {sensor_index} appears twice"),
                 )
@@ -454,7 +462,7 @@ pub fn parse_cac(text: &str) -> (SensorList, Vec<Diagnostic>) {
         if let Some((first_line, first_span)) = first_line_of.get(&key) {
             diagnostics.push(
                 Diagnostic::warning(
-                    "W0203",
+                    crate::codes::sensors::DUPLICATE_SENSOR,
                     name_span,
                     format!("sensor `{name}` is listed again (first on line {first_line})"),
                 )
@@ -476,14 +484,14 @@ pub fn parse_cac(text: &str) -> (SensorList, Vec<Diagnostic>) {
     }
     if let Some(missing) = slots.iter().position(Option::is_none) {
         diagnostics.push(Diagnostic::error(
-            "E0206",
+            crate::codes::sensors::BAD_CAC_INDICES,
             Span::new(0, 0),
             format!("sensor index {missing} is missing: indices must run 0, 1, 2, … without gaps"),
         ));
     }
     if slots.is_empty() {
         diagnostics.push(Diagnostic::error(
-            "E0207",
+            crate::codes::sensors::NO_SENSORS,
             Span::new(0, 0),
             "no `s:` lines found",
         ));
@@ -518,7 +526,7 @@ fn entry_line(body: &str, base: usize) -> Result<Entry<'_>, Box<Diagnostic>> {
         let end = code.trim_end().len().max(name_start);
         return Err(Box::new(
             Diagnostic::error(
-                "E0201",
+                crate::codes::sensors::BAD_MASTERDATA_LINE,
                 Span::new(base + name_start, base + end),
                 "expected `NAME(UNITS)`: the units in parentheses are missing",
             )
@@ -528,7 +536,7 @@ fn entry_line(body: &str, base: usize) -> Result<Entry<'_>, Box<Diagnostic>> {
     let Some(close) = code[open..].find(')').map(|at| open + at) else {
         return Err(Box::new(
             Diagnostic::error(
-                "E0201",
+                crate::codes::sensors::BAD_MASTERDATA_LINE,
                 Span::new(base + open, base + code.trim_end().len().max(open + 1)),
                 "expected `)` after the units",
             )
@@ -544,7 +552,7 @@ fn entry_line(body: &str, base: usize) -> Result<Entry<'_>, Box<Diagnostic>> {
     {
         return Err(Box::new(
             Diagnostic::error(
-                "E0201",
+                crate::codes::sensors::BAD_MASTERDATA_LINE,
                 name_span,
                 format!("`{name}` is not a sensor name (letters, digits and `_`)"),
             )
@@ -564,7 +572,7 @@ fn entry_line(body: &str, base: usize) -> Result<Entry<'_>, Box<Diagnostic>> {
             _ => {
                 return Err(Box::new(
                     Diagnostic::error(
-                        "E0202",
+                        crate::codes::sensors::BAD_DEFAULT,
                         Span::new(base + at, base + at + default_text.len()),
                         format!("expected a number as the default, found `{default_text}`"),
                     )

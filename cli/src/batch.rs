@@ -14,14 +14,14 @@ use anyhow::{bail, Context};
 use gloc_compiler::LoadedScript;
 use gloc_engine::program::Program;
 use gloc_engine::sensors::SensorList;
-use gloc_engine::vm::DEFAULT_CYCLE_BUDGET;
+use gloc_project::settings::{Origin, Settings};
+use gloc_project::{Overrides, Surface};
 use gloc_sim::faults::{step_cycle_with_faults, Fault, FaultPlan};
-use gloc_sim::{EndReason, Mission, SimConfig, Simulation, TemperatureProfile};
+use gloc_sim::{EndReason, Mission, TemperatureProfile};
 
 use crate::render::Tally;
 use crate::simulate::{
-    load_mission, load_program, parse_duration, read_text, script_state, Script,
-    DEFAULT_LIMIT_SECONDS,
+    load_mission, load_program, parse_duration, script_state, Script, DEFAULT_LIMIT_SECONDS,
 };
 
 /// One mission of the sweep: its seed and its value on each other axis, shared with the
@@ -66,8 +66,7 @@ struct Shared<'a> {
     script_name: &'a str,
     mission: &'a Mission,
     sensor_list: &'a Arc<SensorList>,
-    cycle_budget: u64,
-    base_settings: &'a [(String, f64)],
+    settings: &'a Settings,
     limit: Limit,
 }
 
@@ -79,22 +78,20 @@ enum Limit {
 
 pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
     let mut tally = Tally::default();
-    let settings = crate::settings::resolve(
+    let settings = Settings::resolve(
         args.script.as_deref(),
-        crate::settings::Flags {
-            masterdata: args.flight.masterdata.as_deref(),
+        Overrides {
+            masterdata: args.flight.masterdata.clone(),
             cycle_budget: args.flight.cycle_budget,
-            mission: args.flight.mission.as_deref(),
+            mission: args.flight.mission.clone(),
             sensor_order: args.flight.sensor_order,
-            simulator: &[],
-            sensor_cache: None,
+            ..Overrides::new(Surface::Cli)
         },
     )?;
     let Some(sensor_list) = crate::check::active_sensors(&settings, &mut tally)? else {
-        return Ok(ExitCode::FAILURE);
+        return Ok(crate::exit::code(crate::exit::ERRORS));
     };
     let sensor_list = Arc::new(sensor_list);
-    let cycle_budget = settings.cycle_budget.unwrap_or(DEFAULT_CYCLE_BUDGET);
     // Every axis is checked before anything flies: a typo costs nothing.
     let seeds = match &args.seeds {
         Some(text) => parse_seeds(text).map_err(|error| anyhow::anyhow!("--seeds {error}"))?,
@@ -114,9 +111,7 @@ pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
             continue;
         }
         let path = PathBuf::from(&given);
-        let text = read_text(&path, gloc_engine::files::PROFILE)?;
-        let profile = TemperatureProfile::from_csv(&path, &text)
-            .map_err(|error| anyhow::anyhow!("{error}"))?;
+        let profile = gloc_project::simulation::load_profile(&path, Origin::Flag("--profile"))?;
         profiles.push(Profile {
             label: given,
             profile: Some(profile),
@@ -197,13 +192,12 @@ pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
         &sensor_list,
         &settings,
         !args.no_optimize,
-        cycle_budget,
     )?
     else {
-        return Ok(ExitCode::FAILURE);
+        return Ok(crate::exit::code(crate::exit::ERRORS));
     };
-    let Some(mission) = load_mission(settings.mission.as_deref()) else {
-        return Ok(ExitCode::FAILURE);
+    let Some(mission) = load_mission(&settings)? else {
+        return Ok(crate::exit::code(crate::exit::ERRORS));
     };
 
     let shared = Shared {
@@ -212,8 +206,7 @@ pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
         script_name: &script_name,
         mission: &mission,
         sensor_list: &sensor_list,
-        cycle_budget,
-        base_settings: &settings.simulator,
+        settings: &settings,
         limit,
     };
     let jobs = args
@@ -339,21 +332,19 @@ fn fly_all(
 /// One mission, start to end.
 fn fly(shared: &Shared<'_>, variant: &Variant) -> Result<Row, String> {
     let started = Instant::now();
-    let mut config = SimConfig {
-        seed: variant.seed,
-        profile: variant.profile.profile.clone(),
-        cycle_budget: shared.cycle_budget,
-        ..SimConfig::default()
-    };
-    for (name, value) in shared.base_settings.iter().chain(variant.settings.iter()) {
-        if !config.set(name, *value) {
-            return Err(format!("`{name}` is not a simulator setting"));
-        }
-    }
-    let mut sim = Simulation::new(
+    let config = gloc_project::simulation::sim_config(
+        shared.settings,
+        gloc_project::simulation::Flight {
+            seed: Some(variant.seed),
+            profile: variant.profile.profile.clone(),
+            simulator: variant.settings.to_vec(),
+        },
+    )
+    .map_err(|error| error.to_string())?;
+    let mut sim = gloc_project::simulation::build_simulation(
         shared.mission,
         shared.sensor_list.clone(),
-        Some(shared.program.clone()),
+        shared.program.clone(),
         &config,
     )
     .map_err(|error| error.to_string())?;
@@ -561,7 +552,7 @@ fn parse_sweep_setting(text: &str) -> Result<Vec<(String, f64)>, String> {
     })?;
     values
         .split(',')
-        .map(|value| crate::settings::parse_simulator_setting(&format!("{name}={value}")))
+        .map(|value| gloc_project::settings::parse_simulator_setting(&format!("{name}={value}")))
         .collect()
 }
 

@@ -3,61 +3,53 @@
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::Arc;
 
-use anyhow::Context;
-use gloc_engine::gloc::{self, Bound, CheckOptions, Stats};
-use gloc_engine::sensors::{load_sensor_file, SensorList, SensorOrder};
+use gloc_engine::gloc::{Bound, Stats};
+use gloc_engine::sensors::{SensorList, SensorOrder};
+use gloc_project::sensors::{load_sensor_list, load_sensor_list_file, LoadedSensors};
+use gloc_project::settings::{Origin, Settings, Sourced};
+use gloc_project::{Overrides, Surface};
 
 use crate::render::{SourceFile, Tally};
 
 pub fn main(args: crate::CheckArgs) -> anyhow::Result<ExitCode> {
     let mut tally = Tally::default();
-    let settings = crate::settings::resolve(
+    let settings = Settings::resolve(
         args.files.first().map(PathBuf::as_path),
-        crate::settings::Flags {
-            masterdata: args.masterdata.as_deref(),
+        Overrides {
+            masterdata: args.masterdata.clone(),
+            cycle_budget: args.cycle_budget,
             sensor_order: args.sensor_order,
-            ..Default::default()
+            ..Overrides::new(Surface::Cli)
         },
     )?;
-    let sensors = match &settings.masterdata {
-        Some(path) => match load_sensors(path, settings.sensor_order, &mut tally)? {
-            Some(list) => list,
-            None => return Ok(ExitCode::FAILURE),
-        },
-        None => SensorList::embedded(),
+    let Some(sensors) = active_sensors(&settings, &mut tally)? else {
+        return Ok(crate::exit::code(crate::exit::ERRORS));
     };
+    let mut unreadable = 0;
     for path in &args.files {
-        let display = path.display().to_string();
-        let text = match gloc_engine::files::read_text(path, gloc_engine::files::SCRIPT) {
-            Ok(text) => text,
+        let script = match gloc_project::script::load_script(path, &sensors, &settings, false) {
+            Ok(script) => script,
             Err(error) => {
-                println!("{display}: error: cannot read the file: {error}");
-                tally.errors += 1;
+                println!("error: {error}");
+                unreadable += 1;
                 continue;
             }
         };
-        if gloc_compiler::Language::of_path(path) == gloc_compiler::Language::Gbasic {
-            check_gbas(&display, &text, &sensors, args.stats, &mut tally);
-            continue;
-        }
-        let source = SourceFile::new(&display, &text);
-        let parsed = gloc::parse(&text);
-        let options = CheckOptions {
-            written_for: written_for(&text, path, &settings, &sensors),
-            ..CheckOptions::default()
-        };
-        let checked = gloc::check(&parsed, &sensors, &options);
-        for diagnostic in &checked.diagnostics {
+        let source = SourceFile::new(&script.display, &script.text);
+        for diagnostic in &script.loaded.diagnostics {
             print!("{}", source.render(diagnostic));
         }
-        tally.add(&checked.diagnostics);
+        if let Some(hint) = &script.hint {
+            println!("{}: note: {hint}", script.display);
+        }
+        tally.add(&script.loaded.diagnostics);
         if args.stats {
-            let program = checked.program.as_deref();
-            print_stats(&source, &checked.stats, &|pc| {
-                program.map_or(0, |program| program.line(pc))
-            });
+            if let Some(checked_stats) = &script.loaded.stats {
+                print_stats(&source, checked_stats, &|pc| {
+                    script.loaded.line_of_pc(pc).unwrap_or(0)
+                });
+            }
         }
     }
     if tally.errors > 0 || tally.warnings > 0 {
@@ -69,81 +61,68 @@ pub fn main(args: crate::CheckArgs) -> anyhow::Result<ExitCode> {
             if tally.warnings == 1 { "" } else { "s" }
         );
     }
-    Ok(if tally.errors > 0 {
-        ExitCode::FAILURE
+    Ok(if unreadable > 0 {
+        crate::exit::code(crate::exit::UNREADABLE)
+    } else if tally.errors > 0 {
+        crate::exit::code(crate::exit::ERRORS)
     } else {
         ExitCode::SUCCESS
     })
 }
 
-/// The list a GLOC file's `# sensors: CRC` line names, when it is a third list:
-/// `<crc>.cac` beside the script, beside the active list, or in the sensor cache
-/// (`gloc_engine::gloc::identity::find_written_for`).
-pub fn written_for(
-    text: &str,
-    script: &Path,
-    settings: &crate::settings::Settings,
-    active: &SensorList,
-) -> Option<Arc<SensorList>> {
-    let folders = gloc::identity::list_folders(
-        Some(script),
-        settings.masterdata.as_deref(),
-        settings.sensor_cache.as_deref(),
-    );
-    gloc::identity::find_written_for(text, active, &folders)
-}
-
-/// The active sensor list of resolved settings: the masterdata file they name (see
-/// [`load_sensors`]) or the embedded list. One place for `run`, `batch`, `compile` and
-/// the replay.
+/// The active sensor list of resolved settings (`gloc_project::sensors`), its
+/// diagnostics printed; `None` when it has errors. One place for every subcommand.
 pub fn active_sensors(
-    settings: &crate::settings::Settings,
+    settings: &Settings,
     tally: &mut Tally,
 ) -> anyhow::Result<Option<SensorList>> {
-    match &settings.masterdata {
-        Some(path) => load_sensors(path, settings.sensor_order, tally),
-        None => Ok(Some(SensorList::embedded())),
-    }
+    let loaded = load_sensor_list(settings)?;
+    Ok(print_list(loaded, tally))
 }
 
-/// Loads `--masterdata`: prints its diagnostics; `None` when it has errors.
+/// Loads a sensor list a flag names outside the settings (`reindex --to/--from`):
+/// prints its diagnostics; `None` when it has errors.
 pub fn load_sensors(
     path: &Path,
+    flag: &'static str,
     order: SensorOrder,
     tally: &mut Tally,
 ) -> anyhow::Result<Option<SensorList>> {
-    let loaded = load_sensor_file(path, order)
-        .with_context(|| format!("cannot read the sensor list `{}`", path.display()))?;
-    let display = path.display().to_string();
+    let loaded = load_sensor_list_file(
+        &Sourced {
+            value: path.to_path_buf(),
+            origin: Origin::Flag(flag),
+        },
+        order,
+    )?;
+    Ok(print_list(loaded, tally))
+}
+
+fn print_list(loaded: LoadedSensors, tally: &mut Tally) -> Option<SensorList> {
+    let display = loaded
+        .path
+        .as_deref()
+        .map(|path| path.display().to_string())
+        .unwrap_or_default();
     let source = SourceFile::new(&display, &loaded.text);
     for diagnostic in &loaded.diagnostics {
         print!("{}", source.render(diagnostic));
     }
-    let before = tally.errors;
     tally.add(&loaded.diagnostics);
-    Ok((tally.errors == before).then_some(loaded.list))
-}
-
-/// GBASIC files are compiled in memory and their GLOC checked (with the `for`
-/// loop bounds the compiler knows); diagnostics point at the GBASIC text.
-fn check_gbas(display: &str, text: &str, sensors: &SensorList, stats: bool, tally: &mut Tally) {
-    let loaded = gloc_compiler::load_script(
-        text,
-        gloc_compiler::Language::Gbasic,
-        sensors,
-        &gloc_compiler::LoadOptions::default(),
-    );
-    let source = SourceFile::new(display, text);
-    for diagnostic in &loaded.diagnostics {
-        print!("{}", source.render(diagnostic));
-    }
-    tally.add(&loaded.diagnostics);
-    if stats {
-        if let Some(checked_stats) = &loaded.stats {
-            print_stats(&source, checked_stats, &|pc| {
-                loaded.line_of_pc(pc).unwrap_or(0)
-            });
+    match loaded.errors() {
+        // Errors the diagnostics above did not show (a file without sensors).
+        Some(error)
+            if !loaded
+                .diagnostics
+                .iter()
+                .any(gloc_engine::Diagnostic::is_error) =>
+        {
+            println!("error: {error}");
+            tally.errors += 1;
+            None
         }
+        Some(_) => None,
+        None => Some(loaded.list),
     }
 }
 

@@ -4,40 +4,46 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use anyhow::Context;
-use gloc_compiler::{compile, load_script, CompileOptions, Language, LoadOptions, LoadedScript};
-use gloc_engine::sensors::SensorList;
+use gloc_compiler::{compile, CompileOptions, Language};
+use gloc_project::script::Script;
+use gloc_project::settings::Settings;
+use gloc_project::{Overrides, Surface};
 
 use crate::render::{SourceFile, Tally};
 
 pub fn main(args: crate::CompileArgs) -> anyhow::Result<ExitCode> {
     let mut tally = Tally::default();
-    let settings = crate::settings::resolve(
+    let settings = Settings::resolve(
         Some(&args.file),
-        crate::settings::Flags {
-            masterdata: args.masterdata.as_deref(),
+        Overrides {
+            masterdata: args.masterdata.clone(),
             sensor_order: args.sensor_order,
-            ..Default::default()
+            ..Overrides::new(Surface::Cli)
         },
     )?;
     let Some(sensors) = crate::check::active_sensors(&settings, &mut tally)? else {
-        return Ok(ExitCode::FAILURE);
+        return Ok(crate::exit::code(crate::exit::ERRORS));
     };
-    let text = gloc_engine::files::read_text(&args.file, gloc_engine::files::SCRIPT)
-        .with_context(|| format!("cannot read the GBASIC file `{}`", args.file.display()))?;
+    // `gloc compile` compiles GBASIC whatever the file is called.
+    let text = gloc_project::script::read_script(&args.file)?;
     let display = args.file.display().to_string();
-    let loaded = load_script(
-        &text,
+    let script = gloc_project::script::load_text(
+        Some(&args.file),
+        display.clone(),
+        text,
         Language::Gbasic,
         &sensors,
-        &LoadOptions {
-            optimize: args.optimize,
-            cycle_budget: None,
-        },
+        &settings,
+        args.optimize,
     );
-    let source = SourceFile::new(&display, &text);
+    let text = &script.text;
+    let loaded = &script.loaded;
+    let source = SourceFile::new(&display, text);
     for diagnostic in &loaded.diagnostics {
         eprint!("{}", source.render(diagnostic));
+    }
+    if let Some(hint) = &script.hint {
+        eprintln!("{display}: note: {hint}");
     }
     tally.add(&loaded.diagnostics);
     // The compiled GLOC must also pass the GLOC checker (a loop with neither `yield`
@@ -50,7 +56,7 @@ pub fn main(args: crate::CompileArgs) -> anyhow::Result<ExitCode> {
             tally.errors,
             if tally.errors == 1 { "" } else { "s" }
         );
-        return Ok(ExitCode::FAILURE);
+        return Ok(crate::exit::code(crate::exit::ERRORS));
     };
     let output = args
         .output
@@ -94,7 +100,7 @@ pub fn main(args: crate::CompileArgs) -> anyhow::Result<ExitCode> {
         if args.optimize {
             // What -O bought: the same program built without the optimizer. Its
             // errors, if any, were already reported by the optimized build.
-            let unoptimized = compile(&text, &sensors, &CompileOptions { optimize: false });
+            let unoptimized = compile(text, &sensors, &CompileOptions { optimize: false });
             if let Some(before) = unoptimized.stats {
                 eprintln!(
                     "{display}: -O: {} → {} instructions, {} → {} registers (unoptimized → optimized)",
@@ -116,54 +122,23 @@ fn map_path(output: &Path) -> PathBuf {
     output.with_file_name(name)
 }
 
-/// Reads and loads a `.gloc` or `.gbas` script for `gloc check` / `gloc run`, and
-/// renders its diagnostics (to stderr). The script is always returned so the caller
-/// can tell errors (no program) from success.
-pub struct CliScript {
-    pub display: String,
-    pub text: String,
-    pub loaded: LoadedScript,
-}
-
-impl CliScript {
-    /// Renders every diagnostic with `print` (stdout for `check`, stderr for `run`).
-    pub fn render_all(&self, print: impl Fn(&str)) {
-        let source = SourceFile::new(&self.display, &self.text);
-        for diagnostic in &self.loaded.diagnostics {
-            print(&source.render(diagnostic));
-        }
+/// Renders every diagnostic of a loaded script with `print` (stdout for `check`,
+/// stderr for `run`), then the other-language hint if any.
+pub fn render_all(script: &Script, print: impl Fn(&str)) {
+    let source = SourceFile::new(&script.display, &script.text);
+    for diagnostic in &script.loaded.diagnostics {
+        print(&source.render(diagnostic));
     }
-
-    /// `path:line:col` of the instruction at `pc`, in the script's own text.
-    pub fn location_of_pc(&self, pc: gloc_engine::program::Pc) -> String {
-        let source = SourceFile::new(&self.display, &self.text);
-        match self.loaded.span_of_pc(pc) {
-            Some(span) => source.location(span.start as usize),
-            None => self.display.clone(),
-        }
+    if let Some(hint) = &script.hint {
+        print(&format!("{}: note: {hint}\n", script.display));
     }
 }
 
-pub fn read_script(
-    path: &Path,
-    sensors: &SensorList,
-    settings: &crate::settings::Settings,
-    options: &LoadOptions,
-) -> anyhow::Result<CliScript> {
-    let text = gloc_engine::files::read_text(path, gloc_engine::files::SCRIPT)
-        .with_context(|| format!("cannot read the script `{}`", path.display()))?;
-    // `gloc run` checks a `# sensors:` line as `gloc check` does.
-    let written_for = crate::check::written_for(&text, path, settings, sensors);
-    let loaded = gloc_compiler::loader::load_script_written_for(
-        &text,
-        Language::of_path(path),
-        sensors,
-        options,
-        written_for,
-    );
-    Ok(CliScript {
-        display: path.display().to_string(),
-        text,
-        loaded,
-    })
+/// `path:line:col` of the instruction at `pc`, in the script's own text.
+pub fn location_of_pc(script: &Script, pc: gloc_engine::program::Pc) -> String {
+    let source = SourceFile::new(&script.display, &script.text);
+    match script.loaded.span_of_pc(pc) {
+        Some(span) => source.location(span.start as usize),
+        None => script.display.clone(),
+    }
 }

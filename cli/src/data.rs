@@ -48,7 +48,7 @@ pub struct ConvertArgs {
     /// The output: `.csv` or `.dba`. Never one of the inputs.
     #[arg(short = 'o', long = "output", value_name = "OUT")]
     pub output: PathBuf,
-    /// Only these sensors, comma-separated, in this order.
+    /// Only these sensors, comma-separated, in this order (default: every sensor).
     #[arg(long, value_name = "NAMES")]
     pub sensors: Option<String>,
 }
@@ -72,11 +72,11 @@ pub fn main(command: DataCommand) -> anyhow::Result<ExitCode> {
 
 /// `--sensor-cache`, else `sensor_cache` from the gloc.toml above the first file.
 fn sensor_cache(source: &SourceArgs) -> anyhow::Result<Option<PathBuf>> {
-    let settings = crate::settings::resolve(
+    let settings = gloc_project::Settings::resolve(
         source.files.first().map(PathBuf::as_path),
-        crate::settings::Flags {
-            sensor_cache: source.sensor_cache.as_deref(),
-            ..Default::default()
+        gloc_project::Overrides {
+            sensor_cache: source.sensor_cache.clone(),
+            ..gloc_project::Overrides::new(gloc_project::Surface::Cli)
         },
     )?;
     Ok(settings.sensor_cache)

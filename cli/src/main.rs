@@ -11,13 +11,13 @@ mod calibrate;
 mod check;
 mod compile;
 mod data;
+mod exit;
 mod explain;
 mod output;
 mod reindex;
 pub mod render;
 mod replay;
 mod run;
-mod settings;
 mod simulate;
 
 #[derive(Parser, Debug)]
@@ -66,31 +66,40 @@ pub struct CheckArgs {
     /// Print registers, labels, instructions and the worst-case instructions per cycle.
     #[arg(long)]
     pub stats: bool,
-    /// A masterdata file or a `.cac` sensor list replacing the embedded list.
+    /// The sensor list (masterdata or `.cac`/`.ccc`); default: gloc.toml's, else the
+    /// embedded 2008 list.
     #[arg(long, value_name = "FILE")]
     pub masterdata: Option<PathBuf>,
-    /// How a masterdata file's sensors are numbered: `file` (default) or `sorted` (firmware 2014+).
-    #[arg(long, value_name = "ORDER", value_parser = settings::parse_sensor_order)]
+    /// How a masterdata file's sensors are numbered: `file` or `sorted` (firmware 2014+);
+    /// default: gloc.toml's, else `file`.
+    #[arg(long, value_name = "ORDER", value_parser = gloc_project::settings::parse_sensor_order)]
     pub sensor_order: Option<gloc_engine::sensors::SensorOrder>,
+    /// Per-cycle instruction budget the worst case is held against (warning W2302), 1 to
+    /// 1,000,000,000; default: gloc.toml's, else 10,000.
+    #[arg(long, value_name = "N", value_parser = gloc_project::settings::parse_cycle_budget)]
+    pub cycle_budget: Option<u64>,
 }
 
 #[derive(Args, Debug)]
 pub struct CompileArgs {
     /// The GBASIC source.
     pub file: PathBuf,
-    /// Where to write the GLOC (default: the source with `.gloc`).
+    /// Where to write the GLOC; default: the source with `.gloc`.
     #[arg(short = 'o', long = "output", value_name = "OUT")]
     pub output: Option<PathBuf>,
-    /// Optimize.
+    /// Optimize (default: not optimized, the code the debugger runs).
     #[arg(short = 'O')]
     pub optimize: bool,
     /// Also write the source map (`OUT.map.json`).
     #[arg(long)]
     pub emit_map: bool,
+    /// The sensor list (masterdata or `.cac`/`.ccc`); default: gloc.toml's, else the
+    /// embedded 2008 list.
     #[arg(long, value_name = "FILE")]
     pub masterdata: Option<PathBuf>,
-    /// How a masterdata file's sensors are numbered: `file` (default) or `sorted` (firmware 2014+).
-    #[arg(long, value_name = "ORDER", value_parser = settings::parse_sensor_order)]
+    /// How a masterdata file's sensors are numbered: `file` or `sorted` (firmware 2014+);
+    /// default: gloc.toml's, else `file`.
+    #[arg(long, value_name = "ORDER", value_parser = gloc_project::settings::parse_sensor_order)]
     pub sensor_order: Option<gloc_engine::sensors::SensorOrder>,
 }
 
@@ -100,14 +109,14 @@ pub struct RunArgs {
     pub script: Option<PathBuf>,
     /// Replay recorded sensor values instead of simulating: one CSV file (a header of
     /// sensor names, one row per cycle) or glider logs (.dbd .ebd .sbd .tbd …, .dcd …,
-    /// .dba; several files are a deployment, flight and science logs merged).
+    /// .dba; several files are a deployment, flight and science logs merged); default: simulate.
     #[arg(long, value_name = "FILES", num_args = 1..)]
     pub replay: Vec<PathBuf>,
     /// With --replay of glider logs: the folder searched first for their sensor lists
     /// (`<crc>.cac` / `.ccc`); default: `sensor_cache` in gloc.toml.
     #[arg(long, value_name = "DIR")]
     pub sensor_cache: Option<PathBuf>,
-    /// With --replay: write the sensors the script stored, one row per cycle.
+    /// With --replay: write the sensors the script stored, one row per cycle (default: none).
     #[arg(long, value_name = "OUT.csv")]
     pub out: Option<PathBuf>,
     #[command(flatten)]
@@ -115,17 +124,18 @@ pub struct RunArgs {
     /// Temperature profile CSV (`depth_m,temp_degC`); default: the built-in summer shelf profile.
     #[arg(long, value_name = "T.csv")]
     pub profile: Option<PathBuf>,
-    /// Simulated duration, e.g. `90m`, `6h`, `30d`.
+    /// Simulated duration, e.g. `90m`, `6h`, `30d`; default: until the mission ends, at
+    /// most 24 h.
     #[arg(long, conflicts_with = "cycles")]
     pub duration: Option<String>,
-    /// Number of control cycles to simulate.
+    /// Number of control cycles to simulate (at most 100,000,000); default: see --duration.
     #[arg(long)]
     pub cycles: Option<u64>,
-    /// Seed for sensor noise.
+    /// Seed for sensor noise; default 1.
     #[arg(long)]
     pub seed: Option<u64>,
     /// Log file: `.csv`, Slocum ASCII (`.dba`), or Slocum binary (`.dbd`, plus `.ebd` for the
-    /// `sci_` sensors, each with its `<crc>.cac` beside it).
+    /// `sci_` sensors, each with its `<crc>.cac` beside it); default: no log.
     #[arg(long, value_name = "FILE")]
     pub log: Option<PathBuf>,
     /// Sensors to log, comma-separated (default: what a pilot looks at, plus the sensors the script stores).
@@ -137,14 +147,15 @@ pub struct RunArgs {
     pub faults: Vec<String>,
     /// Set a flight or energy constant (repeatable), e.g. `dive_rate=0.2`; wins over
     /// `[simulator]` in gloc.toml. The names and ranges are in docs/simulator.md.
-    #[arg(long = "sim", value_name = "NAME=VALUE", value_parser = settings::parse_simulator_setting)]
+    #[arg(long = "sim", value_name = "NAME=VALUE", value_parser = gloc_project::settings::parse_simulator_setting)]
     pub simulator: Vec<(String, f64)>,
-    /// Write the flight profile: SVG or PNG by the extension.
+    /// Write the flight profile: SVG or PNG by the extension (default: no plot).
     #[arg(long, value_name = "FILE.svg|FILE.png")]
     pub plot: Option<PathBuf>,
     /// Extra plot panels, comma-separated: `temperature` (the track coloured by
     /// the water temperature), `battery` (a voltage panel), or a sensor's name
-    /// (its own panel, e.g. `sci_ruhp_climb_depth`).
+    /// (its own panel, e.g. `sci_ruhp_climb_depth`); default: none (the depth track and
+    /// the store events only).
     #[arg(long, value_name = "PANELS", value_delimiter = ',')]
     pub plot_panels: Vec<String>,
     /// How the summary is printed on stderr at the end: `text` (default) or `json` (one line,
@@ -163,9 +174,9 @@ pub struct RunArgs {
 /// budget (one definition, so both parse and bound them alike).
 #[derive(Args, Debug)]
 pub struct FlightArgs {
-    /// Per-cycle instruction budget, 1 to 1,000,000,000 (default 10,000, or gloc.toml's;
-    /// a script that runs longer traps with "cycle overrun").
-    #[arg(long, value_name = "N", value_parser = settings::parse_cycle_budget)]
+    /// Per-cycle instruction budget, 1 to 1,000,000,000; default: gloc.toml's, else 10,000
+    /// (a script that runs longer traps with "cycle overrun").
+    #[arg(long, value_name = "N", value_parser = gloc_project::settings::parse_cycle_budget)]
     pub cycle_budget: Option<u64>,
     /// Mission file (`.mi`); default: gloc.toml's, else the embedded Fig. 2 mission.
     #[arg(long, value_name = "M.mi")]
@@ -174,8 +185,9 @@ pub struct FlightArgs {
     /// embedded 2008 list.
     #[arg(long, value_name = "FILE")]
     pub masterdata: Option<PathBuf>,
-    /// How a masterdata file's sensors are numbered: `file` (default) or `sorted` (firmware 2014+).
-    #[arg(long, value_name = "ORDER", value_parser = settings::parse_sensor_order)]
+    /// How a masterdata file's sensors are numbered: `file` or `sorted` (firmware 2014+);
+    /// default: gloc.toml's, else `file`.
+    #[arg(long, value_name = "ORDER", value_parser = gloc_project::settings::parse_sensor_order)]
     pub sensor_order: Option<gloc_engine::sensors::SensorOrder>,
 }
 
@@ -192,32 +204,35 @@ pub struct BatchArgs {
     pub script: Option<PathBuf>,
     #[command(flatten)]
     pub flight: FlightArgs,
-    /// Simulated duration of each mission, e.g. `6h`, `30d`.
+    /// Simulated duration of each mission, e.g. `6h`, `30d`; default: until the mission
+    /// ends, at most 24 h.
     #[arg(long, conflicts_with = "cycles")]
     pub duration: Option<String>,
-    /// Control cycles of each mission.
+    /// Control cycles of each mission; default: see --duration.
     #[arg(long)]
     pub cycles: Option<u64>,
     /// Seeds to fly: numbers and inclusive ranges, e.g. `1-100` or `1,5,9-12` (default 1).
     #[arg(long, value_name = "LIST")]
     pub seeds: Option<String>,
-    /// A temperature profile CSV to fly (repeatable; `builtin` for the built-in profile).
+    /// A temperature profile CSV to fly (repeatable; `builtin` for the built-in profile);
+    /// default: `builtin`.
     #[arg(long = "profile", value_name = "T.csv")]
     pub profiles: Vec<String>,
     /// The faults of one variant, comma-separated as `gloc run --fault` takes them
-    /// (repeatable; `none` for a variant without faults).
+    /// (repeatable; `none` for a variant without faults); default: `none`.
     #[arg(long = "fault-set", value_name = "FAULTS")]
     pub fault_sets: Vec<String>,
-    /// A simulator setting and the values to sweep (repeatable), e.g. `dive_rate=0.15,0.2`.
+    /// A simulator setting and the values to sweep (repeatable), e.g. `dive_rate=0.15,0.2`;
+    /// default: gloc.toml's `[simulator]`, else the built-in constants.
     #[arg(long = "sim", value_name = "NAME=V1,V2")]
     pub simulator: Vec<String>,
     /// Missions flown at once (default: the number of cores).
     #[arg(long, short = 'j')]
     pub jobs: Option<usize>,
-    /// Also write the table as CSV.
+    /// Also write the table as CSV (default: the table on stdout only).
     #[arg(long, value_name = "FILE.csv")]
     pub csv: Option<PathBuf>,
-    /// Compile a GBASIC script without the optimizer.
+    /// Compile a GBASIC script without the optimizer (default: optimized).
     #[arg(long)]
     pub no_optimize: bool,
 }
@@ -236,8 +251,9 @@ pub struct ReindexArgs {
     /// Where to write the result (never the input).
     #[arg(short = 'o', long = "output", value_name = "OUT.gloc")]
     pub output: PathBuf,
-    /// How a masterdata file's sensors are numbered: `file` (default) or `sorted` (firmware 2014+).
-    #[arg(long, value_name = "ORDER", value_parser = settings::parse_sensor_order)]
+    /// How a masterdata file's sensors are numbered: `file` or `sorted` (firmware 2014+);
+    /// default: `file`.
+    #[arg(long, value_name = "ORDER", value_parser = gloc_project::settings::parse_sensor_order)]
     pub sensor_order: Option<gloc_engine::sensors::SensorOrder>,
 }
 
@@ -250,7 +266,7 @@ pub enum SummaryFormat {
 
 #[derive(Args, Debug)]
 pub struct DapArgs {
-    /// Listen on 127.0.0.1:PORT instead of stdio (0: any free port). Prints the port and
+    /// Listen on 127.0.0.1:PORT instead of stdio (0: any free port); default: stdio. Prints the port and
     /// the session token that each client's `launch` must carry (`token` attribute).
     #[arg(long)]
     pub port: Option<u16>,
@@ -274,7 +290,7 @@ fn main() -> ExitCode {
         Ok(code) => code,
         Err(error) => {
             eprintln!("error: {error:#}");
-            ExitCode::from(2)
+            exit::code(exit::of_error(&error))
         }
     }
 }
@@ -302,4 +318,101 @@ fn gloc_dap_main(args: DapArgs) -> anyhow::Result<ExitCode> {
         .with_context(|| format!("debug adapter on 127.0.0.1:{port}"))?,
     }
     Ok(ExitCode::SUCCESS)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::CommandFactory;
+
+    /// Every subcommand, nested ones too, with its path (`gloc data info`).
+    fn all(command: &clap::Command, path: String, out: &mut Vec<(String, clap::Command)>) {
+        out.push((path.clone(), command.clone()));
+        for sub in command.get_subcommands() {
+            all(sub, format!("{path} {}", sub.get_name()), out);
+        }
+    }
+
+    #[test]
+    fn every_flag_of_every_subcommand_has_a_description() {
+        let mut commands = Vec::new();
+        all(&Cli::command(), "gloc".into(), &mut commands);
+        let mut missing = Vec::new();
+        for (path, command) in &commands {
+            for argument in command.get_arguments() {
+                let name = argument.get_id().as_str();
+                if matches!(name, "help" | "version") {
+                    continue;
+                }
+                if argument.get_help().is_none() && argument.get_long_help().is_none() {
+                    missing.push(format!("{path} {name}"));
+                }
+            }
+        }
+        assert!(missing.is_empty(), "without a description: {missing:?}");
+    }
+
+    #[test]
+    fn help_shows_every_default() {
+        // The defaults, from the code that applies them: the budget (CycleBudget),
+        // the seed (SimConfig), the run's length (DEFAULT_LIMIT_SECONDS = 24 h).
+        assert_eq!(gloc_project::CycleBudget::DEFAULT.get(), 10_000);
+        assert_eq!(gloc_sim::SimConfig::default().seed, 1);
+        assert_eq!(simulate::DEFAULT_LIMIT_SECONDS, 24.0 * 3600.0);
+        let mut root = Cli::command();
+        let help = |root: &mut clap::Command, name: &str| {
+            root.find_subcommand_mut(name)
+                .map(|command| command.render_long_help().to_string())
+                .unwrap_or_default()
+        };
+        let run = help(&mut root, "run");
+        for default in [
+            "else 10,000",
+            "default 1",
+            "at most 24 h",
+            "the embedded 2008 list",
+        ] {
+            assert!(
+                run.contains(default),
+                "run --help lacks `{default}`:\n{run}"
+            );
+        }
+        let check = help(&mut root, "check");
+        assert!(check.contains("else 10,000"), "{check}");
+        let compile = help(&mut root, "compile");
+        assert!(compile.contains("the embedded 2008 list"), "{compile}");
+        // Every option that takes a value and has no clap default says its default.
+        let mut commands = Vec::new();
+        all(&Cli::command(), "gloc".into(), &mut commands);
+        let mut silent = Vec::new();
+        for (path, command) in &commands {
+            for argument in command.get_arguments() {
+                let takes_value = argument.get_action().takes_values();
+                let optional = !argument.is_required_set() && !argument.is_positional();
+                let help = format!(
+                    "{}{}",
+                    argument
+                        .get_help()
+                        .map(ToString::to_string)
+                        .unwrap_or_default(),
+                    argument
+                        .get_long_help()
+                        .map(ToString::to_string)
+                        .unwrap_or_default()
+                )
+                .to_lowercase();
+                // A repeatable flag given no times is simply not applied.
+                let said = help.contains("default")
+                    || !argument.get_default_values().is_empty()
+                    || help.contains("repeatable");
+                if takes_value && optional && !said {
+                    silent.push(format!("{path} --{}", argument.get_id()));
+                }
+            }
+        }
+        assert!(
+            silent.is_empty(),
+            "options that do not say their default: {silent:?}"
+        );
+    }
 }

@@ -214,7 +214,11 @@ pub fn write_error(error: io::Error, what: &str, path: &Path) -> anyhow::Error {
     } else {
         ""
     };
-    anyhow::Error::new(error).context(format!("cannot write {what} `{}`{hint}", path.display()))
+    // Exit code 4 (`crate::exit`): the cause is the output, whatever the I/O error.
+    anyhow::Error::new(crate::exit::Unwritable(format!(
+        "cannot write {what} `{}`{hint}: {error}",
+        path.display()
+    )))
 }
 
 #[cfg(test)]

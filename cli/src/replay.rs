@@ -17,7 +17,10 @@ use std::sync::Arc;
 
 use anyhow::{bail, Context};
 use gloc_engine::sensors::{SensorId, SensorList};
-use gloc_engine::vm::{CycleEnd, Host, Machine, MachineConfig, DEFAULT_CYCLE_BUDGET};
+use gloc_engine::vm::{CycleEnd, Host, Machine, MachineConfig};
+use gloc_project::script::Script;
+use gloc_project::settings::Settings;
+use gloc_project::{Overrides, Surface};
 use gloc_replay::{ColumnMap, Input};
 
 use crate::output::AtomicFile;
@@ -45,18 +48,18 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         }
     }
     let mut tally = Tally::default();
-    let settings = crate::settings::resolve(
+    let settings = Settings::resolve(
         args.script.as_deref(),
-        crate::settings::Flags {
-            masterdata: args.flight.masterdata.as_deref(),
+        Overrides {
+            masterdata: args.flight.masterdata.clone(),
             cycle_budget: args.flight.cycle_budget,
             sensor_order: args.flight.sensor_order,
-            sensor_cache: args.sensor_cache.as_deref(),
-            ..Default::default()
+            sensor_cache: args.sensor_cache.clone(),
+            ..Overrides::new(Surface::Cli)
         },
     )?;
     let Some(sensors) = crate::check::active_sensors(&settings, &mut tally)? else {
-        return Ok(ExitCode::FAILURE);
+        return Ok(crate::exit::code(crate::exit::ERRORS));
     };
     let Some(script) = load_script(
         args.script.as_deref(),
@@ -65,10 +68,10 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         args.optimized(),
     )?
     else {
-        return Ok(ExitCode::FAILURE);
+        return Ok(crate::exit::code(crate::exit::ERRORS));
     };
     let config = MachineConfig {
-        cycle_budget: settings.cycle_budget.unwrap_or(DEFAULT_CYCLE_BUDGET),
+        cycle_budget: settings.cycle_budget.value.get(),
     };
     if let Some(out) = &args.out {
         let inputs: Vec<&Path> = args
@@ -86,6 +89,15 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
             }],
         )?;
     }
+    // A recording that is not there is an input that cannot be read (exit code 3).
+    for path in &args.replay {
+        if let Err(error) = std::fs::metadata(path) {
+            return Err(anyhow::Error::new(crate::exit::Unreadable(format!(
+                "cannot read the recording `{}`: {error}",
+                path.display()
+            ))));
+        }
+    }
     let input = Input::open(&args.replay, settings.sensor_cache.as_deref())?;
     replay(&script, &sensors, input, args.out.as_ref(), config)
 }
@@ -95,27 +107,22 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
 fn load_script(
     path: Option<&Path>,
     sensors: &SensorList,
-    settings: &crate::settings::Settings,
+    settings: &Settings,
     optimize: bool,
-) -> anyhow::Result<Option<crate::compile::CliScript>> {
-    let options = gloc_compiler::LoadOptions {
-        optimize,
-        cycle_budget: None,
-    };
+) -> anyhow::Result<Option<Script>> {
     let script = match path {
-        Some(path) => crate::compile::read_script(path, sensors, settings, &options)?,
-        None => crate::compile::CliScript {
-            display: "<fig2.gloc>".to_string(),
-            text: FIG2.to_string(),
-            loaded: gloc_compiler::load_script(
-                FIG2,
-                gloc_compiler::Language::Gloc,
-                sensors,
-                &options,
-            ),
-        },
+        Some(path) => gloc_project::script::load_script(path, sensors, settings, optimize)?,
+        None => gloc_project::script::load_text(
+            None,
+            "<fig2.gloc>".to_string(),
+            FIG2.to_string(),
+            gloc_compiler::Language::Gloc,
+            sensors,
+            settings,
+            optimize,
+        ),
     };
-    script.render_all(|text| eprint!("{text}"));
+    crate::compile::render_all(&script, |text| eprint!("{text}"));
     Ok(script.loaded.program.is_some().then_some(script))
 }
 
@@ -156,7 +163,7 @@ impl Host for ReplayHost<'_> {
 }
 
 fn replay(
-    script: &crate::compile::CliScript,
+    script: &Script,
     sensors: &SensorList,
     mut input: Input,
     out_path: Option<&PathBuf>,
@@ -233,7 +240,7 @@ fn replay(
                     trapped = true;
                     eprintln!(
                         "{}: trap in cycle {cycle}: {} (pc {}); the script stops, the replay goes on",
-                        script.location_of_pc(trap.pc),
+                        crate::compile::location_of_pc(script, trap.pc),
                         script.loaded.trap_message(&trap.kind),
                         trap.pc.0
                     );

@@ -13,15 +13,15 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use anyhow::{bail, Context};
-use gloc_compiler::{Language, LoadOptions, LoadedScript};
-use gloc_engine::files;
+use gloc_compiler::{Language, LoadedScript};
 use gloc_engine::sensors::SensorList;
-use gloc_engine::vm::DEFAULT_CYCLE_BUDGET;
+use gloc_project::settings::{Origin, Settings};
+use gloc_project::{Overrides, Surface};
 use gloc_sim::behaviors::EventKind;
 use gloc_sim::faults::{step_cycle_with_faults, Fault, FaultPlan};
 use gloc_sim::log::{default_columns, parse_columns, DbaHeader, LogFormat, LogWriter};
 use gloc_sim::plot::{write_plot, PlotFormat, PlotOptions, Trace};
-use gloc_sim::{default_mission, EndReason, Mission, SimConfig, Simulation, TemperatureProfile};
+use gloc_sim::{EndReason, Mission, Simulation};
 
 use crate::output::{AtomicFile, Output};
 use crate::render::{SourceFile, Tally};
@@ -57,19 +57,19 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         }
     }
     let mut tally = Tally::default();
-    let settings = crate::settings::resolve(
+    let settings = Settings::resolve(
         args.script.as_deref(),
-        crate::settings::Flags {
-            masterdata: args.flight.masterdata.as_deref(),
+        Overrides {
+            masterdata: args.flight.masterdata.clone(),
             cycle_budget: args.flight.cycle_budget,
-            mission: args.flight.mission.as_deref(),
+            mission: args.flight.mission.clone(),
             sensor_order: args.flight.sensor_order,
-            simulator: &args.simulator,
-            ..Default::default()
+            simulator: args.simulator.clone(),
+            ..Overrides::new(Surface::Cli)
         },
     )?;
     let Some(sensor_list) = crate::check::active_sensors(&settings, &mut tally)? else {
-        return Ok(ExitCode::FAILURE);
+        return Ok(crate::exit::code(crate::exit::ERRORS));
     };
     let sensor_list = Arc::new(sensor_list);
     // Bad faults are a bad command line: stop before anything is flown.
@@ -81,7 +81,6 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         })
         .collect::<anyhow::Result<Vec<Fault>>>()?;
     let mut fault_plan = FaultPlan::new(faults);
-    let cycle_budget = settings.cycle_budget.unwrap_or(DEFAULT_CYCLE_BUDGET);
 
     let Some(Script {
         name: script_name,
@@ -93,44 +92,33 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         &sensor_list,
         &settings,
         args.optimized(),
-        cycle_budget,
     )?
     else {
-        return Ok(ExitCode::FAILURE);
+        return Ok(crate::exit::code(crate::exit::ERRORS));
     };
-    let Some(mission) = load_mission(settings.mission.as_deref()) else {
-        return Ok(ExitCode::FAILURE);
+    let Some(mission) = load_mission(&settings)? else {
+        return Ok(crate::exit::code(crate::exit::ERRORS));
     };
 
     let profile = match &args.profile {
-        Some(path) => {
-            let text = read_text(path, files::PROFILE)?;
-            match TemperatureProfile::from_csv(path, &text) {
-                Ok(profile) => Some(profile),
-                Err(error) => {
-                    eprintln!("{error}");
-                    return Ok(ExitCode::FAILURE);
-                }
-            }
-        }
+        Some(path) => Some(gloc_project::simulation::load_profile(
+            path,
+            Origin::Flag("--profile"),
+        )?),
         None => None,
     };
-    let mut config = SimConfig {
-        seed: args.seed.unwrap_or(1),
-        profile,
-        cycle_budget,
-        ..SimConfig::default()
-    };
-    for (name, value) in &settings.simulator {
-        // Names were checked against the same table when gloc.toml and the flags were read.
-        if !config.set(name, *value) {
-            bail!("`{name}` is not a simulator setting");
-        }
-    }
-    let mut sim = Simulation::new(
+    let config = gloc_project::simulation::sim_config(
+        &settings,
+        gloc_project::simulation::Flight {
+            seed: args.seed,
+            profile,
+            simulator: Vec::new(),
+        },
+    )?;
+    let mut sim = gloc_project::simulation::build_simulation(
         &mission,
         sensor_list.clone(),
-        Some(program.clone()),
+        program.clone(),
         &config,
     )?;
     for warning in sim.warnings() {
@@ -352,53 +340,42 @@ pub(crate) struct Script {
 pub(crate) fn load_program(
     script: Option<&Path>,
     sensor_list: &SensorList,
-    settings: &crate::settings::Settings,
+    settings: &Settings,
     optimize: bool,
-    cycle_budget: u64,
 ) -> anyhow::Result<Option<Script>> {
-    let (name, text) = match script {
-        Some(path) => (path.display().to_string(), read_text(path, files::SCRIPT)?),
-        None => ("fig2.gloc".to_string(), crate::replay::FIG2.to_string()),
-    };
-    let language = match script {
-        Some(path) => Language::of_path(path),
-        None => Language::Gloc,
-    };
-    let written_for =
-        script.and_then(|path| crate::check::written_for(&text, path, settings, sensor_list));
-    let loaded = gloc_compiler::loader::load_script_written_for(
-        &text,
-        language,
-        sensor_list,
-        &LoadOptions {
+    let script = match script {
+        Some(path) => gloc_project::script::load_script(path, sensor_list, settings, optimize)?,
+        None => gloc_project::script::load_text(
+            None,
+            "fig2.gloc".to_string(),
+            crate::replay::FIG2.to_string(),
+            Language::Gloc,
+            sensor_list,
+            settings,
             optimize,
-            cycle_budget: Some(cycle_budget),
-        },
-        written_for,
-    );
-    let source = SourceFile::new(&name, &text);
-    for diagnostic in &loaded.diagnostics {
-        eprint!("{}", source.render(diagnostic));
-    }
-    let Some(program) = loaded.program.clone() else {
-        eprintln!("error: `{name}` has errors; nothing was simulated");
+        ),
+    };
+    crate::compile::render_all(&script, |text| eprint!("{text}"));
+    let Some(program) = script.loaded.program.clone() else {
+        eprintln!(
+            "error: `{}` has errors; nothing was simulated",
+            script.display
+        );
         return Ok(None);
     };
     Ok(Some(Script {
-        name,
-        text,
-        loaded,
+        name: script.display,
+        text: script.text,
+        loaded: script.loaded,
         program,
     }))
 }
 
-/// Loads the mission (the embedded Fig. 2 mission when none is given), printing its
-/// diagnostics; `None` when it has errors (they were printed).
-pub(crate) fn load_mission(path: Option<&Path>) -> Option<Mission> {
-    let mission = match path {
-        Some(path) => Mission::load(path),
-        None => default_mission(),
-    };
+/// Loads the settings' mission (the embedded Fig. 2 mission when none is given),
+/// printing its diagnostics; `None` when it has errors (they were printed). A mission
+/// file that cannot be read is an error naming where its path came from.
+pub(crate) fn load_mission(settings: &Settings) -> anyhow::Result<Option<Mission>> {
+    let mission = gloc_project::simulation::load_mission(settings)?;
     for entry in &mission.diagnostics {
         let file = &mission.sources[entry.file.min(mission.sources.len().saturating_sub(1))];
         let display = file.path.display().to_string();
@@ -409,9 +386,9 @@ pub(crate) fn load_mission(path: Option<&Path>) -> Option<Mission> {
     }
     if mission.has_errors() {
         eprintln!("error: the mission has errors; nothing was simulated");
-        return None;
+        return Ok(None);
     }
-    Some(mission)
+    Ok(Some(mission))
 }
 
 /// How the script ended the run: trapped (where and why), halted, or running.
@@ -429,11 +406,6 @@ pub(crate) fn script_state(sim: &Simulation, loaded: &LoadedScript, script_name:
             _ => "ran to the end of the run".to_string(),
         },
     }
-}
-
-pub(crate) fn read_text(path: &Path, limit: files::Limit) -> anyhow::Result<String> {
-    files::read_text(path, limit)
-        .with_context(|| format!("cannot read {} `{}`", limit.what, path.display()))
 }
 
 type OpenLog = (RunLog, PathBuf);

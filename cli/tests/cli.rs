@@ -110,9 +110,10 @@ fn check_reads_a_cac_sensor_list() {
 
 #[test]
 fn unreadable_and_binary_files_do_not_panic() {
+    // Exit code 3: an input cannot be read (README, "Exit codes").
     let output = gloc(&["check", "/no/such/file.gloc"]);
-    assert_eq!(output.status.code(), Some(1));
-    assert!(stdout(&output).contains("/no/such/file.gloc: error: cannot read the file"));
+    assert_eq!(output.status.code(), Some(3));
+    assert!(stdout(&output).contains("error: cannot read the script `/no/such/file.gloc`"));
 
     let binary = temp("garbage.gloc");
     std::fs::write(&binary, [0x7f, 0x00, 0xff, 0xfe, b'\n', 0x80, 0x81]).expect("write");

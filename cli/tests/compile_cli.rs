@@ -120,10 +120,11 @@ fn a_missing_file_is_a_clear_error() {
         .args(["compile", "no/such/file.gbas"])
         .output()
         .expect("gloc runs");
-    assert!(!output.status.success());
+    // Exit code 3, as in every subcommand: an input cannot be read.
+    assert_eq!(output.status.code(), Some(3));
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(
-        stderr.contains("cannot read the GBASIC file `no/such/file.gbas`"),
+        stderr.contains("cannot read the script `no/such/file.gbas`"),
         "{stderr}"
     );
 }

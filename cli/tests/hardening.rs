@@ -92,12 +92,14 @@ fn text(output: &Output) -> String {
     )
 }
 
-/// Ended by an exit code (not a signal such as SIGABRT), a failure, saying `expected`.
+/// Ended by an exit code (not a signal such as SIGABRT), a failure, saying `expected`:
+/// 1 (errors), 2 (usage), 3 (an input cannot be read) or 4 (an output cannot be
+/// written), README "Exit codes".
 fn assert_refused(output: &Output, expected: &str) {
     let all = text(output);
     let shown: String = all.chars().take(2000).collect();
     assert!(
-        matches!(output.status.code(), Some(1 | 2)),
+        matches!(output.status.code(), Some(1..=4)),
         "{:?}: {shown}",
         output.status
     );
@@ -503,6 +505,11 @@ fn a_full_disk_leaves_the_old_file_and_still_gives_the_summary() {
     let compile = run(gloc().arg("compile").arg(&source).arg("-o").arg(&gloc_out));
     assert_eq!(std::fs::read_to_string(&gloc_out).expect("read"), "old\n");
     assert_refused(&compile, "the disk is full");
+    assert_eq!(
+        compile.status.code(),
+        Some(4),
+        "an output cannot be written"
+    );
 
     let log = disk.0.join("log.csv");
     std::fs::write(&log, "old\n").expect("write");

@@ -100,8 +100,9 @@ fn bad_options_are_explained() {
     let output = gloc(&["run", "--log", "run.txt"], &folder);
     assert_eq!(output.status.code(), Some(2));
     assert!(text(&output.stderr).contains("`.csv`, `.dba` (Slocum ASCII) or `.dbd`"));
+    // Exit code 3: an input cannot be read.
     let output = gloc(&["run", "--profile", "missing.csv"], &folder);
-    assert_eq!(output.status.code(), Some(2));
+    assert_eq!(output.status.code(), Some(3));
     assert!(text(&output.stderr).contains("missing.csv"));
     std::fs::write(folder.join("t.csv"), "depth_m,temp_degC\n0,20\n1,x\n").expect("write");
     let output = gloc(&["run", "--profile", "t.csv"], &folder);

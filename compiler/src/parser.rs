@@ -733,6 +733,26 @@ impl<'a> Parser<'a> {
                 return None;
             }
             self.error_here("`=` (an assignment)");
+            // A lone word that is no statement: most likely a misspelt keyword (`yeild`).
+            if let Target::Name(name) = &target {
+                let keyword = gloc_engine::suggest::closest(&name.key, KEYWORDS.iter().copied());
+                // Popped only when there is a keyword to suggest: the error stays.
+                if let Some(keyword) = keyword {
+                    if let Some(last) = self.diagnostics.pop() {
+                        self.diagnostics.push(
+                            last.with_help(format!(
+                                "`{}` is not a keyword: did you mean `{keyword}`?",
+                                name.text
+                            ))
+                            .with_fix(
+                                format!("replace with `{keyword}`"),
+                                name.span,
+                                keyword,
+                            ),
+                        );
+                    }
+                }
+            }
             return None;
         }
         self.bump();
@@ -1445,5 +1465,45 @@ impl<'a> Parser<'a> {
                 None
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn errors(text: &str) -> Vec<(String, String, Option<String>)> {
+        parse(text)
+            .diagnostics
+            .into_iter()
+            .filter(|diagnostic| diagnostic.is_error())
+            .map(|diagnostic| {
+                (
+                    diagnostic.code.to_string(),
+                    diagnostic.message,
+                    diagnostic.help,
+                )
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_misspelt_keyword_alone_is_an_error_with_did_you_mean() {
+        let found = errors("yeild\n");
+        assert_eq!(found.len(), 1, "{found:?}");
+        assert_eq!(found[0].0, codes::SYNTAX);
+        assert_eq!(
+            found[0].2.as_deref(),
+            Some("`yeild` is not a keyword: did you mean `yield`?")
+        );
+    }
+
+    #[test]
+    fn a_word_near_no_keyword_keeps_its_error_without_a_suggestion() {
+        // `nregs 1` (GLOC's header) is no GBASIC statement: still an error.
+        let found = errors("nregs 1\n");
+        assert_eq!(found.len(), 1, "{found:?}");
+        assert_eq!(found[0].0, codes::SYNTAX);
+        assert_eq!(found[0].2, None);
     }
 }

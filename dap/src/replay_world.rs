@@ -10,7 +10,7 @@ use std::sync::Arc;
 use gloc_compiler::LoadedScript;
 use gloc_engine::program::Pc;
 use gloc_engine::sensors::{SensorId, SensorList};
-use gloc_engine::vm::{CycleEnd, Host, Machine, MachineConfig, Status, DEFAULT_CYCLE_BUDGET};
+use gloc_engine::vm::{CycleEnd, Host, Machine, MachineConfig, Status};
 use gloc_replay::{Input, Recording};
 
 use crate::expr::Number;
@@ -85,19 +85,27 @@ impl ReplayWorld {
     /// opens its first cycle.
     pub(crate) fn launch(
         config: &LaunchConfig,
+        settings: &gloc_project::Settings,
         script: DebugScript,
     ) -> Result<ReplayWorld, String> {
-        let input = Input::open(&config.replay, config.sensor_cache.as_deref())
+        let input = Input::open(&config.replay, settings.sensor_cache.as_deref())
             .map_err(|error| error.to_string())?;
         let recording =
             Recording::read(input, &script.sensor_list).map_err(|error| error.to_string())?;
         if recording.is_empty() {
             return Err(format!("{} has no recorded cycles", recording.source));
         }
-        let mut notices: Vec<Notice> = recording
+        let mut notices: Vec<Notice> = script
             .warnings
             .iter()
-            .map(|warning| Notice::Warning(format!("{}: {warning}", recording.source)))
+            .cloned()
+            .map(Notice::Warning)
+            .chain(
+                recording
+                    .warnings
+                    .iter()
+                    .map(|warning| Notice::Warning(format!("{}: {warning}", recording.source))),
+            )
             .collect();
         notices.push(Notice::Warning(format!(
             "replaying {} recorded cycles of {}",
@@ -113,7 +121,7 @@ impl ReplayWorld {
         let machine = Machine::new(
             script.program.clone(),
             MachineConfig {
-                cycle_budget: config.cycle_budget.unwrap_or(DEFAULT_CYCLE_BUDGET),
+                cycle_budget: settings.cycle_budget.value.get(),
             },
         );
         let mut world = ReplayWorld {

@@ -440,53 +440,47 @@ impl Session {
                 )
             }
         };
-        // An empty path means "the default", as the editors send it. What the
-        // launch leaves open comes from the nearest `gloc.toml` above the program.
+        // An empty path means "the default", as the editors send it. What the launch
+        // leaves open comes from the nearest `gloc.toml` above the program; the
+        // project layer decides (`world::resolve`), with errors in the CLI's words.
         let given_path = |value: &Option<String>| {
             value
                 .as_deref()
                 .filter(|text| !text.trim().is_empty())
                 .map(PathBuf::from)
         };
-        let program = PathBuf::from(program);
-        let file_config =
-            gloc_engine::config::Config::discover(&program).map_err(|error| error.to_string())?;
         let config = LaunchConfig {
-            mission: given_path(&arguments.mission).or(file_config.mission),
-            masterdata: given_path(&arguments.masterdata).or(file_config.masterdata),
+            mission: given_path(&arguments.mission),
+            masterdata: given_path(&arguments.masterdata),
             profile: given_path(&arguments.profile),
             seed: arguments.seed,
-            cycle_budget: match arguments.cycle_budget {
-                Some(budget) => Some(
-                    gloc_engine::config::check_cycle_budget(budget)
-                        .map_err(|message| format!("cycleBudget: {message}"))?,
-                ),
-                None => file_config.cycle_budget,
-            },
+            cycle_budget: arguments.cycle_budget,
             max_cycles: arguments.max_cycles,
-            sensor_order: file_config.sensor_order.unwrap_or_default(),
-            simulator: file_config.simulator,
             replay: replay_paths(arguments.replay.as_ref())?,
-            sensor_cache: given_path(&arguments.sensor_cache).or(file_config.sensor_cache),
-            program,
+            sensor_cache: given_path(&arguments.sensor_cache),
+            program: PathBuf::from(program),
         };
+        let settings = world::resolve(&config)?;
         check_input(&config.program, "program", &["gbas", "gloc"])?;
-        if let Some(mission) = &config.mission {
-            check_input(mission, "mission", &["mi"])?;
+        // Files that exist are checked for their kind before anything reads them; a
+        // missing one is reported by the project layer, naming where its path came from.
+        if let Some(mission) = settings.mission.as_ref().filter(|m| m.value.exists()) {
+            check_input(&mission.value, "mission", &["mi"])?;
         }
         if let Some(profile) = &config.profile {
             check_input(profile, "profile", &["csv"])?;
         }
-        if let Some(masterdata) = &config.masterdata {
+        if let Some(masterdata) = settings.masterdata.as_ref().filter(|m| m.value.exists()) {
             // Real sensor lists are called `masterdata` or `*.cac`: no extension rule.
-            check_input(masterdata, "masterdata", &[])?;
+            check_input(&masterdata.value, "masterdata", &[])?;
         }
-        let (world, info) = world::launch(&config).map_err(|message| match self.access {
-            Access::Open => message,
-            // Over TCP no error may quote what a file holds: diagnostics quote
-            // tokens of the line at fault, so quoted text is blanked out.
-            Access::Token(_) => redact_quotes(&message),
-        })?;
+        let (world, info) =
+            world::launch_with(&config, &settings).map_err(|message| match self.access {
+                Access::Open => message,
+                // Over TCP no error may quote what a file holds: diagnostics quote
+                // tokens of the line at fault, so quoted text is blanked out.
+                Access::Token(_) => redact_quotes(&message),
+            })?;
         let debugger = Debugger::new(world, info, history);
         self.launched = Some(Launched {
             debugger,

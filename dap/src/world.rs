@@ -6,21 +6,24 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use gloc_compiler::expression::{scope_of_source_map, ExpressionScope};
-use gloc_compiler::loader::load_script_written_for;
-use gloc_compiler::{Language as ScriptLanguage, LoadOptions, LoadedScript, Storage};
+use gloc_compiler::{LoadedScript, Storage};
 use gloc_engine::program::{Pc, Program, Reg, Value};
-use gloc_engine::sensors::{SensorId, SensorList, SensorOrder};
+use gloc_engine::sensors::{SensorId, SensorList};
 use gloc_engine::vm::{CycleEnd, Machine, TrapKind as VmTrapKind};
 use gloc_engine::Diagnostic;
+use gloc_project::settings::{Origin, Settings};
+use gloc_project::{Overrides, Surface};
 use gloc_sim::behaviors::EventKind;
-use gloc_sim::{EndReason, Mission, Phase as SimPhase, SimConfig, Simulation, TemperatureProfile};
+use gloc_sim::{EndReason, Phase as SimPhase, Simulation};
 
 use crate::expr::Number;
 use crate::program::{DebugInfo, Language, SourceLines};
 use crate::replay_world::ReplayWorld;
 use crate::target::{Named, Notice, Phase, StepEvent, Target, TrapKind};
 
-/// What `launch` needs, already checked for types by the session.
+/// What the `launch` request gave, checked for types by the session. The project
+/// layer (`gloc_project`) resolves it over the nearest gloc.toml and the defaults and
+/// checks every value ([`resolve`]); nothing here decides a setting.
 #[derive(Clone, Debug, Default)]
 pub struct LaunchConfig {
     pub program: PathBuf,
@@ -28,16 +31,30 @@ pub struct LaunchConfig {
     pub masterdata: Option<PathBuf>,
     pub profile: Option<PathBuf>,
     pub seed: Option<u64>,
+    /// As given: a budget out of range is refused by the project layer.
     pub cycle_budget: Option<u64>,
     pub max_cycles: Option<u64>,
-    /// How a masterdata file's sensors are numbered (from gloc.toml).
-    pub sensor_order: SensorOrder,
-    /// Flight and energy constants (`[simulator]` of gloc.toml).
-    pub simulator: Vec<(String, f64)>,
     /// Recorded data to replay instead of simulating (one CSV file or glider logs).
     pub replay: Vec<PathBuf>,
     /// The folder searched first for the glider logs' sensor lists.
     pub sensor_cache: Option<PathBuf>,
+}
+
+/// The project settings of a launch: its attributes over gloc.toml over the defaults.
+/// An error names where the value came from (`launch attribute cycleBudget: …`,
+/// `gloc.toml:1:16: …`), in the words the CLI and the language server use.
+pub fn resolve(config: &LaunchConfig) -> Result<Settings, String> {
+    Settings::resolve(
+        Some(&config.program),
+        Overrides {
+            masterdata: config.masterdata.clone(),
+            cycle_budget: config.cycle_budget,
+            mission: config.mission.clone(),
+            sensor_cache: config.sensor_cache.clone(),
+            ..Overrides::new(Surface::Launch)
+        },
+    )
+    .map_err(|error| error.to_string())
 }
 
 /// A GBASIC variable and where it lives.
@@ -96,17 +113,28 @@ pub(crate) struct DebugScript {
     /// The sensors the script loads or stores, in first-use order.
     pub touched: Vec<usize>,
     pub sensor_list: Arc<SensorList>,
+    /// The script's warnings (W2302 over the budget, …), one line each, shown at
+    /// launch as `gloc check` shows them.
+    pub warnings: Vec<String>,
 }
 
 /// Loads the script and the sensor list, then the mission and the profile (or the
 /// recording, with `replay`), and opens cycle 0.
 pub fn launch(config: &LaunchConfig) -> Result<(World, DebugInfo), String> {
-    let script = load_debug_script(config)?;
+    launch_with(config, &resolve(config)?)
+}
+
+/// [`launch`] with settings already resolved.
+pub fn launch_with(
+    config: &LaunchConfig,
+    settings: &Settings,
+) -> Result<(World, DebugInfo), String> {
+    let script = load_debug_script(config, settings)?;
     let info = debug_info(&script).with_scope(expression_scope(&script));
     let world = if config.replay.is_empty() {
-        World::Sim(launch_sim(config, script)?)
+        World::Sim(launch_sim(config, settings, script)?)
     } else {
-        World::Replay(ReplayWorld::launch(config, script)?)
+        World::Replay(ReplayWorld::launch(config, settings, script)?)
     };
     Ok((world, info))
 }
@@ -120,40 +148,29 @@ fn expression_scope(script: &DebugScript) -> ExpressionScope {
     }
 }
 
-fn load_debug_script(config: &LaunchConfig) -> Result<DebugScript, String> {
+fn load_debug_script(config: &LaunchConfig, settings: &Settings) -> Result<DebugScript, String> {
     let path = &config.program;
-    let text = gloc_engine::files::read_text(path, gloc_engine::files::SCRIPT)
-        .map_err(|error| format!("cannot read the program {}: {error}", path.display()))?;
-    let sensor_list = match &config.masterdata {
-        None => SensorList::embedded(),
-        Some(masterdata) => load_sensor_list(masterdata, config.sensor_order)?,
-    };
-    let script_language = ScriptLanguage::of_path(path);
-    let folders = gloc_engine::gloc::identity::list_folders(
-        Some(path),
-        config.masterdata.as_deref(),
-        config.sensor_cache.as_deref(),
-    );
-    let written_for = gloc_engine::gloc::identity::find_written_for(&text, &sensor_list, &folders);
-    let loaded = load_script_written_for(
-        &text,
-        script_language,
-        &sensor_list,
-        &LoadOptions {
-            optimize: false,
-            cycle_budget: config.cycle_budget,
-        },
-        written_for,
-    );
+    let sensor_list = gloc_project::sensors::load_sensor_list(settings)
+        .and_then(gloc_project::sensors::LoadedSensors::into_list)
+        .map_err(|error| error.to_string())?;
+    // The debugger runs the unoptimized code, so that every line has its instructions.
+    let script = gloc_project::script::load_script(path, &sensor_list, settings, false)
+        .map_err(|error| error.to_string())?;
+    let gloc_project::script::Script {
+        text, loaded, hint, ..
+    } = script;
     let Some(program) = loaded.program.clone() else {
+        // Every diagnostic, warnings too, as `gloc check` lists them.
         let errors: Vec<String> = loaded
             .diagnostics
             .iter()
-            .filter(|diagnostic| diagnostic.is_error())
             .map(|diagnostic| render(path, &text, diagnostic))
             .collect();
+        let note = hint
+            .map(|hint| format!("\n{}: note: {hint}", path.display()))
+            .unwrap_or_default();
         return Err(format!(
-            "{} has errors:\n{}",
+            "{} has errors:\n{}{note}",
             path.display(),
             errors.join("\n")
         ));
@@ -178,6 +195,12 @@ fn load_debug_script(config: &LaunchConfig) -> Result<DebugScript, String> {
                 .collect()
         })
         .unwrap_or_default();
+    let warnings = loaded
+        .diagnostics
+        .iter()
+        .filter(|diagnostic| !diagnostic.is_error())
+        .map(|diagnostic| render(path, &text, diagnostic))
+        .collect();
     Ok(DebugScript {
         path: path.clone(),
         text,
@@ -187,6 +210,7 @@ fn load_debug_script(config: &LaunchConfig) -> Result<DebugScript, String> {
         variables,
         touched,
         sensor_list: Arc::new(sensor_list),
+        warnings,
     })
 }
 
@@ -226,8 +250,13 @@ fn debug_info(script: &DebugScript) -> DebugInfo {
         .with_source_text(&script.text)
 }
 
-/// The simulator world: the mission and the profile, cycle 0 opened.
-fn launch_sim(config: &LaunchConfig, script: DebugScript) -> Result<SimWorld, String> {
+/// The simulator world: the mission and the profile, cycle 0 opened; the simulation
+/// is built by the project layer, as `gloc run` builds it.
+fn launch_sim(
+    config: &LaunchConfig,
+    settings: &Settings,
+    script: DebugScript,
+) -> Result<SimWorld, String> {
     let DebugScript {
         path,
         text,
@@ -237,60 +266,40 @@ fn launch_sim(config: &LaunchConfig, script: DebugScript) -> Result<SimWorld, St
         variables,
         touched,
         sensor_list,
+        warnings,
     } = script;
-    let mission = match &config.mission {
-        None => gloc_sim::default_mission(),
-        Some(mission_path) => {
-            if !mission_path.exists() {
-                return Err(format!(
-                    "cannot read the mission {}: no such file",
-                    mission_path.display()
-                ));
-            }
-            Mission::load(mission_path)
-        }
-    };
+    let mission =
+        gloc_project::simulation::load_mission(settings).map_err(|error| error.to_string())?;
     let profile = match &config.profile {
         None => None,
-        Some(profile_path) => {
-            let profile_text =
-                gloc_engine::files::read_text(profile_path, gloc_engine::files::PROFILE).map_err(
-                    |error| {
-                        format!(
-                            "cannot read the profile {}: {error}",
-                            profile_path.display()
-                        )
-                    },
-                )?;
-            Some(
-                TemperatureProfile::from_csv(profile_path, &profile_text)
-                    .map_err(|error| error.to_string())?,
+        Some(profile_path) => Some(
+            gloc_project::simulation::load_profile(
+                profile_path,
+                Origin::LaunchAttribute("profile"),
             )
-        }
+            .map_err(|error| error.to_string())?,
+        ),
     };
-    let defaults = SimConfig::default();
-    let mut sim_config = SimConfig {
-        seed: config.seed.unwrap_or(defaults.seed),
-        profile,
-        cycle_budget: config.cycle_budget.unwrap_or(defaults.cycle_budget),
-        ..defaults
-    };
-    for (name, value) in &config.simulator {
-        if !sim_config.set(name, *value) {
-            return Err(format!("`{name}` is not a simulator setting"));
-        }
-    }
-    let mut sim = Simulation::new(
+    let sim_config = gloc_project::simulation::sim_config(
+        settings,
+        gloc_project::simulation::Flight {
+            seed: config.seed,
+            profile,
+            simulator: Vec::new(),
+        },
+    )
+    .map_err(|error| error.to_string())?;
+    let mut sim = gloc_project::simulation::build_simulation(
         &mission,
         sensor_list.clone(),
-        Some(program.clone()),
+        program.clone(),
         &sim_config,
     )
     .map_err(|error| error.to_string())?;
-    let mut notices: Vec<Notice> = sim
-        .warnings()
-        .iter()
-        .map(|warning| Notice::Warning(warning.clone()))
+    let mut notices: Vec<Notice> = warnings
+        .into_iter()
+        .chain(sim.warnings().iter().cloned())
+        .map(Notice::Warning)
         .collect();
     // The mission against the list and the script: S0106 and S0107.
     for entry in mission.check_sensor_settings(&sensor_list) {
@@ -336,25 +345,6 @@ fn gloc_line_text(lines: &[&str], line: u32) -> String {
         .copied()
         .unwrap_or("");
     text.split('#').next().unwrap_or("").trim().to_string()
-}
-
-pub(crate) fn load_sensor_list(path: &Path, order: SensorOrder) -> Result<SensorList, String> {
-    let loaded = gloc_engine::sensors::load_sensor_file(path, order)
-        .map_err(|error| format!("cannot read the sensor list {}: {error}", path.display()))?;
-    let errors: Vec<String> = loaded
-        .diagnostics
-        .iter()
-        .filter(|diagnostic| diagnostic.is_error())
-        .map(|diagnostic| render(path, &loaded.text, diagnostic))
-        .collect();
-    if !errors.is_empty() {
-        return Err(format!(
-            "the sensor list {} has errors:\n{}",
-            path.display(),
-            errors.join("\n")
-        ));
-    }
-    Ok(loaded.list)
 }
 
 /// `file:line:column: severity[CODE]: message`: the headline of the one renderer

@@ -395,8 +395,20 @@ fn exception_filters_stop_only_where_their_condition_holds() {
 
 #[test]
 fn cancel_stops_a_long_forward_run_through_its_progress() {
+    // The default battery ends endless.mi after about 500,000 cycles, which a fast
+    // machine flies in under the second a progress update waits for: a gloc.toml
+    // beside the script gives it the largest battery allowed (100,000 Wh, about
+    // 14 million cycles), so the run lasts until it is cancelled.
+    let folder = std::env::temp_dir().join(format!("gloc-dap-cancel-{}", std::process::id()));
+    std::fs::create_dir_all(&folder).expect("temporary folder");
+    std::fs::copy(fixture("fig3.gbas"), folder.join("fig3.gbas")).expect("copy the script");
+    std::fs::write(
+        folder.join("gloc.toml"),
+        "[simulator]\nbattery_wh = 100000\n",
+    )
+    .expect("write gloc.toml");
     let mut client = start(json!({
-        "program": fixture("fig3.gbas"),
+        "program": folder.join("fig3.gbas"),
         "mission": fixture("endless.mi"),
     }));
     client.ok("continue", json!({ "threadId": 1 }));

@@ -151,7 +151,8 @@ registry! {
     settings {
         BAD_CONFIG = "E0901", Error, "`gloc.toml` is not valid: a syntax error, an unknown key (the keys are `masterdata`, `cycle_budget`, `mission`), a value of the wrong type, or a `cycle_budget` outside 1 to 1,000,000,000";
         UNREADABLE_CONFIG = "E0902", Error, "`gloc.toml` exists but cannot be read";
-        SENSOR_LIST_UNLOADABLE = "E0903", Error, "the sensor list named by `masterdata` (in `gloc.toml` or the editor settings) cannot be loaded; the embedded 2008 list is used instead";
+        SENSOR_LIST_UNLOADABLE = "E0903", Error, "the sensor list named by `masterdata` (in `gloc.toml` or the editor settings) cannot be loaded; the message starts with where the path came from (`gloc.toml:LINE:COL` or `editor setting gloc.masterdata`); the embedded 2008 list is used instead";
+        BAD_EDITOR_SETTING = "E0904", Error, "an editor setting is refused (a `gloc.cycleBudget` outside 1 to 1,000,000,000), in the words `gloc run` and a debugger launch use; the editor's settings are not used";
         INTERNAL_ERROR = "E0999", Error, "internal error: the checker crashed on this text (please report it with the file)";
     }
 }

@@ -55,6 +55,19 @@ pub struct Config {
     /// `[simulator]`: flight and energy constants, sorted by name, each
     /// checked against [`SIMULATOR_SETTINGS`].
     pub simulator: Vec<(String, f64)>,
+    /// Where each value stands in the file, so that an error about a value (a
+    /// masterdata file that cannot be read) names `gloc.toml:LINE:COLUMN`.
+    pub positions: ValuePositions,
+}
+
+/// `(line, column)`, from 1, of the values of a `gloc.toml`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ValuePositions {
+    pub masterdata: Option<(usize, usize)>,
+    pub cycle_budget: Option<(usize, usize)>,
+    pub mission: Option<(usize, usize)>,
+    pub sensor_order: Option<(usize, usize)>,
+    pub sensor_cache: Option<(usize, usize)>,
 }
 
 /// The largest per-cycle instruction budget (`cycle_budget`, `--cycle-budget`, the
@@ -394,11 +407,11 @@ impl std::error::Error for ConfigError {}
 /// Values whose errors are found after parsing keep the parser's spans, so a
 /// diagnostic points at exactly the key or value, never at a look-alike elsewhere.
 struct RawConfig {
-    masterdata: Option<String>,
+    masterdata: Option<toml::Spanned<String>>,
     cycle_budget: Option<toml::Spanned<u64>>,
-    mission: Option<String>,
+    mission: Option<toml::Spanned<String>>,
     sensor_order: Option<toml::Spanned<String>>,
-    sensor_cache: Option<String>,
+    sensor_cache: Option<toml::Spanned<String>>,
     simulator: Option<std::collections::BTreeMap<toml::Spanned<String>, toml::Value>>,
 }
 
@@ -485,7 +498,33 @@ impl Config {
                 }
             }
         }
-        let resolve = |value: Option<String>| value.map(|relative| folder.join(relative));
+        let index = crate::diagnostic::LineIndex::new(text);
+        let position = |span: std::ops::Range<usize>| Some(index.line_col(text, span.start));
+        let positions = ValuePositions {
+            masterdata: raw
+                .masterdata
+                .as_ref()
+                .and_then(|value| position(value.span())),
+            cycle_budget: raw
+                .cycle_budget
+                .as_ref()
+                .and_then(|value| position(value.span())),
+            mission: raw
+                .mission
+                .as_ref()
+                .and_then(|value| position(value.span())),
+            sensor_order: raw
+                .sensor_order
+                .as_ref()
+                .and_then(|value| position(value.span())),
+            sensor_cache: raw
+                .sensor_cache
+                .as_ref()
+                .and_then(|value| position(value.span())),
+        };
+        let resolve = |value: Option<toml::Spanned<String>>| {
+            value.map(|relative| folder.join(relative.into_inner()))
+        };
         Ok(Config {
             path: Some(folder.join(FILE_NAME)),
             masterdata: resolve(raw.masterdata),
@@ -494,6 +533,7 @@ impl Config {
             sensor_order,
             sensor_cache: resolve(raw.sensor_cache),
             simulator,
+            positions,
         })
     }
 
@@ -548,6 +588,13 @@ mod tests {
         assert_eq!(config.cycle_budget, Some(500));
         assert_eq!(config.mission, Some(PathBuf::from("/project/m/yo.mi")));
         assert_eq!(config.sensor_cache, Some(PathBuf::from("/project/cac")));
+        // Counted by hand: `masterdata = ` is 13 characters, `cycle_budget = ` 15,
+        // `mission = ` 10, `sensor_cache = ` 15; the value starts one further.
+        assert_eq!(config.positions.masterdata, Some((1, 14)));
+        assert_eq!(config.positions.cycle_budget, Some((2, 16)));
+        assert_eq!(config.positions.mission, Some((3, 11)));
+        assert_eq!(config.positions.sensor_cache, Some((4, 16)));
+        assert_eq!(config.positions.sensor_order, None);
     }
 
     #[test]

@@ -3,10 +3,11 @@
 //! the guard that turns a panic in the core into a diagnostic.
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
+
 use std::path::Path;
 
-use gloc_engine::sensors::{load_sensor_file, Access, SensorId, SensorList, SensorOrder};
-use gloc_engine::{Diagnostic, LineIndex, Span};
+use gloc_engine::sensors::{Access, SensorId, SensorList};
+use gloc_engine::{Diagnostic, Span};
 
 use crate::analysis::{Analysis, Completion, CompletionKind, Context, TokenKind};
 use crate::Language;
@@ -54,29 +55,6 @@ pub fn word_markdown(language: Language, word: &str, kind: TokenKind) -> Option<
         Language::Gbasic => gbasic_lang::word_markdown(word, kind),
         Language::Config | Language::Mission | Language::MissionArgs | Language::Masterdata => None,
     }
-}
-
-/// Loads a masterdata or `.cac` file (masterdata numbered in `order`). A file
-/// with errors is refused with the first one, located.
-pub fn load_sensor_list(path: &Path, order: SensorOrder) -> Result<SensorList, String> {
-    let loaded = load_sensor_file(path, order).map_err(|error| error.to_string())?;
-    if let Some(error) = loaded
-        .diagnostics
-        .iter()
-        .find(|diagnostic| diagnostic.is_error())
-    {
-        let index = LineIndex::new(&loaded.text);
-        let (line, column) = index.line_col(&loaded.text, error.span.start as usize);
-        return Err(format!(
-            "{}:{line}:{column}: {}",
-            path.display(),
-            error.message
-        ));
-    }
-    if loaded.list.is_empty() {
-        return Err(format!("{} holds no sensors", path.display()));
-    }
-    Ok(loaded.list)
 }
 
 /// Markdown describing a sensor: name, index, units, default, access, description.

@@ -15,6 +15,8 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use gloc_engine::config::{Config, ConfigError};
 use gloc_engine::sensors::{SensorList, SensorOrder};
 use gloc_engine::Diagnostic;
+use gloc_project::settings::{config_path_for, read_config, Settings as ProjectSettings, Sourced};
+use gloc_project::{Overrides, Surface};
 use serde_json::Value;
 use tower_lsp_server::jsonrpc::{Error, Result};
 use tower_lsp_server::ls_types::*;
@@ -35,7 +37,8 @@ pub struct Backend {
 }
 
 /// Overrides from the client (`initializationOptions`, `didChangeConfiguration`
-/// or `workspace/configuration`, section `gloc`); they win over `gloc.toml`.
+/// or `workspace/configuration`, section `gloc`), as given: the project layer
+/// checks them and makes them win over `gloc.toml` (`context_for`).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Settings {
     pub masterdata: Option<PathBuf>,
@@ -60,7 +63,8 @@ struct State {
     settings: Settings,
     /// Loaded sensor lists by path (a failure is kept as its message).
     /// Sensor lists read from files, by path and numbering.
-    sensor_lists: HashMap<(PathBuf, SensorOrder), std::result::Result<Arc<SensorList>, String>>,
+    sensor_lists:
+        HashMap<(PathBuf, SensorOrder, String), std::result::Result<Arc<SensorList>, String>>,
     embedded: Option<Arc<SensorList>>,
     client_supports_configuration: bool,
     client_supports_watch_registration: bool,
@@ -112,7 +116,7 @@ impl State {
     /// The `gloc.toml` that applies to a document, preferring the editor's
     /// unsaved text when the file is open.
     fn config_for(&self, path: Option<&Path>) -> std::result::Result<Config, ConfigError> {
-        let Some(config_path) = path.and_then(Config::find) else {
+        let Some(config_path) = path.and_then(config_path_for) else {
             return Ok(Config::default());
         };
         let open_text = self.documents.values().find_map(|open| {
@@ -120,64 +124,69 @@ impl State {
                 && open.document.path().as_deref() == Some(config_path.as_path()))
             .then(|| open.document.text().to_string())
         });
-        match open_text {
-            Some(text) => {
-                let folder = config_path.parent().unwrap_or(Path::new("."));
-                Config::parse(&text, folder)
-                    .map(|mut config| {
-                        config.path = Some(config_path.clone());
-                        config
-                    })
-                    .map_err(|diagnostic| ConfigError {
-                        path: config_path.clone(),
-                        text: Some(text),
-                        diagnostic,
-                    })
-            }
-            None => Config::load(&config_path),
-        }
+        read_config(&config_path, open_text)
     }
 
     fn sensor_list(
         &mut self,
-        path: &Path,
+        masterdata: &Sourced<PathBuf>,
         order: SensorOrder,
     ) -> std::result::Result<Arc<SensorList>, String> {
-        let key = (path.to_path_buf(), order);
+        let key = (
+            masterdata.value.clone(),
+            order,
+            masterdata.origin.to_string(),
+        );
         if let Some(loaded) = self.sensor_lists.get(&key) {
             return loaded.clone();
         }
-        let loaded = lang::load_sensor_list(path, order).map(Arc::new);
+        let loaded = gloc_project::sensors::load_sensor_list_file(masterdata, order)
+            .and_then(gloc_project::sensors::LoadedSensors::into_list)
+            .map(Arc::new)
+            .map_err(|error| error.to_string());
         self.sensor_lists.insert(key, loaded.clone());
         loaded
     }
 
-    /// Resolves settings for a document. Returns the context plus problems to
-    /// report on the script itself (an unreadable masterdata file).
+    /// Resolves settings for a document through the project layer (the editor's
+    /// settings over gloc.toml over the defaults). Returns the context plus problems
+    /// to report on the script itself (a refused editor setting, an unreadable
+    /// masterdata file).
     fn context_for(&mut self, path: Option<PathBuf>) -> (Context, Vec<Diagnostic>) {
+        // A bad gloc.toml is reported on gloc.toml itself (`refresh_config_files`).
         let config = self.config_for(path.as_deref()).unwrap_or_default();
-        let masterdata = self.settings.masterdata.clone().or(config.masterdata);
-        let cycle_budget = self.settings.cycle_budget.or(config.cycle_budget);
-        let sensor_order = config.sensor_order.unwrap_or_default();
+        let overrides = Overrides {
+            masterdata: self.settings.masterdata.clone(),
+            cycle_budget: self.settings.cycle_budget,
+            ..Overrides::new(Surface::Editor)
+        };
         let mut problems = Vec::new();
-        let list_folders = gloc_engine::gloc::identity::list_folders(
-            path.as_deref(),
-            masterdata.as_deref(),
-            config.sensor_cache.as_deref(),
-        );
-        let sensors = match masterdata {
+        let settings = match ProjectSettings::from_config(config.clone(), overrides) {
+            Ok(settings) => settings,
+            Err(error) => {
+                problems.push(
+                    Diagnostic::error(
+                        gloc_engine::codes::settings::BAD_EDITOR_SETTING,
+                        gloc_engine::Span::default(),
+                        format!("{error}; the editor's gloc settings are not used"),
+                    )
+                    .with_help("fix the setting in the editor's gloc settings"),
+                );
+                ProjectSettings::from_config(config, Overrides::new(Surface::Editor))
+                    .unwrap_or_default()
+            }
+        };
+        let list_folders = settings.list_folders(path.as_deref());
+        let sensors = match &settings.masterdata {
             None => self.embedded(),
-            Some(masterdata) => match self.sensor_list(&masterdata, sensor_order) {
+            Some(masterdata) => match self.sensor_list(masterdata, settings.sensor_order) {
                 Ok(list) => list,
                 Err(message) => {
                     problems.push(
                         Diagnostic::error(
                             gloc_engine::codes::settings::SENSOR_LIST_UNLOADABLE,
                             gloc_engine::Span::default(),
-                            format!(
-                                "cannot load the sensor list {}: {message}; using the embedded 2008 list",
-                                masterdata.display()
-                            ),
+                            format!("{message}; using the embedded 2008 list"),
                         )
                         .with_help("fix `masterdata` in gloc.toml or the editor's gloc settings"),
                     );
@@ -188,7 +197,9 @@ impl State {
         (
             Context {
                 sensors,
-                cycle_budget,
+                // Always the resolved budget (the default one too), as the CLI holds
+                // the script against it: W2302 is decided alike everywhere.
+                cycle_budget: Some(settings.cycle_budget.value.get()),
                 list_folders,
             },
             problems,
@@ -264,7 +275,7 @@ impl State {
             .values()
             .filter_map(|open| match open.document.language {
                 Language::Config => open.document.path(),
-                _ => open.document.path().as_deref().and_then(Config::find),
+                _ => open.document.path().as_deref().and_then(config_path_for),
             })
             .collect();
         config_paths.sort();
@@ -431,7 +442,8 @@ impl Backend {
 }
 
 /// Reads `{ "masterdata": "...", "cycleBudget": N }`, also when wrapped in
-/// `{ "gloc": { … } }`. Unknown keys and wrong types are ignored.
+/// `{ "gloc": { … } }`. Unknown keys and wrong types are ignored; a value out of range
+/// (a budget of 0) is kept, so that the project layer refuses it in so many words.
 pub fn settings_from(value: &Value) -> Settings {
     let section = value.get("gloc").unwrap_or(value);
     Settings {
@@ -443,8 +455,7 @@ pub fn settings_from(value: &Value) -> Settings {
         cycle_budget: section
             .get("cycleBudget")
             .or_else(|| section.get("cycle_budget"))
-            .and_then(Value::as_u64)
-            .and_then(|budget| gloc_engine::config::check_cycle_budget(budget).ok()),
+            .and_then(Value::as_u64),
     }
 }
 

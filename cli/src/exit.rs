@@ -1,0 +1,67 @@
+//! The exit codes of every subcommand, by cause (README, "Exit codes"):
+//!
+//! | code | cause |
+//! |---|---|
+//! | 0 | success |
+//! | 1 | the script or the data it reads (sensor list, mission, profile) has errors; the run trapped; a batch mission failed |
+//! | 2 | usage: bad arguments or settings (flags, `gloc.toml`), an output that would overwrite an input |
+//! | 3 | an input cannot be read (script, `gloc.toml`, sensor list, mission, profile, logs) |
+//! | 4 | an output cannot be written |
+//! | 128 + N | stopped by signal N (130 for Ctrl-C) |
+
+use std::process::ExitCode;
+
+use gloc_project::ErrorKind;
+
+pub const ERRORS: u8 = 1;
+pub const USAGE: u8 = 2;
+pub const UNREADABLE: u8 = 3;
+pub const UNWRITABLE: u8 = 4;
+
+pub fn code(code: u8) -> ExitCode {
+    ExitCode::from(code)
+}
+
+/// An input that cannot be read, outside the project layer (a log, a CSV).
+#[derive(Debug)]
+pub struct Unreadable(pub String);
+
+/// An output that cannot be written.
+#[derive(Debug)]
+pub struct Unwritable(pub String);
+
+impl std::fmt::Display for Unreadable {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::fmt::Display for Unwritable {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for Unreadable {}
+impl std::error::Error for Unwritable {}
+
+/// The exit code of an error a subcommand returned: by the first cause in its chain
+/// that has one; anything else is a usage error.
+pub fn of_error(error: &anyhow::Error) -> u8 {
+    for cause in error.chain() {
+        if let Some(project) = cause.downcast_ref::<gloc_project::ProjectError>() {
+            return match project.kind {
+                ErrorKind::Setting => USAGE,
+                ErrorKind::Unreadable => UNREADABLE,
+                ErrorKind::Invalid => ERRORS,
+            };
+        }
+        if cause.is::<Unreadable>() {
+            return UNREADABLE;
+        }
+        if cause.is::<Unwritable>() {
+            return UNWRITABLE;
+        }
+    }
+    USAGE
+}

@@ -1,0 +1,189 @@
+//! A script of either language loaded into program and source map (through
+//! `gloc_compiler::loader`), with the settings' budget and the sensor list a GLOC
+//! file's `# sensors:` line names; and the hint when a file is in the other language.
+
+use std::path::{Path, PathBuf};
+
+use gloc_compiler::loader::load_script_written_for;
+use gloc_compiler::{Language, LoadOptions, LoadedScript};
+use gloc_engine::sensors::SensorList;
+
+use crate::error::{ErrorKind, ProjectError};
+use crate::settings::Settings;
+
+/// A loaded script: its text and what the loader made of it.
+#[derive(Clone, Debug)]
+pub struct Script {
+    /// The file, `None` for a script given as text (the embedded Fig. 2 script).
+    pub path: Option<PathBuf>,
+    /// How to name the script in messages.
+    pub display: String,
+    pub text: String,
+    pub language: Language,
+    pub loaded: LoadedScript,
+    /// When the script has errors and reads as the other language: what to do.
+    pub hint: Option<String>,
+}
+
+/// Reads a script file; an unreadable file is an error of kind `Unreadable`.
+pub fn read_script(path: &Path) -> Result<String, ProjectError> {
+    gloc_engine::files::read_text(path, gloc_engine::files::SCRIPT).map_err(|error| {
+        ProjectError::new(
+            ErrorKind::Unreadable,
+            None,
+            format!("cannot read the script `{}`: {error}", path.display()),
+        )
+    })
+}
+
+/// Reads and loads a `.gloc` or `.gbas` script (by extension), with the settings'
+/// cycle budget (so every surface warns W2302 alike).
+pub fn load_script(
+    path: &Path,
+    sensors: &SensorList,
+    settings: &Settings,
+    optimize: bool,
+) -> Result<Script, ProjectError> {
+    let text = read_script(path)?;
+    Ok(load_text(
+        Some(path),
+        path.display().to_string(),
+        text,
+        Language::of_path(path),
+        sensors,
+        settings,
+        optimize,
+    ))
+}
+
+/// Loads a script's text in `language`.
+pub fn load_text(
+    path: Option<&Path>,
+    display: String,
+    text: String,
+    language: Language,
+    sensors: &SensorList,
+    settings: &Settings,
+    optimize: bool,
+) -> Script {
+    let written_for = path.and_then(|path| {
+        gloc_engine::gloc::identity::find_written_for(
+            &text,
+            sensors,
+            &settings.list_folders(Some(path)),
+        )
+    });
+    let loaded = load_script_written_for(
+        &text,
+        language,
+        sensors,
+        &load_options(settings, optimize),
+        written_for,
+    );
+    let hint = language_hint(&text, language, &loaded, sensors);
+    Script {
+        path: path.map(Path::to_path_buf),
+        display,
+        text,
+        language,
+        loaded,
+        hint,
+    }
+}
+
+/// The loader's options for these settings: the budget always applies (the default
+/// one too), so `W2302` is decided the same way everywhere.
+pub fn load_options(settings: &Settings, optimize: bool) -> LoadOptions {
+    LoadOptions {
+        optimize,
+        cycle_budget: Some(settings.cycle_budget.value.get()),
+    }
+}
+
+/// The other language.
+fn other(language: Language) -> Language {
+    match language {
+        Language::Gloc => Language::Gbasic,
+        Language::Gbasic => Language::Gloc,
+    }
+}
+
+/// By content: the script has errors as `language`, and reads as the other language
+/// (it loads there without errors, or opens with GLOC's header / GBASIC's `dim`).
+pub fn language_hint(
+    text: &str,
+    language: Language,
+    loaded: &LoadedScript,
+    sensors: &SensorList,
+) -> Option<String> {
+    if !loaded.has_errors() {
+        return None;
+    }
+    let first_word = |line: &str| {
+        line.split(['#', '\''])
+            .next()
+            .unwrap_or("")
+            .split_whitespace()
+            .next()
+            .map(str::to_ascii_lowercase)
+    };
+    let words: Vec<String> = text.lines().filter_map(first_word).collect();
+    let looks_like = match other(language) {
+        Language::Gloc => words.first().is_some_and(|word| word == "nregs"),
+        Language::Gbasic => words.iter().any(|word| word == "dim"),
+    };
+    let looks_like = looks_like || {
+        let as_other = load_script_written_for(
+            text,
+            other(language),
+            sensors,
+            &LoadOptions::default(),
+            None,
+        );
+        !as_other.has_errors()
+    };
+    looks_like.then(|| match other(language) {
+        Language::Gbasic => "this looks like GBASIC, but it was read as GLOC: only `.gbas` and `.bas` files are read as GBASIC; rename it to end in `.gbas`".to_string(),
+        Language::Gloc => "this looks like GLOC, but it was read as GBASIC (`gloc compile`, `.gbas` and `.bas` files are GBASIC); a GLOC file needs no compiling: name it `.gloc`, and `gloc check` and `gloc run` take it as it is".to_string(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn hint(text: &str, language: Language) -> Option<String> {
+        let sensors = SensorList::embedded();
+        let loaded =
+            load_script_written_for(text, language, &sensors, &LoadOptions::default(), None);
+        language_hint(text, language, &loaded, &sensors)
+    }
+
+    #[test]
+    fn gloc_read_as_gbasic_gets_a_hint_and_so_does_gbasic_read_as_gloc() {
+        let gloc = "nregs 1\nnblbs 0\nninstr 2\nloadi 1,r0\nyield\n";
+        let hint_text = hint(gloc, Language::Gbasic).expect("a hint");
+        assert!(
+            hint_text.starts_with("this looks like GLOC, but it was read as GBASIC"),
+            "{hint_text}"
+        );
+        let gbasic = "dim x as integer\nx = 1\nprint x\nyield\n";
+        let hint_text = hint(gbasic, Language::Gloc).expect("a hint");
+        assert!(
+            hint_text.starts_with("this looks like GBASIC, but it was read as GLOC"),
+            "{hint_text}"
+        );
+        // GBASIC without `dim` still compiles as GBASIC.
+        assert!(hint("print 1\nyield\n", Language::Gloc).is_some());
+    }
+
+    #[test]
+    fn a_script_in_its_own_language_gets_no_hint() {
+        assert_eq!(
+            hint("dim x as integer\nx = 1\nyield\n", Language::Gbasic),
+            None
+        );
+        // Errors in the right language, not valid in the other: no hint.
+        assert_eq!(hint("dim x as integer\nx = \n", Language::Gbasic), None);
+    }
+}

@@ -1,0 +1,154 @@
+//! The simulation of a project: its mission (the settings' `.mi`, or the embedded
+//! Fig. 2 mission), a temperature profile, and the simulator configured from the
+//! settings (seed, cycle budget, `[simulator]` constants). The CLI's `run` and `batch`
+//! and the debugger build their simulations here.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use gloc_engine::program::Program;
+use gloc_engine::sensors::SensorList;
+use gloc_sim::{default_mission, Mission, SimConfig, Simulation, TemperatureProfile};
+
+use crate::error::{ErrorKind, ProjectError};
+use crate::settings::{Origin, Settings, Sourced};
+
+/// The settings' mission, read with its `.ma` files. A mission file that cannot be
+/// read is an error naming where its path came from (`gloc.toml:2:11: cannot read the
+/// mission `nosuch.mi`: …`); a mission with errors is returned with its diagnostics
+/// (`Mission::has_errors`).
+pub fn load_mission(settings: &Settings) -> Result<Mission, ProjectError> {
+    let Some(Sourced {
+        value: path,
+        origin,
+    }) = &settings.mission
+    else {
+        return Ok(default_mission());
+    };
+    let mut unreadable = None;
+    let mission = Mission::load_with(path, &mut |file: &Path| {
+        let read = gloc_engine::files::read_text(file, gloc_engine::files::MISSION);
+        if let (Err(error), true) = (&read, file == path.as_path()) {
+            unreadable = Some(error.to_string());
+        }
+        read
+    });
+    match unreadable {
+        Some(error) => Err(ProjectError::new(
+            ErrorKind::Unreadable,
+            Some(origin.clone()),
+            format!("cannot read the mission `{}`: {error}", path.display()),
+        )),
+        None => Ok(mission),
+    }
+}
+
+/// Reads a temperature profile CSV (`depth_m,temp_degC`); `origin` names the flag or
+/// attribute that gave it.
+pub fn load_profile(path: &Path, origin: Origin) -> Result<TemperatureProfile, ProjectError> {
+    let text =
+        gloc_engine::files::read_text(path, gloc_engine::files::PROFILE).map_err(|error| {
+            ProjectError::new(
+                ErrorKind::Unreadable,
+                Some(origin.clone()),
+                format!("cannot read the profile `{}`: {error}", path.display()),
+            )
+        })?;
+    TemperatureProfile::from_csv(path, &text)
+        .map_err(|error| ProjectError::new(ErrorKind::Invalid, None, error.to_string()))
+}
+
+/// What a flight adds to the settings: the seed, the profile, and constants swept on
+/// top of the settings' (a `gloc batch` variant).
+#[derive(Clone, Debug, Default)]
+pub struct Flight {
+    pub seed: Option<u64>,
+    pub profile: Option<TemperatureProfile>,
+    pub simulator: Vec<(String, f64)>,
+}
+
+/// The simulator's configuration: the defaults, then the settings' budget and
+/// constants, then the flight's.
+pub fn sim_config(settings: &Settings, flight: Flight) -> Result<SimConfig, ProjectError> {
+    let defaults = SimConfig::default();
+    let mut config = SimConfig {
+        seed: flight.seed.unwrap_or(defaults.seed),
+        profile: flight.profile,
+        cycle_budget: settings.cycle_budget.value.get(),
+        ..defaults
+    };
+    for (name, value) in settings.simulator.iter().chain(&flight.simulator) {
+        // The names were checked against the same table when they were read.
+        if !config.set(name, *value) {
+            return Err(ProjectError::new(
+                ErrorKind::Setting,
+                None,
+                format!("`{name}` is not a simulator setting"),
+            ));
+        }
+    }
+    Ok(config)
+}
+
+/// The simulation of `program` on `mission`.
+pub fn build_simulation(
+    mission: &Mission,
+    sensors: Arc<SensorList>,
+    program: Arc<Program>,
+    config: &SimConfig,
+) -> Result<Simulation, ProjectError> {
+    Simulation::new(mission, sensors, Some(program), config)
+        .map_err(|error| ProjectError::new(ErrorKind::Invalid, None, error.to_string()))
+}
+
+/// The mission's path as the settings give it (for messages), `None` when embedded.
+pub fn mission_path(settings: &Settings) -> Option<&PathBuf> {
+    settings.mission.as_ref().map(|sourced| &sourced.value)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::settings::Overrides;
+
+    #[test]
+    fn a_missing_mission_from_gloc_toml_names_gloc_toml_and_says_it_cannot_be_read() {
+        let mut config =
+            gloc_engine::config::Config::parse("mission = \"nosuch.mi\"\n", Path::new("/p"))
+                .expect("valid");
+        config.path = Some(PathBuf::from("/p/gloc.toml"));
+        let settings = Settings::from_config(config, Overrides::default()).expect("valid");
+        let error = load_mission(&settings).expect_err("missing");
+        assert_eq!(error.kind, ErrorKind::Unreadable);
+        // `mission = ` is 10 characters: the value starts in column 11.
+        assert!(
+            error
+                .to_string()
+                .starts_with("/p/gloc.toml:1:11: cannot read the mission `/p/nosuch.mi`: "),
+            "{error}"
+        );
+    }
+
+    #[test]
+    fn the_budget_and_constants_of_the_settings_reach_the_simulator() {
+        let mut config = gloc_engine::config::Config::parse(
+            "cycle_budget = 77\n[simulator]\ndive_rate = 0.3\n",
+            Path::new("/p"),
+        )
+        .expect("valid");
+        config.path = Some(PathBuf::from("/p/gloc.toml"));
+        let settings = Settings::from_config(config, Overrides::default()).expect("valid");
+        let sim = sim_config(
+            &settings,
+            Flight {
+                seed: Some(9),
+                ..Flight::default()
+            },
+        )
+        .expect("valid");
+        assert_eq!(sim.cycle_budget, 77);
+        assert_eq!(sim.seed, 9);
+        assert_eq!(sim.flight.dive_rate, 0.3);
+        assert_eq!(load_mission(&settings).map(|m| m.has_errors()), Ok(false));
+    }
+}

@@ -5,9 +5,14 @@
 //! protocol: position conversion, document state and transport.
 
 pub mod analysis;
+pub mod completion;
 pub mod gbasic_lang;
 pub mod gloc_lang;
 pub mod lang;
+pub mod lens;
+pub mod links;
+pub mod selection;
+pub mod workspace;
 
 /// The languages the editor tooling answers for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

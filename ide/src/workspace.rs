@@ -2,7 +2,7 @@
 //! in count, size and depth), which of their symbols are listed, and how a
 //! query picks and orders them (the completion matcher).
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use crate::analysis::{Analysis, Symbol, SymbolKind};
 use crate::completion::match_class;

@@ -1,6 +1,6 @@
 //! What the server knows about one version of a document, in a shape shared by
 //! both languages. The language adapters (`gloc_lang`, `gbasic_lang`) fill it
-//! from the core crates; the protocol features (`features`) only read it.
+//! from the core crates; the feature modules (`hover`, `completion`, …) only read it.
 //! Everything here is in byte offsets; `position` converts at the edge.
 
 use std::sync::Arc;
@@ -114,6 +114,13 @@ pub struct Hint {
     pub label: String,
     pub tooltip: Option<String>,
     pub padding_left: bool,
+}
+
+/// Replace `span` with `new_text`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct TextEdit {
+    pub span: Span,
+    pub new_text: String,
 }
 
 /// A completion candidate, before it becomes an LSP item.

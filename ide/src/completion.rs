@@ -1,8 +1,29 @@
-//! Completion at scale: the word being typed, fuzzy matching and ranking of the
-//! candidates a language offers, and the cut to a limit. The server sends only
-//! what survives, in this order, and says when the list was cut.
+//! Completion: the candidates at a cursor, from the language's adapter; then,
+//! at scale, the word being typed, fuzzy matching and ranking of the
+//! candidates, and the cut to a limit. The server sends only what survives, in
+//! this order, and says when the list was cut.
 
-use crate::analysis::Completion;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+use crate::analysis::{Analysis, Completion, Context};
+use crate::{gbasic_lang, gloc_lang, Language};
+
+/// The candidates at `offset` (none when the core panicked: a completion list
+/// is never worth a crash).
+pub fn completions(
+    language: Language,
+    text: &str,
+    offset: usize,
+    analysis: &Analysis,
+    context: &Context,
+) -> Vec<Completion> {
+    catch_unwind(AssertUnwindSafe(|| match language {
+        Language::Gloc => gloc_lang::completions(text, offset, analysis, context),
+        Language::Gbasic => gbasic_lang::completions(text, offset, analysis, context),
+        Language::Config => Vec::new(),
+    }))
+    .unwrap_or_default()
+}
 
 /// How many items a completion answer carries unless the client's settings say
 /// otherwise (LuaLS's default).
@@ -74,8 +95,14 @@ pub fn rank(candidates: Vec<Completion>, typed: &str, limit: usize) -> (Vec<Comp
                 .filter_text
                 .as_deref()
                 .unwrap_or(&completion.label);
-            let class = match_class(typed, key)
-                .or_else(|| match_class(typed, &completion.label).map(|class| class + 1))?;
+            // The filter text (a GLOC sensor's `name index`) or the label, the better.
+            let class = [
+                match_class(typed, key),
+                match_class(typed, &completion.label),
+            ]
+            .into_iter()
+            .flatten()
+            .min()?;
             Some((class, completion))
         })
         .collect();

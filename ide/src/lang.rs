@@ -8,9 +8,7 @@ use std::path::Path;
 use gloc_engine::sensors::{load_sensor_file, Access, SensorId, SensorList, SensorOrder};
 use gloc_engine::{Diagnostic, LineIndex, Span};
 
-use crate::analysis::{
-    Analysis, Completion, CompletionKind, Context, Signature, Symbol, TokenKind,
-};
+use crate::analysis::{Analysis, Completion, CompletionKind, Context, TokenKind};
 use crate::Language;
 use crate::{gbasic_lang, gloc_lang};
 
@@ -33,21 +31,6 @@ pub fn analyze(language: Language, text: &str, context: &Context) -> Analysis {
     })
 }
 
-pub fn completions(
-    language: Language,
-    text: &str,
-    offset: usize,
-    analysis: &Analysis,
-    context: &Context,
-) -> Vec<Completion> {
-    catch_unwind(AssertUnwindSafe(|| match language {
-        Language::Gloc => gloc_lang::completions(text, offset, analysis, context),
-        Language::Gbasic => gbasic_lang::completions(text, offset, analysis, context),
-        Language::Config => Vec::new(),
-    }))
-    .unwrap_or_default()
-}
-
 /// Hover text for a keyword, instruction, directive or built-in.
 pub fn word_markdown(language: Language, word: &str, kind: TokenKind) -> Option<String> {
     match language {
@@ -55,44 +38,6 @@ pub fn word_markdown(language: Language, word: &str, kind: TokenKind) -> Option<
         Language::Gbasic => gbasic_lang::word_markdown(word, kind),
         Language::Config => None,
     }
-}
-
-pub fn signature(language: Language, text: &str, offset: usize) -> Option<Signature> {
-    catch_unwind(AssertUnwindSafe(|| match language {
-        Language::Gloc => gloc_lang::signature(text, offset),
-        Language::Gbasic => gbasic_lang::signature(text, offset),
-        Language::Config => None,
-    }))
-    .ok()
-    .flatten()
-}
-
-/// Why `new_name` cannot replace `symbol`'s name, if it cannot.
-pub fn check_new_name(
-    language: Language,
-    symbol: &Symbol,
-    new_name: &str,
-    analysis: &Analysis,
-    context: &Context,
-    text: &str,
-) -> Result<(), String> {
-    match language {
-        Language::Gloc => gloc_lang::check_new_name(symbol, new_name, analysis, text),
-        Language::Gbasic => gbasic_lang::check_new_name(symbol, new_name, analysis, context),
-        Language::Config => Err("nothing to rename in gloc.toml".to_string()),
-    }
-}
-
-/// The canonical form of the text, or `None` when it cannot be formatted
-/// (GLOC with syntax errors: formatting must never lose text).
-pub fn format(language: Language, text: &str) -> Option<String> {
-    catch_unwind(AssertUnwindSafe(|| match language {
-        Language::Gloc => gloc_lang::format(text),
-        Language::Gbasic => gbasic_lang::format(text),
-        Language::Config => None,
-    }))
-    .ok()
-    .flatten()
 }
 
 /// Loads a masterdata or `.cac` file (masterdata numbered in `order`). A file

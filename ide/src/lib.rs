@@ -1,17 +1,32 @@
 //! The IDE core: what the language server knows about a document, computed
 //! from text and byte offsets with no protocol in sight. `analysis` is the
-//! neutral shape both languages fill; `lang` dispatches on the language to its
-//! adapter (`gloc_lang`, `gbasic_lang`). The `gloc-lsp` crate keeps the
-//! protocol: position conversion, document state and transport.
+//! neutral shape both languages fill (`lang::analyze` dispatches to the
+//! adapters `gloc_lang` and `gbasic_lang`); one module per feature reads it:
+//! `hover`, `completion`, `signature`, `references` (definition, references,
+//! highlights), `rename`, `symbols`, `folding`, `tokens` (semantic tokens),
+//! `hints`, `format`, `actions` (quick fixes, compiled GLOC), `lens` (cycle
+//! figures per label), `selection`, `links` (gloc.toml paths), `workspace`
+//! (workspace symbols). The `gloc-lsp`
+//! crate keeps the protocol: position conversion, document state, transport.
 
+pub mod actions;
 pub mod analysis;
 pub mod completion;
+pub mod folding;
+pub mod format;
 pub mod gbasic_lang;
 pub mod gloc_lang;
+pub mod hints;
+pub mod hover;
 pub mod lang;
 pub mod lens;
 pub mod links;
+pub mod references;
+pub mod rename;
 pub mod selection;
+pub mod signature;
+pub mod symbols;
+pub mod tokens;
 pub mod workspace;
 
 /// The languages the editor tooling answers for.

@@ -1,20 +1,22 @@
-//! LSP features over the language-neutral [`Analysis`]: each function takes a
-//! document and its analysis and returns protocol types. Positions go through
-//! `position` only.
+//! LSP features: each function converts a request's positions to byte
+//! offsets, asks gloc-ide, and converts the answer to protocol types. What a
+//! feature answers is decided in gloc-ide; positions go through `position` only.
 
 use std::collections::HashMap;
 
-use gloc_engine::{Severity, Span};
+use gloc_engine::Severity;
 use ropey::Rope;
 use serde_json::Value;
 use tower_lsp_server::jsonrpc;
 use tower_lsp_server::ls_types::*;
 
-use crate::document::{Document, Language};
-use crate::position::{end_position, offset_of, position_of, range_of, span_of, PositionWalker};
+use crate::document::Document;
+use crate::position::{offset_of, position_of, range_of, span_of, PositionWalker};
 use crate::server::COMPILED_GLOC_COMMAND;
-use gloc_ide::analysis::{Analysis, CompletionKind, Context, SymbolKind as Kind, TokenKind};
-use gloc_ide::{completion, lang, lens, links, selection};
+use gloc_ide::analysis::{Analysis, CompletionKind, Context, SymbolKind as Kind};
+use gloc_ide::references::HighlightKind;
+use gloc_ide::tokens::TokenType;
+use gloc_ide::{completion, lens, links, selection};
 
 /// What the client said it can show (`initialize`'s capabilities); answers follow it.
 /// Before `initialize`, and for a client that says nothing, the protocol's defaults:
@@ -144,26 +146,22 @@ fn snippet_text(snippet: &str) -> String {
     out
 }
 
-/// Semantic token types, in legend order.
-const TOKEN_TYPES: [SemanticTokenType; 10] = [
-    SemanticTokenType::KEYWORD,
-    SemanticTokenType::MACRO,
-    SemanticTokenType::FUNCTION,
-    SemanticTokenType::VARIABLE,
-    SemanticTokenType::NUMBER,
-    SemanticTokenType::STRING,
-    SemanticTokenType::COMMENT,
-    SemanticTokenType::OPERATOR,
-    SemanticTokenType::PROPERTY,
-    SemanticTokenType::new("label"),
-];
-/// Semantic token modifiers, in legend order (bit positions).
-const TOKEN_MODIFIERS: [SemanticTokenModifier; 4] = [
-    SemanticTokenModifier::READONLY,
-    SemanticTokenModifier::MODIFICATION,
-    SemanticTokenModifier::DEFAULT_LIBRARY,
-    SemanticTokenModifier::new("register"),
-];
+/// The protocol's name of a highlight type; the legend lists them in
+/// `TokenType::ALL` order, so a token's type is its `TokenType as u32`.
+fn token_type_name(token_type: TokenType) -> SemanticTokenType {
+    match token_type {
+        TokenType::Keyword => SemanticTokenType::KEYWORD,
+        TokenType::Macro => SemanticTokenType::MACRO,
+        TokenType::Function => SemanticTokenType::FUNCTION,
+        TokenType::Variable => SemanticTokenType::VARIABLE,
+        TokenType::Number => SemanticTokenType::NUMBER,
+        TokenType::String => SemanticTokenType::STRING,
+        TokenType::Comment => SemanticTokenType::COMMENT,
+        TokenType::Operator => SemanticTokenType::OPERATOR,
+        TokenType::Property => SemanticTokenType::PROPERTY,
+        TokenType::Label => SemanticTokenType::new("label"),
+    }
+}
 
 pub fn capabilities() -> ServerCapabilities {
     ServerCapabilities {
@@ -200,8 +198,10 @@ pub fn capabilities() -> ServerCapabilities {
         semantic_tokens_provider: Some(SemanticTokensServerCapabilities::SemanticTokensOptions(
             SemanticTokensOptions {
                 legend: SemanticTokensLegend {
-                    token_types: TOKEN_TYPES.to_vec(),
-                    token_modifiers: TOKEN_MODIFIERS.to_vec(),
+                    token_types: TokenType::ALL.map(token_type_name).to_vec(),
+                    token_modifiers: gloc_ide::tokens::modifiers::NAMES
+                        .map(SemanticTokenModifier::new)
+                        .to_vec(),
                 },
                 full: Some(SemanticTokensFullOptions::Delta { delta: Some(true) }),
                 range: Some(true),
@@ -297,7 +297,7 @@ pub fn completion(
     limit: usize,
 ) -> Option<CompletionResponse> {
     let offset = offset_of(document.rope(), position);
-    let candidates = lang::completions(
+    let candidates = completion::completions(
         document.language,
         document.text(),
         offset,
@@ -387,7 +387,7 @@ pub fn completion_resolve(
     mut item: CompletionItem,
 ) -> CompletionItem {
     let offset = offset_of(document.rope(), position);
-    let found = lang::completions(
+    let found = completion::completions(
         document.language,
         document.text(),
         offset,
@@ -413,47 +413,23 @@ pub fn hover(
     client: ClientFeatures,
 ) -> Option<Hover> {
     let offset = offset_of(document.rope(), position);
-    let token = analysis.token_at(offset)?;
-    let word = document.text().get(token.span.range()).unwrap_or_default();
-    let markdown = match token.kind {
-        TokenKind::SensorRead | TokenKind::SensorWrite => {
-            let id = token.sensor?;
-            lang::sensor_markdown(&context.sensors, id)
-        }
-        TokenKind::Label | TokenKind::Variable | TokenKind::Constant => {
-            let (symbol, _) = analysis.symbol_at(offset)?;
-            let what = match symbol.kind {
-                Kind::Label => "label",
-                Kind::Variable => "variable",
-                Kind::Array => "array",
-                Kind::Constant => "constant",
-                Kind::Sensor => "sensor",
-            };
-            let uses = symbol.references.len();
-            let mut text = format!("{what} `{}`", symbol.name);
-            if !symbol.detail.is_empty() {
-                text.push_str(&format!(": {}", symbol.detail));
-            }
-            text.push_str(&format!(
-                "\n\n{uses} use{}",
-                if uses == 1 { "" } else { "s" }
-            ));
-            if symbol.definition.is_none() {
-                text.push_str("; never defined");
-            }
-            text
-        }
-        _ => lang::word_markdown(document.language, word, token.kind)?,
-    };
+    let answer = gloc_ide::hover::hover(
+        document.language,
+        document.text(),
+        analysis,
+        context,
+        offset,
+    )?;
     Some(Hover {
-        contents: HoverContents::Markup(markup(markdown, client.hover_markdown)),
-        range: Some(range_of(document.rope(), token.span)),
+        contents: HoverContents::Markup(markup(answer.markdown, client.hover_markdown)),
+        range: Some(range_of(document.rope(), answer.span)),
     })
 }
 
 pub fn signature_help(document: &Document, position: Position) -> Option<SignatureHelp> {
     let offset = offset_of(document.rope(), position);
-    let signature = lang::signature(document.language, document.text(), offset)?;
+    let signature =
+        gloc_ide::signature::signature_help(document.language, document.text(), offset)?;
     let utf16 = |byte: usize| {
         signature.label[..byte.min(signature.label.len())]
             .encode_utf16()
@@ -489,8 +465,7 @@ pub fn definition(
     position: Position,
 ) -> Option<GotoDefinitionResponse> {
     let offset = offset_of(document.rope(), position);
-    let (symbol, _) = analysis.symbol_at(offset)?;
-    let definition = symbol.definition?;
+    let definition = gloc_ide::references::definition(analysis, offset)?;
     Some(GotoDefinitionResponse::Scalar(Location {
         uri: document.uri.clone(),
         range: range_of(document.rope(), definition),
@@ -504,12 +479,7 @@ pub fn references(
     include_declaration: bool,
 ) -> Option<Vec<Location>> {
     let offset = offset_of(document.rope(), position);
-    let (symbol, _) = analysis.symbol_at(offset)?;
-    let spans: Vec<Span> = if include_declaration {
-        symbol.occurrences().collect()
-    } else {
-        symbol.references.clone()
-    };
+    let spans = gloc_ide::references::references(analysis, offset, include_declaration)?;
     Some(
         spans
             .into_iter()
@@ -527,20 +497,19 @@ pub fn highlights(
     position: Position,
 ) -> Option<Vec<DocumentHighlight>> {
     let offset = offset_of(document.rope(), position);
-    let (symbol, _) = analysis.symbol_at(offset)?;
-    let mut highlights: Vec<DocumentHighlight> = symbol
-        .definition
-        .iter()
-        .map(|span| DocumentHighlight {
-            range: range_of(document.rope(), *span),
-            kind: Some(DocumentHighlightKind::WRITE),
-        })
-        .collect();
-    highlights.extend(symbol.references.iter().map(|span| DocumentHighlight {
-        range: range_of(document.rope(), *span),
-        kind: Some(DocumentHighlightKind::READ),
-    }));
-    Some(highlights)
+    let highlights = gloc_ide::references::highlights(analysis, offset)?;
+    Some(
+        highlights
+            .into_iter()
+            .map(|(span, kind)| DocumentHighlight {
+                range: range_of(document.rope(), span),
+                kind: Some(match kind {
+                    HighlightKind::Write => DocumentHighlightKind::WRITE,
+                    HighlightKind::Read => DocumentHighlightKind::READ,
+                }),
+            })
+            .collect(),
+    )
 }
 
 pub fn prepare_rename(
@@ -549,17 +518,10 @@ pub fn prepare_rename(
     position: Position,
 ) -> Option<PrepareRenameResponse> {
     let offset = offset_of(document.rope(), position);
-    let (symbol, span) = analysis.symbol_at(offset)?;
-    if !symbol.renamable {
-        return None;
-    }
+    let (span, placeholder) = gloc_ide::rename::prepare_rename(document.text(), analysis, offset)?;
     Some(PrepareRenameResponse::RangeWithPlaceholder {
         range: range_of(document.rope(), span),
-        placeholder: document
-            .text()
-            .get(span.range())
-            .unwrap_or_default()
-            .to_string(),
+        placeholder,
     })
 }
 
@@ -573,27 +535,20 @@ pub fn rename(
     new_name: &str,
 ) -> Result<Option<WorkspaceEdit>, String> {
     let offset = offset_of(document.rope(), position);
-    let Some((symbol, _)) = analysis.symbol_at(offset) else {
-        return Ok(None);
-    };
-    if !symbol.renamable {
-        return Err(format!("`{}` cannot be renamed", symbol.name));
-    }
-    let new_name = new_name.trim();
-    lang::check_new_name(
+    let Some(edits) = gloc_ide::rename::rename(
         document.language,
-        symbol,
-        new_name,
+        document.text(),
         analysis,
         context,
-        document.text(),
-    )?;
-    let edits = symbol
-        .occurrences()
-        .map(|span| TextEdit {
-            range: range_of(document.rope(), span),
-            new_text: new_name.to_string(),
-        })
+        offset,
+        new_name,
+    )?
+    else {
+        return Ok(None);
+    };
+    let edits = edits
+        .into_iter()
+        .map(|edit| text_edit(document.rope(), edit))
         .collect();
     Ok(Some(WorkspaceEdit {
         changes: Some(HashMap::from([(document.uri.clone(), edits)])),
@@ -610,22 +565,17 @@ pub fn document_symbols(
     client: ClientFeatures,
 ) -> DocumentSymbolResponse {
     let rope = document.rope();
-    let symbols = analysis
-        .symbols
-        .iter()
-        .filter_map(|symbol| {
-            let definition = symbol.definition?;
-            let extent = symbol.extent.cover(definition);
-            Some(DocumentSymbol {
-                name: symbol.name.clone(),
-                detail: (!symbol.detail.is_empty()).then(|| symbol.detail.clone()),
-                kind: symbol_kind(symbol.kind),
-                tags: None,
-                deprecated: None,
-                range: range_of(rope, extent),
-                selection_range: range_of(rope, definition),
-                children: None,
-            })
+    let symbols = gloc_ide::symbols::document_symbols(analysis)
+        .into_iter()
+        .map(|symbol| DocumentSymbol {
+            name: symbol.name,
+            detail: symbol.detail,
+            kind: symbol_kind(symbol.kind),
+            tags: None,
+            deprecated: None,
+            range: range_of(rope, symbol.extent),
+            selection_range: range_of(rope, symbol.selection),
+            children: None,
         })
         .collect::<Vec<DocumentSymbol>>();
     if client.hierarchical_symbols {
@@ -651,20 +601,15 @@ pub fn document_symbols(
 
 pub fn folding_ranges(document: &Document, analysis: &Analysis) -> Vec<FoldingRange> {
     let rope = document.rope();
-    analysis
-        .folds
-        .iter()
-        .filter_map(|span| {
-            let start = position_of(rope, span.start as usize);
-            let end = position_of(rope, span.end as usize);
-            (end.line > start.line).then_some(FoldingRange {
-                start_line: start.line,
-                start_character: None,
-                end_line: end.line,
-                end_character: None,
-                kind: Some(FoldingRangeKind::Region),
-                collapsed_text: None,
-            })
+    gloc_ide::folding::folding_ranges(document.text(), analysis)
+        .into_iter()
+        .map(|span| FoldingRange {
+            start_line: position_of(rope, span.start as usize).line,
+            start_character: None,
+            end_line: position_of(rope, span.end as usize).line,
+            end_character: None,
+            kind: Some(FoldingRangeKind::Region),
+            collapsed_text: None,
         })
         .collect()
 }
@@ -674,7 +619,10 @@ pub fn semantic_tokens(
     analysis: &Analysis,
     context: &Context,
 ) -> SemanticTokens {
-    semantic_tokens_of(document, &analysis.tokens, context)
+    semantic_tokens_of(
+        document,
+        gloc_ide::tokens::semantic_tokens(analysis, context),
+    )
 }
 
 /// The tokens that start within `range` (`semanticTokens/range`).
@@ -685,10 +633,10 @@ pub fn semantic_tokens_range(
     range: Range,
 ) -> SemanticTokens {
     let wanted = span_of(document.rope(), range);
-    let tokens = &analysis.tokens;
-    let first = tokens.partition_point(|token| token.span.start < wanted.start);
-    let last = tokens.partition_point(|token| token.span.start < wanted.end);
-    semantic_tokens_of(document, &tokens[first..last.max(first)], context)
+    semantic_tokens_of(
+        document,
+        gloc_ide::tokens::semantic_tokens_within(analysis, context, wanted),
+    )
 }
 
 /// The edit that turns `previous` into `current` (`semanticTokens/full/delta`):
@@ -723,12 +671,11 @@ pub fn semantic_tokens_edits(
 
 fn semantic_tokens_of(
     document: &Document,
-    tokens: &[gloc_ide::analysis::Token],
-    context: &Context,
+    tokens: impl Iterator<Item = gloc_ide::tokens::HighlightedToken>,
 ) -> SemanticTokens {
     // The tokens are sorted by start and do not overlap: one walk over the text.
     let mut walker = PositionWalker::new(document.rope(), document.text());
-    let mut data = Vec::with_capacity(tokens.len());
+    let mut data = Vec::with_capacity(tokens.size_hint().0);
     let (mut previous_line, mut previous_start) = (0u32, 0u32);
     for token in tokens {
         let start = walker.position(token.span.start as usize);
@@ -737,11 +684,6 @@ fn semantic_tokens_of(
         if end.line != start.line || end.character <= start.character {
             continue;
         }
-        let read_only = token
-            .sensor
-            .and_then(|id| context.sensors.get(id))
-            .map(|sensor| sensor.access() == gloc_engine::sensors::Access::ReadOnly);
-        let (token_type, modifiers) = token_style(token.kind, read_only);
         let delta_line = start.line - previous_line;
         let delta_start = if delta_line == 0 {
             start.character - previous_start
@@ -752,8 +694,8 @@ fn semantic_tokens_of(
             delta_line,
             delta_start,
             length: end.character - start.character,
-            token_type,
-            token_modifiers_bitset: modifiers,
+            token_type: token.token_type as u32,
+            token_modifiers_bitset: token.modifiers,
         });
         previous_line = start.line;
         previous_start = start.character;
@@ -764,48 +706,18 @@ fn semantic_tokens_of(
     }
 }
 
-/// (index into `TOKEN_TYPES`, modifier bits).
-fn token_style(kind: TokenKind, read_only_sensor: Option<bool>) -> (u32, u32) {
-    const READONLY: u32 = 1;
-    const MODIFICATION: u32 = 2;
-    const DEFAULT_LIBRARY: u32 = 4;
-    const REGISTER: u32 = 8;
-    let read_only = if read_only_sensor == Some(true) {
-        READONLY
-    } else {
-        0
-    };
-    match kind {
-        TokenKind::Keyword => (0, 0),
-        TokenKind::Directive => (1, 0),
-        TokenKind::Function => (2, DEFAULT_LIBRARY),
-        TokenKind::Variable => (3, 0),
-        TokenKind::Constant => (3, READONLY),
-        TokenKind::Register => (3, REGISTER),
-        TokenKind::Number => (4, 0),
-        TokenKind::String => (5, 0),
-        TokenKind::Comment => (6, 0),
-        TokenKind::Operator => (7, 0),
-        TokenKind::SensorRead => (8, DEFAULT_LIBRARY | read_only),
-        TokenKind::SensorWrite => (8, DEFAULT_LIBRARY | MODIFICATION),
-        TokenKind::Label => (9, 0),
-    }
-}
-
 pub fn inlay_hints(document: &Document, analysis: &Analysis, range: Range) -> Vec<InlayHint> {
     let rope = document.rope();
     let first = offset_of(rope, range.start);
     let last = offset_of(rope, range.end);
-    analysis
-        .hints
-        .iter()
-        .filter(|hint| hint.offset >= first && hint.offset <= last)
+    gloc_ide::hints::inlay_hints(analysis, first, last)
+        .into_iter()
         .map(|hint| InlayHint {
             position: position_of(rope, hint.offset),
-            label: InlayHintLabel::String(hint.label.clone()),
+            label: InlayHintLabel::String(hint.label),
             kind: None,
             text_edits: None,
-            tooltip: hint.tooltip.clone().map(InlayHintTooltip::String),
+            tooltip: hint.tooltip.map(InlayHintTooltip::String),
             padding_left: Some(hint.padding_left),
             padding_right: None,
             data: None,
@@ -818,125 +730,63 @@ pub fn code_actions(document: &Document, analysis: &Analysis, range: Range) -> C
     let rope = document.rope();
     let wanted = span_of(rope, range);
     let converted = diagnostics(document, analysis);
-    let mut actions = Vec::new();
-    for (diagnostic, lsp_diagnostic) in analysis.diagnostics.iter().zip(converted) {
-        let touches = diagnostic.span.start <= wanted.end && wanted.start <= diagnostic.span.end;
-        if !touches {
-            continue;
-        }
-        for fix in &diagnostic.fixes {
-            let edit = TextEdit {
-                range: range_of(rope, fix.span),
-                new_text: fix.replacement.clone(),
-            };
-            actions.push(CodeActionOrCommand::CodeAction(CodeAction {
-                title: fix.title.clone(),
+    gloc_ide::actions::quick_fixes(analysis, wanted)
+        .into_iter()
+        .map(|fix| {
+            CodeActionOrCommand::CodeAction(CodeAction {
+                title: fix.title,
                 kind: Some(CodeActionKind::QUICKFIX),
-                diagnostics: Some(vec![lsp_diagnostic.clone()]),
+                diagnostics: converted
+                    .get(fix.diagnostic)
+                    .cloned()
+                    .map(|diagnostic| vec![diagnostic]),
                 edit: Some(WorkspaceEdit {
-                    changes: Some(HashMap::from([(document.uri.clone(), vec![edit])])),
+                    changes: Some(HashMap::from([(
+                        document.uri.clone(),
+                        vec![text_edit(rope, fix.edit)],
+                    )])),
                     ..WorkspaceEdit::default()
                 }),
-                is_preferred: Some(diagnostic.fixes.len() == 1),
+                is_preferred: Some(fix.preferred),
                 ..CodeAction::default()
-            }));
-        }
+            })
+        })
+        .collect()
+}
+
+fn text_edit(rope: &Rope, edit: gloc_ide::analysis::TextEdit) -> TextEdit {
+    TextEdit {
+        range: range_of(rope, edit.span),
+        new_text: edit.new_text,
     }
-    actions
 }
 
 /// The edit that formats the document: only the changed lines are replaced,
 /// so the cursor stays where it is elsewhere.
 pub fn formatting(document: &Document) -> Option<Vec<TextEdit>> {
-    let text = document.text();
-    let formatted = formatted_text(document)?;
-    if formatted == text {
-        return Some(Vec::new());
-    }
-    let old_lines: Vec<&str> = text.split_inclusive('\n').collect();
-    let new_lines: Vec<&str> = formatted.split_inclusive('\n').collect();
-    let common_prefix = old_lines
-        .iter()
-        .zip(&new_lines)
-        .take_while(|(old, new)| old == new)
-        .count();
-    let common_suffix = old_lines[common_prefix..]
-        .iter()
-        .rev()
-        .zip(new_lines[common_prefix..].iter().rev())
-        .take_while(|(old, new)| old == new)
-        .count();
-    let start: usize = old_lines[..common_prefix]
-        .iter()
-        .map(|line| line.len())
-        .sum();
-    let end: usize = text.len()
-        - old_lines[old_lines.len() - common_suffix..]
-            .iter()
-            .map(|line| line.len())
-            .sum::<usize>();
-    let replacement: String = new_lines[common_prefix..new_lines.len() - common_suffix].concat();
-    let rope = document.rope();
-    let end_position = if end == text.len() {
-        end_position(rope)
-    } else {
-        position_of(rope, end)
-    };
-    Some(vec![TextEdit {
-        range: Range {
-            start: position_of(rope, start),
-            end: end_position,
-        },
-        new_text: replacement,
-    }])
+    let edits = gloc_ide::format::formatting(document.language, document.text())?;
+    Some(
+        edits
+            .into_iter()
+            .map(|edit| text_edit(document.rope(), edit))
+            .collect(),
+    )
 }
 
-/// The document's canonical form, with the document's line ends (the formatters
-/// write LF; a CRLF document keeps CRLF).
-fn formatted_text(document: &Document) -> Option<String> {
-    let text = document.text();
-    let formatted = lang::format(document.language, text)?;
-    Some(if text.contains("\r\n") {
-        formatted.replace("\r\n", "\n").replace('\n', "\r\n")
-    } else {
-        formatted
-    })
-}
-
-/// Formats the lines `range` touches. The formatters re-indent line by line, so
-/// when the line count stays the same each changed line in the range is
-/// replaced; when it does not (GLOC's canonical form can join or split lines),
-/// the one whole-document change is applied only if it lies within the range.
+/// Formats the lines `range` touches (`gloc_ide::format::range_formatting`).
 pub fn range_formatting(document: &Document, range: Range) -> Option<Vec<TextEdit>> {
-    let text = document.text();
-    let formatted = formatted_text(document)?;
-    let old_lines: Vec<&str> = text.split_inclusive('\n').collect();
-    let new_lines: Vec<&str> = formatted.split_inclusive('\n').collect();
-    let (first, last) = (range.start.line as usize, range.end.line as usize);
-    if old_lines.len() != new_lines.len() {
-        let edits = formatting(document)?;
-        let inside = edits.iter().all(|edit| {
-            edit.range.start.line as usize >= first && edit.range.end.line as usize <= last + 1
-        });
-        return Some(if inside { edits } else { Vec::new() });
-    }
-    let rope = document.rope();
-    let mut start = 0;
-    let mut edits = Vec::new();
-    for (index, (old, new)) in old_lines.iter().zip(&new_lines).enumerate() {
-        if index >= first && index <= last && old != new {
-            let content = |line: &str| line.trim_end_matches(['\n', '\r']).len();
-            edits.push(TextEdit {
-                range: Range {
-                    start: position_of(rope, start),
-                    end: position_of(rope, start + content(old)),
-                },
-                new_text: new[..content(new)].to_string(),
-            });
-        }
-        start += old.len();
-    }
-    Some(edits)
+    let edits = gloc_ide::format::range_formatting(
+        document.language,
+        document.text(),
+        range.start.line as usize,
+        range.end.line as usize,
+    )?;
+    Some(
+        edits
+            .into_iter()
+            .map(|edit| text_edit(document.rope(), edit))
+            .collect(),
+    )
 }
 
 /// Pull diagnostics: the same list push would publish, as a full report.
@@ -1026,7 +876,7 @@ pub fn selection_ranges(
 
 /// Document links: the paths of a `gloc.toml`.
 pub fn document_links(document: &Document) -> Vec<DocumentLink> {
-    if document.language != Language::Config {
+    if document.language != gloc_ide::Language::Config {
         return Vec::new();
     }
     let Some(path) = document.path() else {
@@ -1080,30 +930,9 @@ fn symbol_kind(kind: Kind) -> SymbolKind {
 /// The answer to `gloc.compiledGloc`: the GLOC text (a GLOC document is its
 /// own GLOC), or an error saying why there is none (the program has errors).
 pub fn compiled_gloc(document: &Document, analysis: &Analysis) -> jsonrpc::Result<Value> {
-    match document.language {
-        Language::Gbasic => {}
-        Language::Gloc => return Ok(Value::String(document.text().to_string())),
-        Language::Config => {
-            return Err(jsonrpc::Error::invalid_params(
-                "`gloc.compiledGloc` takes a GBASIC document, not gloc.toml",
-            ))
-        }
-    }
-    match &analysis.compiled {
-        Some(gloc) => Ok(Value::String(gloc.clone())),
-        None => {
-            let errors = analysis
-                .diagnostics
-                .iter()
-                .filter(|diagnostic| diagnostic.is_error())
-                .count();
-            Err(jsonrpc::Error::invalid_params(format!(
-                "the program has {errors} error{}; fix {} to see its GLOC",
-                if errors == 1 { "" } else { "s" },
-                if errors == 1 { "it" } else { "them" }
-            )))
-        }
-    }
+    gloc_ide::actions::compiled_gloc(document.language, document.text(), analysis)
+        .map(Value::String)
+        .map_err(jsonrpc::Error::invalid_params)
 }
 
 #[cfg(test)]
@@ -1122,17 +951,12 @@ mod tests {
         let rope = document.rope();
         let mut data = Vec::new();
         let (mut previous_line, mut previous_start) = (0u32, 0u32);
-        for token in &analysis.tokens {
+        for token in gloc_ide::tokens::semantic_tokens(analysis, context) {
             let start = position_of(rope, token.span.start as usize);
             let end = position_of(rope, token.span.end as usize);
             if end.line != start.line || end.character <= start.character {
                 continue;
             }
-            let read_only = token
-                .sensor
-                .and_then(|id| context.sensors.get(id))
-                .map(|sensor| sensor.access() == gloc_engine::sensors::Access::ReadOnly);
-            let (token_type, modifiers) = token_style(token.kind, read_only);
             let delta_line = start.line - previous_line;
             let delta_start = if delta_line == 0 {
                 start.character - previous_start
@@ -1143,8 +967,8 @@ mod tests {
                 delta_line,
                 delta_start,
                 end.character - start.character,
-                token_type,
-                modifiers,
+                token.token_type as u32,
+                token.modifiers,
             ]);
             previous_line = start.line;
             previous_start = start.character;

@@ -151,11 +151,6 @@ pub fn span_of(rope: &Rope, range: Range) -> Span {
     Span::new(offset_of(rope, range.start), offset_of(rope, range.end))
 }
 
-/// The position just past the last character (for whole-document edits).
-pub fn end_position(rope: &Rope) -> Position {
-    position_of(rope, rope.len_bytes())
-}
-
 /// Number of characters on a line, not counting its `\n`, `\r\n` or `\r`.
 fn line_length_without_break(rope: &Rope, line: usize) -> usize {
     let slice = rope.line(line);
@@ -251,7 +246,6 @@ mod tests {
         assert_eq!(offset_of(&rope, pos(1, 99)), 6);
         assert_eq!(offset_of(&rope, pos(7, 0)), 6);
         assert_eq!(position_of(&rope, 999), pos(1, 2));
-        assert_eq!(end_position(&rope), pos(1, 2));
     }
 
     #[test]

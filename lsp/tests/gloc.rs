@@ -67,6 +67,13 @@ async fn diagnostics_have_codes_and_related_information() {
 async fn completion_offers_mnemonics_labels_registers_and_the_right_sensors() {
     let mut client = fig2().await;
     // Start of a new line: mnemonics with operand shapes, `label`, directives.
+    let result = client
+        .request("textDocument/completion", at(URI, 30, 0))
+        .await;
+    assert!(labels(&result["items"]).contains(&"label".to_string()));
+    assert!(labels(&result["items"]).contains(&"nregs".to_string()));
+    assert_eq!(result["isIncomplete"], false);
+    // `st|`: what starts with it.
     client
         .notify(
             "textDocument/didChange",
@@ -86,10 +93,10 @@ async fn completion_offers_mnemonics_labels_registers_and_the_right_sensors() {
         .expect("stores");
     assert_eq!(stores["detail"], "stores r,SENSOR");
     assert_eq!(stores["insertText"], "stores ${1:r0},${2:0}");
-    assert!(labels(items).contains(&"label".to_string()));
-    assert!(labels(items).contains(&"nregs".to_string()));
+    assert!(!labels(items).contains(&"label".to_string()));
 
-    // Where a store expects a sensor: only writable ones, inserting the index.
+    // Where a store expects a sensor: writable ones first (the first 100 of
+    // them, nothing typed), inserting the index.
     client
         .notify(
             "textDocument/didChange",
@@ -100,10 +107,22 @@ async fn completion_offers_mnemonics_labels_registers_and_the_right_sensors() {
     let result = client
         .request("textDocument/completion", at(URI, 30, 10))
         .await;
+    assert_eq!(result["isIncomplete"], true);
     let items = result["items"].as_array().expect("items");
     assert!(items
         .iter()
         .all(|i| !i["filterText"].as_str().unwrap_or("").starts_with("m_")));
+    client
+        .notify(
+            "textDocument/didChange",
+            json!({ "textDocument": { "uri": URI, "version": 4 },
+            "contentChanges": [{ "range": range(30, 10, 30, 10), "text": "sci_ru" }] }),
+        )
+        .await;
+    let result = client
+        .request("textDocument/completion", at(URI, 30, 16))
+        .await;
+    let items = result["items"].as_array().expect("items");
     let behs = items
         .iter()
         .find(|i| i["label"] == "1387 sci_ruhp_behs")
@@ -116,7 +135,7 @@ async fn completion_offers_mnemonics_labels_registers_and_the_right_sensors() {
 
     // A load may read any sensor.
     let result = client
-        .request("textDocument/completion", at(URI, 4, 6))
+        .request("textDocument/completion", at(URI, 4, 9))
         .await;
     let depth = result["items"]
         .as_array()

@@ -9,6 +9,28 @@ const path = require('path');
 /** The languages the extension serves; their ids are also the debugger's languages. */
 const LANGUAGE_IDS = ['gbasic', 'gloc'];
 
+/**
+ * The commands this extension runs for the language server's "Run" and "Debug" code lenses (each
+ * takes the script's URI as a string). The client lists them in `experimental.commands.commands`
+ * (rust-analyzer's convention); the server shows those lenses only to a client that does.
+ */
+const CODE_LENS_COMMANDS = ['gloc.runMission', 'gloc.debugScript'];
+
+/**
+ * A command's URI argument as a vscode.Uri-like value: code lenses pass the URI as a string, menus
+ * pass a Uri. `parse` is vscode.Uri.parse.
+ * @template T
+ * @param {unknown} argument
+ * @param {(text: string) => T} parse
+ * @returns {T | object | undefined}
+ */
+function commandUri(argument, parse) {
+  if (typeof argument === 'string') {
+    return parse(argument);
+  }
+  return argument && typeof argument === 'object' ? argument : undefined;
+}
+
 /** The LSP command (workspace/executeCommand) that returns the compiled GLOC of a GBASIC document. */
 const COMPILED_GLOC_COMMAND = 'gloc.compiledGloc';
 
@@ -208,7 +230,9 @@ function runSummary(stderr) {
 }
 
 module.exports = {
+  CODE_LENS_COMMANDS,
   COMPILED_GLOC_COMMAND,
+  commandUri,
   COMPILED_SCHEME,
   LANGUAGE_IDS,
   compiledDocumentPath,

@@ -50,6 +50,9 @@ pub fn compiled_gloc(
         crate::Language::Config => {
             return Err("`gloc.compiledGloc` takes a GBASIC document, not gloc.toml".to_string())
         }
+        crate::Language::Mission | crate::Language::MissionArgs => {
+            return Err("`gloc.compiledGloc` takes a GBASIC document, not a mission".to_string())
+        }
     }
     if let Some(gloc) = &analysis.compiled {
         return Ok(gloc.clone());

@@ -45,6 +45,8 @@ pub enum SymbolKind {
     Constant,
     /// A sensor named in GBASIC (never defined in the document, not renamable).
     Sensor,
+    /// A mission's `behavior:` (or a `.ma` file's `behavior_name=`).
+    Behavior,
 }
 
 #[derive(Clone, Debug, PartialEq)]

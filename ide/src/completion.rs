@@ -21,6 +21,10 @@ pub fn completions(
         Language::Gloc => gloc_lang::completions(text, offset, analysis, context),
         Language::Gbasic => gbasic_lang::completions(text, offset, analysis, context),
         Language::Config => Vec::new(),
+        Language::Mission | Language::MissionArgs => match language.mission_file() {
+            Some(kind) => crate::mission::completions(kind, text, offset, &context.sensors),
+            None => Vec::new(),
+        },
     }))
     .unwrap_or_default()
 }

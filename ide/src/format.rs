@@ -15,6 +15,7 @@ pub fn format(language: Language, text: &str) -> Option<String> {
         Language::Gloc => gloc_lang::format(text),
         Language::Gbasic => gbasic_lang::format(text),
         Language::Config => None,
+        Language::Mission | Language::MissionArgs => crate::mission::format(text),
     }))
     .ok()
     .flatten()

@@ -21,6 +21,10 @@ pub fn hover(
     context: &Context,
     offset: usize,
 ) -> Option<HoverInfo> {
+    if let Some(kind) = language.mission_file() {
+        let (span, markdown) = crate::mission::hover(kind, text, offset, &context.sensors)?;
+        return Some(HoverInfo { markdown, span });
+    }
     let token = analysis.token_at(offset)?;
     let word = text.get(token.span.range()).unwrap_or_default();
     let markdown = match token.kind {
@@ -35,6 +39,7 @@ pub fn hover(
                 SymbolKind::Array => "array",
                 SymbolKind::Constant => "constant",
                 SymbolKind::Sensor => "sensor",
+                SymbolKind::Behavior => "behavior",
             };
             let uses = symbol.references.len();
             let mut text = format!("{what} `{}`", symbol.name);

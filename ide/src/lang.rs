@@ -10,16 +10,31 @@ use gloc_engine::{Diagnostic, LineIndex, Span};
 
 use crate::analysis::{Analysis, Completion, CompletionKind, Context, TokenKind};
 use crate::Language;
-use crate::{gbasic_lang, gloc_lang};
+use crate::{gbasic_lang, gloc_lang, mission};
 
 /// Code of the diagnostic shown when the core panicked on a document.
 pub const CODE_INTERNAL_ERROR: &str = "E0999";
 
 pub fn analyze(language: Language, text: &str, context: &Context) -> Analysis {
+    analyze_at(language, text, None, context)
+}
+
+/// As [`analyze`], for the document at `path`: a mission reads the `.ma` files
+/// beside it (`../mafiles/`), as `gloc run` does.
+pub fn analyze_at(
+    language: Language,
+    text: &str,
+    path: Option<&Path>,
+    context: &Context,
+) -> Analysis {
     let outcome = catch_unwind(AssertUnwindSafe(|| match language {
         Language::Gloc => gloc_lang::analyze(text, context),
         Language::Gbasic => gbasic_lang::analyze(text, context),
         Language::Config => Analysis::default(),
+        Language::Mission | Language::MissionArgs => match language.mission_file() {
+            Some(kind) => mission::analyze(kind, text, path, &context.sensors),
+            None => Analysis::default(),
+        },
     }));
     outcome.unwrap_or_else(|_| Analysis {
         diagnostics: vec![Diagnostic::error(
@@ -36,7 +51,7 @@ pub fn word_markdown(language: Language, word: &str, kind: TokenKind) -> Option<
     match language {
         Language::Gloc => gloc_lang::word_markdown(word, kind),
         Language::Gbasic => gbasic_lang::word_markdown(word, kind),
-        Language::Config => None,
+        Language::Config | Language::Mission | Language::MissionArgs => None,
     }
 }
 

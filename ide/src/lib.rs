@@ -5,8 +5,9 @@
 //! `hover`, `completion`, `signature`, `references` (definition, references,
 //! highlights), `rename`, `symbols`, `folding`, `tokens` (semantic tokens),
 //! `hints`, `format`, `actions` (quick fixes, compiled GLOC), `lens` (cycle
-//! figures per label), `selection`, `links` (gloc.toml paths), `workspace`
-//! (workspace symbols). The `gloc-lsp`
+//! figures per label), `selection`, `links` (gloc.toml paths, `args_from_file`
+//! targets), `workspace` (workspace symbols), `mission` (the `.mi`/`.ma`
+//! languages). The `gloc-lsp`
 //! crate keeps the protocol: position conversion, document state, transport.
 
 pub mod actions;
@@ -21,6 +22,7 @@ pub mod hover;
 pub mod lang;
 pub mod lens;
 pub mod links;
+pub mod mission;
 pub mod references;
 pub mod rename;
 pub mod selection;
@@ -36,15 +38,30 @@ pub enum Language {
     Gbasic,
     /// A `gloc.toml`: only its problems are reported.
     Config,
+    /// A Slocum mission file (`.mi`).
+    Mission,
+    /// A Slocum mission argument file (`.ma`).
+    MissionArgs,
 }
 
 impl Language {
+    /// The mission language this is, if it is one.
+    pub fn mission_file(self) -> Option<mission::MissionFile> {
+        match self {
+            Language::Mission => Some(mission::MissionFile::Mission),
+            Language::MissionArgs => Some(mission::MissionFile::Args),
+            _ => None,
+        }
+    }
+
     /// From an editor's language id, falling back to the file's path (or URI
     /// path) extension.
     pub fn detect(language_id: &str, path: &str) -> Option<Language> {
         match language_id.to_ascii_lowercase().as_str() {
             "gloc" => return Some(Language::Gloc),
             "gbasic" | "gbas" => return Some(Language::Gbasic),
+            "slocum_mission" => return Some(Language::Mission),
+            "slocum_ma" => return Some(Language::MissionArgs),
             _ => {}
         }
         let path = path.to_ascii_lowercase();
@@ -52,6 +69,10 @@ impl Language {
             Some(Language::Gloc)
         } else if path.ends_with(".gbas") || path.ends_with(".gbasic") {
             Some(Language::Gbasic)
+        } else if path.ends_with(".mi") {
+            Some(Language::Mission)
+        } else if path.ends_with(".ma") {
+            Some(Language::MissionArgs)
         } else if path.ends_with("/gloc.toml") || path == "gloc.toml" {
             Some(Language::Config)
         } else {

@@ -1,6 +1,7 @@
 //! Document links: the paths written in a `gloc.toml` (`masterdata`, `mission`,
 //! `sensor_cache`), resolved against the file's folder as `gloc_engine::config`
-//! resolves them, so a click opens the file the tools will read.
+//! resolves them, and in a mission each `args_from_file` line to the `.ma` file
+//! the simulator's parser loads for it, so a click opens the file the tools read.
 
 use std::path::{Path, PathBuf};
 
@@ -63,9 +64,54 @@ pub fn config_links(text: &str, folder: &Path) -> Vec<Link> {
     links
 }
 
+/// The `args_from_file` lines of a mission at `path`, each to the `.ma` file it
+/// loads (`gloc_sim::mission` decides which, as `gloc run` does; a file it could
+/// not load has a diagnostic instead of a link).
+pub fn mission_links(text: &str, path: &Path) -> Vec<Link> {
+    let mission = crate::mission::parse(crate::mission::MissionFile::Mission, text, Some(path));
+    let mut links: Vec<Link> = mission
+        .sources
+        .iter()
+        .filter_map(|source| {
+            Some(Link {
+                span: source.loaded_at?,
+                target: std::fs::canonicalize(&source.path).unwrap_or_else(|_| source.path.clone()),
+                key: "args_from_file",
+            })
+        })
+        .collect();
+    links.sort_by_key(|link| link.span.start);
+    links
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn each_loaded_args_from_file_line_links_to_its_ma_file() {
+        let root = std::env::temp_dir().join(format!("gloc-ide-links-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&root);
+        std::fs::create_dir_all(root.join("missions")).expect("folder");
+        std::fs::create_dir_all(root.join("mafiles")).expect("folder");
+        // `surface` + 10 fits 8 characters as `surfac10` (the glider's 8.3 names);
+        // `yo` 99 is not there, so it gets a diagnostic and no link.
+        std::fs::write(
+            root.join("mafiles/surfac10.ma"),
+            "behavior_name=surface\n<start:b_arg>\n<end:b_arg>\n",
+        )
+        .expect("ma");
+        let text = "behavior: surface\n  b_arg: args_from_file(enum) 10\nbehavior: yo\n  b_arg: args_from_file(enum) 99\n";
+        let path = root.join("missions/m.mi");
+        let links = mission_links(text, &path);
+        assert_eq!(links.len(), 1, "{links:?}");
+        assert!(text[links[0].span.range()].contains("args_from_file(enum) 10"));
+        assert_eq!(
+            links[0].target,
+            std::fs::canonicalize(root.join("mafiles/surfac10.ma")).expect("exists")
+        );
+        std::fs::remove_dir_all(&root).expect("clean up");
+    }
 
     #[test]
     fn every_path_key_links_to_the_path_beside_the_file() {

@@ -36,6 +36,9 @@ pub fn rename(
         Language::Gloc => gloc_lang::check_new_name(symbol, new_name, analysis, text)?,
         Language::Gbasic => gbasic_lang::check_new_name(symbol, new_name, analysis, context)?,
         Language::Config => return Err("nothing to rename in gloc.toml".to_string()),
+        Language::Mission | Language::MissionArgs => {
+            return Err("nothing to rename in a mission file".to_string())
+        }
     }
     Ok(Some(
         symbol

@@ -10,7 +10,7 @@ pub fn signature_help(language: Language, text: &str, offset: usize) -> Option<S
     catch_unwind(AssertUnwindSafe(|| match language {
         Language::Gloc => gloc_lang::signature(text, offset),
         Language::Gbasic => gbasic_lang::signature(text, offset),
-        Language::Config => None,
+        Language::Config | Language::Mission | Language::MissionArgs => None,
     }))
     .ok()
     .flatten()

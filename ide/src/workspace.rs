@@ -61,7 +61,7 @@ pub fn script_files(roots: &[PathBuf]) -> Vec<ScriptFile> {
             }
             let path = entry.path();
             let Some(language) = Language::detect("", &path.to_string_lossy())
-                .filter(|language| *language != Language::Config)
+                .filter(|language| matches!(language, Language::Gloc | Language::Gbasic))
             else {
                 continue;
             };
@@ -117,6 +117,7 @@ mod tests {
             "z.gbas",
             "a/b/c.gloc",
             "a/notes.txt",
+            "a/m.mi",
             ".git/d.gbas",
             "target/debug/e.gbas",
             "node_modules/x/f.gloc",

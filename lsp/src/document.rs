@@ -151,5 +151,21 @@ mod tests {
             Some(Language::Config)
         );
         assert_eq!(detect_language("rust", &uri("file:///x/y.rs")), None);
+        assert_eq!(
+            detect_language("slocum_mission", &uri("untitled:2")),
+            Some(Language::Mission)
+        );
+        assert_eq!(
+            detect_language("plaintext", &uri("file:///g/missions/NSB3.MI")),
+            Some(Language::Mission)
+        );
+        assert_eq!(
+            detect_language("slocum_ma", &uri("untitled:3")),
+            Some(Language::MissionArgs)
+        );
+        assert_eq!(
+            detect_language("plaintext", &uri("file:///g/mafiles/yo10.ma")),
+            Some(Language::MissionArgs)
+        );
     }
 }

@@ -465,6 +465,14 @@ pub fn definition(
     position: Position,
 ) -> Option<GotoDefinitionResponse> {
     let offset = offset_of(document.rope(), position);
+    if document.language == gloc_ide::Language::Mission {
+        // `args_from_file(enum) N` goes to the `.ma` file it loads.
+        let target = gloc_ide::mission::definition(document.text(), offset, &document.path()?)?;
+        return Some(GotoDefinitionResponse::Scalar(Location {
+            uri: Uri::from_file_path(&target)?,
+            range: Range::default(),
+        }));
+    }
     let definition = gloc_ide::references::definition(analysis, offset)?;
     Some(GotoDefinitionResponse::Scalar(Location {
         uri: document.uri.clone(),
@@ -874,17 +882,21 @@ pub fn selection_ranges(
         .collect()
 }
 
-/// Document links: the paths of a `gloc.toml`.
+/// Document links: the paths of a `gloc.toml`, a mission's `args_from_file` targets.
 pub fn document_links(document: &Document) -> Vec<DocumentLink> {
-    if document.language != gloc_ide::Language::Config {
-        return Vec::new();
-    }
     let Some(path) = document.path() else {
         return Vec::new();
     };
-    let folder = path.parent().unwrap_or(std::path::Path::new("."));
+    let links = match document.language {
+        gloc_ide::Language::Config => {
+            let folder = path.parent().unwrap_or(std::path::Path::new("."));
+            links::config_links(document.text(), folder)
+        }
+        gloc_ide::Language::Mission => links::mission_links(document.text(), &path),
+        _ => return Vec::new(),
+    };
     let rope = document.rope();
-    links::config_links(document.text(), folder)
+    links
         .into_iter()
         .filter_map(|link| {
             Some(DocumentLink {
@@ -924,6 +936,7 @@ fn symbol_kind(kind: Kind) -> SymbolKind {
         Kind::Array => SymbolKind::ARRAY,
         Kind::Constant => SymbolKind::CONSTANT,
         Kind::Sensor => SymbolKind::FIELD,
+        Kind::Behavior => SymbolKind::OBJECT,
     }
 }
 

@@ -242,8 +242,12 @@ impl State {
         {
             return;
         }
-        let mut analysis =
-            lang::analyze(open.document.language, open.document.text(), &open.context);
+        let mut analysis = lang::analyze_at(
+            open.document.language,
+            open.document.text(),
+            open.document.path().as_deref(),
+            &open.context,
+        );
         analysis
             .diagnostics
             .extend(open.context_problems.iter().cloned());

@@ -28,6 +28,8 @@ test('the grammar test tool is installed (tests/e2e/setup)', () => {
 for (const [language, file] of [
   ['GBASIC', 'gbasic.test.gbas'],
   ['GLOC', 'gloc.test.gloc'],
+  ['Slocum mission', 'mission.test.mi'],
+  ['Slocum mission arguments', 'args.test.ma'],
 ]) {
   test(`${language} scopes match the assertions in test/syntax/${file}`, () => {
     const result = runGrammarTest(path.join(syntaxDir, file));
@@ -64,6 +66,28 @@ const requiredScopes = {
     'constant.numeric.float.gloc',
     'string.quoted.double.gloc',
     'comment.line.number-sign.gloc',
+  ],
+  'mission.test.mi': [
+    'keyword.other.sensor.slocum_mission',
+    'support.variable.sensor.slocum_mission',
+    'keyword.other.behavior.slocum_mission',
+    'entity.name.function.behavior.slocum_mission',
+    'keyword.other.b-arg.slocum_mission',
+    'variable.parameter.argument.slocum_mission',
+    'support.type.units.slocum_mission',
+    'constant.numeric.slocum_mission',
+    'comment.line.number-sign.slocum_mission',
+  ],
+  'args.test.ma': [
+    'keyword.other.behavior-name.slocum_ma',
+    'entity.name.function.behavior.slocum_ma',
+    'keyword.control.section.slocum_ma',
+    'keyword.other.b-arg.slocum_ma',
+    'variable.parameter.argument.slocum_ma',
+    'support.type.units.slocum_ma',
+    'constant.numeric.slocum_ma',
+    'constant.numeric.longitude.slocum_ma',
+    'comment.line.number-sign.slocum_ma',
   ],
 };
 

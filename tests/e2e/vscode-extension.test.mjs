@@ -18,6 +18,8 @@ const extensionDir = path.resolve(here, '../../editors/vscode');
 const manifest = JSON.parse(fs.readFileSync(path.join(extensionDir, 'package.json'), 'utf8'));
 const contributes = manifest.contributes;
 const languageIds = contributes.languages.map((language) => language.id);
+// The script languages: the ones the debugger flies and breakpoints go in (not mission files).
+const scriptLanguageIds = ['gbasic', 'gloc'];
 const { createFakeVscode, fakeContext, loadExtension } = require('./helpers/fake-vscode.cjs');
 const helpers = require(path.join(extensionDir, 'src/helpers.js'));
 
@@ -45,12 +47,14 @@ function readJson(relativePath) {
 
 // --- package.json consistency ---------------------------------------------------------------
 
-test('languages: gbasic (.gbas) and gloc (.gloc), each with a language configuration that loads', () => {
+test('languages: gbasic (.gbas), gloc (.gloc) and the mission files (.mi, .ma), each with a language configuration that loads', () => {
   assert.deepEqual(
     contributes.languages.map((language) => [language.id, language.extensions]),
     [
       ['gbasic', ['.gbas']],
       ['gloc', ['.gloc']],
+      ['slocum_mission', ['.mi']],
+      ['slocum_ma', ['.ma']],
     ],
   );
   for (const language of contributes.languages) {
@@ -120,7 +124,7 @@ test('debuggers: type gloc with exactly the launch attributes gloc dap accepts',
   assert.equal(contributes.debuggers.length, 1);
   const debuggerContribution = contributes.debuggers[0];
   assert.equal(debuggerContribution.type, 'gloc');
-  assert.deepEqual([...debuggerContribution.languages].sort(), [...languageIds].sort());
+  assert.deepEqual([...debuggerContribution.languages].sort(), [...scriptLanguageIds].sort());
   const launch = debuggerContribution.configurationAttributes.launch;
   assert.deepEqual(Object.keys(launch.properties).sort(), [...launchAttributes].sort());
   for (const [name, property] of Object.entries(launch.properties)) {
@@ -151,8 +155,8 @@ test('debuggers: type gloc with exactly the launch attributes gloc dap accepts',
   }
 });
 
-test('breakpoints are allowed in both languages', () => {
-  assert.deepEqual(contributes.breakpoints.map((breakpoint) => breakpoint.language).sort(), [...languageIds].sort());
+test('breakpoints are allowed in both script languages', () => {
+  assert.deepEqual(contributes.breakpoints.map((breakpoint) => breakpoint.language).sort(), [...scriptLanguageIds].sort());
 });
 
 test('commands: every menu entry names a declared command', () => {
@@ -181,6 +185,13 @@ test('engines.vscode satisfies what vscode-languageclient needs; main exists', (
       assert.equal(argument, 'gloc', `${event} names the gloc debugger`);
     }
   }
+});
+
+test('activation: the extension starts on every language it serves, and serves every language it declares', () => {
+  for (const language of helpers.SERVED_LANGUAGE_IDS) {
+    assert.ok(manifest.activationEvents.includes(`onLanguage:${language}`), `onLanguage:${language}`);
+  }
+  assert.deepEqual([...helpers.SERVED_LANGUAGE_IDS].sort(), [...languageIds].sort());
 });
 
 // --- vsce package -----------------------------------------------------------------------------
@@ -284,7 +295,7 @@ test('activate registers every contributed command, the debugger and the compile
   assert.ok(record.debugProviders.has('gloc'));
   assert.ok(record.contentProviders.has(helpers.COMPILED_SCHEME));
 
-  // The language client starts `gloc lsp` from gloc.path, for both languages, with the masterdata.
+  // The language client starts `gloc lsp` from gloc.path, for the scripts and the mission files, with the masterdata.
   assert.equal(record.clients.length, 1);
   const client = record.clients[0];
   assert.equal(client.id, 'gloc', 'client id gloc makes gloc.trace.server work');
@@ -292,7 +303,7 @@ test('activate registers every contributed command, the debugger and the compile
   assert.equal(client.serverOptions.transport, undefined, 'no --stdio argument is added');
   assert.deepEqual(
     [...new Set(client.clientOptions.documentSelector.map((selector) => selector.language))].sort(),
-    ['gbasic', 'gloc'],
+    ['gbasic', 'gloc', 'slocum_ma', 'slocum_mission'],
   );
   assert.ok(client.clientOptions.documentSelector.every((selector) => ['file', 'untitled'].includes(selector.scheme)));
   assert.deepEqual(client.clientOptions.initializationOptions, { masterdata: path.join(workspace, 'data/masterdata') });

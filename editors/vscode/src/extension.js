@@ -165,7 +165,7 @@ async function startClient(/** @type {vscode.OutputChannel} */ outputChannel) {
   const clientOptions = {
     // Only real files and unsaved buffers: the read-only "compiled GLOC" views are not scripts
     // the user edits and must not collect diagnostics of their own.
-    documentSelector: helpers.LANGUAGE_IDS.flatMap((language) => [
+    documentSelector: helpers.SERVED_LANGUAGE_IDS.flatMap((language) => [
       { scheme: 'file', language },
       { scheme: 'untitled', language },
     ]),

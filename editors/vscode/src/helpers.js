@@ -6,7 +6,7 @@
 
 const path = require('path');
 
-/** The languages the extension serves; their ids are also the debugger's languages. */
+/** The script languages the extension serves; their ids are also the debugger's languages. */
 const LANGUAGE_IDS = ['gbasic', 'gloc'];
 
 /**
@@ -30,6 +30,12 @@ function commandUri(argument, parse) {
   }
   return argument && typeof argument === 'object' ? argument : undefined;
 }
+
+/** Slocum mission files (`.mi`) and mission argument files (`.ma`): served by gloc lsp, not flown. */
+const MISSION_LANGUAGE_IDS = ['slocum_mission', 'slocum_ma'];
+
+/** Every language the language client hands to gloc lsp. */
+const SERVED_LANGUAGE_IDS = [...LANGUAGE_IDS, ...MISSION_LANGUAGE_IDS];
 
 /** The LSP command (workspace/executeCommand) that returns the compiled GLOC of a GBASIC document. */
 const COMPILED_GLOC_COMMAND = 'gloc.compiledGloc';
@@ -235,6 +241,8 @@ module.exports = {
   commandUri,
   COMPILED_SCHEME,
   LANGUAGE_IDS,
+  MISSION_LANGUAGE_IDS,
+  SERVED_LANGUAGE_IDS,
   compiledDocumentPath,
   compiledGlocRequest,
   compiledGlocText,

@@ -33,219 +33,721 @@ pub enum BehaviorKind {
     Unknown,
 }
 
-const NAMES: &[(&str, BehaviorKind)] = &[
-    ("abend", BehaviorKind::Abend),
-    ("surface", BehaviorKind::Surface),
-    ("yo", BehaviorKind::Yo),
-    ("dive_to", BehaviorKind::DiveTo),
-    ("climb_to", BehaviorKind::ClimbTo),
-    ("prepare_to_dive", BehaviorKind::PrepareToDive),
-    ("sensors_in", BehaviorKind::SensorsIn),
-    ("sample", BehaviorKind::Sample),
-    ("goto_list", BehaviorKind::GotoList),
-    ("goto_wpt", BehaviorKind::GotoWpt),
-    ("set_heading", BehaviorKind::SetHeading),
-    ("hook", BehaviorKind::Hook),
-    ("gloc", BehaviorKind::Gloc),
+/// Each behavior's name as a mission writes it, and one line on what it does here.
+const NAMES: &[(&str, BehaviorKind, &str)] = &[
+    ("abend", BehaviorKind::Abend, "Always on: aborts the mission on overdepth, overtime, same depth or low battery; the glider climbs and the run ends at the surface."),
+    ("surface", BehaviorKind::Surface, "Climbs to the surface, waits for a GPS fix (and a keystroke for end_action 1), then quits or resumes."),
+    ("yo", BehaviorKind::Yo, "Alternates dives and climbs between d_target_depth and c_target_depth."),
+    ("dive_to", BehaviorKind::DiveTo, "One dive: done past target_depth, at target_altitude, or after hovering for stop_when_hover_for."),
+    ("climb_to", BehaviorKind::ClimbTo, "One climb: done above target_depth, or after hovering for stop_when_hover_for."),
+    ("prepare_to_dive", BehaviorKind::PrepareToDive, "Holds at the surface until a GPS fix or wait_time."),
+    ("sensors_in", BehaviorKind::SensorsIn, "Sets how often the flight sensors are sampled (accepted; commands nothing here)."),
+    ("sample", BehaviorKind::Sample, "Switches a science sensor on in the chosen states (accepted; commands nothing here)."),
+    ("goto_list", BehaviorKind::GotoList, "Steers through a list of waypoints (accepted; horizontal position is not simulated)."),
+    ("goto_wpt", BehaviorKind::GotoWpt, "Steers to one waypoint (accepted; horizontal position is not simulated)."),
+    ("set_heading", BehaviorKind::SetHeading, "Commands a heading (use_heading 1); the vertical-plane model does not turn."),
+    ("hook", BehaviorKind::Hook, "gloc's hook: runs a climb_to (bit 128) or dive_to (bit 64) that a script requests in sci_ruhp_behs."),
+    ("gloc", BehaviorKind::Gloc, "The GLOC script: runs the script once per control cycle, to its yield, at this place in the stack."),
 ];
+
+/// A behavior argument: its name, units, default and one line on what it sets.
+/// Defaults are the masterdata behavior sections' (domain notes §2.3); units and
+/// docs follow the masterdata, the real comet missions and `docs/simulator.md`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ArgDef {
+    pub name: &'static str,
+    pub units: &'static str,
+    pub default: f64,
+    /// Empty when the shared argument of [`COMMON`] says it (a behavior's own default).
+    pub doc: &'static str,
+}
+
+const fn arg(name: &'static str, units: &'static str, default: f64, doc: &'static str) -> ArgDef {
+    ArgDef {
+        name,
+        units,
+        default,
+        doc,
+    }
+}
 
 /// Arguments every behavior with a start/stop state machine accepts.
-const COMMON: &[(&str, f64)] = &[
-    ("start_when", 0.0),
-    ("stop_when", 0.0),
-    ("when_secs", 0.0),
-    ("when_wpt_dist", 10.0),
-    ("end_action", 0.0),
+const COMMON: &[ArgDef] = &[
+    arg("start_when", "enum", 0.0, "When the behavior starts: 0 immediately, 1 stack idle, 2 pitch idle, 3 heading idle, 4 up/down idle, 5 never, 6 when_secs after its last end, 9 when_secs after its last start, 10 as 9 and up/down idle, 12 no comms for when_secs."),
+    arg("stop_when", "enum", 0.0, "When the behavior stops: 0 on completion, other codes as start_when."),
+    arg("when_secs", "sec", 0.0, "Seconds for the timed start_when/stop_when codes (6, 9, 10, 12)."),
+    arg("when_wpt_dist", "m", 10.0, "Distance to the waypoint for the waypoint start_when codes (7, 15)."),
+    arg("end_action", "enum", 0.0, "After completing: 0 quit the mission, 1 wait for ^C then quit or resume, 2 resume."),
 ];
 
-/// Defaults from the masterdata behavior sections (domain notes §2.3).
-const ABEND: &[(&str, f64)] = &[
-    ("overdepth", 10000.0),
-    ("overdepth_sample_time", 15.0),
-    ("overtime", -1.0),
-    ("undervolts", 10.0),
-    ("samedepth_for", 1800.0),
-    ("samedepth_for_sample_time", 30.0),
-    ("stalled_for", 1800.0),
-    ("stalled_for_sample_time", 30.0),
-    ("no_cop_tickle_for", 48600.0),
-    ("no_comms_tickle_for", 72.0),
-    ("max_wpt_distance", -1.0),
-    ("chk_sensor_reasonableness", 1.0),
-    ("reqd_spare_heap", 10000.0),
-    ("leakdetect_sample_time", 60.0),
-    ("vacuum_min", 4.0),
-    ("vacuum_max", 12.0),
-    ("vacuum_sample_time", 30.0),
-    ("oil_volume_sample_time", 30.0),
-    ("remaining_charge_min", 10.0),
-    ("unreasonable_settings", 1.0),
-    ("eng_pressure_mul", 1.1),
-    ("eng_pressure_div", 1.0),
-    ("eng_pressure_sample_time", 30.0),
-    ("max_allowable_busy_cpu_cycles", 3.0),
+const ABEND: &[ArgDef] = &[
+    arg(
+        "overdepth",
+        "m",
+        10000.0,
+        "Abort deeper than this (< 0 disables; clipped to F_MAX_WORKING_DEPTH).",
+    ),
+    arg(
+        "overdepth_sample_time",
+        "sec",
+        15.0,
+        "How often overdepth is checked.",
+    ),
+    arg(
+        "overtime",
+        "sec",
+        -1.0,
+        "Abort when the mission has run longer than this (< 0 disables).",
+    ),
+    arg(
+        "undervolts",
+        "volts",
+        10.0,
+        "Abort when the battery voltage falls below this.",
+    ),
+    arg(
+        "samedepth_for",
+        "sec",
+        1800.0,
+        "Abort when the depth stays within 0.5 m this long under water (< 0 disables).",
+    ),
+    arg(
+        "samedepth_for_sample_time",
+        "sec",
+        30.0,
+        "How often samedepth_for is checked.",
+    ),
+    arg(
+        "stalled_for",
+        "sec",
+        1800.0,
+        "Abort when the glider is stalled this long (< 0 disables).",
+    ),
+    arg(
+        "stalled_for_sample_time",
+        "sec",
+        30.0,
+        "How often stalled_for is checked.",
+    ),
+    arg(
+        "no_cop_tickle_for",
+        "sec",
+        48600.0,
+        "Abort when the COP watchdog has not been tickled this long.",
+    ),
+    arg(
+        "no_comms_tickle_for",
+        "hours",
+        72.0,
+        "Abort after this long without communications.",
+    ),
+    arg(
+        "max_wpt_distance",
+        "m",
+        -1.0,
+        "Abort when the waypoint is farther than this, MS_ABORT_WPT_TOOFAR (< 0 disables).",
+    ),
+    arg(
+        "chk_sensor_reasonableness",
+        "bool",
+        1.0,
+        "Abort on unreasonable sensor values.",
+    ),
+    arg(
+        "reqd_spare_heap",
+        "bytes",
+        10000.0,
+        "Abort when the free heap falls below this.",
+    ),
+    arg(
+        "leakdetect_sample_time",
+        "sec",
+        60.0,
+        "How often the leak detectors are checked.",
+    ),
+    arg(
+        "vacuum_min",
+        "inHg",
+        4.0,
+        "Abort when the hull vacuum is below this.",
+    ),
+    arg(
+        "vacuum_max",
+        "inHg",
+        12.0,
+        "Abort when the hull vacuum is above this.",
+    ),
+    arg(
+        "vacuum_sample_time",
+        "sec",
+        30.0,
+        "How often the vacuum is checked.",
+    ),
+    arg(
+        "oil_volume_sample_time",
+        "sec",
+        30.0,
+        "How often the oil volume is checked.",
+    ),
+    arg(
+        "remaining_charge_min",
+        "%",
+        10.0,
+        "Abort when the remaining battery charge falls below this.",
+    ),
+    arg(
+        "unreasonable_settings",
+        "bool",
+        1.0,
+        "Abort on unreasonable mission settings.",
+    ),
+    arg(
+        "eng_pressure_mul",
+        "nodim",
+        1.1,
+        "Multiplier of the engine pressure limit.",
+    ),
+    arg(
+        "eng_pressure_div",
+        "nodim",
+        1.0,
+        "Divisor of the engine pressure limit.",
+    ),
+    arg(
+        "eng_pressure_sample_time",
+        "sec",
+        30.0,
+        "How often the engine pressure is checked.",
+    ),
+    arg(
+        "max_allowable_busy_cpu_cycles",
+        "cycles",
+        3.0,
+        "Abort after this many control cycles in a row that overran.",
+    ),
 ];
 
-const SURFACE: &[(&str, f64)] = &[
-    ("start_when", 12.0),
-    ("when_secs", 1200.0),
-    ("end_action", 1.0),
-    ("gps_wait_time", 300.0),
-    ("keystroke_wait_time", 300.0),
-    ("c_use_bpump", 2.0),
-    ("c_bpump_value", 1000.0),
-    ("c_use_pitch", 3.0),
-    ("c_pitch_value", 0.4538),
-    ("c_stop_when_air_pump", 1.0),
-    ("c_use_thruster", 0.0),
-    ("c_thruster_value", 0.0),
-    ("report_all", 0.0),
-    ("strobe_on", 0.0),
-    ("printout_cycle_time", 60.0),
-    ("sensor_input_wait_time", 60.0),
-    ("end_wpt_dist", 0.0),
-    ("when_utc_min", -1.0),
-    ("when_utc_hour", -1.0),
-    ("when_utc_day", -1.0),
-    ("when_utc_month", -1.0),
-    ("when_utc_on_surface", 0.0),
-    ("gps_postfix_wait_time", 60.0),
+const SURFACE: &[ArgDef] = &[
+    arg("start_when", "enum", 12.0, ""),
+    arg("when_secs", "sec", 1200.0, ""),
+    arg("end_action", "enum", 1.0, ""),
+    arg("gps_wait_time", "sec", 300.0, "How long to wait at the surface for a GPS fix."),
+    arg("keystroke_wait_time", "sec", 300.0, "How long to wait at the surface for a ^C (end_action 1)."),
+    arg("c_use_bpump", "enum", 2.0, "Climb: buoyancy pump mode (0 autoballast, 2 absolute cc, 3 absolute surface, 5 speed relative)."),
+    arg("c_bpump_value", "X", 1000.0, "Climb: buoyancy pump value in cc (> 0 goes up; 1000 pumps fully out)."),
+    arg("c_use_pitch", "enum", 3.0, "Climb: pitch mode (1 battery position in inches, 3 servo on pitch in rad)."),
+    arg("c_pitch_value", "X", 0.4538, "Climb: pitch value (servo: rad, > 0 nose up; 0.4538 is 26°)."),
+    arg("c_stop_when_air_pump", "bool", 1.0, "Climb: stop pumping when the air bladder inflates."),
+    arg("c_use_thruster", "enum", 0.0, "Climb: thruster mode (0 off)."),
+    arg("c_thruster_value", "X", 0.0, "Climb: thruster value."),
+    arg("report_all", "bool", 0.0, "Print every sensor in the surface dialog."),
+    arg("strobe_on", "bool", 0.0, "Switch the strobe light on at the surface."),
+    arg("printout_cycle_time", "sec", 60.0, "How often the surface dialog prints."),
+    arg("sensor_input_wait_time", "sec", 60.0, "How long to wait for sensor input at the surface."),
+    arg("end_wpt_dist", "m", 0.0, "Drift until this far from the waypoint (end_action 3)."),
+    arg("when_utc_min", "min", -1.0, "start_when 13: the UTC minute (-1 any)."),
+    arg("when_utc_hour", "hour", -1.0, "start_when 13: the UTC hour (-1 any)."),
+    arg("when_utc_day", "day", -1.0, "start_when 13: the UTC day of the month (-1 any)."),
+    arg("when_utc_month", "month", -1.0, "start_when 13: the UTC month (-1 any)."),
+    arg("when_utc_on_surface", "bool", 0.0, "start_when 13: the masterdata's surface-at-UTC option (not simulated)."),
+    arg("gps_postfix_wait_time", "sec", 60.0, "How long the GPS stays on after its first fix."),
 ];
 
-const YO: &[(&str, f64)] = &[
-    ("start_when", 2.0),
-    ("end_action", 2.0),
-    ("start_diving", 1.0),
-    ("num_half_cycles_to_do", -1.0),
-    ("d_target_depth", 12.0),
-    ("d_target_altitude", 5.0),
-    ("d_use_bpump", 2.0),
-    ("d_bpump_value", -260.0),
-    ("d_use_pitch", 3.0),
-    ("d_pitch_value", -0.4538),
-    ("d_stop_when_hover_for", 180.0),
-    ("d_stop_when_stalled_for", 240.0),
-    ("d_use_thruster", 0.0),
-    ("d_thruster_value", 0.0),
-    ("d_depth_rate_method", 3.0),
-    ("d_wait_for_pitch", 1.0),
-    ("d_wait_for_ballast", 100.0),
-    ("d_delta_bpump", 25.0),
-    ("d_time_ratio", 1.1),
-    ("d_max_thermal_charge_depth", 10.0),
-    ("c_target_depth", 3.0),
-    ("c_target_altitude", -1.0),
-    ("c_use_bpump", 2.0),
-    ("c_bpump_value", 260.0),
-    ("c_use_pitch", 3.0),
-    ("c_pitch_value", 0.4538),
-    ("c_stop_when_hover_for", 180.0),
-    ("c_stop_when_stalled_for", 240.0),
-    ("c_use_thruster", 0.0),
-    ("c_thruster_value", 0.0),
-    ("c_depth_rate_method", 3.0),
-    ("c_wait_for_pitch", 1.0),
-    ("c_wait_for_ballast", 100.0),
-    ("c_delta_bpump", 25.0),
-    ("c_time_ratio", 1.1),
-    ("initial_inflection", 1.0),
+const YO: &[ArgDef] = &[
+    arg("start_when", "enum", 2.0, ""),
+    arg("end_action", "enum", 2.0, ""),
+    arg(
+        "start_diving",
+        "bool",
+        1.0,
+        "Begin with a dive (1) or a climb (0).",
+    ),
+    arg(
+        "num_half_cycles_to_do",
+        "nodim",
+        -1.0,
+        "Dives plus climbs before the yo completes (< 0 for ever).",
+    ),
+    arg("d_target_depth", "m", 12.0, "Dive: turn at this depth."),
+    arg(
+        "d_target_altitude",
+        "m",
+        5.0,
+        "Dive: turn at this height above the bottom (< 0 disables).",
+    ),
+    arg(
+        "d_use_bpump",
+        "enum",
+        2.0,
+        "Dive: buoyancy pump mode (2 absolute cc).",
+    ),
+    arg(
+        "d_bpump_value",
+        "X",
+        -260.0,
+        "Dive: buoyancy pump value in cc (< 0 goes down).",
+    ),
+    arg(
+        "d_use_pitch",
+        "enum",
+        3.0,
+        "Dive: pitch mode (1 battery position in inches, 3 servo on pitch in rad).",
+    ),
+    arg(
+        "d_pitch_value",
+        "X",
+        -0.4538,
+        "Dive: pitch value (servo: rad, < 0 nose down).",
+    ),
+    arg(
+        "d_stop_when_hover_for",
+        "sec",
+        180.0,
+        "Dive: turn after moving vertically slower than 0.02 m/s this long (< 0 disables).",
+    ),
+    arg(
+        "d_stop_when_stalled_for",
+        "sec",
+        240.0,
+        "Dive: turn after being stalled this long.",
+    ),
+    arg(
+        "d_use_thruster",
+        "enum",
+        0.0,
+        "Dive: thruster mode (0 off).",
+    ),
+    arg("d_thruster_value", "X", 0.0, "Dive: thruster value."),
+    arg(
+        "d_depth_rate_method",
+        "enum",
+        3.0,
+        "Dive: how the depth rate is computed.",
+    ),
+    arg(
+        "d_wait_for_pitch",
+        "bool",
+        1.0,
+        "Dive: wait for the pitch before pumping.",
+    ),
+    arg(
+        "d_wait_for_ballast",
+        "sec",
+        100.0,
+        "Dive: longest wait for the pump.",
+    ),
+    arg(
+        "d_delta_bpump",
+        "X",
+        25.0,
+        "Dive: buoyancy step in cc when adjusting.",
+    ),
+    arg(
+        "d_time_ratio",
+        "nodim",
+        1.1,
+        "Dive: allowed over expected time of the leg.",
+    ),
+    arg(
+        "d_max_thermal_charge_depth",
+        "m",
+        10.0,
+        "Dive: deepest depth at which the thermal engine charges.",
+    ),
+    arg("c_target_depth", "m", 3.0, "Climb: turn at this depth."),
+    arg(
+        "c_target_altitude",
+        "m",
+        -1.0,
+        "Climb: turn at this height above the bottom (< 0 disables).",
+    ),
+    arg(
+        "c_use_bpump",
+        "enum",
+        2.0,
+        "Climb: buoyancy pump mode (2 absolute cc).",
+    ),
+    arg(
+        "c_bpump_value",
+        "X",
+        260.0,
+        "Climb: buoyancy pump value in cc (> 0 goes up).",
+    ),
+    arg(
+        "c_use_pitch",
+        "enum",
+        3.0,
+        "Climb: pitch mode (1 battery position in inches, 3 servo on pitch in rad).",
+    ),
+    arg(
+        "c_pitch_value",
+        "X",
+        0.4538,
+        "Climb: pitch value (servo: rad, > 0 nose up).",
+    ),
+    arg(
+        "c_stop_when_hover_for",
+        "sec",
+        180.0,
+        "Climb: turn after moving vertically slower than 0.02 m/s this long (< 0 disables).",
+    ),
+    arg(
+        "c_stop_when_stalled_for",
+        "sec",
+        240.0,
+        "Climb: turn after being stalled this long.",
+    ),
+    arg(
+        "c_use_thruster",
+        "enum",
+        0.0,
+        "Climb: thruster mode (0 off).",
+    ),
+    arg("c_thruster_value", "X", 0.0, "Climb: thruster value."),
+    arg(
+        "c_depth_rate_method",
+        "enum",
+        3.0,
+        "Climb: how the depth rate is computed.",
+    ),
+    arg(
+        "c_wait_for_pitch",
+        "bool",
+        1.0,
+        "Climb: wait for the pitch before pumping.",
+    ),
+    arg(
+        "c_wait_for_ballast",
+        "sec",
+        100.0,
+        "Climb: longest wait for the pump.",
+    ),
+    arg(
+        "c_delta_bpump",
+        "X",
+        25.0,
+        "Climb: buoyancy step in cc when adjusting.",
+    ),
+    arg(
+        "c_time_ratio",
+        "nodim",
+        1.1,
+        "Climb: allowed over expected time of the leg.",
+    ),
+    arg(
+        "initial_inflection",
+        "bool",
+        1.0,
+        "Inflect (pump and pitch) as soon as the behavior starts.",
+    ),
 ];
 
-const DIVE_CLIMB: &[(&str, f64)] = &[
-    ("target_depth", 10.0),
-    ("target_altitude", -1.0),
-    ("use_bpump", 2.0),
-    ("bpump_value", 260.0),
-    ("use_pitch", 3.0),
-    ("pitch_value", 0.4538),
-    ("stop_when_hover_for", 180.0),
-    ("stop_when_stalled_for", 240.0),
-    ("initial_inflection", 1.0),
-    ("use_thruster", 0.0),
-    ("thruster_value", 0.0),
-    ("depth_rate_method", 3.0),
-    ("wait_for_pitch", 1.0),
-    ("wait_for_ballast", 100.0),
-    ("delta_bpump", 25.0),
-    ("time_ratio", 1.1),
+const DIVE_CLIMB: &[ArgDef] = &[
+    arg("target_depth", "m", 10.0, "Done past this depth."),
+    arg(
+        "target_altitude",
+        "m",
+        -1.0,
+        "Done at this height above the bottom (< 0 disables).",
+    ),
+    arg(
+        "use_bpump",
+        "enum",
+        2.0,
+        "Buoyancy pump mode (2 absolute cc).",
+    ),
+    arg(
+        "bpump_value",
+        "X",
+        260.0,
+        "Buoyancy pump value in cc (> 0 goes up; dive_to's default is -260).",
+    ),
+    arg(
+        "use_pitch",
+        "enum",
+        3.0,
+        "Pitch mode (1 battery position in inches, 3 servo on pitch in rad).",
+    ),
+    arg(
+        "pitch_value",
+        "X",
+        0.4538,
+        "Pitch value (servo: rad, > 0 nose up; dive_to's default is -0.4538).",
+    ),
+    arg(
+        "stop_when_hover_for",
+        "sec",
+        180.0,
+        "Done after moving vertically slower than 0.02 m/s this long (< 0 disables).",
+    ),
+    arg(
+        "stop_when_stalled_for",
+        "sec",
+        240.0,
+        "Done after being stalled this long.",
+    ),
+    arg(
+        "initial_inflection",
+        "bool",
+        1.0,
+        "Inflect (pump and pitch) as soon as the behavior starts.",
+    ),
+    arg("use_thruster", "enum", 0.0, "Thruster mode (0 off)."),
+    arg("thruster_value", "X", 0.0, "Thruster value."),
+    arg(
+        "depth_rate_method",
+        "enum",
+        3.0,
+        "How the depth rate is computed.",
+    ),
+    arg(
+        "wait_for_pitch",
+        "bool",
+        1.0,
+        "Wait for the pitch before pumping.",
+    ),
+    arg(
+        "wait_for_ballast",
+        "sec",
+        100.0,
+        "Longest wait for the pump.",
+    ),
+    arg(
+        "delta_bpump",
+        "X",
+        25.0,
+        "Buoyancy step in cc when adjusting.",
+    ),
+    arg(
+        "time_ratio",
+        "nodim",
+        1.1,
+        "Allowed over expected time of the leg.",
+    ),
 ];
 
-const PREPARE_TO_DIVE: &[(&str, f64)] =
-    &[("wait_time", 720.0), ("max_thermal_charge_time", 1200.0)];
-
-const SENSORS_IN: &[(&str, f64)] = &[
-    ("c_att_time", 0.0),
-    ("c_pressure_time", 0.0),
-    ("c_alt_time", 0.0),
-    ("u_battery_time", 60.0),
-    ("u_vacuum_time", 60.0),
-    ("c_profile_on", 0.0),
-    ("c_gps_on", 0.0),
-    ("c_science_all_on", 0.0),
-    ("u_leak_time", 60.0),
+const PREPARE_TO_DIVE: &[ArgDef] = &[
+    arg(
+        "wait_time",
+        "sec",
+        720.0,
+        "Longest wait at the surface for a GPS fix before diving.",
+    ),
+    arg(
+        "max_thermal_charge_time",
+        "sec",
+        1200.0,
+        "Longest time to charge the thermal engine at the surface.",
+    ),
 ];
 
-const SAMPLE: &[(&str, f64)] = &[
-    ("sensor_type", 0.0),
-    ("state_to_sample", 1.0),
-    ("sample_time_after_state_change", 15.0),
-    ("intersample_time", 0.0),
-    ("nth_yo_to_sample", 1.0),
-    ("intersample_depth", -1.0),
-    ("min_depth", -5.0),
-    ("max_depth", 2000.0),
+const SENSORS_IN: &[ArgDef] = &[
+    arg(
+        "c_att_time",
+        "sec",
+        0.0,
+        "Attitude sensor interval (< 0 off, 0 as fast as possible).",
+    ),
+    arg(
+        "c_pressure_time",
+        "sec",
+        0.0,
+        "Pressure (depth) sensor interval (< 0 off, 0 as fast as possible).",
+    ),
+    arg(
+        "c_alt_time",
+        "sec",
+        0.0,
+        "Altimeter interval (< 0 off, 0 as fast as possible).",
+    ),
+    arg("u_battery_time", "sec", 60.0, "Battery voltage interval."),
+    arg("u_vacuum_time", "sec", 60.0, "Hull vacuum interval."),
+    arg(
+        "c_profile_on",
+        "sec",
+        0.0,
+        "Science profile (CTD) interval (< 0 off, 0 as fast as possible).",
+    ),
+    arg(
+        "c_gps_on",
+        "bool",
+        0.0,
+        "Keep the GPS on under water (1 on, 0 off).",
+    ),
+    arg(
+        "c_science_all_on",
+        "sec",
+        0.0,
+        "Interval of every science sensor at once (< 0 off).",
+    ),
+    arg("u_leak_time", "sec", 60.0, "Leak detector interval."),
 ];
 
-const GOTO_LIST: &[(&str, f64)] = &[
-    ("num_waypoints", 0.0),
-    ("num_legs_to_run", -1.0),
-    ("initial_wpt", -2.0),
-    ("list_stop_when", 7.0),
-    ("list_when_wpt_dist", 10.0),
-    ("list_when_secs", 0.0),
-    ("wpt_units", 0.0),
+const SAMPLE: &[ArgDef] = &[
+    arg("sensor_type", "enum", 0.0, "The science sensor: 0 all (c_science_all_on), 1 CTD profile (c_profile_on), 19 FLNTU, 39 logger, 43 DVL."),
+    arg("state_to_sample", "enum", 1.0, "Bit mask of the states to sample in: 1 diving, 2 hovering, 4 climbing, 8 at the surface (5: dive or climb)."),
+    arg("sample_time_after_state_change", "sec", 15.0, "Wait this long after a change of state before sampling."),
+    arg("intersample_time", "sec", 0.0, "Time between samples (< 0 off, 0 as fast as possible)."),
+    arg("nth_yo_to_sample", "nodim", 1.0, "Sample every n-th yo."),
+    arg("intersample_depth", "m", -1.0, "Depth between samples (< 0 off)."),
+    arg("min_depth", "m", -5.0, "Shallowest depth to sample at (negative: on at the surface despite depth noise)."),
+    arg("max_depth", "m", 2000.0, "Deepest depth to sample at."),
 ];
 
-const GOTO_WPT: &[(&str, f64)] = &[("wpt_units", 0.0), ("wpt_x", 0.0), ("wpt_y", 0.0)];
+const GOTO_LIST: &[ArgDef] = &[
+    arg(
+        "num_waypoints",
+        "nodim",
+        0.0,
+        "Waypoints in the list (1 to 8).",
+    ),
+    arg(
+        "num_legs_to_run",
+        "nodim",
+        -1.0,
+        "Legs to run: -1 loop for ever, -2 once through the list.",
+    ),
+    arg(
+        "initial_wpt",
+        "enum",
+        -2.0,
+        "First waypoint: -2 the closest, -1 the one after the last one achieved.",
+    ),
+    arg(
+        "list_stop_when",
+        "enum",
+        7.0,
+        "When a waypoint counts as reached (stop_when codes; 7 within list_when_wpt_dist).",
+    ),
+    arg(
+        "list_when_wpt_dist",
+        "m",
+        10.0,
+        "Distance at which a waypoint counts as reached.",
+    ),
+    arg(
+        "list_when_secs",
+        "sec",
+        0.0,
+        "Seconds for a timed list_stop_when.",
+    ),
+    arg(
+        "wpt_units",
+        "enum",
+        0.0,
+        "Units of the waypoint coordinates.",
+    ),
+];
 
-const SET_HEADING: &[(&str, f64)] = &[("use_heading", 1.0), ("heading_value", 0.0)];
+const GOTO_WPT: &[ArgDef] = &[
+    arg(
+        "wpt_units",
+        "enum",
+        0.0,
+        "Units of the waypoint coordinates.",
+    ),
+    arg("wpt_x", "X", 0.0, "The waypoint's x (longitude)."),
+    arg("wpt_y", "X", 0.0, "The waypoint's y (latitude)."),
+];
+
+const SET_HEADING: &[ArgDef] = &[
+    arg(
+        "use_heading",
+        "enum",
+        1.0,
+        "What is commanded: 1 heading, 2 roll, 3 battery roll, 4 fin.",
+    ),
+    arg(
+        "heading_value",
+        "X",
+        0.0,
+        "The heading in rad (or the roll, battery roll or fin value).",
+    ),
+];
 
 /// Our hook behavior's own defaults, used when the `sci_ruhp_*_depth` sensors
 /// are not positive.
-const HOOK: &[(&str, f64)] = &[
-    ("dive_target_depth", 20.0),
-    ("dive_target_altitude", -1.0),
-    ("climb_target_depth", 3.0),
-    ("bpump_value", 260.0),
-    ("pitch_value", 0.4538),
+const HOOK: &[ArgDef] = &[
+    arg(
+        "dive_target_depth",
+        "m",
+        20.0,
+        "Bit 64's dive_to target when sci_ruhp_dive_depth is not positive.",
+    ),
+    arg(
+        "dive_target_altitude",
+        "m",
+        -1.0,
+        "Bit 64's dive_to altitude (< 0 disables).",
+    ),
+    arg(
+        "climb_target_depth",
+        "m",
+        3.0,
+        "Bit 128's climb_to target when sci_ruhp_climb_depth is not positive.",
+    ),
+    arg(
+        "bpump_value",
+        "cc",
+        260.0,
+        "Buoyancy pump value of the hook's dives (negated) and climbs.",
+    ),
+    arg(
+        "pitch_value",
+        "rad",
+        0.4538,
+        "Pitch of the hook's dives (negated) and climbs.",
+    ),
 ];
+
+/// `wpt_x_N` / `wpt_y_N` of a goto_list (N a number), described for hover.
+const WAYPOINT_ARG: ArgDef = arg(
+    "wpt_x_N",
+    "X",
+    0.0,
+    "goto_list waypoint N's x (wpt_x_N, longitude) or y (wpt_y_N, latitude).",
+);
 
 impl BehaviorKind {
     /// Case-insensitive: `.ma` files write `Yo` and `Goto_list`.
     pub fn from_name(name: &str) -> Option<BehaviorKind> {
         NAMES
             .iter()
-            .find(|(known, _)| known.eq_ignore_ascii_case(name))
-            .map(|&(_, kind)| kind)
+            .find(|(known, _, _)| known.eq_ignore_ascii_case(name))
+            .map(|&(_, kind, _)| kind)
     }
 
     pub fn name(self) -> &'static str {
         NAMES
             .iter()
-            .find(|(_, kind)| *kind == self)
-            .map(|(name, _)| *name)
+            .find(|(_, kind, _)| *kind == self)
+            .map(|(name, _, _)| *name)
             .unwrap_or("unknown")
+    }
+
+    /// One line on what the behavior does in the simulator.
+    pub fn doc(self) -> &'static str {
+        NAMES
+            .iter()
+            .find(|(_, kind, _)| *kind == self)
+            .map(|(_, _, doc)| *doc)
+            .unwrap_or("a behavior the simulator does not know")
+    }
+
+    /// Every behavior a mission may name, in the table's order.
+    pub fn all() -> impl Iterator<Item = BehaviorKind> {
+        NAMES.iter().map(|&(_, kind, _)| kind)
     }
 
     pub fn all_names() -> String {
         NAMES
             .iter()
-            .map(|(name, _)| *name)
+            .map(|(name, _, _)| *name)
             .collect::<Vec<_>>()
             .join(", ")
     }
 
-    fn own_args(self) -> &'static [(&'static str, f64)] {
+    fn own_args(self) -> &'static [ArgDef] {
         match self {
             BehaviorKind::Abend => ABEND,
             BehaviorKind::Surface => SURFACE,
@@ -262,8 +764,52 @@ impl BehaviorKind {
         }
     }
 
+    /// The shared start/stop arguments this behavior takes (abend has none).
+    fn common_args(self) -> &'static [ArgDef] {
+        match self {
+            BehaviorKind::Abend | BehaviorKind::Unknown => &[],
+            _ => COMMON,
+        }
+    }
+
     pub fn known_args(self) -> KnownArgs {
         KnownArgs(self)
+    }
+
+    /// Every argument the behavior takes (its own, then the shared ones it does
+    /// not redefine), with its default for this behavior and its doc. The
+    /// numbered goto_list waypoints (`wpt_x_N`) are not listed; see [`BehaviorKind::arg_def`].
+    pub fn args(self) -> Vec<ArgDef> {
+        let own = self.own_args();
+        own.iter()
+            .chain(
+                self.common_args()
+                    .iter()
+                    .filter(|common| !own.iter().any(|arg| arg.name == common.name)),
+            )
+            .filter_map(|arg| self.arg_def(arg.name))
+            .collect()
+    }
+
+    /// An argument's definition for this behavior (case-insensitive), or `None`
+    /// when the behavior does not take it.
+    pub fn arg_def(self, name: &str) -> Option<ArgDef> {
+        let lower = name.to_ascii_lowercase();
+        if self == BehaviorKind::GotoList && is_waypoint_arg(&lower) {
+            return Some(WAYPOINT_ARG);
+        }
+        let own = self.own_args().iter().find(|arg| arg.name == lower);
+        let common = self.common_args().iter().find(|arg| arg.name == lower);
+        let found = own.or(common)?;
+        Some(ArgDef {
+            default: self.default_arg(found.name),
+            doc: if found.doc.is_empty() {
+                common.map_or("", |common| common.doc)
+            } else {
+                found.doc
+            },
+            ..*found
+        })
     }
 
     /// The default of an argument: the behavior's own table first, then the
@@ -283,8 +829,8 @@ impl BehaviorKind {
         defaults
             .iter()
             .chain(COMMON)
-            .find(|(known, _)| *known == name)
-            .map(|&(_, value)| value)
+            .find(|arg| arg.name == name)
+            .map(|arg| arg.default)
             .unwrap_or(0.0)
     }
 }
@@ -295,19 +841,7 @@ pub struct KnownArgs(BehaviorKind);
 
 impl KnownArgs {
     pub fn contains(&self, name: &str) -> bool {
-        let lower = name.to_ascii_lowercase();
-        let kind = self.0;
-        if kind == BehaviorKind::Abend {
-            // abend has no start/stop state machine, but real files give it none anyway.
-            return ABEND.iter().any(|(known, _)| *known == lower);
-        }
-        if kind == BehaviorKind::GotoList && is_waypoint_arg(&lower) {
-            return true;
-        }
-        kind.own_args()
-            .iter()
-            .chain(COMMON)
-            .any(|(known, _)| *known == lower)
+        self.0.arg_def(name).is_some()
     }
 }
 
@@ -1167,6 +1701,60 @@ mod tests {
         );
         assert_eq!(BehaviorKind::from_name("YO"), Some(BehaviorKind::Yo));
         assert_eq!(BehaviorKind::from_name("drift"), None);
+    }
+
+    #[test]
+    fn every_argument_has_units_a_doc_and_one_entry() {
+        for kind in BehaviorKind::all() {
+            let args = kind.args();
+            for arg in &args {
+                assert!(!arg.units.is_empty(), "{}: {}", kind.name(), arg.name);
+                assert!(
+                    arg.doc.ends_with('.'),
+                    "{}: {} {:?}",
+                    kind.name(),
+                    arg.name,
+                    arg.doc
+                );
+                assert_eq!(
+                    args.iter().filter(|other| other.name == arg.name).count(),
+                    1
+                );
+                assert!(kind.known_args().contains(arg.name));
+            }
+            assert!(!kind.doc().is_empty());
+        }
+        // A behavior's own default with the shared doc; per-behavior defaults.
+        let start = BehaviorKind::Surface
+            .arg_def("START_WHEN")
+            .expect("start_when");
+        assert_eq!((start.default, start.units), (12.0, "enum"));
+        assert!(start
+            .doc
+            .starts_with("When the behavior starts: 0 immediately"));
+        assert_eq!(
+            BehaviorKind::DiveTo
+                .arg_def("bpump_value")
+                .map(|arg| arg.default),
+            Some(-260.0)
+        );
+        assert_eq!(
+            BehaviorKind::ClimbTo
+                .arg_def("bpump_value")
+                .map(|arg| arg.default),
+            Some(260.0)
+        );
+        assert_eq!(
+            BehaviorKind::GotoList
+                .arg_def("wpt_y_2")
+                .map(|arg| arg.name),
+            Some("wpt_x_N")
+        );
+        assert!(BehaviorKind::Abend.arg_def("start_when").is_none());
+        // abend: its 24 own arguments and none of the shared start/stop ones.
+        assert_eq!(BehaviorKind::Abend.args().len(), 24);
+        // yo: 36 own (start_when and end_action among them) plus stop_when, when_secs, when_wpt_dist.
+        assert_eq!(BehaviorKind::Yo.args().len(), 39);
     }
 
     #[test]

@@ -19,6 +19,8 @@ use crate::behaviors::BehaviorKind;
 pub struct SourceFile {
     pub path: PathBuf,
     pub text: String,
+    /// For a `.ma` file: the `args_from_file` line of the `.mi` file that loaded it.
+    pub loaded_at: Option<Span>,
 }
 
 /// Where something was written: a source file (index into [`Mission::sources`]) and a span.
@@ -86,6 +88,9 @@ pub struct Mission {
     pub sensor_settings: Vec<SensorSetting>,
     /// Highest priority first.
     pub behaviors: Vec<BehaviorSpec>,
+    /// The `<start:b_arg>` … `<end:b_arg>` and waypoint sections of the `.ma` files,
+    /// from the start line to the end line.
+    pub sections: Vec<Location>,
     pub diagnostics: Vec<MissionDiagnostic>,
 }
 
@@ -120,6 +125,7 @@ impl Mission {
                 mission.sources.push(SourceFile {
                     path: path.to_path_buf(),
                     text: String::new(),
+                    loaded_at: None,
                 });
                 mission.diagnostics.push(MissionDiagnostic {
                     file: 0,
@@ -132,6 +138,12 @@ impl Mission {
                 mission
             }
         }
+    }
+
+    /// Parses the text of a `.ma` file on its own, as the behavior its
+    /// `behavior_name=` line names loads it (an editor's view of the file).
+    pub fn parse_args_file(path: impl Into<PathBuf>, text: impl Into<String>) -> Mission {
+        parse_args_file(&path.into(), text.into())
     }
 
     /// Parses mission text that loads no `.ma` files (an `args_from_file` is an error).
@@ -453,6 +465,8 @@ struct Parser<'a> {
     mission: Mission,
     read: &'a mut dyn FnMut(&Path) -> std::io::Result<String>,
     mafiles: Option<PathBuf>,
+    /// A `.ma` file parsed on its own: its text is source 0.
+    args_file: bool,
 }
 
 fn parse_mission(
@@ -468,12 +482,81 @@ fn parse_mission(
         },
         read,
         mafiles: mafiles.map(Path::to_path_buf),
+        args_file: false,
     };
     parser.mission.sources.push(SourceFile {
         path: path.to_path_buf(),
         text,
+        loaded_at: None,
     });
     parser.parse_mi();
+    parser.mission
+}
+
+/// A `.ma` file on its own (an editor opened it): parsed as the behavior its
+/// `behavior_name=` line names would load it, so it gets the diagnostics `gloc run`
+/// gives it when a mission loads it. The mission has that one behavior with the
+/// file's arguments.
+fn parse_args_file(path: &Path, text: String) -> Mission {
+    let named = code_lines(&text).find_map(|(line_start, code)| {
+        let first = *words(line_start, code).first()?;
+        let name = first
+            .text
+            .get(.."behavior_name=".len())
+            .filter(|prefix| prefix.eq_ignore_ascii_case("behavior_name="))
+            .map(|_| &first.text["behavior_name=".len()..])?;
+        Some((name.to_string(), first.span()))
+    });
+    let mut read = |path: &Path| -> std::io::Result<String> {
+        Err(std::io::Error::new(
+            std::io::ErrorKind::Unsupported,
+            format!("`{}` is a .ma file: it loads no others", path.display()),
+        ))
+    };
+    let mut parser = Parser {
+        mission: Mission {
+            name: mission_name(path),
+            ..Mission::default()
+        },
+        read: &mut read,
+        mafiles: None,
+        args_file: true,
+    };
+    parser.mission.sources.push(SourceFile {
+        path: path.to_path_buf(),
+        text,
+        loaded_at: None,
+    });
+    let at = Location {
+        file: 0,
+        span: named.as_ref().map_or(Span::default(), |(_, span)| *span),
+    };
+    let (name, kind) = match named {
+        Some((name, span)) => match BehaviorKind::from_name(&name) {
+            Some(kind) => (name, kind),
+            None => {
+                let start = span.start as usize + "behavior_name=".len();
+                parser.error(
+                    0,
+                    Diagnostic::warning(
+                        "S0101",
+                        Span::new(start, start + name.len()),
+                        format!("unknown behavior `{name}`: it is ignored with its arguments"),
+                    )
+                    .with_help(format!("known behaviors: {}", BehaviorKind::all_names())),
+                );
+                (name, BehaviorKind::Unknown)
+            }
+        },
+        None => (String::new(), BehaviorKind::Unknown),
+    };
+    parser.mission.behaviors.push(BehaviorSpec {
+        kind,
+        name: name.clone(),
+        args: Vec::new(),
+        at,
+    });
+    parser.parse_ma(0, kind, &name);
     parser.mission
 }
 
@@ -633,7 +716,7 @@ impl Parser<'_> {
         }
         let behavior_name = current.name.clone();
         if name.eq_ignore_ascii_case("args_from_file") {
-            if file != 0 {
+            if file != 0 || self.args_file {
                 self.error(
                     file,
                     Diagnostic::warning(
@@ -710,7 +793,11 @@ impl Parser<'_> {
             }
         };
         let file = self.mission.sources.len();
-        self.mission.sources.push(SourceFile { path, text });
+        self.mission.sources.push(SourceFile {
+            path,
+            text,
+            loaded_at: Some(at.span),
+        });
         self.parse_ma(file, kind, behavior);
     }
 
@@ -723,6 +810,7 @@ impl Parser<'_> {
             Waypoints,
         }
         let mut section = Section::Outside;
+        let mut section_start = 0;
         let mut saw_name = false;
         let mut last_end = 0;
         for (line_start, code) in code_lines(&text) {
@@ -743,10 +831,24 @@ impl Parser<'_> {
                         ),
                     );
                 }
-                "<start:b_arg>" => section = Section::Args,
-                "<start:waypoints>" => section = Section::Waypoints,
-                "<end:b_arg>" if section == Section::Args => section = Section::Outside,
-                "<end:waypoints>" if section == Section::Waypoints => section = Section::Outside,
+                "<start:b_arg>" | "<start:waypoints>" => {
+                    section = if lower == "<start:b_arg>" {
+                        Section::Args
+                    } else {
+                        Section::Waypoints
+                    };
+                    section_start = first.start;
+                }
+                "<end:b_arg>" | "<end:waypoints>"
+                    if (section == Section::Args) == (lower == "<end:b_arg>")
+                        && section != Section::Outside =>
+                {
+                    section = Section::Outside;
+                    self.mission.sections.push(Location {
+                        file,
+                        span: Span::new(section_start, last_end),
+                    });
+                }
                 "<end:b_arg>" | "<end:waypoints>" => self.error(
                     file,
                     Diagnostic::error(
@@ -758,7 +860,7 @@ impl Parser<'_> {
                 _ if lower.starts_with("behavior_name=") && section == Section::Outside => {
                     saw_name = true;
                     let named = &first.text["behavior_name=".len()..];
-                    if BehaviorKind::from_name(named) != Some(kind) {
+                    if !self.args_file && BehaviorKind::from_name(named) != Some(kind) {
                         self.error(
                             file,
                             Diagnostic::warning(
@@ -994,6 +1096,70 @@ mod tests {
     }
 
     #[test]
+    fn an_args_file_alone_is_parsed_as_its_behavior_loads_it() {
+        let text = "behavior_name=Yo\n<start:b_arg>\n\tb_arg: d_target_depth(m) 50\n\tb_arg: args_from_file(enum) 3\n<end:b_arg>\n";
+        let mission = Mission::parse_args_file("yo10.ma", text);
+        let messages = errors(&mission);
+        // The nested args_from_file is the one problem, on line 4 (a tab, then `b_arg:`).
+        assert_eq!(messages.len(), 1, "{messages:?}");
+        assert!(
+            messages[0].starts_with("yo10.ma:4:2: warning[S0102]"),
+            "{}",
+            messages[0]
+        );
+        assert_eq!(mission.behaviors.len(), 1);
+        assert_eq!(mission.behaviors[0].kind, BehaviorKind::Yo);
+        assert_eq!(mission.behaviors[0].arg("d_target_depth"), Some(50.0));
+        // The section runs from `<start:b_arg>` (byte 17) to the end of `<end:b_arg>`.
+        assert_eq!(
+            mission.sections,
+            vec![Location {
+                file: 0,
+                span: Span::new(17, text.len() - 1)
+            }]
+        );
+    }
+
+    #[test]
+    fn an_args_file_naming_an_unknown_behavior_is_warned_at_the_name() {
+        let mission = Mission::parse_args_file(
+            "x.ma",
+            "behavior_name=drift_at_depth\n<start:b_arg>\nb_arg: foo(m) 1\n<end:b_arg>\n",
+        );
+        let messages = errors(&mission);
+        assert_eq!(messages.len(), 1, "{messages:?}");
+        assert!(
+            messages[0].starts_with("x.ma:1:15: warning[S0101]: unknown behavior `drift_at_depth`"),
+            "{}",
+            messages[0]
+        );
+        let missing = Mission::parse_args_file("y.ma", "<start:b_arg>\n<end:b_arg>\n");
+        assert!(
+            errors(&missing)
+                .iter()
+                .any(|message| message.contains("warning[S0105]")),
+            "{:?}",
+            errors(&missing)
+        );
+    }
+
+    #[test]
+    fn a_loaded_args_file_knows_the_line_that_loaded_it() {
+        let mission = Mission::load_with(Path::new("/m/missions/x.mi"), &mut |path: &Path| {
+            if path.ends_with("x.mi") {
+                Ok("behavior: yo\n  b_arg: args_from_file(enum) 3\n".to_string())
+            } else {
+                Ok("behavior_name=yo\n<start:b_arg>\n<end:b_arg>\n".to_string())
+            }
+        });
+        assert!(mission.diagnostics.is_empty(), "{:?}", errors(&mission));
+        assert_eq!(mission.sources[0].loaded_at, None);
+        // `b_arg: args_from_file(enum) 3` is bytes 15..44 of the mission.
+        assert_eq!(mission.sources[1].loaded_at, Some(Span::new(15, 44)));
+        assert!(mission.sources[1].path.ends_with("mafiles/yo3.ma"));
+    }
+
+    #[test]
     fn garbage_never_panics() {
         for text in [
             "\0\u{1}\u{2}",
@@ -1008,6 +1174,7 @@ mod tests {
         ] {
             let mission = Mission::parse("g.mi", text);
             let _ = mission.render_plain();
+            let _ = Mission::parse_args_file("g.ma", text).render_plain();
             assert!(mission.has_errors(), "{text:?} should be an error");
         }
     }

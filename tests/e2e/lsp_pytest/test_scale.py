@@ -262,3 +262,15 @@ async def test_range_formatting_touches_only_the_range(vscode, tmp_path):
         types.DocumentRangeFormattingParams(text_document=doc(uri), range=types.Range(start=at(2, 0), end=at(2, 3)), options=options)
     )
     assert [(e.range.start, e.range.end, e.new_text) for e in edits] == [(at(2, 0), at(2, 5), "  y = 2")]
+
+
+async def test_args_from_file_lines_link_to_their_ma_files(vscode, tmp_path):
+    client = vscode
+    (tmp_path / "missions").mkdir()
+    (tmp_path / "mafiles").mkdir()
+    # `surface` + 10 is `surfac10.ma` (the glider's 8.3 names), beside the missions folder.
+    (tmp_path / "mafiles" / "surfac10.ma").write_text("behavior_name=surface\n<start:b_arg>\n<end:b_arg>\n")
+    text = "behavior: surface\n  b_arg: args_from_file(enum) 10\n"
+    uri = open_document(client, tmp_path / "missions" / "m.mi", "slocum_mission", text)
+    links = await client.text_document_document_link_async(types.DocumentLinkParams(text_document=doc(uri)))
+    assert [(link.range.start.line, link.target) for link in links] == [(1, (tmp_path / "mafiles" / "surfac10.ma").resolve().as_uri())]

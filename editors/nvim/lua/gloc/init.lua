@@ -25,7 +25,17 @@ M.defaults = {
 --- The options in force (defaults until `setup()` is called).
 M.options = vim.deepcopy(M.defaults)
 
+--- The script filetypes: the ones the debugger flies and :GlocRun runs.
 M.filetypes = { "gbasic", "gloc" }
+
+--- Slocum mission files (`.mi`) and mission argument files (`.ma`): served by `gloc lsp`, not flown.
+M.mission_filetypes = { "slocum_mission", "slocum_ma" }
+
+--- Every filetype `gloc lsp` attaches to.
+M.lsp_filetypes = vim.list_extend(vim.deepcopy(M.filetypes), M.mission_filetypes)
+
+--- The filetype of each extension the plugin knows (ftdetect/gloc.lua and setup() register it).
+M.extensions = { gbas = "gbasic", gloc = "gloc", mi = "slocum_mission", ma = "slocum_ma" }
 
 --- The LSP command that returns the compiled GLOC of a GBASIC document.
 M.compiled_gloc_command = "gloc.compiledGloc"
@@ -65,7 +75,7 @@ function M.lsp_config(options)
   -- and again after each didChangeConfiguration, so a changed path applies live.
   return {
     cmd = { binary(options), "lsp" },
-    filetypes = M.filetypes,
+    filetypes = M.lsp_filetypes,
     root_markers = options.root_markers,
     settings = { gloc = masterdata and { masterdata = masterdata } or vim.empty_dict() },
   }
@@ -100,14 +110,14 @@ function M.setup_lsp(options)
   local group = vim.api.nvim_create_augroup("gloc_lsp", { clear = true })
   vim.api.nvim_create_autocmd("FileType", {
     group = group,
-    pattern = M.filetypes,
+    pattern = M.lsp_filetypes,
     callback = function(event)
       start_lsp_for_buffer(options, event.buf)
     end,
   })
   -- Buffers that were already open when setup() ran.
   for _, bufnr in ipairs(vim.api.nvim_list_bufs()) do
-    if vim.api.nvim_buf_is_loaded(bufnr) and vim.tbl_contains(M.filetypes, vim.bo[bufnr].filetype) then
+    if vim.api.nvim_buf_is_loaded(bufnr) and vim.tbl_contains(M.lsp_filetypes, vim.bo[bufnr].filetype) then
       start_lsp_for_buffer(options, bufnr)
     end
   end
@@ -481,7 +491,7 @@ function M.setup(options)
   M.options = vim.tbl_deep_extend("force", vim.deepcopy(M.defaults), options or {})
   -- Also done by ftdetect/gloc.lua; repeated so that plugin managers that load the plugin late
   -- still get the filetypes.
-  vim.filetype.add({ extension = { gbas = "gbasic", gloc = "gloc" } })
+  vim.filetype.add({ extension = M.extensions })
   if M.options.lsp then
     M.setup_lsp(M.options)
     M.link_semantic_highlights()

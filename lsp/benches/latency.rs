@@ -81,6 +81,23 @@ fn percentile(sorted: &[Duration], p: usize) -> f64 {
     sorted[rank - 1].as_secs_f64() * 1e3
 }
 
+/// CPU time of this thread, which runs both the client and the server (a
+/// current-thread runtime): unlike wall time, it does not grow with the load of
+/// the machine.
+fn thread_cpu() -> Duration {
+    let mut now = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: clock_gettime only writes one timespec through the valid pointer given.
+    let status = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut now) };
+    assert_eq!(
+        status, 0,
+        "clock_gettime(CLOCK_THREAD_CPUTIME_ID) works on Linux"
+    );
+    Duration::new(now.tv_sec as u64, now.tv_nsec as u32)
+}
+
 /// This process's resident memory in MB (Linux `/proc/self/status`).
 fn rss_mb() -> Option<f64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
@@ -300,6 +317,7 @@ async fn requests() {
     println!("|---|---:|---:|---:|");
     for (name, method, params) in cases {
         let mut samples = Vec::with_capacity(rounds);
+        let mut cpu_samples = Vec::with_capacity(rounds);
         let mut bytes = 0;
         for _ in 0..rounds {
             version += 1;
@@ -315,8 +333,10 @@ async fn requests() {
                 _ => params.clone(),
             };
             let started = Instant::now();
+            let cpu_started = thread_cpu();
             let result = client.request(method, params).await;
             samples.push(started.elapsed());
+            cpu_samples.push(thread_cpu().saturating_sub(cpu_started));
             bytes = result.to_string().len();
             match method {
                 "textDocument/completion" => resolvable = result["items"][0].clone(),
@@ -327,10 +347,13 @@ async fn requests() {
             }
         }
         samples.sort();
+        cpu_samples.sort();
         println!(
-            "| {name} | {:.1} | {:.1} | {} |",
+            "| {name} | {:.1} | {:.1} | {:.1} | {:.1} | {} |",
             percentile(&samples, 50),
             percentile(&samples, 99),
+            percentile(&cpu_samples, 50),
+            percentile(&cpu_samples, 99),
             if bytes >= 10_000 {
                 format!("{:.0} KB", bytes as f64 / 1e3)
             } else {

@@ -821,11 +821,16 @@ pub fn code_lenses(
     let mut lenses = Vec::new();
     let top = Range::default();
     let argument = Value::String(document.uri.as_str().to_string());
+    // Scripts run and debug; mission files are flown with a script, not on their own.
+    let script = matches!(
+        document.language,
+        gloc_ide::Language::Gloc | gloc_ide::Language::Gbasic
+    );
     for (wanted, title, command) in [
         (client.run_command, "▶ Run in simulator", RUN_COMMAND),
         (client.debug_command, "Debug", DEBUG_COMMAND),
     ] {
-        if wanted {
+        if wanted && script {
             lenses.push(CodeLens {
                 range: top,
                 command: Some(Command {

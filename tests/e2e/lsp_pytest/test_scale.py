@@ -274,3 +274,10 @@ async def test_args_from_file_lines_link_to_their_ma_files(vscode, tmp_path):
     uri = open_document(client, tmp_path / "missions" / "m.mi", "slocum_mission", text)
     links = await client.text_document_document_link_async(types.DocumentLinkParams(text_document=doc(uri)))
     assert [(link.range.start.line, link.target) for link in links] == [(1, (tmp_path / "mafiles" / "surfac10.ma").resolve().as_uri())]
+
+
+async def test_a_mission_file_gets_no_run_or_debug_lens(vscode, tmp_path):
+    client = vscode
+    uri = open_document(client, tmp_path / "m.mi", "slocum_mission", "behavior: surface\n  b_arg: start_when(enum) 9\n")
+    lenses = await client.text_document_code_lens_async(types.CodeLensParams(text_document=doc(uri)))
+    assert not lenses

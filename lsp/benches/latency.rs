@@ -312,9 +312,9 @@ async fn requests() {
     let mut tokens_id = String::new();
     println!();
     println!(
-        "| request (10,000-line GBASIC file, an edit before each) | p50 ms | p99 ms | answer |"
+        "| request (10,000-line GBASIC file, an edit before each) | p50 ms | p99 ms | CPU p50 ms | CPU p99 ms | answer |"
     );
-    println!("|---|---:|---:|---:|");
+    println!("|---|---:|---:|---:|---:|---:|");
     for (name, method, params) in cases {
         let mut samples = Vec::with_capacity(rounds);
         let mut cpu_samples = Vec::with_capacity(rounds);

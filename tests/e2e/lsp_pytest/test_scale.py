@@ -281,3 +281,34 @@ async def test_a_mission_file_gets_no_run_or_debug_lens(vscode, tmp_path):
     uri = open_document(client, tmp_path / "m.mi", "slocum_mission", "behavior: surface\n  b_arg: start_when(enum) 9\n")
     lenses = await client.text_document_code_lens_async(types.CodeLensParams(text_document=doc(uri)))
     assert not lenses
+
+
+@pytest_lsp.fixture(config=CONFIG)
+async def refreshing(lsp_client: LanguageClient, tmp_path):
+    """A client that pulls diagnostics and accepts workspace/diagnostic/refresh."""
+    capabilities = editor()
+    capabilities.workspace.diagnostics = types.DiagnosticWorkspaceClientCapabilities(refresh_support=True)
+    # Settings come from didChangeConfiguration only (this client has no workspace/configuration
+    # answer that would replace them).
+    capabilities.workspace.configuration = False
+    await start(lsp_client, capabilities, tmp_path)
+    yield
+    await lsp_client.shutdown_session()
+
+
+async def test_changed_settings_ask_a_pulling_client_to_pull_again(refreshing, tmp_path):
+    client = refreshing
+    uri = open_document(client, tmp_path / "a.gbas", "gbasic", "yield\n")
+    await client.text_document_diagnostic_async(types.DocumentDiagnosticParams(text_document=doc(uri)))
+    missing = str(tmp_path / "no-such-masterdata")
+    client.workspace_did_change_configuration(types.DidChangeConfigurationParams(settings={"gloc": {"masterdata": missing}}))
+    # pytest-lsp counts the refresh requests it answers.
+    for _ in range(200):
+        if client.diagnostic_refresh_count:
+            break
+        await asyncio.sleep(0.05)
+    assert client.diagnostic_refresh_count >= 1
+    # And the pulled report follows the new settings: a masterdata file that cannot be
+    # loaded is an E0903 on the script (README, "Project settings").
+    report = await client.text_document_diagnostic_async(types.DocumentDiagnosticParams(text_document=doc(uri)))
+    assert [item.code for item in report.items] == ["E0903"], report

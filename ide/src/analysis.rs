@@ -30,6 +30,9 @@ pub struct Analysis {
     /// Foldable regions (label sections, blocks), as byte spans.
     pub folds: Vec<Span>,
     pub hints: Vec<Hint>,
+    /// Where each control cycle starts (the first statement, each `yield`) with
+    /// its worst-case instruction count, from the checker's cycle analysis.
+    pub cycles: Vec<CycleStart>,
     /// The compiled GLOC of a GBASIC document without errors.
     pub compiled: Option<String>,
 }
@@ -96,6 +99,14 @@ pub struct Token {
     pub kind: TokenKind,
     /// The sensor a `SensorRead`/`SensorWrite` token names (by name or by index).
     pub sensor: Option<SensorId>,
+}
+
+/// A control cycle's start: the end of the line it starts after (the first
+/// instruction's, or a `yield`'s) and the most instructions it can execute.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CycleStart {
+    pub offset: usize,
+    pub worst: gloc_engine::gloc::Bound,
 }
 
 #[derive(Clone, Debug, PartialEq, Eq)]

@@ -26,12 +26,7 @@ pub fn format(language: Language, text: &str) -> Option<String> {
 /// covering the changed lines otherwise; `None` when it cannot be formatted.
 /// A CRLF text keeps its line ends.
 pub fn formatting(language: Language, text: &str) -> Option<Vec<TextEdit>> {
-    let formatted = format(language, text)?;
-    let formatted = if text.contains("\r\n") {
-        formatted.replace("\r\n", "\n").replace('\n', "\r\n")
-    } else {
-        formatted
-    };
+    let formatted = with_line_ends_of(text, format(language, text)?);
     if formatted == text {
         return Some(Vec::new());
     }
@@ -62,4 +57,83 @@ pub fn formatting(language: Language, text: &str) -> Option<Vec<TextEdit>> {
         span: Span::new(start, end),
         new_text,
     }])
+}
+
+/// The formatters write LF; a CRLF text keeps CRLF.
+fn with_line_ends_of(text: &str, formatted: String) -> String {
+    if text.contains("\r\n") {
+        formatted.replace("\r\n", "\n").replace('\n', "\r\n")
+    } else {
+        formatted
+    }
+}
+
+/// The edits that format lines `first` to `last` (0-based, inclusive). The
+/// formatters re-indent line by line, so when the line count stays the same each
+/// changed line in the range is replaced (its content, not its line end); when
+/// it does not (GLOC's canonical form can join or split lines), the one
+/// whole-text edit is returned only if it lies within those lines.
+pub fn range_formatting(
+    language: Language,
+    text: &str,
+    first: usize,
+    last: usize,
+) -> Option<Vec<TextEdit>> {
+    let formatted = with_line_ends_of(text, format(language, text)?);
+    let old_lines: Vec<&str> = text.split_inclusive('\n').collect();
+    let new_lines: Vec<&str> = formatted.split_inclusive('\n').collect();
+    let line_starts: Vec<usize> = std::iter::once(0)
+        .chain(old_lines.iter().scan(0, |end, line| {
+            *end += line.len();
+            Some(*end)
+        }))
+        .collect();
+    if old_lines.len() != new_lines.len() {
+        let edits = formatting(language, text)?;
+        let range = line_starts.get(first).copied().unwrap_or(text.len())
+            ..line_starts.get(last + 1).copied().unwrap_or(text.len());
+        let inside = edits.iter().all(|edit| {
+            range.start <= edit.span.start as usize && edit.span.end as usize <= range.end
+        });
+        return Some(if inside { edits } else { Vec::new() });
+    }
+    let content = |line: &str| line.trim_end_matches(['\n', '\r']).len();
+    Some(
+        old_lines
+            .iter()
+            .zip(&new_lines)
+            .enumerate()
+            .filter(|(index, (old, new))| *index >= first && *index <= last && old != new)
+            .map(|(index, (old, new))| TextEdit {
+                span: Span::new(line_starts[index], line_starts[index] + content(old)),
+                new_text: new[..content(new)].to_string(),
+            })
+            .collect(),
+    )
+}
+
+#[cfg(test)]
+mod range_tests {
+    use super::*;
+
+    #[test]
+    fn only_the_lines_in_the_range_are_reindented() {
+        // Worked by hand: GBASIC indents a block's body by two spaces.
+        let text = "if 1 then
+x = 1
+y = 2
+endif
+";
+        let edits = range_formatting(Language::Gbasic, text, 2, 2).expect("formats");
+        assert_eq!(edits.len(), 1, "{edits:?}");
+        assert_eq!(&text[edits[0].span.range()], "y = 2");
+        assert_eq!(edits[0].new_text, "  y = 2");
+        let all = range_formatting(Language::Gbasic, text, 0, 3).expect("formats");
+        assert_eq!(all.len(), 2);
+        // CRLF: the line end is never part of an edit.
+        let crlf = text.replace('\n', "\r\n");
+        let edits = range_formatting(Language::Gbasic, &crlf, 1, 1).expect("formats");
+        assert_eq!(&crlf[edits[0].span.range()], "x = 1");
+        assert_eq!(edits[0].new_text, "  x = 1");
+    }
 }

@@ -13,8 +13,8 @@ use gloc_engine::sensors::SensorId;
 use gloc_engine::{Diagnostic, Span};
 
 use crate::analysis::{
-    Analysis, Completion, CompletionKind, Context, Hint, Signature, Symbol, SymbolKind, Token,
-    TokenKind,
+    Analysis, Completion, CompletionKind, Context, CycleStart, Hint, Signature, Symbol, SymbolKind,
+    Token, TokenKind,
 };
 use crate::lang;
 
@@ -77,9 +77,17 @@ pub fn analyze(text: &str, context: &Context) -> Analysis {
                 analysis
                     .hints
                     .push(cycle_hint(end, "first cycle", worst_case.from_start));
+                analysis.cycles.push(CycleStart {
+                    offset: end,
+                    worst: worst_case.from_start,
+                });
             }
             for (pc, bound) in &worst_case.from_yields {
                 if let Some(span) = origins.get(pc.0 as usize) {
+                    analysis.cycles.push(CycleStart {
+                        offset: span.end as usize,
+                        worst: *bound,
+                    });
                     analysis
                         .hints
                         .push(cycle_hint(span.end as usize, "next cycle", *bound));

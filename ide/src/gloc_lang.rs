@@ -12,8 +12,8 @@ use gloc_engine::sensors::{SensorId, SensorList};
 use gloc_engine::{Diagnostic, Span};
 
 use crate::analysis::{
-    Analysis, Completion, CompletionKind, Context, Hint, Signature, Symbol, SymbolKind, Token,
-    TokenKind,
+    Analysis, Completion, CompletionKind, Context, CycleStart, Hint, Signature, Symbol, SymbolKind,
+    Token, TokenKind,
 };
 use crate::lang;
 
@@ -55,9 +55,17 @@ pub fn analyze(text: &str, context: &Context) -> Analysis {
                 worst_case.from_start,
                 context,
             ));
+            analysis.cycles.push(CycleStart {
+                offset: first.span.end as usize,
+                worst: worst_case.from_start,
+            });
         }
         for (pc, bound) in &worst_case.from_yields {
             let span = program.span(*pc);
+            analysis.cycles.push(CycleStart {
+                offset: span.end as usize,
+                worst: *bound,
+            });
             analysis
                 .hints
                 .push(cycle_hint(span.end as usize, "next cycle", *bound, context));

@@ -88,28 +88,35 @@ pub fn sensor_markdown(list: &SensorList, id: SensorId) -> String {
     text
 }
 
-/// Completion items for sensors; `only_writable` where a store is expected.
-pub fn sensor_completions(list: &SensorList, only_writable: bool) -> Vec<Completion> {
+/// Completion items for sensors. Where a store goes (`store`), read-only sensors
+/// stay findable but rank after the writable ones and say they cannot be stored.
+pub fn sensor_completions(list: &SensorList, store: bool) -> Vec<Completion> {
     list.iter()
-        .filter(|(_, sensor)| !only_writable || sensor.access() != Access::ReadOnly)
-        .map(|(id, sensor)| Completion {
-            label: sensor.name.clone(),
-            kind: CompletionKind::Sensor,
-            detail: Some(format!(
-                "sensor {} ({}){}",
-                id.0,
-                sensor.units,
-                match sensor.access() {
-                    Access::ReadOnly => ", read-only",
-                    Access::Factory => ", factory",
-                    Access::Writable => ", writable",
-                }
-            )),
-            documentation: Some(sensor_markdown(list, id)),
-            snippet: None,
-            insert_text: None,
-            filter_text: None,
-            sort_text: None,
+        .map(|(id, sensor)| {
+            let read_only = sensor.access() == Access::ReadOnly;
+            let demoted = store && read_only;
+            Completion {
+                label: sensor.name.clone(),
+                kind: CompletionKind::Sensor,
+                detail: Some(format!(
+                    "sensor {} ({}){}",
+                    id.0,
+                    sensor.units,
+                    match sensor.access() {
+                        Access::ReadOnly if demoted =>
+                            format!(", {}", crate::completion::READ_ONLY_MARK),
+                        Access::ReadOnly => ", read-only".to_string(),
+                        Access::Factory => ", factory".to_string(),
+                        Access::Writable => ", writable".to_string(),
+                    }
+                )),
+                documentation: Some(sensor_markdown(list, id)),
+                snippet: None,
+                insert_text: None,
+                filter_text: None,
+                // After names, built-ins and keywords; demoted ones last.
+                sort_text: Some(format!("{}{}", if demoted { 9 } else { 5 }, sensor.name)),
+            }
         })
         .collect()
 }
@@ -132,15 +139,31 @@ mod tests {
     }
 
     #[test]
-    fn only_writable_sensors_where_a_store_is_expected() {
+    fn read_only_sensors_are_marked_and_demoted_where_a_store_goes() {
         let list = SensorList::embedded();
-        let all = sensor_completions(&list, false);
-        let writable = sensor_completions(&list, true);
-        assert_eq!(all.len(), list.len());
-        assert!(writable
-            .iter()
-            .all(|item| !item.label.starts_with("m_") && !item.label.starts_with("x_")));
-        assert!(writable.iter().any(|item| item.label == "sci_ruhp_behs"));
-        assert!(all.iter().any(|item| item.label == "m_depth"));
+        let read = sensor_completions(&list, false);
+        let store = sensor_completions(&list, true);
+        assert_eq!(read.len(), list.len());
+        assert_eq!(store.len(), list.len());
+        let find = |items: &[Completion], name: &str| {
+            items
+                .iter()
+                .find(|item| item.label == name)
+                .cloned()
+                .expect(name)
+        };
+        // m_depth is read-only (Access from the masterdata's `m_` prefix).
+        let depth = find(&store, "m_depth");
+        assert_eq!(depth.sort_text.as_deref(), Some("9m_depth"));
+        assert!(depth
+            .detail
+            .as_deref()
+            .is_some_and(|detail| detail.ends_with(crate::completion::READ_ONLY_MARK)));
+        assert_eq!(
+            find(&read, "m_depth").sort_text.as_deref(),
+            Some("5m_depth")
+        );
+        let behs = find(&store, "sci_ruhp_behs");
+        assert_eq!(behs.sort_text.as_deref(), Some("5sci_ruhp_behs"));
     }
 }

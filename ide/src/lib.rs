@@ -4,7 +4,10 @@
 //! adapters `gloc_lang` and `gbasic_lang`); one module per feature reads it:
 //! `hover`, `completion`, `signature`, `references` (definition, references,
 //! highlights), `rename`, `symbols`, `folding`, `tokens` (semantic tokens),
-//! `hints`, `format`, `actions` (quick fixes, compiled GLOC). The `gloc-lsp`
+//! `hints`, `format`, `actions` (quick fixes, compiled GLOC), `lens` (cycle
+//! figures per label), `selection`, `links` (gloc.toml paths, `args_from_file`
+//! targets), `workspace` (workspace symbols), `mission` (the `.mi`/`.ma`
+//! languages). The `gloc-lsp`
 //! crate keeps the protocol: position conversion, document state, transport.
 
 pub mod actions;
@@ -17,13 +20,17 @@ pub mod gloc_lang;
 pub mod hints;
 pub mod hover;
 pub mod lang;
+pub mod lens;
+pub mod links;
 pub mod masterdata;
 pub mod mission;
 pub mod references;
 pub mod rename;
+pub mod selection;
 pub mod signature;
 pub mod symbols;
 pub mod tokens;
+pub mod workspace;
 
 /// The kinds of document the editor tooling answers for: a script in one of the
 /// two languages (`Gloc`, `Gbasic`: the compiler's [`gloc_compiler::Language`],

@@ -62,7 +62,28 @@ pub fn semantic_tokens<'a>(
     analysis: &'a Analysis,
     context: &'a Context,
 ) -> impl Iterator<Item = HighlightedToken> + 'a {
-    analysis.tokens.iter().map(move |token| {
+    highlighted(&analysis.tokens, context)
+}
+
+/// The tokens that start within `span` (a binary search: no walk over the rest).
+pub fn semantic_tokens_within<'a>(
+    analysis: &'a Analysis,
+    context: &'a Context,
+    span: Span,
+) -> impl Iterator<Item = HighlightedToken> + 'a {
+    let tokens = &analysis.tokens;
+    let first = tokens.partition_point(|token| token.span.start < span.start);
+    let last = tokens
+        .partition_point(|token| token.span.start < span.end)
+        .max(first);
+    highlighted(&tokens[first..last], context)
+}
+
+fn highlighted<'a>(
+    tokens: &'a [crate::analysis::Token],
+    context: &'a Context,
+) -> impl Iterator<Item = HighlightedToken> + 'a {
+    tokens.iter().map(move |token| {
         let read_only = token
             .sensor
             .and_then(|id| context.sensors.get(id))

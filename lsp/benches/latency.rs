@@ -1,10 +1,13 @@
 //! Latency of the language server on a 10,000-line GBASIC file, measured
-//! through the real protocol (framed JSON-RPC over in-memory pipes):
-//! `didChange` → `publishDiagnostics`, completion / hover round trips, and how fast a
-//! queue of cancelled requests drains.
+//! through the real protocol (framed JSON-RPC over in-memory pipes): p50 and p99
+//! of every request type with an edit before each request (so each one pays for
+//! the analysis of the new text), `didChange` → `publishDiagnostics`, how fast a
+//! queue of cancelled requests drains, and the process's memory after opening a
+//! 100,000-line file.
 //!
-//! Run: `cargo bench -p gloc-lsp --bench latency` (prints figures; asserts nothing
-//! about speed).
+//! Run: `cargo bench -p gloc-lsp --bench latency` (prints figures, the request table
+//! in markdown; asserts nothing about speed). `GLOC_BENCH_ROUNDS` sets the requests
+//! per type (default 200), `GLOC_BENCH_RUNS` the semantic-token runs (default 21).
 
 #[path = "../tests/support/mod.rs"]
 mod support;
@@ -72,7 +75,44 @@ fn summary(name: &str, mut samples: Vec<Duration>) {
     );
 }
 
+/// The nearest-rank percentile `p` (0–100) of sorted samples, in ms.
+fn percentile(sorted: &[Duration], p: usize) -> f64 {
+    let rank = (sorted.len() * p).div_ceil(100).max(1);
+    sorted[rank - 1].as_secs_f64() * 1e3
+}
+
+/// CPU time of this thread, which runs both the client and the server (a
+/// current-thread runtime): unlike wall time, it does not grow with the load of
+/// the machine.
+fn thread_cpu() -> Duration {
+    let mut now = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: clock_gettime only writes one timespec through the valid pointer given.
+    let status = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut now) };
+    assert_eq!(
+        status, 0,
+        "clock_gettime(CLOCK_THREAD_CPUTIME_ID) works on Linux"
+    );
+    Duration::new(now.tv_sec as u64, now.tv_nsec as u32)
+}
+
+/// This process's resident memory in MB (Linux `/proc/self/status`).
+fn rss_mb() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|line| line.starts_with("VmRSS:"))?;
+    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb / 1024.0)
+}
+
 fn main() {
+    let runtime = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .expect("runtime");
+    // First, while the process is fresh: memory after opening 100,000 lines.
+    runtime.block_on(memory());
     // Semantic tokens on 50,000 lines, outside the protocol (the computation alone).
     let big = program_of(50_000);
     let runs = std::env::var("GLOC_BENCH_RUNS")
@@ -84,11 +124,245 @@ fn main() {
         &format!("semantic tokens, 50,000 lines ({count} tokens)"),
         times,
     );
-    let runtime = tokio::runtime::Builder::new_current_thread()
-        .enable_all()
-        .build()
-        .expect("runtime");
     runtime.block_on(run());
+    runtime.block_on(requests());
+}
+
+/// The process's resident memory before a server starts and once it has opened
+/// (and analysed) a 100,000-line GBASIC file. Client and server share the
+/// process: the figure includes the client's copy of the text (about 3 MB).
+async fn memory() {
+    let before = rss_mb();
+    let text = program_of(100_000);
+    let mut client = TestClient::initialized().await;
+    let started = Instant::now();
+    let published = client
+        .open("file:///bench/huge.gbas", "gbasic", &text)
+        .await;
+    let open_time = started.elapsed();
+    let after = rss_mb();
+    let count = published["diagnostics"].as_array().map_or(0, Vec::len);
+    match (before, after) {
+        (Some(before), Some(after)) => println!(
+            "memory: 100,000-line GBASIC file ({:.1} MB) open and analysed: RSS {after:.1} MB (process before the server started: {before:.1} MB; +{:.1} MB); didOpen → diagnostics {:.0} ms ({count} diagnostics)",
+            text.len() as f64 / 1e6,
+            after - before,
+            open_time.as_secs_f64() * 1e3
+        ),
+        _ => println!("memory: /proc/self/status is not readable here"),
+    }
+    client.shutdown_and_exit().await;
+}
+
+/// One request per round, each after an edit (a character typed, then deleted,
+/// on line 5,007), on a client with pull diagnostics, completion resolve and the
+/// code lens commands: p50 and p99 per request type, and the answer's size.
+async fn requests() {
+    let rounds: usize = std::env::var("GLOC_BENCH_ROUNDS")
+        .ok()
+        .and_then(|text| text.parse().ok())
+        .unwrap_or(200);
+    let text = program();
+    let uri = "file:///bench/big.gbas";
+    let mut capabilities = support::editor_capabilities();
+    capabilities["textDocument"]["diagnostic"] = json!({ "dynamicRegistration": false });
+    capabilities["textDocument"]["completion"]["completionItem"]["resolveSupport"] =
+        json!({ "properties": ["documentation"] });
+    capabilities["experimental"] =
+        json!({ "commands": { "commands": ["gloc.runMission", "gloc.debugScript"] } });
+    let mut client = TestClient::initialized_with(capabilities, serde_json::Value::Null).await;
+    client
+        .notify(
+            "textDocument/didOpen",
+            json!({ "textDocument": { "uri": uri, "languageId": "gbasic", "version": 1, "text": text } }),
+        )
+        .await;
+    let document = json!({ "textDocument": { "uri": uri } });
+    let screen = json!({ "start": { "line": 5000, "character": 0 }, "end": { "line": 5060, "character": 0 } });
+    let with = |extra: serde_json::Value| {
+        let mut params = document.clone();
+        if let (Some(params), Some(extra)) = (params.as_object_mut(), extra.as_object()) {
+            params.extend(extra.clone());
+        }
+        params
+    };
+    // Line 5,004 is `label: section250`; see `program_of` for the lines after it.
+    let cases: Vec<(&str, &str, serde_json::Value)> = vec![
+        (
+            "textDocument/diagnostic (pull)",
+            "textDocument/diagnostic",
+            document.clone(),
+        ),
+        (
+            "completion, `if m_de|` (expression)",
+            "textDocument/completion",
+            at(uri, 5005, 7),
+        ),
+        (
+            "completion, statement start (nothing typed)",
+            "textDocument/completion",
+            at(uri, 5006, 2),
+        ),
+        (
+            "completionItem/resolve",
+            "completionItem/resolve",
+            serde_json::Value::Null,
+        ),
+        ("hover (sensor)", "textDocument/hover", at(uri, 5005, 6)),
+        (
+            "signatureHelp (in `max(`)",
+            "textDocument/signatureHelp",
+            at(uri, 5020, 14),
+        ),
+        (
+            "definition (label)",
+            "textDocument/definition",
+            at(uri, 5022, 6),
+        ),
+        (
+            "references (label)",
+            "textDocument/references",
+            with(
+                json!({ "position": { "line": 5022, "character": 6 }, "context": { "includeDeclaration": true } }),
+            ),
+        ),
+        (
+            "documentHighlight (`count`, ~2,000 uses)",
+            "textDocument/documentHighlight",
+            at(uri, 5019, 1),
+        ),
+        (
+            "prepareRename",
+            "textDocument/prepareRename",
+            at(uri, 5019, 1),
+        ),
+        (
+            "rename (`count`, ~2,000 edits)",
+            "textDocument/rename",
+            with(json!({ "position": { "line": 5019, "character": 1 }, "newName": "counter" })),
+        ),
+        (
+            "documentSymbol",
+            "textDocument/documentSymbol",
+            document.clone(),
+        ),
+        (
+            "foldingRange",
+            "textDocument/foldingRange",
+            document.clone(),
+        ),
+        (
+            "semanticTokens/full",
+            "textDocument/semanticTokens/full",
+            document.clone(),
+        ),
+        (
+            "semanticTokens/full/delta",
+            "textDocument/semanticTokens/full/delta",
+            serde_json::Value::Null,
+        ),
+        (
+            "semanticTokens/range (60 lines)",
+            "textDocument/semanticTokens/range",
+            with(json!({ "range": screen })),
+        ),
+        (
+            "inlayHint (60 lines)",
+            "textDocument/inlayHint",
+            with(json!({ "range": screen })),
+        ),
+        (
+            "codeAction (the edited line)",
+            "textDocument/codeAction",
+            with(
+                json!({ "range": { "start": { "line": 5007, "character": 0 }, "end": { "line": 5007, "character": 5 } }, "context": { "diagnostics": [] } }),
+            ),
+        ),
+        ("codeLens", "textDocument/codeLens", document.clone()),
+        (
+            "selectionRange",
+            "textDocument/selectionRange",
+            with(json!({ "positions": [{ "line": 5020, "character": 30 }] })),
+        ),
+        (
+            "formatting",
+            "textDocument/formatting",
+            with(json!({ "options": { "tabSize": 2, "insertSpaces": true } })),
+        ),
+        (
+            "rangeFormatting (20 lines)",
+            "textDocument/rangeFormatting",
+            with(
+                json!({ "range": { "start": { "line": 5000, "character": 0 }, "end": { "line": 5020, "character": 0 } }, "options": { "tabSize": 2, "insertSpaces": true } }),
+            ),
+        ),
+        (
+            "documentLink",
+            "textDocument/documentLink",
+            document.clone(),
+        ),
+        (
+            "workspace/symbol (`section25`)",
+            "workspace/symbol",
+            json!({ "query": "section25" }),
+        ),
+    ];
+    let mut version = 1;
+    let mut resolvable = serde_json::Value::Null;
+    let mut tokens_id = String::new();
+    println!();
+    println!(
+        "| request (10,000-line GBASIC file, an edit before each) | p50 ms | p99 ms | CPU p50 ms | CPU p99 ms | answer |"
+    );
+    println!("|---|---:|---:|---:|---:|---:|");
+    for (name, method, params) in cases {
+        let mut samples = Vec::with_capacity(rounds);
+        let mut cpu_samples = Vec::with_capacity(rounds);
+        let mut bytes = 0;
+        for _ in 0..rounds {
+            version += 1;
+            let (end, new_text) = if version % 2 == 0 { (2, "x") } else { (3, "") };
+            client
+                .notify("textDocument/didChange", json!({ "textDocument": { "uri": uri, "version": version }, "contentChanges": [{ "range": { "start": { "line": 5007, "character": 2 }, "end": { "line": 5007, "character": end } }, "text": new_text }] }))
+                .await;
+            let params = match method {
+                "completionItem/resolve" => resolvable.clone(),
+                "textDocument/semanticTokens/full/delta" => {
+                    with(json!({ "previousResultId": tokens_id }))
+                }
+                _ => params.clone(),
+            };
+            let started = Instant::now();
+            let cpu_started = thread_cpu();
+            let result = client.request(method, params).await;
+            samples.push(started.elapsed());
+            cpu_samples.push(thread_cpu().saturating_sub(cpu_started));
+            bytes = result.to_string().len();
+            match method {
+                "textDocument/completion" => resolvable = result["items"][0].clone(),
+                "textDocument/semanticTokens/full" | "textDocument/semanticTokens/full/delta" => {
+                    tokens_id = result["resultId"].as_str().unwrap_or_default().to_string();
+                }
+                _ => {}
+            }
+        }
+        samples.sort();
+        cpu_samples.sort();
+        println!(
+            "| {name} | {:.1} | {:.1} | {:.1} | {:.1} | {} |",
+            percentile(&samples, 50),
+            percentile(&samples, 99),
+            percentile(&cpu_samples, 50),
+            percentile(&cpu_samples, 99),
+            if bytes >= 10_000 {
+                format!("{:.0} KB", bytes as f64 / 1e3)
+            } else {
+                format!("{bytes} B")
+            }
+        );
+    }
+    println!("(n = {rounds} per request type)");
+    client.shutdown_and_exit().await;
 }
 
 async fn run() {
@@ -137,62 +411,6 @@ async fn run() {
         change_samples.push(started.elapsed());
     }
     summary("didChange → publishDiagnostics", change_samples);
-
-    let mut completion_samples = Vec::new();
-    let mut hover_samples = Vec::new();
-    let mut items = 0;
-    for _ in 0..rounds {
-        // Start of a statement (writable sensors, variables, keywords).
-        let started = Instant::now();
-        let result = client
-            .request("textDocument/completion", at(uri, 5006, 2))
-            .await;
-        completion_samples.push(started.elapsed());
-        items = result["items"].as_array().map_or(0, Vec::len);
-        let started = Instant::now();
-        let hover = client.request("textDocument/hover", at(uri, 5005, 6)).await;
-        hover_samples.push(started.elapsed());
-        assert!(hover["contents"]["value"]
-            .as_str()
-            .is_some_and(|value| value.contains("m_depth")));
-    }
-    summary(
-        &format!("completion (statement start, {items} items)"),
-        completion_samples,
-    );
-    summary("hover (sensor)", hover_samples);
-
-    let mut token_samples = Vec::new();
-    for _ in 0..rounds {
-        let started = Instant::now();
-        let result = client
-            .request(
-                "textDocument/semanticTokens/full",
-                json!({ "textDocument": { "uri": uri } }),
-            )
-            .await;
-        token_samples.push(started.elapsed());
-        assert!(result["data"]
-            .as_array()
-            .is_some_and(|data| !data.is_empty()));
-    }
-    summary(
-        "semanticTokens/full (10,000 lines, over JSON-RPC)",
-        token_samples,
-    );
-
-    // After an edit, the first request pays for the analysis (no waiting for diagnostics).
-    let mut stale_samples = Vec::new();
-    for round in 0..rounds {
-        let version = 100 + round;
-        client
-            .notify("textDocument/didChange", json!({ "textDocument": { "uri": uri, "version": version }, "contentChanges": [{ "range": { "start": { "line": 5003, "character": 0 }, "end": { "line": 5003, "character": 0 } }, "text": " " }] }))
-            .await;
-        let started = Instant::now();
-        client.request("textDocument/hover", at(uri, 5005, 6)).await;
-        stale_samples.push(started.elapsed());
-    }
-    summary("hover right after an edit", stale_samples);
 
     // A queue of cancelled requests: 100 `semanticTokens/full`, each followed by its
     // `$/cancelRequest`, all sent at once; the time until the last answer.

@@ -16,6 +16,7 @@ use crate::server::COMPILED_GLOC_COMMAND;
 use gloc_ide::analysis::{Analysis, CompletionKind, Context, SymbolKind as Kind};
 use gloc_ide::references::HighlightKind;
 use gloc_ide::tokens::TokenType;
+use gloc_ide::{completion, lens, links, selection};
 
 /// What the client said it can show (`initialize`'s capabilities); answers follow it.
 /// Before `initialize`, and for a client that says nothing, the protocol's defaults:
@@ -26,7 +27,23 @@ pub struct ClientFeatures {
     pub completion_markdown: bool,
     pub hover_markdown: bool,
     pub hierarchical_symbols: bool,
+    /// Completion items may come without documentation, filled by `completionItem/resolve`.
+    pub resolve_documentation: bool,
+    /// The client pulls diagnostics (`textDocument/diagnostic`): no push for scripts.
+    pub pull_diagnostics: bool,
+    /// The client accepts `workspace/diagnostic/refresh`.
+    pub diagnostic_refresh: bool,
+    /// The client runs the code lens command `gloc.runMission` (it lists it in
+    /// `experimental.commands.commands`, rust-analyzer's convention).
+    pub run_command: bool,
+    /// The same for `gloc.debugScript`.
+    pub debug_command: bool,
 }
+
+/// The client command a "Run" code lens invokes (argument: the document URI).
+pub const RUN_COMMAND: &str = "gloc.runMission";
+/// The client command a "Debug" code lens invokes (argument: the document URI).
+pub const DEBUG_COMMAND: &str = "gloc.debugScript";
 
 impl Default for ClientFeatures {
     fn default() -> Self {
@@ -54,8 +71,31 @@ impl ClientFeatures {
                 .and_then(|text| text.document_symbol.as_ref())
                 .and_then(|symbols| symbols.hierarchical_document_symbol_support)
                 .unwrap_or(false),
+            resolve_documentation: item
+                .and_then(|item| item.resolve_support.as_ref())
+                .is_some_and(|support| support.properties.iter().any(|p| p == "documentation")),
+            pull_diagnostics: text.is_some_and(|text| text.diagnostic.is_some()),
+            diagnostic_refresh: capabilities
+                .workspace
+                .as_ref()
+                .and_then(|workspace| workspace.diagnostics.as_ref())
+                .and_then(|diagnostics| diagnostics.refresh_support)
+                .unwrap_or(false),
+            run_command: client_runs(capabilities, RUN_COMMAND),
+            debug_command: client_runs(capabilities, DEBUG_COMMAND),
         }
     }
+}
+
+/// Whether the client lists `command` in `experimental.commands.commands`.
+fn client_runs(capabilities: &ClientCapabilities, command: &str) -> bool {
+    capabilities
+        .experimental
+        .as_ref()
+        .and_then(|experimental| experimental.get("commands"))
+        .and_then(|commands| commands.get("commands"))
+        .and_then(Value::as_array)
+        .is_some_and(|commands| commands.iter().any(|listed| listed == command))
 }
 
 /// `text` (markdown) as the client can show it: plain text drops the inline code
@@ -135,7 +175,9 @@ pub fn capabilities() -> ServerCapabilities {
             },
         )),
         completion_provider: Some(CompletionOptions {
-            trigger_characters: Some(vec![" ".into(), ",".into(), "(".into()]),
+            // Not a space: every space would fetch a list.
+            trigger_characters: Some(vec![",".into(), "(".into()]),
+            resolve_provider: Some(true),
             ..CompletionOptions::default()
         }),
         hover_provider: Some(HoverProviderCapability::Simple(true)),
@@ -161,8 +203,8 @@ pub fn capabilities() -> ServerCapabilities {
                         .map(SemanticTokenModifier::new)
                         .to_vec(),
                 },
-                full: Some(SemanticTokensFullOptions::Bool(true)),
-                range: None,
+                full: Some(SemanticTokensFullOptions::Delta { delta: Some(true) }),
+                range: Some(true),
                 work_done_progress_options: WorkDoneProgressOptions::default(),
             },
         )),
@@ -172,6 +214,22 @@ pub fn capabilities() -> ServerCapabilities {
             ..CodeActionOptions::default()
         })),
         document_formatting_provider: Some(OneOf::Left(true)),
+        document_range_formatting_provider: Some(OneOf::Left(true)),
+        selection_range_provider: Some(SelectionRangeProviderCapability::Simple(true)),
+        code_lens_provider: Some(CodeLensOptions {
+            resolve_provider: Some(false),
+        }),
+        document_link_provider: Some(DocumentLinkOptions {
+            resolve_provider: Some(false),
+            work_done_progress_options: WorkDoneProgressOptions::default(),
+        }),
+        workspace_symbol_provider: Some(OneOf::Left(true)),
+        diagnostic_provider: Some(DiagnosticServerCapabilities::Options(DiagnosticOptions {
+            identifier: Some("gloc".to_string()),
+            inter_file_dependencies: false,
+            workspace_diagnostics: false,
+            work_done_progress_options: WorkDoneProgressOptions::default(),
+        })),
         execute_command_provider: Some(ExecuteCommandOptions {
             commands: vec![COMPILED_GLOC_COMMAND.to_string()],
             work_done_progress_options: WorkDoneProgressOptions::default(),
@@ -226,58 +284,125 @@ pub fn diagnostics_for(
         .collect()
 }
 
+/// The completion list at `position`: the language's candidates that match the
+/// word being typed, best first, at most `limit` (`is_incomplete` when cut, so
+/// the client asks again as the word grows). Clients that resolve documentation
+/// get it from `completion_resolve`, not in the list.
 pub fn completion(
     document: &Document,
     analysis: &Analysis,
     context: &Context,
     position: Position,
     client: ClientFeatures,
+    limit: usize,
 ) -> Option<CompletionResponse> {
     let offset = offset_of(document.rope(), position);
-    let completions = gloc_ide::completion::completions(
+    let candidates = completion::completions(
         document.language,
         document.text(),
         offset,
         analysis,
         context,
     );
-    let items = completions
+    let (_, typed) = completion::typed_word(document.text(), offset);
+    let (ranked, cut) = completion::rank(candidates, typed, limit);
+    let items = ranked
         .into_iter()
-        .map(|completion| CompletionItem {
-            label: completion.label,
-            kind: Some(match completion.kind {
-                CompletionKind::Sensor => CompletionItemKind::FIELD,
-                CompletionKind::Keyword => CompletionItemKind::KEYWORD,
-                CompletionKind::Instruction => CompletionItemKind::OPERATOR,
-                CompletionKind::Variable => CompletionItemKind::VARIABLE,
-                CompletionKind::Constant => CompletionItemKind::CONSTANT,
-                CompletionKind::Label => CompletionItemKind::REFERENCE,
-                CompletionKind::Function => CompletionItemKind::FUNCTION,
-                CompletionKind::Register => CompletionItemKind::VARIABLE,
-            }),
-            detail: completion.detail,
-            documentation: completion
-                .documentation
-                .map(|text| Documentation::MarkupContent(markup(text, client.completion_markdown))),
-            insert_text_format: completion
-                .snippet
-                .as_ref()
-                .filter(|_| client.snippets)
-                .map(|_| InsertTextFormat::SNIPPET),
-            insert_text: match completion.snippet {
-                Some(snippet) if client.snippets => Some(snippet),
-                Some(snippet) => Some(snippet_text(&snippet)),
-                None => completion.insert_text,
-            },
-            filter_text: completion.filter_text,
-            sort_text: completion.sort_text,
-            ..CompletionItem::default()
+        .enumerate()
+        .map(|(rank, completion)| {
+            let mut item = completion_item(completion, client);
+            // The client sorts by `sort_text`: keep the server's order.
+            item.sort_text = Some(format!("{rank:05}"));
+            if client.resolve_documentation && item.documentation.is_some() {
+                item.documentation = None;
+                item.data = Some(serde_json::json!({
+                    "uri": document.uri.as_str(),
+                    "line": position.line,
+                    "character": position.character,
+                }));
+            }
+            item
         })
         .collect();
     Some(CompletionResponse::List(CompletionList {
-        is_incomplete: false,
+        is_incomplete: cut,
         items,
     }))
+}
+
+fn completion_item(
+    completion: gloc_ide::analysis::Completion,
+    client: ClientFeatures,
+) -> CompletionItem {
+    CompletionItem {
+        label: completion.label,
+        kind: Some(match completion.kind {
+            CompletionKind::Sensor => CompletionItemKind::FIELD,
+            CompletionKind::Keyword => CompletionItemKind::KEYWORD,
+            CompletionKind::Instruction => CompletionItemKind::OPERATOR,
+            CompletionKind::Variable => CompletionItemKind::VARIABLE,
+            CompletionKind::Constant => CompletionItemKind::CONSTANT,
+            CompletionKind::Label => CompletionItemKind::REFERENCE,
+            CompletionKind::Function => CompletionItemKind::FUNCTION,
+            CompletionKind::Register => CompletionItemKind::VARIABLE,
+        }),
+        detail: completion.detail,
+        documentation: completion
+            .documentation
+            .map(|text| Documentation::MarkupContent(markup(text, client.completion_markdown))),
+        insert_text_format: completion
+            .snippet
+            .as_ref()
+            .filter(|_| client.snippets)
+            .map(|_| InsertTextFormat::SNIPPET),
+        insert_text: match completion.snippet {
+            Some(snippet) if client.snippets => Some(snippet),
+            Some(snippet) => Some(snippet_text(&snippet)),
+            None => completion.insert_text,
+        },
+        filter_text: completion.filter_text,
+        sort_text: completion.sort_text,
+        ..CompletionItem::default()
+    }
+}
+
+/// Where a resolved completion item was offered (its `data`).
+pub fn resolve_origin(item: &CompletionItem) -> Option<(Uri, Position)> {
+    let data = item.data.as_ref()?;
+    let uri = data.get("uri")?.as_str()?.parse().ok()?;
+    let line = u32::try_from(data.get("line")?.as_u64()?).ok()?;
+    let character = u32::try_from(data.get("character")?.as_u64()?).ok()?;
+    Some((uri, Position { line, character }))
+}
+
+/// Fills the documentation of an item offered at `position`: the candidate of
+/// the same label there now (the item is returned as it came when the text
+/// changed so that it is no longer offered).
+pub fn completion_resolve(
+    document: &Document,
+    analysis: &Analysis,
+    context: &Context,
+    position: Position,
+    client: ClientFeatures,
+    mut item: CompletionItem,
+) -> CompletionItem {
+    let offset = offset_of(document.rope(), position);
+    let found = completion::completions(
+        document.language,
+        document.text(),
+        offset,
+        analysis,
+        context,
+    )
+    .into_iter()
+    .find(|candidate| candidate.label == item.label);
+    if let Some(documentation) = found.and_then(|candidate| candidate.documentation) {
+        item.documentation = Some(Documentation::MarkupContent(markup(
+            documentation,
+            client.completion_markdown,
+        )));
+    }
+    item
 }
 
 pub fn hover(
@@ -453,14 +578,7 @@ pub fn document_symbols(
         .map(|symbol| DocumentSymbol {
             name: symbol.name,
             detail: symbol.detail,
-            kind: match symbol.kind {
-                Kind::Label => SymbolKind::FUNCTION,
-                Kind::Variable => SymbolKind::VARIABLE,
-                Kind::Array => SymbolKind::ARRAY,
-                Kind::Constant => SymbolKind::CONSTANT,
-                Kind::Sensor => SymbolKind::FIELD,
-                Kind::Behavior => SymbolKind::OBJECT,
-            },
+            kind: symbol_kind(symbol.kind),
             tags: None,
             deprecated: None,
             range: range_of(rope, symbol.extent),
@@ -509,11 +627,65 @@ pub fn semantic_tokens(
     analysis: &Analysis,
     context: &Context,
 ) -> SemanticTokens {
+    semantic_tokens_of(
+        document,
+        gloc_ide::tokens::semantic_tokens(analysis, context),
+    )
+}
+
+/// The tokens that start within `range` (`semanticTokens/range`).
+pub fn semantic_tokens_range(
+    document: &Document,
+    analysis: &Analysis,
+    context: &Context,
+    range: Range,
+) -> SemanticTokens {
+    let wanted = span_of(document.rope(), range);
+    semantic_tokens_of(
+        document,
+        gloc_ide::tokens::semantic_tokens_within(analysis, context, wanted),
+    )
+}
+
+/// The edit that turns `previous` into `current` (`semanticTokens/full/delta`):
+/// one replacement between their common beginning and end, in the protocol's
+/// units (integers of the flat array, five per token). None when equal.
+pub fn semantic_tokens_edits(
+    previous: &[SemanticToken],
+    current: &[SemanticToken],
+) -> Vec<SemanticTokensEdit> {
+    let prefix = previous
+        .iter()
+        .zip(current)
+        .take_while(|(old, new)| old == new)
+        .count();
+    let suffix = previous[prefix..]
+        .iter()
+        .rev()
+        .zip(current[prefix..].iter().rev())
+        .take_while(|(old, new)| old == new)
+        .count();
+    let deleted = previous.len() - prefix - suffix;
+    let inserted = &current[prefix..current.len() - suffix];
+    if deleted == 0 && inserted.is_empty() {
+        return Vec::new();
+    }
+    vec![SemanticTokensEdit {
+        start: (prefix * 5) as u32,
+        delete_count: (deleted * 5) as u32,
+        data: Some(inserted.to_vec()),
+    }]
+}
+
+fn semantic_tokens_of(
+    document: &Document,
+    tokens: impl Iterator<Item = gloc_ide::tokens::HighlightedToken>,
+) -> SemanticTokens {
     // The tokens are sorted by start and do not overlap: one walk over the text.
     let mut walker = PositionWalker::new(document.rope(), document.text());
-    let mut data = Vec::with_capacity(analysis.tokens.len());
+    let mut data = Vec::with_capacity(tokens.size_hint().0);
     let (mut previous_line, mut previous_start) = (0u32, 0u32);
-    for token in gloc_ide::tokens::semantic_tokens(analysis, context) {
+    for token in tokens {
         let start = walker.position(token.span.start as usize);
         let end = walker.position(token.span.end as usize);
         // Our tokens never span lines; a client cannot show one that does.
@@ -607,6 +779,170 @@ pub fn formatting(document: &Document) -> Option<Vec<TextEdit>> {
             .map(|edit| text_edit(document.rope(), edit))
             .collect(),
     )
+}
+
+/// Formats the lines `range` touches (`gloc_ide::format::range_formatting`).
+pub fn range_formatting(document: &Document, range: Range) -> Option<Vec<TextEdit>> {
+    let edits = gloc_ide::format::range_formatting(
+        document.language,
+        document.text(),
+        range.start.line as usize,
+        range.end.line as usize,
+    )?;
+    Some(
+        edits
+            .into_iter()
+            .map(|edit| text_edit(document.rope(), edit))
+            .collect(),
+    )
+}
+
+/// Pull diagnostics: the same list push would publish, as a full report.
+pub fn diagnostic_report(items: Vec<Diagnostic>) -> DocumentDiagnosticReportResult {
+    DocumentDiagnosticReportResult::Report(DocumentDiagnosticReport::Full(
+        RelatedFullDocumentDiagnosticReport {
+            related_documents: None,
+            full_document_diagnostic_report: FullDocumentDiagnosticReport {
+                result_id: None,
+                items,
+            },
+        },
+    ))
+}
+
+/// Code lenses: at each label, its cycle figure (`lens::label_cycles`); on the
+/// first line, "Run" and "Debug" when the client runs those commands.
+pub fn code_lenses(
+    document: &Document,
+    analysis: &Analysis,
+    client: ClientFeatures,
+) -> Vec<CodeLens> {
+    let rope = document.rope();
+    let mut lenses = Vec::new();
+    let top = Range::default();
+    let argument = Value::String(document.uri.as_str().to_string());
+    // Scripts run and debug; mission files are flown with a script, not on their own.
+    let script = matches!(
+        document.language,
+        gloc_ide::Language::Gloc | gloc_ide::Language::Gbasic
+    );
+    for (wanted, title, command) in [
+        (client.run_command, "▶ Run in simulator", RUN_COMMAND),
+        (client.debug_command, "Debug", DEBUG_COMMAND),
+    ] {
+        if wanted && script {
+            lenses.push(CodeLens {
+                range: top,
+                command: Some(Command {
+                    title: title.to_string(),
+                    command: command.to_string(),
+                    arguments: Some(vec![argument.clone()]),
+                }),
+                data: None,
+            });
+        }
+    }
+    for figure in lens::label_cycles(analysis) {
+        lenses.push(CodeLens {
+            range: range_of(rope, figure.definition),
+            // No command: the lens is a figure to read, not a button.
+            command: Some(Command {
+                title: figure.title(),
+                command: String::new(),
+                arguments: None,
+            }),
+            data: None,
+        });
+    }
+    lenses
+}
+
+/// Selection ranges at each position, innermost first, as linked parents.
+pub fn selection_ranges(
+    document: &Document,
+    analysis: &Analysis,
+    positions: &[Position],
+) -> Vec<SelectionRange> {
+    let rope = document.rope();
+    positions
+        .iter()
+        .map(|position| {
+            let offset = offset_of(rope, *position);
+            let spans = selection::selection_ranges(document.text(), analysis, offset);
+            let mut range: Option<SelectionRange> = None;
+            for span in spans.iter().rev() {
+                range = Some(SelectionRange {
+                    range: range_of(rope, *span),
+                    parent: range.map(Box::new),
+                });
+            }
+            range.unwrap_or(SelectionRange {
+                range: Range {
+                    start: *position,
+                    end: *position,
+                },
+                parent: None,
+            })
+        })
+        .collect()
+}
+
+/// Document links: the paths of a `gloc.toml`, a mission's `args_from_file` targets.
+pub fn document_links(document: &Document) -> Vec<DocumentLink> {
+    let Some(path) = document.path() else {
+        return Vec::new();
+    };
+    let links = match document.language {
+        gloc_ide::Language::Config => {
+            let folder = path.parent().unwrap_or(std::path::Path::new("."));
+            links::config_links(document.text(), folder)
+        }
+        gloc_ide::Language::Mission => links::mission_links(document.text(), &path),
+        _ => return Vec::new(),
+    };
+    let rope = document.rope();
+    links
+        .into_iter()
+        .filter_map(|link| {
+            Some(DocumentLink {
+                range: range_of(rope, link.span),
+                target: Some(Uri::from_file_path(&link.target)?),
+                tooltip: Some(format!("{}: {}", link.key, link.target.display())),
+                data: None,
+            })
+        })
+        .collect()
+}
+
+/// A workspace symbol found in a document's analysis.
+#[allow(deprecated)] // `SymbolInformation::deprecated` must still be written out.
+pub fn workspace_symbols(rope: &Rope, uri: &Uri, analysis: &Analysis) -> Vec<SymbolInformation> {
+    gloc_ide::workspace::listed(analysis)
+        .filter_map(|symbol| {
+            Some(SymbolInformation {
+                name: symbol.name.clone(),
+                kind: symbol_kind(symbol.kind),
+                tags: None,
+                deprecated: None,
+                location: Location {
+                    uri: uri.clone(),
+                    range: range_of(rope, symbol.definition?),
+                },
+                container_name: None,
+            })
+        })
+        .collect()
+}
+
+fn symbol_kind(kind: Kind) -> SymbolKind {
+    match kind {
+        Kind::Label => SymbolKind::FUNCTION,
+        Kind::Variable => SymbolKind::VARIABLE,
+        Kind::Array => SymbolKind::ARRAY,
+        Kind::Constant => SymbolKind::CONSTANT,
+        Kind::Sensor => SymbolKind::FIELD,
+        Kind::Behavior => SymbolKind::OBJECT,
+    }
 }
 
 /// The answer to `gloc.compiledGloc`: the GLOC text (a GLOC document is its

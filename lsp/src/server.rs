@@ -43,6 +43,9 @@ pub struct Backend {
 pub struct Settings {
     pub masterdata: Option<PathBuf>,
     pub cycle_budget: Option<u64>,
+    /// Most items in one completion answer (`completionLimit`; default
+    /// `gloc_ide::completion::DEFAULT_LIMIT`).
+    pub completion_limit: Option<usize>,
 }
 
 struct Open {
@@ -72,6 +75,19 @@ struct State {
     client_features: features::ClientFeatures,
     /// `gloc.toml` files that currently have problems (so clearing works).
     config_files_with_problems: Vec<PathBuf>,
+    /// The workspace folders (from `initialize`), searched by workspace symbols.
+    workspace_roots: Vec<PathBuf>,
+    /// Symbols of scripts on disk, by path, with the size and time they were read at.
+    disk_symbols: HashMap<PathBuf, DiskSymbols>,
+    /// The last semantic tokens sent for each document, for `full/delta`.
+    sent_tokens: HashMap<Uri, (String, Vec<SemanticToken>)>,
+    next_tokens_id: u64,
+}
+
+struct DiskSymbols {
+    bytes: u64,
+    modified: Option<std::time::SystemTime>,
+    symbols: Vec<SymbolInformation>,
 }
 
 /// Diagnostics to send once the state lock is released.
@@ -253,9 +269,13 @@ impl State {
     /// The diagnostics of the current version, unless already published.
     fn analyzed_publish(&mut self, uri: &Uri) -> Option<Publish> {
         self.ensure_analyzed(uri);
+        let pulled = self.client_features.pull_diagnostics;
         let open = self.documents.get_mut(uri)?;
+        // A client that pulls gets scripts' diagnostics from `textDocument/diagnostic`
+        // only (pushing too would show each problem twice).
         if open.document.language == Language::Config
             || open.published_version == Some(open.document.version)
+            || pulled
         {
             return None;
         }
@@ -335,6 +355,76 @@ impl State {
         publishes
     }
 
+    /// Workspace symbols matching `query`: open documents as edited, the other
+    /// scripts of the workspace folders as on disk (bounded by
+    /// `gloc_ide::workspace`), best match first.
+    fn workspace_symbols(&mut self, query: &str) -> Vec<SymbolInformation> {
+        use gloc_ide::workspace;
+        let uris: Vec<Uri> = self.documents.keys().cloned().collect();
+        let mut found = Vec::new();
+        let mut open_paths = Vec::new();
+        for uri in uris {
+            self.ensure_analyzed(&uri);
+            let Some(open) = self.documents.get(&uri) else {
+                continue;
+            };
+            if open.document.language == Language::Config {
+                continue;
+            }
+            open_paths.extend(open.document.path());
+            found.extend(features::workspace_symbols(
+                open.document.rope(),
+                &uri,
+                &open.analysis,
+            ));
+        }
+        let files = workspace::script_files(&self.workspace_roots);
+        let context = Context {
+            sensors: self.embedded(),
+            cycle_budget: None,
+            list_folders: Vec::new(),
+        };
+        let mut kept = HashMap::new();
+        for file in files {
+            if open_paths.contains(&file.path) {
+                continue;
+            }
+            let cached = self
+                .disk_symbols
+                .remove(&file.path)
+                .filter(|entry| entry.bytes == file.bytes && entry.modified == file.modified);
+            let entry = match cached {
+                Some(entry) => entry,
+                None => {
+                    let (Ok(text), Some(uri)) = (
+                        std::fs::read_to_string(&file.path),
+                        Uri::from_file_path(&file.path),
+                    ) else {
+                        continue;
+                    };
+                    let analysis = lang::analyze(file.language, &text, &context);
+                    let rope = ropey::Rope::from_str(&text);
+                    DiskSymbols {
+                        bytes: file.bytes,
+                        modified: file.modified,
+                        symbols: features::workspace_symbols(&rope, &uri, &analysis),
+                    }
+                }
+            };
+            found.extend(entry.symbols.iter().cloned());
+            kept.insert(file.path, entry);
+        }
+        // Files gone from disk (or from the bounds) leave the cache.
+        self.disk_symbols = kept;
+        let mut ranked: Vec<(u32, SymbolInformation)> = found
+            .into_iter()
+            .filter_map(|symbol| Some((workspace::query_class(query, &symbol.name)?, symbol)))
+            .collect();
+        ranked.sort_by(|(a, x), (b, y)| a.cmp(b).then_with(|| x.name.cmp(&y.name)));
+        ranked.truncate(workspace::MAX_RESULTS);
+        ranked.into_iter().map(|(_, symbol)| symbol).collect()
+    }
+
     fn refresh_all(&mut self) -> Vec<Publish> {
         let uris: Vec<Uri> = self.documents.keys().cloned().collect();
         let mut publishes = Vec::new();
@@ -364,6 +454,16 @@ impl Backend {
             answer(&open.document, &open.analysis, &open.context)
         }))
         .unwrap_or(None)
+    }
+
+    /// Gives `tokens` a new result id and keeps them for the next delta request.
+    fn remember_tokens(&self, uri: Uri, mut tokens: SemanticTokens) -> SemanticTokens {
+        let mut state = lock(&self.state);
+        state.next_tokens_id += 1;
+        let id = state.next_tokens_id.to_string();
+        tokens.result_id = Some(id.clone());
+        state.sent_tokens.insert(uri, (id, tokens.data.clone()));
+        tokens
     }
 
     /// Analyses and publishes a changed document once the messages already
@@ -408,6 +508,19 @@ impl Backend {
         });
     }
 
+    /// Asks a client that pulls diagnostics to pull again (the settings changed),
+    /// in the background.
+    fn refresh_pulled(&self) {
+        let features = lock(&self.state).client_features;
+        if !(features.pull_diagnostics && features.diagnostic_refresh) {
+            return;
+        }
+        let client = self.client.clone();
+        tokio::spawn(async move {
+            let _ = client.workspace_diagnostic_refresh().await;
+        });
+    }
+
     /// Fetches `workspace/configuration` in the background and re-analyses.
     fn fetch_client_settings(&self) {
         let client = self.client.clone();
@@ -437,6 +550,10 @@ impl Backend {
                 state.refresh_all()
             };
             send(&client, publishes).await;
+            let features = lock(&state).client_features;
+            if features.pull_diagnostics && features.diagnostic_refresh {
+                let _ = client.workspace_diagnostic_refresh().await;
+            }
         });
     }
 }
@@ -456,6 +573,11 @@ pub fn settings_from(value: &Value) -> Settings {
             .get("cycleBudget")
             .or_else(|| section.get("cycle_budget"))
             .and_then(Value::as_u64),
+        completion_limit: section
+            .get("completionLimit")
+            .and_then(Value::as_u64)
+            .filter(|limit| (1..=100_000).contains(limit))
+            .map(|limit| limit as usize),
     }
 }
 
@@ -501,6 +623,20 @@ impl LanguageServer for Backend {
             if let Some(options) = &params.initialization_options {
                 state.settings = settings_from(options);
             }
+            let mut roots: Vec<Uri> = params
+                .workspace_folders
+                .iter()
+                .flatten()
+                .map(|folder| folder.uri.clone())
+                .collect();
+            if roots.is_empty() {
+                #[allow(deprecated)] // `rootUri`: what a client without workspace folders sends.
+                roots.extend(params.root_uri.clone());
+            }
+            state.workspace_roots = roots
+                .iter()
+                .filter_map(|uri| uri.to_file_path().map(|path| path.into_owned()))
+                .collect();
         }
         Ok(InitializeResult {
             capabilities: features::capabilities(),
@@ -618,12 +754,14 @@ impl LanguageServer for Backend {
             }
         };
         send(&self.client, publishes).await;
+        self.refresh_pulled();
     }
 
     async fn did_close(&self, params: DidCloseTextDocumentParams) {
         let uri = params.text_document.uri;
         let publishes = {
             let mut state = lock(&self.state);
+            state.sent_tokens.remove(&uri);
             let Some(open) = state.documents.remove(&uri) else {
                 return;
             };
@@ -655,6 +793,7 @@ impl LanguageServer for Backend {
             state.refresh_all()
         };
         send(&self.client, publishes).await;
+        self.refresh_pulled();
         self.fetch_client_settings();
     }
 
@@ -665,17 +804,47 @@ impl LanguageServer for Backend {
             state.refresh_all()
         };
         send(&self.client, publishes).await;
+        self.refresh_pulled();
     }
 
     async fn completion(&self, params: CompletionParams) -> Result<Option<CompletionResponse>> {
         let position = params.text_document_position;
-        let client = lock(&self.state).client_features;
+        let (client, limit) = {
+            let state = lock(&self.state);
+            let limit = state
+                .settings
+                .completion_limit
+                .unwrap_or(gloc_ide::completion::DEFAULT_LIMIT);
+            (state.client_features, limit)
+        };
         Ok(self.with_document(
             &position.text_document.uri,
             |document, analysis, context| {
-                features::completion(document, analysis, context, position.position, client)
+                features::completion(
+                    document,
+                    analysis,
+                    context,
+                    position.position,
+                    client,
+                    limit,
+                )
             },
         ))
+    }
+
+    async fn completion_resolve(&self, item: CompletionItem) -> Result<CompletionItem> {
+        let Some((uri, position)) = features::resolve_origin(&item) else {
+            return Ok(item);
+        };
+        let client = lock(&self.state).client_features;
+        let fallback = item.clone();
+        Ok(self
+            .with_document(&uri, |document, analysis, context| {
+                Some(features::completion_resolve(
+                    document, analysis, context, position, client, item,
+                ))
+            })
+            .unwrap_or(fallback))
     }
 
     async fn hover(&self, params: HoverParams) -> Result<Option<Hover>> {
@@ -788,13 +957,114 @@ impl LanguageServer for Backend {
         &self,
         params: SemanticTokensParams,
     ) -> Result<Option<SemanticTokensResult>> {
+        let uri = params.text_document.uri;
+        let tokens = self.with_document(&uri, |document, analysis, context| {
+            Some(features::semantic_tokens(document, analysis, context))
+        });
+        Ok(tokens.map(|tokens| SemanticTokensResult::Tokens(self.remember_tokens(uri, tokens))))
+    }
+
+    async fn semantic_tokens_full_delta(
+        &self,
+        params: SemanticTokensDeltaParams,
+    ) -> Result<Option<SemanticTokensFullDeltaResult>> {
+        let uri = params.text_document.uri;
+        let Some(tokens) = self.with_document(&uri, |document, analysis, context| {
+            Some(features::semantic_tokens(document, analysis, context))
+        }) else {
+            return Ok(None);
+        };
+        let previous = lock(&self.state)
+            .sent_tokens
+            .get(&uri)
+            .filter(|(id, _)| *id == params.previous_result_id)
+            .map(|(_, data)| features::semantic_tokens_edits(data, &tokens.data));
+        let tokens = self.remember_tokens(uri, tokens);
+        Ok(Some(match previous {
+            Some(edits) => SemanticTokensFullDeltaResult::TokensDelta(SemanticTokensDelta {
+                result_id: tokens.result_id,
+                edits,
+            }),
+            // An unknown previous result: all of them.
+            None => SemanticTokensFullDeltaResult::Tokens(tokens),
+        }))
+    }
+
+    async fn semantic_tokens_range(
+        &self,
+        params: SemanticTokensRangeParams,
+    ) -> Result<Option<SemanticTokensRangeResult>> {
         Ok(
             self.with_document(&params.text_document.uri, |document, analysis, context| {
-                Some(SemanticTokensResult::Tokens(features::semantic_tokens(
-                    document, analysis, context,
-                )))
+                Some(SemanticTokensRangeResult::Tokens(
+                    features::semantic_tokens_range(document, analysis, context, params.range),
+                ))
             }),
         )
+    }
+
+    async fn diagnostic(
+        &self,
+        params: DocumentDiagnosticParams,
+    ) -> Result<DocumentDiagnosticReportResult> {
+        let items = self
+            .with_document(&params.text_document.uri, |document, analysis, _| {
+                Some(features::diagnostics(document, analysis))
+            })
+            .unwrap_or_default();
+        Ok(features::diagnostic_report(items))
+    }
+
+    async fn code_lens(&self, params: CodeLensParams) -> Result<Option<Vec<CodeLens>>> {
+        let client = lock(&self.state).client_features;
+        Ok(
+            self.with_document(&params.text_document.uri, |document, analysis, _| {
+                Some(features::code_lenses(document, analysis, client))
+            }),
+        )
+    }
+
+    async fn selection_range(
+        &self,
+        params: SelectionRangeParams,
+    ) -> Result<Option<Vec<SelectionRange>>> {
+        Ok(
+            self.with_document(&params.text_document.uri, |document, analysis, _| {
+                Some(features::selection_ranges(
+                    document,
+                    analysis,
+                    &params.positions,
+                ))
+            }),
+        )
+    }
+
+    async fn document_link(&self, params: DocumentLinkParams) -> Result<Option<Vec<DocumentLink>>> {
+        // Links are in gloc.toml, which `with_document` leaves out.
+        let state = lock(&self.state);
+        Ok(state
+            .documents
+            .get(&params.text_document.uri)
+            .map(|open| features::document_links(&open.document)))
+    }
+
+    async fn range_formatting(
+        &self,
+        params: DocumentRangeFormattingParams,
+    ) -> Result<Option<Vec<TextEdit>>> {
+        Ok(
+            self.with_document(&params.text_document.uri, |document, _, _| {
+                features::range_formatting(document, params.range)
+            }),
+        )
+    }
+
+    async fn symbol(
+        &self,
+        params: WorkspaceSymbolParams,
+    ) -> Result<Option<WorkspaceSymbolResponse>> {
+        let symbols = lock(&self.state).workspace_symbols(&params.query);
+        Ok(Some(WorkspaceSymbolResponse::Flat(symbols)))
     }
 
     async fn inlay_hint(&self, params: InlayHintParams) -> Result<Option<Vec<InlayHint>>> {

@@ -26,6 +26,15 @@ fn range(l1: u32, c1: u32, l2: u32, c2: u32) -> Value {
     json!({ "start": { "line": l1, "character": c1 }, "end": { "line": l2, "character": c2 } })
 }
 
+fn labels(result: &Value) -> Vec<String> {
+    result["items"]
+        .as_array()
+        .expect("items")
+        .iter()
+        .map(|item| item["label"].as_str().expect("label").to_string())
+        .collect()
+}
+
 async fn change(client: &mut TestClient, uri: &str, version: i32, text: &str) {
     client
         .notify("textDocument/didChange", json!({ "textDocument": { "uri": uri, "version": version }, "contentChanges": [{ "text": text }] }))
@@ -115,7 +124,34 @@ async fn diagnostics_and_quick_fixes() {
 #[tokio::test]
 async fn completion_items_carry_detail_snippets_and_sort_text() {
     let mut client = fig3().await;
-    // In the condition of line 1 (`if m_de|`): every sensor, built-ins.
+    // `goto st|` on line 3 → the labels.
+    let result = client
+        .request("textDocument/completion", at(URI, 3, 9))
+        .await;
+    assert_eq!(labels(&result), ["state1", "state2", "state3"]);
+    assert_eq!(result["isIncomplete"], false);
+    // Start of the statement on line 2 (`  |SCI_RUHP_BEHS = 128`): a store target,
+    // nothing typed yet: keywords, then writable sensors, cut at the limit (100).
+    let result = client
+        .request("textDocument/completion", at(URI, 2, 2))
+        .await;
+    let items = labels(&result);
+    assert_eq!(items.len(), 100);
+    assert_eq!(result["isIncomplete"], true);
+    assert!(items.contains(&"dim".to_string()) && items.contains(&"while".to_string()));
+    assert!(
+        !items.contains(&"m_depth".to_string()),
+        "read-only sensors rank after the writable ones"
+    );
+    // `SC|`: only what matches, prefix matches first.
+    let result = client
+        .request("textDocument/completion", at(URI, 2, 4))
+        .await;
+    let items = labels(&result);
+    assert!(items.contains(&"sci_ruhp_behs".to_string()));
+    assert!(items[0].starts_with("sc"), "{items:?}");
+    assert!(!items.contains(&"c_pitch".to_string()), "no s in c_pitch");
+    // In the condition of line 1 (`if m_de|`): every sensor.
     let result = client
         .request("textDocument/completion", at(URI, 1, 8))
         .await;
@@ -125,6 +161,24 @@ async fn completion_items_carry_detail_snippets_and_sort_text() {
         .find(|i| i["label"] == "m_depth")
         .expect("m_depth");
     assert_eq!(depth["detail"], "sensor 444 (m), read-only");
+    // A store target typed as `m_dep`: m_depth is offered although read-only
+    // (every `m_` sensor is, so the shortest prefix match comes first), and marked.
+    change(&mut client, URI, 2, "m_dep\n").await;
+    let result = client
+        .request("textDocument/completion", at(URI, 0, 5))
+        .await;
+    let first = &result["items"][0];
+    assert_eq!(first["label"], "m_depth");
+    assert_eq!(
+        first["detail"],
+        "sensor 444 (m), read-only: cannot be stored"
+    );
+    // Built-ins in an expression, as snippets.
+    change(&mut client, URI, 3, "dim x as float\nx = ab\n").await;
+    let result = client
+        .request("textDocument/completion", at(URI, 1, 6))
+        .await;
+    let items = result["items"].as_array().expect("items");
     let abs = items.iter().find(|i| i["label"] == "abs").expect("abs");
     assert_eq!(abs["insertText"], "abs($1)");
     assert_eq!(abs["insertTextFormat"], 2);
@@ -132,22 +186,27 @@ async fn completion_items_carry_detail_snippets_and_sort_text() {
     change(
         &mut client,
         URI,
-        2,
+        4,
         "dim depth_sum as float\ndepth_sum = depth_sum + \n",
     )
     .await;
     let result = client
         .request("textDocument/completion", at(URI, 1, 24))
         .await;
-    let sum = result["items"]
-        .as_array()
-        .expect("items")
-        .iter()
-        .find(|i| i["label"] == "depth_sum")
-        .cloned()
-        .expect("variable");
+    let sum = &result["items"][0];
+    assert_eq!(sum["label"], "depth_sum");
     assert_eq!(sum["detail"], "dim depth_sum as float");
-    assert_eq!(sum["sortText"], "0depth_sum");
+    assert_eq!(sum["sortText"], "00000");
+    // After `as`: the types (same match and group: the shorter first).
+    change(&mut client, URI, 5, "dim n as \n").await;
+    assert_eq!(
+        labels(
+            &client
+                .request("textDocument/completion", at(URI, 0, 9))
+                .await
+        ),
+        ["float", "integer"]
+    );
 }
 
 #[tokio::test]

@@ -70,6 +70,13 @@ async fn diagnostics_have_codes_and_related_information() {
 async fn completion_after_incremental_edits_snippets_and_sensor_indices() {
     let mut client = fig2().await;
     // Start of a new line: mnemonics with operand shapes, `label`, directives.
+    let result = client
+        .request("textDocument/completion", at(URI, 30, 0))
+        .await;
+    assert!(labels(&result["items"]).contains(&"label".to_string()));
+    assert!(labels(&result["items"]).contains(&"nregs".to_string()));
+    assert_eq!(result["isIncomplete"], false);
+    // `st|`: what starts with it.
     client
         .notify(
             "textDocument/didChange",
@@ -89,10 +96,10 @@ async fn completion_after_incremental_edits_snippets_and_sensor_indices() {
         .expect("stores");
     assert_eq!(stores["detail"], "stores r,SENSOR");
     assert_eq!(stores["insertText"], "stores ${1:r0},${2:0}");
-    assert!(labels(items).contains(&"label".to_string()));
-    assert!(labels(items).contains(&"nregs".to_string()));
+    assert!(!labels(items).contains(&"label".to_string()));
 
-    // Where a store expects a sensor: only writable ones, inserting the index.
+    // Where a store expects a sensor: writable ones first (the first 100 of
+    // them, nothing typed), inserting the index.
     client
         .notify(
             "textDocument/didChange",
@@ -103,10 +110,22 @@ async fn completion_after_incremental_edits_snippets_and_sensor_indices() {
     let result = client
         .request("textDocument/completion", at(URI, 30, 10))
         .await;
+    assert_eq!(result["isIncomplete"], true);
     let items = result["items"].as_array().expect("items");
     assert!(items
         .iter()
         .all(|i| !i["filterText"].as_str().unwrap_or("").starts_with("m_")));
+    client
+        .notify(
+            "textDocument/didChange",
+            json!({ "textDocument": { "uri": URI, "version": 4 },
+            "contentChanges": [{ "range": range(30, 10, 30, 10), "text": "sci_ru" }] }),
+        )
+        .await;
+    let result = client
+        .request("textDocument/completion", at(URI, 30, 16))
+        .await;
+    let items = result["items"].as_array().expect("items");
     let behs = items
         .iter()
         .find(|i| i["label"] == "1387 sci_ruhp_behs")
@@ -116,6 +135,47 @@ async fn completion_after_incremental_edits_snippets_and_sensor_indices() {
         .as_str()
         .expect("detail")
         .contains("writable"));
+
+    // A load may read any sensor.
+    let result = client
+        .request("textDocument/completion", at(URI, 4, 9))
+        .await;
+    let depth = result["items"]
+        .as_array()
+        .expect("items")
+        .iter()
+        .find(|i| i["label"] == "444 m_depth")
+        .cloned()
+        .expect("m_depth");
+    assert_eq!(depth["detail"], "sensor 444 (m), read-only");
+    assert!(depth["documentation"]["value"]
+        .as_str()
+        .expect("docs")
+        .contains("Measured depth"));
+
+    // Labels after jumpi / cbr; registers where a register goes.
+    let result = client
+        .request("textDocument/completion", at(URI, 11, 6))
+        .await;
+    assert_eq!(
+        labels(&result["items"]),
+        ["0", "1", "2", "3", "4", "5", "6"]
+    );
+    let result = client
+        .request("textDocument/completion", at(URI, 7, 7))
+        .await;
+    assert_eq!(
+        labels(&result["items"]).len(),
+        7,
+        "cbr's true target is a label"
+    );
+    let result = client
+        .request("textDocument/completion", at(URI, 6, 6))
+        .await;
+    assert_eq!(
+        labels(&result["items"]),
+        ["r0", "r1", "r2", "r3", "r4", "r5", "r6", "r7"]
+    );
 }
 
 #[tokio::test]

@@ -309,6 +309,15 @@ test('activate registers every contributed command, the debugger and the compile
   );
   assert.ok(client.clientOptions.documentSelector.every((selector) => ['file', 'untitled'].includes(selector.scheme)));
   assert.deepEqual(client.clientOptions.initializationOptions, { masterdata: path.join(workspace, 'data/masterdata') });
+  // The client tells the server it runs the "Run" and "Debug" code lens commands.
+  const capabilities = {};
+  client.features.forEach((feature) => feature.fillClientCapabilities(capabilities));
+  assert.deepEqual(capabilities.experimental, { commands: { commands: ['gloc.runMission', 'gloc.debugScript'] } });
+  // The "Debug" lens passes the script's URI as a string: the debugger starts on that file.
+  await record.commands.get('gloc.debugScript')('file:///ws/missions/a.gbas');
+  assert.deepEqual(record.debugStarts.map((start) => start.configuration), [
+    { type: 'gloc', request: 'launch', name: 'Debug a.gbas', program: '/ws/missions/a.gbas' },
+  ]);
 
   // The debugger runs `gloc dap`.
   const descriptor = record.debugFactories.get('gloc').createDebugAdapterDescriptor({ workspaceFolder: undefined });

@@ -40,8 +40,11 @@ async function activate(context) {
     vscode.commands.registerCommand('gloc.showCompiledGloc', (/** @type {vscode.Uri | undefined} */ uri) =>
       showCompiledGloc(uri),
     ),
-    vscode.commands.registerCommand('gloc.runMission', (/** @type {vscode.Uri | undefined} */ uri) =>
-      runMission(uri, runOutput),
+    vscode.commands.registerCommand('gloc.runMission', (/** @type {vscode.Uri | string | undefined} */ uri) =>
+      runMission(/** @type {vscode.Uri | undefined} */ (helpers.commandUri(uri, vscode.Uri.parse)), runOutput),
+    ),
+    vscode.commands.registerCommand('gloc.debugScript', (/** @type {vscode.Uri | string | undefined} */ uri) =>
+      debugScript(/** @type {vscode.Uri | undefined} */ (helpers.commandUri(uri, vscode.Uri.parse))),
     ),
     vscode.debug.registerDebugAdapterDescriptorFactory('gloc', new GlocDebugAdapterFactory()),
     vscode.debug.registerDebugConfigurationProvider('gloc', new GlocDebugConfigurationProvider()),
@@ -171,6 +174,17 @@ async function startClient(/** @type {vscode.OutputChannel} */ outputChannel) {
     outputChannel,
   };
   client = new LanguageClient('gloc', 'GLOC Language Server', serverOptions, clientOptions);
+  // Tell the server which code lens commands this extension runs ("Run", "Debug").
+  client.registerFeature({
+    fillClientCapabilities(capabilities) {
+      capabilities.experimental = { ...(capabilities.experimental || {}), commands: { commands: helpers.CODE_LENS_COMMANDS } };
+    },
+    initialize() {},
+    getState() {
+      return { kind: 'static' };
+    },
+    clear() {},
+  });
   try {
     await client.start();
   } catch (error) {
@@ -293,6 +307,21 @@ async function showCompiledGloc(/** @type {vscode.Uri | undefined} */ uri) {
 // Run mission in simulator: `gloc run FILE --plot FILE.svg --summary json`, the output in an output
 // channel, the flight profile (in the extension's storage, replaced by the next run of the same
 // script) opened beside the script.
+
+/** Starts the debugger on a script (the "Debug" code lens; the launch is completed as for F5). */
+async function debugScript(/** @type {vscode.Uri | undefined} */ uri) {
+  const source = uri || vscode.window.activeTextEditor?.document.uri;
+  if (!source || source.scheme !== 'file') {
+    await vscode.window.showWarningMessage('GLOC: "Debug" needs a .gbas or .gloc script saved to a file.');
+    return;
+  }
+  await vscode.debug.startDebugging(vscode.workspace.getWorkspaceFolder(source), {
+    type: 'gloc',
+    request: 'launch',
+    name: `Debug ${path.basename(source.fsPath)}`,
+    program: source.fsPath,
+  });
+}
 
 async function runMission(
   /** @type {vscode.Uri | undefined} */ uri,

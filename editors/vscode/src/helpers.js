@@ -9,6 +9,28 @@ const path = require('path');
 /** The script languages the extension serves; their ids are also the debugger's languages. */
 const LANGUAGE_IDS = ['gbasic', 'gloc'];
 
+/**
+ * The commands this extension runs for the language server's "Run" and "Debug" code lenses (each
+ * takes the script's URI as a string). The client lists them in `experimental.commands.commands`
+ * (rust-analyzer's convention); the server shows those lenses only to a client that does.
+ */
+const CODE_LENS_COMMANDS = ['gloc.runMission', 'gloc.debugScript'];
+
+/**
+ * A command's URI argument as a vscode.Uri-like value: code lenses pass the URI as a string, menus
+ * pass a Uri. `parse` is vscode.Uri.parse.
+ * @template T
+ * @param {unknown} argument
+ * @param {(text: string) => T} parse
+ * @returns {T | object | undefined}
+ */
+function commandUri(argument, parse) {
+  if (typeof argument === 'string') {
+    return parse(argument);
+  }
+  return argument && typeof argument === 'object' ? argument : undefined;
+}
+
 /** Slocum mission files (`.mi`), mission argument files (`.ma`) and sensor lists (masterdata,
  * `.cac`): served by gloc lsp, not flown. */
 const MISSION_LANGUAGE_IDS = ['slocum_mission', 'slocum_ma', 'slocum_masterdata'];
@@ -215,7 +237,9 @@ function runSummary(stderr) {
 }
 
 module.exports = {
+  CODE_LENS_COMMANDS,
   COMPILED_GLOC_COMMAND,
+  commandUri,
   COMPILED_SCHEME,
   LANGUAGE_IDS,
   MISSION_LANGUAGE_IDS,

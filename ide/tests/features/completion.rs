@@ -63,7 +63,7 @@ fn gbasic_types_after_as() {
 }
 
 #[test]
-fn gbasic_expressions_offer_every_sensor_statements_only_writable_ones() {
+fn gbasic_expressions_offer_every_sensor_statements_mark_read_only_ones() {
     // In a condition: any sensor (the embedded list's m_depth* by index).
     check_completion(
         Gbasic,
@@ -77,9 +77,22 @@ fn gbasic_expressions_offer_every_sensor_statements_only_writable_ones() {
             m_depth_rejected [Sensor] sensor 446 (bool), read-only
         "#]],
     );
-    // At the start of a statement: a store target, so no `m_` sensor...
-    check_completion(Gbasic, "  m_dept$0\n", expect![[""]]);
-    // ...but the writable hook sensors.
+    // At the start of a statement: a store target. The read-only `m_` sensors are
+    // still offered (a user looking for m_depth finds it), marked as not storable;
+    // ranking puts the writable ones first (`completion::rank`).
+    check_completion(
+        Gbasic,
+        "  m_dept$0\n",
+        expect![[r#"
+            m_depth_subsampled [Sensor] sensor 165 (m), read-only: cannot be stored
+            m_depth_rate [Sensor] sensor 166 (m/s), read-only: cannot be stored
+            m_depth_rate_subsampled [Sensor] sensor 167 (m/s), read-only: cannot be stored
+            m_depth_state [Sensor] sensor 170 (enum), read-only: cannot be stored
+            m_depth [Sensor] sensor 444 (m), read-only: cannot be stored
+            m_depth_rejected [Sensor] sensor 446 (bool), read-only: cannot be stored
+        "#]],
+    );
+    // The writable hook sensors.
     check_completion(
         Gbasic,
         "  sci_ruhp$0\n",
@@ -189,8 +202,20 @@ fn gloc_operands_registers_labels_and_sensors_by_index() {
             1387 sci_ruhp_behs [Sensor] sensor 1387 (enum), writable => 1387
         "#]],
     );
+    // A read-only sensor after `stores` is still offered, marked as not storable.
     let text = format!("{SIMPLE_GLOC}stores r0,m_dept$0\n");
-    check_completion(Gloc, &text, expect![[""]]);
+    check_completion(
+        Gloc,
+        &text,
+        expect![[r#"
+            165 m_depth_subsampled [Sensor] sensor 165 (m), read-only: cannot be stored => 165
+            166 m_depth_rate [Sensor] sensor 166 (m/s), read-only: cannot be stored => 166
+            167 m_depth_rate_subsampled [Sensor] sensor 167 (m/s), read-only: cannot be stored => 167
+            170 m_depth_state [Sensor] sensor 170 (enum), read-only: cannot be stored => 170
+            444 m_depth [Sensor] sensor 444 (m), read-only: cannot be stored => 444
+            446 m_depth_rejected [Sensor] sensor 446 (bool), read-only: cannot be stored => 446
+        "#]],
+    );
     let text = format!("{SIMPLE_GLOC}loads m_depth_s$0\n");
     check_completion(
         Gloc,

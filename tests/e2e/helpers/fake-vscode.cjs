@@ -69,6 +69,7 @@ function createFakeVscode({ settings = {}, workspace, documents = {}, activeFile
     messages: [],
     debugFactories: new Map(),
     debugProviders: new Map(),
+    debugStarts: [],
     contentProviders: new Map(),
     clients: [],
     requests: [],
@@ -195,6 +196,10 @@ function createFakeVscode({ settings = {}, workspace, documents = {}, activeFile
         record.debugProviders.set(type, provider);
         return disposable;
       },
+      async startDebugging(folder, configuration) {
+        record.debugStarts.push({ folder, configuration });
+        return true;
+      },
     },
   };
 
@@ -206,7 +211,11 @@ function createFakeVscode({ settings = {}, workspace, documents = {}, activeFile
       this.clientOptions = clientOptions;
       this.code2ProtocolConverter = { asUri: (uri) => uri.toString() };
       this.notifications = [];
+      this.features = [];
       record.clients.push(this);
+    }
+    registerFeature(feature) {
+      this.features.push(feature);
     }
     async start() {}
     async stop() {}

@@ -116,7 +116,8 @@ async def test_argument_completion_has_units_default_and_doc(vscode, tmp_path): 
     assert "Dive: turn at this depth." in documentation.value
     behaviors = await vscode.text_document_completion_async(
         types.CompletionParams(
-            text_document=types.TextDocumentIdentifier(uri=uri), position=types.Position(line=0, character=11)
+            # Right after `behavior: ` (nothing typed): the server filters by the typed word.
+            text_document=types.TextDocumentIdentifier(uri=uri), position=types.Position(line=0, character=10)
         )
     )
     labels = {item.label for item in (behaviors.items if isinstance(behaviors, types.CompletionList) else behaviors)}

@@ -140,6 +140,12 @@ pub struct Machine {
     cycles_completed: u64,
     status: Status,
     dispatch: Dispatch,
+    /// Whether the registers agree with the loader's type analysis
+    /// (`code::Types`), so that threaded dispatch may run the handlers
+    /// specialised by it. Only [`Machine::set_register`] can break that (a
+    /// debugger storing a float where the code only ever puts integers); the
+    /// machine then runs the untyped handlers until [`Machine::reset`].
+    typed: bool,
 }
 
 /// How the inner loop stopped.
@@ -170,6 +176,7 @@ impl Machine {
             cycles_completed: 0,
             status: Status::Running,
             dispatch: Dispatch::default(),
+            typed: true,
         }
     }
 
@@ -212,6 +219,7 @@ impl Machine {
         self.in_cycle = false;
         self.cycles_completed = 0;
         self.status = Status::Running;
+        self.typed = true;
     }
 
     pub fn program(&self) -> &Arc<Program> {
@@ -265,6 +273,9 @@ impl Machine {
             .get_mut(register.index())
             .ok_or(AccessError::NoSuchRegister(register.0))?;
         *slot = value;
+        if !self.code.types.admits(self.pc as usize, register, value) {
+            self.typed = false;
+        }
         Ok(())
     }
 
@@ -631,7 +642,12 @@ impl Machine {
             Dispatch::Threaded => loop {
                 let mut context =
                     threaded::Context::new(&mut *host, &mut *memory, program, code.len());
-                match threaded::run(&code.threaded, registers, &mut pc, &mut fuel, &mut context) {
+                let slots = if self.typed {
+                    &code.typed
+                } else {
+                    &code.threaded
+                };
+                match threaded::run(slots, registers, &mut pc, &mut fuel, &mut context) {
                     threaded::Stop::Exit(exit) => break exit,
                     // An output op: the loop below runs it, with one unit of fuel.
                     threaded::Stop::RunInLoop => {

@@ -190,6 +190,12 @@ pub(super) struct Code {
     pub fused: Box<[Op]>,
     /// The fused code as threaded code (`vm/threaded.rs`): one slot per op.
     pub threaded: Box<[super::threaded::Slot]>,
+    /// The same, with handlers specialised by the registers' static types
+    /// ([`Types`]): they skip the tag tests the analysis makes needless. The
+    /// machine runs these while its registers agree with the analysis.
+    pub typed: Box<[super::threaded::Slot]>,
+    /// What each register can hold at each pc.
+    pub types: Types,
     /// One more than the highest register any op names (at least `nregs`): the
     /// size of a register file that every op can index without a check.
     pub register_bound: usize,
@@ -225,12 +231,21 @@ impl Code {
                 register_bound = register_bound.max(register.index() + 1);
             });
         }
+        let types = Types::new(&plain, program, register_bound);
+        let unknown = |_: usize, _: Reg| ANY;
+        let known = |pc: usize, register: Reg| types.at(pc, register);
         Code {
             threaded: fused
                 .iter()
                 .enumerate()
-                .map(|(pc, &op)| super::threaded::Slot::new(op, pc))
+                .map(|(pc, &op)| super::threaded::Slot::new(op, pc, &plain, &unknown))
                 .collect(),
+            typed: fused
+                .iter()
+                .enumerate()
+                .map(|(pc, &op)| super::threaded::Slot::new(op, pc, &plain, &known))
+                .collect(),
+            types,
             plain: plain.into_boxed_slice(),
             fused: fused.into_boxed_slice(),
             register_bound,
@@ -242,6 +257,186 @@ impl Code {
     pub fn len(&self) -> usize {
         self.plain.len()
     }
+}
+
+/// A set of register types: [`INT`], [`FLOAT`], both ([`ANY`]), or none
+/// (a pc no execution reaches).
+pub(super) type TypeSet = u8;
+pub(super) const INT: TypeSet = 1;
+pub(super) const FLOAT: TypeSet = 2;
+pub(super) const ANY: TypeSet = INT | FLOAT;
+
+/// The most (pc, register) pairs the type analysis tracks (one byte each);
+/// a larger program gets no analysis: every register may hold anything.
+const MAX_TYPED: usize = 1 << 22;
+
+/// What each register can hold at each pc, over every execution from the
+/// start (pc 0, every register `Int(0)`): a forward data-flow analysis over
+/// the control-flow graph, one [`TypeSet`] per register joined at merges.
+/// `-O` gives one register to several variables, so the types are per pc,
+/// not per program. Memory is not tracked (a load may give either type).
+#[derive(Debug)]
+pub(super) struct Types {
+    registers: usize,
+    /// `registers` sets per pc, or nothing when the program is too large.
+    sets: Option<Box<[TypeSet]>>,
+}
+
+impl Types {
+    fn new(plain: &[Op], program: &Program, registers: usize) -> Types {
+        let unanalysed = Types {
+            registers,
+            sets: None,
+        };
+        let Some(size) = plain.len().checked_mul(registers) else {
+            return unanalysed;
+        };
+        if size > MAX_TYPED || registers == 0 {
+            return unanalysed;
+        }
+        let mut sets = vec![0 as TypeSet; size];
+        sets[..registers].fill(INT);
+        let labels: Vec<usize> = program
+            .label_pcs
+            .iter()
+            .flatten()
+            .map(|pc| pc.index().min(plain.len() - 1))
+            .collect();
+        let mut pending = vec![false; plain.len()];
+        let mut work = vec![0usize];
+        pending[0] = true;
+        let mut out = vec![0 as TypeSet; registers];
+        while let Some(pc) = work.pop() {
+            pending[pc] = false;
+            out.copy_from_slice(&sets[pc * registers..(pc + 1) * registers]);
+            let op = plain[pc];
+            if let Some((dst, set)) = result_type(&op, &out) {
+                out[dst.index()] = set;
+            }
+            let mut flow = |to: usize| {
+                let at = &mut sets[to * registers..(to + 1) * registers];
+                let mut changed = false;
+                for (into, &from) in at.iter_mut().zip(&out) {
+                    if *into | from != *into {
+                        *into |= from;
+                        changed = true;
+                    }
+                }
+                if changed && !pending[to] {
+                    pending[to] = true;
+                    work.push(to);
+                }
+            };
+            match op {
+                Op::Halt {} => {}
+                Op::Jump { target } => flow(target.index()),
+                Op::Branch {
+                    if_true, if_false, ..
+                } => {
+                    flow(if_true.index());
+                    flow(if_false.index());
+                }
+                Op::JumpIndirect { .. } => labels.iter().for_each(|&to| flow(to)),
+                _ => {
+                    if pc + 1 < plain.len() {
+                        flow(pc + 1);
+                    }
+                }
+            }
+        }
+        Types {
+            registers,
+            sets: Some(sets.into_boxed_slice()),
+        }
+    }
+
+    /// What `register` can hold when the machine is at `pc`.
+    pub fn at(&self, pc: usize, register: Reg) -> TypeSet {
+        match &self.sets {
+            Some(sets) if register.index() < self.registers => sets
+                .get(pc * self.registers + register.index())
+                .copied()
+                .unwrap_or(ANY),
+            _ => ANY,
+        }
+    }
+
+    /// Whether `value` in `register` at `pc` is a state the analysis covers
+    /// (the analysis is per register, so each register is checked alone).
+    pub fn admits(&self, pc: usize, register: Reg, value: Value) -> bool {
+        let set = match value {
+            Value::Int(_) => INT,
+            Value::Float(_) => FLOAT,
+        };
+        self.at(pc, register) & set != 0
+    }
+}
+
+/// The register a plain op writes and what it can hold afterwards, given
+/// what the registers can hold before it (`before`).
+fn result_type(op: &Op, before: &[TypeSet]) -> Option<(Reg, TypeSet)> {
+    let of = |register: Reg| before[register.index()];
+    // Integer op integer is an integer, any float makes a float (`arithmetic`).
+    let arithmetic = |a: Reg, b: Reg| {
+        let (x, y) = (of(a), of(b));
+        let int = if x & INT != 0 && y & INT != 0 { INT } else { 0 };
+        let float = if (x | y) & FLOAT != 0 { FLOAT } else { 0 };
+        int | float
+    };
+    Some(match *op {
+        Op::LoadSensor { dst, .. }
+        | Op::LoadFloat { dst, .. }
+        | Op::Sqrt { dst, .. }
+        | Op::IntToFloat { dst, .. } => (dst, FLOAT),
+        Op::LoadInt { dst, .. }
+        | Op::And { dst, .. }
+        | Op::Or { dst, .. }
+        | Op::Xor { dst, .. }
+        | Op::CmpEq { dst, .. }
+        | Op::CmpNe { dst, .. }
+        | Op::CmpLt { dst, .. }
+        | Op::CmpLe { dst, .. }
+        | Op::CmpGt { dst, .. }
+        | Op::CmpGe { dst, .. }
+        | Op::FloatToInt { dst, .. }
+        | Op::Not { dst, .. } => (dst, INT),
+        Op::Move { src, dst } | Op::Neg { src, dst } | Op::Abs { src, dst } => (dst, of(src)),
+        Op::Add { a, b, dst }
+        | Op::Sub { a, b, dst }
+        | Op::Mul { a, b, dst }
+        | Op::Div { a, b, dst }
+        | Op::Mod { a, b, dst }
+        | Op::Min { a, b, dst }
+        | Op::Max { a, b, dst } => (dst, arithmetic(a, b)),
+        Op::LoadMem { dst, .. } | Op::LoadMemAt { dst, .. } => (dst, ANY),
+        Op::StoreSensor { .. }
+        | Op::StoreMem { .. }
+        | Op::StoreMemAt { .. }
+        | Op::Branch { .. }
+        | Op::Jump { .. }
+        | Op::JumpIndirect { .. }
+        | Op::Yield {}
+        | Op::Halt {}
+        | Op::Nop {}
+        | Op::Write { .. }
+        | Op::WriteText { .. }
+        | Op::Print { .. }
+        | Op::PrintText { .. } => return None,
+        // Only plain code is analysed.
+        Op::AddK { .. }
+        | Op::SubK { .. }
+        | Op::MulK { .. }
+        | Op::DivK { .. }
+        | Op::ModK { .. }
+        | Op::IntToFloatAdd { .. }
+        | Op::CmpBr { .. }
+        | Op::CmpKBr { .. }
+        | Op::JumpCmpBr { .. }
+        | Op::JumpCmpKBr { .. }
+        | Op::AddJumpCmpBr { .. }
+        | Op::AddJumpCmpKBr { .. }
+        | Op::RangeBr { .. } => return None,
+    })
 }
 
 /// How many GLOC instructions an op covers (what it costs in fuel).

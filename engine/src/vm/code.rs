@@ -811,6 +811,39 @@ mod tests {
     }
 
     #[test]
+    fn register_types_follow_the_code() {
+        // r0 is an integer until `i2d` makes it a float; r1 is one on one path and
+        // the other on the other, so both after the join; r2 comes from memory;
+        // pc 9 is never reached. Worked by hand, pc by pc.
+        let code = code(
+            "loadi 1,r0\ncbr r0,1,2\nlabel 1\nloadi 2,r1\njumpi 3\nlabel 2\nloadd 2.0,r1\n\
+             label 3\ni2d r0,r0\nloadm r0,r2\nhalt\nadd r0,r0,r0",
+        );
+        let at = |pc: usize, register: u32| code.types.at(pc, Reg(register));
+        // pc: 0 loadi, 1 cbr, 2 loadi r1, 3 jumpi, 4 loadd r1, 5 i2d, 6 loadm, 7 halt, 8 add.
+        assert_eq!(
+            (at(0, 0), at(1, 0), at(5, 0), at(6, 0)),
+            (INT, INT, INT, FLOAT)
+        );
+        assert_eq!(
+            (at(2, 1), at(3, 1), at(4, 1), at(5, 1)),
+            (INT, INT, INT, ANY)
+        );
+        assert_eq!((at(6, 2), at(7, 2)), (INT, ANY));
+        assert_eq!(at(8, 0), 0, "an unreached pc has no types");
+        assert!(code.types.admits(5, Reg(1), Value::Float(0.5)));
+        assert!(!code.types.admits(5, Reg(0), Value::Float(0.5)));
+    }
+
+    #[test]
+    fn an_indirect_jump_reaches_every_label() {
+        // `jump r1` may land on label 1, where r0 then holds either type.
+        let code = code("loadi 1,r1\nloadd 0.5,r0\njump r1\nlabel 1\nloadi 0,r0\nyield\njump r1");
+        assert_eq!(code.types.at(3, Reg(0)), ANY);
+        assert_eq!(code.types.at(4, Reg(0)), INT);
+    }
+
+    #[test]
     fn groups_that_could_trap_or_mean_something_else_stay_plain() {
         // `mod` by the constant 0 traps; `K - a` is not `a - K`; `add t,t,d` adds K to K;
         // a branch on another register than the compare wrote is not a compare-and-branch.

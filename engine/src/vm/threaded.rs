@@ -148,12 +148,7 @@ impl Slot {
     /// comparison, constant type and operand types) and its branch targets.
     /// `types(pc, register)` says what `register` can hold at `pc` of the plain
     /// code (`plain`); [`ANY`] everywhere gives the untyped handlers.
-    pub fn new(
-        op: Op,
-        pc: usize,
-        plain: &[Op],
-        types: &dyn Fn(usize, Reg) -> TypeSet,
-    ) -> Slot {
+    pub fn new(op: Op, pc: usize, plain: &[Op], types: &dyn Fn(usize, Reg) -> TypeSet) -> Slot {
         macro_rules! by_cmp {
             ($cmp:expr, $handler:ident $(, $rest:expr)*) => {
                 [
@@ -323,14 +318,18 @@ impl Slot {
                 }
             }
             // `add p,q,sum` at pc, `jumpi` at pc + 1, the compare at its target.
-            Op::AddJumpCmpBr { cmp, p, q, a, b, .. } => {
+            Op::AddJumpCmpBr {
+                cmp, p, q, a, b, ..
+            } => {
                 let t = target(pc + 1).map_or(ANY, |to| all(&[(pc, p), (pc, q), (to, a), (to, b)]));
                 match t {
                     INT => by_cmp!(cmp, op_add_jump_cmp_br_int, INT),
                     _ => by_cmp!(cmp, op_add_jump_cmp_br_int, ANY),
                 }
             }
-            Op::AddJumpCmpKBr { cmp, k, p, q, a, .. } if is_int(k) => {
+            Op::AddJumpCmpKBr {
+                cmp, k, p, q, a, ..
+            } if is_int(k) => {
                 let t = target(pc + 1).map_or(ANY, |to| all(&[(pc, p), (pc, q), (to + 1, a)]));
                 match t {
                     INT => by_cmp!(cmp, op_add_jump_cmp_k_br_int, INT),
@@ -339,10 +338,12 @@ impl Slot {
             }
             Op::AddJumpCmpKBr { cmp, .. } => by_cmp!(cmp, op_add_jump_cmp_k_br, false),
             // The index is compared at pc + 1 (and pc + 3, unchanged).
-            Op::RangeBr { lo, hi, x, .. } if is_int(lo) && is_int(hi) => match all(&[(pc + 1, x)]) {
-                INT => op_range_br_int::<INT>,
-                _ => op_range_br_int::<ANY>,
-            },
+            Op::RangeBr { lo, hi, x, .. } if is_int(lo) && is_int(hi) => {
+                match all(&[(pc + 1, x)]) {
+                    INT => op_range_br_int::<INT>,
+                    _ => op_range_br_int::<ANY>,
+                }
+            }
             Op::RangeBr { .. } => op_range_br::<false>,
         };
         let offset = |target: Pc| {

@@ -202,7 +202,7 @@ impl Slot {
             Op::StoreSensor { .. } => op_store_sensor,
             Op::LoadInt { .. } => op_load_int,
             Op::LoadFloat { .. } => op_load_float,
-            Op::Move { .. } => op_move::<ANY>,
+            Op::Move { src, .. } => by_type!(all(&[(pc, src)]), op_move),
             Op::Add { a, b, .. } => match all(&[(pc, a), (pc, b)]) {
                 FLOAT => op_add::<FLOAT>,
                 t => by_type!(t, op_add_int),
@@ -225,9 +225,9 @@ impl Slot {
             },
             Op::Min { a, b, .. } => by_type!(all(&[(pc, a), (pc, b)]), op_min),
             Op::Max { a, b, .. } => by_type!(all(&[(pc, a), (pc, b)]), op_max),
-            Op::And { .. } => op_and::<ANY>,
-            Op::Or { .. } => op_or::<ANY>,
-            Op::Xor { .. } => op_xor::<ANY>,
+            Op::And { a, b, .. } => by_type!(all(&[(pc, a), (pc, b)]), op_and),
+            Op::Or { a, b, .. } => by_type!(all(&[(pc, a), (pc, b)]), op_or),
+            Op::Xor { a, b, .. } => by_type!(all(&[(pc, a), (pc, b)]), op_xor),
             Op::CmpEq { a, b, .. } => by_type!(all(&[(pc, a), (pc, b)]), op_cmp_eq),
             Op::CmpNe { a, b, .. } => by_type!(all(&[(pc, a), (pc, b)]), op_cmp_ne),
             Op::CmpLt { a, b, .. } => by_type!(all(&[(pc, a), (pc, b)]), op_cmp_lt),
@@ -236,10 +236,10 @@ impl Slot {
             Op::CmpGe { a, b, .. } => by_type!(all(&[(pc, a), (pc, b)]), op_cmp_ge),
             Op::Neg { src, .. } => by_type!(all(&[(pc, src)]), op_neg),
             Op::Abs { src, .. } => by_type!(all(&[(pc, src)]), op_abs),
-            Op::Sqrt { .. } => op_sqrt::<ANY>,
+            Op::Sqrt { src, .. } => by_type!(all(&[(pc, src)]), op_sqrt),
             Op::IntToFloat { src, .. } => by_type!(all(&[(pc, src)]), op_int_to_float),
             Op::FloatToInt { src, .. } => by_type!(all(&[(pc, src)]), op_float_to_int),
-            Op::Not { .. } => op_not::<ANY>,
+            Op::Not { src, .. } => by_type!(all(&[(pc, src)]), op_not),
             Op::LoadMem { addr, .. } => match all(&[(pc, addr)]) {
                 INT => op_load_mem_int::<INT>,
                 _ => op_load_mem_int::<ANY>,
@@ -250,7 +250,7 @@ impl Slot {
                 _ => op_store_mem_int::<ANY>,
             },
             Op::StoreMemAt { .. } => op_store_mem_at,
-            Op::Branch { .. } => op_branch,
+            Op::Branch { cond, .. } => by_type!(all(&[(pc, cond)]), op_branch),
             Op::Jump { .. } => op_jump,
             Op::JumpIndirect { .. } => op_jump_indirect,
             Op::Yield {} => op_yield,
@@ -765,8 +765,9 @@ handler! {
 }
 
 branch_handler! {
-    fn op_branch(Branch { cond, if_true, if_false }, width 1) |ip, regs, fuel, context| {
-        get(regs, cond).is_true()
+    fn op_branch<const T: TypeSet>(Branch { cond, if_true, if_false }, width 1)
+    |ip, regs, fuel, context| {
+        read::<T>(regs, cond).is_true()
     }
 }
 

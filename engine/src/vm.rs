@@ -572,6 +572,20 @@ impl Machine {
                             reg!(sum) = add(reg!(p), reg!(q));
                             compare_branch!(3, cmp, a, reg!(b), c, if_true, if_false)
                         }
+                        Op::JumpAddJumpCmpBr {
+                            p,
+                            q,
+                            sum,
+                            cmp,
+                            a,
+                            b,
+                            c,
+                            if_true,
+                            if_false,
+                        } => {
+                            reg!(sum) = add(reg!(p), reg!(q));
+                            compare_branch!(4, cmp, a, reg!(b), c, if_true, if_false)
+                        }
                         Op::AddJumpCmpKBr {
                             p,
                             q,
@@ -642,10 +656,9 @@ impl Machine {
             Dispatch::Threaded => loop {
                 let mut context =
                     threaded::Context::new(&mut *host, &mut *memory, program, code.len());
-                let slots = if self.typed {
-                    &code.typed
-                } else {
-                    &code.threaded
+                let slots = match &code.typed {
+                    Some(typed) if self.typed => typed,
+                    _ => &code.threaded,
                 };
                 match threaded::run(slots, registers, &mut pc, &mut fuel, &mut context) {
                     threaded::Stop::Exit(exit) => break exit,

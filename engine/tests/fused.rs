@@ -635,3 +635,25 @@ fn a_register_set_against_its_static_type_is_honoured() {
         "threaded then steps against the match loop"
     );
 }
+
+/// A `jumpi` to a loop's step (the end of an `if` branch in the body) is one
+/// op with the step, the back edge and the test: every budget stops where
+/// single steps stop, and the sum of the even numbers 2..=10 is 30 (by hand).
+#[test]
+fn a_jump_to_a_loop_step_gives_the_hand_worked_sum() {
+    let text = script(
+        8,
+        5,
+        0,
+        &lines(
+            "loadi 1,r0\nloadi 10,r1\nloadi 1,r2\nlabel 0\ncmple r0,r1,r3\ncbr r3,1,3\n\
+             label 1\nloadi 2,r4\nmod r0,r4,r4\ncbr r4,2,4\nlabel 4\nadd r5,r0,r5\njumpi 2\n\
+             label 2\nadd r0,r2,r0\njumpi 0\nlabel 3\nyield",
+        ),
+    );
+    for budget in (1..=80).chain([10_000]) {
+        agree(&text, 3, budget, 0.0);
+    }
+    let machine = agree(&text, 1, 10_000, 0.0);
+    assert_eq!(machine.registers()[5], Value::Int(30));
+}

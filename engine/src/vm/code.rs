@@ -126,6 +126,7 @@ ops! {
         JumpCmpBr { cmp: Cmp, a: Reg, b: Reg, c: Reg, if_true: Pc, if_false: Pc },
         JumpCmpKBr { cmp: Cmp, a: Reg, k: Value, t: Reg, c: Reg, if_true: Pc, if_false: Pc },
         AddJumpCmpBr { p: Reg, q: Reg, sum: Reg, cmp: Cmp, a: Reg, b: Reg, c: Reg, if_true: Pc, if_false: Pc },
+        JumpAddJumpCmpBr { p: Reg, q: Reg, sum: Reg, cmp: Cmp, a: Reg, b: Reg, c: Reg, if_true: Pc, if_false: Pc },
         AddJumpCmpKBr { p: Reg, q: Reg, sum: Reg, cmp: Cmp, a: Reg, k: Value, t: Reg, c: Reg, if_true: Pc, if_false: Pc },
         RangeBr { x: Reg, lo: Value, t_lo: Reg, c_lo: Reg, hi: Value, t_hi: Reg, c_hi: Reg, d: Reg, if_out: Pc, if_in: Pc },
     }
@@ -192,8 +193,9 @@ pub(super) struct Code {
     pub threaded: Box<[super::threaded::Slot]>,
     /// The same, with handlers specialised by the registers' static types
     /// ([`Types`]): they skip the tag tests the analysis makes needless. The
-    /// machine runs these while its registers agree with the analysis.
-    pub typed: Box<[super::threaded::Slot]>,
+    /// machine runs these while its registers agree with the analysis. None
+    /// when the program was too large to analyse.
+    pub typed: Option<Box<[super::threaded::Slot]>>,
     /// What each register can hold at each pc.
     pub types: Types,
     /// One more than the highest register any op names (at least `nregs`): the
@@ -240,11 +242,13 @@ impl Code {
                 .enumerate()
                 .map(|(pc, &op)| super::threaded::Slot::new(op, pc, &plain, &unknown))
                 .collect(),
-            typed: fused
-                .iter()
-                .enumerate()
-                .map(|(pc, &op)| super::threaded::Slot::new(op, pc, &plain, &known))
-                .collect(),
+            typed: types.sets.is_some().then(|| {
+                fused
+                    .iter()
+                    .enumerate()
+                    .map(|(pc, &op)| super::threaded::Slot::new(op, pc, &plain, &known))
+                    .collect()
+            }),
             types,
             plain: plain.into_boxed_slice(),
             fused: fused.into_boxed_slice(),
@@ -269,6 +273,13 @@ pub(super) const ANY: TypeSet = INT | FLOAT;
 /// The most (pc, register) pairs the type analysis tracks (one byte each);
 /// a larger program gets no analysis: every register may hold anything.
 const MAX_TYPED: usize = 1 << 22;
+
+/// The most register sets the analysis may join, in units of [`MAX_TYPED`]:
+/// a pc is visited again each time a set at it grows, which real code does a
+/// few times, but a contrived one (many registers, many labels reached by
+/// indirect jumps) could do far more often; past this the analysis gives up
+/// (a few tens of milliseconds at most).
+const MAX_JOINS: usize = 16;
 
 /// What each register can hold at each pc, over every execution from the
 /// start (pc 0, every register `Int(0)`): a forward data-flow analysis over
@@ -306,6 +317,7 @@ impl Types {
         let mut work = vec![0usize];
         pending[0] = true;
         let mut out = vec![0 as TypeSet; registers];
+        let mut budget = MAX_JOINS * MAX_TYPED;
         while let Some(pc) = work.pop() {
             pending[pc] = false;
             out.copy_from_slice(&sets[pc * registers..(pc + 1) * registers]);
@@ -314,6 +326,7 @@ impl Types {
                 out[dst.index()] = set;
             }
             let mut flow = |to: usize| {
+                budget = budget.saturating_sub(registers);
                 let at = &mut sets[to * registers..(to + 1) * registers];
                 let mut changed = false;
                 for (into, &from) in at.iter_mut().zip(&out) {
@@ -342,6 +355,9 @@ impl Types {
                         flow(pc + 1);
                     }
                 }
+            }
+            if budget == 0 {
+                return unanalysed;
             }
         }
         Types {
@@ -434,6 +450,7 @@ fn result_type(op: &Op, before: &[TypeSet]) -> Option<(Reg, TypeSet)> {
         | Op::JumpCmpBr { .. }
         | Op::JumpCmpKBr { .. }
         | Op::AddJumpCmpBr { .. }
+        | Op::JumpAddJumpCmpBr { .. }
         | Op::AddJumpCmpKBr { .. }
         | Op::RangeBr { .. } => return None,
     })
@@ -452,7 +469,7 @@ pub(super) fn width(op: &Op) -> u64 {
         | Op::CmpBr { .. } => 2,
         Op::CmpKBr { .. } | Op::JumpCmpBr { .. } => 3,
         Op::JumpCmpKBr { .. } | Op::AddJumpCmpBr { .. } => 4,
-        Op::AddJumpCmpKBr { .. } => 5,
+        Op::AddJumpCmpKBr { .. } | Op::JumpAddJumpCmpBr { .. } => 5,
         Op::RangeBr { .. } => 6,
         _ => 1,
     }
@@ -638,8 +655,43 @@ fn range_check(window: &[Instr]) -> Option<Op> {
 /// Jump threading: a `jumpi` whose target starts a fused compare-and-branch
 /// does the compare itself (the loop's back edge and its test in one dispatch),
 /// and an `add` just before such a `jumpi` joins it (a `for` loop's step, back
-/// edge and test in one dispatch, as Lua's `FORLOOP`).
+/// edge and test in one dispatch, as Lua's `FORLOOP`). Then a `jumpi` to such
+/// a step does it too (the end of an `if` branch inside the loop body).
 fn thread_jumps(fused: &mut [Op]) {
+    thread_jumps_to_tests(fused);
+    for index in 0..fused.len() {
+        let Op::Jump { target } = fused[index] else {
+            continue;
+        };
+        if let Some(&Op::AddJumpCmpBr {
+            p,
+            q,
+            sum,
+            cmp,
+            a,
+            b,
+            c,
+            if_true,
+            if_false,
+        }) = fused.get(target.index())
+        {
+            fused[index] = Op::JumpAddJumpCmpBr {
+                p,
+                q,
+                sum,
+                cmp,
+                a,
+                b,
+                c,
+                if_true,
+                if_false,
+            };
+        }
+    }
+}
+
+/// The first two steps of [`thread_jumps`].
+fn thread_jumps_to_tests(fused: &mut [Op]) {
     for index in 0..fused.len() {
         let Op::Jump { target } = fused[index] else {
             continue;
@@ -836,11 +888,50 @@ mod tests {
     }
 
     #[test]
+    fn a_program_too_large_to_analyse_runs_untyped() {
+        // 65,536 registers × 70 pcs is over MAX_TYPED: no analysis, no typed slots.
+        let body: String = (0..64).map(|i| format!("loadi {i},r65535\n")).collect();
+        let text = format!("nregs 65536\nnblbs 1\nninstr 65\n{body}yield");
+        let checked = gloc::check(
+            &gloc::parse(&text),
+            &SensorList::embedded(),
+            &CheckOptions::default(),
+        );
+        let code = Code::new(&checked.program.expect("the test script checks"));
+        assert!(code.typed.is_none());
+        assert_eq!(code.types.at(3, Reg(65535)), ANY);
+    }
+
+    #[test]
     fn an_indirect_jump_reaches_every_label() {
         // `jump r1` may land on label 1, where r0 then holds either type.
         let code = code("loadi 1,r1\nloadd 0.5,r0\njump r1\nlabel 1\nloadi 0,r0\nyield\njump r1");
         assert_eq!(code.types.at(3, Reg(0)), ANY);
         assert_eq!(code.types.at(4, Reg(0)), INT);
+    }
+
+    #[test]
+    fn a_jump_to_a_loop_step_joins_it() {
+        // The end of an `if` branch in a loop body: `jumpi` to the step `add`,
+        // whose back edge and test are already one op.
+        let code = code(
+            "label 0\ncmple r0,r1,r3\ncbr r3,1,3\nlabel 1\nloadi 5,r4\njumpi 2\nlabel 2\n\
+             add r0,r2,r0\njumpi 0\nlabel 3\nyield",
+        );
+        let widths: Vec<u64> = code.fused.iter().map(width).collect();
+        // pc: 0 cmple+cbr, 1 cbr, 2 loadi, 3 jumpi+add+jumpi+cmple+cbr, 4 add+jumpi+cmple+cbr,
+        // 5 jumpi+cmple+cbr, 6 yield, 7 halt.
+        assert_eq!(widths, [2, 1, 1, 5, 4, 3, 1, 1], "{:#?}", code.fused);
+        assert!(matches!(
+            code.fused[3],
+            Op::JumpAddJumpCmpBr {
+                cmp: Cmp::Le,
+                sum: Reg(0),
+                if_true: Pc(2),
+                if_false: Pc(6),
+                ..
+            }
+        ));
     }
 
     #[test]

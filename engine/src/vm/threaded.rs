@@ -327,6 +327,20 @@ impl Slot {
                     _ => by_cmp!(cmp, op_add_jump_cmp_br_int, ANY),
                 }
             }
+            // `jumpi` at pc, then the above at its target.
+            Op::JumpAddJumpCmpBr {
+                cmp, p, q, a, b, ..
+            } => {
+                let t = target(pc)
+                    .and_then(|to| Some((to, target(to + 1)?)))
+                    .map_or(ANY, |(to, test)| {
+                        all(&[(to, p), (to, q), (test, a), (test, b)])
+                    });
+                match t {
+                    INT => by_cmp!(cmp, op_jump_add_jump_cmp_br_int, INT),
+                    _ => by_cmp!(cmp, op_jump_add_jump_cmp_br_int, ANY),
+                }
+            }
             Op::AddJumpCmpKBr {
                 cmp, k, p, q, a, ..
             } if is_int(k) => {
@@ -367,6 +381,9 @@ impl Slot {
                 if_true, if_false, ..
             }
             | Op::AddJumpCmpBr {
+                if_true, if_false, ..
+            }
+            | Op::JumpAddJumpCmpBr {
                 if_true, if_false, ..
             }
             | Op::AddJumpCmpKBr {
@@ -817,16 +834,27 @@ handler! {
     }
 }
 
-branch_handler! {
-    fn op_add_jump_cmp_br<const C: usize>(
-        AddJumpCmpBr { p, q, sum, cmp, a, b, c, if_true, if_false }, width 4
-    )
-    |ip, regs, fuel, context| {
-        set(regs, sum, add(get(regs, p), get(regs, q)));
-        let result = compare(CMPS[C], get(regs, a), get(regs, b));
-        set(regs, c, truth(result));
-        result
-    }
+/// A loop's step `add`, back edge and test (and, for `JumpAddJumpCmpBr`, the
+/// `jumpi` that led to the step): the general handlers.
+macro_rules! add_jump_compare_and_branch {
+    ($($name:ident, $variant:ident, $width:expr;)*) => {$(
+        branch_handler! {
+            fn $name<const C: usize>(
+                $variant { p, q, sum, cmp, a, b, c, if_true, if_false }, width $width
+            )
+            |ip, regs, fuel, context| {
+                set(regs, sum, add(get(regs, p), get(regs, q)));
+                let result = compare(CMPS[C], get(regs, a), get(regs, b));
+                set(regs, c, truth(result));
+                result
+            }
+        }
+    )*};
+}
+
+add_jump_compare_and_branch! {
+    op_add_jump_cmp_br, AddJumpCmpBr, 4;
+    op_jump_add_jump_cmp_br, JumpAddJumpCmpBr, 5;
 }
 
 branch_handler! {
@@ -915,26 +943,40 @@ integer_with_constant! {
     op_mul_k_int, MulK, op_mul_k, wrapping_mul;
 }
 
-branch_handler! {
-    fn op_add_jump_cmp_br_int<const C: usize, const T: TypeSet>(
-        AddJumpCmpBr { p, q, sum, cmp, a, b, c, if_true, if_false }, width 4
-    )
-    |ip, regs, fuel, context| {
-        let (Value::Int(x), Value::Int(y), Value::Int(_), Value::Int(_)) =
-            (read::<T>(regs, p), read::<T>(regs, q), read::<T>(regs, a), read::<T>(regs, b))
-        else {
-            return op_add_jump_cmp_br::<C>(ip, regs, fuel + 4, context);
-        };
-        set(regs, sum, Value::Int(x.wrapping_add(y)));
-        // Read after the write: `a` or `b` may be `sum`, an integer as well.
-        let (Value::Int(u), Value::Int(v)) = (read::<INT>(regs, a), read::<INT>(regs, b)) else {
-            // SAFETY: both were integers and the only write was an integer.
-            unreachable_unchecked()
-        };
-        let result = compare(CMPS[C], Value::Int(u), Value::Int(v));
-        set(regs, c, truth(result));
-        result
-    }
+/// Integer fast paths of [`add_jump_compare_and_branch`].
+macro_rules! integer_add_jump_compare_and_branch {
+    ($($name:ident, $variant:ident, $general:ident, $width:expr;)*) => {$(
+        branch_handler! {
+            fn $name<const C: usize, const T: TypeSet>(
+                $variant { p, q, sum, cmp, a, b, c, if_true, if_false }, width $width
+            )
+            |ip, regs, fuel, context| {
+                let (Value::Int(x), Value::Int(y), Value::Int(_), Value::Int(_)) = (
+                    read::<T>(regs, p),
+                    read::<T>(regs, q),
+                    read::<T>(regs, a),
+                    read::<T>(regs, b),
+                ) else {
+                    return $general::<C>(ip, regs, fuel + $width, context);
+                };
+                set(regs, sum, Value::Int(x.wrapping_add(y)));
+                // Read after the write: `a` or `b` may be `sum`, an integer as well.
+                let (Value::Int(u), Value::Int(v)) = (read::<INT>(regs, a), read::<INT>(regs, b))
+                else {
+                    // SAFETY: `read::<INT>` gives integers.
+                    unreachable_unchecked()
+                };
+                let result = compare(CMPS[C], Value::Int(u), Value::Int(v));
+                set(regs, c, truth(result));
+                result
+            }
+        }
+    )*};
+}
+
+integer_add_jump_compare_and_branch! {
+    op_add_jump_cmp_br_int, AddJumpCmpBr, op_add_jump_cmp_br, 4;
+    op_jump_add_jump_cmp_br_int, JumpAddJumpCmpBr, op_jump_add_jump_cmp_br, 5;
 }
 
 branch_handler! {

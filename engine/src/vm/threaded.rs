@@ -33,6 +33,13 @@
 //! handler branches on its condition and then jumps (`branch_handler!`): a
 //! conditional branch the predictor sees, where a select feeding one indirect
 //! jump ran the branchy `states` benchmark at half the speed.
+//!
+//! Each handler that reads registers also has instances for operands of one
+//! known type (a const parameter `T`, read through [`read`]): `Code::typed`
+//! uses them where the loader's type analysis (`code::Types`) proves the type
+//! at that pc, so the tag tests and the fallback fold away; `Code::threaded`
+//! uses the untyped ones, which the machine runs once a debugger has stored a
+//! value the analysis does not allow.
 
 use std::hint::unreachable_unchecked;
 

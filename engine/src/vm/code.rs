@@ -274,6 +274,11 @@ pub(super) const ANY: TypeSet = INT | FLOAT;
 /// a larger program gets no analysis: every register may hold anything.
 const MAX_TYPED: usize = 1 << 22;
 
+/// The most pcs a program may have to be analysed: the typed slots are a
+/// second copy of the threaded code (96 bytes per op), which a script of a
+/// million instructions should not pay for; real scripts have a few thousand.
+const MAX_TYPED_PCS: usize = 1 << 16;
+
 /// The most register sets the analysis may join, in units of [`MAX_TYPED`]:
 /// a pc is visited again each time a set at it grows, which real code does a
 /// few times, but a contrived one (many registers, many labels reached by
@@ -302,7 +307,7 @@ impl Types {
         let Some(size) = plain.len().checked_mul(registers) else {
             return unanalysed;
         };
-        if size > MAX_TYPED || registers == 0 {
+        if size > MAX_TYPED || plain.len() > MAX_TYPED_PCS || registers == 0 {
             return unanalysed;
         }
         let mut sets = vec![0 as TypeSet; size];
@@ -889,7 +894,7 @@ mod tests {
 
     #[test]
     fn a_program_too_large_to_analyse_runs_untyped() {
-        // 65,536 registers × 70 pcs is over MAX_TYPED: no analysis, no typed slots.
+        // 65,536 registers × 66 pcs is over MAX_TYPED: no analysis, no typed slots.
         let body: String = (0..64).map(|i| format!("loadi {i},r65535\n")).collect();
         let text = format!("nregs 65536\nnblbs 1\nninstr 65\n{body}yield");
         let checked = gloc::check(
@@ -900,6 +905,17 @@ mod tests {
         let code = Code::new(&checked.program.expect("the test script checks"));
         assert!(code.typed.is_none());
         assert_eq!(code.types.at(3, Reg(65535)), ANY);
+        // 70,000 instructions on one register: over MAX_TYPED_PCS.
+        let body = "loadi 1,r0\n".repeat(70_000);
+        let text = format!("nregs 1\nnblbs 1\nninstr 70001\n{body}yield");
+        let checked = gloc::check(
+            &gloc::parse(&text),
+            &SensorList::embedded(),
+            &CheckOptions::default(),
+        );
+        let code = Code::new(&checked.program.expect("the test script checks"));
+        assert!(code.typed.is_none());
+        assert_eq!(code.types.at(3, Reg(0)), ANY);
     }
 
     #[test]

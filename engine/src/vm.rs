@@ -151,6 +151,12 @@ pub struct Machine {
     cycles_completed: u64,
     status: Status,
     dispatch: Dispatch,
+    /// Whether the registers agree with the loader's type analysis
+    /// (`code::Types`), so that threaded dispatch may run the handlers
+    /// specialised by it. Only [`Machine::set_register`] can break that (a
+    /// debugger storing a float where the code only ever puts integers); the
+    /// machine then runs the untyped handlers until [`Machine::reset`].
+    typed: bool,
 }
 
 /// How the inner loop stopped.
@@ -181,6 +187,7 @@ impl Machine {
             cycles_completed: 0,
             status: Status::Running,
             dispatch: Dispatch::default(),
+            typed: true,
         }
     }
 
@@ -223,6 +230,7 @@ impl Machine {
         self.in_cycle = false;
         self.cycles_completed = 0;
         self.status = Status::Running;
+        self.typed = true;
     }
 
     pub fn program(&self) -> &Arc<Program> {
@@ -276,6 +284,9 @@ impl Machine {
             .get_mut(register.index())
             .ok_or(AccessError::NoSuchRegister(register.0))?;
         *slot = value;
+        if !self.code.types.admits(self.pc as usize, register, value) {
+            self.typed = false;
+        }
         Ok(())
     }
 
@@ -585,6 +596,20 @@ impl Machine {
                             reg!(sum) = add(reg!(p), reg!(q));
                             compare_branch!(3, cmp, a, reg!(b), c, if_true, if_false)
                         }
+                        Op::JumpAddJumpCmpBr {
+                            p,
+                            q,
+                            sum,
+                            cmp,
+                            a,
+                            b,
+                            c,
+                            if_true,
+                            if_false,
+                        } => {
+                            reg!(sum) = add(reg!(p), reg!(q));
+                            compare_branch!(4, cmp, a, reg!(b), c, if_true, if_false)
+                        }
                         Op::AddJumpCmpKBr {
                             p,
                             q,
@@ -655,7 +680,11 @@ impl Machine {
             Dispatch::Threaded => loop {
                 let mut context =
                     threaded::Context::new(&mut *host, &mut *memory, program, code.len());
-                match threaded::run(&code.threaded, registers, &mut pc, &mut fuel, &mut context) {
+                let slots = match &code.typed {
+                    Some(typed) if self.typed => typed,
+                    _ => &code.threaded,
+                };
+                match threaded::run(slots, registers, &mut pc, &mut fuel, &mut context) {
                     threaded::Stop::Exit(exit) => break exit,
                     // An output op: the loop below runs it, with one unit of fuel.
                     threaded::Stop::RunInLoop => {

@@ -589,3 +589,71 @@ fn the_repository_scripts_agree_at_every_budget() {
         }
     }
 }
+
+/// Threaded dispatch runs handlers specialised by the loader's type analysis
+/// (`r0` only ever holds integers here, so `add r0,r0,r1` skips the tag
+/// tests). A debugger can still store a float in `r0` between cycles: the
+/// machine must notice and compute with the float, as the `match` loop and
+/// single steps do (1.5 + 1.5 = 3.0, worked by hand); an integer stored there
+/// keeps the fast handlers and gives 7 + 7.
+#[test]
+fn a_register_set_against_its_static_type_is_honoured() {
+    let text = script(
+        2,
+        1,
+        0,
+        &lines("loadi 3,r0\nlabel 0\nyield\nadd r0,r0,r1\njumpi 0"),
+    );
+    let program = program(&text);
+    let config = MachineConfig::default();
+    let mut results = Vec::new();
+    for dispatch in [Dispatch::Loop, Dispatch::Threaded, Dispatch::Threaded] {
+        let mut machine = Machine::new(Arc::clone(&program), config);
+        machine.set_dispatch(dispatch);
+        let mut host = Recorder::default();
+        let mut seen = Vec::new();
+        for stored in [Value::Float(1.5), Value::Int(7)] {
+            assert_eq!(machine.run_cycle(&mut host), CycleEnd::Yielded);
+            machine
+                .set_register(gloc_engine::program::Reg(0), stored)
+                .expect("r0 exists");
+            if results.len() == 2 {
+                // The third machine steps its way through the cycle.
+                while machine.step(&mut host).is_none() {}
+            } else {
+                assert_eq!(machine.run_cycle(&mut host), CycleEnd::Yielded);
+            }
+            seen.push(bits(machine.registers()));
+        }
+        results.push(seen);
+    }
+    assert_eq!(results[0][0][1], (false, 3.0f64.to_bits()), "{results:?}");
+    assert_eq!(results[0][1][1], (true, 14), "{results:?}");
+    assert_eq!(results[1], results[0], "threaded against the match loop");
+    assert_eq!(
+        results[2], results[0],
+        "threaded then steps against the match loop"
+    );
+}
+
+/// A `jumpi` to a loop's step (the end of an `if` branch in the body) is one
+/// op with the step, the back edge and the test: every budget stops where
+/// single steps stop, and the sum of the even numbers 2..=10 is 30 (by hand).
+#[test]
+fn a_jump_to_a_loop_step_gives_the_hand_worked_sum() {
+    let text = script(
+        8,
+        5,
+        0,
+        &lines(
+            "loadi 1,r0\nloadi 10,r1\nloadi 1,r2\nlabel 0\ncmple r0,r1,r3\ncbr r3,1,3\n\
+             label 1\nloadi 2,r4\nmod r0,r4,r4\ncbr r4,2,4\nlabel 4\nadd r5,r0,r5\njumpi 2\n\
+             label 2\nadd r0,r2,r0\njumpi 0\nlabel 3\nyield",
+        ),
+    );
+    for budget in (1..=80).chain([10_000]) {
+        agree(&text, 3, budget, 0.0);
+    }
+    let machine = agree(&text, 1, 10_000, 0.0);
+    assert_eq!(machine.registers()[5], Value::Int(30));
+}

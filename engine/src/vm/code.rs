@@ -126,6 +126,7 @@ ops! {
         JumpCmpBr { cmp: Cmp, a: Reg, b: Reg, c: Reg, if_true: Pc, if_false: Pc },
         JumpCmpKBr { cmp: Cmp, a: Reg, k: Value, t: Reg, c: Reg, if_true: Pc, if_false: Pc },
         AddJumpCmpBr { p: Reg, q: Reg, sum: Reg, cmp: Cmp, a: Reg, b: Reg, c: Reg, if_true: Pc, if_false: Pc },
+        JumpAddJumpCmpBr { p: Reg, q: Reg, sum: Reg, cmp: Cmp, a: Reg, b: Reg, c: Reg, if_true: Pc, if_false: Pc },
         AddJumpCmpKBr { p: Reg, q: Reg, sum: Reg, cmp: Cmp, a: Reg, k: Value, t: Reg, c: Reg, if_true: Pc, if_false: Pc },
         RangeBr { x: Reg, lo: Value, t_lo: Reg, c_lo: Reg, hi: Value, t_hi: Reg, c_hi: Reg, d: Reg, if_out: Pc, if_in: Pc },
     }
@@ -190,6 +191,13 @@ pub(super) struct Code {
     pub fused: Box<[Op]>,
     /// The fused code as threaded code (`vm/threaded.rs`): one slot per op.
     pub threaded: Box<[super::threaded::Slot]>,
+    /// The same, with handlers specialised by the registers' static types
+    /// ([`Types`]): they skip the tag tests the analysis makes needless. The
+    /// machine runs these while its registers agree with the analysis. None
+    /// when the program was too large to analyse.
+    pub typed: Option<Box<[super::threaded::Slot]>>,
+    /// What each register can hold at each pc.
+    pub types: Types,
     /// One more than the highest register any op names (at least `nregs`): the
     /// size of a register file that every op can index without a check.
     pub register_bound: usize,
@@ -225,12 +233,23 @@ impl Code {
                 register_bound = register_bound.max(register.index() + 1);
             });
         }
+        let types = Types::new(&plain, program, register_bound);
+        let unknown = |_: usize, _: Reg| ANY;
+        let known = |pc: usize, register: Reg| types.at(pc, register);
         Code {
             threaded: fused
                 .iter()
                 .enumerate()
-                .map(|(pc, &op)| super::threaded::Slot::new(op, pc))
+                .map(|(pc, &op)| super::threaded::Slot::new(op, pc, &plain, &unknown))
                 .collect(),
+            typed: types.sets.is_some().then(|| {
+                fused
+                    .iter()
+                    .enumerate()
+                    .map(|(pc, &op)| super::threaded::Slot::new(op, pc, &plain, &known))
+                    .collect()
+            }),
+            types,
             plain: plain.into_boxed_slice(),
             fused: fused.into_boxed_slice(),
             register_bound,
@@ -242,6 +261,204 @@ impl Code {
     pub fn len(&self) -> usize {
         self.plain.len()
     }
+}
+
+/// A set of register types: [`INT`], [`FLOAT`], both ([`ANY`]), or none
+/// (a pc no execution reaches).
+pub(super) type TypeSet = u8;
+pub(super) const INT: TypeSet = 1;
+pub(super) const FLOAT: TypeSet = 2;
+pub(super) const ANY: TypeSet = INT | FLOAT;
+
+/// The most (pc, register) pairs the type analysis tracks (one byte each);
+/// a larger program gets no analysis: every register may hold anything.
+const MAX_TYPED: usize = 1 << 22;
+
+/// The most pcs a program may have to be analysed: the typed slots are a
+/// second copy of the threaded code (96 bytes per op), which a script of a
+/// million instructions should not pay for; real scripts have a few thousand.
+const MAX_TYPED_PCS: usize = 1 << 16;
+
+/// The most register sets the analysis may join, in units of [`MAX_TYPED`]:
+/// a pc is visited again each time a set at it grows, which real code does a
+/// few times, but a contrived one (many registers, many labels reached by
+/// indirect jumps) could do far more often; past this the analysis gives up
+/// (a few tens of milliseconds at most).
+const MAX_JOINS: usize = 16;
+
+/// What each register can hold at each pc, over every execution from the
+/// start (pc 0, every register `Int(0)`): a forward data-flow analysis over
+/// the control-flow graph, one [`TypeSet`] per register joined at merges.
+/// `-O` gives one register to several variables, so the types are per pc,
+/// not per program. Memory is not tracked (a load may give either type).
+#[derive(Debug)]
+pub(super) struct Types {
+    registers: usize,
+    /// `registers` sets per pc, or nothing when the program is too large.
+    sets: Option<Box<[TypeSet]>>,
+}
+
+impl Types {
+    fn new(plain: &[Op], program: &Program, registers: usize) -> Types {
+        let unanalysed = Types {
+            registers,
+            sets: None,
+        };
+        let Some(size) = plain.len().checked_mul(registers) else {
+            return unanalysed;
+        };
+        if size > MAX_TYPED || plain.len() > MAX_TYPED_PCS || registers == 0 {
+            return unanalysed;
+        }
+        let mut sets = vec![0 as TypeSet; size];
+        sets[..registers].fill(INT);
+        let labels: Vec<usize> = program
+            .label_pcs
+            .iter()
+            .flatten()
+            .map(|pc| pc.index().min(plain.len() - 1))
+            .collect();
+        let mut pending = vec![false; plain.len()];
+        let mut work = vec![0usize];
+        pending[0] = true;
+        let mut out = vec![0 as TypeSet; registers];
+        let mut budget = MAX_JOINS * MAX_TYPED;
+        while let Some(pc) = work.pop() {
+            pending[pc] = false;
+            out.copy_from_slice(&sets[pc * registers..(pc + 1) * registers]);
+            let op = plain[pc];
+            if let Some((dst, set)) = result_type(&op, &out) {
+                out[dst.index()] = set;
+            }
+            let mut flow = |to: usize| {
+                budget = budget.saturating_sub(registers);
+                let at = &mut sets[to * registers..(to + 1) * registers];
+                let mut changed = false;
+                for (into, &from) in at.iter_mut().zip(&out) {
+                    if *into | from != *into {
+                        *into |= from;
+                        changed = true;
+                    }
+                }
+                if changed && !pending[to] {
+                    pending[to] = true;
+                    work.push(to);
+                }
+            };
+            match op {
+                Op::Halt {} => {}
+                Op::Jump { target } => flow(target.index()),
+                Op::Branch {
+                    if_true, if_false, ..
+                } => {
+                    flow(if_true.index());
+                    flow(if_false.index());
+                }
+                Op::JumpIndirect { .. } => labels.iter().for_each(|&to| flow(to)),
+                _ => {
+                    if pc + 1 < plain.len() {
+                        flow(pc + 1);
+                    }
+                }
+            }
+            if budget == 0 {
+                return unanalysed;
+            }
+        }
+        Types {
+            registers,
+            sets: Some(sets.into_boxed_slice()),
+        }
+    }
+
+    /// What `register` can hold when the machine is at `pc`.
+    pub fn at(&self, pc: usize, register: Reg) -> TypeSet {
+        match &self.sets {
+            Some(sets) if register.index() < self.registers => sets
+                .get(pc * self.registers + register.index())
+                .copied()
+                .unwrap_or(ANY),
+            _ => ANY,
+        }
+    }
+
+    /// Whether `value` in `register` at `pc` is a state the analysis covers
+    /// (the analysis is per register, so each register is checked alone).
+    pub fn admits(&self, pc: usize, register: Reg, value: Value) -> bool {
+        let set = match value {
+            Value::Int(_) => INT,
+            Value::Float(_) => FLOAT,
+        };
+        self.at(pc, register) & set != 0
+    }
+}
+
+/// The register a plain op writes and what it can hold afterwards, given
+/// what the registers can hold before it (`before`).
+fn result_type(op: &Op, before: &[TypeSet]) -> Option<(Reg, TypeSet)> {
+    let of = |register: Reg| before[register.index()];
+    // Integer op integer is an integer, any float makes a float (`arithmetic`).
+    let arithmetic = |a: Reg, b: Reg| {
+        let (x, y) = (of(a), of(b));
+        let int = if x & INT != 0 && y & INT != 0 { INT } else { 0 };
+        let float = if (x | y) & FLOAT != 0 { FLOAT } else { 0 };
+        int | float
+    };
+    Some(match *op {
+        Op::LoadSensor { dst, .. }
+        | Op::LoadFloat { dst, .. }
+        | Op::Sqrt { dst, .. }
+        | Op::IntToFloat { dst, .. } => (dst, FLOAT),
+        Op::LoadInt { dst, .. }
+        | Op::And { dst, .. }
+        | Op::Or { dst, .. }
+        | Op::Xor { dst, .. }
+        | Op::CmpEq { dst, .. }
+        | Op::CmpNe { dst, .. }
+        | Op::CmpLt { dst, .. }
+        | Op::CmpLe { dst, .. }
+        | Op::CmpGt { dst, .. }
+        | Op::CmpGe { dst, .. }
+        | Op::FloatToInt { dst, .. }
+        | Op::Not { dst, .. } => (dst, INT),
+        Op::Move { src, dst } | Op::Neg { src, dst } | Op::Abs { src, dst } => (dst, of(src)),
+        Op::Add { a, b, dst }
+        | Op::Sub { a, b, dst }
+        | Op::Mul { a, b, dst }
+        | Op::Div { a, b, dst }
+        | Op::Mod { a, b, dst }
+        | Op::Min { a, b, dst }
+        | Op::Max { a, b, dst } => (dst, arithmetic(a, b)),
+        Op::LoadMem { dst, .. } | Op::LoadMemAt { dst, .. } => (dst, ANY),
+        Op::StoreSensor { .. }
+        | Op::StoreMem { .. }
+        | Op::StoreMemAt { .. }
+        | Op::Branch { .. }
+        | Op::Jump { .. }
+        | Op::JumpIndirect { .. }
+        | Op::Yield {}
+        | Op::Halt {}
+        | Op::Nop {}
+        | Op::Write { .. }
+        | Op::WriteText { .. }
+        | Op::Print { .. }
+        | Op::PrintText { .. } => return None,
+        // Only plain code is analysed.
+        Op::AddK { .. }
+        | Op::SubK { .. }
+        | Op::MulK { .. }
+        | Op::DivK { .. }
+        | Op::ModK { .. }
+        | Op::IntToFloatAdd { .. }
+        | Op::CmpBr { .. }
+        | Op::CmpKBr { .. }
+        | Op::JumpCmpBr { .. }
+        | Op::JumpCmpKBr { .. }
+        | Op::AddJumpCmpBr { .. }
+        | Op::JumpAddJumpCmpBr { .. }
+        | Op::AddJumpCmpKBr { .. }
+        | Op::RangeBr { .. } => return None,
+    })
 }
 
 /// How many GLOC instructions an op covers (what it costs in fuel).
@@ -257,7 +474,7 @@ pub(super) fn width(op: &Op) -> u64 {
         | Op::CmpBr { .. } => 2,
         Op::CmpKBr { .. } | Op::JumpCmpBr { .. } => 3,
         Op::JumpCmpKBr { .. } | Op::AddJumpCmpBr { .. } => 4,
-        Op::AddJumpCmpKBr { .. } => 5,
+        Op::AddJumpCmpKBr { .. } | Op::JumpAddJumpCmpBr { .. } => 5,
         Op::RangeBr { .. } => 6,
         _ => 1,
     }
@@ -443,8 +660,43 @@ fn range_check(window: &[Instr]) -> Option<Op> {
 /// Jump threading: a `jumpi` whose target starts a fused compare-and-branch
 /// does the compare itself (the loop's back edge and its test in one dispatch),
 /// and an `add` just before such a `jumpi` joins it (a `for` loop's step, back
-/// edge and test in one dispatch, as Lua's `FORLOOP`).
+/// edge and test in one dispatch, as Lua's `FORLOOP`). Then a `jumpi` to such
+/// a step does it too (the end of an `if` branch inside the loop body).
 fn thread_jumps(fused: &mut [Op]) {
+    thread_jumps_to_tests(fused);
+    for index in 0..fused.len() {
+        let Op::Jump { target } = fused[index] else {
+            continue;
+        };
+        if let Some(&Op::AddJumpCmpBr {
+            p,
+            q,
+            sum,
+            cmp,
+            a,
+            b,
+            c,
+            if_true,
+            if_false,
+        }) = fused.get(target.index())
+        {
+            fused[index] = Op::JumpAddJumpCmpBr {
+                p,
+                q,
+                sum,
+                cmp,
+                a,
+                b,
+                c,
+                if_true,
+                if_false,
+            };
+        }
+    }
+}
+
+/// The first two steps of [`thread_jumps`].
+fn thread_jumps_to_tests(fused: &mut [Op]) {
     for index in 0..fused.len() {
         let Op::Jump { target } = fused[index] else {
             continue;
@@ -610,6 +862,89 @@ mod tests {
             Op::AddJumpCmpKBr {
                 cmp: Cmp::Lt,
                 k: Value::Int(9),
+                ..
+            }
+        ));
+    }
+
+    #[test]
+    fn register_types_follow_the_code() {
+        // r0 is an integer until `i2d` makes it a float; r1 is one on one path and
+        // the other on the other, so both after the join; r2 comes from memory;
+        // pc 9 is never reached. Worked by hand, pc by pc.
+        let code = code(
+            "loadi 1,r0\ncbr r0,1,2\nlabel 1\nloadi 2,r1\njumpi 3\nlabel 2\nloadd 2.0,r1\n\
+             label 3\ni2d r0,r0\nloadm r0,r2\nhalt\nadd r0,r0,r0",
+        );
+        let at = |pc: usize, register: u32| code.types.at(pc, Reg(register));
+        // pc: 0 loadi, 1 cbr, 2 loadi r1, 3 jumpi, 4 loadd r1, 5 i2d, 6 loadm, 7 halt, 8 add.
+        assert_eq!(
+            (at(0, 0), at(1, 0), at(5, 0), at(6, 0)),
+            (INT, INT, INT, FLOAT)
+        );
+        assert_eq!(
+            (at(2, 1), at(3, 1), at(4, 1), at(5, 1)),
+            (INT, INT, INT, ANY)
+        );
+        assert_eq!((at(6, 2), at(7, 2)), (INT, ANY));
+        assert_eq!(at(8, 0), 0, "an unreached pc has no types");
+        assert!(code.types.admits(5, Reg(1), Value::Float(0.5)));
+        assert!(!code.types.admits(5, Reg(0), Value::Float(0.5)));
+    }
+
+    #[test]
+    fn a_program_too_large_to_analyse_runs_untyped() {
+        // 65,536 registers × 66 pcs is over MAX_TYPED: no analysis, no typed slots.
+        let body: String = (0..64).map(|i| format!("loadi {i},r65535\n")).collect();
+        let text = format!("nregs 65536\nnblbs 1\nninstr 65\n{body}yield");
+        let checked = gloc::check(
+            &gloc::parse(&text),
+            &SensorList::embedded(),
+            &CheckOptions::default(),
+        );
+        let code = Code::new(&checked.program.expect("the test script checks"));
+        assert!(code.typed.is_none());
+        assert_eq!(code.types.at(3, Reg(65535)), ANY);
+        // 70,000 instructions on one register: over MAX_TYPED_PCS.
+        let body = "loadi 1,r0\n".repeat(70_000);
+        let text = format!("nregs 1\nnblbs 1\nninstr 70001\n{body}yield");
+        let checked = gloc::check(
+            &gloc::parse(&text),
+            &SensorList::embedded(),
+            &CheckOptions::default(),
+        );
+        let code = Code::new(&checked.program.expect("the test script checks"));
+        assert!(code.typed.is_none());
+        assert_eq!(code.types.at(3, Reg(0)), ANY);
+    }
+
+    #[test]
+    fn an_indirect_jump_reaches_every_label() {
+        // `jump r1` may land on label 1, where r0 then holds either type.
+        let code = code("loadi 1,r1\nloadd 0.5,r0\njump r1\nlabel 1\nloadi 0,r0\nyield\njump r1");
+        assert_eq!(code.types.at(3, Reg(0)), ANY);
+        assert_eq!(code.types.at(4, Reg(0)), INT);
+    }
+
+    #[test]
+    fn a_jump_to_a_loop_step_joins_it() {
+        // The end of an `if` branch in a loop body: `jumpi` to the step `add`,
+        // whose back edge and test are already one op.
+        let code = code(
+            "label 0\ncmple r0,r1,r3\ncbr r3,1,3\nlabel 1\nloadi 5,r4\njumpi 2\nlabel 2\n\
+             add r0,r2,r0\njumpi 0\nlabel 3\nyield",
+        );
+        let widths: Vec<u64> = code.fused.iter().map(width).collect();
+        // pc: 0 cmple+cbr, 1 cbr, 2 loadi, 3 jumpi+add+jumpi+cmple+cbr, 4 add+jumpi+cmple+cbr,
+        // 5 jumpi+cmple+cbr, 6 yield, 7 halt.
+        assert_eq!(widths, [2, 1, 1, 5, 4, 3, 1, 1], "{:#?}", code.fused);
+        assert!(matches!(
+            code.fused[3],
+            Op::JumpAddJumpCmpBr {
+                cmp: Cmp::Le,
+                sum: Reg(0),
+                if_true: Pc(2),
+                if_false: Pc(6),
                 ..
             }
         ));

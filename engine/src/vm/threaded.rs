@@ -33,10 +33,17 @@
 //! handler branches on its condition and then jumps (`branch_handler!`): a
 //! conditional branch the predictor sees, where a select feeding one indirect
 //! jump ran the branchy `states` benchmark at half the speed.
+//!
+//! Each handler that reads registers also has instances for operands of one
+//! known type (a const parameter `T`, read through [`read`]): `Code::typed`
+//! uses them where the loader's type analysis (`code::Types`) proves the type
+//! at that pc, so the tag tests and the fallback fold away; `Code::threaded`
+//! uses the untyped ones, which the machine runs once a debugger has stored a
+//! value the analysis does not allow.
 
 use std::hint::unreachable_unchecked;
 
-use super::code::{Cmp, Op, MAX_FUSED};
+use super::code::{Cmp, Op, TypeSet, ANY, FLOAT, INT, MAX_FUSED};
 use super::{
     absolute, add, compare, div, indirect_target, integer_division_by_zero, memory_index, mul,
     negate, rem, sub, truth, Exit, Host, TrapKind,
@@ -145,8 +152,10 @@ const CMPS: [Cmp; 6] = [Cmp::Eq, Cmp::Ne, Cmp::Lt, Cmp::Le, Cmp::Gt, Cmp::Ge];
 
 impl Slot {
     /// The slot for `op` at `pc`: the handler made for its variant (and its
-    /// comparison and constant type) and its branch targets.
-    pub fn new(op: Op, pc: usize) -> Slot {
+    /// comparison, constant type and operand types) and its branch targets.
+    /// `types(pc, register)` says what `register` can hold at `pc` of the plain
+    /// code (`plain`); [`ANY`] everywhere gives the untyped handlers.
+    pub fn new(op: Op, pc: usize, plain: &[Op], types: &dyn Fn(usize, Reg) -> TypeSet) -> Slot {
         macro_rules! by_cmp {
             ($cmp:expr, $handler:ident $(, $rest:expr)*) => {
                 [
@@ -159,40 +168,96 @@ impl Slot {
                 ][CMPS.iter().position(|&cmp| cmp == $cmp).unwrap_or(0)]
             };
         }
+        // A handler instantiated for the operand type `$t` (INT, FLOAT or ANY).
+        macro_rules! by_type {
+            ($t:expr, $handler:ident $(, $rest:expr)*) => {
+                match $t {
+                    INT => $handler::<$($rest,)* INT> as Handler,
+                    FLOAT => $handler::<$($rest,)* FLOAT>,
+                    _ => $handler::<$($rest,)* ANY>,
+                }
+            };
+        }
+        macro_rules! by_cmp_type {
+            ($cmp:expr, $t:expr, $handler:ident $(, $rest:expr)*) => {
+                match $t {
+                    INT => by_cmp!($cmp, $handler $(, $rest)*, INT),
+                    FLOAT => by_cmp!($cmp, $handler $(, $rest)*, FLOAT),
+                    _ => by_cmp!($cmp, $handler $(, $rest)*, ANY),
+                }
+            };
+        }
+        // The one type all these (pc, register) reads have, or ANY.
+        let all = |reads: &[(usize, Reg)]| -> TypeSet {
+            let mut sets = reads.iter().map(|&(at, register)| types(at, register));
+            let first = sets.next().unwrap_or(ANY);
+            if (first == INT || first == FLOAT) && sets.all(|set| set == first) {
+                first
+            } else {
+                ANY
+            }
+        };
+        // Where the `jumpi` at `at` of the plain code goes (for the threaded
+        // jumps: their compare runs there).
+        let target = |at: usize| match plain.get(at) {
+            Some(&Op::Jump { target }) => Some(target.index()),
+            _ => None,
+        };
         let is_int = |value: Value| matches!(value, Value::Int(_));
         let handler: Handler = match op {
             Op::LoadSensor { .. } => op_load_sensor,
             Op::StoreSensor { .. } => op_store_sensor,
             Op::LoadInt { .. } => op_load_int,
             Op::LoadFloat { .. } => op_load_float,
-            Op::Move { .. } => op_move,
-            Op::Add { .. } => op_add_int,
-            Op::Sub { .. } => op_sub_int,
-            Op::Mul { .. } => op_mul_int,
-            Op::Div { .. } => op_div_int,
-            Op::Mod { .. } => op_mod_int,
-            Op::Min { .. } => op_min,
-            Op::Max { .. } => op_max,
-            Op::And { .. } => op_and,
-            Op::Or { .. } => op_or,
-            Op::Xor { .. } => op_xor,
-            Op::CmpEq { .. } => op_cmp_eq,
-            Op::CmpNe { .. } => op_cmp_ne,
-            Op::CmpLt { .. } => op_cmp_lt,
-            Op::CmpLe { .. } => op_cmp_le,
-            Op::CmpGt { .. } => op_cmp_gt,
-            Op::CmpGe { .. } => op_cmp_ge,
-            Op::Neg { .. } => op_neg,
-            Op::Abs { .. } => op_abs,
-            Op::Sqrt { .. } => op_sqrt,
-            Op::IntToFloat { .. } => op_int_to_float,
-            Op::FloatToInt { .. } => op_float_to_int,
-            Op::Not { .. } => op_not,
-            Op::LoadMem { .. } => op_load_mem_int,
+            Op::Move { src, .. } => by_type!(all(&[(pc, src)]), op_move),
+            Op::Add { a, b, .. } => match all(&[(pc, a), (pc, b)]) {
+                FLOAT => op_add::<FLOAT>,
+                t => by_type!(t, op_add_int),
+            },
+            Op::Sub { a, b, .. } => match all(&[(pc, a), (pc, b)]) {
+                FLOAT => op_sub::<FLOAT>,
+                t => by_type!(t, op_sub_int),
+            },
+            Op::Mul { a, b, .. } => match all(&[(pc, a), (pc, b)]) {
+                FLOAT => op_mul::<FLOAT>,
+                t => by_type!(t, op_mul_int),
+            },
+            Op::Div { a, b, .. } => match all(&[(pc, a), (pc, b)]) {
+                FLOAT => op_div::<FLOAT>,
+                t => by_type!(t, op_div_int),
+            },
+            Op::Mod { a, b, .. } => match all(&[(pc, a), (pc, b)]) {
+                FLOAT => op_mod::<FLOAT>,
+                t => by_type!(t, op_mod_int),
+            },
+            Op::Min { a, b, .. } => by_type!(all(&[(pc, a), (pc, b)]), op_min),
+            Op::Max { a, b, .. } => by_type!(all(&[(pc, a), (pc, b)]), op_max),
+            Op::And { a, b, .. } => by_type!(all(&[(pc, a), (pc, b)]), op_and),
+            Op::Or { a, b, .. } => by_type!(all(&[(pc, a), (pc, b)]), op_or),
+            Op::Xor { a, b, .. } => by_type!(all(&[(pc, a), (pc, b)]), op_xor),
+            Op::CmpEq { a, b, .. } => by_type!(all(&[(pc, a), (pc, b)]), op_cmp_eq),
+            Op::CmpNe { a, b, .. } => by_type!(all(&[(pc, a), (pc, b)]), op_cmp_ne),
+            Op::CmpLt { a, b, .. } => by_type!(all(&[(pc, a), (pc, b)]), op_cmp_lt),
+            Op::CmpLe { a, b, .. } => by_type!(all(&[(pc, a), (pc, b)]), op_cmp_le),
+            Op::CmpGt { a, b, .. } => by_type!(all(&[(pc, a), (pc, b)]), op_cmp_gt),
+            Op::CmpGe { a, b, .. } => by_type!(all(&[(pc, a), (pc, b)]), op_cmp_ge),
+            Op::Neg { src, .. } => by_type!(all(&[(pc, src)]), op_neg),
+            Op::Abs { src, .. } => by_type!(all(&[(pc, src)]), op_abs),
+            Op::Sqrt { src, .. } => by_type!(all(&[(pc, src)]), op_sqrt),
+            Op::IntToFloat { src, .. } => by_type!(all(&[(pc, src)]), op_int_to_float),
+            Op::FloatToInt { src, .. } => by_type!(all(&[(pc, src)]), op_float_to_int),
+            Op::Not { src, .. } => by_type!(all(&[(pc, src)]), op_not),
+            Op::LoadMem { addr, .. } => match all(&[(pc, addr)]) {
+                INT => op_load_mem_int::<INT>,
+                _ => op_load_mem_int::<ANY>,
+            },
             Op::LoadMemAt { .. } => op_load_mem_at,
-            Op::StoreMem { .. } => op_store_mem_int,
+            Op::StoreMem { addr, .. } => match all(&[(pc, addr)]) {
+                INT => op_store_mem_int::<INT>,
+                _ => op_store_mem_int::<ANY>,
+            },
             Op::StoreMemAt { .. } => op_store_mem_at,
-            Op::Branch { .. } => op_branch,
+            Op::Branch { cond, .. } => by_type!(all(&[(pc, cond)]), op_branch),
             Op::Jump { .. } => op_jump,
             Op::JumpIndirect { .. } => op_jump_indirect,
             Op::Yield {} => op_yield,
@@ -201,27 +266,105 @@ impl Slot {
             Op::Write { .. } | Op::WriteText { .. } | Op::Print { .. } | Op::PrintText { .. } => {
                 op_output
             }
-            Op::AddK { k, .. } if is_int(k) => op_add_k_int,
-            Op::AddK { .. } => op_add_k::<false>,
-            Op::SubK { k, .. } if is_int(k) => op_sub_k_int,
-            Op::SubK { .. } => op_sub_k::<false>,
-            Op::MulK { k, .. } if is_int(k) => op_mul_k_int,
-            Op::MulK { .. } => op_mul_k::<false>,
-            Op::DivK { k, .. } if is_int(k) => op_div_k_int,
-            Op::DivK { .. } => op_div_k::<false>,
-            Op::ModK { k, .. } if is_int(k) => op_mod_k_int,
-            Op::ModK { .. } => op_mod_k::<false>,
-            Op::IntToFloatAdd { .. } => op_int_to_float_add,
-            Op::CmpBr { cmp, .. } => by_cmp!(cmp, op_cmp_br_int),
-            Op::JumpCmpBr { cmp, .. } => by_cmp!(cmp, op_jump_cmp_br_int),
-            Op::CmpKBr { cmp, k, .. } if is_int(k) => by_cmp!(cmp, op_cmp_k_br_int),
-            Op::CmpKBr { cmp, .. } => by_cmp!(cmp, op_cmp_k_br, false),
-            Op::JumpCmpKBr { cmp, k, .. } if is_int(k) => by_cmp!(cmp, op_jump_cmp_k_br_int),
-            Op::JumpCmpKBr { cmp, .. } => by_cmp!(cmp, op_jump_cmp_k_br, false),
-            Op::AddJumpCmpBr { cmp, .. } => by_cmp!(cmp, op_add_jump_cmp_br_int),
-            Op::AddJumpCmpKBr { cmp, k, .. } if is_int(k) => by_cmp!(cmp, op_add_jump_cmp_k_br_int),
+            // `loadi/loadd K,t` at pc, the operation at pc + 1.
+            Op::AddK { k, a, .. } if is_int(k) => match all(&[(pc + 1, a)]) {
+                INT => op_add_k_int::<INT>,
+                _ => op_add_k_int::<ANY>,
+            },
+            Op::AddK { a, .. } => by_type!(all(&[(pc + 1, a)]), op_add_k, false),
+            Op::SubK { k, a, .. } if is_int(k) => match all(&[(pc + 1, a)]) {
+                INT => op_sub_k_int::<INT>,
+                _ => op_sub_k_int::<ANY>,
+            },
+            Op::SubK { a, .. } => by_type!(all(&[(pc + 1, a)]), op_sub_k, false),
+            Op::MulK { k, a, .. } if is_int(k) => match all(&[(pc + 1, a)]) {
+                INT => op_mul_k_int::<INT>,
+                _ => op_mul_k_int::<ANY>,
+            },
+            Op::MulK { a, .. } => by_type!(all(&[(pc + 1, a)]), op_mul_k, false),
+            Op::DivK { k, a, .. } if is_int(k) => match all(&[(pc + 1, a)]) {
+                INT => op_div_k_int::<INT>,
+                _ => op_div_k_int::<ANY>,
+            },
+            Op::DivK { a, .. } => by_type!(all(&[(pc + 1, a)]), op_div_k, false),
+            Op::ModK { k, a, .. } if is_int(k) => match all(&[(pc + 1, a)]) {
+                INT => op_mod_k_int::<INT>,
+                _ => op_mod_k_int::<ANY>,
+            },
+            Op::ModK { a, .. } => by_type!(all(&[(pc + 1, a)]), op_mod_k, false),
+            // `i2d` at pc, the `add` at pc + 1.
+            Op::IntToFloatAdd { a, .. } => match all(&[(pc + 1, a)]) {
+                FLOAT => op_int_to_float_add::<FLOAT>,
+                _ => op_int_to_float_add::<ANY>,
+            },
+            Op::CmpBr { cmp, a, b, .. } => match all(&[(pc, a), (pc, b)]) {
+                FLOAT => by_cmp!(cmp, op_cmp_br, FLOAT),
+                t => by_cmp_type!(cmp, t, op_cmp_br_int),
+            },
+            Op::JumpCmpBr { cmp, a, b, .. } => {
+                let t = target(pc).map_or(ANY, |to| all(&[(to, a), (to, b)]));
+                match t {
+                    FLOAT => by_cmp!(cmp, op_jump_cmp_br, FLOAT),
+                    t => by_cmp_type!(cmp, t, op_jump_cmp_br_int),
+                }
+            }
+            Op::CmpKBr { cmp, k, a, .. } if is_int(k) => match all(&[(pc + 1, a)]) {
+                INT => by_cmp!(cmp, op_cmp_k_br_int, INT),
+                _ => by_cmp!(cmp, op_cmp_k_br_int, ANY),
+            },
+            Op::CmpKBr { cmp, a, .. } => by_cmp_type!(cmp, all(&[(pc + 1, a)]), op_cmp_k_br, false),
+            Op::JumpCmpKBr { cmp, k, a, .. } => {
+                let t = target(pc).map_or(ANY, |to| all(&[(to + 1, a)]));
+                if is_int(k) {
+                    match t {
+                        INT => by_cmp!(cmp, op_jump_cmp_k_br_int, INT),
+                        _ => by_cmp!(cmp, op_jump_cmp_k_br_int, ANY),
+                    }
+                } else {
+                    by_cmp_type!(cmp, t, op_jump_cmp_k_br, false)
+                }
+            }
+            // `add p,q,sum` at pc, `jumpi` at pc + 1, the compare at its target.
+            Op::AddJumpCmpBr {
+                cmp, p, q, a, b, ..
+            } => {
+                let t = target(pc + 1).map_or(ANY, |to| all(&[(pc, p), (pc, q), (to, a), (to, b)]));
+                match t {
+                    INT => by_cmp!(cmp, op_add_jump_cmp_br_int, INT),
+                    _ => by_cmp!(cmp, op_add_jump_cmp_br_int, ANY),
+                }
+            }
+            // `jumpi` at pc, then the above at its target.
+            Op::JumpAddJumpCmpBr {
+                cmp, p, q, a, b, ..
+            } => {
+                let t = target(pc)
+                    .and_then(|to| Some((to, target(to + 1)?)))
+                    .map_or(ANY, |(to, test)| {
+                        all(&[(to, p), (to, q), (test, a), (test, b)])
+                    });
+                match t {
+                    INT => by_cmp!(cmp, op_jump_add_jump_cmp_br_int, INT),
+                    _ => by_cmp!(cmp, op_jump_add_jump_cmp_br_int, ANY),
+                }
+            }
+            Op::AddJumpCmpKBr {
+                cmp, k, p, q, a, ..
+            } if is_int(k) => {
+                let t = target(pc + 1).map_or(ANY, |to| all(&[(pc, p), (pc, q), (to + 1, a)]));
+                match t {
+                    INT => by_cmp!(cmp, op_add_jump_cmp_k_br_int, INT),
+                    _ => by_cmp!(cmp, op_add_jump_cmp_k_br_int, ANY),
+                }
+            }
             Op::AddJumpCmpKBr { cmp, .. } => by_cmp!(cmp, op_add_jump_cmp_k_br, false),
-            Op::RangeBr { lo, hi, .. } if is_int(lo) && is_int(hi) => op_range_br_int,
+            // The index is compared at pc + 1 (and pc + 3, unchanged).
+            Op::RangeBr { lo, hi, x, .. } if is_int(lo) && is_int(hi) => {
+                match all(&[(pc + 1, x)]) {
+                    INT => op_range_br_int::<INT>,
+                    _ => op_range_br_int::<ANY>,
+                }
+            }
             Op::RangeBr { .. } => op_range_br::<false>,
         };
         let offset = |target: Pc| {
@@ -245,6 +388,9 @@ impl Slot {
                 if_true, if_false, ..
             }
             | Op::AddJumpCmpBr {
+                if_true, if_false, ..
+            }
+            | Op::JumpAddJumpCmpBr {
                 if_true, if_false, ..
             }
             | Op::AddJumpCmpKBr {
@@ -274,6 +420,27 @@ unsafe fn get(regs: *mut Value, register: Reg) -> Value {
 #[inline(always)]
 unsafe fn set(regs: *mut Value, register: Reg, value: Value) {
     unsafe { *regs.add(register.0 as usize) = value }
+}
+
+/// Reads a register whose type the loader proved to be `T` ([`INT`] or
+/// [`FLOAT`]; [`ANY`]: not known): the optimiser then sees the variant and
+/// drops the tag tests. Both arms read the same 8 bytes, so a wrong `T` could
+/// only give a wrong number, never undefined behaviour; `Machine` runs typed
+/// handlers only while its registers agree with the analysis.
+#[inline(always)]
+unsafe fn read<const T: TypeSet>(regs: *mut Value, register: Reg) -> Value {
+    let value = unsafe { get(regs, register) };
+    match T {
+        INT => Value::Int(match value {
+            Value::Int(x) => x,
+            Value::Float(x) => x.to_bits() as i64,
+        }),
+        FLOAT => Value::Float(match value {
+            Value::Int(x) => f64::from_bits(x as u64),
+            Value::Float(x) => x,
+        }),
+        _ => value,
+    }
 }
 
 /// A constant whose type the loader knew when it chose the handler: the
@@ -401,8 +568,8 @@ macro_rules! stop_here {
 macro_rules! binary {
     ($($name:ident, $variant:ident, $f:expr;)*) => {$(
         handler! {
-            fn $name($variant { a, b, dst }, width 1) |ip, regs, fuel, context| {
-                set(regs, dst, $f(get(regs, a), get(regs, b)));
+            fn $name<const T: TypeSet>($variant { a, b, dst }, width 1) |ip, regs, fuel, context| {
+                set(regs, dst, $f(read::<T>(regs, a), read::<T>(regs, b)));
                 ip.add(1)
             }
         }
@@ -413,8 +580,8 @@ macro_rules! binary {
 macro_rules! unary {
     ($($name:ident, $variant:ident, $f:expr;)*) => {$(
         handler! {
-            fn $name($variant { src, dst }, width 1) |ip, regs, fuel, context| {
-                set(regs, dst, $f(get(regs, src)));
+            fn $name<const T: TypeSet>($variant { src, dst }, width 1) |ip, regs, fuel, context| {
+                set(regs, dst, $f(read::<T>(regs, src)));
                 ip.add(1)
             }
         }
@@ -425,11 +592,12 @@ macro_rules! unary {
 macro_rules! division {
     ($($name:ident, $variant:ident, $f:expr;)*) => {$(
         handler! {
-            fn $name($variant { a, b, dst }, width 1) |ip, regs, fuel, context| {
-                if integer_division_by_zero(get(regs, a), get(regs, b)) {
+            fn $name<const T: TypeSet>($variant { a, b, dst }, width 1) |ip, regs, fuel, context| {
+                let (x, y) = (read::<T>(regs, a), read::<T>(regs, b));
+                if integer_division_by_zero(x, y) {
                     stop_here!(ip, fuel, context, Stop::Exit(Exit::Trap(TrapKind::DivisionByZero)));
                 }
-                set(regs, dst, $f(get(regs, a), get(regs, b)));
+                set(regs, dst, $f(x, y));
                 ip.add(1)
             }
         }
@@ -440,11 +608,12 @@ macro_rules! division {
 macro_rules! with_constant {
     ($($name:ident, $variant:ident, $f:expr;)*) => {$(
         handler! {
-            fn $name<const INT: bool>($variant { a, k, t, dst }, width 2)
+            fn $name<const INT: bool, const T: TypeSet>($variant { a, k, t, dst }, width 2)
             |ip, regs, fuel, context| {
                 let k = constant::<INT>(k);
+                let x = read::<T>(regs, a);
                 set(regs, t, k);
-                set(regs, dst, $f(get(regs, a), k));
+                set(regs, dst, $f(x, k));
                 ip.add(2)
             }
         }
@@ -497,10 +666,10 @@ with_constant! {
 macro_rules! integer_division {
     ($($name:ident, $variant:ident, $general:ident, $f:ident;)*) => {$(
         handler! {
-            fn $name($variant { a, b, dst }, width 1) |ip, regs, fuel, context| {
-                match (get(regs, a), get(regs, b)) {
+            fn $name<const T: TypeSet>($variant { a, b, dst }, width 1) |ip, regs, fuel, context| {
+                match (read::<T>(regs, a), read::<T>(regs, b)) {
                     (Value::Int(x), Value::Int(y)) if y != 0 => set(regs, dst, Value::Int(x.$f(y))),
-                    _ => return $general(ip, regs, fuel + 1, context),
+                    _ => return $general::<ANY>(ip, regs, fuel + 1, context),
                 }
                 ip.add(1)
             }
@@ -513,7 +682,7 @@ macro_rules! integer_division {
 macro_rules! integer_division_by_constant {
     ($($name:ident, $variant:ident, $general:ident, $f:ident;)*) => {$(
         handler! {
-            fn $name($variant { a, k, t, dst }, width 2) |ip, regs, fuel, context| {
+            fn $name<const T: TypeSet>($variant { a, k, t, dst }, width 2) |ip, regs, fuel, context| {
                 let Value::Int(divisor) = k else {
                     // SAFETY: `Slot::new` chose this handler for an integer constant.
                     unreachable_unchecked()
@@ -522,10 +691,11 @@ macro_rules! integer_division_by_constant {
                     // SAFETY: `fuse` leaves a division by the constant 0 plain.
                     unreachable_unchecked()
                 }
+                let x = read::<T>(regs, a);
                 set(regs, t, k);
-                match get(regs, a) {
+                match x {
                     Value::Int(x) => set(regs, dst, Value::Int(x.$f(divisor))),
-                    Value::Float(_) => return $general::<true>(ip, regs, fuel + 2, context),
+                    Value::Float(_) => return $general::<true, ANY>(ip, regs, fuel + 2, context),
                 }
                 ip.add(2)
             }
@@ -619,8 +789,9 @@ handler! {
 }
 
 branch_handler! {
-    fn op_branch(Branch { cond, if_true, if_false }, width 1) |ip, regs, fuel, context| {
-        get(regs, cond).is_true()
+    fn op_branch<const T: TypeSet>(Branch { cond, if_true, if_false }, width 1)
+    |ip, regs, fuel, context| {
+        read::<T>(regs, cond).is_true()
     }
 }
 
@@ -661,25 +832,36 @@ unsafe fn op_output(ip: *const Slot, _regs: *mut Value, fuel: u64, context: &mut
 }
 
 handler! {
-    fn op_int_to_float_add(IntToFloatAdd { src, t, a, dst }, width 2)
+    fn op_int_to_float_add<const T: TypeSet>(IntToFloatAdd { src, t, a, dst }, width 2)
     |ip, regs, fuel, context| {
         let widened = Value::Float(get(regs, src).as_f64());
         set(regs, t, widened);
-        set(regs, dst, add(get(regs, a), widened));
+        set(regs, dst, add(read::<T>(regs, a), widened));
         ip.add(2)
     }
 }
 
-branch_handler! {
-    fn op_add_jump_cmp_br<const C: usize>(
-        AddJumpCmpBr { p, q, sum, cmp, a, b, c, if_true, if_false }, width 4
-    )
-    |ip, regs, fuel, context| {
-        set(regs, sum, add(get(regs, p), get(regs, q)));
-        let result = compare(CMPS[C], get(regs, a), get(regs, b));
-        set(regs, c, truth(result));
-        result
-    }
+/// A loop's step `add`, back edge and test (and, for `JumpAddJumpCmpBr`, the
+/// `jumpi` that led to the step): the general handlers.
+macro_rules! add_jump_compare_and_branch {
+    ($($name:ident, $variant:ident, $width:expr;)*) => {$(
+        branch_handler! {
+            fn $name<const C: usize>(
+                $variant { p, q, sum, cmp, a, b, c, if_true, if_false }, width $width
+            )
+            |ip, regs, fuel, context| {
+                set(regs, sum, add(get(regs, p), get(regs, q)));
+                let result = compare(CMPS[C], get(regs, a), get(regs, b));
+                set(regs, c, truth(result));
+                result
+            }
+        }
+    )*};
+}
+
+add_jump_compare_and_branch! {
+    op_add_jump_cmp_br, AddJumpCmpBr, 4;
+    op_jump_add_jump_cmp_br, JumpAddJumpCmpBr, 5;
 }
 
 branch_handler! {
@@ -725,9 +907,9 @@ branch_handler! {
 macro_rules! integer_binary {
     ($($name:ident, $variant:ident, $general:ident, $f:ident;)*) => {$(
         handler! {
-            fn $name($variant { a, b, dst }, width 1) |ip, regs, fuel, context| {
-                let (Value::Int(x), Value::Int(y)) = (get(regs, a), get(regs, b)) else {
-                    return $general(ip, regs, fuel + 1, context);
+            fn $name<const T: TypeSet>($variant { a, b, dst }, width 1) |ip, regs, fuel, context| {
+                let (Value::Int(x), Value::Int(y)) = (read::<T>(regs, a), read::<T>(regs, b)) else {
+                    return $general::<ANY>(ip, regs, fuel + 1, context);
                 };
                 set(regs, dst, Value::Int(x.$f(y)));
                 ip.add(1)
@@ -746,13 +928,13 @@ integer_binary! {
 macro_rules! integer_with_constant {
     ($($name:ident, $variant:ident, $general:ident, $f:ident;)*) => {$(
         handler! {
-            fn $name($variant { a, k, t, dst }, width 2) |ip, regs, fuel, context| {
+            fn $name<const T: TypeSet>($variant { a, k, t, dst }, width 2) |ip, regs, fuel, context| {
                 let Value::Int(y) = k else {
                     // SAFETY: `Slot::new` chose this handler for an integer constant.
                     unreachable_unchecked()
                 };
-                let Value::Int(x) = get(regs, a) else {
-                    return $general::<true>(ip, regs, fuel + 2, context);
+                let Value::Int(x) = read::<T>(regs, a) else {
+                    return $general::<true, ANY>(ip, regs, fuel + 2, context);
                 };
                 set(regs, t, k);
                 set(regs, dst, Value::Int(x.$f(y)));
@@ -768,30 +950,44 @@ integer_with_constant! {
     op_mul_k_int, MulK, op_mul_k, wrapping_mul;
 }
 
-branch_handler! {
-    fn op_add_jump_cmp_br_int<const C: usize>(
-        AddJumpCmpBr { p, q, sum, cmp, a, b, c, if_true, if_false }, width 4
-    )
-    |ip, regs, fuel, context| {
-        let (Value::Int(x), Value::Int(y), Value::Int(_), Value::Int(_)) =
-            (get(regs, p), get(regs, q), get(regs, a), get(regs, b))
-        else {
-            return op_add_jump_cmp_br::<C>(ip, regs, fuel + 4, context);
-        };
-        set(regs, sum, Value::Int(x.wrapping_add(y)));
-        // Read after the write: `a` or `b` may be `sum`, an integer as well.
-        let (Value::Int(u), Value::Int(v)) = (get(regs, a), get(regs, b)) else {
-            // SAFETY: both were integers and the only write was an integer.
-            unreachable_unchecked()
-        };
-        let result = compare(CMPS[C], Value::Int(u), Value::Int(v));
-        set(regs, c, truth(result));
-        result
-    }
+/// Integer fast paths of [`add_jump_compare_and_branch`].
+macro_rules! integer_add_jump_compare_and_branch {
+    ($($name:ident, $variant:ident, $general:ident, $width:expr;)*) => {$(
+        branch_handler! {
+            fn $name<const C: usize, const T: TypeSet>(
+                $variant { p, q, sum, cmp, a, b, c, if_true, if_false }, width $width
+            )
+            |ip, regs, fuel, context| {
+                let (Value::Int(x), Value::Int(y), Value::Int(_), Value::Int(_)) = (
+                    read::<T>(regs, p),
+                    read::<T>(regs, q),
+                    read::<T>(regs, a),
+                    read::<T>(regs, b),
+                ) else {
+                    return $general::<C>(ip, regs, fuel + $width, context);
+                };
+                set(regs, sum, Value::Int(x.wrapping_add(y)));
+                // Read after the write: `a` or `b` may be `sum`, an integer as well.
+                let (Value::Int(u), Value::Int(v)) = (read::<INT>(regs, a), read::<INT>(regs, b))
+                else {
+                    // SAFETY: `read::<INT>` gives integers.
+                    unreachable_unchecked()
+                };
+                let result = compare(CMPS[C], Value::Int(u), Value::Int(v));
+                set(regs, c, truth(result));
+                result
+            }
+        }
+    )*};
+}
+
+integer_add_jump_compare_and_branch! {
+    op_add_jump_cmp_br_int, AddJumpCmpBr, op_add_jump_cmp_br, 4;
+    op_jump_add_jump_cmp_br_int, JumpAddJumpCmpBr, op_jump_add_jump_cmp_br, 5;
 }
 
 branch_handler! {
-    fn op_add_jump_cmp_k_br_int<const C: usize>(
+    fn op_add_jump_cmp_k_br_int<const C: usize, const T: TypeSet>(
         AddJumpCmpKBr { p, q, sum, cmp, a, k, t, c, if_true, if_false }, width 5
     )
     |ip, regs, fuel, context| {
@@ -800,14 +996,14 @@ branch_handler! {
             unreachable_unchecked()
         };
         let (Value::Int(x), Value::Int(y), Value::Int(_)) =
-            (get(regs, p), get(regs, q), get(regs, a))
+            (read::<T>(regs, p), read::<T>(regs, q), read::<T>(regs, a))
         else {
             return op_add_jump_cmp_k_br::<C, true>(ip, regs, fuel + 5, context);
         };
         set(regs, sum, Value::Int(x.wrapping_add(y)));
         set(regs, t, k);
         // Read after the writes: `a` may be `sum` (never `t`: `fuse`), an integer as well.
-        let Value::Int(u) = get(regs, a) else {
+        let Value::Int(u) = read::<INT>(regs, a) else {
             // SAFETY: `a` was an integer and both writes were integers.
             unreachable_unchecked()
         };
@@ -821,8 +1017,8 @@ branch_handler! {
 // memory; anything else (a float address, a trap) goes on in the general
 // handler by a tail call, so these save no registers.
 handler! {
-    fn op_load_mem_int(LoadMem { addr, dst }, width 1) |ip, regs, fuel, context| {
-        match get(regs, addr) {
+    fn op_load_mem_int<const T: TypeSet>(LoadMem { addr, dst }, width 1) |ip, regs, fuel, context| {
+        match read::<T>(regs, addr) {
             Value::Int(index) if (index as u64) < context.memory.len() as u64 => {
                 set(regs, dst, *context.memory.as_ptr().add(index as usize));
             }
@@ -833,8 +1029,8 @@ handler! {
 }
 
 handler! {
-    fn op_store_mem_int(StoreMem { src, addr }, width 1) |ip, regs, fuel, context| {
-        match get(regs, addr) {
+    fn op_store_mem_int<const T: TypeSet>(StoreMem { src, addr }, width 1) |ip, regs, fuel, context| {
+        match read::<T>(regs, addr) {
             Value::Int(index) if (index as u64) < context.memory.len() as u64 => {
                 *context.memory.as_mut_ptr().add(index as usize) = get(regs, src);
             }
@@ -846,7 +1042,7 @@ handler! {
 
 branch_handler! {
     /// GBASIC's index check with integer bounds and an integer index.
-    fn op_range_br_int(
+    fn op_range_br_int<const T: TypeSet>(
         RangeBr { x, lo, t_lo, c_lo, hi, t_hi, c_hi, d, if_out, if_in }, width 6
     )
     |ip, regs, fuel, context| {
@@ -854,7 +1050,7 @@ branch_handler! {
             // SAFETY: `Slot::new` chose this handler for integer bounds.
             unreachable_unchecked()
         };
-        let Value::Int(index) = get(regs, x) else {
+        let Value::Int(index) = read::<T>(regs, x) else {
             return op_range_br::<true>(ip, regs, fuel + 6, context);
         };
         let (below, above) = (index < low, index >= high);
@@ -872,9 +1068,11 @@ branch_handler! {
 macro_rules! compare_and_branch {
     ($($name:ident, $variant:ident, $width:expr;)*) => {$(
         branch_handler! {
-            fn $name<const C: usize>($variant { cmp, a, b, c, if_true, if_false }, width $width)
+            fn $name<const C: usize, const T: TypeSet>(
+                $variant { cmp, a, b, c, if_true, if_false }, width $width
+            )
             |ip, regs, fuel, context| {
-                let result = compare(CMPS[C], get(regs, a), get(regs, b));
+                let result = compare(CMPS[C], read::<T>(regs, a), read::<T>(regs, b));
                 set(regs, c, truth(result));
                 result
             }
@@ -891,13 +1089,14 @@ compare_and_branch! {
 macro_rules! compare_constant_and_branch {
     ($($name:ident, $variant:ident, $width:expr;)*) => {$(
         branch_handler! {
-            fn $name<const C: usize, const INT: bool>(
+            fn $name<const C: usize, const INT: bool, const T: TypeSet>(
                 $variant { cmp, a, k, t, c, if_true, if_false }, width $width
             )
             |ip, regs, fuel, context| {
                 let k = constant::<INT>(k);
+                let x = read::<T>(regs, a);
                 set(regs, t, k);
-                let result = compare(CMPS[C], get(regs, a), k);
+                let result = compare(CMPS[C], x, k);
                 set(regs, c, truth(result));
                 result
             }
@@ -914,10 +1113,12 @@ compare_constant_and_branch! {
 macro_rules! integer_compare_and_branch {
     ($($name:ident, $variant:ident, $general:ident, $width:expr;)*) => {$(
         branch_handler! {
-            fn $name<const C: usize>($variant { cmp, a, b, c, if_true, if_false }, width $width)
+            fn $name<const C: usize, const T: TypeSet>(
+                $variant { cmp, a, b, c, if_true, if_false }, width $width
+            )
             |ip, regs, fuel, context| {
-                let (Value::Int(x), Value::Int(y)) = (get(regs, a), get(regs, b)) else {
-                    return $general::<C>(ip, regs, fuel + $width, context);
+                let (Value::Int(x), Value::Int(y)) = (read::<T>(regs, a), read::<T>(regs, b)) else {
+                    return $general::<C, ANY>(ip, regs, fuel + $width, context);
                 };
                 let result = compare(CMPS[C], Value::Int(x), Value::Int(y));
                 set(regs, c, truth(result));
@@ -936,7 +1137,9 @@ integer_compare_and_branch! {
 macro_rules! integer_compare_constant_and_branch {
     ($($name:ident, $variant:ident, $general:ident, $width:expr;)*) => {$(
         branch_handler! {
-            fn $name<const C: usize>($variant { cmp, a, k, t, c, if_true, if_false }, width $width)
+            fn $name<const C: usize, const T: TypeSet>(
+                $variant { cmp, a, k, t, c, if_true, if_false }, width $width
+            )
             |ip, regs, fuel, context| {
                 let Value::Int(y) = k else {
                     // SAFETY: `Slot::new` chose this handler for an integer constant.
@@ -944,8 +1147,8 @@ macro_rules! integer_compare_constant_and_branch {
                 };
                 // `a` is read after `t` is written in the instructions, but `fuse`
                 // made sure they differ.
-                let Value::Int(x) = get(regs, a) else {
-                    return $general::<C, true>(ip, regs, fuel + $width, context);
+                let Value::Int(x) = read::<T>(regs, a) else {
+                    return $general::<C, true, ANY>(ip, regs, fuel + $width, context);
                 };
                 set(regs, t, k);
                 let result = compare(CMPS[C], Value::Int(x), Value::Int(y));

@@ -610,6 +610,7 @@ fn variable_list(
                         _ => "integer constant",
                     },
                     length: None,
+                    element: None,
                     evaluate_name: Some(constant.name.clone()),
                 })
             }))
@@ -630,10 +631,9 @@ fn variable_list(
                 Some(count) if count > 0 => usize::try_from(count).unwrap_or(usize::MAX),
                 _ => length,
             };
-            let element_type = if array.ty.starts_with("float") {
-                "float"
-            } else {
-                "integer"
+            let element_type = match array.element {
+                Some(Ty::Float) => "float",
+                _ => "integer",
             };
             return Ok((start..start.saturating_add(count).min(length))
                 .map(|index| {

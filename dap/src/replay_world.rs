@@ -329,6 +329,7 @@ impl Target for ReplayWorld {
             value,
             ty,
             length: None,
+            element: None,
             evaluate_name: None,
         };
         // A recorded sensor, named by itself when the list has it.

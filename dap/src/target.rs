@@ -69,6 +69,8 @@ pub struct Named {
     pub ty: &'static str,
     /// For an array: its number of elements (shown as children `name(i)`).
     pub length: Option<usize>,
+    /// For an array: the type of its elements (the children's type).
+    pub element: Option<gloc_compiler::typed::Ty>,
     /// The GBASIC expression whose value this is (DAP `evaluateName`); `None` for what
     /// no expression names (the phase, the active behaviors, the energy).
     pub evaluate_name: Option<String>,

@@ -484,6 +484,7 @@ pub(crate) fn variables_of(machine: Option<&Machine>, slots: &[VariableSlot]) ->
                     value: value.to_string(),
                     ty: if variable.float { "float" } else { "integer" },
                     length: None,
+                    element: None,
                     evaluate_name: Some(variable.name.clone()),
                 }
             }
@@ -504,6 +505,11 @@ pub(crate) fn variables_of(machine: Option<&Machine>, slots: &[VariableSlot]) ->
                         "integer array"
                     },
                     length: Some(size as usize),
+                    element: Some(if variable.float {
+                        gloc_compiler::typed::Ty::Float
+                    } else {
+                        gloc_compiler::typed::Ty::Integer
+                    }),
                     evaluate_name: Some(variable.name.clone()),
                 }
             }
@@ -793,6 +799,7 @@ impl Target for SimWorld {
             value,
             ty,
             length: None,
+            element: None,
             evaluate_name: None,
         };
         // The vehicle's state, named by the sensor the simulator writes it to at each

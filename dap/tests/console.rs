@@ -177,6 +177,10 @@ fn a_watched_array_expands_and_values_are_the_print_text() {
         .map(|variable| variable["value"].as_str().unwrap_or_default())
         .collect();
     assert_eq!(values, ["0.0", "0.1", "0.2", "0.30000000000000004"]);
+    // `dim tsum(4) as float`: every element is a float.
+    for variable in children["variables"].as_array().expect("variables") {
+        assert_eq!(variable["type"], "float", "{variable}");
+    }
     // The same text on hover: it reads back to the same double.
     assert_eq!(
         evaluate(&mut client, "tsum(3)", "hover")["result"],

@@ -379,11 +379,6 @@ impl State {
             ));
         }
         let files = workspace::script_files(&self.workspace_roots);
-        let context = Context {
-            sensors: self.embedded(),
-            cycle_budget: None,
-            list_folders: Vec::new(),
-        };
         let mut kept = HashMap::new();
         for file in files {
             if open_paths.contains(&file.path) {
@@ -402,6 +397,8 @@ impl State {
                     ) else {
                         continue;
                     };
+                    // The file's own project settings, as if it were opened.
+                    let (context, _) = self.context_for(Some(file.path.clone()));
                     let analysis = lang::analyze(file.language, &text, &context);
                     let rope = ropey::Rope::from_str(&text);
                     DiskSymbols {

@@ -443,7 +443,7 @@ impl SimWorld {
 
 pub(crate) fn registers_of(machine: Option<&Machine>) -> Vec<Number> {
     machine
-        .map(|machine| machine.registers().iter().copied().map(to_number).collect())
+        .map(|machine| machine.registers().to_vec())
         .unwrap_or_default()
 }
 
@@ -526,11 +526,7 @@ pub(crate) fn variable_of(
         .iter()
         .find(|variable| variable.name.eq_ignore_ascii_case(name))?;
     match variable.storage {
-        Storage::Register { register } => machine?
-            .registers()
-            .get(register as usize)
-            .copied()
-            .map(to_number),
+        Storage::Register { register } => machine?.registers().get(register as usize).copied(),
         // An array has no single value in an expression.
         Storage::Memory { .. } => None,
     }
@@ -631,13 +627,6 @@ fn typed_value(variable: &VariableSlot, value: Number) -> Result<Value, String> 
 /// A float as the script's `print` writes it (the shortest text that reads back exactly).
 pub(crate) fn float_text(value: f64) -> String {
     Value::Float(value).to_string()
-}
-
-fn to_number(value: Value) -> Number {
-    match value {
-        Value::Int(value) => Number::Int(value),
-        Value::Float(value) => Number::Float(value),
-    }
 }
 
 impl Target for SimWorld {

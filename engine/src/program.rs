@@ -200,11 +200,6 @@ impl Instr {
             _ => Flow::Next,
         }
     }
-
-    /// True for the instructions that end an output line (`print`, `prints`).
-    pub fn prints(&self) -> bool {
-        matches!(self, Instr::Print { .. } | Instr::PrintText { .. })
-    }
 }
 
 /// A checked GLOC script, ready to run. Built by [`crate::gloc::check`].

@@ -14,6 +14,9 @@ pub struct Context {
     pub sensors: Arc<SensorList>,
     /// Instructions per control cycle a script may use, when configured.
     pub cycle_budget: Option<u64>,
+    /// Where `cycle_budget` came from, as the project layer words it (`the default`,
+    /// `gloc.toml:3:16`, `editor setting gloc.cycleBudget`), for the editor's text.
+    pub cycle_budget_from: Option<String>,
     /// Where a GLOC file's `# sensors: CRC` list is looked for as `<crc>.cac`
     /// when it is neither the active list nor the embedded one: the document's
     /// folder, the active list's, then `sensor_cache` of gloc.toml.

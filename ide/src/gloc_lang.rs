@@ -86,15 +86,15 @@ fn cycle_hint(offset: usize, which: &str, bound: Bound, context: &Context) -> Hi
         Bound::Finite(count) => format!("{which} ≤ {count} instr"),
         Bound::Unbounded => format!("{which}: unbounded"),
     };
-    let budget = context.cycle_budget.map_or_else(
-        || {
-            format!(
-                "(the budget is {} by default)",
-                gloc_engine::vm::DEFAULT_CYCLE_BUDGET
-            )
-        },
-        |budget| format!("(the budget is {budget}, from the project settings)"),
-    );
+    let budget = match (context.cycle_budget, context.cycle_budget_from.as_deref()) {
+        (None, _) => format!(
+            "(the budget is {} by default)",
+            gloc_engine::vm::DEFAULT_CYCLE_BUDGET
+        ),
+        (Some(budget), Some("the default")) => format!("(the budget is {budget} by default)"),
+        (Some(budget), Some(from)) => format!("(the budget is {budget}, from {from})"),
+        (Some(budget), None) => format!("(the budget is {budget}, from the project settings)"),
+    };
     Hint {
         offset,
         label,

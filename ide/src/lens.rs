@@ -77,6 +77,7 @@ mod tests {
         let context = Context {
             sensors: Arc::new(SensorList::embedded()),
             cycle_budget: None,
+            cycle_budget_from: None,
             list_folders: Vec::new(),
         };
         crate::lang::analyze(language, text, &context)

@@ -1015,6 +1015,7 @@ mod tests {
         let context = Context {
             sensors: Arc::new(SensorList::embedded()),
             cycle_budget: None,
+            cycle_budget_from: None,
             list_folders: Vec::new(),
         };
         let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");

@@ -36,6 +36,7 @@ pub fn time_semantic_tokens(text: &str, runs: usize) -> (usize, Vec<std::time::D
     let context = analysis::Context {
         sensors: Arc::new(gloc_engine::sensors::SensorList::embedded()),
         cycle_budget: None,
+        cycle_budget_from: None,
         list_folders: Vec::new(),
     };
     let language = document::Language::Gbasic;

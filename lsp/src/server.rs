@@ -216,6 +216,7 @@ impl State {
                 // Always the resolved budget (the default one too), as the CLI holds
                 // the script against it: W2302 is decided alike everywhere.
                 cycle_budget: Some(settings.cycle_budget.value.get()),
+                cycle_budget_from: Some(settings.cycle_budget.origin.to_string()),
                 list_folders,
             },
             problems,
@@ -666,6 +667,7 @@ impl LanguageServer for Backend {
             let context = Context {
                 sensors: state.embedded(),
                 cycle_budget: None,
+                cycle_budget_from: None,
                 list_folders: Vec::new(),
             };
             state.documents.insert(

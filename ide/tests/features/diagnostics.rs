@@ -141,6 +141,7 @@ fn gloc_a_cycle_over_the_budget_is_a_warning() {
     // The longest cycle: after the yield, jumpi 0, loads, stores, yield = 4 > 3.
     let context = Context {
         cycle_budget: Some(3),
+        cycle_budget_from: None,
         ..context()
     };
     check_diagnostics_in(

@@ -71,6 +71,45 @@ fn only_the_hints_inside_the_range() {
     assert_eq!(labels, [":sci_ruhp_behs", "next cycle ≤ 4 instr"]);
 }
 
+/// The tooltip's end for a budget from `from` (as the project layer words origins).
+fn budget_tooltip(budget: u64, from: Option<&str>) -> String {
+    let context = Context {
+        cycle_budget: Some(budget),
+        cycle_budget_from: from.map(str::to_string),
+        ..context()
+    };
+    let fixture = Fixture::with_context(
+        Gloc,
+        "nregs 1\nnblbs 1\nninstr 3\nlabel 0\nloadi 1,r0\nyield\n",
+        context,
+    );
+    let tooltip = fixture
+        .analysis
+        .hints
+        .iter()
+        .find_map(|hint| hint.tooltip.clone())
+        .expect("a cycle hint");
+    let start = tooltip.rfind(" (").expect("the budget part");
+    tooltip[start + 1..].to_string()
+}
+
+#[test]
+fn the_tooltip_names_where_the_budget_came_from() {
+    // The default budget is not "from the project settings".
+    assert_eq!(
+        budget_tooltip(10000, Some("the default")),
+        "(the budget is 10000 by default)."
+    );
+    assert_eq!(
+        budget_tooltip(10, Some("gloc.toml:1:16")),
+        "(the budget is 10, from gloc.toml:1:16)."
+    );
+    assert_eq!(
+        budget_tooltip(50, Some("editor setting gloc.cycleBudget")),
+        "(the budget is 50, from editor setting gloc.cycleBudget)."
+    );
+}
+
 #[test]
 fn the_budget_in_the_tooltip_comes_from_the_settings() {
     let context = Context {

@@ -54,6 +54,7 @@ pub fn context() -> Context {
     Context {
         sensors: Arc::new(SensorList::embedded()),
         cycle_budget: None,
+        cycle_budget_from: None,
         list_folders: Vec::new(),
     }
 }

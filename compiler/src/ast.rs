@@ -72,6 +72,30 @@ impl BinaryOp {
         }
     }
 
+    /// The machine operation that computes it, once the operands have the types
+    /// the checker made explicit. `and`/`or` are logical: each operand is made 0 or
+    /// 1 first (`cmpne x, 0`), then the bitwise operation is applied to those.
+    /// Code generation and the debugger's evaluator both take it from here.
+    pub fn machine_operation(self) -> gloc_engine::vm::BinaryOperation {
+        use gloc_engine::vm::BinaryOperation as M;
+        match self {
+            BinaryOp::Add => M::Add,
+            BinaryOp::Sub => M::Sub,
+            BinaryOp::Mul => M::Mul,
+            // `/` has float operands by then, `\` integer ones: one `div` for both.
+            BinaryOp::Div | BinaryOp::IntDiv => M::Div,
+            BinaryOp::Mod => M::Mod,
+            BinaryOp::Eq => M::CmpEq,
+            BinaryOp::Ne => M::CmpNe,
+            BinaryOp::Lt => M::CmpLt,
+            BinaryOp::Le => M::CmpLe,
+            BinaryOp::Gt => M::CmpGt,
+            BinaryOp::Ge => M::CmpGe,
+            BinaryOp::And => M::And,
+            BinaryOp::Or => M::Or,
+        }
+    }
+
     pub fn is_comparison(self) -> bool {
         matches!(
             self,

@@ -594,35 +594,17 @@ impl Generator {
                 let a = self.expr(left);
                 let b = self.expr(right);
                 self.span = expr.span;
-                let (op, a, b) = match op {
-                    BinaryOp::Add => (Op2::Add, a, b),
-                    BinaryOp::Sub => (Op2::Sub, a, b),
-                    BinaryOp::Mul => (Op2::Mul, a, b),
-                    BinaryOp::Div | BinaryOp::IntDiv => (Op2::Div, a, b),
-                    BinaryOp::Mod => (Op2::Mod, a, b),
-                    BinaryOp::Eq => (Op2::CmpEq, a, b),
-                    BinaryOp::Ne => (Op2::CmpNe, a, b),
-                    BinaryOp::Lt => (Op2::CmpLt, a, b),
-                    BinaryOp::Le => (Op2::CmpLe, a, b),
-                    BinaryOp::Gt => (Op2::CmpGt, a, b),
-                    BinaryOp::Ge => (Op2::CmpGe, a, b),
-                    BinaryOp::And | BinaryOp::Or => {
-                        // Logical, not bitwise: make each side 0 or 1 first unless it
-                        // already is (a comparison or another logical operator).
-                        let a = self.truth(left, a);
-                        let b = self.truth(right, b);
-                        self.span = expr.span;
-                        (
-                            if *op == BinaryOp::And {
-                                Op2::And
-                            } else {
-                                Op2::Or
-                            },
-                            a,
-                            b,
-                        )
-                    }
+                let (a, b) = if matches!(op, BinaryOp::And | BinaryOp::Or) {
+                    // Logical, not bitwise: make each side 0 or 1 first unless it
+                    // already is (a comparison or another logical operator).
+                    let a = self.truth(left, a);
+                    let b = self.truth(right, b);
+                    self.span = expr.span;
+                    (a, b)
+                } else {
+                    (a, b)
                 };
+                let op = op.machine_operation();
                 let dst = self.fresh();
                 self.emit(Instr::Binary { op, a, b, dst });
                 dst

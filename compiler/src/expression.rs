@@ -15,9 +15,10 @@ use gloc_engine::vm::{apply_binary, apply_unary, BinaryOperation, UnaryOperation
 use gloc_engine::Diagnostic;
 
 use crate::ast::BinaryOp;
+use crate::builtins::Instruction;
 pub use crate::check::{check_expression, CheckedExpression, ExpressionScope};
 pub use crate::parser::{parse_expression, ParsedExpression};
-use crate::typed::{Builtin, Expr, ExprKind, Ty, VarId};
+use crate::typed::{Expr, ExprKind, Ty, VarId};
 use crate::SourceMap;
 
 /// The live values an expression reads, by the ids of its scope.
@@ -158,54 +159,35 @@ pub fn evaluate(
             // Cells never written hold integer 0; the compiled read of a float array
             // converts (codegen's `I2d` after `loadm`).
             if expr.ty == Ty::Float {
-                apply_unary(UnaryOperation::IntToFloat, cell)
+                apply_unary(UnaryOperation::I2d, cell)
             } else {
                 cell
             }
         }
         ExprKind::Neg(operand) => apply_unary(UnaryOperation::Neg, value(operand)?),
         ExprKind::Not(operand) => apply_unary(UnaryOperation::Not, value(operand)?),
-        ExprKind::ToFloat(operand) => apply_unary(UnaryOperation::IntToFloat, value(operand)?),
+        ExprKind::ToFloat(operand) => apply_unary(UnaryOperation::I2d, value(operand)?),
         ExprKind::Binary { op, left, right } => {
             // Both sides are computed, as in the compiled code (no short circuit).
             let (a, b) = (value(left)?, value(right)?);
-            let operation = match op {
-                BinaryOp::Add => BinaryOperation::Add,
-                BinaryOp::Sub => BinaryOperation::Sub,
-                BinaryOp::Mul => BinaryOperation::Mul,
-                BinaryOp::Div | BinaryOp::IntDiv => BinaryOperation::Div,
-                BinaryOp::Mod => BinaryOperation::Mod,
-                BinaryOp::Eq => BinaryOperation::CmpEq,
-                BinaryOp::Ne => BinaryOperation::CmpNe,
-                BinaryOp::Lt => BinaryOperation::CmpLt,
-                BinaryOp::Le => BinaryOperation::CmpLe,
-                BinaryOp::Gt => BinaryOperation::CmpGt,
-                BinaryOp::Ge => BinaryOperation::CmpGe,
-                BinaryOp::And | BinaryOp::Or => {
-                    // Logical: each side made 0 or 1 first (codegen's `truth`).
-                    let truth = |value| binary(BinaryOperation::CmpNe, value, Value::Int(0));
-                    let (a, b) = (truth(a)?, truth(b)?);
-                    let operation = if *op == BinaryOp::And {
-                        BinaryOperation::And
-                    } else {
-                        BinaryOperation::Or
-                    };
-                    return binary(operation, a, b);
-                }
+            let (a, b) = if matches!(op, BinaryOp::And | BinaryOp::Or) {
+                // Logical: each side made 0 or 1 first (codegen's `truth`).
+                let truth = |value| binary(BinaryOperation::CmpNe, value, Value::Int(0));
+                (truth(a)?, truth(b)?)
+            } else {
+                (a, b)
             };
+            let operation = op.machine_operation();
             binary(operation, a, b)?
         }
         ExprKind::Call { builtin, args } => {
             let args = args.iter().map(value).collect::<Result<Vec<_>, _>>()?;
             let first = args.first().copied().unwrap_or_default();
             let second = args.get(1).copied().unwrap_or(first);
-            match builtin {
-                Builtin::Abs => apply_unary(UnaryOperation::Abs, first),
-                Builtin::Sqrt => apply_unary(UnaryOperation::Sqrt, first),
-                Builtin::Int => apply_unary(UnaryOperation::FloatToInt, first),
-                Builtin::Float => apply_unary(UnaryOperation::IntToFloat, first),
-                Builtin::Min => binary(BinaryOperation::Min, first, second)?,
-                Builtin::Max => binary(BinaryOperation::Max, first, second)?,
+            // The built-in's own GLOC instruction, from the compiler's one table.
+            match builtin.info().instruction {
+                Instruction::Unary(operation) => apply_unary(operation, first),
+                Instruction::Binary(operation) => binary(operation, first, second)?,
             }
         }
         // The checker reported it; `compile_expression` never returns one.

@@ -19,69 +19,8 @@ pub enum Addr {
     At(u32),
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Op2 {
-    Add,
-    Sub,
-    Mul,
-    Div,
-    Mod,
-    Min,
-    Max,
-    And,
-    Or,
-    CmpEq,
-    CmpNe,
-    CmpLt,
-    CmpLe,
-    CmpGt,
-    CmpGe,
-}
-
-impl Op2 {
-    pub fn mnemonic(self) -> &'static str {
-        match self {
-            Op2::Add => "add",
-            Op2::Sub => "sub",
-            Op2::Mul => "mul",
-            Op2::Div => "div",
-            Op2::Mod => "mod",
-            Op2::Min => "min",
-            Op2::Max => "max",
-            Op2::And => "and",
-            Op2::Or => "or",
-            Op2::CmpEq => "cmpeq",
-            Op2::CmpNe => "cmpne",
-            Op2::CmpLt => "cmplt",
-            Op2::CmpLe => "cmple",
-            Op2::CmpGt => "cmpgt",
-            Op2::CmpGe => "cmpge",
-        }
-    }
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Op1 {
-    Neg,
-    Abs,
-    Sqrt,
-    I2d,
-    D2i,
-    Not,
-}
-
-impl Op1 {
-    pub fn mnemonic(self) -> &'static str {
-        match self {
-            Op1::Neg => "neg",
-            Op1::Abs => "abs",
-            Op1::Sqrt => "sqrt",
-            Op1::I2d => "i2d",
-            Op1::D2i => "d2i",
-            Op1::Not => "not",
-        }
-    }
-}
+/// The IR's operations are the machine's own (one list, with their GLOC mnemonics).
+pub use gloc_engine::vm::{BinaryOperation as Op2, UnaryOperation as Op1};
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum Instr {

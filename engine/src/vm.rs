@@ -438,21 +438,11 @@ impl Machine {
                             divisor_not_zero!(a, b);
                             reg!(dst) = rem(reg!(a), reg!(b));
                         }
-                        Op::Min { a, b, dst } => {
-                            reg!(dst) = arithmetic(reg!(a), reg!(b), i64::min, f64::min)
-                        }
-                        Op::Max { a, b, dst } => {
-                            reg!(dst) = arithmetic(reg!(a), reg!(b), i64::max, f64::max)
-                        }
-                        Op::And { a, b, dst } => {
-                            reg!(dst) = Value::Int(reg!(a).as_i64() & reg!(b).as_i64())
-                        }
-                        Op::Or { a, b, dst } => {
-                            reg!(dst) = Value::Int(reg!(a).as_i64() | reg!(b).as_i64())
-                        }
-                        Op::Xor { a, b, dst } => {
-                            reg!(dst) = Value::Int(reg!(a).as_i64() ^ reg!(b).as_i64())
-                        }
+                        Op::Min { a, b, dst } => reg!(dst) = minimum(reg!(a), reg!(b)),
+                        Op::Max { a, b, dst } => reg!(dst) = maximum(reg!(a), reg!(b)),
+                        Op::And { a, b, dst } => reg!(dst) = bit_and(reg!(a), reg!(b)),
+                        Op::Or { a, b, dst } => reg!(dst) = bit_or(reg!(a), reg!(b)),
+                        Op::Xor { a, b, dst } => reg!(dst) = bit_xor(reg!(a), reg!(b)),
                         Op::CmpEq { a, b, dst } => {
                             reg!(dst) = truth(compare(Cmp::Eq, reg!(a), reg!(b)))
                         }
@@ -473,12 +463,10 @@ impl Machine {
                         }
                         Op::Neg { src, dst } => reg!(dst) = negate(reg!(src)),
                         Op::Abs { src, dst } => reg!(dst) = absolute(reg!(src)),
-                        Op::Sqrt { src, dst } => {
-                            reg!(dst) = Value::Float(reg!(src).as_f64().sqrt())
-                        }
-                        Op::IntToFloat { src, dst } => reg!(dst) = Value::Float(reg!(src).as_f64()),
-                        Op::FloatToInt { src, dst } => reg!(dst) = Value::Int(reg!(src).as_i64()),
-                        Op::Not { src, dst } => reg!(dst) = truth(!reg!(src).is_true()),
+                        Op::Sqrt { src, dst } => reg!(dst) = square_root(reg!(src)),
+                        Op::IntToFloat { src, dst } => reg!(dst) = to_float(reg!(src)),
+                        Op::FloatToInt { src, dst } => reg!(dst) = to_int(reg!(src)),
+                        Op::Not { src, dst } => reg!(dst) = logical_not(reg!(src)),
                         Op::LoadMem { addr, dst } => {
                             let index = address!(reg!(addr));
                             reg!(dst) = memory[index];
@@ -770,8 +758,9 @@ fn indirect_target(program: &Program, value: Value, code_len: usize) -> Result<u
 
 /// A two-operand machine operation, for code that computes on values outside a run:
 /// the debugger evaluates GBASIC expressions with [`apply_binary`], so a watch
-/// computes exactly what the script computes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// computes exactly what the script computes. The GBASIC compiler's IR names its
+/// operations with these too (`gloc_compiler::ir::Op2`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum BinaryOperation {
     Add,
     Sub,
@@ -790,15 +779,54 @@ pub enum BinaryOperation {
     CmpGe,
 }
 
-/// A one-operand machine operation (see [`BinaryOperation`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+impl BinaryOperation {
+    /// The GLOC instruction that performs it.
+    pub fn mnemonic(self) -> &'static str {
+        match self {
+            BinaryOperation::Add => "add",
+            BinaryOperation::Sub => "sub",
+            BinaryOperation::Mul => "mul",
+            BinaryOperation::Div => "div",
+            BinaryOperation::Mod => "mod",
+            BinaryOperation::Min => "min",
+            BinaryOperation::Max => "max",
+            BinaryOperation::And => "and",
+            BinaryOperation::Or => "or",
+            BinaryOperation::CmpEq => "cmpeq",
+            BinaryOperation::CmpNe => "cmpne",
+            BinaryOperation::CmpLt => "cmplt",
+            BinaryOperation::CmpLe => "cmple",
+            BinaryOperation::CmpGt => "cmpgt",
+            BinaryOperation::CmpGe => "cmpge",
+        }
+    }
+}
+
+/// A one-operand machine operation (see [`BinaryOperation`]; `gloc_compiler::ir::Op1`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum UnaryOperation {
     Neg,
     Abs,
     Sqrt,
-    IntToFloat,
-    FloatToInt,
+    /// Integer to float (`i2d`).
+    I2d,
+    /// Float to integer, truncating (`d2i`).
+    D2i,
     Not,
+}
+
+impl UnaryOperation {
+    /// The GLOC instruction that performs it.
+    pub fn mnemonic(self) -> &'static str {
+        match self {
+            UnaryOperation::Neg => "neg",
+            UnaryOperation::Abs => "abs",
+            UnaryOperation::Sqrt => "sqrt",
+            UnaryOperation::I2d => "i2d",
+            UnaryOperation::D2i => "d2i",
+            UnaryOperation::Not => "not",
+        }
+    }
 }
 
 /// `left op right` as the machine computes it, or the trap it raises (an integer
@@ -814,10 +842,10 @@ pub fn apply_binary(op: BinaryOperation, left: Value, right: Value) -> Result<Va
         B::Mul => mul(left, right),
         B::Div => div(left, right),
         B::Mod => rem(left, right),
-        B::Min => arithmetic(left, right, i64::min, f64::min),
-        B::Max => arithmetic(left, right, i64::max, f64::max),
-        B::And => Value::Int(left.as_i64() & right.as_i64()),
-        B::Or => Value::Int(left.as_i64() | right.as_i64()),
+        B::Min => minimum(left, right),
+        B::Max => maximum(left, right),
+        B::And => bit_and(left, right),
+        B::Or => bit_or(left, right),
         B::CmpEq => truth(compare(Cmp::Eq, left, right)),
         B::CmpNe => truth(compare(Cmp::Ne, left, right)),
         B::CmpLt => truth(compare(Cmp::Lt, left, right)),
@@ -832,11 +860,60 @@ pub fn apply_unary(op: UnaryOperation, value: Value) -> Value {
     match op {
         UnaryOperation::Neg => negate(value),
         UnaryOperation::Abs => absolute(value),
-        UnaryOperation::Sqrt => Value::Float(value.as_f64().sqrt()),
-        UnaryOperation::IntToFloat => Value::Float(value.as_f64()),
-        UnaryOperation::FloatToInt => Value::Int(value.as_i64()),
-        UnaryOperation::Not => truth(!value.is_true()),
+        UnaryOperation::Sqrt => square_root(value),
+        UnaryOperation::I2d => to_float(value),
+        UnaryOperation::D2i => to_int(value),
+        UnaryOperation::Not => logical_not(value),
     }
+}
+
+// The value functions of the operations that are one line each: the `match` loop, the
+// threaded handlers and `apply_binary`/`apply_unary` all call these, so there is one
+// definition of what each operation computes.
+
+#[inline(always)]
+fn minimum(left: Value, right: Value) -> Value {
+    arithmetic(left, right, i64::min, f64::min)
+}
+
+#[inline(always)]
+fn maximum(left: Value, right: Value) -> Value {
+    arithmetic(left, right, i64::max, f64::max)
+}
+
+#[inline(always)]
+fn bit_and(left: Value, right: Value) -> Value {
+    Value::Int(left.as_i64() & right.as_i64())
+}
+
+#[inline(always)]
+fn bit_or(left: Value, right: Value) -> Value {
+    Value::Int(left.as_i64() | right.as_i64())
+}
+
+#[inline(always)]
+fn bit_xor(left: Value, right: Value) -> Value {
+    Value::Int(left.as_i64() ^ right.as_i64())
+}
+
+#[inline(always)]
+fn square_root(value: Value) -> Value {
+    Value::Float(value.as_f64().sqrt())
+}
+
+#[inline(always)]
+fn to_float(value: Value) -> Value {
+    Value::Float(value.as_f64())
+}
+
+#[inline(always)]
+fn to_int(value: Value) -> Value {
+    Value::Int(value.as_i64())
+}
+
+#[inline(always)]
+fn logical_not(value: Value) -> Value {
+    truth(!value.is_true())
 }
 
 /// An integer `div` or `mod` by zero, which traps (float division does not).

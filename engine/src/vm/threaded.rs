@@ -624,11 +624,11 @@ binary! {
     op_add, Add, add;
     op_sub, Sub, sub;
     op_mul, Mul, mul;
-    op_min, Min, |a, b| super::arithmetic(a, b, i64::min, f64::min);
-    op_max, Max, |a, b| super::arithmetic(a, b, i64::max, f64::max);
-    op_and, And, |a: Value, b: Value| Value::Int(a.as_i64() & b.as_i64());
-    op_or, Or, |a: Value, b: Value| Value::Int(a.as_i64() | b.as_i64());
-    op_xor, Xor, |a: Value, b: Value| Value::Int(a.as_i64() ^ b.as_i64());
+    op_min, Min, super::minimum;
+    op_max, Max, super::maximum;
+    op_and, And, super::bit_and;
+    op_or, Or, super::bit_or;
+    op_xor, Xor, super::bit_xor;
     op_cmp_eq, CmpEq, |a, b| truth(compare(Cmp::Eq, a, b));
     op_cmp_ne, CmpNe, |a, b| truth(compare(Cmp::Ne, a, b));
     op_cmp_lt, CmpLt, |a, b| truth(compare(Cmp::Lt, a, b));
@@ -646,10 +646,10 @@ unary! {
     op_move, Move, |value| value;
     op_neg, Neg, negate;
     op_abs, Abs, absolute;
-    op_sqrt, Sqrt, |value: Value| Value::Float(value.as_f64().sqrt());
-    op_int_to_float, IntToFloat, |value: Value| Value::Float(value.as_f64());
-    op_float_to_int, FloatToInt, |value: Value| Value::Int(value.as_i64());
-    op_not, Not, |value: Value| truth(!value.is_true());
+    op_sqrt, Sqrt, super::square_root;
+    op_int_to_float, IntToFloat, super::to_float;
+    op_float_to_int, FloatToInt, super::to_int;
+    op_not, Not, super::logical_not;
 }
 
 with_constant! {

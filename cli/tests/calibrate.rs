@@ -3,27 +3,10 @@
 //! output is refused without --force, an input always; `gloc run --plot`
 //! writes PNG by the extension and refuses other extensions.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
 
-fn gloc(args: &[&str], folder: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_gloc"))
-        .args(args)
-        .current_dir(folder)
-        .output()
-        .expect("gloc runs")
-}
-
-fn temp_folder(name: &str) -> PathBuf {
-    let folder = std::env::temp_dir().join(format!("gloc-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&folder);
-    std::fs::create_dir_all(&folder).expect("temp folder");
-    folder
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
+mod support;
+use support::{gloc_in as gloc, temp_folder, text};
 
 #[test]
 fn calibrate_writes_a_commented_table_and_never_overwrites() {

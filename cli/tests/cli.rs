@@ -1,23 +1,11 @@
 //! The `gloc` binary as a user runs it: `gloc check` and `gloc run --replay`.
 //! Expected outputs are written by hand from the fixtures.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::PathBuf;
+use std::process::Output;
 
-fn gloc(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_gloc"))
-        .args(args)
-        .output()
-        .expect("the gloc binary runs")
-}
-
-fn repo(path: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("..")
-        .join(path)
-        .display()
-        .to_string()
-}
+mod support;
+use support::{gloc, repo};
 
 fn stdout(output: &Output) -> String {
     String::from_utf8_lossy(&output.stdout).into_owned()

@@ -2,14 +2,9 @@
 //! the flags leave open, and a bad file reported with its line and column.
 
 use std::path::PathBuf;
-use std::process::{Command, Output};
 
-fn gloc(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_gloc"))
-        .args(args)
-        .output()
-        .expect("the gloc binary runs")
-}
+mod support;
+use support::gloc;
 
 /// A fresh project folder with `gloc.toml` and a `scripts/` folder below it.
 fn project(name: &str, config: &str) -> PathBuf {

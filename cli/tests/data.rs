@@ -3,25 +3,9 @@
 //! gloc's own `.dba` run log reads, and outputs never overwrite inputs.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
-fn gloc(args: &[&str], folder: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_gloc"))
-        .args(args)
-        .current_dir(folder)
-        .output()
-        .expect("gloc runs")
-}
-
-fn temp_folder(name: &str) -> PathBuf {
-    let folder = std::env::temp_dir().join(format!("gloc-cli-data-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&folder).expect("temp folder");
-    folder
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
+mod support;
+use support::{gloc_in as gloc, temp_folder, text};
 
 fn shared_data() -> Option<PathBuf> {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data");

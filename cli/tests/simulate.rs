@@ -1,25 +1,9 @@
 //! `gloc run` in the simulator, through the real binary.
 
 use std::path::PathBuf;
-use std::process::{Command, Output};
 
-fn gloc(args: &[&str], folder: &PathBuf) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_gloc"))
-        .args(args)
-        .current_dir(folder)
-        .output()
-        .expect("gloc runs")
-}
-
-fn temp_folder(name: &str) -> PathBuf {
-    let folder = std::env::temp_dir().join(format!("gloc-cli-sim-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&folder).expect("temp folder");
-    folder
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
+mod support;
+use support::{gloc_in as gloc, temp_folder, text};
 
 #[test]
 fn default_run_flies_fig2_and_writes_log_and_plot() {

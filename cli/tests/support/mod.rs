@@ -2,7 +2,7 @@
 //! in the shared data folder beside it (`../shared`, as CI has it).
 #![allow(dead_code)]
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 /// Runs the `gloc` binary with `args`.
@@ -11,6 +11,23 @@ pub fn gloc(args: &[&str]) -> Output {
         .args(args)
         .output()
         .expect("the gloc binary runs")
+}
+
+/// Runs the `gloc` binary with `args` in `folder` (relative outputs land there).
+pub fn gloc_in(args: &[&str], folder: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_gloc"))
+        .args(args)
+        .current_dir(folder)
+        .output()
+        .expect("the gloc binary runs")
+}
+
+/// An empty folder of this test process for `name` (emptied if a run left it).
+pub fn temp_folder(name: &str) -> PathBuf {
+    let folder = std::env::temp_dir().join(format!("gloc-cli-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&folder);
+    std::fs::create_dir_all(&folder).expect("temp folder");
+    folder
 }
 
 /// A path in the repository.

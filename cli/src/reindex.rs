@@ -2,7 +2,7 @@
 //! file's sensor indices from one sensor list to another by name, and states the
 //! new list in its `# sensors:` line (`gloc_engine::gloc::identity::reindex`).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::ExitCode;
 
 use anyhow::{bail, Context};
@@ -12,15 +12,24 @@ use gloc_engine::sensors::{find_cac, SensorList, EMBEDDED_CRC};
 use crate::render::{SourceFile, Tally};
 
 pub fn main(args: crate::ReindexArgs) -> anyhow::Result<ExitCode> {
-    if same_file(&args.file, &args.output) {
-        bail!(
-            "`{}` is the input: write the reindexed script to another file",
-            args.output.display()
-        );
-    }
-    let bytes = std::fs::read(&args.file)
+    // The output may be none of the inputs: the script, the target list, the source list.
+    let inputs: Vec<&Path> = [
+        Some(args.file.as_path()),
+        Some(args.to.as_path()),
+        args.from.as_deref(),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
+    crate::output::check_outputs(
+        &inputs,
+        &[crate::output::Output {
+            flag: "-o",
+            path: &args.output,
+        }],
+    )?;
+    let text = gloc_engine::files::read_text(&args.file, gloc_engine::files::SCRIPT)
         .with_context(|| format!("cannot read the GLOC file `{}`", args.file.display()))?;
-    let text = String::from_utf8_lossy(&bytes).into_owned();
     let display = args.file.display().to_string();
     let order = args.sensor_order.unwrap_or_default();
     let mut tally = Tally::default();
@@ -35,17 +44,8 @@ pub fn main(args: crate::ReindexArgs) -> anyhow::Result<ExitCode> {
         },
         (None, Some(Ok(stated))) if stated.crc == EMBEDDED_CRC => SensorList::embedded(),
         (None, Some(Ok(stated))) => {
-            let folders: Vec<PathBuf> = [args.file.parent(), args.to.parent()]
-                .into_iter()
-                .flatten()
-                .map(|folder| {
-                    if folder.as_os_str().is_empty() {
-                        PathBuf::from(".")
-                    } else {
-                        folder.to_path_buf()
-                    }
-                })
-                .collect();
+            // Beside the script, then beside the target list (as `gloc check` looks).
+            let folders = identity::list_folders(Some(&args.file), Some(&args.to), None);
             let Some(path) = find_cac(&stated.crc, &folders) else {
                 bail!(
                     "{display} states `# sensors: {}`, and `{}.cac` is not beside it or beside \
@@ -72,8 +72,9 @@ pub fn main(args: crate::ReindexArgs) -> anyhow::Result<ExitCode> {
     };
     match identity::reindex(&text, &parsed, &from, &to) {
         Ok(rewritten) => {
-            std::fs::write(&args.output, rewritten)
-                .with_context(|| format!("cannot write `{}`", args.output.display()))?;
+            crate::output::write_atomically(&args.output, rewritten.as_bytes()).map_err(
+                |error| crate::output::write_error(error, "the reindexed script", &args.output),
+            )?;
             eprintln!(
                 "{display}: indices rewritten from {} to {} in {}",
                 from.label(),
@@ -90,13 +91,5 @@ pub fn main(args: crate::ReindexArgs) -> anyhow::Result<ExitCode> {
             eprintln!("nothing written");
             Ok(ExitCode::FAILURE)
         }
-    }
-}
-
-/// True when both paths name one file (so the output would overwrite the input).
-fn same_file(input: &Path, output: &Path) -> bool {
-    match (input.canonicalize(), output.canonicalize()) {
-        (Ok(input), Ok(output)) => input == output,
-        _ => input == output,
     }
 }

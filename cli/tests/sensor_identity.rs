@@ -203,6 +203,19 @@ fn reindex_rewrites_fig2_for_comet_and_refuses_what_it_cannot_map() {
         "{}",
         text(&output.stderr)
     );
+    // Nor the target list: a copy of comet's list named as the output stays as it was.
+    let list = scratch("target.cac");
+    std::fs::copy(comet_cac(), &list).expect("copy the list");
+    let before = std::fs::read(&list).expect("the list");
+    let list_path = list.display().to_string();
+    let output = gloc(&["reindex", &shown, "--to", &list_path, "-o", &list_path]);
+    assert_eq!(output.status.code(), Some(2), "{}", text(&output.stderr));
+    assert!(
+        text(&output.stderr).contains("is the input"),
+        "{}",
+        text(&output.stderr)
+    );
+    assert_eq!(std::fs::read(&list).expect("the list"), before);
     // A list without `m_depth`: refused with the place, and nothing written.
     let tiny = scratch("tiny.cac");
     std::fs::write(&tiny, "s: T    0    0 4 c_pitch rad\n").expect("write");

@@ -1,20 +1,14 @@
-//! `gloc calibrate` on comet's log (../shared/data, skipped when absent): the
+//! `gloc calibrate` on comet's log (data/): the
 //! table has a comment per value and lists what was not fitted; an existing
 //! output is refused without --force, an input always; `gloc run --plot`
 //! writes PNG by the extension and refuses other extensions.
-
-use std::path::Path;
 
 mod support;
 use support::{gloc_in as gloc, temp_folder, text};
 
 #[test]
 fn calibrate_writes_a_commented_table_and_never_overwrites() {
-    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data");
-    if !data.is_dir() {
-        eprintln!("../shared/data absent: skipped");
-        return;
-    }
+    let data = gloc_testsupport::data("");
     let folder = temp_folder("calibrate");
     let log = data.join("comet/from-glider/comet-2019-222-02-154.dbd");
     let (log, cache) = (log.to_string_lossy(), data.join("cac"));

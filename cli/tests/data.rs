@@ -2,22 +2,18 @@
 //! to the same CSV as the log itself (the ASCII reader against the binary one),
 //! gloc's own `.dba` run log reads, and outputs never overwrite inputs.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 mod support;
 use support::{gloc_in as gloc, temp_folder, text};
 
-fn shared_data() -> Option<PathBuf> {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data");
-    path.is_dir().then_some(path)
+fn shared_data() -> PathBuf {
+    gloc_testsupport::data("")
 }
 
 #[test]
 fn a_real_log_through_dba_gives_the_same_csv() {
-    let Some(data) = shared_data() else {
-        eprintln!("../shared/data absent: skipped");
-        return;
-    };
+    let data = shared_data();
     let folder = temp_folder("dba");
     let cache = data.join("cac").display().to_string();
     for name in ["comet-2019-222-02-152.sbd", "comet-2019-222-02-154.ebd"] {
@@ -203,7 +199,7 @@ fn a_binary_run_log_reads_back_as_the_csv_log() {
 /// printed `- .. - (NaN s)`) and warns at the byte where the damage starts.
 #[test]
 fn info_on_a_log_without_a_complete_cycle_has_no_time_span() {
-    let shared = shared_data().expect("../shared/data beside the repository");
+    let shared = shared_data();
     let folder = temp_folder("cut");
     let real = std::fs::read(shared.join("comet/from-glider/comet-2019-222-02-154.dbd"))
         .expect("comet's log");

@@ -1,6 +1,6 @@
 //! `gloc run --replay` on real glider logs: comet's `comet-2019-222-02-154.dbd` with
-//! its science log `.ebd` (../shared/data/comet/from-glider), their sensor lists in
-//! ../shared/data/cac. Expected figures come from elsewhere:
+//! its science log `.ebd` (data/comet/from-glider), their sensor lists in
+//! data/cac. Expected figures come from elsewhere:
 //! - 2,244 cycles: dbdreader 0.6.3 gives 2,244 `m_present_time` values for the
 //!   `.dbd` with `skip_initial_line=False` (2,243 by default, which drops the first);
 //! - 889 ignored sensors: the names of `1f35be3b.cac` and `537a6a61.cac` (2,142 in

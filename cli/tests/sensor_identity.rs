@@ -1,6 +1,6 @@
 //! `# sensors: CRC` through the binary: `gloc check` against another list, the
 //! compiler's line, and `gloc reindex`. Names and indices were read by hand from
-//! `../shared/data/cac/1f35be3b.cac` (comet: 444 `m_certainly_at_surface`, 459
+//! `data/cac/1f35be3b.cac` (comet: 444 `m_certainly_at_surface`, 459
 //! `m_depth`, 1387 `sci_whfctd_ref_lo`, 2,142 sensors, so the hook sensors are
 //! appended at 2142–2144) and the paper's Fig. 2.
 

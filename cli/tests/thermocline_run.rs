@@ -1,7 +1,7 @@
 //! The README's thermocline command, `gloc run examples/thermocline.gbas --mission
 //! examples/thermocline.mi --duration 2h`, through the real binary from the
 //! repository root, on the built-in profile and on the amadeus profile in
-//! `../shared/data` (next to the repository, here and in CI).
+//! the repository's `data/`.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -108,12 +108,8 @@ fn the_tracker_finds_the_built_in_thermocline() {
 
 #[test]
 fn the_tracker_finds_the_amadeus_thermocline() {
-    let profile = "../shared/data/amadeus_2014-07-24_temp_profile.csv";
-    assert!(
-        root().join(profile).is_file(),
-        "{profile} is missing: the shared data folder must be checked out at ../shared \
-         next to the repository"
-    );
+    let profile = "data/amadeus_2014-07-24_temp_profile.csv";
+    assert!(gloc_testsupport::data("amadeus_2014-07-24_temp_profile.csv").is_file());
     let flown = fly("amadeus", &["--profile", profile]);
     assert_starts_with_the_full_depth_dive(&flown);
     // From the CSV's 1 m means: the steps between neighbouring bins sum to about

@@ -2,17 +2,15 @@
 //! the text, counted in the source map's lines, ignored when the output is loaded
 //! again for that list.
 
-use std::path::Path;
-
 use gloc_compiler::{compile, load_script, CompileOptions, Language, LoadOptions};
 use gloc_engine::sensors::{load_sensor_file, SensorList, SensorOrder};
 
 const FIG3: &str = include_str!("../../examples/fig3.gbas");
 
 fn comet() -> SensorList {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/cac/1f35be3b.cac");
+    let path = gloc_testsupport::data("cac/1f35be3b.cac");
     load_sensor_file(&path, SensorOrder::FileOrder)
-        .expect("the shared data folder at ../shared")
+        .expect("comet's list in data/cac")
         .list
 }
 

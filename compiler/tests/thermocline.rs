@@ -199,13 +199,12 @@ fn twelve_hours_on_the_built_in_profile_turn_at_the_true_bounds() {
 
 #[test]
 fn the_amadeus_profile_gives_bounds_of_about_3_and_13_m() {
-    let path = root().join("../shared/data/amadeus_2014-07-24_temp_profile.csv");
+    let path = gloc_testsupport::data("amadeus_2014-07-24_temp_profile.csv");
     // The shared folder sits next to the repository, here and in CI; a missing
     // file is a broken checkout, not a reason to pass.
     let text = std::fs::read_to_string(&path).unwrap_or_else(|error| {
         panic!(
-            "cannot read the amadeus profile {} ({error}): the shared data folder must be \
-             checked out at ../shared next to the repository",
+            "cannot read the amadeus profile {} ({error}): a file of the repository's data/",
             path.display()
         )
     });

@@ -543,8 +543,8 @@ fn every_evaluate_name_of_the_thermocline_tracker_evaluates_to_its_value() {
 
 #[test]
 fn every_evaluate_name_of_a_replayed_deployment_evaluates_to_its_value() {
-    // comet's real logs (../shared/data): the Vehicle scope shows recorded sensors.
-    let shared = root().join("../shared/data");
+    // comet's real logs (data/): the Vehicle scope shows recorded sensors.
+    let shared = gloc_testsupport::data("");
     let logs = shared.join("comet/from-glider/comet-2019-222-02-154");
     let mut client = Client::start();
     client.ok(

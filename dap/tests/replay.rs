@@ -1,6 +1,6 @@
 //! Debugging a script over recorded data (`replay` launch attribute), every message
 //! schema-checked. Real data: comet's `comet-2019-222-02-154.dbd` with its `.ebd`
-//! (../shared/data), sensor lists in ../shared/data/cac. Expected values come from
+//! (data/), sensor lists in data/cac. Expected values come from
 //! dbdreader 0.6.3 (`skip_initial_line=False`, cycle = position of the value's time
 //! among the 2,244 `m_present_time` values), run by hand:
 //! - `m_depth` first exceeds 15 m in cycle 38 (15.43901252746582; 14.824023246765137
@@ -20,7 +20,7 @@ fn fixture(name: &str) -> String {
 }
 
 fn shared(path: &str) -> String {
-    format!("{}/../../shared/data/{path}", env!("CARGO_MANIFEST_DIR"))
+    gloc_testsupport::data_arg(path)
 }
 
 fn comet(extension: &str) -> String {

@@ -1,5 +1,5 @@
 //! Reading speed and streaming memory of the glider-log reader.
-//! Run with `cargo bench -p gloc-dbd --bench read` (needs ../shared/data beside
+//! Run with `cargo bench -p gloc-dbd --bench read` (reads the repository's data/
 //! the clone; dbdreader from tests/e2e/.venv, made by tests/e2e/setup, or the
 //! Python named by $DBDREADER_PYTHON).
 //!
@@ -19,7 +19,7 @@ use gloc_dbd::{open_path, DbdWriter, ListSensor, LogIdentity, WrittenList};
 const RUNS: usize = 5;
 
 fn data() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data")
+    gloc_testsupport::data("")
 }
 
 /// Every sensor's (time, value) samples: the cycles that updated it, at the
@@ -205,10 +205,6 @@ fn memory() {
 fn main() {
     if let Some(path) = std::env::var_os("GLOC_DBD_STREAM") {
         stream(Path::new(&path));
-        return;
-    }
-    if !data().is_dir() {
-        println!("../shared/data absent: nothing to measure");
         return;
     }
     speed();

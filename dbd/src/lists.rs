@@ -134,7 +134,7 @@ pub fn parse_list(
 
 /// The `sensor_list_crc` of a list: the CRC-32 (IEEE, reflected, initial value
 /// 0xFFFFFFFF) of the `.cac` file's bytes *without* the final inversion, that
-/// is `!crc32(bytes)`. Established on all six real lists in ../shared/data
+/// is `!crc32(bytes)`. Established on all six real lists in data/
 /// (`1f35be3b.cac` … and the decompressed `06a36d4e.ccc`, `daad1b20.ccc`):
 /// each file's name is this value of its contents.
 pub fn sensor_list_crc(bytes: &[u8]) -> u32 {

@@ -1,5 +1,4 @@
-//! The real logs in ../shared/data (skipped when the folder is absent, as on a
-//! machine without it): every file reads to its end tag without an error or a
+//! The real logs in the repository's data/: every file reads to its end tag without an error or a
 //! warning, with the sensor count its header states. Value-by-value equality
 //! with dbdreader is tests/e2e/dbd/compare.py.
 
@@ -7,9 +6,8 @@ use std::path::{Path, PathBuf};
 
 use gloc_dbd::{open_path, CycleSource};
 
-fn data() -> Option<PathBuf> {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data");
-    path.is_dir().then_some(path)
+fn data() -> PathBuf {
+    gloc_testsupport::data("")
 }
 
 fn read_all(path: &Path, cache: &Path) -> (usize, u64, f64, f64) {
@@ -36,10 +34,7 @@ fn read_all(path: &Path, cache: &Path) -> (usize, u64, f64, f64) {
 
 #[test]
 fn every_real_log_reads_to_its_end() {
-    let Some(data) = data() else {
-        eprintln!("../shared/data absent: skipped");
-        return;
-    };
+    let data = data();
     let comet = data.join("comet/from-glider");
     let cac = data.join("cac");
     let compressed = data.join("compressed");
@@ -70,10 +65,7 @@ fn every_real_log_reads_to_its_end() {
 /// binary search over the science samples, a second route to the merge rule).
 #[test]
 fn merged_science_values_are_the_latest_at_or_before_each_flight_cycle() {
-    let Some(data) = data() else {
-        eprintln!("../shared/data absent: skipped");
-        return;
-    };
+    let data = data();
     let comet = data.join("comet/from-glider");
     let cac = data.join("cac");
     let ebd = comet.join("comet-2019-222-02-154.ebd");
@@ -127,10 +119,7 @@ fn merged_science_values_are_the_latest_at_or_before_each_flight_cycle() {
 /// `fileopen_time` order, the columns united by name.
 #[test]
 fn a_deployment_streams_in_time_order_across_sensor_lists() {
-    let Some(data) = data() else {
-        eprintln!("../shared/data absent: skipped");
-        return;
-    };
+    let data = data();
     let comet = data.join("comet/from-glider");
     let files: Vec<PathBuf> = [
         "comet-2019-222-02-154.ebd",

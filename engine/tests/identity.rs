@@ -1,10 +1,9 @@
 //! Sensor-list identity (`# sensors: CRC`): what `gloc::check` reports when a GLOC
 //! file is checked against another list, and `identity::reindex`. Expected names
-//! and indices were read by hand from `../shared/data/cac/1f35be3b.cac` (comet's
+//! and indices were read by hand from `data/cac/1f35be3b.cac` (comet's
 //! list: 444 `m_certainly_at_surface`, 459 `m_depth`, 1387 `sci_whfctd_ref_lo`) and
 //! the paper's Fig. 2 (444 `m_depth`, 1387 `sci_ruhp_behs`).
 
-use std::path::Path;
 use std::sync::Arc;
 
 use gloc_engine::gloc::{self, identity, CheckOptions};
@@ -14,9 +13,9 @@ use gloc_engine::LineIndex;
 const FIG2: &str = include_str!("../../examples/fig2.gloc");
 
 fn comet() -> SensorList {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/cac/1f35be3b.cac");
+    let path = gloc_testsupport::data("cac/1f35be3b.cac");
     load_sensor_file(&path, SensorOrder::FileOrder)
-        .expect("the shared data folder at ../shared")
+        .expect("comet's list in data/cac")
         .list
 }
 

@@ -183,13 +183,13 @@ fn loading_picks_the_reader_by_extension_or_content() {
 }
 
 /// The real 2008 list from the shared data folder, which sits next to the
-/// repository here and in CI (`../shared`): missing, it is a failure.
+/// repository (`data/`): missing, it is a failure.
 #[test]
 fn the_real_2008_cac_list_matches_the_embedded_list() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/813b137d.cac");
+    let path = gloc_testsupport::data("813b137d.cac");
     let loaded = load_sensor_file(&path, SensorOrder::FileOrder).unwrap_or_else(|error| {
         panic!(
-            "cannot read {} ({error}): the shared data folder must be at ../shared next to the repository",
+            "cannot read {} ({error}): a file of the repository's data/",
             path.display()
         )
     });
@@ -221,8 +221,8 @@ fn the_real_2008_cac_list_matches_the_embedded_list() {
 /// (checked by hand in the file: 444 `m_certainly_at_surface`, 459 `m_depth`).
 #[test]
 fn a_real_list_without_the_hook_sensors_gets_them_appended() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/cac/1f35be3b.cac");
-    let loaded = load_sensor_file(&path, SensorOrder::FileOrder).expect("shared data at ../shared");
+    let path = gloc_testsupport::data("cac/1f35be3b.cac");
+    let loaded = load_sensor_file(&path, SensorOrder::FileOrder).expect("comet's list in data/cac");
     assert!(loaded.diagnostics.is_empty(), "{:?}", loaded.diagnostics);
     let list = loaded.list;
     assert_eq!(list.crc(), Some("1f35be3b"));
@@ -241,11 +241,11 @@ fn a_real_list_without_the_hook_sensors_gets_them_appended() {
 /// read as masterdata text: every line W0204 and an empty list.
 #[test]
 fn a_compressed_sensor_list_loads_with_the_count_its_glider_states() {
-    let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/compressed");
+    let shared = gloc_testsupport::data("compressed");
     let path = shared.join("06a36d4e.ccc");
     let loaded = load_sensor_file(&path, SensorOrder::FileOrder).unwrap_or_else(|error| {
         panic!(
-            "cannot read {} ({error}): the shared data folder must be at ../shared next to the repository",
+            "cannot read {} ({error}): a file of the repository's data/",
             path.display()
         )
     });

@@ -1,7 +1,7 @@
 //! `# sensors: CRC` through the protocol: the language server reports every index
 //! whose name differs from the stated list (E0113), one W0114 without the line, and
 //! finds a third list beside the document. Names read by hand from
-//! `../shared/data/cac/1f35be3b.cac` (444 `m_certainly_at_surface`, 459 `m_depth`,
+//! `data/cac/1f35be3b.cac` (444 `m_certainly_at_surface`, 459 `m_depth`,
 //! 1387 `sci_whfctd_ref_lo`).
 
 mod support;
@@ -12,10 +12,7 @@ use support::TestClient;
 const FIG2: &str = include_str!("../../examples/fig2.gloc");
 
 fn comet_cac() -> String {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../shared/data/cac/1f35be3b.cac")
-        .display()
-        .to_string()
+    gloc_testsupport::data_arg("cac/1f35be3b.cac")
 }
 
 fn range(line: u32, start: u32, end: u32) -> Value {

@@ -1,8 +1,8 @@
 //! `gloc_replay` on its own: CSV input, the unknown-sensor warning, a whole recording
-//! of comet's real `.dbd` (../shared/data; the depths were read with dbdreader 0.6.3,
+//! of comet's real `.dbd` (data/; the depths were read with dbdreader 0.6.3,
 //! `skip_initial_line=False`: 15.43901252746582 m in cycle 38 of 2,244).
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use gloc_engine::sensors::SensorList;
 use gloc_replay::{ColumnMap, Input, Recording};
@@ -14,9 +14,7 @@ fn temp(name: &str, text: &str) -> PathBuf {
 }
 
 fn shared(path: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../shared/data")
-        .join(path)
+    gloc_testsupport::data(path)
 }
 
 #[test]

@@ -1,5 +1,5 @@
 //! What the CLI tests of real data share: the binary, and paths in the repository and
-//! in the shared data folder beside it (`../shared`, as CI has it).
+//! in the repository's real glider files (`data/`, through gloc_testsupport).
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
@@ -39,9 +39,9 @@ pub fn repo(path: &str) -> String {
         .to_string()
 }
 
-/// A path in the shared data folder (`../shared/data` beside the repository).
+/// A real glider file in the repository's `data/` (a missing one fails the test).
 pub fn shared(path: &str) -> String {
-    repo(&format!("../shared/data/{path}"))
+    gloc_testsupport::data_arg(path)
 }
 
 pub fn text(bytes: &[u8]) -> String {

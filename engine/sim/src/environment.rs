@@ -336,11 +336,10 @@ mod tests {
     #[test]
     fn reads_the_amadeus_csv_with_comments() {
         // The shared data folder sits next to the repository, here and in CI.
-        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../../../shared/data/amadeus_2014-07-24_temp_profile.csv");
+        let path = gloc_testsupport::data("amadeus_2014-07-24_temp_profile.csv");
         let text = std::fs::read_to_string(&path).unwrap_or_else(|error| {
             panic!(
-                "cannot read {} ({error}): the shared data folder must be at ../shared",
+                "cannot read {} ({error}): a file of the repository's data/",
                 path.display()
             )
         });

@@ -1,4 +1,4 @@
-//! Calibrated on comet's own log (comet-2019-222-02-154.dbd in ../shared/data,
+//! Calibrated on comet's own log (comet-2019-222-02-154.dbd in data/,
 //! skipped when the folder is absent), the simulator flying comet's mission
 //! (nsb3.mi with its .ma files) reproduces the log's yo: every figure within
 //! 10%, each measured for the real and the simulated log by one function
@@ -10,9 +10,8 @@ use std::sync::Arc;
 use gloc_sim::calibrate::{fit, yo_figures, Track, YoFigures};
 use gloc_sim::{Mission, SimConfig, Simulation};
 
-fn data() -> Option<PathBuf> {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data");
-    path.is_dir().then_some(path)
+fn data() -> PathBuf {
+    gloc_testsupport::data("")
 }
 
 /// comet's yo10.ma: `c_target_depth(m) 3`.
@@ -62,10 +61,7 @@ fn calibrated_simulator_reproduces_comets_yo() {
 }
 
 fn compare(skip: &[&str]) {
-    let Some(data) = data() else {
-        eprintln!("../shared/data absent: skipped");
-        return;
-    };
+    let data = data();
     let real = real_track(&data);
     let mut config = SimConfig::default();
     let fitted = fit(&real, CLIMB_TARGET, &config).unwrap_or_else(|e| panic!("{e}"));

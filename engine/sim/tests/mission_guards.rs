@@ -1,11 +1,10 @@
 //! The mission checked against the sensor list and the script: S0106 (a `sensor:`
 //! setting the list lacks, caret on the name) and S0107 (the script stores
 //! `sci_ruhp_behs` but the mission has no hook behavior). On comet's real mission
-//! `nsb3.mi` (../shared/data): its `sensor:` lines were compared with the embedded
+//! `nsb3.mi` (data/): its `sensor:` lines were compared with the embedded
 //! list by hand (only line 12, `u_sci_dbd_sensor_list_xmit_control`, is missing), and
 //! it has no `behavior: hook`.
 
-use std::path::Path;
 use std::sync::Arc;
 
 use gloc_engine::gloc::{self, CheckOptions};
@@ -22,8 +21,7 @@ fn fig2(list: &SensorList) -> Arc<Program> {
 }
 
 fn nsb3() -> Mission {
-    let path =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/comet/missions/nsb3.mi");
+    let path = gloc_testsupport::data("comet/missions/nsb3.mi");
     let mission = Mission::load(&path);
     assert!(!mission.has_errors(), "{}", mission.render_plain());
     mission

@@ -281,12 +281,8 @@ fn nsb3_loads_without_errors_and_flies() {
 }
 
 #[test]
-fn the_shared_nsb3_copy_matches_when_present() {
-    let shared = Path::new("/work/shared/data/comet/missions/nsb3.mi");
-    if !shared.exists() {
-        return;
-    }
-    let mission = Mission::load(shared);
+fn comets_real_nsb3_loads_without_errors() {
+    let mission = Mission::load(&gloc_testsupport::data("comet/missions/nsb3.mi"));
     assert!(!mission.has_errors(), "{}", mission.render_plain());
 }
 

@@ -1,6 +1,6 @@
 """Every sensor's values and times from `gloc data convert` against dbdreader's.
 
-For each real log in ../shared/data: gloc converts it to CSV (one row per cycle,
+For each real log in the repository's data/: gloc converts it to CSV (one row per cycle,
 an empty cell where the cycle did not update the sensor); dbdreader (PyPI, pinned
 in tests/e2e/requirements.txt, its C extension) reads every sensor with
 skip_initial_line=False, decimalLatLon=False,
@@ -11,7 +11,7 @@ reads such cells as numpy.float32 (lossless) before comparing; 1-, 2- and 8-byte
 values compare as printed. A time is the time sensor's cell in that row, or 1e9
 when the row has none (dbdreader's fill value for a time sensor not set).
 
-Usage: python compare.py GLOC_BIN DATA_DIR   (skips, exit 0, when DATA_DIR is absent)
+Usage: python compare.py GLOC_BIN DATA_DIR   (a missing DATA_DIR is a failure)
 """
 
 import csv
@@ -115,8 +115,8 @@ def compare(gloc, data, relative, cache_name, work):
 def main():
     gloc, data = sys.argv[1], sys.argv[2]
     if not os.path.isdir(data):
-        print(f"dbd compare: {data} absent, skipped")
-        return 0
+        print(f"dbd compare: {data} is missing: the real logs belong to the repository (data/README.md)")
+        return 1
     failed = False
     total = 0
     with tempfile.TemporaryDirectory() as work:

@@ -16,8 +16,8 @@ from pytest_lsp import LanguageClient
 
 from test_gloc_lsp import GLOC, REPO, open_document, vscode  # noqa: F401 (vscode is a fixture)
 
-COMET = REPO.parent / "shared" / "data" / "comet"
-CAC = REPO.parent / "shared" / "data" / "813b137d.cac"
+COMET = REPO / "data" / "comet"
+CAC = REPO / "data" / "813b137d.cac"
 
 MISSION = """\
 # a hand-made mission: a yo from a .ma file, an abend with a bad value
@@ -156,7 +156,6 @@ async def test_behaviors_are_symbols_and_folds(vscode, tmp_path):  # noqa: F811
     assert sorted((fold.start_line, fold.end_line) for fold in folds) == [(1, 3), (5, 6)]
 
 
-@pytest.mark.skipif(not COMET.is_dir(), reason="../shared/data is not beside this clone")
 async def test_formatting_comets_real_mission_only_trims_line_ends(vscode, tmp_path):  # noqa: F811
     shutil.copytree(COMET / "missions", tmp_path / "missions")
     shutil.copytree(COMET / "mafiles", tmp_path / "mafiles")
@@ -185,7 +184,6 @@ async def test_formatting_comets_real_mission_only_trims_line_ends(vscode, tmp_p
     assert "\n".join(lines) == "\n".join(line.rstrip(" \t") for line in text.split("\n"))
 
 
-@pytest.mark.skipif(not CAC.is_file(), reason="../shared/data is not beside this clone")
 async def test_a_real_cac_list_has_its_sensors_as_symbols_and_hover(vscode, tmp_path):  # noqa: F811
     text = CAC.read_text()
     uri = open_document(vscode, tmp_path / "813b137d.cac", "slocum_masterdata", text)

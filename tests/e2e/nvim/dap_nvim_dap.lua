@@ -1,4 +1,4 @@
--- Headless Neovim 0.11 with the real nvim-dap (../shared/vendor/nvim-dap) and the gloc plugin set
+-- Headless Neovim 0.11 with the real nvim-dap (GLOC_NVIM_DAP, default ../shared/vendor/nvim-dap) and the gloc plugin set
 -- up as the README says: whole debugging sessions of `gloc dap` driven through nvim-dap's API
 -- and the plugin's commands, on stdio and over TCP (`gloc dap --port 0` and its session token).
 -- Run: GLOC_BIN=target/debug/gloc nvim --headless -u NONE -l tests/e2e/nvim/dap_nvim_dap.lua
@@ -6,8 +6,8 @@ local here = vim.fn.fnamemodify(debug.getinfo(1, "S").source:sub(2), ":p:h")
 package.path = here .. "/helpers/?.lua;" .. package.path
 local H = require("gloc_plugin")
 
-local nvim_dap = vim.fn.fnamemodify(H.repo .. "/../shared/vendor/nvim-dap", ":p")
-if not H.check(vim.fn.isdirectory(nvim_dap .. "/lua/dap") == 1, "nvim-dap is at ../shared/vendor/nvim-dap", nvim_dap) then
+local nvim_dap = H.nvim_dap
+if not H.check(vim.fn.isdirectory(nvim_dap .. "/lua/dap") == 1, H.nvim_dap_missing, nvim_dap) then
   H.finish()
 end
 H.check(vim.fn.executable(H.gloc_bin) == 1, "the gloc binary exists (GLOC_BIN)", H.gloc_bin)

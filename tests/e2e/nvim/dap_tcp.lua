@@ -1,12 +1,12 @@
--- The real nvim-dap (../shared/vendor/nvim-dap) against `gloc dap --port 0`, as
+-- The real nvim-dap (GLOC_NVIM_DAP, default ../shared/vendor/nvim-dap) against `gloc dap --port 0`, as
 -- setup({ dap_transport = "tcp" }) wires it: the plugin starts the adapter, reads its port and
 -- session token, connects as a `server` adapter and adds the token to the launch; the session
 -- stops on entry, steps one cycle, and a session with a wrong token is refused.
 local H = dofile(vim.fn.fnamemodify(debug.getinfo(1, "S").source:sub(2), ":p:h") .. "/helpers/gloc_plugin.lua")
 
-local nvim_dap = H.repo .. "/../shared/vendor/nvim-dap"
-if vim.fn.isdirectory(nvim_dap) == 0 then
-  H.check(false, "nvim-dap is at ../shared/vendor/nvim-dap", nvim_dap)
+local nvim_dap = H.nvim_dap
+if vim.fn.isdirectory(nvim_dap .. "/lua/dap") == 0 then
+  H.check(false, H.nvim_dap_missing, nvim_dap)
   H.finish()
 end
 vim.opt.runtimepath:append(nvim_dap)

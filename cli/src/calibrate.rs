@@ -7,7 +7,7 @@ use std::process::ExitCode;
 
 use anyhow::{bail, Context as _};
 use clap::Args;
-use gloc_sim::calibrate::{fit, yo_figures, Track};
+use gloc_sim::calibrate::{fit, yo_figures};
 use gloc_sim::SimConfig;
 
 use crate::data::SourceArgs;
@@ -43,7 +43,7 @@ pub fn main(args: CalibrateArgs) -> anyhow::Result<ExitCode> {
         }
     }
     let mut source = crate::data::open(&args.source)?;
-    let track = Track::read(&mut source)?;
+    let track = gloc_project::logs::read_track(&mut source)?;
     for warning in gloc_dbd::CycleSource::take_warnings(&mut source) {
         eprintln!("warning: {warning}");
     }

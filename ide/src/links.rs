@@ -65,7 +65,7 @@ pub fn config_links(text: &str, folder: &Path) -> Vec<Link> {
 }
 
 /// The `args_from_file` lines of a mission at `path`, each to the `.ma` file it
-/// loads (`gloc_sim::mission` decides which, as `gloc run` does; a file it could
+/// loads (`gloc_mission::mission` decides which, as `gloc run` does; a file it could
 /// not load has a diagnostic instead of a link).
 pub fn mission_links(text: &str, path: &Path) -> Vec<Link> {
     let mission = crate::mission::parse(crate::mission::MissionFile::Mission, text, Some(path));

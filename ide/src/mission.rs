@@ -1,7 +1,7 @@
 //! Mission files (`.mi`) and mission argument files (`.ma`) as editor languages:
-//! diagnostics from the simulator's own parser (`gloc_sim::mission`, the S-codes
+//! diagnostics from the mission crate's parser (`gloc_mission::mission`, the S-codes
 //! `gloc run` prints), behaviors as symbols and folds, completion and hover from the
-//! simulator's behavior and argument table (`gloc_sim::behaviors::ArgDef`), go to
+//! behavior and argument table (`gloc_mission::behaviors::ArgDef`), go to
 //! the `.ma` file an `args_from_file` loads, and a formatter that keeps the layout.
 //!
 //! Completion and hover look at the cursor's line only to know which keyword it
@@ -11,8 +11,8 @@ use std::path::{Path, PathBuf};
 
 use gloc_engine::sensors::SensorList;
 use gloc_engine::{Diagnostic, Span};
-use gloc_sim::behaviors::{ArgDef, BehaviorKind};
-use gloc_sim::mission::{ma_file_name, Mission};
+use gloc_mission::behaviors::{ArgDef, BehaviorKind};
+use gloc_mission::mission::{ma_file_name, Mission};
 
 use crate::analysis::{Analysis, Completion, CompletionKind, Symbol, SymbolKind};
 use crate::lang::{sensor_completions, sensor_markdown};

@@ -8,6 +8,7 @@
 //!   list), with one error format.
 //! - [`script`]: a `.gloc` or `.gbas` script loaded into program and source map, and
 //!   the hint when a file is in the other language.
+//! - [`logs`]: a glider's own logs read into the calibration's track.
 //! - [`simulation`]: the mission, the temperature profile and the simulator built from
 //!   the settings.
 //!
@@ -17,6 +18,7 @@
 //! cannot be read, or an input with errors; the CLI's exit codes follow that cause.
 
 pub mod error;
+pub mod logs;
 pub mod script;
 pub mod sensors;
 pub mod settings;

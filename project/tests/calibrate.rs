@@ -1,5 +1,4 @@
-//! Calibrated on comet's own log (comet-2019-222-02-154.dbd in data/,
-//! skipped when the folder is absent), the simulator flying comet's mission
+//! Calibrated on comet's own log (comet-2019-222-02-154.dbd in data/), the simulator flying comet's mission
 //! (nsb3.mi with its .ma files) reproduces the log's yo: every figure within
 //! 10%, each measured for the real and the simulated log by one function
 //! (`calibrate::yo_figures`).
@@ -21,7 +20,7 @@ fn real_track(data: &Path) -> Track {
     let log = data.join("comet/from-glider/comet-2019-222-02-154.dbd");
     let mut source =
         gloc_dbd::open_path(&log, Some(&data.join("cac"))).unwrap_or_else(|e| panic!("{e}"));
-    Track::read(source.as_mut()).unwrap_or_else(|e| panic!("{e}"))
+    gloc_project::logs::read_track(source.as_mut()).unwrap_or_else(|e| panic!("{e}"))
 }
 
 fn simulated_track(data: &Path, config: &SimConfig, seconds: f64) -> Track {

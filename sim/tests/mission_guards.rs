@@ -12,7 +12,7 @@ use gloc_engine::program::{Pc, Program};
 use gloc_engine::sensors::SensorList;
 use gloc_sim::{default_mission, Mission};
 
-const FIG2: &str = include_str!("../../../examples/fig2.gloc");
+const FIG2: &str = include_str!("../../examples/fig2.gloc");
 
 fn fig2(list: &SensorList) -> Arc<Program> {
     gloc::check(&gloc::parse(FIG2), list, &CheckOptions::default())

@@ -8,8 +8,6 @@
 //! for any track; [`fit`] turns a real track into `[simulator]` settings, each
 //! with what it was fitted from, and says what it could not fit and why.
 
-use gloc_dbd::{CycleSource, DbdError};
-
 use crate::flight::{EnergyParams, FlightParams, PitchControl, SpeedLaw, Vehicle};
 use crate::simulation::{SimConfig, Simulation};
 
@@ -113,24 +111,6 @@ impl Track {
         if row.time.is_finite() && self.rows.last().is_none_or(|last| row.time > last.time) {
             self.rows.push(row);
         }
-    }
-
-    /// Reads a log (a `.dbd`, a merge, a deployment) to its end.
-    pub fn read(source: &mut dyn CycleSource) -> Result<Track, DbdError> {
-        let columns: Vec<Option<usize>> = TRACK_SENSORS
-            .iter()
-            .map(|name| {
-                source
-                    .sensors()
-                    .iter()
-                    .position(|sensor| sensor.name == *name)
-            })
-            .collect();
-        let mut track = Track::default();
-        while let Some(cycle) = source.next_cycle()? {
-            track.push(|field| columns[field].and_then(|column| cycle.value(column)));
-        }
-        Ok(track)
     }
 
     /// The water depth under the glider: the median of m_depth + m_altitude

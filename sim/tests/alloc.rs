@@ -39,7 +39,7 @@ const BUSY: &str = "nregs 2\nnblbs 1\nninstr 8\nlabel 0\nloads 444,r0\nwrite r0\
 #[test]
 fn no_allocation_per_cycle() {
     let list = Arc::new(SensorList::embedded());
-    for script in [include_str!("../../../examples/fig2.gloc"), BUSY] {
+    for script in [include_str!("../../examples/fig2.gloc"), BUSY] {
         let checked = gloc::check(&gloc::parse(script), &list, &CheckOptions::default());
         let program = checked.program.expect("script checks");
         let mut sim = Simulation::new(

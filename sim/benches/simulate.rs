@@ -13,7 +13,7 @@ use gloc_engine::sensors::SensorList;
 use gloc_sim::log::{default_columns, DbaHeader, LogFormat, LogWriter};
 use gloc_sim::{Mission, SimConfig, Simulation};
 
-const FIG2: &str = include_str!("../../../examples/fig2.gloc");
+const FIG2: &str = include_str!("../../examples/fig2.gloc");
 
 /// The Fig. 2 mission with an endless yo and no overtime, so it flies for a month.
 fn endless_mission() -> Mission {

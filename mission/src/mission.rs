@@ -949,13 +949,14 @@ fn unknown_spec(keyword: Word<'_>) -> BehaviorSpec {
     }
 }
 
-/// Removes the placeholders that unknown `behavior:` blocks leave (they keep
-/// later `b_arg:` lines from attaching to the previous behavior).
-pub(crate) fn known_behaviors(mission: &Mission) -> impl Iterator<Item = &BehaviorSpec> {
-    mission
-        .behaviors
-        .iter()
-        .filter(|spec| spec.kind != BehaviorKind::Unknown)
+impl Mission {
+    /// The behaviors to fly: without the placeholders that unknown `behavior:` blocks
+    /// leave (they keep later `b_arg:` lines from attaching to the previous behavior).
+    pub fn known_behaviors(&self) -> impl Iterator<Item = &BehaviorSpec> {
+        self.behaviors
+            .iter()
+            .filter(|spec| spec.kind != BehaviorKind::Unknown)
+    }
 }
 
 #[cfg(test)]
@@ -1034,7 +1035,7 @@ mod tests {
         assert!(messages[0].starts_with("w.mi:2:3: warning[S0103]: unknown argument `bogus`"));
         assert!(messages[1].starts_with("w.mi:3:11: warning[S0101]: unknown behavior `teleport`"));
         assert!(!mission.has_errors());
-        let kinds: Vec<_> = known_behaviors(&mission).map(|spec| spec.kind).collect();
+        let kinds: Vec<_> = mission.known_behaviors().map(|spec| spec.kind).collect();
         assert_eq!(kinds, vec![BehaviorKind::Yo, BehaviorKind::Abend]);
         // The argument under the unknown behavior did not attach to `yo`.
         assert_eq!(mission.behaviors[0].args.len(), 0);

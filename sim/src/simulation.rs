@@ -459,7 +459,7 @@ impl Simulation {
         if behaviors.is_empty() {
             return Err(SimError::EmptyMission);
         }
-        for spec in crate::mission::known_behaviors(mission) {
+        for spec in mission.known_behaviors() {
             for name in ["start_when", "stop_when"] {
                 if let Some(code) = spec.arg(name) {
                     if !condition_is_modelled(code as i64) {

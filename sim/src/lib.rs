@@ -1,7 +1,7 @@
 //! gloc-sim: a glider simulator that flies whole missions much faster than
 //! real time, with the GLOC engine as one behavior of the layered control.
 //!
-//! - [`mission`]: `.mi` and `.ma` files.
+//! - [`mission`]: `.mi` and `.ma` files (the `gloc-mission` crate, re-exported).
 //! - [`calibrate`]: a yo's figures from a log (real or simulated) and the
 //!   constants fitted from a glider's own log.
 //! - [`behaviors`]: the behavior stack (abend, surface, yo, dive_to, climb_to,
@@ -21,12 +21,11 @@ pub mod environment;
 pub mod faults;
 pub mod flight;
 pub mod log;
-pub mod mission;
 pub mod plot;
 pub mod simulation;
 
 pub use environment::TemperatureProfile;
-pub use mission::Mission;
+pub use gloc_mission::{mission, Mission};
 pub use simulation::{EndReason, MissionEnd, Phase, SimConfig, SimError, SimHost, Simulation};
 
 /// The embedded default mission: the paper's Fig. 2 scenario (also

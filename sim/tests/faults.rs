@@ -14,7 +14,7 @@ use gloc_sim::faults::{step_cycle_with_faults, Fault, FaultKind, FaultPlan};
 use gloc_sim::log::{default_columns, DbaHeader, LogFormat, LogWriter};
 use gloc_sim::{default_mission, EndReason, SimConfig, Simulation};
 
-const FIG2: &str = include_str!("../../../examples/fig2.gloc");
+const FIG2: &str = include_str!("../../examples/fig2.gloc");
 /// More than the default mission needs to end (it ends after about 900 cycles).
 const MAX_CYCLES: u64 = 5_000;
 /// Water depth of the default mission, and its abend overdepth limit.

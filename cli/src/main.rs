@@ -1,6 +1,9 @@
 //! `gloc`: the one binary. Parses the command line and hands each subcommand
 //! to its module; all language knowledge lives in the library crates.
 
+// Only the engine's interpreter may use `unsafe` (ARCHITECTURE.md, invariants).
+#![forbid(unsafe_code)]
+
 use std::path::PathBuf;
 use std::process::ExitCode;
 

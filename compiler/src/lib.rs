@@ -4,6 +4,9 @@
 //! [`codegen::generate`] (the paper's numbering scheme) → optionally
 //! [`optimize::optimize`] → GLOC text plus a [`SourceMap`]. Pure: no IO, no threads.
 
+// Only the engine's interpreter may use `unsafe` (ARCHITECTURE.md, invariants).
+#![forbid(unsafe_code)]
+
 pub mod analysis;
 pub mod ast;
 pub mod builtins;

@@ -6,22 +6,7 @@ use std::path::Path;
 
 use gloc_compiler::{analyze, compile, load_script, CompileOptions, Language, LoadOptions};
 use gloc_engine::sensors::SensorList;
-
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        // xorshift64*: deterministic, so a failure reproduces.
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-
-    fn below(&mut self, bound: usize) -> usize {
-        (self.next() % bound.max(1) as u64) as usize
-    }
-}
+use gloc_testsupport::Rng;
 
 fn exercise(text: &str, sensors: &SensorList) {
     for optimize in [false, true] {
@@ -114,13 +99,13 @@ const WORDS: &[&str] = &[
 #[test]
 fn random_and_mutated_programs_never_panic() {
     let sensors = SensorList::embedded();
-    let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
+    let mut rng = Rng::new(0x9E37_79B9_7F4A_7C15);
     for _ in 0..150 {
-        let length = rng.below(200);
-        let bytes: Vec<u8> = (0..length).map(|_| rng.next() as u8).collect();
+        let length = rng.index(200);
+        let bytes: Vec<u8> = (0..length).map(|_| rng.next_u64() as u8).collect();
         exercise(&String::from_utf8_lossy(&bytes), &sensors);
-        let words: Vec<&str> = (0..rng.below(40))
-            .map(|_| WORDS[rng.below(WORDS.len())])
+        let words: Vec<&str> = (0..rng.index(40))
+            .map(|_| WORDS[rng.index(WORDS.len())])
             .collect();
         exercise(&words.join(" "), &sensors);
     }
@@ -149,15 +134,15 @@ fn random_and_mutated_programs_never_panic() {
         for _ in 0..12 {
             // Cut at a random place, or splice a random word in, or drop a random line.
             let mut text = source.clone();
-            match rng.below(3) {
-                0 => text.truncate(boundaries[rng.below(boundaries.len())]),
+            match rng.index(3) {
+                0 => text.truncate(boundaries[rng.index(boundaries.len())]),
                 1 => text.insert_str(
-                    boundaries[rng.below(boundaries.len())],
-                    WORDS[rng.below(WORDS.len())],
+                    boundaries[rng.index(boundaries.len())],
+                    WORDS[rng.index(WORDS.len())],
                 ),
                 _ => {
                     let lines: Vec<&str> = source.lines().collect();
-                    let drop = rng.below(lines.len());
+                    let drop = rng.index(lines.len());
                     text = lines
                         .iter()
                         .enumerate()

@@ -10,6 +10,8 @@
 //! ranking them), `format` (values as `print` writes them, or hex), `features` (the
 //! console's, Watch's and goto's answers), `cancel` (`cancel`s noted as they arrive).
 
+// Only the engine's interpreter may use `unsafe` (ARCHITECTURE.md, invariants).
+#![forbid(unsafe_code)]
 // Stdout is the protocol: nothing else may print there.
 #![deny(clippy::print_stdout)]
 

@@ -7,6 +7,9 @@
 //! system (opening a path by its extension, the sensor-list cache search).
 //! Format and rules: `docs/data.md`.
 
+// Only the engine's interpreter may use `unsafe` (ARCHITECTURE.md, invariants).
+#![forbid(unsafe_code)]
+
 pub mod binary;
 pub mod cycle;
 pub mod dba;

@@ -11,6 +11,7 @@ pub mod gloc;
 pub mod lz4;
 pub mod program;
 pub mod render;
+pub mod rng;
 pub mod sensors;
 pub mod suggest;
 pub mod vm;

@@ -666,8 +666,13 @@ impl Machine {
         let mut exit = match self.dispatch {
             Dispatch::Loop => run!(fused, MAX_FUSED),
             Dispatch::Threaded => loop {
-                let mut context =
-                    threaded::Context::new(&mut *host, &mut *memory, program, code.len());
+                let mut context = threaded::Context::new(
+                    &mut *host,
+                    &mut *memory,
+                    program,
+                    code.len(),
+                    code.register_bound,
+                );
                 let slots = match &code.typed {
                     Some(typed) if self.typed => typed,
                     _ => &code.threaded,

@@ -150,14 +150,9 @@ fn an_empty_file_asks_for_the_header() {
 #[test]
 fn binary_garbage_is_an_error_not_a_panic() {
     // A deterministic byte soup, starting with DEL so the first diagnostic is known.
-    let mut state = 0x2545_f491_u32;
+    let mut rng = gloc_testsupport::Rng::new(0x2545_f491);
     let mut bytes = vec![0x7f];
-    for _ in 0..200_000 {
-        state ^= state << 13;
-        state ^= state >> 17;
-        state ^= state << 5;
-        bytes.push((state >> 24) as u8);
-    }
+    bytes.extend((0..200_000).map(|_| rng.next_u64() as u8));
     let text = String::from_utf8_lossy(&bytes).into_owned();
     let checked = check_text(&text);
     assert!(checked.program.is_none());

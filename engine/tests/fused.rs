@@ -18,6 +18,7 @@ use std::sync::Arc;
 use gloc_engine::program::Value;
 use gloc_engine::sensors::SensorId;
 use gloc_engine::vm::{CycleEnd, Dispatch, Host, Machine, MachineConfig};
+use gloc_testsupport::Rng;
 
 mod support;
 
@@ -410,27 +411,14 @@ yield",
     );
 }
 
-/// A small deterministic generator (xorshift), so the random scripts are the same
-/// in every run.
-struct Random(u64);
-
-impl Random {
-    fn below(&mut self, n: u64) -> u64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        self.0 % n
-    }
-}
-
 /// A random script built from the fusable shapes over four registers, with
 /// forward branches into labels that may sit inside a group, and a loop that
 /// yields every time round.
-fn random_script(random: &mut Random) -> String {
+fn random_script(random: &mut Rng) -> String {
     const ARITH: [&str; 7] = ["add", "sub", "mul", "div", "mod", "min", "max"];
     const CMP: [&str; 6] = ["cmpeq", "cmpne", "cmplt", "cmple", "cmpgt", "cmpge"];
     let labels = 10u32;
-    let reg = |random: &mut Random| format!("r{}", random.below(6));
+    let reg = |random: &mut Rng| format!("r{}", random.below(6));
     // The loop starts with a compare and branch, so that the `jumpi 0` at its end
     // is threaded into it.
     let (a, b, c) = (reg(random), reg(random), reg(random));
@@ -460,7 +448,7 @@ fn random_script(random: &mut Random) -> String {
         } else {
             format!("loadd {:?}", (random.below(9) as f64 - 3.0) * 0.5)
         };
-        let forward = |random: &mut Random, next_label: u32| {
+        let forward = |random: &mut Rng, next_label: u32| {
             next_label + random.below(u64::from(labels - next_label)) as u32
         };
         match random.below(7) {
@@ -490,7 +478,7 @@ fn random_script(random: &mut Random) -> String {
                 let op = CMP[random.below(CMP.len() as u64) as usize];
                 body.push(format!("{op} {a},{b},{c}"));
                 // Branch forward to labels not yet placed (or to the loop's end).
-                let forward = |random: &mut Random| {
+                let forward = |random: &mut Rng| {
                     next_label + random.below(u64::from(labels - next_label)) as u32
                 };
                 let (yes, no) = (forward(random), forward(random));
@@ -556,7 +544,7 @@ fn random_script(random: &mut Random) -> String {
 
 #[test]
 fn random_scripts_agree_with_stepping() {
-    let mut random = Random(0x9e37_79b9_7f4a_7c15);
+    let mut random = Rng::new(0x9e37_79b9_7f4a_7c15);
     for _ in 0..300 {
         let text = random_script(&mut random);
         let budget = 1 + random.below(70);

@@ -11,6 +11,9 @@
 //! wrong length still finds the header glued to its tail), never holding more than a
 //! few bytes while it searches.
 
+// Only the engine's interpreter may use `unsafe` (ARCHITECTURE.md, invariants).
+#![forbid(unsafe_code)]
+
 use std::collections::VecDeque;
 use std::io::{self, Read};
 use std::sync::atomic::{AtomicBool, Ordering};

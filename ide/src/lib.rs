@@ -10,6 +10,9 @@
 //! languages). The `gloc-lsp`
 //! crate keeps the protocol: position conversion, document state, transport.
 
+// Only the engine's interpreter may use `unsafe` (ARCHITECTURE.md, invariants).
+#![forbid(unsafe_code)]
+
 pub mod actions;
 pub mod analysis;
 pub mod completion;

@@ -4,6 +4,8 @@
 //! `gloc-engine` and `gloc-compiler` for every answer and converts byte spans
 //! to LSP positions in one module (`position`).
 
+// Only the engine's interpreter may use `unsafe` (ARCHITECTURE.md, invariants).
+#![forbid(unsafe_code)]
 // Stdout is the protocol: nothing else may print there.
 #![deny(clippy::print_stdout)]
 

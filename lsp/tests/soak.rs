@@ -8,24 +8,9 @@ mod support;
 
 use gloc_compiler::loader::{load_script, Language, LoadOptions};
 use gloc_engine::sensors::SensorList;
+use gloc_testsupport::Rng;
 use serde_json::{json, Value};
 use support::TestClient;
-
-/// xorshift64*: a small deterministic generator (no dependency needed).
-struct Random(u64);
-
-impl Random {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-
-    fn below(&mut self, bound: usize) -> usize {
-        (self.next() % bound.max(1) as u64) as usize
-    }
-}
 
 /// LSP position of a byte offset, counted independently of the server: lines
 /// end at `\n`, `\r\n` or a lone `\r`; columns count UTF-16 units.
@@ -48,13 +33,13 @@ fn position(text: &str, offset: usize) -> (u64, u64) {
     (line, column)
 }
 
-fn char_boundary(text: &str, random: &mut Random) -> usize {
+fn char_boundary(text: &str, random: &mut Rng) -> usize {
     let boundaries: Vec<usize> = text
         .char_indices()
         .map(|(at, _)| at)
         .chain([text.len()])
         .collect();
-    let mut at = boundaries[random.below(boundaries.len())];
+    let mut at = boundaries[random.index(boundaries.len())];
     // Never split a "\r\n" pair: the server sees it as one line break.
     if at > 0 && text[..at].ends_with('\r') && text[at..].starts_with('\n') {
         at -= 1;
@@ -98,7 +83,7 @@ const GLOC_PIECES: [&str; 14] = [
 ];
 
 async fn soak(uri: &str, language_id: &str, language: Language, pieces: &[&str], seed: u64) {
-    let mut random = Random(seed);
+    let mut random = Rng::new(seed);
     let mut client = TestClient::initialized().await;
     let mut text = String::from(pieces[0]);
     client.open(uri, language_id, &text).await;
@@ -111,12 +96,12 @@ async fn soak(uri: &str, language_id: &str, language: Language, pieces: &[&str],
         }
         // A third of the edits replace or delete a short range (possibly
         // across lines); the rest insert, so the document grows.
-        if random.below(2) != 0 || end - start > 24 {
+        if random.index(2) != 0 || end - start > 24 {
             end = start;
         }
-        let insert = match random.below(5) {
+        let insert = match random.index(5) {
             0 if end > start => String::new(),
-            _ => pieces[random.below(pieces.len())].to_string(),
+            _ => pieces[random.index(pieces.len())].to_string(),
         };
         let (start_line, start_column) = position(&text, start);
         let (end_line, end_column) = position(&text, end);

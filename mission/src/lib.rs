@@ -9,6 +9,9 @@
 //! Below the simulator (`gloc-sim` flies a [`Mission`]) and beside the compiler, so the
 //! IDE completes a `b_arg` without linking the flight model.
 
+// Only the engine's interpreter may use `unsafe` (ARCHITECTURE.md, invariants).
+#![forbid(unsafe_code)]
+
 pub mod behaviors;
 pub mod mission;
 

@@ -17,6 +17,9 @@
 //! setting gloc.masterdata`) and says whether it is a bad setting, an input that
 //! cannot be read, or an input with errors; the CLI's exit codes follow that cause.
 
+// Only the engine's interpreter may use `unsafe` (ARCHITECTURE.md, invariants).
+#![forbid(unsafe_code)]
+
 pub mod error;
 pub mod logs;
 pub mod script;

@@ -9,6 +9,9 @@
 //! sensors are matched to it by name; a sensor of the data that the active list lacks
 //! is ignored, and all of them are named in one warning ([`ColumnMap::warning`]).
 
+// Only the engine's interpreter may use `unsafe` (ARCHITECTURE.md, invariants).
+#![forbid(unsafe_code)]
+
 use std::path::{Path, PathBuf};
 
 use gloc_dbd::{CycleSource, Deployment};

@@ -15,6 +15,9 @@
 //! Pure and deterministic: no IO except what a caller asks for (loading a
 //! mission, writing a log), no threads, and the same seed gives the same run.
 
+// Only the engine's interpreter may use `unsafe` (ARCHITECTURE.md, invariants).
+#![forbid(unsafe_code)]
+
 pub mod behaviors;
 pub mod calibrate;
 pub mod environment;

@@ -507,15 +507,12 @@ fn random_mission_text_never_panics() {
         " 99",
         " 1000003",
     ];
-    let mut state: u64 = 12345;
+    let mut rng = gloc_testsupport::Rng::new(12345);
     let list = Arc::new(SensorList::embedded());
     for _ in 0..2000 {
         let mut text = String::new();
         for _ in 0..30 {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            text.push_str(pieces[(state >> 33) as usize % pieces.len()]);
+            text.push_str(rng.pick(&pieces));
         }
         let mission = Mission::parse("r.mi", text);
         let _ = mission.render_plain();

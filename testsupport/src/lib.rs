@@ -1,9 +1,12 @@
 //! What the tests of every crate share: the real glider files kept in the repository's
 //! `data/` folder (found by one locator that fails loudly), paths in the repository, and
-//! one seeded random-number generator for property tests.
+//! the one seeded random-number generator (re-exported from the engine).
 //!
 //! A test that needs a real file calls [`data`]; a missing file is a failure that names
 //! the path, never a silent skip.
+
+// Only the engine's interpreter may use `unsafe` (ARCHITECTURE.md, invariants).
+#![forbid(unsafe_code)]
 
 use std::path::{Path, PathBuf};
 
@@ -40,38 +43,8 @@ pub fn data_arg(relative: &str) -> String {
     data(relative).display().to_string()
 }
 
-/// A small seeded generator (SplitMix64) for property tests: the same seed gives the same
-/// sequence on every machine. Not for the simulator, whose noise has its own generator.
-#[derive(Debug, Clone)]
-pub struct Rng {
-    state: u64,
-}
-
-impl Rng {
-    /// A generator seeded with `seed`.
-    pub fn new(seed: u64) -> Rng {
-        Rng { state: seed }
-    }
-
-    /// The next 64 random bits.
-    pub fn next_u64(&mut self) -> u64 {
-        self.state = self.state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in `[0, 1)`.
-    pub fn uniform(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-    }
-
-    /// Uniform in `0..bound` (`bound` > 0).
-    pub fn below(&mut self, bound: u64) -> u64 {
-        self.next_u64() % bound.max(1)
-    }
-}
+/// The one seeded generator (SplitMix64, `gloc_engine::rng`), for property tests.
+pub use gloc_engine::rng::Rng;
 
 #[cfg(test)]
 mod tests {
@@ -82,11 +55,5 @@ mod tests {
         assert!(data("comet/missions/nsb3.mi").is_file());
         let missing = std::panic::catch_unwind(|| data("no/such/file.dbd"));
         assert!(missing.is_err());
-    }
-
-    #[test]
-    fn splitmix64_matches_its_published_first_value() {
-        // SplitMix64 seeded with 0: first output 0xE220A8397B1DCDAF (Vigna's reference).
-        assert_eq!(Rng::new(0).next_u64(), 0xE220_A839_7B1D_CDAF);
     }
 }

@@ -68,7 +68,15 @@ pub(super) struct Slot {
 
 /// The one signature of every handler: the slot it runs, the register file,
 /// the fuel left, and the rest of the machine.
-type Handler = unsafe fn(*const Slot, *mut Value, u64, &mut Context<'_>);
+type Handler = unsafe fn(*const Slot, Registers, u64, &mut Context<'_>);
+
+/// The register file as the handlers see it: its first register. Made only by [`run`],
+/// from a file that covers the code's register bound (checked there); every register an
+/// op names lies below that bound (`Code::new`), so each access through it is in bounds.
+/// Its accessors ([`get`], [`set`], [`read`]) are the only `unsafe` register accesses.
+#[derive(Clone, Copy)]
+#[repr(transparent)]
+pub(super) struct Registers(*mut Value);
 
 /// What the handlers reach besides the registers, and where they leave how
 /// they stopped.
@@ -78,6 +86,8 @@ pub(super) struct Context<'a> {
     pub program: &'a Program,
     /// The number of slots (an indirect jump checks its target against it).
     pub code_len: usize,
+    /// One more than the highest register the code names (`Code::register_bound`).
+    register_bound: usize,
     /// The first slot (set by [`run`]): pcs are indices from it.
     base: *const Slot,
     /// Set by the handler that stops: why, at which pc, with how much fuel.
@@ -100,12 +110,14 @@ impl<'a> Context<'a> {
         memory: &'a mut [Value],
         program: &'a Program,
         code_len: usize,
+        register_bound: usize,
     ) -> Context<'a> {
         Context {
             host,
             memory,
             program,
             code_len,
+            register_bound,
             base: std::ptr::null(),
             stop: Stop::Exit(Exit::OutOfFuel),
             pc: 0,
@@ -125,7 +137,11 @@ pub(super) fn run(
 ) -> Stop {
     let base = slots.as_ptr();
     context.base = base;
-    let regs = registers.as_mut_ptr();
+    assert!(
+        registers.len() >= context.register_bound,
+        "the register file covers every register the code names"
+    );
+    let regs = Registers(registers.as_mut_ptr());
     loop {
         if *fuel < MAX_FUSED {
             return Stop::Exit(Exit::OutOfFuel);
@@ -407,19 +423,19 @@ impl Slot {
     }
 }
 
-/// Reads a register.
-///
-/// SAFETY (for every use): `register` is named by an op of the code, so it
-/// lies below `code.register_bound`, which the register file covers.
+/// Reads a register named by an op of the code.
 #[inline(always)]
-unsafe fn get(regs: *mut Value, register: Reg) -> Value {
-    unsafe { *regs.add(register.0 as usize) }
+fn get(regs: Registers, register: Reg) -> Value {
+    // SAFETY: `register` is named by an op of the code, so it lies below the bound the
+    // register file covers ([`Registers`]).
+    unsafe { *regs.0.add(register.0 as usize) }
 }
 
-/// Writes a register (the same safety argument as [`get`]).
+/// Writes a register named by an op of the code.
 #[inline(always)]
-unsafe fn set(regs: *mut Value, register: Reg, value: Value) {
-    unsafe { *regs.add(register.0 as usize) = value }
+fn set(regs: Registers, register: Reg, value: Value) {
+    // SAFETY: as in [`get`].
+    unsafe { *regs.0.add(register.0 as usize) = value }
 }
 
 /// Reads a register whose type the loader proved to be `T` ([`INT`] or
@@ -428,8 +444,8 @@ unsafe fn set(regs: *mut Value, register: Reg, value: Value) {
 /// only give a wrong number, never undefined behaviour; `Machine` runs typed
 /// handlers only while its registers agree with the analysis.
 #[inline(always)]
-unsafe fn read<const T: TypeSet>(regs: *mut Value, register: Reg) -> Value {
-    let value = unsafe { get(regs, register) };
+fn read<const T: TypeSet>(regs: Registers, register: Reg) -> Value {
+    let value = get(regs, register);
     match T {
         INT => Value::Int(match value {
             Value::Int(x) => x,
@@ -457,9 +473,10 @@ fn constant<const INT: bool>(k: Value) -> Value {
 
 /// Records how the handlers stopped: at `at`, with `fuel` left.
 #[inline(always)]
-unsafe fn stop(at: *const Slot, fuel: u64, context: &mut Context<'_>, why: Stop) {
-    // SAFETY: both point into the one slot array.
-    context.pc = unsafe { at.offset_from(context.base) } as usize;
+fn stop(at: *const Slot, fuel: u64, context: &mut Context<'_>, why: Stop) {
+    // Both point into the one slot array; plain address arithmetic (this is the cold
+    // path) keeps it free of `unsafe`.
+    context.pc = (at as usize - context.base as usize) / std::mem::size_of::<Slot>();
     context.fuel = fuel;
     context.stop = why;
 }
@@ -480,12 +497,14 @@ macro_rules! handler_fn {
         #[allow(unused_variables, clippy::unused_unit)]
         unsafe fn $name $(<$(const $generic: $gty),*>)? (
             $ip: *const Slot,
-            $regs: *mut Value,
+            $regs: Registers,
             $fuel: u64,
             $context: &mut Context<'_>,
         ) {
-            // SAFETY: `Slot::new` pairs this handler with this variant only.
-            let Op::$variant { $($field),* } = (unsafe { &*$ip }).op else {
+            // SAFETY: the caller passes a slot of the code (see [`run`] and [`dispatch`]).
+            let slot: &Slot = unsafe { &*$ip };
+            let Op::$variant { $($field),* } = slot.op else {
+                // SAFETY: `Slot::new` pairs this handler with this variant only.
                 unsafe { unreachable_unchecked() }
             };
             let $fuel = $fuel - $width;
@@ -508,7 +527,7 @@ macro_rules! handler {
             $(#[$doc])*
             fn $name $(<$(const $generic: $gty),*>)? ($variant { $($field),* }, width $width)
             |$ip, $regs, $fuel, $context| {
-                let next: *const Slot = unsafe { $body };
+                let next: *const Slot = $body;
                 dispatch!(next, $regs, $fuel, $context)
             }
         }
@@ -521,9 +540,11 @@ macro_rules! dispatch {
     ($next:expr, $regs:ident, $fuel:ident, $context:ident) => {{
         let next: *const Slot = $next;
         if $fuel < MAX_FUSED {
-            return unsafe { stop(next, $fuel, $context, Stop::Exit(Exit::OutOfFuel)) };
+            return stop(next, $fuel, $context, Stop::Exit(Exit::OutOfFuel));
         }
         // The tail call that LLVM turns into a jump (tests/tail_calls.rs).
+        // SAFETY: every handler goes on at a slot of the code: the next op (the code
+        // ends with `halt`), a target `Code::new` clamped, or a checked indirect target.
         return unsafe { ((*next).handler)(next, $regs, $fuel, $context) };
     }};
 }
@@ -543,13 +564,15 @@ macro_rules! branch_handler {
             $(#[$doc])*
             fn $name $(<$(const $generic: $gty),*>)? ($variant { $($field),* }, width $width)
             |$ip, $regs, $fuel, $context| {
-                let taken: bool = unsafe { $body };
-                // SAFETY (both): `Slot::new` made the offsets from the op's targets,
-                // which `Code::new` clamped into the code.
+                let taken: bool = $body;
+                // SAFETY: `$ip` is this handler's own slot (see `handler_fn`).
+                let jumps = unsafe { (*$ip).jumps };
+                // `Slot::new` made the offsets from the op's targets, which `Code::new`
+                // clamped into the code.
                 if taken {
-                    dispatch!(unsafe { $ip.byte_offset((*$ip).jumps[0]) }, $regs, $fuel, $context)
+                    dispatch!($ip.wrapping_byte_offset(jumps[0]), $regs, $fuel, $context)
                 } else {
-                    dispatch!(unsafe { $ip.byte_offset((*$ip).jumps[1]) }, $regs, $fuel, $context)
+                    dispatch!($ip.wrapping_byte_offset(jumps[1]), $regs, $fuel, $context)
                 }
             }
         }
@@ -564,13 +587,23 @@ macro_rules! stop_here {
     }};
 }
 
+/// Goes on in a more general handler of the same op (a fast path's fallback), by a tail
+/// call with the slot, registers and context this handler was given.
+macro_rules! fall_back {
+    ($general:ident $(::<$($generic:tt),*>)? ($ip:ident, $regs:ident, $fuel:expr, $context:ident)) => {{
+        // SAFETY: the general handler is made for the same variant, and the slot, the
+        // registers and the context are the ones this handler was given.
+        return unsafe { $general $(::<$($generic),*>)? ($ip, $regs, $fuel, $context) };
+    }};
+}
+
 /// Handlers of `dst := a OP b`.
 macro_rules! binary {
     ($($name:ident, $variant:ident, $f:expr;)*) => {$(
         handler! {
             fn $name<const T: TypeSet>($variant { a, b, dst }, width 1) |ip, regs, fuel, context| {
                 set(regs, dst, $f(read::<T>(regs, a), read::<T>(regs, b)));
-                ip.add(1)
+                ip.wrapping_add(1)
             }
         }
     )*};
@@ -582,7 +615,7 @@ macro_rules! unary {
         handler! {
             fn $name<const T: TypeSet>($variant { src, dst }, width 1) |ip, regs, fuel, context| {
                 set(regs, dst, $f(read::<T>(regs, src)));
-                ip.add(1)
+                ip.wrapping_add(1)
             }
         }
     )*};
@@ -598,7 +631,7 @@ macro_rules! division {
                     stop_here!(ip, fuel, context, Stop::Exit(Exit::Trap(TrapKind::DivisionByZero)));
                 }
                 set(regs, dst, $f(x, y));
-                ip.add(1)
+                ip.wrapping_add(1)
             }
         }
     )*};
@@ -614,7 +647,7 @@ macro_rules! with_constant {
                 let x = read::<T>(regs, a);
                 set(regs, t, k);
                 set(regs, dst, $f(x, k));
-                ip.add(2)
+                ip.wrapping_add(2)
             }
         }
     )*};
@@ -669,9 +702,9 @@ macro_rules! integer_division {
             fn $name<const T: TypeSet>($variant { a, b, dst }, width 1) |ip, regs, fuel, context| {
                 match (read::<T>(regs, a), read::<T>(regs, b)) {
                     (Value::Int(x), Value::Int(y)) if y != 0 => set(regs, dst, Value::Int(x.$f(y))),
-                    _ => return $general::<ANY>(ip, regs, fuel + 1, context),
+                    _ => fall_back!($general::<ANY>(ip, regs, fuel + 1, context)),
                 }
-                ip.add(1)
+                ip.wrapping_add(1)
             }
         }
     )*};
@@ -685,19 +718,19 @@ macro_rules! integer_division_by_constant {
             fn $name<const T: TypeSet>($variant { a, k, t, dst }, width 2) |ip, regs, fuel, context| {
                 let Value::Int(divisor) = k else {
                     // SAFETY: `Slot::new` chose this handler for an integer constant.
-                    unreachable_unchecked()
+                    unsafe { unreachable_unchecked() }
                 };
                 if divisor == 0 {
                     // SAFETY: `fuse` leaves a division by the constant 0 plain.
-                    unreachable_unchecked()
+                    unsafe { unreachable_unchecked() }
                 }
                 let x = read::<T>(regs, a);
                 set(regs, t, k);
                 match x {
                     Value::Int(x) => set(regs, dst, Value::Int(x.$f(divisor))),
-                    Value::Float(_) => return $general::<true, ANY>(ip, regs, fuel + 2, context),
+                    Value::Float(_) => fall_back!($general::<true, ANY>(ip, regs, fuel + 2, context)),
                 }
-                ip.add(2)
+                ip.wrapping_add(2)
             }
         }
     )*};
@@ -729,28 +762,28 @@ fn store_sensor(host: &mut dyn Host, sensor: SensorId, value: f64) {
 handler! {
     fn op_load_sensor(LoadSensor { sensor, dst }, width 1) |ip, regs, fuel, context| {
         set(regs, dst, Value::Float(load_sensor(context.host, sensor)));
-        ip.add(1)
+        ip.wrapping_add(1)
     }
 }
 
 handler! {
     fn op_store_sensor(StoreSensor { src, sensor }, width 1) |ip, regs, fuel, context| {
         store_sensor(context.host, sensor, get(regs, src).as_f64());
-        ip.add(1)
+        ip.wrapping_add(1)
     }
 }
 
 handler! {
     fn op_load_int(LoadInt { value, dst }, width 1) |ip, regs, fuel, context| {
         set(regs, dst, Value::Int(value));
-        ip.add(1)
+        ip.wrapping_add(1)
     }
 }
 
 handler! {
     fn op_load_float(LoadFloat { value, dst }, width 1) |ip, regs, fuel, context| {
         set(regs, dst, Value::Float(value));
-        ip.add(1)
+        ip.wrapping_add(1)
     }
 }
 
@@ -760,14 +793,14 @@ handler! {
             Ok(index) => set(regs, dst, context.memory[index]),
             Err(kind) => stop_here!(ip, fuel, context, Stop::Exit(Exit::Trap(kind))),
         }
-        ip.add(1)
+        ip.wrapping_add(1)
     }
 }
 
 handler! {
     fn op_load_mem_at(LoadMemAt { addr, dst }, width 1) |ip, regs, fuel, context| {
         set(regs, dst, context.memory[addr as usize]);
-        ip.add(1)
+        ip.wrapping_add(1)
     }
 }
 
@@ -777,14 +810,14 @@ handler! {
             Ok(index) => context.memory[index] = get(regs, src),
             Err(kind) => stop_here!(ip, fuel, context, Stop::Exit(Exit::Trap(kind))),
         }
-        ip.add(1)
+        ip.wrapping_add(1)
     }
 }
 
 handler! {
     fn op_store_mem_at(StoreMemAt { src, addr }, width 1) |ip, regs, fuel, context| {
         context.memory[addr as usize] = get(regs, src);
-        ip.add(1)
+        ip.wrapping_add(1)
     }
 }
 
@@ -797,38 +830,39 @@ branch_handler! {
 
 handler! {
     fn op_jump(Jump { target }, width 1) |ip, regs, fuel, context| {
-        ip.byte_offset((*ip).jumps[0])
+        // SAFETY: `ip` is this handler's own slot (see `handler_fn`).
+        ip.wrapping_byte_offset(unsafe { (*ip).jumps[0] })
     }
 }
 
 handler! {
     fn op_jump_indirect(JumpIndirect { register }, width 1) |ip, regs, fuel, context| {
         match indirect_target(context.program, get(regs, register), context.code_len) {
-            Ok(pc) => context.base.add(pc),
+            Ok(pc) => context.base.wrapping_add(pc),
             Err(exit) => stop_here!(ip, fuel, context, Stop::Exit(exit)),
         }
     }
 }
 
 /// `yield`: charged, and stops at its own pc (the machine moves past it).
-unsafe fn op_yield(ip: *const Slot, _regs: *mut Value, fuel: u64, context: &mut Context<'_>) {
-    unsafe { stop(ip, fuel - 1, context, Stop::Exit(Exit::Yield)) }
+unsafe fn op_yield(ip: *const Slot, _regs: Registers, fuel: u64, context: &mut Context<'_>) {
+    stop(ip, fuel - 1, context, Stop::Exit(Exit::Yield))
 }
 
 /// `halt` (and the end of the code): charged, and stops at its own pc.
-unsafe fn op_halt(ip: *const Slot, _regs: *mut Value, fuel: u64, context: &mut Context<'_>) {
-    unsafe { stop(ip, fuel - 1, context, Stop::Exit(Exit::Halt)) }
+unsafe fn op_halt(ip: *const Slot, _regs: Registers, fuel: u64, context: &mut Context<'_>) {
+    stop(ip, fuel - 1, context, Stop::Exit(Exit::Halt))
 }
 
 handler! {
     fn op_nop(Nop {}, width 1) |ip, regs, fuel, context| {
-        ip.add(1)
+        ip.wrapping_add(1)
     }
 }
 
 /// `write`, `writes`, `print`, `prints`: left to the `match` loop, uncharged.
-unsafe fn op_output(ip: *const Slot, _regs: *mut Value, fuel: u64, context: &mut Context<'_>) {
-    unsafe { stop(ip, fuel, context, Stop::RunInLoop) }
+unsafe fn op_output(ip: *const Slot, _regs: Registers, fuel: u64, context: &mut Context<'_>) {
+    stop(ip, fuel, context, Stop::RunInLoop)
 }
 
 handler! {
@@ -837,7 +871,7 @@ handler! {
         let widened = Value::Float(get(regs, src).as_f64());
         set(regs, t, widened);
         set(regs, dst, add(read::<T>(regs, a), widened));
-        ip.add(2)
+        ip.wrapping_add(2)
     }
 }
 
@@ -909,10 +943,10 @@ macro_rules! integer_binary {
         handler! {
             fn $name<const T: TypeSet>($variant { a, b, dst }, width 1) |ip, regs, fuel, context| {
                 let (Value::Int(x), Value::Int(y)) = (read::<T>(regs, a), read::<T>(regs, b)) else {
-                    return $general::<ANY>(ip, regs, fuel + 1, context);
+                    fall_back!($general::<ANY>(ip, regs, fuel + 1, context));
                 };
                 set(regs, dst, Value::Int(x.$f(y)));
-                ip.add(1)
+                ip.wrapping_add(1)
             }
         }
     )*};
@@ -931,14 +965,14 @@ macro_rules! integer_with_constant {
             fn $name<const T: TypeSet>($variant { a, k, t, dst }, width 2) |ip, regs, fuel, context| {
                 let Value::Int(y) = k else {
                     // SAFETY: `Slot::new` chose this handler for an integer constant.
-                    unreachable_unchecked()
+                    unsafe { unreachable_unchecked() }
                 };
                 let Value::Int(x) = read::<T>(regs, a) else {
-                    return $general::<true, ANY>(ip, regs, fuel + 2, context);
+                    fall_back!($general::<true, ANY>(ip, regs, fuel + 2, context));
                 };
                 set(regs, t, k);
                 set(regs, dst, Value::Int(x.$f(y)));
-                ip.add(2)
+                ip.wrapping_add(2)
             }
         }
     )*};
@@ -964,14 +998,14 @@ macro_rules! integer_add_jump_compare_and_branch {
                     read::<T>(regs, a),
                     read::<T>(regs, b),
                 ) else {
-                    return $general::<C>(ip, regs, fuel + $width, context);
+                    fall_back!($general::<C>(ip, regs, fuel + $width, context));
                 };
                 set(regs, sum, Value::Int(x.wrapping_add(y)));
                 // Read after the write: `a` or `b` may be `sum`, an integer as well.
                 let (Value::Int(u), Value::Int(v)) = (read::<INT>(regs, a), read::<INT>(regs, b))
                 else {
                     // SAFETY: `read::<INT>` gives integers.
-                    unreachable_unchecked()
+                    unsafe { unreachable_unchecked() }
                 };
                 let result = compare(CMPS[C], Value::Int(u), Value::Int(v));
                 set(regs, c, truth(result));
@@ -993,19 +1027,19 @@ branch_handler! {
     |ip, regs, fuel, context| {
         let Value::Int(w) = k else {
             // SAFETY: `Slot::new` chose this handler for an integer constant.
-            unreachable_unchecked()
+            unsafe { unreachable_unchecked() }
         };
         let (Value::Int(x), Value::Int(y), Value::Int(_)) =
             (read::<T>(regs, p), read::<T>(regs, q), read::<T>(regs, a))
         else {
-            return op_add_jump_cmp_k_br::<C, true>(ip, regs, fuel + 5, context);
+            fall_back!(op_add_jump_cmp_k_br::<C, true>(ip, regs, fuel + 5, context));
         };
         set(regs, sum, Value::Int(x.wrapping_add(y)));
         set(regs, t, k);
         // Read after the writes: `a` may be `sum` (never `t`: `fuse`), an integer as well.
         let Value::Int(u) = read::<INT>(regs, a) else {
             // SAFETY: `a` was an integer and both writes were integers.
-            unreachable_unchecked()
+            unsafe { unreachable_unchecked() }
         };
         let result = compare(CMPS[C], Value::Int(u), Value::Int(w));
         set(regs, c, truth(result));
@@ -1020,11 +1054,11 @@ handler! {
     fn op_load_mem_int<const T: TypeSet>(LoadMem { addr, dst }, width 1) |ip, regs, fuel, context| {
         match read::<T>(regs, addr) {
             Value::Int(index) if (index as u64) < context.memory.len() as u64 => {
-                set(regs, dst, *context.memory.as_ptr().add(index as usize));
+                set(regs, dst, context.memory[index as usize]);
             }
-            _ => return op_load_mem(ip, regs, fuel + 1, context),
+            _ => fall_back!(op_load_mem(ip, regs, fuel + 1, context)),
         }
-        ip.add(1)
+        ip.wrapping_add(1)
     }
 }
 
@@ -1032,11 +1066,11 @@ handler! {
     fn op_store_mem_int<const T: TypeSet>(StoreMem { src, addr }, width 1) |ip, regs, fuel, context| {
         match read::<T>(regs, addr) {
             Value::Int(index) if (index as u64) < context.memory.len() as u64 => {
-                *context.memory.as_mut_ptr().add(index as usize) = get(regs, src);
+                context.memory[index as usize] = get(regs, src);
             }
-            _ => return op_store_mem(ip, regs, fuel + 1, context),
+            _ => fall_back!(op_store_mem(ip, regs, fuel + 1, context)),
         }
-        ip.add(1)
+        ip.wrapping_add(1)
     }
 }
 
@@ -1048,10 +1082,10 @@ branch_handler! {
     |ip, regs, fuel, context| {
         let (Value::Int(low), Value::Int(high)) = (lo, hi) else {
             // SAFETY: `Slot::new` chose this handler for integer bounds.
-            unreachable_unchecked()
+            unsafe { unreachable_unchecked() }
         };
         let Value::Int(index) = read::<T>(regs, x) else {
-            return op_range_br::<true>(ip, regs, fuel + 6, context);
+            fall_back!(op_range_br::<true>(ip, regs, fuel + 6, context));
         };
         let (below, above) = (index < low, index >= high);
         set(regs, t_lo, lo);
@@ -1118,7 +1152,7 @@ macro_rules! integer_compare_and_branch {
             )
             |ip, regs, fuel, context| {
                 let (Value::Int(x), Value::Int(y)) = (read::<T>(regs, a), read::<T>(regs, b)) else {
-                    return $general::<C, ANY>(ip, regs, fuel + $width, context);
+                    fall_back!($general::<C, ANY>(ip, regs, fuel + $width, context));
                 };
                 let result = compare(CMPS[C], Value::Int(x), Value::Int(y));
                 set(regs, c, truth(result));
@@ -1143,12 +1177,12 @@ macro_rules! integer_compare_constant_and_branch {
             |ip, regs, fuel, context| {
                 let Value::Int(y) = k else {
                     // SAFETY: `Slot::new` chose this handler for an integer constant.
-                    unreachable_unchecked()
+                    unsafe { unreachable_unchecked() }
                 };
                 // `a` is read after `t` is written in the instructions, but `fuse`
                 // made sure they differ.
                 let Value::Int(x) = read::<T>(regs, a) else {
-                    return $general::<C, true, ANY>(ip, regs, fuel + $width, context);
+                    fall_back!($general::<C, true, ANY>(ip, regs, fuel + $width, context));
                 };
                 set(regs, t, k);
                 let result = compare(CMPS[C], Value::Int(x), Value::Int(y));

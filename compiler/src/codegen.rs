@@ -126,38 +126,7 @@ impl Generator {
         match &stmt.kind {
             typed::StmtKind::Assign { place, value } => self.assign(place, value, stmt.span),
             typed::StmtKind::If { arms, else_body } => {
-                let mut end = None;
-                let last_arm = arms.len().saturating_sub(1);
-                for (index, arm) in arms.iter().enumerate() {
-                    self.span = arm.span;
-                    let condition = self.expr(&arm.condition);
-                    let on_true = self.label();
-                    let on_false = self.label();
-                    let has_more = index < last_arm || else_body.is_some();
-                    if has_more && end.is_none() {
-                        end = Some(self.label());
-                    }
-                    self.span = arm.span;
-                    self.emit(Instr::Cbr {
-                        cond: condition,
-                        on_true,
-                        on_false,
-                    });
-                    self.emit(Instr::Label(on_true));
-                    self.block(&arm.body);
-                    self.span = arm.span;
-                    if let (true, Some(end)) = (has_more, end) {
-                        self.emit(Instr::Jumpi(end));
-                    }
-                    self.emit(Instr::Label(on_false));
-                }
-                if let Some(body) = else_body {
-                    self.block(body);
-                }
-                if let Some(end) = end {
-                    self.span = stmt.span;
-                    self.emit(Instr::Label(end));
-                }
+                self.if_chain(arms, else_body.as_deref(), stmt.span)
             }
             typed::StmtKind::Label(label) => self.emit(Instr::Label(Lbl(label.0 as u32))),
             typed::StmtKind::Goto(label) => self.emit(Instr::Jumpi(Lbl(label.0 as u32))),
@@ -245,32 +214,71 @@ impl Generator {
             }
             typed::StmtKind::Yield => self.emit(Instr::Yield),
             typed::StmtKind::End => self.emit(Instr::Halt),
-            typed::StmtKind::Print(items) => {
-                if items.is_empty() {
-                    self.emit(Instr::Prints(String::new()));
+            typed::StmtKind::Print(items) => self.print(items, stmt.span),
+        }
+    }
+
+    /// `if … elseif … else … endif`: each arm's test, its body, a jump to the end.
+    fn if_chain(&mut self, arms: &[typed::IfArm], else_body: Option<&[typed::Stmt]>, span: Span) {
+        let mut end = None;
+        let last_arm = arms.len().saturating_sub(1);
+        for (index, arm) in arms.iter().enumerate() {
+            self.span = arm.span;
+            let condition = self.expr(&arm.condition);
+            let on_true = self.label();
+            let on_false = self.label();
+            let has_more = index < last_arm || else_body.is_some();
+            if has_more && end.is_none() {
+                end = Some(self.label());
+            }
+            self.span = arm.span;
+            self.emit(Instr::Cbr {
+                cond: condition,
+                on_true,
+                on_false,
+            });
+            self.emit(Instr::Label(on_true));
+            self.block(&arm.body);
+            self.span = arm.span;
+            if let (true, Some(end)) = (has_more, end) {
+                self.emit(Instr::Jumpi(end));
+            }
+            self.emit(Instr::Label(on_false));
+        }
+        if let Some(body) = else_body {
+            self.block(body);
+        }
+        if let Some(end) = end {
+            self.span = span;
+            self.emit(Instr::Label(end));
+        }
+    }
+
+    /// `print`: every item but the last written, the last printed (ending the line).
+    fn print(&mut self, items: &[typed::PrintItem], span: Span) {
+        if items.is_empty() {
+            self.emit(Instr::Prints(String::new()));
+        }
+        let last = items.len().saturating_sub(1);
+        for (index, item) in items.iter().enumerate() {
+            let ends_line = index == last;
+            match item {
+                typed::PrintItem::Text(text) => {
+                    self.span = span;
+                    self.emit(if ends_line {
+                        Instr::Prints(text.clone())
+                    } else {
+                        Instr::Writes(text.clone())
+                    });
                 }
-                let last = items.len().saturating_sub(1);
-                for (index, item) in items.iter().enumerate() {
-                    let ends_line = index == last;
-                    match item {
-                        typed::PrintItem::Text(text) => {
-                            self.span = stmt.span;
-                            self.emit(if ends_line {
-                                Instr::Prints(text.clone())
-                            } else {
-                                Instr::Writes(text.clone())
-                            });
-                        }
-                        typed::PrintItem::Expr(expr) => {
-                            let register = self.expr(expr);
-                            self.span = stmt.span;
-                            self.emit(if ends_line {
-                                Instr::Print(register)
-                            } else {
-                                Instr::Write(register)
-                            });
-                        }
-                    }
+                typed::PrintItem::Expr(expr) => {
+                    let register = self.expr(expr);
+                    self.span = span;
+                    self.emit(if ends_line {
+                        Instr::Print(register)
+                    } else {
+                        Instr::Write(register)
+                    });
                 }
             }
         }

@@ -267,6 +267,52 @@ fn predecessor_counts(body: &[(Instr, Span)]) -> HashMap<Lbl, usize> {
 /// becomes a copy, a constant already in a register is copied from it, and
 /// branches on known conditions become jumps. On each arm of a branch on a 0/1
 /// condition the condition's value is known.
+/// `instr` with what is known of its operands folded in: a constant result, a decided
+/// branch, a constant address; `None` when nothing is known.
+fn fold(known: &Knowledge, instr: &Instr) -> Option<Instr> {
+    match instr {
+        Instr::Binary { op, a, b, dst } => match (known.constants.get(a), known.constants.get(b)) {
+            (Some(x), Some(y)) => fold_binary(*op, *x, *y).map(|value| value.load(*dst)),
+            _ => None,
+        },
+        Instr::Unary { op, src, dst } => known
+            .constants
+            .get(src)
+            .and_then(|value| fold_unary(*op, *value))
+            .map(|value| value.load(*dst)),
+        Instr::Mov { src, dst } => known.constants.get(src).map(|value| value.load(*dst)),
+        Instr::Cbr {
+            cond,
+            on_true,
+            on_false,
+        } => known
+            .constants
+            .get(cond)
+            .map(|value| Instr::Jumpi(if value.is_true() { *on_true } else { *on_false })),
+        Instr::LoadM {
+            addr: Addr::Reg(reg),
+            dst,
+        } => match known.constants.get(reg) {
+            Some(Const::Int(at)) if *at >= 0 && *at <= i64::from(u32::MAX) => Some(Instr::LoadM {
+                addr: Addr::At(*at as u32),
+                dst: *dst,
+            }),
+            _ => None,
+        },
+        Instr::StoreM {
+            src,
+            addr: Addr::Reg(reg),
+        } => match known.constants.get(reg) {
+            Some(Const::Int(at)) if *at >= 0 && *at <= i64::from(u32::MAX) => Some(Instr::StoreM {
+                src: *src,
+                addr: Addr::At(*at as u32),
+            }),
+            _ => None,
+        },
+        _ => None,
+    }
+}
+
 fn fold_and_propagate(body: &mut [(Instr, Span)]) {
     let predecessors = predecessor_counts(body);
     let mut pending: HashMap<Lbl, Knowledge> = HashMap::new();
@@ -284,53 +330,7 @@ fn fold_and_propagate(body: &mut [(Instr, Span)]) {
         }
         let instr = &mut body[index].0;
         instr.map_uses(|reg| known.copies.get(&reg).copied().unwrap_or(reg));
-        let folded = match &*instr {
-            Instr::Binary { op, a, b, dst } => {
-                match (known.constants.get(a), known.constants.get(b)) {
-                    (Some(x), Some(y)) => fold_binary(*op, *x, *y).map(|value| value.load(*dst)),
-                    _ => None,
-                }
-            }
-            Instr::Unary { op, src, dst } => known
-                .constants
-                .get(src)
-                .and_then(|value| fold_unary(*op, *value))
-                .map(|value| value.load(*dst)),
-            Instr::Mov { src, dst } => known.constants.get(src).map(|value| value.load(*dst)),
-            Instr::Cbr {
-                cond,
-                on_true,
-                on_false,
-            } => known
-                .constants
-                .get(cond)
-                .map(|value| Instr::Jumpi(if value.is_true() { *on_true } else { *on_false })),
-            Instr::LoadM {
-                addr: Addr::Reg(reg),
-                dst,
-            } => match known.constants.get(reg) {
-                Some(Const::Int(at)) if *at >= 0 && *at <= i64::from(u32::MAX) => {
-                    Some(Instr::LoadM {
-                        addr: Addr::At(*at as u32),
-                        dst: *dst,
-                    })
-                }
-                _ => None,
-            },
-            Instr::StoreM {
-                src,
-                addr: Addr::Reg(reg),
-            } => match known.constants.get(reg) {
-                Some(Const::Int(at)) if *at >= 0 && *at <= i64::from(u32::MAX) => {
-                    Some(Instr::StoreM {
-                        src: *src,
-                        addr: Addr::At(*at as u32),
-                    })
-                }
-                _ => None,
-            },
-            _ => None,
-        };
+        let folded = fold(&known, instr);
         if let Some(folded) = folded {
             *instr = folded;
         }

@@ -7,7 +7,7 @@ use std::collections::HashMap;
 use std::sync::Arc;
 
 use crate::diagnostic::{Diagnostic, Span};
-use crate::gloc::ast::{DirectiveKind, Instruction, LineKind, Opcode, OperandKind};
+use crate::gloc::ast::{DirectiveKind, Instruction, LineKind, Opcode, Operand, OperandKind};
 use crate::gloc::cfg;
 use crate::gloc::{CheckOptions, Checked, Parsed, Stats};
 use crate::program::{Instr, Pc, Program, Reg};
@@ -427,6 +427,52 @@ struct Resolver<'c, 'a, 'h> {
     pc: usize,
 }
 
+/// The index of `text` in the program's text table, added when new.
+fn intern_text(texts: &mut Vec<Box<str>>, text: &str) -> u32 {
+    let index = texts.iter().position(|known| &**known == text);
+    index.unwrap_or_else(|| {
+        texts.push(text.into());
+        texts.len() - 1
+    }) as u32
+}
+
+/// The instruction `opcode a,b,dst` for the three-register opcodes.
+fn three_register_shape(opcode: Opcode) -> Option<fn(Reg, Reg, Reg) -> Instr> {
+    Some(match opcode {
+        Opcode::Add => |a, b, dst| Instr::Add { a, b, dst },
+        Opcode::Sub => |a, b, dst| Instr::Sub { a, b, dst },
+        Opcode::Mul => |a, b, dst| Instr::Mul { a, b, dst },
+        Opcode::Div => |a, b, dst| Instr::Div { a, b, dst },
+        Opcode::Mod => |a, b, dst| Instr::Mod { a, b, dst },
+        Opcode::Min => |a, b, dst| Instr::Min { a, b, dst },
+        Opcode::Max => |a, b, dst| Instr::Max { a, b, dst },
+        Opcode::And => |a, b, dst| Instr::And { a, b, dst },
+        Opcode::Or => |a, b, dst| Instr::Or { a, b, dst },
+        Opcode::Xor => |a, b, dst| Instr::Xor { a, b, dst },
+        Opcode::Cmpeq => |a, b, dst| Instr::CmpEq { a, b, dst },
+        Opcode::Cmpne => |a, b, dst| Instr::CmpNe { a, b, dst },
+        Opcode::Cmplt => |a, b, dst| Instr::CmpLt { a, b, dst },
+        Opcode::Cmple => |a, b, dst| Instr::CmpLe { a, b, dst },
+        Opcode::Cmpgt => |a, b, dst| Instr::CmpGt { a, b, dst },
+        Opcode::Cmpge => |a, b, dst| Instr::CmpGe { a, b, dst },
+        _ => return None,
+    })
+}
+
+/// The instruction `opcode src,dst` for the two-register opcodes.
+fn two_register_shape(opcode: Opcode) -> Option<fn(Reg, Reg) -> Instr> {
+    Some(match opcode {
+        Opcode::Mov => |src, dst| Instr::Move { src, dst },
+        Opcode::Neg => |src, dst| Instr::Neg { src, dst },
+        Opcode::Abs => |src, dst| Instr::Abs { src, dst },
+        Opcode::Sqrt => |src, dst| Instr::Sqrt { src, dst },
+        Opcode::I2d => |src, dst| Instr::IntToFloat { src, dst },
+        Opcode::D2i => |src, dst| Instr::FloatToInt { src, dst },
+        Opcode::Not => |src, dst| Instr::Not { src, dst },
+        _ => return None,
+    })
+}
+
 impl Resolver<'_, '_, '_> {
     fn instruction(
         &mut self,
@@ -464,6 +510,14 @@ impl Resolver<'_, '_, '_> {
             )
         };
         let two = |resolver: &mut Self| (register(resolver, 0), register(resolver, 1));
+        if let Some(make) = three_register_shape(instruction.opcode) {
+            let (a, b, dst) = three(self);
+            return make(a, b, dst);
+        }
+        if let Some(make) = two_register_shape(instruction.opcode) {
+            let (src, dst) = two(self);
+            return make(src, dst);
+        }
         match instruction.opcode {
             Opcode::Loads => {
                 let sensor = self.sensor(integer(0), span_of(0), None);
@@ -498,127 +552,33 @@ impl Resolver<'_, '_, '_> {
                     dst: register(self, 1),
                 }
             }
-            Opcode::Mov => {
-                let (src, dst) = two(self);
-                Instr::Move { src, dst }
+            // The register-only shapes were built above.
+            Opcode::Add
+            | Opcode::Sub
+            | Opcode::Mul
+            | Opcode::Div
+            | Opcode::Mod
+            | Opcode::Min
+            | Opcode::Max
+            | Opcode::And
+            | Opcode::Or
+            | Opcode::Xor
+            | Opcode::Cmpeq
+            | Opcode::Cmpne
+            | Opcode::Cmplt
+            | Opcode::Cmple
+            | Opcode::Cmpgt
+            | Opcode::Cmpge
+            | Opcode::Mov
+            | Opcode::Neg
+            | Opcode::Abs
+            | Opcode::Sqrt
+            | Opcode::I2d
+            | Opcode::D2i
+            | Opcode::Not => {
+                unreachable!("register-only opcodes are built before this match")
             }
-            Opcode::Add => {
-                let (a, b, dst) = three(self);
-                Instr::Add { a, b, dst }
-            }
-            Opcode::Sub => {
-                let (a, b, dst) = three(self);
-                Instr::Sub { a, b, dst }
-            }
-            Opcode::Mul => {
-                let (a, b, dst) = three(self);
-                Instr::Mul { a, b, dst }
-            }
-            Opcode::Div => {
-                let (a, b, dst) = three(self);
-                Instr::Div { a, b, dst }
-            }
-            Opcode::Mod => {
-                let (a, b, dst) = three(self);
-                Instr::Mod { a, b, dst }
-            }
-            Opcode::Min => {
-                let (a, b, dst) = three(self);
-                Instr::Min { a, b, dst }
-            }
-            Opcode::Max => {
-                let (a, b, dst) = three(self);
-                Instr::Max { a, b, dst }
-            }
-            Opcode::And => {
-                let (a, b, dst) = three(self);
-                Instr::And { a, b, dst }
-            }
-            Opcode::Or => {
-                let (a, b, dst) = three(self);
-                Instr::Or { a, b, dst }
-            }
-            Opcode::Xor => {
-                let (a, b, dst) = three(self);
-                Instr::Xor { a, b, dst }
-            }
-            Opcode::Cmpeq => {
-                let (a, b, dst) = three(self);
-                Instr::CmpEq { a, b, dst }
-            }
-            Opcode::Cmpne => {
-                let (a, b, dst) = three(self);
-                Instr::CmpNe { a, b, dst }
-            }
-            Opcode::Cmplt => {
-                let (a, b, dst) = three(self);
-                Instr::CmpLt { a, b, dst }
-            }
-            Opcode::Cmple => {
-                let (a, b, dst) = three(self);
-                Instr::CmpLe { a, b, dst }
-            }
-            Opcode::Cmpgt => {
-                let (a, b, dst) = three(self);
-                Instr::CmpGt { a, b, dst }
-            }
-            Opcode::Cmpge => {
-                let (a, b, dst) = three(self);
-                Instr::CmpGe { a, b, dst }
-            }
-            Opcode::Neg => {
-                let (src, dst) = two(self);
-                Instr::Neg { src, dst }
-            }
-            Opcode::Abs => {
-                let (src, dst) = two(self);
-                Instr::Abs { src, dst }
-            }
-            Opcode::Sqrt => {
-                let (src, dst) = two(self);
-                Instr::Sqrt { src, dst }
-            }
-            Opcode::I2d => {
-                let (src, dst) = two(self);
-                Instr::IntToFloat { src, dst }
-            }
-            Opcode::D2i => {
-                let (src, dst) = two(self);
-                Instr::FloatToInt { src, dst }
-            }
-            Opcode::Not => {
-                let (src, dst) = two(self);
-                Instr::Not { src, dst }
-            }
-            Opcode::Loadm => {
-                let dst = register(self, 1);
-                match operands
-                    .first()
-                    .map(|operand| (&operand.kind, operand.span))
-                {
-                    Some((OperandKind::Register(register), span)) => Instr::LoadMem {
-                        addr: self.register(*register, span),
-                        dst,
-                    },
-                    _ => Instr::LoadMemAt {
-                        addr: self.address(integer(0), span_of(0)),
-                        dst,
-                    },
-                }
-            }
-            Opcode::Storem => {
-                let src = register(self, 0);
-                match operands.get(1).map(|operand| (&operand.kind, operand.span)) {
-                    Some((OperandKind::Register(register), span)) => Instr::StoreMem {
-                        src,
-                        addr: self.register(*register, span),
-                    },
-                    _ => Instr::StoreMemAt {
-                        src,
-                        addr: self.address(integer(1), span_of(1)),
-                    },
-                }
-            }
+            Opcode::Loadm | Opcode::Storem => self.memory_instruction(instruction),
             Opcode::Cbr => {
                 let cond = register(self, 0);
                 let if_true = self.target(integer(1), span_of(1));
@@ -649,18 +609,54 @@ impl Resolver<'_, '_, '_> {
                     Some(OperandKind::Text(text)) => text.as_str(),
                     _ => "",
                 };
-                let index = texts
-                    .iter()
-                    .position(|known| &**known == text)
-                    .unwrap_or_else(|| {
-                        texts.push(text.into());
-                        texts.len() - 1
-                    }) as u32;
+                let index = intern_text(texts, text);
                 if instruction.opcode == Opcode::Writes {
                     Instr::WriteText { text: index }
                 } else {
                     Instr::PrintText { text: index }
                 }
+            }
+        }
+    }
+
+    /// `loadm addr,dst` / `storem src,addr`: an address register, or a constant address.
+    fn memory_instruction(&mut self, instruction: &Instruction) -> Instr {
+        let operands = &instruction.operands;
+        let register = |resolver: &mut Self, position: usize| match operands.get(position) {
+            Some(Operand {
+                kind: OperandKind::Register(register),
+                span,
+            }) => Some(resolver.register(*register, *span)),
+            _ => None,
+        };
+        let address = |resolver: &mut Self, position: usize| {
+            let (value, span) = match operands.get(position) {
+                Some(Operand {
+                    kind: OperandKind::Integer(value),
+                    span,
+                }) => (*value, *span),
+                Some(operand) => (0, operand.span),
+                None => (0, instruction.opcode_span),
+            };
+            resolver.address(value, span)
+        };
+        if instruction.opcode == Opcode::Loadm {
+            let dst = register(self, 1).unwrap_or(Reg(0));
+            match register(self, 0) {
+                Some(addr) => Instr::LoadMem { addr, dst },
+                None => Instr::LoadMemAt {
+                    addr: address(self, 0),
+                    dst,
+                },
+            }
+        } else {
+            let src = register(self, 0).unwrap_or(Reg(0));
+            match register(self, 1) {
+                Some(addr) => Instr::StoreMem { src, addr },
+                None => Instr::StoreMemAt {
+                    src,
+                    addr: address(self, 1),
+                },
             }
         }
     }

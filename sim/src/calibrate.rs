@@ -516,7 +516,6 @@ pub fn fit(track: &Track, climb_target: f64, defaults: &SimConfig) -> Result<Fit
                 .collect::<Vec<_>>(),
         )
     };
-    let current = |rows: &[Row]| mean(&rows.iter().map(|row| row.current).collect::<Vec<_>>());
     fit.put(
         "dive_power",
         power(&dive_rows),
@@ -530,6 +529,31 @@ pub fn fit(track: &Track, climb_target: f64, defaults: &SimConfig) -> Result<Fit
         "m_coulomb_current or m_battery is not in the log",
     );
 
+    fit_pump_swings(
+        &mut fit,
+        rows,
+        &turn_rows,
+        (&dive_rows, &climb_rows),
+        pump_max,
+        defaults,
+    );
+    fit_pitch(&mut fit, &figures, (&dive_rows, &climb_rows));
+    fit_timing(&mut fit, rows, &figures);
+    fit_speed_lag(&mut fit, &figures, defaults);
+    fit_battery(&mut fit, rows);
+    Ok(fit)
+}
+
+/// The pump's rates and energies from its swings at the bottom and top turns.
+fn fit_pump_swings(
+    fit: &mut Fit,
+    rows: &[Row],
+    turn_rows: &[usize],
+    (dive_rows, climb_rows): (&[Row], &[Row]),
+    pump_max: f64,
+    defaults: &SimConfig,
+) {
+    let current = |rows: &[Row]| mean(&rows.iter().map(|row| row.current).collect::<Vec<_>>());
     let bottoms: Vec<usize> = turn_rows
         .iter()
         .copied()
@@ -544,13 +568,13 @@ pub fn fit(track: &Track, climb_target: f64, defaults: &SimConfig) -> Result<Fit
         rows,
         &bottoms,
         pump_max,
-        current(&dive_rows).unwrap_or(f64::NAN),
+        current(dive_rows).unwrap_or(f64::NAN),
     );
     let (in_rates, in_energy) = pump_swings(
         rows,
         &tops,
         pump_max,
-        current(&climb_rows).unwrap_or(f64::NAN),
+        current(climb_rows).unwrap_or(f64::NAN),
     );
     fit.put(
         "pump_rate",
@@ -605,8 +629,10 @@ pub fn fit(track: &Track, climb_target: f64, defaults: &SimConfig) -> Result<Fit
             spread.max(0.0)
         ),
     ));
+}
 
-    // Pitch: on the battery position (it stays put) or servoed.
+/// Pitch: on the battery position (it stays put) or servoed.
+fn fit_pitch(fit: &mut Fit, figures: &YoFigures, (dive_rows, climb_rows): (&[Row], &[Row])) {
     let battpos: Vec<f64> = dive_rows
         .iter()
         .chain(climb_rows.iter())
@@ -640,8 +666,10 @@ pub fn fit(track: &Track, climb_target: f64, defaults: &SimConfig) -> Result<Fit
             "m_battpos moves (servoed pitch) or is not in the log".into(),
         ));
     }
+}
 
-    // Timing.
+/// The control cycle's timing and the turn's latency.
+fn fit_timing(fit: &mut Fit, rows: &[Row], figures: &YoFigures) {
     let cycle_time = median(rows.iter().map(|row| row.cycle_time).collect()).unwrap_or(4.0);
     fit.put(
         "cycle_overrun",
@@ -667,9 +695,11 @@ pub fn fit(track: &Track, climb_target: f64, defaults: &SimConfig) -> Result<Fit
         ),
         "",
     );
+}
 
-    // The speed's lag: the one the flight model needs to overshoot a turn as
-    // the log does (the pump rates and speeds fitted above held fixed).
+/// The speed's lag: the one the flight model needs to overshoot a turn as the log does
+/// (the pump rates and speeds fitted before held fixed).
+fn fit_speed_lag(fit: &mut Fit, figures: &YoFigures, defaults: &SimConfig) {
     let mut flight = defaults.flight.clone();
     for fitted in &fit.values {
         let mut probe = SimConfig {
@@ -711,8 +741,10 @@ pub fn fit(track: &Track, climb_target: f64, defaults: &SimConfig) -> Result<Fit
         ),
         "",
     );
+}
 
-    // Battery.
+/// The battery: what a short log shows of it, and what it cannot.
+fn fit_battery(fit: &mut Fit, rows: &[Row]) {
     let volts = median(rows.iter().map(|row| row.volts).collect());
     fit.put(
         "volts_full",
@@ -733,7 +765,6 @@ pub fn fit(track: &Track, climb_target: f64, defaults: &SimConfig) -> Result<Fit
     ] {
         fit.not_fitted.push((name, why.into()));
     }
-    Ok(fit)
 }
 
 /// The speed lags searched (s), log-spaced.

@@ -31,6 +31,7 @@ fn handler_names() -> BTreeSet<String> {
     let source =
         std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("src/vm/threaded.rs"))
             .expect("src/vm/threaded.rs is readable");
+    // Slot::new's match, then the fused ops' (`fused_handler`).
     let start = source
         .find("let handler: Handler = match op {")
         .expect("Slot::new chooses the handler by a match");
@@ -38,7 +39,18 @@ fn handler_names() -> BTreeSet<String> {
         + source[start..]
             .find("\n        };")
             .expect("the match ends");
-    let body = &source[start..end];
+    let fused_start = source
+        .find("fn fused_handler(")
+        .expect("the fused ops' handlers are chosen in fused_handler");
+    let fused_end = fused_start
+        + source[fused_start..]
+            .find("\n}\n")
+            .expect("fused_handler ends");
+    let body = format!(
+        "{}\n{}",
+        &source[start..end],
+        &source[fused_start..fused_end]
+    );
     let mut names = BTreeSet::new();
     for (index, _) in body.match_indices("op_") {
         let boundary = index == 0

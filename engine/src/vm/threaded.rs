@@ -166,60 +166,46 @@ pub(super) fn run(
 /// The comparisons in the order of their handler's const parameter.
 const CMPS: [Cmp; 6] = [Cmp::Eq, Cmp::Ne, Cmp::Lt, Cmp::Le, Cmp::Gt, Cmp::Ge];
 
+macro_rules! by_cmp {
+    ($cmp:expr, $handler:ident $(, $rest:expr)*) => {
+        [
+            $handler::<0 $(, $rest)*> as Handler,
+            $handler::<1 $(, $rest)*>,
+            $handler::<2 $(, $rest)*>,
+            $handler::<3 $(, $rest)*>,
+            $handler::<4 $(, $rest)*>,
+            $handler::<5 $(, $rest)*>,
+        ][CMPS.iter().position(|&cmp| cmp == $cmp).unwrap_or(0)]
+    };
+}
+// A handler instantiated for the operand type `$t` (INT, FLOAT or ANY).
+macro_rules! by_type {
+    ($t:expr, $handler:ident $(, $rest:expr)*) => {
+        match $t {
+            INT => $handler::<$($rest,)* INT> as Handler,
+            FLOAT => $handler::<$($rest,)* FLOAT>,
+            _ => $handler::<$($rest,)* ANY>,
+        }
+    };
+}
+macro_rules! by_cmp_type {
+    ($cmp:expr, $t:expr, $handler:ident $(, $rest:expr)*) => {
+        match $t {
+            INT => by_cmp!($cmp, $handler $(, $rest)*, INT),
+            FLOAT => by_cmp!($cmp, $handler $(, $rest)*, FLOAT),
+            _ => by_cmp!($cmp, $handler $(, $rest)*, ANY),
+        }
+    };
+}
+
 impl Slot {
     /// The slot for `op` at `pc`: the handler made for its variant (and its
     /// comparison, constant type and operand types) and its branch targets.
     /// `types(pc, register)` says what `register` can hold at `pc` of the plain
     /// code (`plain`); [`ANY`] everywhere gives the untyped handlers.
     pub fn new(op: Op, pc: usize, plain: &[Op], types: &dyn Fn(usize, Reg) -> TypeSet) -> Slot {
-        macro_rules! by_cmp {
-            ($cmp:expr, $handler:ident $(, $rest:expr)*) => {
-                [
-                    $handler::<0 $(, $rest)*> as Handler,
-                    $handler::<1 $(, $rest)*>,
-                    $handler::<2 $(, $rest)*>,
-                    $handler::<3 $(, $rest)*>,
-                    $handler::<4 $(, $rest)*>,
-                    $handler::<5 $(, $rest)*>,
-                ][CMPS.iter().position(|&cmp| cmp == $cmp).unwrap_or(0)]
-            };
-        }
-        // A handler instantiated for the operand type `$t` (INT, FLOAT or ANY).
-        macro_rules! by_type {
-            ($t:expr, $handler:ident $(, $rest:expr)*) => {
-                match $t {
-                    INT => $handler::<$($rest,)* INT> as Handler,
-                    FLOAT => $handler::<$($rest,)* FLOAT>,
-                    _ => $handler::<$($rest,)* ANY>,
-                }
-            };
-        }
-        macro_rules! by_cmp_type {
-            ($cmp:expr, $t:expr, $handler:ident $(, $rest:expr)*) => {
-                match $t {
-                    INT => by_cmp!($cmp, $handler $(, $rest)*, INT),
-                    FLOAT => by_cmp!($cmp, $handler $(, $rest)*, FLOAT),
-                    _ => by_cmp!($cmp, $handler $(, $rest)*, ANY),
-                }
-            };
-        }
-        // The one type all these (pc, register) reads have, or ANY.
-        let all = |reads: &[(usize, Reg)]| -> TypeSet {
-            let mut sets = reads.iter().map(|&(at, register)| types(at, register));
-            let first = sets.next().unwrap_or(ANY);
-            if (first == INT || first == FLOAT) && sets.all(|set| set == first) {
-                first
-            } else {
-                ANY
-            }
-        };
-        // Where the `jumpi` at `at` of the plain code goes (for the threaded
-        // jumps: their compare runs there).
-        let target = |at: usize| match plain.get(at) {
-            Some(&Op::Jump { target }) => Some(target.index()),
-            _ => None,
-        };
-        let is_int = |value: Value| matches!(value, Value::Int(_));
+        let operands = Operands { plain, types };
+        let all = |reads: &[(usize, Reg)]| operands.all(reads);
         let handler: Handler = match op {
             Op::LoadSensor { .. } => op_load_sensor,
             Op::StoreSensor { .. } => op_store_sensor,
@@ -282,144 +268,208 @@ impl Slot {
             Op::Write { .. } | Op::WriteText { .. } | Op::Print { .. } | Op::PrintText { .. } => {
                 op_output
             }
-            // `loadi/loadd K,t` at pc, the operation at pc + 1.
-            Op::AddK { k, a, .. } if is_int(k) => match all(&[(pc + 1, a)]) {
-                INT => op_add_k_int::<INT>,
-                _ => op_add_k_int::<ANY>,
-            },
-            Op::AddK { a, .. } => by_type!(all(&[(pc + 1, a)]), op_add_k, false),
-            Op::SubK { k, a, .. } if is_int(k) => match all(&[(pc + 1, a)]) {
-                INT => op_sub_k_int::<INT>,
-                _ => op_sub_k_int::<ANY>,
-            },
-            Op::SubK { a, .. } => by_type!(all(&[(pc + 1, a)]), op_sub_k, false),
-            Op::MulK { k, a, .. } if is_int(k) => match all(&[(pc + 1, a)]) {
-                INT => op_mul_k_int::<INT>,
-                _ => op_mul_k_int::<ANY>,
-            },
-            Op::MulK { a, .. } => by_type!(all(&[(pc + 1, a)]), op_mul_k, false),
-            Op::DivK { k, a, .. } if is_int(k) => match all(&[(pc + 1, a)]) {
-                INT => op_div_k_int::<INT>,
-                _ => op_div_k_int::<ANY>,
-            },
-            Op::DivK { a, .. } => by_type!(all(&[(pc + 1, a)]), op_div_k, false),
-            Op::ModK { k, a, .. } if is_int(k) => match all(&[(pc + 1, a)]) {
-                INT => op_mod_k_int::<INT>,
-                _ => op_mod_k_int::<ANY>,
-            },
-            Op::ModK { a, .. } => by_type!(all(&[(pc + 1, a)]), op_mod_k, false),
-            // `i2d` at pc, the `add` at pc + 1.
-            Op::IntToFloatAdd { a, .. } => match all(&[(pc + 1, a)]) {
-                FLOAT => op_int_to_float_add::<FLOAT>,
-                _ => op_int_to_float_add::<ANY>,
-            },
-            Op::CmpBr { cmp, a, b, .. } => match all(&[(pc, a), (pc, b)]) {
-                FLOAT => by_cmp!(cmp, op_cmp_br, FLOAT),
-                t => by_cmp_type!(cmp, t, op_cmp_br_int),
-            },
-            Op::JumpCmpBr { cmp, a, b, .. } => {
-                let t = target(pc).map_or(ANY, |to| all(&[(to, a), (to, b)]));
-                match t {
-                    FLOAT => by_cmp!(cmp, op_jump_cmp_br, FLOAT),
-                    t => by_cmp_type!(cmp, t, op_jump_cmp_br_int),
-                }
-            }
-            Op::CmpKBr { cmp, k, a, .. } if is_int(k) => match all(&[(pc + 1, a)]) {
-                INT => by_cmp!(cmp, op_cmp_k_br_int, INT),
-                _ => by_cmp!(cmp, op_cmp_k_br_int, ANY),
-            },
-            Op::CmpKBr { cmp, a, .. } => by_cmp_type!(cmp, all(&[(pc + 1, a)]), op_cmp_k_br, false),
-            Op::JumpCmpKBr { cmp, k, a, .. } => {
-                let t = target(pc).map_or(ANY, |to| all(&[(to + 1, a)]));
-                if is_int(k) {
-                    match t {
-                        INT => by_cmp!(cmp, op_jump_cmp_k_br_int, INT),
-                        _ => by_cmp!(cmp, op_jump_cmp_k_br_int, ANY),
-                    }
-                } else {
-                    by_cmp_type!(cmp, t, op_jump_cmp_k_br, false)
-                }
-            }
-            // `add p,q,sum` at pc, `jumpi` at pc + 1, the compare at its target.
-            Op::AddJumpCmpBr {
-                cmp, p, q, a, b, ..
-            } => {
-                let t = target(pc + 1).map_or(ANY, |to| all(&[(pc, p), (pc, q), (to, a), (to, b)]));
-                match t {
-                    INT => by_cmp!(cmp, op_add_jump_cmp_br_int, INT),
-                    _ => by_cmp!(cmp, op_add_jump_cmp_br_int, ANY),
-                }
-            }
-            // `jumpi` at pc, then the above at its target.
-            Op::JumpAddJumpCmpBr {
-                cmp, p, q, a, b, ..
-            } => {
-                let t = target(pc)
-                    .and_then(|to| Some((to, target(to + 1)?)))
-                    .map_or(ANY, |(to, test)| {
-                        all(&[(to, p), (to, q), (test, a), (test, b)])
-                    });
-                match t {
-                    INT => by_cmp!(cmp, op_jump_add_jump_cmp_br_int, INT),
-                    _ => by_cmp!(cmp, op_jump_add_jump_cmp_br_int, ANY),
-                }
-            }
-            Op::AddJumpCmpKBr {
-                cmp, k, p, q, a, ..
-            } if is_int(k) => {
-                let t = target(pc + 1).map_or(ANY, |to| all(&[(pc, p), (pc, q), (to + 1, a)]));
-                match t {
-                    INT => by_cmp!(cmp, op_add_jump_cmp_k_br_int, INT),
-                    _ => by_cmp!(cmp, op_add_jump_cmp_k_br_int, ANY),
-                }
-            }
-            Op::AddJumpCmpKBr { cmp, .. } => by_cmp!(cmp, op_add_jump_cmp_k_br, false),
-            // The index is compared at pc + 1 (and pc + 3, unchanged).
-            Op::RangeBr { lo, hi, x, .. } if is_int(lo) && is_int(hi) => {
-                match all(&[(pc + 1, x)]) {
-                    INT => op_range_br_int::<INT>,
-                    _ => op_range_br_int::<ANY>,
-                }
-            }
-            Op::RangeBr { .. } => op_range_br::<false>,
+            // The fused ops: their handlers read operands at several pcs.
+            Op::AddK { .. }
+            | Op::SubK { .. }
+            | Op::MulK { .. }
+            | Op::DivK { .. }
+            | Op::ModK { .. }
+            | Op::IntToFloatAdd { .. }
+            | Op::CmpBr { .. }
+            | Op::JumpCmpBr { .. }
+            | Op::CmpKBr { .. }
+            | Op::JumpCmpKBr { .. }
+            | Op::AddJumpCmpBr { .. }
+            | Op::JumpAddJumpCmpBr { .. }
+            | Op::AddJumpCmpKBr { .. }
+            | Op::RangeBr { .. } => fused_handler(op, pc, &operands),
         };
-        let offset = |target: Pc| {
-            (target.index() as isize - pc as isize) * std::mem::size_of::<Slot>() as isize
-        };
-        let jumps = match op {
-            Op::Jump { target } => [offset(target), 0],
-            Op::Branch {
-                if_true, if_false, ..
+        Slot {
+            handler,
+            jumps: branch_offsets(op, pc),
+            op,
+        }
+    }
+}
+
+/// What the loader's type analysis says of an op's operands.
+struct Operands<'a> {
+    plain: &'a [Op],
+    types: &'a dyn Fn(usize, Reg) -> TypeSet,
+}
+
+impl Operands<'_> {
+    /// The one type all these (pc, register) reads have, or ANY.
+    fn all(&self, reads: &[(usize, Reg)]) -> TypeSet {
+        let mut sets = reads
+            .iter()
+            .map(|&(at, register)| (self.types)(at, register));
+        let first = sets.next().unwrap_or(ANY);
+        if (first == INT || first == FLOAT) && sets.all(|set| set == first) {
+            first
+        } else {
+            ANY
+        }
+    }
+
+    /// Where the `jumpi` at `at` of the plain code goes (for the threaded jumps: their
+    /// compare runs there).
+    fn target(&self, at: usize) -> Option<usize> {
+        match self.plain.get(at) {
+            Some(&Op::Jump { target }) => Some(target.index()),
+            _ => None,
+        }
+    }
+}
+
+fn is_int(value: Value) -> bool {
+    matches!(value, Value::Int(_))
+}
+
+/// The handler of a fused op (one that covers several GLOC instructions): its operands'
+/// types are read at the pcs of the instructions it covers.
+fn fused_handler(op: Op, pc: usize, operands: &Operands<'_>) -> Handler {
+    let all = |reads: &[(usize, Reg)]| operands.all(reads);
+    let target = |at: usize| operands.target(at);
+    match op {
+        // `loadi/loadd K,t` at pc, the operation at pc + 1.
+        Op::AddK { k, a, .. } if is_int(k) => match all(&[(pc + 1, a)]) {
+            INT => op_add_k_int::<INT>,
+            _ => op_add_k_int::<ANY>,
+        },
+        Op::AddK { a, .. } => by_type!(all(&[(pc + 1, a)]), op_add_k, false),
+        Op::SubK { k, a, .. } if is_int(k) => match all(&[(pc + 1, a)]) {
+            INT => op_sub_k_int::<INT>,
+            _ => op_sub_k_int::<ANY>,
+        },
+        Op::SubK { a, .. } => by_type!(all(&[(pc + 1, a)]), op_sub_k, false),
+        Op::MulK { k, a, .. } if is_int(k) => match all(&[(pc + 1, a)]) {
+            INT => op_mul_k_int::<INT>,
+            _ => op_mul_k_int::<ANY>,
+        },
+        Op::MulK { a, .. } => by_type!(all(&[(pc + 1, a)]), op_mul_k, false),
+        Op::DivK { k, a, .. } if is_int(k) => match all(&[(pc + 1, a)]) {
+            INT => op_div_k_int::<INT>,
+            _ => op_div_k_int::<ANY>,
+        },
+        Op::DivK { a, .. } => by_type!(all(&[(pc + 1, a)]), op_div_k, false),
+        Op::ModK { k, a, .. } if is_int(k) => match all(&[(pc + 1, a)]) {
+            INT => op_mod_k_int::<INT>,
+            _ => op_mod_k_int::<ANY>,
+        },
+        Op::ModK { a, .. } => by_type!(all(&[(pc + 1, a)]), op_mod_k, false),
+        // `i2d` at pc, the `add` at pc + 1.
+        Op::IntToFloatAdd { a, .. } => match all(&[(pc + 1, a)]) {
+            FLOAT => op_int_to_float_add::<FLOAT>,
+            _ => op_int_to_float_add::<ANY>,
+        },
+        Op::CmpBr { cmp, a, b, .. } => match all(&[(pc, a), (pc, b)]) {
+            FLOAT => by_cmp!(cmp, op_cmp_br, FLOAT),
+            t => by_cmp_type!(cmp, t, op_cmp_br_int),
+        },
+        Op::JumpCmpBr { cmp, a, b, .. } => {
+            let t = target(pc).map_or(ANY, |to| all(&[(to, a), (to, b)]));
+            match t {
+                FLOAT => by_cmp!(cmp, op_jump_cmp_br, FLOAT),
+                t => by_cmp_type!(cmp, t, op_jump_cmp_br_int),
             }
-            | Op::CmpBr {
-                if_true, if_false, ..
+        }
+        Op::CmpKBr { cmp, k, a, .. } if is_int(k) => match all(&[(pc + 1, a)]) {
+            INT => by_cmp!(cmp, op_cmp_k_br_int, INT),
+            _ => by_cmp!(cmp, op_cmp_k_br_int, ANY),
+        },
+        Op::CmpKBr { cmp, a, .. } => by_cmp_type!(cmp, all(&[(pc + 1, a)]), op_cmp_k_br, false),
+        Op::JumpCmpKBr { cmp, k, a, .. } => {
+            let t = target(pc).map_or(ANY, |to| all(&[(to + 1, a)]));
+            if is_int(k) {
+                match t {
+                    INT => by_cmp!(cmp, op_jump_cmp_k_br_int, INT),
+                    _ => by_cmp!(cmp, op_jump_cmp_k_br_int, ANY),
+                }
+            } else {
+                by_cmp_type!(cmp, t, op_jump_cmp_k_br, false)
             }
-            | Op::CmpKBr {
-                if_true, if_false, ..
+        }
+        // `add p,q,sum` at pc, `jumpi` at pc + 1, the compare at its target.
+        Op::AddJumpCmpBr {
+            cmp, p, q, a, b, ..
+        } => {
+            let t = target(pc + 1).map_or(ANY, |to| all(&[(pc, p), (pc, q), (to, a), (to, b)]));
+            match t {
+                INT => by_cmp!(cmp, op_add_jump_cmp_br_int, INT),
+                _ => by_cmp!(cmp, op_add_jump_cmp_br_int, ANY),
             }
-            | Op::JumpCmpBr {
-                if_true, if_false, ..
+        }
+        // `jumpi` at pc, then the above at its target.
+        Op::JumpAddJumpCmpBr {
+            cmp, p, q, a, b, ..
+        } => {
+            let t = target(pc)
+                .and_then(|to| Some((to, target(to + 1)?)))
+                .map_or(ANY, |(to, test)| {
+                    all(&[(to, p), (to, q), (test, a), (test, b)])
+                });
+            match t {
+                INT => by_cmp!(cmp, op_jump_add_jump_cmp_br_int, INT),
+                _ => by_cmp!(cmp, op_jump_add_jump_cmp_br_int, ANY),
             }
-            | Op::JumpCmpKBr {
-                if_true, if_false, ..
+        }
+        Op::AddJumpCmpKBr {
+            cmp, k, p, q, a, ..
+        } if is_int(k) => {
+            let t = target(pc + 1).map_or(ANY, |to| all(&[(pc, p), (pc, q), (to + 1, a)]));
+            match t {
+                INT => by_cmp!(cmp, op_add_jump_cmp_k_br_int, INT),
+                _ => by_cmp!(cmp, op_add_jump_cmp_k_br_int, ANY),
             }
-            | Op::AddJumpCmpBr {
-                if_true, if_false, ..
-            }
-            | Op::JumpAddJumpCmpBr {
-                if_true, if_false, ..
-            }
-            | Op::AddJumpCmpKBr {
-                if_true, if_false, ..
-            }
-            | Op::RangeBr {
-                if_out: if_true,
-                if_in: if_false,
-                ..
-            } => [offset(if_true), offset(if_false)],
-            _ => [0, 0],
-        };
-        Slot { handler, jumps, op }
+        }
+        Op::AddJumpCmpKBr { cmp, .. } => by_cmp!(cmp, op_add_jump_cmp_k_br, false),
+        // The index is compared at pc + 1 (and pc + 3, unchanged).
+        Op::RangeBr { lo, hi, x, .. } if is_int(lo) && is_int(hi) => match all(&[(pc + 1, x)]) {
+            INT => op_range_br_int::<INT>,
+            _ => op_range_br_int::<ANY>,
+        },
+        Op::RangeBr { .. } => op_range_br::<false>,
+        other => unreachable!("{other:?} is routed here only if fused"),
+    }
+}
+
+/// The op's branch targets as byte offsets from its slot (see [`Slot::jumps`]).
+fn branch_offsets(op: Op, pc: usize) -> [isize; 2] {
+    let offset =
+        |target: Pc| (target.index() as isize - pc as isize) * std::mem::size_of::<Slot>() as isize;
+    match op {
+        Op::Jump { target } => [offset(target), 0],
+        Op::Branch {
+            if_true, if_false, ..
+        }
+        | Op::CmpBr {
+            if_true, if_false, ..
+        }
+        | Op::CmpKBr {
+            if_true, if_false, ..
+        }
+        | Op::JumpCmpBr {
+            if_true, if_false, ..
+        }
+        | Op::JumpCmpKBr {
+            if_true, if_false, ..
+        }
+        | Op::AddJumpCmpBr {
+            if_true, if_false, ..
+        }
+        | Op::JumpAddJumpCmpBr {
+            if_true, if_false, ..
+        }
+        | Op::AddJumpCmpKBr {
+            if_true, if_false, ..
+        }
+        | Op::RangeBr {
+            if_out: if_true,
+            if_in: if_false,
+            ..
+        } => [offset(if_true), offset(if_false)],
+        _ => [0, 0],
     }
 }
 

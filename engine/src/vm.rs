@@ -666,13 +666,8 @@ impl Machine {
         let mut exit = match self.dispatch {
             Dispatch::Loop => run!(fused, MAX_FUSED),
             Dispatch::Threaded => loop {
-                let mut context = threaded::Context::new(
-                    &mut *host,
-                    &mut *memory,
-                    program,
-                    code.len(),
-                    code.register_bound,
-                );
+                let mut context =
+                    threaded::Context::new(&mut *host, &mut *memory, program, code.len());
                 let slots = match &code.typed {
                     Some(typed) if self.typed => typed,
                     _ => &code.threaded,

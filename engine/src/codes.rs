@@ -146,6 +146,8 @@ registry! {
         MA_WITHOUT_BEHAVIOR_NAME = "S0105", Warning, "a `.ma` file without a `behavior_name=` line";
         SENSOR_NOT_IN_LIST = "S0106", Warning, "a mission's `sensor:` line names a sensor the active list lacks; the setting is ignored";
         HOOK_MISSING = "S0107", Warning, "the script stores `sci_ruhp_behs` but the mission has no `behavior: hook`, so nothing acts on it";
+        MA_BESIDE_MISSION = "S0108", Note, "a `.ma` file was found beside the `.mi`, not in `mafiles/`, where the glider reads it";
+        ARG_OVERRIDDEN_BY_MA = "S0109", Warning, "an argument set in the `.mi` and again in the behavior's `.ma` file: the glider flies the `.ma` value";
     }
     /// Project settings and the editor tools (E09xx).
     settings {

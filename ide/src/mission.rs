@@ -13,6 +13,7 @@ use gloc_engine::sensors::SensorList;
 use gloc_engine::{Diagnostic, Span};
 use gloc_mission::behaviors::{ArgDef, BehaviorKind};
 use gloc_mission::mission::{ma_file_name, Mission};
+use gloc_mission::{Disk, LoadOptions};
 
 use crate::analysis::{Analysis, Completion, CompletionKind, Symbol, SymbolKind};
 use crate::lang::{sensor_completions, sensor_markdown};
@@ -35,13 +36,9 @@ pub fn parse(kind: MissionFile, text: &str, path: Option<&Path>) -> Mission {
             Mission::parse_args_file(path.unwrap_or(Path::new("untitled.ma")), text)
         }
         (MissionFile::Mission, None) => Mission::parse("untitled.mi", text),
-        (MissionFile::Mission, Some(path)) => Mission::load_with(path, &mut |wanted: &Path| {
-            if wanted == path {
-                Ok(text.to_string())
-            } else {
-                gloc_engine::files::read_text(wanted, gloc_engine::files::MISSION)
-            }
-        }),
+        (MissionFile::Mission, Some(path)) => {
+            Mission::load_text(path, text.to_string(), &LoadOptions::default(), &mut Disk)
+        }
     }
 }
 
@@ -582,7 +579,7 @@ mod tests {
             &[
                 ("missions/x.mi", mission),
                 (
-                    "mafiles/yo3.ma",
+                    "mafiles/yo03.ma",
                     "behavior_name=yo\n<start:b_arg>\n b_arg: c_target_depth(m) x\n<end:b_arg>\n",
                 ),
             ],
@@ -610,7 +607,7 @@ mod tests {
         assert_eq!(found.len(), 2, "{found:?}");
         assert_eq!(found[0].0, "S0015");
         assert_eq!(found[0].1, Span::new(15, 44));
-        assert_eq!(found[0].2, "yo3.ma:3:27: `x` is not a number");
+        assert_eq!(found[0].2, "yo03.ma:3:27: `x` is not a number");
         assert_eq!((found[1].0, found[1].1), ("S0106", Span::new(53, 69)));
         let _ = std::fs::remove_dir_all(root);
     }

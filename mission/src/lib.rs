@@ -10,7 +10,9 @@
 //! IDE completes a `b_arg` without linking the flight model.
 
 pub mod behaviors;
+pub mod files;
 pub mod mission;
 
 pub use behaviors::{ArgDef, BehaviorKind, KnownArgs};
-pub use mission::Mission;
+pub use files::{Disk, MissionFiles};
+pub use mission::{LoadOptions, Mission};

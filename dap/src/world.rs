@@ -268,8 +268,8 @@ fn launch_sim(
         sensor_list,
         warnings,
     } = script;
-    let mission =
-        gloc_project::simulation::load_mission(settings).map_err(|error| error.to_string())?;
+    let mission = gloc_project::simulation::load_mission(settings, &sensor_list)
+        .map_err(|error| error.to_string())?;
     let profile = match &config.profile {
         None => None,
         Some(profile_path) => Some(

@@ -140,15 +140,17 @@ registry! {
         BAD_WAYPOINT = "S0023", Error, "a `.ma` waypoint that is not `LON LAT` (DDDMM.MMMM DDMM.MMMM)";
         UNEXPECTED_MA_LINE = "S0024", Error, "a `.ma` line that is not `behavior_name=`, `<start:b_arg>`, `b_arg:` or `<end:b_arg>`";
         UNCLOSED_SECTION = "S0025", Error, "a `.ma` file that ends inside a section";
-        UNKNOWN_BEHAVIOR = "S0101", Warning, "a behavior the simulator does not know: it is ignored with its arguments";
+        UNKNOWN_BEHAVIOR = "S0101", Warning, "a behavior the behavior table (the active masterdata's, else the embedded release table) does not have, with \"did you mean\": it is ignored with its arguments";
         NESTED_ARGS_FROM_FILE = "S0102", Warning, "`args_from_file` inside a `.ma` file, ignored";
-        UNKNOWN_ARGUMENT = "S0103", Warning, "an argument the behavior does not have: it is ignored";
+        UNKNOWN_ARGUMENT = "S0103", Warning, "an argument the behavior table does not give the behavior, with \"did you mean\": the glider ignores it and flies the default";
         MA_FOR_OTHER_BEHAVIOR = "S0104", Warning, "a `.ma` file whose `behavior_name=` names another behavior than the one that loads it";
         MA_WITHOUT_BEHAVIOR_NAME = "S0105", Warning, "a `.ma` file without a `behavior_name=` line";
         SENSOR_NOT_IN_LIST = "S0106", Warning, "a mission's `sensor:` line names a sensor the active list lacks; the setting is ignored";
         HOOK_MISSING = "S0107", Warning, "the script stores `sci_ruhp_behs` but the mission has no `behavior: hook`, so nothing acts on it";
         MA_BESIDE_MISSION = "S0108", Note, "a `.ma` file was found beside the `.mi`, not in `mafiles/`, where the glider reads it";
-        ARG_OVERRIDDEN_BY_MA = "S0109", Warning, "an argument set in the `.mi` and again in the behavior's `.ma` file: the glider flies the `.ma` value";
+        ARG_OVERRIDDEN_BY_MA = "S0109", Warning, "an argument set in the `.mi` and again, to another value, in the behavior's `.ma` file: the glider flies the `.ma` value";
+        GENERATED_MA_MISSING = "S0110", Warning, "`args_from_file` 99 names a `.ma` file the glider writes itself during a mission (breadcrumb, ice) and it is not there: gloc flies the behavior's defaults";
+        BEHAVIOR_NOT_SIMULATED = "S0111", Note, "a behavior the glider has (it is in the behavior table) but gloc's simulator does not fly: `gloc run` leaves it out";
     }
     /// Project settings and the editor tools (E09xx).
     settings {

@@ -12,7 +12,9 @@ use gloc_engine::program::{Instr, Pc, Program};
 use gloc_engine::sensors::SensorList;
 use gloc_engine::{suggest, Diagnostic, LineIndex, Span};
 
-use crate::behaviors::BehaviorKind;
+use std::sync::Arc;
+
+use crate::behaviors::{BehaviorInfo, BehaviorKind, BehaviorTable};
 pub use crate::files::ma_file_name;
 use crate::files::{Disk, Lookup, MissionFiles, NotLoaded, Place};
 
@@ -63,11 +65,17 @@ pub struct Arg {
 /// One `behavior:` block, with the arguments of its `.ma` file merged in.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BehaviorSpec {
+    /// What the simulator flies ([`BehaviorKind::Unknown`]: nothing).
     pub kind: BehaviorKind,
     /// The name as written.
     pub name: String,
     pub args: Vec<Arg>,
     pub at: Location,
+    /// Whether the behavior table defines it (its arguments are then kept and
+    /// checked even when the simulator does not fly it).
+    pub defined: bool,
+    /// The table's defaults for this behavior (argument name, value).
+    pub defaults: Vec<(String, f64)>,
 }
 
 impl BehaviorSpec {
@@ -87,6 +95,35 @@ impl BehaviorSpec {
             .or_else(|| self.args.iter().rev().find(named))
             .map(|arg| arg.value)
     }
+
+    /// The behavior table's default for an argument the mission does not set.
+    pub fn default(&self, name: &str) -> Option<f64> {
+        self.defaults
+            .iter()
+            .find(|(arg, _)| arg.eq_ignore_ascii_case(name))
+            .map(|(_, value)| *value)
+    }
+
+    /// The value flown: as written, else the table's default.
+    pub fn value(&self, name: &str) -> Option<f64> {
+        self.arg(name).or_else(|| self.default(name))
+    }
+
+    fn for_behavior(info: Option<&BehaviorInfo>, name: &str, at: Location) -> BehaviorSpec {
+        BehaviorSpec {
+            kind: info.map_or(BehaviorKind::Unknown, |info| info.kind),
+            name: name.to_string(),
+            args: Vec::new(),
+            at,
+            defined: info.is_some(),
+            defaults: info.map_or_else(Vec::new, |info| {
+                info.args
+                    .iter()
+                    .filter_map(|arg| Some((arg.name.clone(), arg.default?)))
+                    .collect()
+            }),
+        }
+    }
 }
 
 /// A parsed mission.
@@ -102,6 +139,8 @@ pub struct Mission {
     /// from the start line to the end line.
     pub sections: Vec<Location>,
     pub diagnostics: Vec<MissionDiagnostic>,
+    /// The behavior table it was read with (`None`: the embedded one).
+    pub table: Option<Arc<BehaviorTable>>,
 }
 
 /// How a mission is loaded: where else to look for its `.ma` files.
@@ -110,6 +149,16 @@ pub struct LoadOptions {
     /// A folder the user named for `.ma` files (`--mafiles`, `gloc.toml`'s `mafiles`):
     /// searched first, and trusted wherever it is.
     pub mafiles: Option<PathBuf>,
+    /// The behaviors and their arguments (`None`: the embedded table); see
+    /// [`BehaviorTable::for_sensors`].
+    pub table: Option<Arc<BehaviorTable>>,
+}
+
+impl LoadOptions {
+    /// The table to read with.
+    pub fn table(&self) -> Arc<BehaviorTable> {
+        self.table.clone().unwrap_or_else(BehaviorTable::embedded)
+    }
 }
 
 impl Mission {
@@ -165,18 +214,32 @@ impl Mission {
         files: &mut dyn MissionFiles,
     ) -> Mission {
         let lookup = Lookup::new(files, path, options.mafiles.as_deref());
-        parse_mission(path, text, Some(lookup))
+        parse_mission(path, text, Some(lookup), options.table())
     }
 
     /// Parses the text of a `.ma` file on its own, as the behavior its
     /// `behavior_name=` line names loads it (an editor's view of the file).
     pub fn parse_args_file(path: impl Into<PathBuf>, text: impl Into<String>) -> Mission {
-        parse_args_file(&path.into(), text.into())
+        parse_args_file(&path.into(), text.into(), BehaviorTable::embedded())
+    }
+
+    /// As [`Mission::parse_args_file`], with a behavior table.
+    pub fn parse_args_file_with(
+        path: impl Into<PathBuf>,
+        text: impl Into<String>,
+        options: &LoadOptions,
+    ) -> Mission {
+        parse_args_file(&path.into(), text.into(), options.table())
+    }
+
+    /// The behavior table the mission was read with.
+    pub fn table(&self) -> Arc<BehaviorTable> {
+        self.table.clone().unwrap_or_else(BehaviorTable::embedded)
     }
 
     /// Parses mission text that loads no `.ma` files (an `args_from_file` is an error).
     pub fn parse(path: impl Into<PathBuf>, text: impl Into<String>) -> Mission {
-        parse_mission(&path.into(), text.into(), None)
+        parse_mission(&path.into(), text.into(), None, BehaviorTable::embedded())
     }
 
     pub fn has_errors(&self) -> bool {
@@ -489,17 +552,25 @@ struct Parser<'a> {
     mission: Mission,
     /// Where `.ma` files are found; `None` for text that loads none.
     lookup: Option<Lookup<'a>>,
+    table: Arc<BehaviorTable>,
     /// A `.ma` file parsed on its own: its text is source 0.
     args_file: bool,
 }
 
-fn parse_mission(path: &Path, text: String, lookup: Option<Lookup<'_>>) -> Mission {
+fn parse_mission(
+    path: &Path,
+    text: String,
+    lookup: Option<Lookup<'_>>,
+    table: Arc<BehaviorTable>,
+) -> Mission {
     let mut parser = Parser {
         mission: Mission {
             name: mission_name(path),
+            table: Some(table.clone()),
             ..Mission::default()
         },
         lookup,
+        table,
         args_file: false,
     };
     parser.mission.sources.push(SourceFile {
@@ -516,7 +587,7 @@ fn parse_mission(path: &Path, text: String, lookup: Option<Lookup<'_>>) -> Missi
 /// `behavior_name=` line names would load it, so it gets the diagnostics `gloc run`
 /// gives it when a mission loads it. The mission has that one behavior with the
 /// file's arguments.
-fn parse_args_file(path: &Path, text: String) -> Mission {
+fn parse_args_file(path: &Path, text: String, table: Arc<BehaviorTable>) -> Mission {
     let named = code_lines(&text).find_map(|(line_start, code)| {
         let first = *words(line_start, code).first()?;
         let name = first
@@ -529,9 +600,11 @@ fn parse_args_file(path: &Path, text: String) -> Mission {
     let mut parser = Parser {
         mission: Mission {
             name: mission_name(path),
+            table: Some(table.clone()),
             ..Mission::default()
         },
         lookup: None,
+        table,
         args_file: true,
     };
     parser.mission.sources.push(SourceFile {
@@ -543,32 +616,19 @@ fn parse_args_file(path: &Path, text: String) -> Mission {
         file: 0,
         span: named.as_ref().map_or(Span::default(), |(_, span)| *span),
     };
-    let (name, kind) = match named {
-        Some((name, span)) => match BehaviorKind::from_name(&name) {
-            Some(kind) => (name, kind),
-            None => {
-                let start = span.start as usize + "behavior_name=".len();
-                parser.error(
-                    0,
-                    Diagnostic::warning(
-                        "S0101",
-                        Span::new(start, start + name.len()),
-                        format!("unknown behavior `{name}`: it is ignored with its arguments"),
-                    )
-                    .with_help(format!("known behaviors: {}", BehaviorKind::all_names())),
-                );
-                (name, BehaviorKind::Unknown)
-            }
-        },
-        None => (String::new(), BehaviorKind::Unknown),
-    };
-    parser.mission.behaviors.push(BehaviorSpec {
-        kind,
-        name: name.clone(),
-        args: Vec::new(),
-        at,
-    });
-    parser.parse_ma(0, kind, &name);
+    let name = named
+        .as_ref()
+        .map_or_else(String::new, |(name, _)| name.clone());
+    if let Some((name, span)) = &named {
+        let start = span.start as usize + "behavior_name=".len();
+        parser.begin_named_behavior(name, Span::new(start, start + name.len()), at);
+    } else {
+        parser
+            .mission
+            .behaviors
+            .push(BehaviorSpec::for_behavior(None, "", at));
+    }
+    parser.parse_ma(0, &name);
     parser.mission
 }
 
@@ -586,6 +646,11 @@ impl Parser<'_> {
                 else {
                     continue;
                 };
+                // The same value in both places changes nothing (the manufacturer's
+                // own missions repeat `.ma` values in the `.mi`).
+                if ma_arg.value == mi_arg.value {
+                    continue;
+                }
                 let (ma_path, line, _) = self.mission.line_col(ma_arg.at.file, ma_arg.at.span);
                 let ma_name = ma_path
                     .file_name()
@@ -717,29 +782,63 @@ impl Parser<'_> {
             file: 0,
             span: Span::new(keyword.start, name.start + name.text.len()),
         };
-        match BehaviorKind::from_name(name.text) {
-            Some(kind) => self.mission.behaviors.push(BehaviorSpec {
-                kind,
-                name: name.text.to_string(),
-                args: Vec::new(),
-                at,
-            }),
+        self.begin_named_behavior(name.text, name.span(), at);
+    }
+
+    /// Opens the block of behavior `name` (written at `name_span`): S0101 with a
+    /// "did you mean" when the table lacks it, S0111 when the simulator does not fly it.
+    fn begin_named_behavior(&mut self, name: &str, name_span: Span, at: Location) {
+        let table = self.table.clone();
+        let info = table.behavior(name);
+        match info {
             None => {
+                let known = table.behaviors().iter().map(|known| known.name.as_str());
+                let help = match suggest::closest(name, known) {
+                    Some(close) => format!("did you mean `{close}`?"),
+                    None => format!(
+                        "the behaviors of {}: {}",
+                        table.source_name(),
+                        table
+                            .behaviors()
+                            .iter()
+                            .map(|known| known.name.as_str())
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                };
                 self.error(
-                    0,
+                    at.file,
                     Diagnostic::warning(
                         gloc_engine::codes::mission::UNKNOWN_BEHAVIOR,
-                        name.span(),
+                        name_span,
                         format!(
-                            "unknown behavior `{}`: it is ignored with its arguments",
-                            name.text
+                            "unknown behavior `{name}` (not in {}): the glider refuses the \
+                             mission; gloc ignores the behavior with its arguments",
+                            table.source_name()
                         ),
                     )
-                    .with_help(format!("known behaviors: {}", BehaviorKind::all_names())),
+                    .with_help(help),
                 );
-                self.mission.behaviors.push(unknown_spec(keyword));
             }
+            Some(info) if !info.is_simulated() => {
+                self.error(
+                    at.file,
+                    Diagnostic::note(
+                        gloc_engine::codes::mission::BEHAVIOR_NOT_SIMULATED,
+                        name_span,
+                        format!(
+                            "behavior `{}` is the glider's, but gloc's simulator does not fly \
+                             it: `gloc run` leaves it out",
+                            info.name
+                        ),
+                    ),
+                );
+            }
+            Some(_) => {}
         }
+        self.mission
+            .behaviors
+            .push(BehaviorSpec::for_behavior(info, name, at));
     }
 
     fn add_arg(
@@ -763,8 +862,7 @@ impl Parser<'_> {
             );
             return;
         };
-        let kind = current.kind;
-        if kind == BehaviorKind::Unknown {
+        if !current.defined {
             return;
         }
         let behavior_name = current.name.clone();
@@ -781,20 +879,37 @@ impl Parser<'_> {
                 return;
             }
             if value >= 0.0 {
-                self.load_ma(&behavior_name, kind, value, at);
+                self.load_ma(&behavior_name, value, at);
             }
             return;
         }
-        if !kind.known_args().contains(&name) {
+        let table = self.table.clone();
+        let info = table.behavior(&behavior_name);
+        if let Some(info) = info.filter(|info| info.arg(&name).is_none()) {
+            let known = info.args.iter().map(|arg| arg.name.as_str());
+            let help = match suggest::closest(&name, known) {
+                Some(close) => format!("did you mean `{close}`?"),
+                None => format!(
+                    "`{behavior_name}` takes: {}",
+                    info.args
+                        .iter()
+                        .map(|arg| arg.name.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            };
             self.error(
                 file,
                 Diagnostic::warning(
                     gloc_engine::codes::mission::UNKNOWN_ARGUMENT,
                     at.span,
                     format!(
-                        "unknown argument `{name}` for behavior `{behavior_name}`: it is ignored"
+                        "unknown argument `{name}` for behavior `{behavior_name}` (not in {}): \
+                         the glider ignores it and flies the default",
+                        table.source_name()
                     ),
-                ),
+                )
+                .with_help(help),
             );
             return;
         }
@@ -808,7 +923,7 @@ impl Parser<'_> {
         }
     }
 
-    fn load_ma(&mut self, behavior: &str, kind: BehaviorKind, value: f64, at: Location) {
+    fn load_ma(&mut self, behavior: &str, value: f64, at: Location) {
         let number = value as i64;
         let file_name = ma_file_name(behavior, number);
         let Some(lookup) = self.lookup.as_mut() else {
@@ -827,6 +942,24 @@ impl Parser<'_> {
         };
         let found = match lookup.find(&file_name) {
             Ok(found) => found,
+            Err(NotLoaded::Missing { .. }) if number == 99 => {
+                self.error(
+                    at.file,
+                    Diagnostic::warning(
+                        gloc_engine::codes::mission::GENERATED_MA_MISSING,
+                        at.span,
+                        format!(
+                            "`{file_name}` is not there: number 99 is the file the glider \
+                             writes itself during a mission (breadcrumb, ice); gloc flies \
+                             the behavior's defaults"
+                        ),
+                    )
+                    .with_help(format!(
+                        "to fly it in gloc, put a `{file_name}` of your own in `mafiles/`"
+                    )),
+                );
+                return;
+            }
             Err(NotLoaded::Missing { searched }) => {
                 let folders = searched
                     .iter()
@@ -891,10 +1024,10 @@ impl Parser<'_> {
             text: found.text,
             loaded_at: Some(at.span),
         });
-        self.parse_ma(file, kind, behavior);
+        self.parse_ma(file, behavior);
     }
 
-    fn parse_ma(&mut self, file: usize, kind: BehaviorKind, behavior: &str) {
+    fn parse_ma(&mut self, file: usize, behavior: &str) {
         let text = self.mission.sources[file].text.clone();
         #[derive(PartialEq)]
         enum Section {
@@ -953,7 +1086,7 @@ impl Parser<'_> {
                 _ if lower.starts_with("behavior_name=") && section == Section::Outside => {
                     saw_name = true;
                     let named = &first.text["behavior_name=".len()..];
-                    if !self.args_file && BehaviorKind::from_name(named) != Some(kind) {
+                    if !self.args_file && !named.eq_ignore_ascii_case(behavior) {
                         self.error(
                             file,
                             Diagnostic::warning(
@@ -1031,15 +1164,14 @@ impl Parser<'_> {
 }
 
 fn unknown_spec(keyword: Word<'_>) -> BehaviorSpec {
-    BehaviorSpec {
-        kind: BehaviorKind::Unknown,
-        name: String::new(),
-        args: Vec::new(),
-        at: Location {
+    BehaviorSpec::for_behavior(
+        None,
+        "",
+        Location {
             file: 0,
             span: keyword.span(),
         },
-    }
+    )
 }
 
 impl Mission {
@@ -1214,12 +1346,14 @@ mod tests {
     fn an_args_file_naming_an_unknown_behavior_is_warned_at_the_name() {
         let mission = Mission::parse_args_file(
             "x.ma",
-            "behavior_name=drift_at_depth\n<start:b_arg>\nb_arg: foo(m) 1\n<end:b_arg>\n",
+            "behavior_name=drift_at_dept\n<start:b_arg>\nb_arg: foo(m) 1\n<end:b_arg>\n",
         );
         let messages = errors(&mission);
         assert_eq!(messages.len(), 1, "{messages:?}");
+        // `drift_at_dept` starts after `behavior_name=` (14 characters): column 15.
         assert!(
-            messages[0].starts_with("x.ma:1:15: warning[S0101]: unknown behavior `drift_at_depth`"),
+            messages[0].starts_with("x.ma:1:15: warning[S0101]: unknown behavior `drift_at_dept`")
+                && messages[0].ends_with("(help: did you mean `drift_at_depth`?)"),
             "{}",
             messages[0]
         );

@@ -126,6 +126,7 @@ fn mafiles_beats_the_mission_folder_and_a_named_folder_beats_both() {
         &root.join("missions/m.mi"),
         &LoadOptions {
             mafiles: Some(other.join("args")),
+            ..LoadOptions::default()
         },
         &mut Disk,
     );
@@ -197,6 +198,7 @@ fn a_link_out_of_the_tree_is_refused_unless_the_folder_was_named() {
         &root.join("missions/m.mi"),
         &LoadOptions {
             mafiles: Some(root.join("mafiles")),
+            ..LoadOptions::default()
         },
         &mut Disk,
     );

@@ -16,8 +16,8 @@ use crate::settings::{Origin, Settings, Sourced};
 /// The settings' mission, read with its `.ma` files. A mission file that cannot be
 /// read is an error naming where its path came from (`gloc.toml:2:11: cannot read the
 /// mission `nosuch.mi`: …`); a mission with errors is returned with its diagnostics
-/// (`Mission::has_errors`).
-pub fn load_mission(settings: &Settings) -> Result<Mission, ProjectError> {
+/// (`Mission::has_errors`). The sensor list's masterdata gives the behavior table.
+pub fn load_mission(settings: &Settings, sensors: &SensorList) -> Result<Mission, ProjectError> {
     let Some(Sourced {
         value: path,
         origin,
@@ -36,15 +36,18 @@ pub fn load_mission(settings: &Settings) -> Result<Mission, ProjectError> {
     Ok(Mission::load_text(
         path,
         text,
-        &mission_options(settings),
+        &mission_options(settings, sensors),
         &mut gloc_mission::Disk,
     ))
 }
 
-/// How the settings' missions find their `.ma` files: `--mafiles`, gloc.toml's `mafiles`.
-pub fn mission_options(settings: &Settings) -> gloc_mission::LoadOptions {
+/// How the settings' missions are read, for every front end: their `.ma` files found
+/// through `--mafiles` / gloc.toml's `mafiles` first, their behaviors from the active
+/// sensor list's masterdata (else the embedded release table).
+pub fn mission_options(settings: &Settings, sensors: &SensorList) -> gloc_mission::LoadOptions {
     gloc_mission::LoadOptions {
         mafiles: settings.mafiles.clone(),
+        table: Some(gloc_mission::behaviors::BehaviorTable::for_sensors(sensors)),
     }
 }
 
@@ -123,7 +126,7 @@ mod tests {
                 .expect("valid");
         config.path = Some(PathBuf::from("/p/gloc.toml"));
         let settings = Settings::from_config(config, Overrides::default()).expect("valid");
-        let error = load_mission(&settings).expect_err("missing");
+        let error = load_mission(&settings, &SensorList::embedded()).expect_err("missing");
         assert_eq!(error.kind, ErrorKind::Unreadable);
         // `mission = ` is 10 characters: the value starts in column 11.
         assert!(
@@ -154,6 +157,9 @@ mod tests {
         assert_eq!(sim.cycle_budget, 77);
         assert_eq!(sim.seed, 9);
         assert_eq!(sim.flight.dive_rate, 0.3);
-        assert_eq!(load_mission(&settings).map(|m| m.has_errors()), Ok(false));
+        assert_eq!(
+            load_mission(&settings, &SensorList::embedded()).map(|m| m.has_errors()),
+            Ok(false)
+        );
     }
 }

@@ -115,18 +115,19 @@ enum FileKind {
 }
 
 impl FileKind {
-    /// `masterdata`, `masterdata.mi` or `MASTERDATA.txt` is a sensor list whatever
-    /// its extension (real masterdata files are named so); then by extension.
+    /// A name with `masterdata` in it (`masterdata`, `masterdata.mi`, `x.masterdata`)
+    /// is a sensor list whatever its extension (real masterdata files are named so);
+    /// then by extension.
     fn of(path: &Path) -> FileKind {
-        let stem = path
-            .file_stem()
-            .map(|stem| stem.to_string_lossy().to_ascii_lowercase())
+        let name = path
+            .file_name()
+            .map(|name| name.to_string_lossy().to_ascii_lowercase())
             .unwrap_or_default();
         let extension = path
             .extension()
             .map(|extension| extension.to_string_lossy().to_ascii_lowercase())
             .unwrap_or_default();
-        if stem.starts_with("masterdata") {
+        if name.contains("masterdata") {
             return FileKind::SensorList;
         }
         match extension.as_str() {

@@ -812,8 +812,8 @@ impl Parser<'_> {
                         gloc_engine::codes::mission::UNKNOWN_BEHAVIOR,
                         name_span,
                         format!(
-                            "unknown behavior `{name}` (not in {}): the glider refuses the \
-                             mission; gloc ignores the behavior with its arguments",
+                            "unknown behavior `{name}` (not in {}): gloc ignores it with its \
+                             arguments",
                             table.source_name()
                         ),
                     )

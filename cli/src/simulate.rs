@@ -950,7 +950,7 @@ fn mission_guards(
     loaded: &gloc_compiler::LoadedScript,
     script_source: &SourceFile,
 ) {
-    for entry in mission.check_sensor_settings(sensor_list) {
+    for entry in mission.check(sensor_list) {
         let file = &mission.sources[entry.file.min(mission.sources.len().saturating_sub(1))];
         let display = file.path.display().to_string();
         eprint!(

@@ -302,7 +302,7 @@ fn launch_sim(
         .map(Notice::Warning)
         .collect();
     // The mission against the list and the script: S0106 and S0107.
-    for entry in mission.check_sensor_settings(&sensor_list) {
+    for entry in mission.check(&sensor_list) {
         notices.push(Notice::Warning(mission.render_one(&entry)));
     }
     let unhooked: Vec<_> = mission

@@ -150,6 +150,13 @@ registry! {
         MA_BESIDE_MISSION = "S0108", Note, "a `.ma` file was found beside the `.mi`, not in `mafiles/`, where the glider reads it";
         ARG_OVERRIDDEN_BY_MA = "S0109", Warning, "an argument set in the `.mi` and again, to another value, in the behavior's `.ma` file: the glider flies the `.ma` value";
         GENERATED_MA_MISSING = "S0110", Warning, "`args_from_file` 99 names a `.ma` file the glider writes itself during a mission (breadcrumb, ice) and it is not there: gloc flies the behavior's defaults";
+        VALUE_OUT_OF_RANGE = "S0120", Warning, "an argument's value is outside the range the masterdata's `#!` metadata gives it (`min`, `max`)";
+        WAYPOINT_NOT_NMEA = "S0121", Warning, "a waypoint that is not NMEA `dddmm.mmm`: minutes of 60 or more, beyond ±90° or ±180°, longitude and latitude swapped, or decimal degrees";
+        TARGET_TOO_DEEP = "S0122", Warning, "a yo or dive target deeper than abend's `overdepth` or the mission's water depth (`s_water_depth_avg`)";
+        CLIMB_BELOW_DIVE = "S0123", Warning, "a yo's climb target is deeper than its dive target";
+        SURFACE_AFTER_OVERTIME = "S0124", Warning, "a surface behavior's interval (`when_secs`) is longer than abend's `overtime`: the mission aborts first";
+        NUM_WAYPOINTS_MISMATCH = "S0125", Warning, "`num_waypoints` disagrees with the waypoints listed";
+        WAYPOINT_TRAILING_TEXT = "S0126", Warning, "text after a waypoint's two numbers (`lon lat \\| name`): not in the firmware's documented format";
         BEHAVIOR_NOT_SIMULATED = "S0111", Note, "a behavior the glider has (it is in the behavior table) but gloc's simulator does not fly: `gloc run` leaves it out";
     }
     /// Project settings and the editor tools (E09xx).

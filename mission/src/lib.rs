@@ -10,6 +10,7 @@
 //! IDE completes a `b_arg` without linking the flight model.
 
 pub mod behaviors;
+pub mod checks;
 pub mod files;
 pub mod mission;
 

@@ -126,6 +126,16 @@ impl BehaviorSpec {
     }
 }
 
+/// A waypoint line of a `.ma` file: `LON LAT`, NMEA `dddmm.mmm` (negative: west, south).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Waypoint {
+    /// The index in [`Mission::behaviors`] of the behavior whose file lists it.
+    pub behavior: usize,
+    pub lon: f64,
+    pub lat: f64,
+    pub at: Location,
+}
+
 /// A parsed mission.
 #[derive(Clone, Debug, Default)]
 pub struct Mission {
@@ -139,6 +149,8 @@ pub struct Mission {
     /// from the start line to the end line.
     pub sections: Vec<Location>,
     pub diagnostics: Vec<MissionDiagnostic>,
+    /// The waypoints of the `.ma` files' `<start:waypoints>` sections.
+    pub waypoints: Vec<Waypoint>,
     /// The behavior table it was read with (`None`: the embedded one).
     pub table: Option<Arc<BehaviorTable>>,
 }
@@ -280,7 +292,9 @@ impl Mission {
     /// active sensor list: what `gloc check`, `gloc run`, the editor and the debugger
     /// show besides [`Mission::diagnostics`].
     pub fn check(&self, sensor_list: &SensorList) -> Vec<MissionDiagnostic> {
-        self.check_sensor_settings(sensor_list)
+        let mut found = self.check_sensor_settings(sensor_list);
+        found.extend(crate::checks::check(self));
+        found
     }
 
     /// S0106 for each `sensor:` setting that names a sensor `sensor_list` lacks
@@ -1112,11 +1126,13 @@ impl Parser<'_> {
                     }
                 }
                 _ if section == Section::Waypoints => {
-                    // `lon lat` in DDDMM.MMMM; accepted and checked, not flown
+                    // `lon lat` in DDDMM.MMMM; kept for the checks, not flown
                     // (horizontal position is not modelled).
-                    let numbers_ok = words.len() == 2
-                        && words.iter().all(|word| parse_number(word.text).is_some());
-                    if !numbers_ok {
+                    let numbers = (
+                        words.first().and_then(|word| parse_number(word.text)),
+                        words.get(1).and_then(|word| parse_number(word.text)),
+                    );
+                    let (Some(lon), Some(lat)) = numbers else {
                         self.error(
                             file,
                             Diagnostic::error(
@@ -1125,7 +1141,36 @@ impl Parser<'_> {
                                 "expected a waypoint `LON LAT` (DDDMM.MMMM DDMM.MMMM)",
                             ),
                         );
+                        continue;
+                    };
+                    if let Some(extra) = words.get(2) {
+                        // `lon lat | name`: no public documentation says the firmware
+                        // reads a name there, so it is a warning, not an error.
+                        let end = words.last().map_or(extra.start, |word| word.start + word.text.len());
+                        self.error(
+                            file,
+                            Diagnostic::warning(
+                                gloc_engine::codes::mission::WAYPOINT_TRAILING_TEXT,
+                                Span::new(extra.start, end),
+                                format!(
+                                    "`{}` after the waypoint's longitude and latitude: the \
+                                     firmware's documentation has only the two numbers",
+                                    &code[extra.start - line_start..end - line_start]
+                                ),
+                            )
+                            .with_help("write a waypoint's name as a comment: `-7032.064 4138.106 # name`"),
+                        );
                     }
+                    let behavior = self.mission.behaviors.len().saturating_sub(1);
+                    self.mission.waypoints.push(Waypoint {
+                        behavior,
+                        lon,
+                        lat,
+                        at: Location {
+                            file,
+                            span: Span::new(first.start, last_end),
+                        },
+                    });
                 }
                 _ => self.error(
                     file,

@@ -601,6 +601,65 @@ mod tests {
             .map(|(span, markdown)| (text[span.range()].to_string(), markdown))
     }
 
+    /// The release-layout masterdata fixture as the active sensor list.
+    fn fixture_masterdata() -> SensorList {
+        let text = std::fs::read_to_string(
+            Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("../tests/fixtures/sensors/release-layout.masterdata"),
+        )
+        .expect("fixture");
+        gloc_engine::sensors::parse_masterdata(&text, gloc_engine::sensors::SensorOrder::FileOrder)
+            .0
+    }
+
+    #[test]
+    fn with_a_masterdata_active_its_behavior_sections_drive_the_editor() {
+        let sensors = fixture_masterdata();
+        // `behavior:` offers the fixture's four sections and gloc's hook and gloc.
+        let (text, offset) = cursor("behavior: $0");
+        let behaviors: Vec<String> = completions(MissionFile::Mission, &text, offset, &sensors)
+            .into_iter()
+            .map(|item| item.label)
+            .collect();
+        assert_eq!(
+            behaviors,
+            ["abend", "yo", "drift_at_depth", "surface", "hook", "gloc"]
+        );
+        // yo's arguments are the section's four, with its default and limits.
+        let (text, offset) = cursor("behavior: yo\n  b_arg: $0");
+        let args = completions(MissionFile::Mission, &text, offset, &sensors);
+        let names: Vec<&str> = args.iter().map(|item| item.label.as_str()).collect();
+        assert_eq!(
+            names,
+            [
+                "args_from_file",
+                "d_target_depth",
+                "c_target_depth",
+                "num_half_cycles_to_do"
+            ]
+        );
+        assert_eq!(
+            args[1].documentation.as_deref(),
+            Some("**d_target_depth**(m) · yo · default 42 · 1 to 1000\n\ndive to this depth")
+        );
+        // Hover on the behavior names the table it came from; diagnostics use it too.
+        let (text, offset) = cursor("behavior: drift_at$0_depth\n");
+        let (_, markdown) = hover(MissionFile::Mission, &text, offset, &sensors).expect("hover");
+        assert!(
+            markdown.starts_with("**behavior drift_at_depth** · 2 arguments · not flown")
+                && markdown.ends_with("From the active masterdata."),
+            "{markdown}"
+        );
+        let analysis = analyze(
+            MissionFile::Mission,
+            "behavior: yo\n  b_arg: d_target_depth(m) 2000\n",
+            None,
+            &sensors,
+        );
+        let codes: Vec<&str> = analysis.diagnostics.iter().map(|d| d.code).collect();
+        assert_eq!(codes, ["S0120"]);
+    }
+
     /// A folder `<temp>/<name>/{missions,mafiles}` with the given files.
     fn mission_folder(name: &str, files: &[(&str, &str)]) -> PathBuf {
         let root = std::env::temp_dir().join(format!("gloc-ide-{name}-{}", std::process::id()));

@@ -131,6 +131,8 @@ pub struct Lookup<'a> {
     tree: PathBuf,
     named: Option<PathBuf>,
     cache: HashMap<PathBuf, Result<String, (io::ErrorKind, String)>>,
+    /// Folder listings, also once per load.
+    listings: HashMap<PathBuf, Option<Vec<String>>>,
 }
 
 impl<'a> Lookup<'a> {
@@ -150,6 +152,7 @@ impl<'a> Lookup<'a> {
             tree,
             named: named.map(Path::to_path_buf),
             cache: HashMap::new(),
+            listings: HashMap::new(),
         }
     }
 
@@ -170,6 +173,16 @@ impl<'a> Lookup<'a> {
         read
     }
 
+    /// The names in `folder`, listed once per load.
+    fn list(&mut self, folder: &Path) -> Option<Vec<String>> {
+        if let Some(listed) = self.listings.get(folder) {
+            return listed.clone();
+        }
+        let listed = self.files.list(folder);
+        self.listings.insert(folder.to_path_buf(), listed.clone());
+        listed
+    }
+
     /// The `.ma` file `name` by the glider's rules (see the module's doc).
     pub fn find(&mut self, name: &str) -> Result<Found, NotLoaded> {
         let mut searched = Vec::new();
@@ -177,7 +190,8 @@ impl<'a> Lookup<'a> {
         if let Some(named) = &self.named {
             folders.push((named.clone(), Place::Named));
         }
-        match self.files.list(&self.tree) {
+        let tree = self.tree.clone();
+        match self.list(&tree) {
             Some(mut names) => {
                 names.sort();
                 // `mafiles` itself first, then other spellings in a stable order.
@@ -198,7 +212,7 @@ impl<'a> Lookup<'a> {
         folders.push((self.mission_folder.clone(), Place::BesideMission));
         for (folder, place) in folders {
             searched.push(folder.clone());
-            let candidates = match self.files.list(&folder) {
+            let candidates = match self.list(&folder) {
                 Some(mut names) => {
                     names.sort();
                     names.sort_by_key(|file| file != name);

@@ -319,6 +319,12 @@ impl Mission {
                         sensor_list.iter().map(|(_, sensor)| sensor.name.as_str()),
                     ) {
                         Some(close) => format!("did you mean `{close}`?"),
+                        None if sensor_list.crc() == Some(gloc_engine::sensors::EMBEDDED_CRC) => {
+                            "the active list is the embedded one of 2008 firmware, which lacks \
+                             newer sensors: check against the glider's own masterdata \
+                             (`--masterdata`)"
+                                .to_string()
+                        }
                         None => "check the name against the glider's masterdata (`--masterdata`)"
                             .to_string(),
                     },

@@ -158,10 +158,22 @@ fn check_mission(
         let Some(source) = mission.sources.get(entry.file) else {
             continue;
         };
-        let display = source.path.display().to_string();
-        let rendered = SourceFile::new(&display, &source.text).render(&entry.diagnostic);
-        if shown.insert(rendered.clone()) {
-            print!("{rendered}");
+        // One problem per place: a `.ma` reached as `missions/../mafiles/x.ma` and
+        // named as `mafiles/x.ma` is one file.
+        let real = std::fs::canonicalize(&source.path).unwrap_or_else(|_| source.path.clone());
+        let key = format!(
+            "{}:{}:{}:{}",
+            real.display(),
+            entry.diagnostic.span.start,
+            entry.diagnostic.code,
+            entry.diagnostic.message
+        );
+        if shown.insert(key) {
+            let display = source.path.display().to_string();
+            print!(
+                "{}",
+                SourceFile::new(&display, &source.text).render(&entry.diagnostic)
+            );
             tally.add(std::slice::from_ref(&entry.diagnostic));
         }
     }

@@ -145,7 +145,16 @@ impl<'a> Lookup<'a> {
             Some(folder) if !folder.as_os_str().is_empty() => folder.to_path_buf(),
             _ => PathBuf::from("."),
         };
-        let tree = mission_folder.join("..");
+        // `missions/x.mi` → the tree `.`, so paths read `mafiles/yo10.ma` (the same
+        // path whether a mission loads the file or the user names it); `../x.mi` or
+        // `./x.mi` go up with `..`.
+        let tree = match mission_folder.components().next_back() {
+            Some(std::path::Component::Normal(_)) => match mission_folder.parent() {
+                Some(parent) if !parent.as_os_str().is_empty() => parent.to_path_buf(),
+                _ => PathBuf::from("."),
+            },
+            _ => mission_folder.join(".."),
+        };
         Lookup {
             files,
             mission_folder,
@@ -200,14 +209,14 @@ impl<'a> Lookup<'a> {
                     names
                         .into_iter()
                         .filter(|folder| folder.eq_ignore_ascii_case("mafiles"))
-                        .map(|folder| (self.tree.join(folder), Place::Mafiles)),
+                        .map(|folder| (join(&self.tree, &folder), Place::Mafiles)),
                 );
             }
-            None => folders.push((self.tree.join("mafiles"), Place::Mafiles)),
+            None => folders.push((join(&self.tree, "mafiles"), Place::Mafiles)),
         }
         if !folders.iter().any(|(_, place)| *place == Place::Mafiles) {
             // Nothing of that name: the message still names where the glider looks.
-            searched.push(self.tree.join("mafiles"));
+            searched.push(join(&self.tree, "mafiles"));
         }
         folders.push((self.mission_folder.clone(), Place::BesideMission));
         for (folder, place) in folders {
@@ -219,10 +228,10 @@ impl<'a> Lookup<'a> {
                     names
                         .into_iter()
                         .filter(|file| file.eq_ignore_ascii_case(name))
-                        .map(|file| folder.join(file))
+                        .map(|file| join(&folder, &file))
                         .collect()
                 }
-                None => vec![folder.join(name)],
+                None => vec![join(&folder, name)],
             };
             for path in candidates {
                 if place != Place::Named {
@@ -244,6 +253,15 @@ impl<'a> Lookup<'a> {
         }
         searched.dedup();
         Err(NotLoaded::Missing { searched })
+    }
+}
+
+/// `folder/name`, without a leading `./` (`mafiles/yo10.ma`, not `./mafiles/yo10.ma`).
+fn join(folder: &Path, name: &str) -> PathBuf {
+    if folder == Path::new(".") {
+        PathBuf::from(name)
+    } else {
+        folder.join(name)
     }
 }
 

@@ -31,7 +31,7 @@ fn check(files: &[(&str, &str)]) -> Vec<String> {
         .map(|entry| {
             mission
                 .render_one(entry)
-                .replace("/m/missions/../mafiles/", "")
+                .replace("/m/mafiles/", "")
                 .replace("/m/missions/", "")
         })
         .collect()

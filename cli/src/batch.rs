@@ -85,6 +85,7 @@ pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
             cycle_budget: args.flight.cycle_budget,
             mission: args.flight.mission.clone(),
             sensor_order: args.flight.sensor_order,
+            mafiles: args.flight.mafiles.clone(),
             ..Overrides::new(Surface::Cli)
         },
     )?;
@@ -196,7 +197,7 @@ pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
     else {
         return Ok(crate::exit::code(crate::exit::ERRORS));
     };
-    let Some(mission) = load_mission(&settings)? else {
+    let Some(mission) = load_mission(&settings, &sensor_list)? else {
         return Ok(crate::exit::code(crate::exit::ERRORS));
     };
 

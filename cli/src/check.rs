@@ -1,5 +1,8 @@
 //! `gloc check FILE…`: parse and check each file, print every diagnostic
-//! rustc-style, and with `--stats` the sizes and worst case per cycle.
+//! rustc-style, and with `--stats` the sizes and worst case per cycle. Scripts
+//! (`.gloc`, `.gbas`), missions (`.mi` with the `.ma` files they load, `.ma` alone)
+//! and sensor lists (a file named `masterdata*`, `.cac`, `.ccc`) are told apart by
+//! their names; a mission is read by `gloc_mission` as `gloc run` and the editor read it.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -20,6 +23,7 @@ pub fn main(args: crate::CheckArgs) -> anyhow::Result<ExitCode> {
             masterdata: args.masterdata.clone(),
             cycle_budget: args.cycle_budget,
             sensor_order: args.sensor_order,
+            mafiles: args.mafiles.clone(),
             ..Overrides::new(Surface::Cli)
         },
     )?;
@@ -27,7 +31,38 @@ pub fn main(args: crate::CheckArgs) -> anyhow::Result<ExitCode> {
         return Ok(crate::exit::code(crate::exit::ERRORS));
     };
     let mut unreadable = 0;
+    let mut shown = std::collections::HashSet::new();
+    let options = gloc_project::simulation::mission_options(&settings, &sensors);
     for path in &args.files {
+        match FileKind::of(path) {
+            FileKind::Script => {}
+            FileKind::Mission | FileKind::Args => {
+                match check_mission(path, &options, &sensors, &mut shown, &mut tally) {
+                    Ok(()) => {}
+                    Err(error) => {
+                        println!("error: cannot read `{}`: {error}", path.display());
+                        unreadable += 1;
+                    }
+                }
+                continue;
+            }
+            FileKind::SensorList => {
+                let origin = Sourced {
+                    value: path.clone(),
+                    origin: Origin::File(path.clone()),
+                };
+                match load_sensor_list_file(&origin, settings.sensor_order) {
+                    Ok(loaded) => {
+                        let _ = print_list(loaded, &mut tally);
+                    }
+                    Err(error) => {
+                        println!("error: {error}");
+                        unreadable += 1;
+                    }
+                }
+                continue;
+            }
+        }
         let script = match gloc_project::script::load_script(path, &sensors, &settings, false) {
             Ok(script) => script,
             Err(error) => {
@@ -68,6 +103,81 @@ pub fn main(args: crate::CheckArgs) -> anyhow::Result<ExitCode> {
     } else {
         ExitCode::SUCCESS
     })
+}
+
+/// What `gloc check` makes of a file, by its name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum FileKind {
+    Script,
+    Mission,
+    Args,
+    SensorList,
+}
+
+impl FileKind {
+    /// A name with `masterdata` in it (`masterdata`, `masterdata.mi`, `x.masterdata`)
+    /// is a sensor list whatever its extension (real masterdata files are named so);
+    /// then by extension.
+    fn of(path: &Path) -> FileKind {
+        let name = path
+            .file_name()
+            .map(|name| name.to_string_lossy().to_ascii_lowercase())
+            .unwrap_or_default();
+        let extension = path
+            .extension()
+            .map(|extension| extension.to_string_lossy().to_ascii_lowercase())
+            .unwrap_or_default();
+        if name.contains("masterdata") {
+            return FileKind::SensorList;
+        }
+        match extension.as_str() {
+            "mi" => FileKind::Mission,
+            "ma" => FileKind::Args,
+            "cac" | "ccc" => FileKind::SensorList,
+            _ => FileKind::Script,
+        }
+    }
+}
+
+/// Checks a `.mi` (with its `.ma` files) or a `.ma` alone and prints each problem
+/// once per run: a `.ma` that several missions load is reported once.
+fn check_mission(
+    path: &Path,
+    options: &gloc_mission::LoadOptions,
+    sensors: &SensorList,
+    shown: &mut std::collections::HashSet<String>,
+    tally: &mut Tally,
+) -> std::io::Result<()> {
+    let text = gloc_engine::files::read_text(path, gloc_engine::files::MISSION)?;
+    let mission = match FileKind::of(path) {
+        FileKind::Args => gloc_mission::Mission::parse_args_file_with(path, text, options),
+        _ => gloc_mission::Mission::load_text(path, text, options, &mut gloc_mission::Disk),
+    };
+    let checks = mission.check(sensors);
+    for entry in mission.diagnostics.iter().chain(&checks) {
+        let Some(source) = mission.sources.get(entry.file) else {
+            continue;
+        };
+        // One problem per place: a `.ma` reached as `missions/../mafiles/x.ma` and
+        // named as `mafiles/x.ma` is one file.
+        let real = std::fs::canonicalize(&source.path).unwrap_or_else(|_| source.path.clone());
+        let key = format!(
+            "{}:{}:{}:{}",
+            real.display(),
+            entry.diagnostic.span.start,
+            entry.diagnostic.code,
+            entry.diagnostic.message
+        );
+        if shown.insert(key) {
+            let display = source.path.display().to_string();
+            print!(
+                "{}",
+                SourceFile::new(&display, &source.text).render(&entry.diagnostic)
+            );
+            tally.add(std::slice::from_ref(&entry.diagnostic));
+        }
+    }
+    Ok(())
 }
 
 /// The active sensor list of resolved settings (`gloc_project::sensors`), its

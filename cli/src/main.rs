@@ -63,7 +63,8 @@ enum Command {
 
 #[derive(Args, Debug)]
 pub struct CheckArgs {
-    /// `.gloc` or `.gbas` files.
+    /// `.gloc` or `.gbas` scripts, `.mi` missions, `.ma` argument files (each checked
+    /// as the behavior its `behavior_name=` names), masterdata or `.cac` sensor lists.
     #[arg(required = true)]
     pub files: Vec<PathBuf>,
     /// Print registers, labels, instructions and the worst-case instructions per cycle.
@@ -81,6 +82,10 @@ pub struct CheckArgs {
     /// 1,000,000,000; default: gloc.toml's, else 10,000.
     #[arg(long, value_name = "N", value_parser = gloc_project::settings::parse_cycle_budget)]
     pub cycle_budget: Option<u64>,
+    /// A folder searched first for the mission's `.ma` files, before `mafiles/` beside
+    /// `missions/` and the mission's own folder; default: gloc.toml's `mafiles`.
+    #[arg(long, value_name = "DIR")]
+    pub mafiles: Option<PathBuf>,
 }
 
 #[derive(Args, Debug)]
@@ -192,6 +197,10 @@ pub struct FlightArgs {
     /// default: gloc.toml's, else `file`.
     #[arg(long, value_name = "ORDER", value_parser = gloc_project::settings::parse_sensor_order)]
     pub sensor_order: Option<gloc_engine::sensors::SensorOrder>,
+    /// A folder searched first for the mission's `.ma` files, before `mafiles/` beside
+    /// `missions/` and the mission's own folder; default: gloc.toml's `mafiles`.
+    #[arg(long, value_name = "DIR")]
+    pub mafiles: Option<PathBuf>,
 }
 
 impl RunArgs {

@@ -64,6 +64,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
             cycle_budget: args.flight.cycle_budget,
             mission: args.flight.mission.clone(),
             sensor_order: args.flight.sensor_order,
+            mafiles: args.flight.mafiles.clone(),
             simulator: args.simulator.clone(),
             ..Overrides::new(Surface::Cli)
         },
@@ -96,7 +97,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
     else {
         return Ok(crate::exit::code(crate::exit::ERRORS));
     };
-    let Some(mission) = load_mission(&settings)? else {
+    let Some(mission) = load_mission(&settings, &sensor_list)? else {
         return Ok(crate::exit::code(crate::exit::ERRORS));
     };
 
@@ -374,8 +375,11 @@ pub(crate) fn load_program(
 /// Loads the settings' mission (the embedded Fig. 2 mission when none is given),
 /// printing its diagnostics; `None` when it has errors (they were printed). A mission
 /// file that cannot be read is an error naming where its path came from.
-pub(crate) fn load_mission(settings: &Settings) -> anyhow::Result<Option<Mission>> {
-    let mission = gloc_project::simulation::load_mission(settings)?;
+pub(crate) fn load_mission(
+    settings: &Settings,
+    sensor_list: &SensorList,
+) -> anyhow::Result<Option<Mission>> {
+    let mission = gloc_project::simulation::load_mission(settings, sensor_list)?;
     for entry in &mission.diagnostics {
         let file = &mission.sources[entry.file.min(mission.sources.len().saturating_sub(1))];
         let display = file.path.display().to_string();
@@ -946,7 +950,7 @@ fn mission_guards(
     loaded: &gloc_compiler::LoadedScript,
     script_source: &SourceFile,
 ) {
-    for entry in mission.check_sensor_settings(sensor_list) {
+    for entry in mission.check(sensor_list) {
         let file = &mission.sources[entry.file.min(mission.sources.len().saturating_sub(1))];
         let display = file.path.display().to_string();
         eprint!(

@@ -268,8 +268,8 @@ fn launch_sim(
         sensor_list,
         warnings,
     } = script;
-    let mission =
-        gloc_project::simulation::load_mission(settings).map_err(|error| error.to_string())?;
+    let mission = gloc_project::simulation::load_mission(settings, &sensor_list)
+        .map_err(|error| error.to_string())?;
     let profile = match &config.profile {
         None => None,
         Some(profile_path) => Some(
@@ -302,7 +302,7 @@ fn launch_sim(
         .map(Notice::Warning)
         .collect();
     // The mission against the list and the script: S0106 and S0107.
-    for entry in mission.check_sensor_settings(&sensor_list) {
+    for entry in mission.check(&sensor_list) {
         notices.push(Notice::Warning(mission.render_one(&entry)));
     }
     let unhooked: Vec<_> = mission

@@ -89,6 +89,7 @@ registry! {
         BAD_CAC_INDICES = "E0206", Error, "`.cac` indices repeat, leave a gap, or reach 65,536 (the most sensors a list may have)";
         NO_SENSORS = "E0207", Error, "no sensors in the file";
         TOO_MANY_SENSORS = "E0208", Error, "more than 65,536 sensors in a masterdata file: the rest is not read";
+        STRAY_VALUE = "W0209", Warning, "text after a masterdata default (`0 0`): the glider reads the first number and ignores the rest";
     }
     /// GBASIC, the compiler (E2xxx, W2xxx).
     gbasic {
@@ -139,13 +140,24 @@ registry! {
         BAD_WAYPOINT = "S0023", Error, "a `.ma` waypoint that is not `LON LAT` (DDDMM.MMMM DDMM.MMMM)";
         UNEXPECTED_MA_LINE = "S0024", Error, "a `.ma` line that is not `behavior_name=`, `<start:b_arg>`, `b_arg:` or `<end:b_arg>`";
         UNCLOSED_SECTION = "S0025", Error, "a `.ma` file that ends inside a section";
-        UNKNOWN_BEHAVIOR = "S0101", Warning, "a behavior the simulator does not know: it is ignored with its arguments";
+        UNKNOWN_BEHAVIOR = "S0101", Warning, "a behavior the behavior table (the active masterdata's, else the embedded release table) does not have, with \"did you mean\": it is ignored with its arguments";
         NESTED_ARGS_FROM_FILE = "S0102", Warning, "`args_from_file` inside a `.ma` file, ignored";
-        UNKNOWN_ARGUMENT = "S0103", Warning, "an argument the behavior does not have: it is ignored";
+        UNKNOWN_ARGUMENT = "S0103", Warning, "an argument the behavior table does not give the behavior, with \"did you mean\": the glider ignores it and flies the default";
         MA_FOR_OTHER_BEHAVIOR = "S0104", Warning, "a `.ma` file whose `behavior_name=` names another behavior than the one that loads it";
         MA_WITHOUT_BEHAVIOR_NAME = "S0105", Warning, "a `.ma` file without a `behavior_name=` line";
         SENSOR_NOT_IN_LIST = "S0106", Warning, "a mission's `sensor:` line names a sensor the active list lacks; the setting is ignored";
         HOOK_MISSING = "S0107", Warning, "the script stores `sci_ruhp_behs` but the mission has no `behavior: hook`, so nothing acts on it";
+        MA_BESIDE_MISSION = "S0108", Note, "a `.ma` file was found beside the `.mi`, not in `mafiles/`, where the glider reads it";
+        ARG_OVERRIDDEN_BY_MA = "S0109", Warning, "an argument set in the `.mi` and again, to another value, in the behavior's `.ma` file: the glider flies the `.ma` value";
+        GENERATED_MA_MISSING = "S0110", Warning, "`args_from_file` 99 names a `.ma` file the glider writes itself during a mission (breadcrumb, ice) and it is not there: gloc flies the behavior's defaults";
+        VALUE_OUT_OF_RANGE = "S0120", Warning, "an argument's value is outside the range the masterdata's `#!` metadata gives it (`min`, `max`)";
+        WAYPOINT_NOT_NMEA = "S0121", Warning, "a waypoint that is not NMEA `dddmm.mmm`: minutes of 60 or more, beyond ±90° or ±180°, longitude and latitude swapped, or decimal degrees";
+        TARGET_TOO_DEEP = "S0122", Warning, "a yo or dive target deeper than abend's `overdepth` or the mission's water depth (`s_water_depth_avg`)";
+        CLIMB_BELOW_DIVE = "S0123", Warning, "a yo's climb target is deeper than its dive target";
+        SURFACE_AFTER_OVERTIME = "S0124", Warning, "a surface behavior's interval (`when_secs`) is longer than abend's `overtime`: the mission aborts first";
+        NUM_WAYPOINTS_MISMATCH = "S0125", Warning, "`num_waypoints` disagrees with the waypoints listed";
+        WAYPOINT_TRAILING_TEXT = "S0126", Warning, "text after a waypoint's two numbers (`lon lat \\| name`): not in the firmware's documented format";
+        BEHAVIOR_NOT_SIMULATED = "S0111", Note, "a behavior the glider has (it is in the behavior table) but gloc's simulator does not fly: `gloc run` leaves it out";
     }
     /// Project settings and the editor tools (E09xx).
     settings {

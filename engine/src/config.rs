@@ -10,6 +10,7 @@
 //! mission = "missions/yo.mi"             # the mission the debugger flies
 //! sensor_order = "sorted"                # masterdata indices: "file" (default) or "sorted"
 //! sensor_cache = "cac"                   # folder of <crc>.cac / .ccc lists for glider logs
+//! mafiles = "shared/mafiles"              # folder searched first for a mission's .ma files
 //!
 //! [simulator]                            # the flight and energy models' constants
 //! dive_rate = 0.2                        # see SIMULATOR_SETTINGS for every name
@@ -52,6 +53,9 @@ pub struct Config {
     pub sensor_order: Option<SensorOrder>,
     /// The folder searched first for a glider log's sensor list (`<crc>.cac`/`.ccc`).
     pub sensor_cache: Option<PathBuf>,
+    /// The folder searched first for a mission's `.ma` files (before `mafiles/`
+    /// beside `missions/`).
+    pub mafiles: Option<PathBuf>,
     /// `[simulator]`: flight and energy constants, sorted by name, each
     /// checked against [`SIMULATOR_SETTINGS`].
     pub simulator: Vec<(String, f64)>,
@@ -68,6 +72,7 @@ pub struct ValuePositions {
     pub mission: Option<(usize, usize)>,
     pub sensor_order: Option<(usize, usize)>,
     pub sensor_cache: Option<(usize, usize)>,
+    pub mafiles: Option<(usize, usize)>,
 }
 
 /// The largest per-cycle instruction budget (`cycle_budget`, `--cycle-budget`, the
@@ -412,6 +417,7 @@ struct RawConfig {
     mission: Option<toml::Spanned<String>>,
     sensor_order: Option<toml::Spanned<String>>,
     sensor_cache: Option<toml::Spanned<String>>,
+    mafiles: Option<toml::Spanned<String>>,
     simulator: Option<std::collections::BTreeMap<toml::Spanned<String>, toml::Value>>,
 }
 
@@ -445,7 +451,7 @@ impl Config {
                     span,
                     format!("invalid gloc.toml: {message}"),
                 )
-                .with_help("the keys are `masterdata` (a path), `cycle_budget` (a positive integer), `mission` (a path), `sensor_order` (\"file\" or \"sorted\"), `sensor_cache` (a folder) and the table `[simulator]`"),
+                .with_help("the keys are `masterdata` (a path), `cycle_budget` (a positive integer), `mission` (a path), `sensor_order` (\"file\" or \"sorted\"), `sensor_cache` (a folder), `mafiles` (a folder) and the table `[simulator]`"),
             )
         })?;
         let span_of = |range: std::ops::Range<usize>| Span::new(range.start, range.end);
@@ -521,6 +527,10 @@ impl Config {
                 .sensor_cache
                 .as_ref()
                 .and_then(|value| position(value.span())),
+            mafiles: raw
+                .mafiles
+                .as_ref()
+                .and_then(|value| position(value.span())),
         };
         let resolve = |value: Option<toml::Spanned<String>>| {
             value.map(|relative| folder.join(relative.into_inner()))
@@ -532,6 +542,7 @@ impl Config {
             mission: resolve(raw.mission),
             sensor_order,
             sensor_cache: resolve(raw.sensor_cache),
+            mafiles: resolve(raw.mafiles),
             simulator,
             positions,
         })

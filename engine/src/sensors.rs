@@ -101,6 +101,8 @@ pub struct SensorList {
 #[derive(Clone, Debug, PartialEq)]
 pub struct BehaviorDefaults {
     pub name: String,
+    /// The comment after the name (`behavior: yo # …`), not `#!` metadata.
+    pub description: Option<String>,
     /// 1-based line of the `behavior:` line.
     pub line: u32,
     pub args: Vec<BehaviorArg>,

@@ -269,3 +269,37 @@ fn a_compressed_sensor_list_loads_with_the_count_its_glider_states() {
     );
     std::fs::remove_dir_all(&folder).expect("clean up");
 }
+
+#[test]
+fn a_release_layout_masterdata_is_read_as_the_firmware_reads_it() {
+    // `/*` … `*/` around the change log and the body, `#define`, `END`, and one
+    // `0 0` default: no error, one W0209 on the stray `0`, nothing else.
+    let text = read("release-layout.masterdata");
+    let (list, diagnostics) = parse_masterdata(&text, SensorOrder::FileOrder);
+    assert_eq!(
+        names(&list),
+        vec!["m_depth", "u_cycle_time", "sci_odd_channel", "c_flntu_on"]
+    );
+    // `sensor: sci_odd_channel(nodim)  0 0`: the second `0` is column 35 of line 12.
+    assert_eq!(located(&text, &diagnostics), vec![("W0209", 12, 35)]);
+    assert_eq!(
+        list.lookup("sci_odd_channel")
+            .and_then(|id| list.get(id))
+            .map(|sensor| sensor.default),
+        Some(Some(0.0))
+    );
+    let behaviors = list.behavior_defaults();
+    let names: Vec<&str> = behaviors.iter().map(|b| b.name.as_str()).collect();
+    assert_eq!(names, vec!["abend", "yo", "drift_at_depth", "surface"]);
+    let yo = &behaviors[1];
+    assert_eq!(yo.description.as_deref(), Some("dives and climbs"));
+    // `#! visible = False` is metadata, not a description.
+    assert_eq!(behaviors[2].description, None);
+    let depth = &yo.args[1];
+    assert_eq!(
+        (depth.name.as_str(), depth.units.as_str(), depth.default),
+        ("d_target_depth", "m", Some(42.0))
+    );
+    assert_eq!((depth.min, depth.max), (Some(1.0), Some(1000.0)));
+    assert_eq!(depth.description.as_deref(), Some("dive to this depth"));
+}

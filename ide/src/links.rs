@@ -68,7 +68,12 @@ pub fn config_links(text: &str, folder: &Path) -> Vec<Link> {
 /// loads (`gloc_mission::mission` decides which, as `gloc run` does; a file it could
 /// not load has a diagnostic instead of a link).
 pub fn mission_links(text: &str, path: &Path) -> Vec<Link> {
-    let mission = crate::mission::parse(crate::mission::MissionFile::Mission, text, Some(path));
+    let mission = crate::mission::parse(
+        crate::mission::MissionFile::Mission,
+        text,
+        Some(path),
+        &gloc_engine::sensors::SensorList::embedded(),
+    );
     let mut links: Vec<Link> = mission
         .sources
         .iter()

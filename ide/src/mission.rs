@@ -1,7 +1,8 @@
 //! Mission files (`.mi`) and mission argument files (`.ma`) as editor languages:
 //! diagnostics from the mission crate's parser (`gloc_mission::mission`, the S-codes
 //! `gloc run` prints), behaviors as symbols and folds, completion and hover from the
-//! behavior and argument table (`gloc_mission::behaviors::ArgDef`), go to
+//! behavior table (`gloc_mission::behaviors::BehaviorTable`: the active masterdata's
+//! `behavior:` sections, else the embedded release table), go to
 //! the `.ma` file an `args_from_file` loads, and a formatter that keeps the layout.
 //!
 //! Completion and hover look at the cursor's line only to know which keyword it
@@ -11,8 +12,9 @@ use std::path::{Path, PathBuf};
 
 use gloc_engine::sensors::SensorList;
 use gloc_engine::{Diagnostic, Span};
-use gloc_mission::behaviors::{ArgDef, BehaviorKind};
+use gloc_mission::behaviors::{ArgInfo, BehaviorInfo, BehaviorTable};
 use gloc_mission::mission::{ma_file_name, Mission};
+use gloc_mission::{Disk, LoadOptions};
 
 use crate::analysis::{Analysis, Completion, CompletionKind, Symbol, SymbolKind};
 use crate::lang::{sensor_completions, sensor_markdown};
@@ -29,19 +31,39 @@ pub enum MissionFile {
 /// Parses the document as `gloc run` would: a `.mi` loads its `.ma` files from
 /// `../mafiles/` beside it (from disk), reading the document itself from `text`.
 /// Without a path (an unsaved buffer) a `.mi` loads no `.ma` files.
-pub fn parse(kind: MissionFile, text: &str, path: Option<&Path>) -> Mission {
+pub fn parse(kind: MissionFile, text: &str, path: Option<&Path>, sensors: &SensorList) -> Mission {
+    let options = LoadOptions {
+        table: Some(BehaviorTable::for_sensors(sensors)),
+        ..LoadOptions::default()
+    };
     match (kind, path) {
         (MissionFile::Args, _) => {
-            Mission::parse_args_file(path.unwrap_or(Path::new("untitled.ma")), text)
+            Mission::parse_args_file_with(path.unwrap_or(Path::new("untitled.ma")), text, &options)
         }
-        (MissionFile::Mission, None) => Mission::parse("untitled.mi", text),
-        (MissionFile::Mission, Some(path)) => Mission::load_with(path, &mut |wanted: &Path| {
-            if wanted == path {
-                Ok(text.to_string())
-            } else {
-                gloc_engine::files::read_text(wanted, gloc_engine::files::MISSION)
-            }
-        }),
+        (MissionFile::Mission, None) => Mission::load_text(
+            Path::new("untitled.mi"),
+            text.to_string(),
+            &options,
+            &mut NoFiles,
+        ),
+        (MissionFile::Mission, Some(path)) => {
+            Mission::load_text(path, text.to_string(), &options, &mut Disk)
+        }
+    }
+}
+
+/// An unsaved buffer's files: none (its `args_from_file` lines cannot be followed).
+struct NoFiles;
+
+impl gloc_mission::MissionFiles for NoFiles {
+    fn read(&mut self, path: &Path) -> std::io::Result<String> {
+        Err(std::io::Error::new(
+            std::io::ErrorKind::Unsupported,
+            format!(
+                "the mission is not saved, so `{}` has no folder to be found in",
+                path.display()
+            ),
+        ))
     }
 }
 
@@ -54,12 +76,13 @@ pub fn analyze(
     path: Option<&Path>,
     sensors: &SensorList,
 ) -> Analysis {
-    let mission = parse(kind, text, path);
+    let mission = parse(kind, text, path, sensors);
     let mut diagnostics: Vec<Diagnostic> = Vec::new();
-    let entries = mission.diagnostics.iter().cloned().chain(match kind {
-        MissionFile::Mission => mission.check_sensor_settings(sensors),
-        MissionFile::Args => Vec::new(),
-    });
+    let entries = mission
+        .diagnostics
+        .iter()
+        .cloned()
+        .chain(mission.check(sensors));
     for entry in entries {
         if entry.file == 0 {
             diagnostics.push(entry.diagnostic);
@@ -125,34 +148,44 @@ pub fn completions(
     };
     match (line.keyword.as_deref(), line.word_index) {
         (None, 0) => keywords(kind, line.typed_bracket),
-        (Some("behavior:"), 1) if kind == MissionFile::Mission => BehaviorKind::all()
-            .map(|behavior| Completion {
-                label: behavior.name().to_string(),
-                kind: CompletionKind::Function,
-                detail: Some(format!("behavior, {} arguments", behavior.args().len())),
-                documentation: Some(behavior.doc().to_string()),
-                snippet: None,
-                insert_text: None,
-                filter_text: None,
-                sort_text: None,
-            })
-            .collect(),
+        (Some("behavior:"), 1) if kind == MissionFile::Mission => {
+            BehaviorTable::for_sensors(sensors)
+                .behaviors()
+                .iter()
+                .map(|behavior| Completion {
+                    label: behavior.name.clone(),
+                    kind: CompletionKind::Function,
+                    detail: Some(format!("behavior, {} arguments", behavior.args.len())),
+                    documentation: Some(behavior.doc.clone()),
+                    snippet: None,
+                    insert_text: None,
+                    filter_text: None,
+                    sort_text: None,
+                })
+                .collect()
+        }
         (Some("b_arg:"), 1) => {
-            let mission = parse_alone(kind, text);
+            let mission = parse_alone(kind, text, sensors);
             let Some(behavior) = behavior_at(&mission, kind, offset) else {
                 return Vec::new();
             };
             behavior
-                .args()
-                .into_iter()
+                .args
+                .iter()
                 .map(|arg| Completion {
-                    label: arg.name.to_string(),
+                    label: arg.name.clone(),
                     kind: CompletionKind::Variable,
-                    detail: Some(format!("({}) default {}", arg.units, arg.default)),
-                    documentation: Some(arg_markdown(behavior, &arg)),
+                    detail: Some(format!(
+                        "({}) default {}",
+                        arg.units,
+                        arg.default.unwrap_or(0.0)
+                    )),
+                    documentation: Some(arg_markdown(&behavior, arg)),
                     snippet: Some(format!(
                         "{}({}) ${{1:{}}}",
-                        arg.name, arg.units, arg.default
+                        arg.name,
+                        arg.units,
+                        arg.default.unwrap_or(0.0)
                     )),
                     insert_text: None,
                     filter_text: None,
@@ -176,15 +209,22 @@ pub fn hover(
     let line = CursorLine::at_word(text, offset)?;
     let word_span = line.word?;
     let word = text.get(word_span.range())?;
-    let mission = parse_alone(kind, text);
+    let mission = parse_alone(kind, text, sensors);
     let markdown = match (line.keyword.as_deref(), line.word_index) {
         (Some("behavior:"), 1) | (Some("behavior_name="), 0) => {
-            let behavior = BehaviorKind::from_name(word)?;
+            let table = mission.table();
+            let behavior = table.behavior(word)?;
             format!(
-                "**behavior {}** · {} arguments\n\n{}",
-                behavior.name(),
-                behavior.args().len(),
-                behavior.doc()
+                "**behavior {}** · {} arguments{}\n\n{}\n\nFrom {}.",
+                behavior.name,
+                behavior.args.len(),
+                if behavior.is_simulated() {
+                    ""
+                } else {
+                    " · not flown by gloc's simulator"
+                },
+                behavior.doc,
+                table.source_name()
             )
         }
         (Some("b_arg:"), 1) => {
@@ -193,14 +233,14 @@ pub fn hover(
                 let number = line.value?;
                 format!(
                     "**args_from_file**(enum)\n\nLoads the behavior's arguments from `mafiles/{}` (beside the `missions` folder).",
-                    ma_file_name(behavior.name(), number as i64)
+                    ma_file_name(&behavior.name, number as i64)
                 )
             } else {
-                match behavior.arg_def(word) {
-                    Some(arg) => arg_markdown(behavior, &arg),
+                match behavior.arg(word) {
+                    Some(arg) => arg_markdown(&behavior, arg),
                     None => format!(
-                        "`{word}` is not an argument of behavior `{}`: the simulator ignores it",
-                        behavior.name()
+                        "`{word}` is not an argument of behavior `{}`: the glider ignores it",
+                        behavior.name
                     ),
                 }
             }
@@ -226,7 +266,12 @@ pub fn definition(text: &str, offset: usize, path: &Path) -> Option<PathBuf> {
 /// Every `args_from_file` line of the mission at `path` with the `.ma` file it
 /// loaded (for document links): only files that exist, as the file system names them.
 pub fn links(text: &str, path: &Path) -> Vec<(Span, PathBuf)> {
-    let mission = parse(MissionFile::Mission, text, Some(path));
+    let mission = parse(
+        MissionFile::Mission,
+        text,
+        Some(path),
+        &SensorList::embedded(),
+    );
     mission
         .sources
         .iter()
@@ -264,14 +309,19 @@ pub fn format(text: &str) -> Option<String> {
 }
 
 /// Markdown for an argument: name, units, the behavior and its default, the doc.
-fn arg_markdown(behavior: BehaviorKind, arg: &ArgDef) -> String {
+fn arg_markdown(behavior: &BehaviorInfo, arg: &ArgInfo) -> String {
+    let range = match (arg.min, arg.max) {
+        (Some(min), Some(max)) => format!(" · {min} to {max}"),
+        (Some(min), None) => format!(" · at least {min}"),
+        (None, Some(max)) => format!(" · at most {max}"),
+        (None, None) => String::new(),
+    };
+    let default = arg
+        .default
+        .map_or_else(|| "none (0)".to_string(), |value| value.to_string());
     format!(
-        "**{}**({}) · {} · default {}\n\n{}",
-        arg.name,
-        arg.units,
-        behavior.name(),
-        arg.default,
-        arg.doc
+        "**{}**({}) · {} · default {default}{range}\n\n{}",
+        arg.name, arg.units, behavior.name, arg.doc
     )
 }
 
@@ -328,13 +378,13 @@ fn keywords(kind: MissionFile, typed_bracket: bool) -> Vec<Completion> {
 
 /// The document parsed on its own (no `.ma` files read): enough to know which
 /// behavior a line belongs to.
-fn parse_alone(kind: MissionFile, text: &str) -> Mission {
-    parse(kind, text, None)
+fn parse_alone(kind: MissionFile, text: &str, sensors: &SensorList) -> Mission {
+    parse(kind, text, None, sensors)
 }
 
 /// The behavior whose block holds `offset`: the last `behavior:` line before it
 /// (a `.ma` file has one, from `behavior_name=`). `None` under an unknown behavior.
-fn behavior_at(mission: &Mission, kind: MissionFile, offset: usize) -> Option<BehaviorKind> {
+fn behavior_at(mission: &Mission, kind: MissionFile, offset: usize) -> Option<BehaviorInfo> {
     let spec = match kind {
         MissionFile::Args => mission.behaviors.first(),
         MissionFile::Mission => mission
@@ -343,7 +393,7 @@ fn behavior_at(mission: &Mission, kind: MissionFile, offset: usize) -> Option<Be
             .rev()
             .find(|spec| spec.at.file == 0 && (spec.at.span.start as usize) < offset),
     }?;
-    (spec.kind != BehaviorKind::Unknown).then_some(spec.kind)
+    mission.table().behavior(&spec.name).cloned()
 }
 
 /// A behavior as the outline shows it.
@@ -359,7 +409,7 @@ fn behavior_blocks(mission: &Mission, text: &str) -> Vec<Block> {
     let specs: Vec<_> = mission
         .behaviors
         .iter()
-        .filter(|spec| spec.at.file == 0 && spec.kind != BehaviorKind::Unknown)
+        .filter(|spec| spec.at.file == 0 && spec.defined)
         .collect();
     let starts: Vec<usize> = mission
         .behaviors
@@ -551,6 +601,65 @@ mod tests {
             .map(|(span, markdown)| (text[span.range()].to_string(), markdown))
     }
 
+    /// The release-layout masterdata fixture as the active sensor list.
+    fn fixture_masterdata() -> SensorList {
+        let text = std::fs::read_to_string(
+            Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("../tests/fixtures/sensors/release-layout.masterdata"),
+        )
+        .expect("fixture");
+        gloc_engine::sensors::parse_masterdata(&text, gloc_engine::sensors::SensorOrder::FileOrder)
+            .0
+    }
+
+    #[test]
+    fn with_a_masterdata_active_its_behavior_sections_drive_the_editor() {
+        let sensors = fixture_masterdata();
+        // `behavior:` offers the fixture's four sections and gloc's hook and gloc.
+        let (text, offset) = cursor("behavior: $0");
+        let behaviors: Vec<String> = completions(MissionFile::Mission, &text, offset, &sensors)
+            .into_iter()
+            .map(|item| item.label)
+            .collect();
+        assert_eq!(
+            behaviors,
+            ["abend", "yo", "drift_at_depth", "surface", "hook", "gloc"]
+        );
+        // yo's arguments are the section's four, with its default and limits.
+        let (text, offset) = cursor("behavior: yo\n  b_arg: $0");
+        let args = completions(MissionFile::Mission, &text, offset, &sensors);
+        let names: Vec<&str> = args.iter().map(|item| item.label.as_str()).collect();
+        assert_eq!(
+            names,
+            [
+                "args_from_file",
+                "d_target_depth",
+                "c_target_depth",
+                "num_half_cycles_to_do"
+            ]
+        );
+        assert_eq!(
+            args[1].documentation.as_deref(),
+            Some("**d_target_depth**(m) · yo · default 42 · 1 to 1000\n\ndive to this depth")
+        );
+        // Hover on the behavior names the table it came from; diagnostics use it too.
+        let (text, offset) = cursor("behavior: drift_at$0_depth\n");
+        let (_, markdown) = hover(MissionFile::Mission, &text, offset, &sensors).expect("hover");
+        assert!(
+            markdown.starts_with("**behavior drift_at_depth** · 2 arguments · not flown")
+                && markdown.ends_with("From the active masterdata."),
+            "{markdown}"
+        );
+        let analysis = analyze(
+            MissionFile::Mission,
+            "behavior: yo\n  b_arg: d_target_depth(m) 2000\n",
+            None,
+            &sensors,
+        );
+        let codes: Vec<&str> = analysis.diagnostics.iter().map(|d| d.code).collect();
+        assert_eq!(codes, ["S0120"]);
+    }
+
     /// A folder `<temp>/<name>/{missions,mafiles}` with the given files.
     fn mission_folder(name: &str, files: &[(&str, &str)]) -> PathBuf {
         let root = std::env::temp_dir().join(format!("gloc-ide-{name}-{}", std::process::id()));
@@ -582,7 +691,7 @@ mod tests {
             &[
                 ("missions/x.mi", mission),
                 (
-                    "mafiles/yo3.ma",
+                    "mafiles/yo03.ma",
                     "behavior_name=yo\n<start:b_arg>\n b_arg: c_target_depth(m) x\n<end:b_arg>\n",
                 ),
             ],
@@ -610,7 +719,7 @@ mod tests {
         assert_eq!(found.len(), 2, "{found:?}");
         assert_eq!(found[0].0, "S0015");
         assert_eq!(found[0].1, Span::new(15, 44));
-        assert_eq!(found[0].2, "yo3.ma:3:27: `x` is not a number");
+        assert_eq!(found[0].2, "yo03.ma:3:27: `x` is not a number");
         assert_eq!((found[1].0, found[1].1), ("S0106", Span::new(53, 69)));
         let _ = std::fs::remove_dir_all(root);
     }
@@ -684,7 +793,8 @@ mod tests {
             labels(MissionFile::Mission, "$0"),
             ["behavior:", "b_arg:", "sensor:"]
         );
-        assert_eq!(labels(MissionFile::Mission, "behavior: $0").len(), 13);
+        // The 10.5 release masterdata's 19 behaviors, five more of SN 3614's, hook and gloc.
+        assert_eq!(labels(MissionFile::Mission, "behavior: $0").len(), 26);
         assert!(labels(MissionFile::Mission, "behavior: y$0").contains(&"yo".to_string()));
         assert!(
             labels(MissionFile::Mission, "sensor: u_cyc$0").contains(&"u_cycle_time".to_string())
@@ -732,8 +842,8 @@ mod tests {
         let (text, offset) =
             cursor("behavior: abend\n  b_arg: overdepth(m) 30\nbehavior: yo\n  b_arg: d_ta$0\n");
         let items = completions(MissionFile::Mission, &text, offset, &SensorList::embedded());
-        // yo's 36 own arguments plus stop_when, when_secs and when_wpt_dist.
-        assert_eq!(items.len(), 39);
+        // The 42 `b_arg:` lines of yo's section in the 10.5 release masterdata.
+        assert_eq!(items.len(), 42);
         let depth = items
             .iter()
             .find(|item| item.label == "d_target_depth")
@@ -742,7 +852,10 @@ mod tests {
         assert_eq!(depth.snippet.as_deref(), Some("d_target_depth(m) ${1:12}"));
         assert_eq!(
             depth.documentation.as_deref(),
-            Some("**d_target_depth**(m) · yo · default 12\n\nDive: turn at this depth.")
+            // `d_target_depth(m) 12  #! min = 3.0; max = 1000.0` in the masterdata.
+            Some(
+                "**d_target_depth**(m) · yo · default 12 · 3 to 1000\n\nDive: turn at this depth."
+            )
         );
         assert!(!items.iter().any(|item| item.label == "overdepth"));
         // In a .ma file the behavior is the one `behavior_name=` names.
@@ -779,7 +892,7 @@ mod tests {
         let (word, markdown) = hover_at(MissionFile::Mission, "behavior: y$0o\n").expect("hover");
         assert_eq!(word, "yo");
         assert!(
-            markdown.starts_with("**behavior yo** · 39 arguments"),
+            markdown.starts_with("**behavior yo** · 42 arguments"),
             "{markdown}"
         );
         let (_, markdown) = hover_at(
@@ -800,7 +913,7 @@ mod tests {
             hover_at(MissionFile::Mission, "behavior: yo\n b_arg: bo$0gus(m) 1\n").expect("hover");
         assert_eq!(
             markdown,
-            "`bogus` is not an argument of behavior `yo`: the simulator ignores it"
+            "`bogus` is not an argument of behavior `yo`: the glider ignores it"
         );
         assert_eq!(
             hover_at(MissionFile::Mission, "behavior: yo # the y$0o\n"),

@@ -1,6 +1,13 @@
 //! The behavior table: every behavior a mission may name, with its arguments, units,
 //! defaults and one line of documentation each. The checks, the editor's completion and
 //! hover, and the simulator's defaults all read this one table.
+//!
+//! [`BehaviorTable`] is that table: the active masterdata's `behavior:` sections, or
+//! the embedded release table (`data/behaviors.txt`). The `ArgDef` lists below are
+//! what the simulator needs of the behaviors it flies when a table leaves a default
+//! out, and gloc's own `hook` behavior.
+
+use gloc_engine::sensors::{BehaviorDefaults, SensorList};
 
 /// The behaviors the simulator knows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -842,4 +849,185 @@ fn is_waypoint_arg(name: &str) -> bool {
         .strip_prefix("wpt_x_")
         .or_else(|| name.strip_prefix("wpt_y_"));
     rest.is_some_and(|digits| !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit()))
+}
+
+/// An argument as the active behavior table defines it (a masterdata `b_arg:` line).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ArgInfo {
+    pub name: String,
+    pub units: String,
+    /// `None` when the line gives no default (the firmware then uses 0).
+    pub default: Option<f64>,
+    /// The line's comment; empty when it has none.
+    pub doc: String,
+    /// `#! min = …; max = …`: the range Control Center enforces.
+    pub min: Option<f64>,
+    pub max: Option<f64>,
+}
+
+/// A behavior as the active table defines it (a masterdata `behavior:` section).
+#[derive(Clone, Debug, PartialEq)]
+pub struct BehaviorInfo {
+    pub name: String,
+    /// What the simulator flies for it ([`BehaviorKind::Unknown`]: nothing).
+    pub kind: BehaviorKind,
+    pub doc: String,
+    pub args: Vec<ArgInfo>,
+}
+
+impl BehaviorInfo {
+    /// The argument `name` (case-insensitive), if the behavior takes it.
+    pub fn arg(&self, name: &str) -> Option<&ArgInfo> {
+        self.args
+            .iter()
+            .find(|arg| arg.name.eq_ignore_ascii_case(name))
+    }
+
+    /// Whether the simulator flies this behavior (or acts on it, such as abend).
+    pub fn is_simulated(&self) -> bool {
+        self.kind != BehaviorKind::Unknown
+    }
+}
+
+/// Where a behavior table came from.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum TableSource {
+    /// `mission/data/behaviors.txt`: the manufacturer's release set (see that file).
+    Embedded,
+    /// The `behavior:` sections of the active masterdata file.
+    Masterdata,
+}
+
+/// The behaviors a mission may name, with their arguments: the active masterdata's
+/// `behavior:` sections when it has them, else gloc's embedded release table, plus
+/// gloc's own `hook` and `gloc`. The parser's checks, the simulator's defaults and
+/// the editor's completion and hover read it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BehaviorTable {
+    behaviors: Vec<BehaviorInfo>,
+    source: TableSource,
+}
+
+/// The embedded release table, in the masterdata format.
+const EMBEDDED: &str = include_str!("../data/behaviors.txt");
+
+impl BehaviorTable {
+    /// gloc's embedded table (built once).
+    pub fn embedded() -> std::sync::Arc<BehaviorTable> {
+        static TABLE: std::sync::OnceLock<std::sync::Arc<BehaviorTable>> =
+            std::sync::OnceLock::new();
+        TABLE
+            .get_or_init(|| {
+                let (list, _) = gloc_engine::sensors::parse_masterdata(
+                    EMBEDDED,
+                    gloc_engine::sensors::SensorOrder::FileOrder,
+                );
+                let mut table = BehaviorTable::from_sections(list.behavior_defaults());
+                table.source = TableSource::Embedded;
+                std::sync::Arc::new(table)
+            })
+            .clone()
+    }
+
+    /// The table of a sensor list: its masterdata's `behavior:` sections, or the
+    /// embedded table when it has none (the embedded sensor list, a `.cac` file).
+    pub fn for_sensors(sensor_list: &SensorList) -> std::sync::Arc<BehaviorTable> {
+        if sensor_list.behavior_defaults().is_empty() {
+            BehaviorTable::embedded()
+        } else {
+            std::sync::Arc::new(BehaviorTable::from_sections(
+                sensor_list.behavior_defaults(),
+            ))
+        }
+    }
+
+    /// A table from masterdata `behavior:` sections (a name given twice: the first
+    /// section wins, later ones add arguments it lacks), plus gloc's own behaviors.
+    pub fn from_sections(sections: &[BehaviorDefaults]) -> BehaviorTable {
+        let mut behaviors: Vec<BehaviorInfo> = Vec::new();
+        for section in sections {
+            let args = section.args.iter().map(|arg| ArgInfo {
+                name: arg.name.clone(),
+                units: arg.units.clone(),
+                default: arg.default,
+                doc: arg.description.clone().unwrap_or_default(),
+                min: arg.min,
+                max: arg.max,
+            });
+            match behaviors
+                .iter_mut()
+                .find(|known| known.name.eq_ignore_ascii_case(&section.name))
+            {
+                Some(known) => {
+                    for arg in args {
+                        if known.arg(&arg.name).is_none() {
+                            known.args.push(arg);
+                        }
+                    }
+                }
+                None => behaviors.push(BehaviorInfo {
+                    kind: BehaviorKind::from_name(&section.name).unwrap_or(BehaviorKind::Unknown),
+                    doc: section.description.clone().unwrap_or_else(|| {
+                        BehaviorKind::from_name(&section.name)
+                            .map_or_else(String::new, |kind| kind.doc().to_string())
+                    }),
+                    name: section.name.clone(),
+                    args: args.collect(),
+                }),
+            }
+        }
+        for kind in [BehaviorKind::Hook, BehaviorKind::Gloc] {
+            if behaviors
+                .iter()
+                .any(|known| known.name.eq_ignore_ascii_case(kind.name()))
+            {
+                continue;
+            }
+            behaviors.push(BehaviorInfo {
+                name: kind.name().to_string(),
+                kind,
+                doc: kind.doc().to_string(),
+                args: kind
+                    .args()
+                    .into_iter()
+                    .map(|arg| ArgInfo {
+                        name: arg.name.to_string(),
+                        units: arg.units.to_string(),
+                        default: Some(arg.default),
+                        doc: arg.doc.to_string(),
+                        min: None,
+                        max: None,
+                    })
+                    .collect(),
+            });
+        }
+        BehaviorTable {
+            behaviors,
+            source: TableSource::Masterdata,
+        }
+    }
+
+    /// The behavior `name` (case-insensitive: `.ma` files write `Yo`).
+    pub fn behavior(&self, name: &str) -> Option<&BehaviorInfo> {
+        self.behaviors
+            .iter()
+            .find(|behavior| behavior.name.eq_ignore_ascii_case(name))
+    }
+
+    /// Every behavior, in the table's order.
+    pub fn behaviors(&self) -> &[BehaviorInfo] {
+        &self.behaviors
+    }
+
+    pub fn source(&self) -> &TableSource {
+        &self.source
+    }
+
+    /// Where the table came from, for messages.
+    pub fn source_name(&self) -> &'static str {
+        match self.source {
+            TableSource::Embedded => "gloc's embedded release table",
+            TableSource::Masterdata => "the active masterdata",
+        }
+    }
 }

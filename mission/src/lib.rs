@@ -13,7 +13,10 @@
 #![forbid(unsafe_code)]
 
 pub mod behaviors;
+pub mod checks;
+pub mod files;
 pub mod mission;
 
 pub use behaviors::{ArgDef, BehaviorKind, KnownArgs};
-pub use mission::Mission;
+pub use files::{Disk, MissionFiles};
+pub use mission::{LoadOptions, Mission};

@@ -12,7 +12,11 @@ use gloc_engine::program::{Instr, Pc, Program};
 use gloc_engine::sensors::SensorList;
 use gloc_engine::{suggest, Diagnostic, LineIndex, Span};
 
-use crate::behaviors::BehaviorKind;
+use std::sync::Arc;
+
+use crate::behaviors::{BehaviorInfo, BehaviorKind, BehaviorTable};
+pub use crate::files::ma_file_name;
+use crate::files::{Disk, Lookup, MissionFiles, NotLoaded, Place};
 
 /// One text a mission was read from: the `.mi` file, then each `.ma` it loaded.
 #[derive(Clone, Debug)]
@@ -61,22 +65,75 @@ pub struct Arg {
 /// One `behavior:` block, with the arguments of its `.ma` file merged in.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BehaviorSpec {
+    /// What the simulator flies ([`BehaviorKind::Unknown`]: nothing).
     pub kind: BehaviorKind,
     /// The name as written.
     pub name: String,
     pub args: Vec<Arg>,
     pub at: Location,
+    /// Whether the behavior table defines it (its arguments are then kept and
+    /// checked even when the simulator does not fly it).
+    pub defined: bool,
+    /// The table's defaults for this behavior (argument name, value).
+    pub defaults: Vec<(String, f64)>,
 }
 
 impl BehaviorSpec {
     /// The argument's value as written in the mission, or `None`.
+    ///
+    /// Decision: a value from the behavior's `.ma` file wins over one in the `.mi`,
+    /// wherever the `args_from_file` line is, because the glider re-reads `.ma`
+    /// files during a mission (`c_reread_mafiles`, goto_list's `end_action` 6) and
+    /// applies them over the behavior's arguments; S0109 names the `.mi` line.
     pub fn arg(&self, name: &str) -> Option<f64> {
+        let named = |arg: &&Arg| arg.name.eq_ignore_ascii_case(name);
         self.args
             .iter()
             .rev()
-            .find(|arg| arg.name.eq_ignore_ascii_case(name))
+            .filter(|arg| arg.at.file != 0)
+            .find(named)
+            .or_else(|| self.args.iter().rev().find(named))
             .map(|arg| arg.value)
     }
+
+    /// The behavior table's default for an argument the mission does not set.
+    pub fn default(&self, name: &str) -> Option<f64> {
+        self.defaults
+            .iter()
+            .find(|(arg, _)| arg.eq_ignore_ascii_case(name))
+            .map(|(_, value)| *value)
+    }
+
+    /// The value flown: as written, else the table's default.
+    pub fn value(&self, name: &str) -> Option<f64> {
+        self.arg(name).or_else(|| self.default(name))
+    }
+
+    fn for_behavior(info: Option<&BehaviorInfo>, name: &str, at: Location) -> BehaviorSpec {
+        BehaviorSpec {
+            kind: info.map_or(BehaviorKind::Unknown, |info| info.kind),
+            name: name.to_string(),
+            args: Vec::new(),
+            at,
+            defined: info.is_some(),
+            defaults: info.map_or_else(Vec::new, |info| {
+                info.args
+                    .iter()
+                    .filter_map(|arg| Some((arg.name.clone(), arg.default?)))
+                    .collect()
+            }),
+        }
+    }
+}
+
+/// A waypoint line of a `.ma` file: `LON LAT`, NMEA `dddmm.mmm` (negative: west, south).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Waypoint {
+    /// The index in [`Mission::behaviors`] of the behavior whose file lists it.
+    pub behavior: usize,
+    pub lon: f64,
+    pub lat: f64,
+    pub at: Location,
 }
 
 /// A parsed mission.
@@ -92,31 +149,51 @@ pub struct Mission {
     /// from the start line to the end line.
     pub sections: Vec<Location>,
     pub diagnostics: Vec<MissionDiagnostic>,
+    /// The waypoints of the `.ma` files' `<start:waypoints>` sections.
+    pub waypoints: Vec<Waypoint>,
+    /// The behavior table it was read with (`None`: the embedded one).
+    pub table: Option<Arc<BehaviorTable>>,
+}
+
+/// How a mission is loaded: where else to look for its `.ma` files.
+#[derive(Clone, Debug, Default)]
+pub struct LoadOptions {
+    /// A folder the user named for `.ma` files (`--mafiles`, `gloc.toml`'s `mafiles`):
+    /// searched first, and trusted wherever it is.
+    pub mafiles: Option<PathBuf>,
+    /// The behaviors and their arguments (`None`: the embedded table); see
+    /// [`BehaviorTable::for_sensors`].
+    pub table: Option<Arc<BehaviorTable>>,
+}
+
+impl LoadOptions {
+    /// The table to read with.
+    pub fn table(&self) -> Arc<BehaviorTable> {
+        self.table.clone().unwrap_or_else(BehaviorTable::embedded)
+    }
 }
 
 impl Mission {
-    /// Reads a `.mi` file and every `.ma` file it names (`../mafiles/` beside the
-    /// mission's folder, as on the glider). Never fails: an unreadable mission file
-    /// gives a mission with one error.
+    /// Reads a `.mi` file and every `.ma` file it names, by the glider's file rules
+    /// ([`crate::files`]). Never fails: an unreadable mission file gives a mission
+    /// with one error.
     pub fn load(path: &Path) -> Mission {
-        // Old mission files are not always UTF-8 (Latin-1 comments): read them lossily.
-        Mission::load_with(path, &mut |path: &Path| {
-            gloc_engine::files::read_text(path, gloc_engine::files::MISSION)
-        })
+        Mission::load_with_options(path, &LoadOptions::default(), &mut Disk)
     }
 
-    /// As [`Mission::load`], reading files through `read` (for tests and editors).
-    pub fn load_with(
+    /// As [`Mission::load`], reading files through `files` (for tests and the fuzzer).
+    pub fn load_with(path: &Path, files: &mut dyn MissionFiles) -> Mission {
+        Mission::load_with_options(path, &LoadOptions::default(), files)
+    }
+
+    /// As [`Mission::load`], with options, reading files through `files`.
+    pub fn load_with_options(
         path: &Path,
-        read: &mut dyn FnMut(&Path) -> std::io::Result<String>,
+        options: &LoadOptions,
+        files: &mut dyn MissionFiles,
     ) -> Mission {
-        match read(path) {
-            Ok(text) => {
-                let mafiles = path
-                    .parent()
-                    .map(|folder| folder.join("..").join("mafiles"));
-                parse_mission(path, text, mafiles.as_deref(), read)
-            }
+        match files.read(path) {
+            Ok(text) => Mission::load_text(path, text, options, files),
             Err(error) => {
                 let mut mission = Mission {
                     name: mission_name(path),
@@ -140,21 +217,41 @@ impl Mission {
         }
     }
 
+    /// A mission whose `.mi` text is at hand (an editor's document, a file the
+    /// caller read), its `.ma` files read through `files`.
+    pub fn load_text(
+        path: &Path,
+        text: String,
+        options: &LoadOptions,
+        files: &mut dyn MissionFiles,
+    ) -> Mission {
+        let lookup = Lookup::new(files, path, options.mafiles.as_deref());
+        parse_mission(path, text, Some(lookup), options.table())
+    }
+
     /// Parses the text of a `.ma` file on its own, as the behavior its
     /// `behavior_name=` line names loads it (an editor's view of the file).
     pub fn parse_args_file(path: impl Into<PathBuf>, text: impl Into<String>) -> Mission {
-        parse_args_file(&path.into(), text.into())
+        parse_args_file(&path.into(), text.into(), BehaviorTable::embedded())
+    }
+
+    /// As [`Mission::parse_args_file`], with a behavior table.
+    pub fn parse_args_file_with(
+        path: impl Into<PathBuf>,
+        text: impl Into<String>,
+        options: &LoadOptions,
+    ) -> Mission {
+        parse_args_file(&path.into(), text.into(), options.table())
+    }
+
+    /// The behavior table the mission was read with.
+    pub fn table(&self) -> Arc<BehaviorTable> {
+        self.table.clone().unwrap_or_else(BehaviorTable::embedded)
     }
 
     /// Parses mission text that loads no `.ma` files (an `args_from_file` is an error).
     pub fn parse(path: impl Into<PathBuf>, text: impl Into<String>) -> Mission {
-        let path = path.into();
-        parse_mission(&path, text.into(), None, &mut |path: &Path| {
-            Err(std::io::Error::new(
-                std::io::ErrorKind::NotFound,
-                format!("no mafiles folder for `{}`", path.display()),
-            ))
-        })
+        parse_mission(&path.into(), text.into(), None, BehaviorTable::embedded())
     }
 
     pub fn has_errors(&self) -> bool {
@@ -191,6 +288,15 @@ impl Mission {
         text
     }
 
+    /// Everything gloc checks in a loaded mission beyond its syntax, against the
+    /// active sensor list: what `gloc check`, `gloc run`, the editor and the debugger
+    /// show besides [`Mission::diagnostics`].
+    pub fn check(&self, sensor_list: &SensorList) -> Vec<MissionDiagnostic> {
+        let mut found = self.check_sensor_settings(sensor_list);
+        found.extend(crate::checks::check(self));
+        found
+    }
+
     /// S0106 for each `sensor:` setting that names a sensor `sensor_list` lacks
     /// (the simulator ignores it), with a caret on the name.
     pub fn check_sensor_settings(&self, sensor_list: &SensorList) -> Vec<MissionDiagnostic> {
@@ -213,6 +319,12 @@ impl Mission {
                         sensor_list.iter().map(|(_, sensor)| sensor.name.as_str()),
                     ) {
                         Some(close) => format!("did you mean `{close}`?"),
+                        None if sensor_list.crc() == Some(gloc_engine::sensors::EMBEDDED_CRC) => {
+                            "the active list is the embedded one of 2008 firmware, which lacks \
+                             newer sensors: check against the glider's own masterdata \
+                             (`--masterdata`)"
+                                .to_string()
+                        }
                         None => "check the name against the glider's masterdata (`--masterdata`)"
                             .to_string(),
                     },
@@ -445,26 +557,22 @@ fn parse_setting(
     Ok((name.to_string(), units.to_string(), value))
 }
 
+/// A value as a pilot writes it (`30`, `-0.4538`).
+fn format_value(value: f64) -> String {
+    format!("{value}")
+}
+
 fn parse_number(text: &str) -> Option<f64> {
     // Rust accepts `inf` and `NaN`; a mission value must be a finite number.
     let value: f64 = text.parse().ok()?;
     value.is_finite().then_some(value)
 }
 
-/// The `.ma` file an `args_from_file` loads: the behavior's 8.3 prefix plus the number.
-pub fn ma_file_name(behavior: &str, number: i64) -> String {
-    let lower = behavior.to_ascii_lowercase();
-    let digits = number.to_string();
-    // The glider truncates the behavior name so that prefix + number fits 8 characters.
-    let keep = 8usize.saturating_sub(digits.len()).max(1);
-    let prefix: String = lower.chars().take(keep).collect();
-    format!("{prefix}{digits}.ma")
-}
-
 struct Parser<'a> {
     mission: Mission,
-    read: &'a mut dyn FnMut(&Path) -> std::io::Result<String>,
-    mafiles: Option<PathBuf>,
+    /// Where `.ma` files are found; `None` for text that loads none.
+    lookup: Option<Lookup<'a>>,
+    table: Arc<BehaviorTable>,
     /// A `.ma` file parsed on its own: its text is source 0.
     args_file: bool,
 }
@@ -472,16 +580,17 @@ struct Parser<'a> {
 fn parse_mission(
     path: &Path,
     text: String,
-    mafiles: Option<&Path>,
-    read: &mut dyn FnMut(&Path) -> std::io::Result<String>,
+    lookup: Option<Lookup<'_>>,
+    table: Arc<BehaviorTable>,
 ) -> Mission {
     let mut parser = Parser {
         mission: Mission {
             name: mission_name(path),
+            table: Some(table.clone()),
             ..Mission::default()
         },
-        read,
-        mafiles: mafiles.map(Path::to_path_buf),
+        lookup,
+        table,
         args_file: false,
     };
     parser.mission.sources.push(SourceFile {
@@ -490,6 +599,7 @@ fn parse_mission(
         loaded_at: None,
     });
     parser.parse_mi();
+    parser.warn_overridden_args();
     parser.mission
 }
 
@@ -497,7 +607,7 @@ fn parse_mission(
 /// `behavior_name=` line names would load it, so it gets the diagnostics `gloc run`
 /// gives it when a mission loads it. The mission has that one behavior with the
 /// file's arguments.
-fn parse_args_file(path: &Path, text: String) -> Mission {
+fn parse_args_file(path: &Path, text: String, table: Arc<BehaviorTable>) -> Mission {
     let named = code_lines(&text).find_map(|(line_start, code)| {
         let first = *words(line_start, code).first()?;
         let name = first
@@ -507,19 +617,14 @@ fn parse_args_file(path: &Path, text: String) -> Mission {
             .map(|_| &first.text["behavior_name=".len()..])?;
         Some((name.to_string(), first.span()))
     });
-    let mut read = |path: &Path| -> std::io::Result<String> {
-        Err(std::io::Error::new(
-            std::io::ErrorKind::Unsupported,
-            format!("`{}` is a .ma file: it loads no others", path.display()),
-        ))
-    };
     let mut parser = Parser {
         mission: Mission {
             name: mission_name(path),
+            table: Some(table.clone()),
             ..Mission::default()
         },
-        read: &mut read,
-        mafiles: None,
+        lookup: None,
+        table,
         args_file: true,
     };
     parser.mission.sources.push(SourceFile {
@@ -531,36 +636,69 @@ fn parse_args_file(path: &Path, text: String) -> Mission {
         file: 0,
         span: named.as_ref().map_or(Span::default(), |(_, span)| *span),
     };
-    let (name, kind) = match named {
-        Some((name, span)) => match BehaviorKind::from_name(&name) {
-            Some(kind) => (name, kind),
-            None => {
-                let start = span.start as usize + "behavior_name=".len();
-                parser.error(
-                    0,
-                    Diagnostic::warning(
-                        "S0101",
-                        Span::new(start, start + name.len()),
-                        format!("unknown behavior `{name}`: it is ignored with its arguments"),
-                    )
-                    .with_help(format!("known behaviors: {}", BehaviorKind::all_names())),
-                );
-                (name, BehaviorKind::Unknown)
-            }
-        },
-        None => (String::new(), BehaviorKind::Unknown),
-    };
-    parser.mission.behaviors.push(BehaviorSpec {
-        kind,
-        name: name.clone(),
-        args: Vec::new(),
-        at,
-    });
-    parser.parse_ma(0, kind, &name);
+    let name = named
+        .as_ref()
+        .map_or_else(String::new, |(name, _)| name.clone());
+    if let Some((name, span)) = &named {
+        let start = span.start as usize + "behavior_name=".len();
+        parser.begin_named_behavior(name, Span::new(start, start + name.len()), at);
+    } else {
+        parser
+            .mission
+            .behaviors
+            .push(BehaviorSpec::for_behavior(None, "", at));
+    }
+    parser.parse_ma(0, &name);
     parser.mission
 }
 
 impl Parser<'_> {
+    /// S0109 on each `.mi` argument its behavior's `.ma` file sets again (see
+    /// [`BehaviorSpec::arg`]).
+    fn warn_overridden_args(&mut self) {
+        let mut warnings = Vec::new();
+        for spec in &self.mission.behaviors {
+            for mi_arg in spec.args.iter().filter(|arg| arg.at.file == 0) {
+                let Some(ma_arg) =
+                    spec.args.iter().rev().find(|arg| {
+                        arg.at.file != 0 && arg.name.eq_ignore_ascii_case(&mi_arg.name)
+                    })
+                else {
+                    continue;
+                };
+                // The same value in both places changes nothing (the manufacturer's
+                // own missions repeat `.ma` values in the `.mi`).
+                if ma_arg.value == mi_arg.value {
+                    continue;
+                }
+                let (ma_path, line, _) = self.mission.line_col(ma_arg.at.file, ma_arg.at.span);
+                let ma_name = ma_path
+                    .file_name()
+                    .map_or_else(String::new, |name| name.to_string_lossy().into_owned());
+                warnings.push(
+                    Diagnostic::warning(
+                        gloc_engine::codes::mission::ARG_OVERRIDDEN_BY_MA,
+                        mi_arg.at.span,
+                        format!(
+                            "`{}` is set again in `{ma_name}` (line {line}): the glider flies \
+                             the `.ma` value {}, not {}",
+                            mi_arg.name,
+                            format_value(ma_arg.value),
+                            format_value(mi_arg.value)
+                        ),
+                    )
+                    .with_help(format!(
+                        "set `{}` in one place: delete this line or the one in `{ma_name}`",
+                        mi_arg.name
+                    )),
+                );
+            }
+        }
+        for warning in warnings {
+            self.error(0, warning);
+        }
+    }
+
     fn error(&mut self, file: usize, diagnostic: Diagnostic) {
         self.mission
             .diagnostics
@@ -664,29 +802,63 @@ impl Parser<'_> {
             file: 0,
             span: Span::new(keyword.start, name.start + name.text.len()),
         };
-        match BehaviorKind::from_name(name.text) {
-            Some(kind) => self.mission.behaviors.push(BehaviorSpec {
-                kind,
-                name: name.text.to_string(),
-                args: Vec::new(),
-                at,
-            }),
+        self.begin_named_behavior(name.text, name.span(), at);
+    }
+
+    /// Opens the block of behavior `name` (written at `name_span`): S0101 with a
+    /// "did you mean" when the table lacks it, S0111 when the simulator does not fly it.
+    fn begin_named_behavior(&mut self, name: &str, name_span: Span, at: Location) {
+        let table = self.table.clone();
+        let info = table.behavior(name);
+        match info {
             None => {
+                let known = table.behaviors().iter().map(|known| known.name.as_str());
+                let help = match suggest::closest(name, known) {
+                    Some(close) => format!("did you mean `{close}`?"),
+                    None => format!(
+                        "the behaviors of {}: {}",
+                        table.source_name(),
+                        table
+                            .behaviors()
+                            .iter()
+                            .map(|known| known.name.as_str())
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                };
                 self.error(
-                    0,
+                    at.file,
                     Diagnostic::warning(
                         gloc_engine::codes::mission::UNKNOWN_BEHAVIOR,
-                        name.span(),
+                        name_span,
                         format!(
-                            "unknown behavior `{}`: it is ignored with its arguments",
-                            name.text
+                            "unknown behavior `{name}` (not in {}): gloc ignores it with its \
+                             arguments",
+                            table.source_name()
                         ),
                     )
-                    .with_help(format!("known behaviors: {}", BehaviorKind::all_names())),
+                    .with_help(help),
                 );
-                self.mission.behaviors.push(unknown_spec(keyword));
             }
+            Some(info) if !info.is_simulated() => {
+                self.error(
+                    at.file,
+                    Diagnostic::note(
+                        gloc_engine::codes::mission::BEHAVIOR_NOT_SIMULATED,
+                        name_span,
+                        format!(
+                            "behavior `{}` is the glider's, but gloc's simulator does not fly \
+                             it: `gloc run` leaves it out",
+                            info.name
+                        ),
+                    ),
+                );
+            }
+            Some(_) => {}
         }
+        self.mission
+            .behaviors
+            .push(BehaviorSpec::for_behavior(info, name, at));
     }
 
     fn add_arg(
@@ -710,8 +882,7 @@ impl Parser<'_> {
             );
             return;
         };
-        let kind = current.kind;
-        if kind == BehaviorKind::Unknown {
+        if !current.defined {
             return;
         }
         let behavior_name = current.name.clone();
@@ -728,20 +899,37 @@ impl Parser<'_> {
                 return;
             }
             if value >= 0.0 {
-                self.load_ma(&behavior_name, kind, value, at);
+                self.load_ma(&behavior_name, value, at);
             }
             return;
         }
-        if !kind.known_args().contains(&name) {
+        let table = self.table.clone();
+        let info = table.behavior(&behavior_name);
+        if let Some(info) = info.filter(|info| info.arg(&name).is_none()) {
+            let known = info.args.iter().map(|arg| arg.name.as_str());
+            let help = match suggest::closest(&name, known) {
+                Some(close) => format!("did you mean `{close}`?"),
+                None => format!(
+                    "`{behavior_name}` takes: {}",
+                    info.args
+                        .iter()
+                        .map(|arg| arg.name.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            };
             self.error(
                 file,
                 Diagnostic::warning(
                     gloc_engine::codes::mission::UNKNOWN_ARGUMENT,
                     at.span,
                     format!(
-                        "unknown argument `{name}` for behavior `{behavior_name}`: it is ignored"
+                        "unknown argument `{name}` for behavior `{behavior_name}` (not in {}): \
+                         the glider ignores it and flies the default",
+                        table.source_name()
                     ),
-                ),
+                )
+                .with_help(help),
             );
             return;
         }
@@ -755,10 +943,10 @@ impl Parser<'_> {
         }
     }
 
-    fn load_ma(&mut self, behavior: &str, kind: BehaviorKind, value: f64, at: Location) {
+    fn load_ma(&mut self, behavior: &str, value: f64, at: Location) {
         let number = value as i64;
         let file_name = ma_file_name(behavior, number);
-        let Some(folder) = self.mafiles.clone() else {
+        let Some(lookup) = self.lookup.as_mut() else {
             self.error(
                 at.file,
                 Diagnostic::error(
@@ -767,41 +955,99 @@ impl Parser<'_> {
                     format!(
                         "`args_from_file` needs `{file_name}`, but this mission has no mafiles folder"
                     ),
-                ),
+                )
+                .with_help("save the mission in a `missions` folder beside `mafiles`"),
             );
             return;
         };
-        let path = folder.join(&file_name);
-        let text = match (self.read)(&path) {
-            Ok(text) => text,
-            Err(error) => {
+        let found = match lookup.find(&file_name) {
+            Ok(found) => found,
+            Err(NotLoaded::Missing { .. }) if number == 99 => {
+                self.error(
+                    at.file,
+                    Diagnostic::warning(
+                        gloc_engine::codes::mission::GENERATED_MA_MISSING,
+                        at.span,
+                        format!(
+                            "`{file_name}` is not there: number 99 is the file the glider \
+                             writes itself during a mission (breadcrumb, ice); gloc flies \
+                             the behavior's defaults"
+                        ),
+                    )
+                    .with_help(format!(
+                        "to fly it in gloc, put a `{file_name}` of your own in `mafiles/`"
+                    )),
+                );
+                return;
+            }
+            Err(NotLoaded::Missing { searched }) => {
+                let folders = searched
+                    .iter()
+                    .map(|folder| format!("`{}`", folder.display()))
+                    .collect::<Vec<_>>()
+                    .join(", ");
                 self.error(
                     at.file,
                     Diagnostic::error(
                         gloc_engine::codes::mission::CANNOT_READ_MA,
                         at.span,
                         format!(
-                            "cannot read mission argument file `{}`: {error}",
-                            path.display()
+                            "cannot find mission argument file `{file_name}` (in any case) in {folders}"
                         ),
                     )
                     .with_help(format!(
-                        "the glider looks for `mafiles/{file_name}` beside the `missions` folder"
+                        "the glider reads `mafiles/{file_name}` beside the `missions` folder; \
+                         name another folder with `--mafiles DIR` or `mafiles` in gloc.toml"
                     )),
                 );
                 return;
             }
+            Err(NotLoaded::Unreadable { path, reason }) => {
+                self.error(
+                    at.file,
+                    Diagnostic::error(
+                        gloc_engine::codes::mission::CANNOT_READ_MA,
+                        at.span,
+                        format!(
+                            "cannot read mission argument file `{}`: {reason}",
+                            path.display()
+                        ),
+                    )
+                    .with_help(
+                        "put a regular file in the mission's `mafiles` folder, or name a \
+                         folder of your own with `--mafiles DIR`",
+                    ),
+                );
+                return;
+            }
         };
+        if found.place == Place::BesideMission {
+            self.error(
+                at.file,
+                Diagnostic::note(
+                    gloc_engine::codes::mission::MA_BESIDE_MISSION,
+                    at.span,
+                    format!(
+                        "`{}` was read from the mission's own folder: the glider reads it \
+                         only from `mafiles/`",
+                        found.path.display()
+                    ),
+                )
+                .with_help(format!(
+                    "copy it to `mafiles/{file_name}` before sending the mission to a glider"
+                )),
+            );
+        }
         let file = self.mission.sources.len();
         self.mission.sources.push(SourceFile {
-            path,
-            text,
+            path: found.path,
+            text: found.text,
             loaded_at: Some(at.span),
         });
-        self.parse_ma(file, kind, behavior);
+        self.parse_ma(file, behavior);
     }
 
-    fn parse_ma(&mut self, file: usize, kind: BehaviorKind, behavior: &str) {
+    fn parse_ma(&mut self, file: usize, behavior: &str) {
         let text = self.mission.sources[file].text.clone();
         #[derive(PartialEq)]
         enum Section {
@@ -860,7 +1106,7 @@ impl Parser<'_> {
                 _ if lower.starts_with("behavior_name=") && section == Section::Outside => {
                     saw_name = true;
                     let named = &first.text["behavior_name=".len()..];
-                    if !self.args_file && BehaviorKind::from_name(named) != Some(kind) {
+                    if !self.args_file && !named.eq_ignore_ascii_case(behavior) {
                         self.error(
                             file,
                             Diagnostic::warning(
@@ -886,11 +1132,13 @@ impl Parser<'_> {
                     }
                 }
                 _ if section == Section::Waypoints => {
-                    // `lon lat` in DDDMM.MMMM; accepted and checked, not flown
+                    // `lon lat` in DDDMM.MMMM; kept for the checks, not flown
                     // (horizontal position is not modelled).
-                    let numbers_ok = words.len() == 2
-                        && words.iter().all(|word| parse_number(word.text).is_some());
-                    if !numbers_ok {
+                    let numbers = (
+                        words.first().and_then(|word| parse_number(word.text)),
+                        words.get(1).and_then(|word| parse_number(word.text)),
+                    );
+                    let (Some(lon), Some(lat)) = numbers else {
                         self.error(
                             file,
                             Diagnostic::error(
@@ -899,7 +1147,36 @@ impl Parser<'_> {
                                 "expected a waypoint `LON LAT` (DDDMM.MMMM DDMM.MMMM)",
                             ),
                         );
+                        continue;
+                    };
+                    if let Some(extra) = words.get(2) {
+                        // `lon lat | name`: no public documentation says the firmware
+                        // reads a name there, so it is a warning, not an error.
+                        let end = words.last().map_or(extra.start, |word| word.start + word.text.len());
+                        self.error(
+                            file,
+                            Diagnostic::warning(
+                                gloc_engine::codes::mission::WAYPOINT_TRAILING_TEXT,
+                                Span::new(extra.start, end),
+                                format!(
+                                    "`{}` after the waypoint's longitude and latitude: the \
+                                     firmware's documentation has only the two numbers",
+                                    &code[extra.start - line_start..end - line_start]
+                                ),
+                            )
+                            .with_help("write a waypoint's name as a comment: `-7032.064 4138.106 # name`"),
+                        );
                     }
+                    let behavior = self.mission.behaviors.len().saturating_sub(1);
+                    self.mission.waypoints.push(Waypoint {
+                        behavior,
+                        lon,
+                        lat,
+                        at: Location {
+                            file,
+                            span: Span::new(first.start, last_end),
+                        },
+                    });
                 }
                 _ => self.error(
                     file,
@@ -938,15 +1215,14 @@ impl Parser<'_> {
 }
 
 fn unknown_spec(keyword: Word<'_>) -> BehaviorSpec {
-    BehaviorSpec {
-        kind: BehaviorKind::Unknown,
-        name: String::new(),
-        args: Vec::new(),
-        at: Location {
+    BehaviorSpec::for_behavior(
+        None,
+        "",
+        Location {
             file: 0,
             span: keyword.span(),
         },
-    }
+    )
 }
 
 impl Mission {
@@ -1042,15 +1318,6 @@ mod tests {
     }
 
     #[test]
-    fn ma_file_names_follow_the_8_3_rule() {
-        assert_eq!(ma_file_name("yo", 10), "yo10.ma");
-        assert_eq!(ma_file_name("goto_list", 10), "goto_l10.ma");
-        assert_eq!(ma_file_name("surface", 11), "surfac11.ma");
-        assert_eq!(ma_file_name("sample", 13), "sample13.ma");
-        assert_eq!(ma_file_name("set_heading", 5), "set_hea5.ma");
-    }
-
-    #[test]
     fn missing_ma_file_is_an_error_naming_it() {
         let mission = Mission::load_with(Path::new("/m/missions/x.mi"), &mut |path: &Path| {
             if path.ends_with("x.mi") {
@@ -1065,8 +1332,13 @@ mod tests {
         let messages = errors(&mission);
         assert_eq!(messages.len(), 1, "{messages:?}");
         assert!(messages[0].contains("error[S0004]"), "{}", messages[0]);
+        // `args_from_file 12` asks for `yo12.ma`; a reader that cannot list folders
+        // tries `mafiles/` beside `missions/`, then the mission's own folder.
         assert!(
-            messages[0].contains("/m/missions/../mafiles/yo12.ma"),
+            messages[0].contains(
+                "cannot find mission argument file `yo12.ma` (in any case) in \
+                 `/m/mafiles`, `/m/missions`"
+            ),
             "{}",
             messages[0]
         );
@@ -1089,7 +1361,7 @@ mod tests {
         let messages = errors(&mission);
         assert_eq!(messages.len(), 1, "{messages:?}");
         assert!(
-            messages[0].starts_with("/m/missions/../mafiles/yo3.ma:4:27: error[S0015]"),
+            messages[0].starts_with("/m/mafiles/yo03.ma:4:27: error[S0015]"),
             "{}",
             messages[0]
         );
@@ -1125,12 +1397,14 @@ mod tests {
     fn an_args_file_naming_an_unknown_behavior_is_warned_at_the_name() {
         let mission = Mission::parse_args_file(
             "x.ma",
-            "behavior_name=drift_at_depth\n<start:b_arg>\nb_arg: foo(m) 1\n<end:b_arg>\n",
+            "behavior_name=drift_at_dept\n<start:b_arg>\nb_arg: foo(m) 1\n<end:b_arg>\n",
         );
         let messages = errors(&mission);
         assert_eq!(messages.len(), 1, "{messages:?}");
+        // `drift_at_dept` starts after `behavior_name=` (14 characters): column 15.
         assert!(
-            messages[0].starts_with("x.ma:1:15: warning[S0101]: unknown behavior `drift_at_depth`"),
+            messages[0].starts_with("x.ma:1:15: warning[S0101]: unknown behavior `drift_at_dept`")
+                && messages[0].ends_with("(help: did you mean `drift_at_depth`?)"),
             "{}",
             messages[0]
         );
@@ -1157,7 +1431,7 @@ mod tests {
         assert_eq!(mission.sources[0].loaded_at, None);
         // `b_arg: args_from_file(enum) 3` is bytes 15..44 of the mission.
         assert_eq!(mission.sources[1].loaded_at, Some(Span::new(15, 44)));
-        assert!(mission.sources[1].path.ends_with("mafiles/yo3.ma"));
+        assert!(mission.sources[1].path.ends_with("mafiles/yo03.ma"));
     }
 
     #[test]

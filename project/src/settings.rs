@@ -169,6 +169,8 @@ pub struct Overrides {
     pub mission: Option<PathBuf>,
     pub sensor_order: Option<SensorOrder>,
     pub sensor_cache: Option<PathBuf>,
+    /// A folder searched first for a mission's `.ma` files (`--mafiles`).
+    pub mafiles: Option<PathBuf>,
     /// Simulator constants, applied after gloc.toml's `[simulator]` (so they win).
     pub simulator: Vec<(String, f64)>,
 }
@@ -195,6 +197,8 @@ pub struct Settings {
     pub sensor_order: SensorOrder,
     /// The folder searched first for a glider log's sensor list.
     pub sensor_cache: Option<PathBuf>,
+    /// The folder searched first for a mission's `.ma` files, trusted wherever it is.
+    pub mafiles: Option<PathBuf>,
     /// Simulator constants in the order to apply them (gloc.toml's, then the overrides').
     pub simulator: Vec<(String, f64)>,
 }
@@ -310,6 +314,10 @@ impl Settings {
                 .sensor_cache
                 .filter(|path| !path.as_os_str().is_empty())
                 .or(config.sensor_cache),
+            mafiles: overrides
+                .mafiles
+                .filter(|path| !path.as_os_str().is_empty())
+                .or(config.mafiles),
             simulator: config
                 .simulator
                 .into_iter()

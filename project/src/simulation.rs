@@ -16,8 +16,8 @@ use crate::settings::{Origin, Settings, Sourced};
 /// The settings' mission, read with its `.ma` files. A mission file that cannot be
 /// read is an error naming where its path came from (`gloc.toml:2:11: cannot read the
 /// mission `nosuch.mi`: …`); a mission with errors is returned with its diagnostics
-/// (`Mission::has_errors`).
-pub fn load_mission(settings: &Settings) -> Result<Mission, ProjectError> {
+/// (`Mission::has_errors`). The sensor list's masterdata gives the behavior table.
+pub fn load_mission(settings: &Settings, sensors: &SensorList) -> Result<Mission, ProjectError> {
     let Some(Sourced {
         value: path,
         origin,
@@ -25,21 +25,29 @@ pub fn load_mission(settings: &Settings) -> Result<Mission, ProjectError> {
     else {
         return Ok(default_mission());
     };
-    let mut unreadable = None;
-    let mission = Mission::load_with(path, &mut |file: &Path| {
-        let read = gloc_engine::files::read_text(file, gloc_engine::files::MISSION);
-        if let (Err(error), true) = (&read, file == path.as_path()) {
-            unreadable = Some(error.to_string());
-        }
-        read
-    });
-    match unreadable {
-        Some(error) => Err(ProjectError::new(
-            ErrorKind::Unreadable,
-            Some(origin.clone()),
-            format!("cannot read the mission `{}`: {error}", path.display()),
-        )),
-        None => Ok(mission),
+    let text =
+        gloc_engine::files::read_text(path, gloc_engine::files::MISSION).map_err(|error| {
+            ProjectError::new(
+                ErrorKind::Unreadable,
+                Some(origin.clone()),
+                format!("cannot read the mission `{}`: {error}", path.display()),
+            )
+        })?;
+    Ok(Mission::load_text(
+        path,
+        text,
+        &mission_options(settings, sensors),
+        &mut gloc_mission::Disk,
+    ))
+}
+
+/// How the settings' missions are read, for every front end: their `.ma` files found
+/// through `--mafiles` / gloc.toml's `mafiles` first, their behaviors from the active
+/// sensor list's masterdata (else the embedded release table).
+pub fn mission_options(settings: &Settings, sensors: &SensorList) -> gloc_mission::LoadOptions {
+    gloc_mission::LoadOptions {
+        mafiles: settings.mafiles.clone(),
+        table: Some(gloc_mission::behaviors::BehaviorTable::for_sensors(sensors)),
     }
 }
 
@@ -118,7 +126,7 @@ mod tests {
                 .expect("valid");
         config.path = Some(PathBuf::from("/p/gloc.toml"));
         let settings = Settings::from_config(config, Overrides::default()).expect("valid");
-        let error = load_mission(&settings).expect_err("missing");
+        let error = load_mission(&settings, &SensorList::embedded()).expect_err("missing");
         assert_eq!(error.kind, ErrorKind::Unreadable);
         // `mission = ` is 10 characters: the value starts in column 11.
         assert!(
@@ -149,6 +157,9 @@ mod tests {
         assert_eq!(sim.cycle_budget, 77);
         assert_eq!(sim.seed, 9);
         assert_eq!(sim.flight.dive_rate, 0.3);
-        assert_eq!(load_mission(&settings).map(|m| m.has_errors()), Ok(false));
+        assert_eq!(
+            load_mission(&settings, &SensorList::embedded()).map(|m| m.has_errors()),
+            Ok(false)
+        );
     }
 }

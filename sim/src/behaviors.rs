@@ -188,7 +188,7 @@ impl Behavior {
         gps_fix_time: f64,
     ) -> Behavior {
         let kind = spec.kind;
-        let arg = |name: &str| param(spec.arg(name).unwrap_or_else(|| kind.default_arg(name)));
+        let arg = |name: &str| param(spec.value(name).unwrap_or_else(|| kind.default_arg(name)));
         let logic = match kind {
             BehaviorKind::Abend => Logic::Abend(Abend {
                 overdepth: arg("overdepth"),

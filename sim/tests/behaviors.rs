@@ -487,3 +487,50 @@ fn the_hook_is_in_the_stack_of_these_missions() {
         ]
     );
 }
+
+#[test]
+fn a_yo_without_a_dive_target_flies_the_active_masterdatas_default() {
+    // The release-layout fixture's yo section gives d_target_depth 42 (the embedded
+    // release table 12): the first dive turns near 42 m with it, near 12 m without.
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../tests/fixtures/sensors/release-layout.masterdata"),
+    )
+    .expect("fixture");
+    let (masterdata, _) =
+        gloc_engine::sensors::parse_masterdata(&text, gloc_engine::sensors::SensorOrder::FileOrder);
+    let mission_text = "sensor: s_water_depth_avg(m) 100\nbehavior: abend\n  b_arg: overdepth(m) 100\nbehavior: yo\n  b_arg: num_half_cycles_to_do(nodim) 2\n  b_arg: d_target_altitude(m) -1\n";
+    let deepest = |options: &gloc_mission::LoadOptions| {
+        let mission = Mission::load_text(
+            std::path::Path::new("yo.mi"),
+            mission_text.to_string(),
+            options,
+            &mut |_: &std::path::Path| -> std::io::Result<String> {
+                Err(std::io::ErrorKind::NotFound.into())
+            },
+        );
+        assert!(!mission.has_errors(), "{}", mission.render_plain());
+        let list = list();
+        let depth = list.lookup("m_depth").expect("m_depth");
+        let mut sim =
+            Simulation::new(&mission, list.clone(), None, &ideal_clock()).expect("starts");
+        let mut deepest: f64 = 0.0;
+        for _ in 0..2000 {
+            if !sim.step_cycle() {
+                break;
+            }
+            deepest = deepest.max(sim.sensor(depth).expect("m_depth"));
+        }
+        deepest
+    };
+    let from_masterdata = deepest(&gloc_mission::LoadOptions {
+        table: Some(gloc_mission::behaviors::BehaviorTable::for_sensors(
+            &masterdata,
+        )),
+        ..gloc_mission::LoadOptions::default()
+    });
+    let embedded = deepest(&gloc_mission::LoadOptions::default());
+    // A turn overshoots its target by about a metre (docs/simulator.md).
+    assert!((42.0..45.0).contains(&from_masterdata), "{from_masterdata}");
+    assert!((12.0..15.0).contains(&embedded), "{embedded}");
+}

@@ -144,6 +144,7 @@ pub fn parse_masterdata(text: &str, order: SensorOrder) -> (SensorList, Vec<Diag
     let mut first_line_of: HashMap<String, (u32, Span)> = HashMap::new();
     // What a following `# …` line continues: a sensor, a b_arg, or nothing.
     let mut continues: Option<Continuation> = None;
+    let mut in_block_comment = false;
     let mut offset = 0usize;
     for (index, raw) in text.split_inclusive('\n').enumerate() {
         let line_number = index as u32 + 1;
@@ -158,6 +159,23 @@ pub fn parse_masterdata(text: &str, order: SensorOrder) -> (SensorList, Vec<Diag
         }
         if is_preprocessor(trimmed) {
             continue;
+        }
+        // The release masterdata wraps its change log and its body in C comments
+        // (`/*` … `*/`) and ends with `END`: the firmware reads the `sensor:`,
+        // `behavior:` and `b_arg:` lines and passes over the rest. Other text inside
+        // a `/* */` block is comment; after `END` nothing is read.
+        if trimmed.starts_with("/*") {
+            in_block_comment = !trimmed.ends_with("*/") || trimmed.len() < 4;
+            continues = None;
+            continue;
+        }
+        if trimmed.starts_with("*/") || trimmed.ends_with("*/") && in_block_comment {
+            in_block_comment = false;
+            continues = None;
+            continue;
+        }
+        if trimmed == "END" {
+            break;
         }
         if let Some(comment) = trimmed.strip_prefix('#') {
             if let Some(target) = continues {
@@ -193,7 +211,8 @@ pub fn parse_masterdata(text: &str, order: SensorOrder) -> (SensorList, Vec<Diag
                     break;
                 }
                 match entry_line(&trimmed[keyword_end + 1..], body_start) {
-                    Ok(entry) => {
+                    Ok(mut entry) => {
+                        diagnostics.extend(entry.stray.take());
                         let span = entry.name_span;
                         let key = entry.name.to_ascii_lowercase();
                         if let Some((first_line, first_span)) = first_line_of.get(&key) {
@@ -237,11 +256,15 @@ pub fn parse_masterdata(text: &str, order: SensorOrder) -> (SensorList, Vec<Diag
                 }
             }
             "behavior" => {
-                let name = trimmed[keyword_end + 1..]
-                    .split('#')
-                    .next()
-                    .unwrap_or("")
-                    .trim();
+                let (name, comment) = match trimmed[keyword_end + 1..].split_once('#') {
+                    Some((name, comment)) => (name.trim(), Some(comment)),
+                    None => (trimmed[keyword_end + 1..].trim(), None),
+                };
+                let description = comment
+                    .filter(|comment| !comment.starts_with('!'))
+                    .map(str::trim)
+                    .filter(|comment| !comment.is_empty())
+                    .map(str::to_string);
                 continues = None;
                 if name.is_empty() {
                     diagnostics.push(Diagnostic::error(
@@ -253,6 +276,7 @@ pub fn parse_masterdata(text: &str, order: SensorOrder) -> (SensorList, Vec<Diag
                 }
                 behaviors.push(BehaviorDefaults {
                     name: name.to_string(),
+                    description,
                     line: line_number,
                     args: Vec::new(),
                 });
@@ -268,7 +292,8 @@ pub fn parse_masterdata(text: &str, order: SensorOrder) -> (SensorList, Vec<Diag
                     continue;
                 };
                 match entry_line(&trimmed[keyword_end + 1..], body_start) {
-                    Ok(entry) => {
+                    Ok(mut entry) => {
+                        diagnostics.extend(entry.stray.take());
                         let mut arg = BehaviorArg {
                             name: entry.name,
                             units: entry.units,
@@ -294,6 +319,7 @@ pub fn parse_masterdata(text: &str, order: SensorOrder) -> (SensorList, Vec<Diag
                     Err(diagnostic) => diagnostics.push(*diagnostic),
                 }
             }
+            _ if in_block_comment => continues = None,
             _ => {
                 continues = None;
                 diagnostics.push(
@@ -518,6 +544,8 @@ struct Entry<'a> {
     units: String,
     default: Option<f64>,
     comment: Option<&'a str>,
+    /// W0209: text after the default, which the glider ignores.
+    stray: Option<Diagnostic>,
 }
 
 fn entry_line(body: &str, base: usize) -> Result<Entry<'_>, Box<Diagnostic>> {
@@ -566,6 +594,7 @@ fn entry_line(body: &str, base: usize) -> Result<Entry<'_>, Box<Diagnostic>> {
     }
     let units = code[open + 1..close].trim().to_string();
     let rest = &code[close + 1..];
+    let mut stray = None;
     let default_text = rest.trim();
     let default = if default_text.is_empty() {
         None
@@ -574,6 +603,26 @@ fn entry_line(body: &str, base: usize) -> Result<Entry<'_>, Box<Diagnostic>> {
         let at = close + 1 + (rest.len() - rest.trim_start().len());
         match first.parse::<f64>() {
             Ok(value) if default_text.split_whitespace().count() == 1 => Some(value),
+            // The firmware reads the first number and ignores the rest of the line
+            // (the 10.5 release masterdata has `sci_ocr507R_channel3(nodim)  0 0`).
+            Ok(value) => {
+                let extra_at = at + first.len();
+                let extra = &code[extra_at..];
+                let extra_start = extra_at + (extra.len() - extra.trim_start().len());
+                let extra_end = close + 1 + rest.trim_end().len();
+                stray = Some(
+                    Diagnostic::warning(
+                        crate::codes::sensors::STRAY_VALUE,
+                        Span::new(base + extra_start, base + extra_end),
+                        format!(
+                            "`{}` after the default {first} is ignored, as the glider ignores it",
+                            code[extra_start..extra_end].trim()
+                        ),
+                    )
+                    .with_help("delete it, or start a comment with `#`"),
+                );
+                Some(value)
+            }
             _ => {
                 return Err(Box::new(
                     Diagnostic::error(
@@ -592,6 +641,7 @@ fn entry_line(body: &str, base: usize) -> Result<Entry<'_>, Box<Diagnostic>> {
         units,
         default,
         comment,
+        stray,
     })
 }
 

@@ -1,0 +1,97 @@
+//! `gloc check` on a folder of missions, as a group's CI would run it: every problem
+//! with its file, line and column, exit 1 only for errors. Fixtures in
+//! `tests/fixtures/missions/check` (expected lines worked out by hand from the files).
+
+mod support;
+
+use std::path::PathBuf;
+
+use support::{gloc_in, text};
+
+fn folder() -> PathBuf {
+    PathBuf::from(support::repo("tests/fixtures/missions/check"))
+}
+
+#[test]
+fn a_folder_of_missions_reports_every_problem_and_fails_on_errors() {
+    let output = gloc_in(
+        &[
+            "check",
+            "missions/broken.mi",
+            "missions/good.mi",
+            "missions/typos.mi",
+            "mafiles/surfac01.ma",
+            "mafiles/yo10.ma",
+        ],
+        &folder(),
+    );
+    let stdout = text(&output.stdout);
+    assert_eq!(output.status.code(), Some(1), "{stdout}");
+    let located: Vec<&str> = stdout
+        .lines()
+        .filter(|line| line.contains("]: "))
+        .map(|line| line.split(": ").next().unwrap_or(""))
+        .collect();
+    // broken.mi line 5 (`b_arg:` after four spaces: column 5), typos.mi line 4
+    // (`surfce` after `behavior: `: column 11) and line 7.
+    assert_eq!(
+        located,
+        [
+            "missions/broken.mi:5:5",
+            "missions/typos.mi:4:11",
+            "missions/typos.mi:7:5"
+        ],
+        "{stdout}"
+    );
+    assert!(stdout.contains("error[S0004]: cannot find mission argument file `yo12.ma`"));
+    assert!(stdout.contains("help: did you mean `surface`?"), "{stdout}");
+    assert!(
+        stdout.contains("help: did you mean `d_target_depth`?"),
+        "{stdout}"
+    );
+    assert!(stdout.ends_with("1 error, 2 warnings\n"), "{stdout}");
+}
+
+#[test]
+fn warnings_alone_exit_0_and_clean_missions_print_nothing() {
+    let output = gloc_in(&["check", "missions/typos.mi"], &folder());
+    assert_eq!(output.status.code(), Some(0), "{}", text(&output.stdout));
+    let output = gloc_in(
+        &[
+            "check",
+            "missions/good.mi",
+            "mafiles/yo10.ma",
+            "mafiles/surfac01.ma",
+        ],
+        &folder(),
+    );
+    assert_eq!(output.status.code(), Some(0));
+    assert_eq!(text(&output.stdout), "");
+}
+
+#[test]
+fn a_masterdata_file_is_checked_and_its_behaviors_used() {
+    // The release-layout fixture: one W0209 on its stray value, and with it active
+    // the yo's d_targt_depth is suggested from the fixture's own section.
+    let masterdata = support::repo("tests/fixtures/sensors/release-layout.masterdata");
+    let output = gloc_in(&["check", &masterdata], &folder());
+    let stdout = text(&output.stdout);
+    assert_eq!(output.status.code(), Some(0), "{stdout}");
+    assert!(
+        stdout.contains("release-layout.masterdata:12:35: warning[W0209]"),
+        "{stdout}"
+    );
+    let output = gloc_in(
+        &["check", "--masterdata", &masterdata, "missions/typos.mi"],
+        &folder(),
+    );
+    let stdout = text(&output.stdout);
+    assert!(
+        stdout.contains("(not in the active masterdata)"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("help: did you mean `d_target_depth`?"),
+        "{stdout}"
+    );
+}

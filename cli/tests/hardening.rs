@@ -43,16 +43,26 @@ fn scratch(name: &str) -> PathBuf {
 
 /// Runs `command` to its end within [`DEADLINE`]; a hang is killed and fails the test.
 fn run(command: &mut Command) -> Output {
+    run_within(command, DEADLINE)
+}
+
+/// Runs `command` to its end within `limit`: the attacks that used to hang are
+/// answered within a limit the issue states (10 s), so a hang fails the test.
+fn run_within(command: &mut Command, limit: Duration) -> Output {
     let child = command
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
         .expect("gloc starts");
-    finish(child)
+    finish_within(child, limit)
 }
 
-fn finish(mut child: Child) -> Output {
+fn finish(child: Child) -> Output {
+    finish_within(child, DEADLINE)
+}
+
+fn finish_within(mut child: Child, limit: Duration) -> Output {
     let mut stdout = child.stdout.take().expect("piped");
     let mut stderr = child.stderr.take().expect("piped");
     let out = thread::spawn(move || {
@@ -65,7 +75,7 @@ fn finish(mut child: Child) -> Output {
         let _ = stderr.read_to_end(&mut bytes);
         bytes
     });
-    let deadline = Instant::now() + DEADLINE;
+    let deadline = Instant::now() + limit;
     let status = loop {
         if let Some(status) = child.try_wait().expect("wait") {
             break status;
@@ -73,7 +83,7 @@ fn finish(mut child: Child) -> Output {
         if Instant::now() > deadline {
             let _ = child.kill();
             let _ = child.wait();
-            panic!("gloc did not finish within {DEADLINE:?}");
+            panic!("gloc did not finish within {limit:?}");
         }
         thread::sleep(Duration::from_millis(10));
     };
@@ -899,4 +909,86 @@ fn a_hook_flag_of_1e308_is_no_request_and_fig2_completes() {
             "{stderr}"
         );
     }
+}
+
+// ------------------------------------------------------------ round three (issue 28)
+
+/// The limit within which every attack that used to hang must be answered.
+const ANSWER: Duration = Duration::from_secs(10);
+
+/// An unfactored little-endian binary log of `names` (4-byte values, the last an
+/// 8-byte time sensor named `time`), with one cycle per time in `times` in which
+/// only the time is new (layout: `dbd/tests/handmade.rs`).
+fn binary_log(names: &[String], time: &str, times: &[f64]) -> Vec<u8> {
+    let count = names.len() + 1;
+    let state_bytes = count.div_ceil(4);
+    let mut bytes = format!(
+        "dbd_label:    DBD(dinkum_binary_data)file\n\
+         encoding_ver:    5\n\
+         num_ascii_tags:    8\n\
+         mission_name:    TEST.MI\n\
+         total_num_sensors:    {count}\n\
+         sensors_per_cycle:    {count}\n\
+         state_bytes_per_cycle:    {state_bytes}\n\
+         sensor_list_factored:    0\n"
+    )
+    .into_bytes();
+    for (index, name) in names.iter().enumerate() {
+        bytes.extend_from_slice(format!("s: T {index:>4} {index:>4} 4 {name} nodim\n").as_bytes());
+    }
+    let last = count - 1;
+    bytes.extend_from_slice(format!("s: T {last:>4} {last:>4} 8 {time} timestamp\n").as_bytes());
+    bytes.extend_from_slice(&[b's', b'a', 0x34, 0x12]);
+    bytes.extend_from_slice(&123.456f32.to_le_bytes());
+    bytes.extend_from_slice(&123_456_789.123_45f64.to_le_bytes());
+    for time in times {
+        let mut states = vec![0u8; state_bytes];
+        // State 2 (new) in the last sensor's two bits.
+        states[last / 4] |= 2 << (6 - 2 * (last % 4));
+        bytes.push(b'd');
+        bytes.extend_from_slice(&states);
+        bytes.extend_from_slice(&time.to_le_bytes());
+    }
+    bytes.push(b'X');
+    bytes
+}
+
+#[test]
+fn merging_logs_of_100000_sensors_each_is_answered_within_seconds() {
+    // The reader's limit is 100,000 sensors a file; the merge looked each science name
+    // up in the flight list linearly (10^10 comparisons here: minutes).
+    let dir = scratch("merge-names");
+    let count = 99_999;
+    let flight: Vec<String> = (0..count).map(|index| format!("m_f{index}")).collect();
+    let science: Vec<String> = (0..count).map(|index| format!("sci_s{index}")).collect();
+    std::fs::write(
+        dir.join("a.dbd"),
+        binary_log(&flight, "m_present_time", &[100.0, 104.0]),
+    )
+    .expect("write");
+    std::fs::write(
+        dir.join("a.ebd"),
+        binary_log(&science, "sci_m_present_time", &[100.0, 104.0]),
+    )
+    .expect("write");
+    let output = run_within(
+        gloc()
+            .args(["data", "convert"])
+            .arg(dir.join("a.dbd"))
+            .arg(dir.join("a.ebd"))
+            .args([
+                "--sensors",
+                "m_present_time,sci_s99998,sci_m_present_time",
+                "-o",
+            ])
+            .arg(dir.join("out.csv")),
+        ANSWER,
+    );
+    assert_eq!(output.status.code(), Some(0), "{}", text(&output));
+    let csv = std::fs::read_to_string(dir.join("out.csv")).expect("the output");
+    assert_eq!(
+        csv,
+        "m_present_time,sci_s99998,sci_m_present_time\n100,,100\n104,,104\n"
+    );
+    std::fs::remove_dir_all(dir).ok();
 }

@@ -992,3 +992,204 @@ fn merging_logs_of_100000_sensors_each_is_answered_within_seconds() {
     );
     std::fs::remove_dir_all(dir).ok();
 }
+
+/// Runs `command` within [`ANSWER`] and returns its output and peak resident memory
+/// in MB: the child's `VmHWM` (its own address space's high-water mark, read from
+/// `/proc` every 2 ms while it runs; `ru_maxrss` would count this test process too,
+/// which the child was forked from).
+fn run_measured(command: &mut Command) -> (Output, u64) {
+    let mut child = command
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("gloc starts");
+    let status_file = format!("/proc/{}/status", child.id());
+    let mut stdout = child.stdout.take().expect("piped");
+    let mut stderr = child.stderr.take().expect("piped");
+    let out = thread::spawn(move || {
+        let mut bytes = Vec::new();
+        let _ = stdout.read_to_end(&mut bytes);
+        bytes
+    });
+    let err = thread::spawn(move || {
+        let mut bytes = Vec::new();
+        let _ = stderr.read_to_end(&mut bytes);
+        bytes
+    });
+    let deadline = Instant::now() + ANSWER;
+    let mut peak_kb = 0u64;
+    let status = loop {
+        let high_water = std::fs::read_to_string(&status_file)
+            .ok()
+            .and_then(|status| {
+                let line = status.lines().find(|line| line.starts_with("VmHWM:"))?;
+                line.split_whitespace().nth(1)?.parse::<u64>().ok()
+            });
+        peak_kb = peak_kb.max(high_water.unwrap_or(0));
+        if let Some(status) = child.try_wait().expect("wait") {
+            break status;
+        }
+        if Instant::now() > deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("gloc did not finish within {ANSWER:?}");
+        }
+        thread::sleep(Duration::from_millis(2));
+    };
+    let output = Output {
+        status,
+        stdout: out.join().expect("stdout reader"),
+        stderr: err.join().expect("stderr reader"),
+    };
+    (output, peak_kb / 1024)
+}
+
+/// An LZ4 block of literals only (the block format: `engine/src/lz4.rs`).
+fn lz4_literals(data: &[u8]) -> Vec<u8> {
+    let mut block = Vec::new();
+    if data.len() < 15 {
+        block.push((data.len() as u8) << 4);
+    } else {
+        block.push(0xF0);
+        let mut rest = data.len() - 15;
+        while rest >= 255 {
+            block.push(255);
+            rest -= 255;
+        }
+        block.push(rest as u8);
+    }
+    block.extend_from_slice(data);
+    block
+}
+
+/// An LZ4 block that decompresses to `pattern` repeated to `total` bytes (`total` a
+/// multiple of the pattern's length, which is under 15): the pattern, one match at
+/// its own length back, then the pattern three times as the closing literals.
+fn lz4_repeated(pattern: &[u8], total: usize) -> Vec<u8> {
+    let tail = pattern.repeat(3);
+    let matched = total - pattern.len() - tail.len();
+    let mut block = vec![((pattern.len() as u8) << 4) | 15];
+    block.extend_from_slice(pattern);
+    block.extend_from_slice(&(pattern.len() as u16).to_le_bytes());
+    let mut rest = matched - 4 - 15;
+    while rest >= 255 {
+        block.push(255);
+        rest -= 255;
+    }
+    block.push(rest as u8);
+    block.push((tail.len() as u8) << 4);
+    block.extend_from_slice(&tail);
+    block
+}
+
+/// A binary log of `m_depth` and `m_present_time` (8 bytes each), one cycle per
+/// (depth, time) with both new, without its end tag.
+fn depth_time_log(cycles: &[(f64, f64)]) -> Vec<u8> {
+    let mut plain = b"dbd_label:    DBD(dinkum_binary_data)file\n\
+        encoding_ver:    5\n\
+        num_ascii_tags:    8\n\
+        mission_name:    TEST.MI\n\
+        total_num_sensors:    2\n\
+        sensors_per_cycle:    2\n\
+        state_bytes_per_cycle:    1\n\
+        sensor_list_factored:    0\n\
+        s: T    0    0 8 m_depth m\n\
+        s: T    1    1 8 m_present_time timestamp\n"
+        .to_vec();
+    plain.extend_from_slice(&[b's', b'a', 0x34, 0x12]);
+    plain.extend_from_slice(&123.456f32.to_le_bytes());
+    plain.extend_from_slice(&123_456_789.123_45f64.to_le_bytes());
+    for (depth, time) in cycles {
+        plain.extend_from_slice(&[b'd', 0xA0]);
+        plain.extend_from_slice(&depth.to_le_bytes());
+        plain.extend_from_slice(&time.to_le_bytes());
+    }
+    plain
+}
+
+/// A compressed log (`.dcd`) of `m_depth` and `m_present_time`: one cycle with both
+/// new (10 m at 1.5e9 s), then `blocks` blocks of 32,768 cycles in which both are
+/// the same as before (a tag and a state byte each).
+fn long_compressed_log(blocks: usize) -> Vec<u8> {
+    let plain = depth_time_log(&[(10.0, 1.5e9)]);
+    let mut file = Vec::new();
+    let mut frame = |block: Vec<u8>| {
+        file.extend_from_slice(&(block.len() as u16).to_be_bytes());
+        file.extend_from_slice(&block);
+    };
+    frame(lz4_literals(&plain));
+    let same = lz4_repeated(&[b'd', 0x50], 65_536);
+    for _ in 0..blocks {
+        frame(same.clone());
+    }
+    file
+}
+
+#[test]
+fn plotting_a_long_compressed_log_keeps_a_bounded_number_of_points() {
+    // 6,291,457 cycles in 52 KB: every point kept took 8 bytes each, 53 MB (950 MB
+    // for the issue's 1 MB file); thinned, 14 MB in a debug build.
+    let dir = scratch("plot-memory");
+    let log = dir.join("long.dcd");
+    std::fs::write(&log, long_compressed_log(192)).expect("write");
+    let (output, peak_mb) = run_measured(
+        gloc()
+            .args(["data", "plot"])
+            .arg(&log)
+            .arg("-o")
+            .arg(dir.join("long.svg")),
+    );
+    assert_eq!(output.status.code(), Some(0), "{}", text(&output));
+    assert!(
+        text(&output).contains("(6291457 depth points"),
+        "{}",
+        text(&output)
+    );
+    assert!(peak_mb < 32, "peak {peak_mb} MB");
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn a_plot_of_times_or_depths_beyond_f32_is_answered_and_a_1e300_time_is_no_date() {
+    let dir = scratch("plot-range");
+    // (depth, time) of the second of two cycles; the first is 10 m at 0 s.
+    for (name, depth, time) in [
+        ("time", 20.0, 1e39),
+        ("depth", 1e39, 10.0),
+        ("far", 20.0, 1e300),
+    ] {
+        let mut bytes = depth_time_log(&[(10.0, 0.0), (depth, time)]);
+        bytes.push(b'X');
+        let log = dir.join(format!("{name}.dbd"));
+        std::fs::write(&log, bytes).expect("write");
+        let output = run_within(
+            gloc()
+                .args(["data", "plot"])
+                .arg(&log)
+                .arg("-o")
+                .arg(dir.join(format!("{name}.svg"))),
+            ANSWER,
+        );
+        let all = text(&output);
+        assert_eq!(output.status.code(), Some(0), "{all}");
+        assert!(all.contains("1 cycles skipped"), "{all}");
+        assert!(all.contains(&format!("{name}.dbd cycle 1")), "{all}");
+        assert!(all.len() < 1000, "{all}");
+        let info = run_within(gloc().args(["data", "info"]).arg(&log), ANSWER);
+        let all = text(&info);
+        assert_eq!(info.status.code(), Some(0), "{all}");
+        let span = all
+            .lines()
+            .find(|line| line.contains("time span"))
+            .expect("a time span");
+        assert!(span.len() < 100, "{span}");
+    }
+    let info = run(gloc().args(["data", "info"]).arg(dir.join("far.dbd")));
+    assert!(
+        text(&info).contains("time span: 1970-01-01T00:00:00Z .. 1e300 s (1e300 s)"),
+        "{}",
+        text(&info)
+    );
+    std::fs::remove_dir_all(dir).ok();
+}

@@ -1193,3 +1193,51 @@ fn a_plot_of_times_or_depths_beyond_f32_is_answered_and_a_1e300_time_is_no_date(
     );
     std::fs::remove_dir_all(dir).ok();
 }
+
+#[test]
+fn a_cycle_time_of_1e29_is_refused_at_its_line_by_run_batch_and_the_debugger() {
+    // Each cycle was integrated in steps of at most 0.6 s: 1e29 s never ended, and
+    // `gloc run`, `gloc batch` and the debugger hung with it (signals unheard).
+    let dir = scratch("cycle-time");
+    let fig2 = std::fs::read_to_string(examples().join("fig2.mi")).expect("fig2.mi");
+    let mission = dir.join("slow.mi");
+    std::fs::write(&mission, format!("{fig2}sensor: u_cycle_time(sec) 1e29\n")).expect("write");
+    let line = fig2.lines().count() + 1;
+    let expected = format!(
+        "slow.mi:{line}:9: u_cycle_time 1e29 s is out of range: the simulator runs cycles of 0.1 to 3600 s"
+    );
+    let script = fig2_script(&dir);
+    for arguments in [
+        vec!["run", "--cycles", "20"],
+        vec!["batch", "--seeds", "1-2", "--cycles", "20"],
+    ] {
+        let output = run_within(
+            gloc()
+                .args(&arguments)
+                .arg(&script)
+                .arg("--mission")
+                .arg(&mission),
+            ANSWER,
+        );
+        assert_refused(&output, &expected);
+        assert_eq!(output.status.code(), Some(1), "{}", text(&output));
+    }
+    let started = Instant::now();
+    let mut server = Server::start("dap");
+    server.send(
+        &json!({ "seq": 1, "type": "request", "command": "initialize",
+        "arguments": { "adapterID": "gloc" } }),
+    );
+    server.wait_for("the initialize response", |m| m["request_seq"] == 1);
+    server.send(&json!({ "seq": 2, "type": "request", "command": "launch",
+        "arguments": { "program": script, "mission": mission } }));
+    let response = server.wait_for("the launch response", |m| m["request_seq"] == 2);
+    assert_eq!(response["success"], false, "{response}");
+    assert!(
+        response.to_string().contains("is out of range"),
+        "{response}"
+    );
+    assert!(started.elapsed() < ANSWER, "{:?}", started.elapsed());
+    assert!(server.close().code().is_some(), "ended by a signal");
+    std::fs::remove_dir_all(dir).ok();
+}

@@ -376,19 +376,34 @@ pub(crate) fn load_program(
 /// file that cannot be read is an error naming where its path came from.
 pub(crate) fn load_mission(settings: &Settings) -> anyhow::Result<Option<Mission>> {
     let mission = gloc_project::simulation::load_mission(settings)?;
-    for entry in &mission.diagnostics {
-        let file = &mission.sources[entry.file.min(mission.sources.len().saturating_sub(1))];
-        let display = file.path.display().to_string();
-        eprint!(
-            "{}",
-            SourceFile::new(&display, &file.text).render(&entry.diagnostic)
-        );
-    }
+    print_mission_diagnostics(&mission, &mission.diagnostics);
     if mission.has_errors() {
         eprintln!("error: the mission has errors; nothing was simulated");
         return Ok(None);
     }
     Ok(Some(mission))
+}
+
+/// Renders diagnostics of a mission's files on stderr, each file prepared once (its
+/// line index built once, not once per diagnostic).
+pub(crate) fn print_mission_diagnostics(
+    mission: &Mission,
+    entries: &[gloc_sim::mission::MissionDiagnostic],
+) {
+    let displays: Vec<String> = mission
+        .sources
+        .iter()
+        .map(|file| file.path.display().to_string())
+        .collect();
+    let mut sources: Vec<Option<SourceFile>> = mission.sources.iter().map(|_| None).collect();
+    for entry in entries {
+        let index = entry.file.min(mission.sources.len().saturating_sub(1));
+        let (Some(slot), Some(file)) = (sources.get_mut(index), mission.sources.get(index)) else {
+            continue;
+        };
+        let source = slot.get_or_insert_with(|| SourceFile::new(&displays[index], &file.text));
+        eprint!("{}", source.render(&entry.diagnostic));
+    }
 }
 
 /// How the script ended the run: trapped (where and why), halted, or running.
@@ -946,14 +961,7 @@ fn mission_guards(
     loaded: &gloc_compiler::LoadedScript,
     script_source: &SourceFile,
 ) {
-    for entry in mission.check_sensor_settings(sensor_list) {
-        let file = &mission.sources[entry.file.min(mission.sources.len().saturating_sub(1))];
-        let display = file.path.display().to_string();
-        eprint!(
-            "{}",
-            SourceFile::new(&display, &file.text).render(&entry.diagnostic)
-        );
-    }
+    print_mission_diagnostics(mission, &mission.check_sensor_settings(sensor_list));
     if let Some(program) = &loaded.program {
         let spans: Vec<_> = mission
             .unhooked_stores(sensor_list, program)

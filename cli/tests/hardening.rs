@@ -1241,3 +1241,49 @@ fn a_cycle_time_of_1e29_is_refused_at_its_line_by_run_batch_and_the_debugger() {
     assert!(server.close().code().is_some(), "ended by a signal");
     std::fs::remove_dir_all(dir).ok();
 }
+
+#[test]
+fn forty_thousand_bad_lines_of_a_masterdata_or_a_mission_are_reported_within_seconds() {
+    // Each diagnostic built the file's line index anew: 15-30 s for 40,000.
+    let dir = scratch("many-diagnostics");
+    let script = fig2_script(&dir);
+    let masterdata = dir.join("bad.md");
+    let lines: String = (0..40_000)
+        .map(|index| format!("sensor: bad{index}(x) zz\n"))
+        .collect();
+    std::fs::write(&masterdata, lines).expect("write");
+    let output = run_within(
+        gloc()
+            .arg("check")
+            .arg("--masterdata")
+            .arg(&masterdata)
+            .arg(&script),
+        ANSWER,
+    );
+    assert_refused(&output, "bad.md:40000:");
+    let mission = dir.join("bad.mi");
+    let fig2 = std::fs::read_to_string(examples().join("fig2.mi")).expect("fig2.mi");
+    let arguments: String = (0..40_000)
+        .map(|index| format!("    b_arg: nosuch{index}(m) 1\n"))
+        .collect();
+    std::fs::write(&mission, format!("{fig2}{arguments}")).expect("write");
+    let output = run_within(
+        gloc()
+            .arg("run")
+            .arg(&script)
+            .arg("--mission")
+            .arg(&mission)
+            .args(["--cycles", "1"]),
+        ANSWER,
+    );
+    assert_eq!(output.status.code(), Some(0), "{}", text(&output));
+    let last = fig2.lines().count() + 40_000;
+    assert!(
+        text(&output).contains(&format!(
+            "bad.mi:{last}:5: warning[S0103]: unknown argument `nosuch39999`"
+        )),
+        "{}",
+        text(&output).chars().take(2000).collect::<String>()
+    );
+    std::fs::remove_dir_all(dir).ok();
+}

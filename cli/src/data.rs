@@ -186,19 +186,17 @@ fn info(args: InfoArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// Refuses an output that is one of the inputs.
-fn check_output(output: &Path, inputs: &[PathBuf]) -> anyhow::Result<()> {
-    let same = |input: &PathBuf| match (input.canonicalize(), output.canonicalize()) {
-        (Ok(a), Ok(b)) => a == b,
-        _ => input == output,
-    };
-    if let Some(input) = inputs.iter().find(|input| same(input)) {
-        bail!(
-            "{}: the output would overwrite an input; choose another -o",
-            input.display()
-        );
-    }
-    Ok(())
+/// Refuses an output that is one of the inputs (the CLI's one check, by device and
+/// inode).
+pub(crate) fn check_output(output: &Path, inputs: &[PathBuf]) -> anyhow::Result<()> {
+    let inputs: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
+    crate::output::check_outputs(
+        &inputs,
+        &[crate::output::Output {
+            flag: "-o",
+            path: output,
+        }],
+    )
 }
 
 /// The columns to write: every sensor, or the `--sensors` names in that order.
@@ -230,16 +228,21 @@ fn convert(args: ConvertArgs) -> anyhow::Result<ExitCode> {
     let mut source = open(&args.source)?;
     let sensors = source.sensors().clone();
     let columns = select(&sensors, args.sensors.as_deref())?;
-    let file = std::fs::File::create(&args.output)
-        .with_context(|| format!("cannot create {}", args.output.display()))?;
-    let mut out = std::io::BufWriter::with_capacity(1 << 16, file);
+    // Written beside the output and renamed over it when complete: a failure leaves
+    // the previous output as it was.
+    let unwritable = |error| crate::output::write_error(error, "the output", &args.output);
+    let mut out = crate::output::AtomicFile::create(&args.output).map_err(unwritable)?;
     let mut line = Vec::with_capacity(columns.len() * 12);
     match format {
         LogFormat::Csv => {
             let names: Vec<&str> = columns.iter().map(|&c| sensors[c].name.as_str()).collect();
-            writeln!(out, "{}", names.join(","))?;
+            writeln!(out, "{}", names.join(",")).map_err(unwritable)?;
         }
-        LogFormat::Dba => write_dba_header(&mut out, &source, &sensors, &columns)?,
+        LogFormat::Dba => {
+            let mut header = Vec::new();
+            write_dba_header(&mut header, &source, &sensors, &columns)?;
+            out.write_all(&header).map_err(unwritable)?;
+        }
     }
     let (separator, missing): (u8, &[u8]) = match format {
         LogFormat::Csv => (b',', b""),
@@ -262,10 +265,10 @@ fn convert(args: ConvertArgs) -> anyhow::Result<ExitCode> {
             line.push(b' ');
         }
         line.push(b'\n');
-        out.write_all(&line)?;
+        out.write_all(&line).map_err(unwritable)?;
         rows += 1;
     }
-    out.flush()?;
+    out.commit().map_err(unwritable)?;
     print_warnings(&mut source);
     eprintln!(
         "wrote {} ({rows} cycles, {} sensors)",

@@ -535,7 +535,7 @@ fn open_log(
         return Ok((RunLog::Binary(parts), path.to_path_buf()));
     }
     let file = AtomicFile::create(path)
-        .with_context(|| format!("cannot create the log `{}`", path.display()))?;
+        .map_err(|error| crate::output::write_error(error, "the log", path))?;
     let header = DbaHeader {
         filename: stem,
         mission_name: mission.name.clone(),
@@ -548,7 +548,7 @@ fn open_log(
         sensor_list,
         &header,
     )
-    .with_context(|| format!("cannot write the log `{}`", path.display()))?;
+    .map_err(|error| crate::output::write_error(error, "the log", path))?;
     Ok((RunLog::Text(Box::new(writer)), path.to_path_buf()))
 }
 
@@ -612,7 +612,7 @@ fn open_binary_log(
         // The name is the CRC of the contents: an existing file is this list.
         if !cac.exists() {
             crate::output::write_atomically(&cac, list.text.as_bytes())
-                .with_context(|| format!("cannot write the sensor list `{}`", cac.display()))?;
+                .map_err(|error| crate::output::write_error(error, "the sensor list", &cac))?;
         }
         let identity = gloc_dbd::LogIdentity {
             full_filename: stem.to_string(),
@@ -622,9 +622,9 @@ fn open_binary_log(
             fileopen_time: glider_time(sim.present_time()),
         };
         let file = AtomicFile::create(&file_path)
-            .with_context(|| format!("cannot create the log `{}`", file_path.display()))?;
+            .map_err(|error| crate::output::write_error(error, "the log", &file_path))?;
         let writer = gloc_dbd::DbdWriter::new(file, &identity, &list)
-            .with_context(|| format!("cannot write the log `{}`", file_path.display()))?;
+            .map_err(|error| crate::output::write_error(error, "the log", &file_path))?;
         parts.push(BinaryPart {
             writer,
             values: Vec::with_capacity(ordered.len()),

@@ -1287,3 +1287,219 @@ fn forty_thousand_bad_lines_of_a_masterdata_or_a_mission_are_reported_within_sec
     );
     std::fs::remove_dir_all(dir).ok();
 }
+
+/// A log of two good cycles, then a byte that is no cycle tag: an error after the
+/// output was begun.
+fn log_corrupt_after_two_cycles() -> Vec<u8> {
+    let mut bytes = depth_time_log(&[(10.0, 0.0), (11.0, 4.0)]);
+    bytes.push(b'Q');
+    bytes
+}
+
+#[test]
+fn the_log_commands_exit_as_the_readme_says() {
+    // README "Exit codes": 1 bad content, 3 an input cannot be read, 4 an output
+    // cannot be written. All of these exited 2.
+    let dir = scratch("log-exit-codes");
+    let corrupt = dir.join("corrupt.dbd");
+    std::fs::write(&corrupt, log_corrupt_after_two_cycles()).expect("write");
+    let garbage = dir.join("garbage.dbd");
+    std::fs::write(&garbage, "garbage\n").expect("write");
+    let good = dir.join("good.dbd");
+    std::fs::write(&good, depth_time_log(&[(10.0, 0.0), (11.0, 4.0)])).expect("write");
+    let missing = dir.join("missing.dbd");
+    let nowhere = dir.join("no-such-folder");
+    let script = fig2_script(&dir);
+    let path = |path: &Path| path.display().to_string();
+    let cases: Vec<(Vec<String>, i32)> = vec![
+        (vec!["data".into(), "info".into(), path(&missing)], 3),
+        (vec!["data".into(), "info".into(), path(&garbage)], 1),
+        (vec!["data".into(), "info".into(), path(&corrupt)], 1),
+        (
+            vec![
+                "data".into(),
+                "convert".into(),
+                path(&missing),
+                "-o".into(),
+                path(&dir.join("a.csv")),
+            ],
+            3,
+        ),
+        (
+            vec![
+                "data".into(),
+                "convert".into(),
+                path(&corrupt),
+                "-o".into(),
+                path(&dir.join("a.csv")),
+            ],
+            1,
+        ),
+        (
+            vec![
+                "data".into(),
+                "plot".into(),
+                path(&garbage),
+                "-o".into(),
+                path(&dir.join("a.svg")),
+            ],
+            1,
+        ),
+        (vec!["calibrate".into(), path(&missing)], 3),
+        (vec!["calibrate".into(), path(&garbage)], 1),
+        (
+            vec![
+                "run".into(),
+                path(&script),
+                "--replay".into(),
+                path(&garbage),
+            ],
+            1,
+        ),
+        (
+            vec![
+                "data".into(),
+                "convert".into(),
+                path(&good),
+                "-o".into(),
+                path(&nowhere.join("a.csv")),
+            ],
+            4,
+        ),
+        (
+            vec![
+                "data".into(),
+                "plot".into(),
+                path(&good),
+                "-o".into(),
+                path(&nowhere.join("a.svg")),
+            ],
+            4,
+        ),
+        (
+            vec![
+                "run".into(),
+                "--cycles".into(),
+                "3".into(),
+                "--log".into(),
+                path(&nowhere.join("a.csv")),
+            ],
+            4,
+        ),
+        (
+            vec![
+                "run".into(),
+                "--cycles".into(),
+                "3".into(),
+                "--plot".into(),
+                path(&nowhere.join("a.svg")),
+            ],
+            4,
+        ),
+        (
+            vec![
+                "run".into(),
+                path(&script),
+                "--replay".into(),
+                path(&examples().join("depths.csv")),
+                "--out".into(),
+                path(&nowhere.join("a.csv")),
+            ],
+            4,
+        ),
+    ];
+    for (arguments, expected) in cases {
+        let output = run(gloc().args(&arguments));
+        assert_eq!(
+            output.status.code(),
+            Some(expected),
+            "gloc {}: {}",
+            arguments.join(" "),
+            text(&output)
+        );
+        assert!(!text(&output).contains("panicked"), "{}", text(&output));
+    }
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn a_fifo_as_the_output_of_data_convert_is_refused_unopened() {
+    let dir = scratch("fifo-output");
+    let log = dir.join("good.dbd");
+    std::fs::write(&log, depth_time_log(&[(10.0, 0.0), (11.0, 4.0)])).expect("write");
+    for (command, name) in [("convert", "fifo.csv"), ("plot", "fifo.svg")] {
+        let fifo = dir.join(name);
+        let path = std::ffi::CString::new(fifo.to_string_lossy().as_bytes()).expect("a path");
+        // SAFETY: mkfifo(3) with a NUL-terminated path.
+        assert_eq!(unsafe { libc::mkfifo(path.as_ptr(), 0o600) }, 0);
+        let output = run_within(
+            gloc()
+                .args(["data", command])
+                .arg(&log)
+                .arg("-o")
+                .arg(&fifo),
+            ANSWER,
+        );
+        assert_refused(&output, "is not a regular file");
+        assert_eq!(output.status.code(), Some(4), "{}", text(&output));
+        let kind = std::fs::symlink_metadata(&fifo)
+            .expect("still there")
+            .file_type();
+        use std::os::unix::fs::FileTypeExt;
+        assert!(kind.is_fifo(), "the FIFO is left as it was");
+    }
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn a_failed_data_convert_leaves_the_previous_output() {
+    // The output was created (truncated) before the log was read: an error in the
+    // third cycle left a header and two rows in place of the old file.
+    let dir = scratch("convert-in-place");
+    let log = dir.join("corrupt.dbd");
+    std::fs::write(&log, log_corrupt_after_two_cycles()).expect("write");
+    for name in ["out.csv", "out.dba"] {
+        let target = dir.join(name);
+        std::fs::write(&target, "old\n").expect("write");
+        let output = run(gloc()
+            .args(["data", "convert"])
+            .arg(&log)
+            .arg("-o")
+            .arg(&target));
+        assert_refused(&output, "expected a cycle tag");
+        assert_eq!(std::fs::read_to_string(&target).expect("read"), "old\n");
+    }
+    assert_eq!(names(&dir), ["corrupt.dbd", "out.csv", "out.dba"]);
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn calibrate_on_a_full_disk_leaves_the_previous_table() {
+    // `calibrate -o F --force` truncated F, then wrote: had the table not fitted, the
+    // old one was lost half-written. Here the old table's page is the only space left,
+    // so the new one is written beside it and cannot be: exit 4, the old one kept.
+    let dir = scratch("calibrate-in-place");
+    let Some(disk) = SmallDisk::mount(&dir) else {
+        eprintln!("skipped: cannot mount a small tmpfs here (needs root)");
+        return;
+    };
+    let table = disk.0.join("sim.toml");
+    std::fs::write(&table, "old\n").expect("write");
+    let mut filler = std::fs::File::create(disk.0.join("filler")).expect("create");
+    while filler.write_all(&[0u8; 4096]).is_ok() {}
+    drop(filler);
+    let logs = gloc_testsupport::data("comet/from-glider");
+    let output = run(gloc()
+        .arg("calibrate")
+        .arg(logs.join("comet-2019-222-02-154.dbd"))
+        .arg(logs.join("comet-2019-222-02-154.ebd"))
+        .arg("--sensor-cache")
+        .arg(gloc_testsupport::data("cac"))
+        .arg("-o")
+        .arg(&table)
+        .arg("--force"));
+    assert_refused(&output, "the disk is full");
+    assert_eq!(output.status.code(), Some(4), "{}", text(&output));
+    assert_eq!(std::fs::read_to_string(&table).expect("read"), "old\n");
+    assert_eq!(names(&disk.0), ["filler", "sim.toml"]);
+}

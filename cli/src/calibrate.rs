@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use anyhow::{bail, Context as _};
+use anyhow::bail;
 use clap::Args;
 use gloc_sim::calibrate::{fit, yo_figures};
 use gloc_sim::SimConfig;
@@ -29,12 +29,7 @@ pub struct CalibrateArgs {
 
 pub fn main(args: CalibrateArgs) -> anyhow::Result<ExitCode> {
     if let Some(output) = &args.output {
-        let out = output.canonicalize().ok();
-        for input in &args.source.files {
-            if out.is_some() && input.canonicalize().ok() == out {
-                bail!("the output {} is one of the inputs", output.display());
-            }
-        }
+        crate::data::check_output(output, &args.source.files)?;
         if output.exists() && !args.force {
             bail!(
                 "{} exists; give --force to replace it, or -o another file (then copy the [simulator] table)",
@@ -81,8 +76,9 @@ pub fn main(args: CalibrateArgs) -> anyhow::Result<ExitCode> {
     }
     match &args.output {
         Some(output) => {
-            std::fs::write(output, table)
-                .with_context(|| format!("cannot write {}", output.display()))?;
+            // Written beside the output and renamed over it: a failure leaves the old file.
+            crate::output::write_atomically(output, table.as_bytes())
+                .map_err(|error| crate::output::write_error(error, "the table", output))?;
             eprintln!("wrote         {}", output.display());
         }
         None => print!("{table}"),

@@ -93,10 +93,26 @@ fn print_warnings(source: &mut dyn CycleSource) {
     }
 }
 
-/// Unix seconds as `2019-08-21T13:54:25.5Z`.
+/// A number as a person reads it: `20`, `4.5`, and `1e300` rather than 301 digits.
+fn number(value: f64) -> String {
+    if value.abs() < 1e15 {
+        format!("{value}")
+    } else {
+        format!("{value:e}")
+    }
+}
+
+/// The Unix seconds of 0000-01-01T00:00:00Z and 9999-12-31T23:59:59Z: a time outside
+/// is not a date anyone wrote (a corrupt log), and is printed as seconds.
+const DATES: std::ops::RangeInclusive<f64> = -62_167_219_200.0..=253_402_300_799.0;
+
+/// Unix seconds as `2019-08-21T13:54:25.5Z` (`1e300 s` outside the years 0 to 9999).
 fn utc(seconds: f64) -> String {
     if !seconds.is_finite() {
         return "-".to_string();
+    }
+    if !DATES.contains(&seconds) {
+        return format!("{} s", number(seconds));
     }
     let whole = seconds.floor() as i64;
     let days = whole.div_euclid(86_400);
@@ -149,10 +165,10 @@ fn info(args: InfoArgs) -> anyhow::Result<ExitCode> {
         println!("  cycles: {cycles}");
         if first.is_finite() && last.is_finite() {
             println!(
-                "  time span: {} .. {} ({:.0} s)",
+                "  time span: {} .. {} ({} s)",
                 utc(first),
                 utc(last),
-                last - first
+                number((last - first).round())
             );
         } else {
             println!("  time span: none (no cycle with a time)");
@@ -170,19 +186,17 @@ fn info(args: InfoArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// Refuses an output that is one of the inputs.
-fn check_output(output: &Path, inputs: &[PathBuf]) -> anyhow::Result<()> {
-    let same = |input: &PathBuf| match (input.canonicalize(), output.canonicalize()) {
-        (Ok(a), Ok(b)) => a == b,
-        _ => input == output,
-    };
-    if let Some(input) = inputs.iter().find(|input| same(input)) {
-        bail!(
-            "{}: the output would overwrite an input; choose another -o",
-            input.display()
-        );
-    }
-    Ok(())
+/// Refuses an output that is one of the inputs (the CLI's one check, by device and
+/// inode).
+pub(crate) fn check_output(output: &Path, inputs: &[PathBuf]) -> anyhow::Result<()> {
+    let inputs: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
+    crate::output::check_outputs(
+        &inputs,
+        &[crate::output::Output {
+            flag: "-o",
+            path: output,
+        }],
+    )
 }
 
 /// The columns to write: every sensor, or the `--sensors` names in that order.
@@ -214,16 +228,21 @@ fn convert(args: ConvertArgs) -> anyhow::Result<ExitCode> {
     let mut source = open(&args.source)?;
     let sensors = source.sensors().clone();
     let columns = select(&sensors, args.sensors.as_deref())?;
-    let file = std::fs::File::create(&args.output)
-        .with_context(|| format!("cannot create {}", args.output.display()))?;
-    let mut out = std::io::BufWriter::with_capacity(1 << 16, file);
+    // Written beside the output and renamed over it when complete: a failure leaves
+    // the previous output as it was.
+    let unwritable = |error| crate::output::write_error(error, "the output", &args.output);
+    let mut out = crate::output::AtomicFile::create(&args.output).map_err(unwritable)?;
     let mut line = Vec::with_capacity(columns.len() * 12);
     match format {
         LogFormat::Csv => {
             let names: Vec<&str> = columns.iter().map(|&c| sensors[c].name.as_str()).collect();
-            writeln!(out, "{}", names.join(","))?;
+            writeln!(out, "{}", names.join(",")).map_err(unwritable)?;
         }
-        LogFormat::Dba => write_dba_header(&mut out, &source, &sensors, &columns)?,
+        LogFormat::Dba => {
+            let mut header = Vec::new();
+            write_dba_header(&mut header, &source, &sensors, &columns)?;
+            out.write_all(&header).map_err(unwritable)?;
+        }
     }
     let (separator, missing): (u8, &[u8]) = match format {
         LogFormat::Csv => (b',', b""),
@@ -246,10 +265,10 @@ fn convert(args: ConvertArgs) -> anyhow::Result<ExitCode> {
             line.push(b' ');
         }
         line.push(b'\n');
-        out.write_all(&line)?;
+        out.write_all(&line).map_err(unwritable)?;
         rows += 1;
     }
-    out.flush()?;
+    out.commit().map_err(unwritable)?;
     print_warnings(&mut source);
     eprintln!(
         "wrote {} ({rows} cycles, {} sensors)",
@@ -327,8 +346,11 @@ fn plot(args: PlotArgs) -> anyhow::Result<ExitCode> {
         10.0
     };
     let water = column("m_water_depth");
-    let mut trace = gloc_sim::plot::Trace::default();
-    let (mut start, mut water_depth) = (f64::NAN, 0.0f64);
+    let mut points = gloc_sim::plot::Thinned::default();
+    let (mut start, mut water_depth, mut count) = (f64::NAN, 0.0f64, 0u64);
+    // Points whose time from the start or depth does not fit the plot's numbers
+    // (beyond f32::MAX): skipped, the first one named.
+    let mut unplottable: (u64, Option<String>) = (0, None);
     while let Some(cycle) = source.next_cycle()? {
         if let Some(value) = water.and_then(|water| cycle.value(water)) {
             if value.is_finite() && value > 0.0 {
@@ -344,14 +366,35 @@ fn plot(args: PlotArgs) -> anyhow::Result<ExitCode> {
         if start.is_nan() {
             start = time;
         }
-        trace
-            .points
-            .push(((time - start) as f32, (value * scale) as f32));
+        let point = ((time - start) as f32, (value * scale) as f32);
+        if !point.0.is_finite() || !point.1.is_finite() {
+            unplottable.0 += 1;
+            if unplottable.1.is_none() {
+                let (cycle_number, offset) = (cycle.number, cycle.offset);
+                unplottable.1 = Some(format!(
+                    "{} cycle {cycle_number} (byte {offset}): {} s after the first, {} m",
+                    source.file(),
+                    number(time - start),
+                    number(value * scale)
+                ));
+            }
+            continue;
+        }
+        points.push(point);
+        count += 1;
     }
     print_warnings(&mut source);
-    if trace.points.is_empty() {
+    if let (skipped @ 1.., Some(first)) = unplottable {
+        eprintln!(
+            "warning: {skipped} cycles skipped: their time or depth is beyond what a plot can draw ({:e}); the first: {first}",
+            f32::MAX
+        );
+    }
+    if count == 0 {
         bail!("no depth values to plot");
     }
+    let mut trace = gloc_sim::plot::Trace::default();
+    trace.points = points.finish();
     let title = args
         .source
         .files
@@ -369,9 +412,8 @@ fn plot(args: PlotArgs) -> anyhow::Result<ExitCode> {
         gloc_sim::plot::write_plot(&trace, &options, temporary)
     })?;
     eprintln!(
-        "wrote {} ({} depth points from {})",
+        "wrote {} ({count} depth points from {})",
         args.output.display(),
-        trace.points.len(),
         utc(start)
     );
     Ok(ExitCode::SUCCESS)
@@ -387,5 +429,9 @@ mod tests {
         assert_eq!(utc(1_566_395_665.0), "2019-08-21T13:54:25Z");
         assert_eq!(utc(0.0), "1970-01-01T00:00:00Z");
         assert_eq!(utc(f64::NAN), "-");
+        // Outside the years 0 to 9999: seconds, not a 974-character date.
+        assert_eq!(utc(1e300), "1e300 s");
+        assert_eq!(utc(-1e20), "-1e20 s");
+        assert_eq!(utc(253_402_300_799.0), "9999-12-31T23:59:59Z");
     }
 }

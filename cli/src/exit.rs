@@ -56,6 +56,19 @@ pub fn of_error(error: &anyhow::Error) -> u8 {
                 ErrorKind::Invalid => ERRORS,
             };
         }
+        if let Some(log) = cause.downcast_ref::<gloc_dbd::DbdError>() {
+            return match log.kind {
+                gloc_dbd::DbdErrorKind::Unreadable => UNREADABLE,
+                gloc_dbd::DbdErrorKind::Content => ERRORS,
+            };
+        }
+        if let Some(replay) = cause.downcast_ref::<gloc_replay::ReplayError>() {
+            return match replay.kind {
+                gloc_replay::ReplayErrorKind::Usage => USAGE,
+                gloc_replay::ReplayErrorKind::Unreadable => UNREADABLE,
+                gloc_replay::ReplayErrorKind::Content => ERRORS,
+            };
+        }
         if cause.is::<Unreadable>() {
             return UNREADABLE;
         }

@@ -69,8 +69,10 @@ pub fn write_through_temporary(
         temporary_name.push(extension);
     }
     let temporary = folder.join(temporary_name);
+    refuse_special(target).map_err(|error| write_error(error, "the file", target))?;
+    // The writer's own failure is the output's too (exit code 4).
     let result = write(&temporary)
-        .map_err(anyhow::Error::msg)
+        .map_err(|message| anyhow::Error::new(crate::exit::Unwritable(message)))
         .and_then(|()| {
             std::fs::rename(&temporary, target)
                 .map_err(|error| write_error(error, "the file", target))
@@ -110,6 +112,7 @@ impl AtomicFile {
         temporary_name.push(name);
         temporary_name.push(format!(".gloc-{}.tmp", std::process::id()));
         let temporary = folder.join(temporary_name);
+        refuse_special(target)?;
         let file = std::fs::OpenOptions::new()
             .write(true)
             .create(true)
@@ -128,16 +131,23 @@ impl AtomicFile {
             .writer
             .take()
             .expect("the writer is only taken here, once");
-        let file = writer
-            .into_inner()
-            .map_err(io::IntoInnerError::into_error)?;
-        if let Ok(old) = std::fs::metadata(&self.target) {
-            // The new file keeps the old one's permissions.
-            file.set_permissions(old.permissions())?;
+        let result = (|| {
+            let file = writer
+                .into_inner()
+                .map_err(io::IntoInnerError::into_error)?;
+            if let Ok(old) = std::fs::metadata(&self.target) {
+                // The new file keeps the old one's permissions.
+                file.set_permissions(old.permissions())?;
+            }
+            file.sync_all()?;
+            drop(file);
+            std::fs::rename(&self.temporary, &self.target)
+        })();
+        if result.is_err() {
+            // The last bytes did not fit (a full disk): no temporary file is left.
+            let _ = std::fs::remove_file(&self.temporary);
         }
-        file.sync_all()?;
-        drop(file);
-        std::fs::rename(&self.temporary, &self.target)
+        result
     }
 }
 
@@ -171,6 +181,19 @@ impl Drop for AtomicFile {
             self.writer = None;
             let _ = std::fs::remove_file(&self.temporary);
         }
+    }
+}
+
+/// Refuses a target that exists and is not a regular file (a FIFO, a device, a
+/// folder): the rename would replace it, and a FIFO written directly blocks until a
+/// reader comes, for ever in a script or CI.
+fn refuse_special(target: &Path) -> io::Result<()> {
+    match std::fs::metadata(target) {
+        Ok(metadata) if !metadata.is_file() => Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            "it is not a regular file (a FIFO, a device or a folder): gloc writes regular files only; choose another path",
+        )),
+        _ => Ok(()),
     }
 }
 

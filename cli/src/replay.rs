@@ -178,7 +178,7 @@ fn replay(
     let mut out = match out_path {
         Some(path) => Some(
             AtomicFile::create(path)
-                .with_context(|| format!("cannot create `{}`", path.display()))?,
+                .map_err(|error| crate::output::write_error(error, "the output file", path))?,
         ),
         None => None,
     };

@@ -380,19 +380,34 @@ pub(crate) fn load_mission(
     sensor_list: &SensorList,
 ) -> anyhow::Result<Option<Mission>> {
     let mission = gloc_project::simulation::load_mission(settings, sensor_list)?;
-    for entry in &mission.diagnostics {
-        let file = &mission.sources[entry.file.min(mission.sources.len().saturating_sub(1))];
-        let display = file.path.display().to_string();
-        eprint!(
-            "{}",
-            SourceFile::new(&display, &file.text).render(&entry.diagnostic)
-        );
-    }
+    print_mission_diagnostics(&mission, &mission.diagnostics);
     if mission.has_errors() {
         eprintln!("error: the mission has errors; nothing was simulated");
         return Ok(None);
     }
     Ok(Some(mission))
+}
+
+/// Renders diagnostics of a mission's files on stderr, each file prepared once (its
+/// line index built once, not once per diagnostic).
+pub(crate) fn print_mission_diagnostics(
+    mission: &Mission,
+    entries: &[gloc_sim::mission::MissionDiagnostic],
+) {
+    let displays: Vec<String> = mission
+        .sources
+        .iter()
+        .map(|file| file.path.display().to_string())
+        .collect();
+    let mut sources: Vec<Option<SourceFile>> = mission.sources.iter().map(|_| None).collect();
+    for entry in entries {
+        let index = entry.file.min(mission.sources.len().saturating_sub(1));
+        let (Some(slot), Some(file)) = (sources.get_mut(index), mission.sources.get(index)) else {
+            continue;
+        };
+        let source = slot.get_or_insert_with(|| SourceFile::new(&displays[index], &file.text));
+        eprint!("{}", source.render(&entry.diagnostic));
+    }
 }
 
 /// How the script ended the run: trapped (where and why), halted, or running.
@@ -524,7 +539,7 @@ fn open_log(
         return Ok((RunLog::Binary(parts), path.to_path_buf()));
     }
     let file = AtomicFile::create(path)
-        .with_context(|| format!("cannot create the log `{}`", path.display()))?;
+        .map_err(|error| crate::output::write_error(error, "the log", path))?;
     let header = DbaHeader {
         filename: stem,
         mission_name: mission.name.clone(),
@@ -537,7 +552,7 @@ fn open_log(
         sensor_list,
         &header,
     )
-    .with_context(|| format!("cannot write the log `{}`", path.display()))?;
+    .map_err(|error| crate::output::write_error(error, "the log", path))?;
     Ok((RunLog::Text(Box::new(writer)), path.to_path_buf()))
 }
 
@@ -601,7 +616,7 @@ fn open_binary_log(
         // The name is the CRC of the contents: an existing file is this list.
         if !cac.exists() {
             crate::output::write_atomically(&cac, list.text.as_bytes())
-                .with_context(|| format!("cannot write the sensor list `{}`", cac.display()))?;
+                .map_err(|error| crate::output::write_error(error, "the sensor list", &cac))?;
         }
         let identity = gloc_dbd::LogIdentity {
             full_filename: stem.to_string(),
@@ -611,9 +626,9 @@ fn open_binary_log(
             fileopen_time: glider_time(sim.present_time()),
         };
         let file = AtomicFile::create(&file_path)
-            .with_context(|| format!("cannot create the log `{}`", file_path.display()))?;
+            .map_err(|error| crate::output::write_error(error, "the log", &file_path))?;
         let writer = gloc_dbd::DbdWriter::new(file, &identity, &list)
-            .with_context(|| format!("cannot write the log `{}`", file_path.display()))?;
+            .map_err(|error| crate::output::write_error(error, "the log", &file_path))?;
         parts.push(BinaryPart {
             writer,
             values: Vec::with_capacity(ordered.len()),
@@ -950,14 +965,7 @@ fn mission_guards(
     loaded: &gloc_compiler::LoadedScript,
     script_source: &SourceFile,
 ) {
-    for entry in mission.check(sensor_list) {
-        let file = &mission.sources[entry.file.min(mission.sources.len().saturating_sub(1))];
-        let display = file.path.display().to_string();
-        eprint!(
-            "{}",
-            SourceFile::new(&display, &file.text).render(&entry.diagnostic)
-        );
-    }
+    print_mission_diagnostics(mission, &mission.check(sensor_list));
     if let Some(program) = &loaded.program {
         let spans: Vec<_> = mission
             .unhooked_stores(sensor_list, program)

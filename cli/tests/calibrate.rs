@@ -66,7 +66,7 @@ fn calibrate_writes_a_commented_table_and_never_overwrites() {
         &folder,
     );
     assert_eq!(onto_input.status.code(), Some(2));
-    assert!(text(&onto_input.stderr).contains("is one of the inputs"));
+    assert!(text(&onto_input.stderr).contains("writing it would destroy the input"));
     let _ = std::fs::remove_dir_all(&folder);
 }
 

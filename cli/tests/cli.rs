@@ -197,7 +197,8 @@ fn replay_warns_about_unknown_columns_and_rejects_bad_cells() {
     let input = temp("bad-cell.csv");
     std::fs::write(&input, "m_depth,m_pitch\n1,0.1\n2,abc\n").expect("write");
     let output = gloc(&["run", "--replay", &input.display().to_string()]);
-    assert_eq!(output.status.code(), Some(2));
+    // The data has an error: exit code 1 (README, "Exit codes").
+    assert_eq!(output.status.code(), Some(1));
     assert!(
         stderr(&output).contains(":3:3: `abc` is not a number"),
         "{}",

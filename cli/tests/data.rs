@@ -81,7 +81,7 @@ fn convert_refuses_to_overwrite_an_input_and_names_bad_outputs() {
     let output = gloc(&["data", "convert", "run.dba", "-o", "run.dba"], &folder);
     assert_eq!(output.status.code(), Some(2));
     assert!(
-        text(&output.stderr).contains("would overwrite an input"),
+        text(&output.stderr).contains("writing it would destroy the input"),
         "{}",
         text(&output.stderr)
     );

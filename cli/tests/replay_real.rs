@@ -75,7 +75,8 @@ fn the_thermocline_tracker_replays_a_real_deployment_and_finds_the_thermocline()
 fn a_missing_sensor_list_names_the_crc_and_the_folders() {
     let output = gloc(&["run", "--replay", &comet("dbd")]);
     let stderr = String::from_utf8_lossy(&output.stderr);
-    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    // An input that cannot be read: exit code 3 (README, "Exit codes").
+    assert_eq!(output.status.code(), Some(3), "{stderr}");
     assert!(stderr.contains("1f35be3b"), "{stderr}");
     assert!(stderr.contains("from-glider"), "{stderr}");
 }

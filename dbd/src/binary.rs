@@ -167,8 +167,11 @@ impl DbdReader {
             match lists.find(&crc) {
                 Ok(found) => (found.text, found.origin),
                 Err(message) => {
-                    return Err(self
-                        .error(0, format!("sensor list {crc} not found: {message}"))
+                    return Err(DbdError::unreadable(
+                        &self.file,
+                        self.at(0),
+                        format!("sensor list {crc} not found: {message}"),
+                    )
                         .with_help(format!(
                             "put {crc}.cac (or .ccc) from the glider's cache folder in one of these folders, or name a folder with --sensor-cache"
                         )))

@@ -23,6 +23,16 @@ impl fmt::Display for Location {
     }
 }
 
+/// Why a file cannot be read: the front ends give the two different exit codes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DbdErrorKind {
+    /// The bytes are not a log gloc can read (a corrupt header, list or cycle).
+    #[default]
+    Content,
+    /// The file (or the sensor list it needs) cannot be opened or read.
+    Unreadable,
+}
+
 /// A file that cannot be read (further): what is wrong, where, and what to do.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[error("{file}: {at}: {message}{}", help.as_ref().map(|help| format!("\n  help: {help}")).unwrap_or_default())]
@@ -31,15 +41,26 @@ pub struct DbdError {
     pub at: Location,
     pub message: String,
     pub help: Option<String>,
+    pub kind: DbdErrorKind,
 }
 
 impl DbdError {
+    /// Bad content.
     pub fn new(file: &str, at: Location, message: impl Into<String>) -> DbdError {
         DbdError {
             file: file.to_string(),
             at,
             message: message.into(),
             help: None,
+            kind: DbdErrorKind::Content,
+        }
+    }
+
+    /// A file that cannot be opened or read, or a sensor list not found.
+    pub fn unreadable(file: &str, at: Location, message: impl Into<String>) -> DbdError {
+        DbdError {
+            kind: DbdErrorKind::Unreadable,
+            ..DbdError::new(file, at, message)
         }
     }
 

@@ -167,7 +167,7 @@ pub fn open_path_with(
     let name = path.display().to_string();
     let kind = LogKind::from_path(path);
     let file = gloc_engine::files::open_regular(path).map_err(|error| {
-        DbdError::new(&name, Location::default(), format!("cannot open: {error}"))
+        DbdError::unreadable(&name, Location::default(), format!("cannot open: {error}"))
     })?;
     match kind {
         Some(LogKind::Binary { compressed, .. }) => {
@@ -198,7 +198,7 @@ pub fn open_path_with(
 pub fn read_file_header(path: &Path) -> Result<crate::Header, DbdError> {
     let name = path.display().to_string();
     let file = gloc_engine::files::open_regular(path).map_err(|error| {
-        DbdError::new(&name, Location::default(), format!("cannot open: {error}"))
+        DbdError::unreadable(&name, Location::default(), format!("cannot open: {error}"))
     })?;
     let compressed = matches!(
         LogKind::from_path(path),

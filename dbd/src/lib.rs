@@ -25,7 +25,7 @@ pub mod writer;
 pub use binary::{ByteOrder, DbdReader};
 pub use cycle::{time_column, Cycle, FileSensor, SensorColumns, State};
 pub use dba::DbaReader;
-pub use error::{DbdError, Location, Warning};
+pub use error::{DbdError, DbdErrorKind, Location, Warning};
 pub use fs::{open_path, CacheFolders, LogKind};
 pub use header::Header;
 pub use lists::{sensor_list_crc, NoSensorLists, SensorListText, SensorLists};
@@ -101,5 +101,5 @@ pub(crate) fn io_error(file: &str, at: Location, error: &std::io::Error) -> DbdE
             problem.message.clone(),
         );
     }
-    DbdError::new(file, at, format!("cannot read: {error}"))
+    DbdError::unreadable(file, at, format!("cannot read: {error}"))
 }

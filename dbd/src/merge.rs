@@ -51,11 +51,19 @@ impl Merged {
             .iter()
             .map(|sensor| !science_names.contains(sensor.name.as_str()))
             .collect();
-        let mut science_columns = Vec::new();
+        // Names are looked up in a map: a list of 100,000 sensors is refused only
+        // above that, and a linear search per science name took minutes there.
+        let mut columns: std::collections::HashMap<String, usize> =
+            std::collections::HashMap::new();
+        for (column, sensor) in sensors.iter().enumerate() {
+            columns.entry(sensor.name.clone()).or_insert(column);
+        }
+        let mut science_columns = Vec::with_capacity(science.sensors().len());
         for sensor in science.sensors().iter() {
-            match sensors.iter().position(|known| known.name == sensor.name) {
-                Some(column) => science_columns.push(column),
+            match columns.get(&sensor.name) {
+                Some(&column) => science_columns.push(column),
                 None => {
+                    columns.insert(sensor.name.clone(), sensors.len());
                     science_columns.push(sensors.len());
                     sensors.push(sensor.clone());
                 }

@@ -48,14 +48,3 @@ impl fmt::Display for ProjectError {
 }
 
 impl std::error::Error for ProjectError {}
-
-/// `FILE:LINE:COL: severity[CODE]: message`, the one-line form of a diagnostic used
-/// inside a project error: the headline of the one renderer (`gloc_engine::render`).
-pub fn one_line(
-    path: &std::path::Path,
-    text: &str,
-    diagnostic: &gloc_engine::Diagnostic,
-) -> String {
-    let display = path.display().to_string();
-    gloc_engine::render::SourceFile::new(&display, text).headline(diagnostic)
-}

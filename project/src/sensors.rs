@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use gloc_engine::sensors::{load_sensor_file, SensorList, SensorOrder};
 use gloc_engine::Diagnostic;
 
-use crate::error::{one_line, ErrorKind, ProjectError};
+use crate::error::{ErrorKind, ProjectError};
 use crate::settings::{Settings, Sourced};
 
 /// A sensor list as read: the list, and the file's text and diagnostics (warnings,
@@ -45,11 +45,14 @@ impl LoadedSensors {
     /// one `F:LINE:COL: error[CODE]: …` line each), or `None` when it has none.
     pub fn errors(&self) -> Option<ProjectError> {
         let path = self.path.as_deref().unwrap_or(Path::new("<embedded>"));
+        let display = path.display().to_string();
+        // One line index for every diagnostic (one each took 15 s for 40,000 bad lines).
+        let source = gloc_engine::render::SourceFile::new(&display, &self.text);
         let mut lines: Vec<String> = self
             .diagnostics
             .iter()
             .filter(|diagnostic| diagnostic.is_error())
-            .map(|diagnostic| one_line(path, &self.text, diagnostic))
+            .map(|diagnostic| source.headline(diagnostic))
             .collect();
         if lines.is_empty() && self.is_empty_file() {
             lines.push(format!("{}: it holds no sensors", path.display()));

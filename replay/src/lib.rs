@@ -21,8 +21,50 @@ use gloc_engine::{suggest, LineIndex};
 /// A replay input that cannot be read: the message names the file and the place
 /// (`path:line:col` in a CSV file, the byte offset in a glider log).
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("{0}")]
-pub struct ReplayError(pub String);
+#[error("{message}")]
+pub struct ReplayError {
+    pub message: String,
+    pub kind: ReplayErrorKind,
+}
+
+/// What a [`ReplayError`] is about, for the front ends' exit codes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ReplayErrorKind {
+    /// The files asked for do not make a replay (none, or a CSV among logs).
+    Usage,
+    /// A file (or a log's sensor list) cannot be opened or read.
+    Unreadable,
+    /// A file's contents are wrong (a CSV cell, a corrupt log).
+    Content,
+}
+
+impl ReplayError {
+    fn usage(message: impl Into<String>) -> ReplayError {
+        ReplayError {
+            message: message.into(),
+            kind: ReplayErrorKind::Usage,
+        }
+    }
+
+    fn content(message: impl Into<String>) -> ReplayError {
+        ReplayError {
+            message: message.into(),
+            kind: ReplayErrorKind::Content,
+        }
+    }
+}
+
+impl From<gloc_dbd::DbdError> for ReplayError {
+    fn from(error: gloc_dbd::DbdError) -> ReplayError {
+        ReplayError {
+            message: error.to_string(),
+            kind: match error.kind {
+                gloc_dbd::DbdErrorKind::Unreadable => ReplayErrorKind::Unreadable,
+                gloc_dbd::DbdErrorKind::Content => ReplayErrorKind::Content,
+            },
+        }
+    }
+}
 
 /// How many unknown sensor names the warning lists before "and N more".
 const NAMED_IN_WARNING: usize = 20;
@@ -50,7 +92,7 @@ impl Input {
                 .is_some_and(|extension| extension.eq_ignore_ascii_case("csv"))
         };
         match paths {
-            [] => Err(ReplayError("--replay needs at least one file".into())),
+            [] => Err(ReplayError::usage("--replay needs at least one file")),
             [path] if is_csv(path) => {
                 let csv = CsvInput::open(path)?;
                 Ok(Input {
@@ -59,13 +101,11 @@ impl Input {
                     kind: InputKind::Csv(csv),
                 })
             }
-            _ if paths.iter().any(is_csv) => Err(ReplayError(
-                "a CSV replay is one file: give one `.csv`, or glider logs (.dbd, .ebd, …) only"
-                    .into(),
+            _ if paths.iter().any(is_csv) => Err(ReplayError::usage(
+                "a CSV replay is one file: give one `.csv`, or glider logs (.dbd, .ebd, …) only",
             )),
             _ => {
-                let deployment = Deployment::open(paths, sensor_cache)
-                    .map_err(|error| ReplayError(error.to_string()))?;
+                let deployment = Deployment::open(paths, sensor_cache)?;
                 let names = deployment
                     .sensors()
                     .iter()
@@ -101,10 +141,7 @@ impl Input {
         match &mut self.kind {
             InputKind::Csv(csv) => csv.next_row(updates),
             InputKind::Logs(logs) => {
-                let Some(cycle) = logs
-                    .next_cycle()
-                    .map_err(|error| ReplayError(error.to_string()))?
-                else {
+                let Some(cycle) = logs.next_cycle()? else {
                     return Ok(false);
                 };
                 updates.extend(
@@ -269,7 +306,10 @@ impl CsvInput {
         let display = path.display().to_string();
         let bytes =
             gloc_engine::files::read(path, gloc_engine::files::REPLAY).map_err(|error| {
-                ReplayError(format!("cannot read the replay file `{display}`: {error}"))
+                ReplayError {
+                    message: format!("cannot read the replay file `{display}`: {error}"),
+                    kind: ReplayErrorKind::Unreadable,
+                }
             })?;
         let text = String::from_utf8_lossy(&bytes).into_owned();
         let mut csv = CsvInput {
@@ -281,7 +321,7 @@ impl CsvInput {
             names: Vec::new(),
         };
         let Some((_, header)) = csv.next_line() else {
-            return Err(ReplayError(format!(
+            return Err(ReplayError::content(format!(
                 "{}: the replay file is empty; it needs a header of sensor names",
                 csv.display
             )));
@@ -331,7 +371,7 @@ impl CsvInput {
         for (cell_index, (at, cell)) in cells(&line).enumerate() {
             count += 1;
             let Some(column) = self.cells.get(cell_index) else {
-                return Err(ReplayError(format!(
+                return Err(ReplayError::content(format!(
                     "{}: this row has more cells than the header has names ({})",
                     self.location(line_offset + at),
                     self.cells.len()
@@ -342,7 +382,7 @@ impl CsvInput {
             }
             let Some(column) = column else { continue };
             let value: f64 = cell.parse().map_err(|_| {
-                ReplayError(format!(
+                ReplayError::content(format!(
                     "{}: `{cell}` is not a number (sensor values are decimal numbers such as `12.5`)",
                     self.location(line_offset + at)
                 ))
@@ -350,7 +390,7 @@ impl CsvInput {
             updates.push((*column, value));
         }
         if count < self.cells.len() {
-            return Err(ReplayError(format!(
+            return Err(ReplayError::content(format!(
                 "{}: this row has {count} cells but the header has {} names",
                 self.location(line_offset),
                 self.cells.len()

@@ -42,7 +42,7 @@ fn csv_errors_name_the_line_and_column() {
     assert!(input.next_cycle(&mut updates).expect("row 1"));
     let error = input.next_cycle(&mut updates).expect_err("row 2");
     assert_eq!(
-        error.0,
+        error.message,
         format!(
             "{shown}:3:3: `abc` is not a number (sensor values are decimal numbers such as `12.5`)"
         )
@@ -52,7 +52,7 @@ fn csv_errors_name_the_line_and_column() {
     assert!(input
         .next_cycle(&mut updates)
         .expect_err("short row")
-        .0
+        .message
         .ends_with(":2:1: this row has 1 cells but the header has 2 names"));
     let csv = temp("mix.csv", "m_depth\n1\n");
     let error = Input::open(
@@ -61,7 +61,11 @@ fn csv_errors_name_the_line_and_column() {
     )
     .err()
     .expect("refused");
-    assert!(error.0.contains("a CSV replay is one file"), "{}", error.0);
+    assert!(
+        error.message.contains("a CSV replay is one file"),
+        "{}",
+        error.message
+    );
 }
 
 #[test]

@@ -124,6 +124,82 @@ impl Trace {
     }
 }
 
+/// Most points a [`Thinned`] keeps (2 MB): far more than the plot has pixel columns,
+/// so the track drawn from them is the track drawn from every sample.
+pub const MAX_PLOT_POINTS: usize = 1 << 18;
+
+/// Depth points gathered for a plot in bounded memory, however long the log
+/// (`gloc data plot` of a 1 MB compressed log of 120 million cycles kept them all:
+/// 950 MB). Samples are taken in runs of `stride`, and each run keeps its first,
+/// shallowest, deepest and last sample, in time order: every extreme and every
+/// transition between runs survive, which is what [`envelope`] draws. When
+/// [`MAX_PLOT_POINTS`] are kept, the kept points are thinned by the same rule in
+/// runs of 8 and the stride grows to match.
+#[derive(Clone, Debug, Default)]
+pub struct Thinned {
+    points: Vec<(f32, f32)>,
+    stride: u64,
+    /// The run being gathered: first, shallowest, deepest, last (with their positions
+    /// in the run, for the order), and how many samples it holds.
+    run: Option<[(u64, (f32, f32)); 4]>,
+    in_run: u64,
+}
+
+impl Thinned {
+    pub fn push(&mut self, point: (f32, f32)) {
+        let at = self.in_run;
+        let run = self.run.get_or_insert([(at, point); 4]);
+        if point.1 < run[1].1 .1 {
+            run[1] = (at, point);
+        }
+        if point.1 > run[2].1 .1 {
+            run[2] = (at, point);
+        }
+        run[3] = (at, point);
+        self.in_run += 1;
+        if self.in_run >= self.stride.max(1) {
+            self.close_run();
+            if self.points.len() >= MAX_PLOT_POINTS {
+                self.points = thin(&self.points, 8);
+                self.stride = if self.stride < 8 { 8 } else { self.stride * 2 };
+            }
+        }
+    }
+
+    /// The points kept, in time order.
+    pub fn finish(mut self) -> Vec<(f32, f32)> {
+        self.close_run();
+        self.points
+    }
+
+    fn close_run(&mut self) {
+        if let Some(mut run) = self.run.take() {
+            run.sort_by_key(|(at, _)| *at);
+            let mut last = None;
+            for (at, point) in run {
+                if last != Some(at) {
+                    self.points.push(point);
+                    last = Some(at);
+                }
+            }
+        }
+        self.in_run = 0;
+    }
+}
+
+/// `points` in runs of `size`, each reduced to its first, shallowest, deepest and
+/// last point in time order.
+fn thin(points: &[(f32, f32)], size: usize) -> Vec<(f32, f32)> {
+    let mut thinned = Thinned {
+        stride: size as u64,
+        ..Thinned::default()
+    };
+    for &point in points {
+        thinned.push(point);
+    }
+    thinned.finish()
+}
+
 /// What to draw besides the depth profile.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PlotOptions {
@@ -200,8 +276,25 @@ fn register_font() {
     });
 }
 
+/// Refuses a trace whose axes cannot be drawn: an infinite time or depth (a value
+/// beyond f32::MAX) made the axis' tick search loop for ever.
+fn check_axes(trace: &Trace) -> Result<(), String> {
+    match trace
+        .points
+        .iter()
+        .find(|(time, depth)| !time.is_finite() || !depth.is_finite())
+    {
+        Some((time, depth)) => Err(format!(
+            "cannot plot a point at {time} s and {depth} m: times and depths must be finite and at most {:e}",
+            f32::MAX
+        )),
+        None => Ok(()),
+    }
+}
+
 /// Renders the trace to an SVG document.
 pub fn render_svg_with(trace: &Trace, options: &PlotOptions) -> Result<String, String> {
+    check_axes(trace)?;
     // Text is measured with the embedded font in SVG too.
     register_font();
     let mut svg = String::new();
@@ -236,6 +329,7 @@ pub fn write_plot(trace: &Trace, options: &PlotOptions, path: &Path) -> Result<(
                 .map_err(|error| format!("cannot write `{}`: {error}", path.display()))
         }
         PlotFormat::Png => {
+            check_axes(trace)?;
             register_font();
             let root =
                 BitMapBackend::new(path, (WIDTH, height(trace, options))).into_drawing_area();
@@ -694,6 +788,27 @@ mod tests {
                 )
             })
             .collect()
+    }
+
+    #[test]
+    fn thinned_points_are_bounded_in_order_and_keep_the_extremes() {
+        let count = 3 * MAX_PLOT_POINTS;
+        let depth = |i: usize| match i {
+            123_457 => 5000.0,
+            654_321 => -50.0,
+            _ => ((i * 7919) % 1000) as f32,
+        };
+        let mut thinned = Thinned::default();
+        for i in 0..count {
+            thinned.push((i as f32, depth(i)));
+        }
+        let points = thinned.finish();
+        assert!(points.len() <= MAX_PLOT_POINTS, "{}", points.len());
+        assert_eq!(points.first(), Some(&(0.0, 0.0)));
+        assert_eq!(points.last(), Some(&((count - 1) as f32, depth(count - 1))));
+        assert!(points.contains(&(123_457.0, 5000.0)));
+        assert!(points.contains(&(654_321.0, -50.0)));
+        assert!(points.windows(2).all(|pair| pair[0].0 < pair[1].0));
     }
 
     fn overlaps(a: &Column, b: &Column) -> bool {

@@ -187,7 +187,15 @@ pub enum SimError {
     MissionErrors(String),
     #[error("the mission has no behaviors")]
     EmptyMission,
+    /// A setting that sizes the work of a cycle is out of its range ([`CYCLE_TIME`]).
+    #[error("{0}")]
+    OutOfRange(String),
 }
+
+/// The `u_cycle_time` (s) a simulation accepts. A cycle is integrated in steps of at
+/// most `step` (0.05 s or more), so a cycle of 1e29 s never ended and one of 1e9 s took
+/// a second; an hour is a cycle no glider flies and 72,000 steps at most.
+pub const CYCLE_TIME: std::ops::RangeInclusive<f64> = 0.1..=3600.0;
 
 /// How the mission ended (or is ending).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -432,6 +440,31 @@ impl Simulation {
                 .unwrap_or(fallback)
         };
         let cycle_time = read("u_cycle_time", 4.0);
+        if !CYCLE_TIME.contains(&cycle_time) {
+            // From the mission's last setting of it, or else the sensor list's default.
+            let origin = match mission
+                .sensor_settings
+                .iter()
+                .rev()
+                .find(|setting| setting.name.eq_ignore_ascii_case("u_cycle_time"))
+            {
+                Some(setting) => {
+                    let (path, line, column) = mission.line_col(setting.at.file, setting.name_span);
+                    format!("{}:{line}:{column}: ", path.display())
+                }
+                None => "the sensor list's default: ".to_string(),
+            };
+            let value = if cycle_time.abs() < 1e6 {
+                format!("{cycle_time}")
+            } else {
+                format!("{cycle_time:e}")
+            };
+            return Err(SimError::OutOfRange(format!(
+                "{origin}u_cycle_time {value} s is out of range: the simulator runs cycles of {} to {} s",
+                CYCLE_TIME.start(),
+                CYCLE_TIME.end()
+            )));
+        }
         let surface_depth = read("u_reqd_depth_at_surface", 2.0);
 
         // b_arg values ≥ 1,000,000 name u_mission_param_a … _x.

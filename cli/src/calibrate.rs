@@ -85,7 +85,7 @@ pub fn main(args: CalibrateArgs) -> anyhow::Result<ExitCode> {
                 .with_context(|| format!("cannot write {}", output.display()))?;
             eprintln!("wrote         {}", output.display());
         }
-        None => print!("{table}"),
+        None => out!("{table}"),
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -26,23 +26,19 @@ pub fn main(args: crate::CheckArgs) -> anyhow::Result<ExitCode> {
     let Some(sensors) = active_sensors(&settings, &mut tally)? else {
         return Ok(crate::exit::code(crate::exit::ERRORS));
     };
-    let mut unreadable = 0;
+    // The exit code of files that could not be checked (unreadable, or not a script).
+    let mut not_checked = None;
     for path in &args.files {
         let script = match gloc_project::script::load_script(path, &sensors, &settings, false) {
             Ok(script) => script,
             Err(error) => {
-                println!("error: {error}");
-                unreadable += 1;
+                outln!("error: {error}");
+                not_checked = not_checked.max(Some(crate::exit::of_project(&error)));
                 continue;
             }
         };
         let source = SourceFile::new(&script.display, &script.text);
-        for diagnostic in &script.loaded.diagnostics {
-            print!("{}", source.render(diagnostic));
-        }
-        if let Some(hint) = &script.hint {
-            println!("{}: note: {hint}", script.display);
-        }
+        crate::compile::render_all(&script, |text| out!("{text}"));
         tally.add(&script.loaded.diagnostics);
         if args.stats {
             if let Some(checked_stats) = &script.loaded.stats {
@@ -53,7 +49,7 @@ pub fn main(args: crate::CheckArgs) -> anyhow::Result<ExitCode> {
         }
     }
     if tally.errors > 0 || tally.warnings > 0 {
-        println!(
+        outln!(
             "{} error{}, {} warning{}",
             tally.errors,
             if tally.errors == 1 { "" } else { "s" },
@@ -61,8 +57,8 @@ pub fn main(args: crate::CheckArgs) -> anyhow::Result<ExitCode> {
             if tally.warnings == 1 { "" } else { "s" }
         );
     }
-    Ok(if unreadable > 0 {
-        crate::exit::code(crate::exit::UNREADABLE)
+    Ok(if let Some(code) = not_checked {
+        crate::exit::code(code)
     } else if tally.errors > 0 {
         crate::exit::code(crate::exit::ERRORS)
     } else {
@@ -106,7 +102,7 @@ fn print_list(loaded: LoadedSensors, tally: &mut Tally) -> Option<SensorList> {
         .unwrap_or_default();
     let source = SourceFile::new(&display, &loaded.text);
     for diagnostic in &loaded.diagnostics {
-        print!("{}", source.render(diagnostic));
+        out!("{}", source.render(diagnostic));
     }
     tally.add(&loaded.diagnostics);
     match loaded.errors() {
@@ -117,7 +113,7 @@ fn print_list(loaded: LoadedSensors, tally: &mut Tally) -> Option<SensorList> {
                 .iter()
                 .any(gloc_engine::Diagnostic::is_error) =>
         {
-            println!("error: {error}");
+            outln!("error: {error}");
             tally.errors += 1;
             None
         }
@@ -131,27 +127,28 @@ fn print_stats(
     stats: &Stats,
     line_of_pc: &dyn Fn(gloc_engine::program::Pc) -> u32,
 ) {
-    println!("{}:", source.path);
-    println!("  registers     {}", stats.registers);
-    println!("  labels        {}", stats.labels);
-    println!("  memory        {}", stats.memory);
-    println!(
+    outln!("{}:", source.path);
+    outln!("  registers     {}", stats.registers);
+    outln!("  labels        {}", stats.labels);
+    outln!("  memory        {}", stats.memory);
+    outln!(
         "  instructions  {} (ninstr; {} executable, labels excluded)",
-        stats.statements, stats.instructions
+        stats.statements,
+        stats.instructions
     );
     let Some(worst) = &stats.worst_case else {
-        println!("  worst case    not computed (fix the errors first)");
+        outln!("  worst case    not computed (fix the errors first)");
         return;
     };
     let per_cycle = match worst.max {
         Bound::Finite(count) => format!("{count} instructions per cycle"),
         Bound::Unbounded => "unbounded (a loop without `yield` lies on the way)".to_string(),
     };
-    println!("  worst case    {per_cycle}");
-    println!("    {:<30} {}", "from the start", worst.from_start);
+    outln!("  worst case    {per_cycle}");
+    outln!("    {:<30} {}", "from the start", worst.from_start);
     for (pc, bound) in &worst.from_yields {
         let line = line_of_pc(*pc);
-        println!(
+        outln!(
             "    {:<30} {bound}",
             format!("after the yield on line {line}")
         );
@@ -160,5 +157,5 @@ fn print_stats(
         Bound::Finite(bytes) => format!("at most {bytes} bytes per cycle"),
         Bound::Unbounded => "unbounded (a loop without `yield` writes)".to_string(),
     };
-    println!("  output        {output}");
+    outln!("  output        {output}");
 }

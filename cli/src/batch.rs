@@ -234,7 +234,12 @@ pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
 
     let table = table(&variants, &rows);
     let mut out = std::io::stdout().lock();
-    write_readable(&mut out, &table).context("cannot write the table")?;
+    match write_readable(&mut out, &table) {
+        Err(error) if !crate::output::is_closed_pipe(&error) => {
+            return Err(error).context("cannot write the table");
+        }
+        _ => {}
+    }
     if let Some(path) = &args.csv {
         write_csv(path, &table)?;
     }

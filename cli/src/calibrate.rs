@@ -81,7 +81,7 @@ pub fn main(args: CalibrateArgs) -> anyhow::Result<ExitCode> {
                 .map_err(|error| crate::output::write_error(error, "the table", output))?;
             eprintln!("wrote         {}", output.display());
         }
-        None => print!("{table}"),
+        None => out!("{table}"),
     }
     Ok(ExitCode::SUCCESS)
 }

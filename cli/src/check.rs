@@ -4,9 +4,12 @@
 //! and sensor lists (a file named `masterdata*`, `.cac`, `.ccc`) are told apart by
 //! their names; a mission is read by `gloc_mission` as `gloc run` and the editor read it.
 
+use std::collections::hash_map::Entry;
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+use gloc_engine::config::Config;
 use gloc_engine::gloc::{Bound, Stats};
 use gloc_engine::sensors::{SensorList, SensorOrder};
 use gloc_project::sensors::{load_sensor_list, load_sensor_list_file, LoadedSensors};
@@ -17,31 +20,44 @@ use crate::render::{SourceFile, Tally};
 
 pub fn main(args: crate::CheckArgs) -> anyhow::Result<ExitCode> {
     let mut tally = Tally::default();
-    let settings = Settings::resolve(
-        args.files.first().map(PathBuf::as_path),
-        Overrides {
-            masterdata: args.masterdata.clone(),
-            cycle_budget: args.cycle_budget,
-            sensor_order: args.sensor_order,
-            mafiles: args.mafiles.clone(),
-            ..Overrides::new(Surface::Cli)
-        },
-    )?;
-    let Some(sensors) = active_sensors(&settings, &mut tally)? else {
-        return Ok(crate::exit::code(crate::exit::ERRORS));
+    let overrides = Overrides {
+        masterdata: args.masterdata.clone(),
+        cycle_budget: args.cycle_budget,
+        sensor_order: args.sensor_order,
+        mafiles: args.mafiles.clone(),
+        ..Overrides::new(Surface::Cli)
     };
-    let mut unreadable = 0;
+    // The exit code of files that could not be checked (unreadable, or not a script).
+    let mut not_checked = None;
     let mut shown = std::collections::HashSet::new();
-    let options = gloc_project::simulation::mission_options(&settings, &sensors);
+    // Each file is checked with its own project's settings (the nearest gloc.toml above
+    // it), resolved once per project: `gloc check a/x.gloc b/y.gloc` with a gloc.toml in
+    // each folder applies each to its own files.
+    let mut projects: HashMap<Option<PathBuf>, Option<Project>> = HashMap::new();
     for path in &args.files {
+        let project = match projects.entry(Config::find(path)) {
+            Entry::Occupied(entry) => entry.into_mut(),
+            Entry::Vacant(entry) => entry.insert(Project::resolve(path, &overrides, &mut tally)?),
+        };
+        let Some(Project {
+            settings,
+            sensors,
+            options,
+        }) = project
+        else {
+            // The project's sensor list has errors (printed when it was read).
+            not_checked = not_checked.max(Some(crate::exit::ERRORS));
+            continue;
+        };
+        let (settings, sensors, options) = (&*settings, &*sensors, &*options);
         match FileKind::of(path) {
             FileKind::Script => {}
             FileKind::Mission | FileKind::Args => {
-                match check_mission(path, &options, &sensors, &mut shown, &mut tally) {
+                match check_mission(path, options, sensors, &mut shown, &mut tally) {
                     Ok(()) => {}
                     Err(error) => {
-                        println!("error: cannot read `{}`: {error}", path.display());
-                        unreadable += 1;
+                        outln!("error: cannot read `{}`: {error}", path.display());
+                        not_checked = not_checked.max(Some(crate::exit::UNREADABLE));
                     }
                 }
                 continue;
@@ -56,28 +72,23 @@ pub fn main(args: crate::CheckArgs) -> anyhow::Result<ExitCode> {
                         let _ = print_list(loaded, &mut tally);
                     }
                     Err(error) => {
-                        println!("error: {error}");
-                        unreadable += 1;
+                        outln!("error: {error}");
+                        not_checked = not_checked.max(Some(crate::exit::of_project(&error)));
                     }
                 }
                 continue;
             }
         }
-        let script = match gloc_project::script::load_script(path, &sensors, &settings, false) {
+        let script = match gloc_project::script::load_script(path, sensors, settings, false) {
             Ok(script) => script,
             Err(error) => {
-                println!("error: {error}");
-                unreadable += 1;
+                outln!("error: {error}");
+                not_checked = not_checked.max(Some(crate::exit::of_project(&error)));
                 continue;
             }
         };
         let source = SourceFile::new(&script.display, &script.text);
-        for diagnostic in &script.loaded.diagnostics {
-            print!("{}", source.render(diagnostic));
-        }
-        if let Some(hint) = &script.hint {
-            println!("{}: note: {hint}", script.display);
-        }
+        crate::compile::render_all(&script, |text| out!("{text}"));
         tally.add(&script.loaded.diagnostics);
         if args.stats {
             if let Some(checked_stats) = &script.loaded.stats {
@@ -88,7 +99,7 @@ pub fn main(args: crate::CheckArgs) -> anyhow::Result<ExitCode> {
         }
     }
     if tally.errors > 0 || tally.warnings > 0 {
-        println!(
+        outln!(
             "{} error{}, {} warning{}",
             tally.errors,
             if tally.errors == 1 { "" } else { "s" },
@@ -96,13 +107,41 @@ pub fn main(args: crate::CheckArgs) -> anyhow::Result<ExitCode> {
             if tally.warnings == 1 { "" } else { "s" }
         );
     }
-    Ok(if unreadable > 0 {
-        crate::exit::code(crate::exit::UNREADABLE)
+    Ok(if let Some(code) = not_checked {
+        crate::exit::code(code)
     } else if tally.errors > 0 {
         crate::exit::code(crate::exit::ERRORS)
     } else {
         ExitCode::SUCCESS
     })
+}
+
+/// One project's resolved settings, its active sensor list and how its missions are read.
+struct Project {
+    settings: Settings,
+    sensors: SensorList,
+    options: gloc_mission::LoadOptions,
+}
+
+impl Project {
+    /// The project of `path` (the nearest gloc.toml above it); `None` when its sensor
+    /// list has errors (printed).
+    fn resolve(
+        path: &Path,
+        overrides: &Overrides,
+        tally: &mut Tally,
+    ) -> anyhow::Result<Option<Project>> {
+        let settings = Settings::resolve(Some(path), overrides.clone())?;
+        let Some(sensors) = active_sensors(&settings, tally)? else {
+            return Ok(None);
+        };
+        let options = gloc_project::simulation::mission_options(&settings, &sensors);
+        Ok(Some(Project {
+            settings,
+            sensors,
+            options,
+        }))
+    }
 }
 
 /// What `gloc check` makes of a file, by its name.
@@ -216,7 +255,7 @@ fn print_list(loaded: LoadedSensors, tally: &mut Tally) -> Option<SensorList> {
         .unwrap_or_default();
     let source = SourceFile::new(&display, &loaded.text);
     for diagnostic in &loaded.diagnostics {
-        print!("{}", source.render(diagnostic));
+        out!("{}", source.render(diagnostic));
     }
     tally.add(&loaded.diagnostics);
     match loaded.errors() {
@@ -227,7 +266,7 @@ fn print_list(loaded: LoadedSensors, tally: &mut Tally) -> Option<SensorList> {
                 .iter()
                 .any(gloc_engine::Diagnostic::is_error) =>
         {
-            println!("error: {error}");
+            outln!("error: {error}");
             tally.errors += 1;
             None
         }
@@ -241,27 +280,28 @@ fn print_stats(
     stats: &Stats,
     line_of_pc: &dyn Fn(gloc_engine::program::Pc) -> u32,
 ) {
-    println!("{}:", source.path);
-    println!("  registers     {}", stats.registers);
-    println!("  labels        {}", stats.labels);
-    println!("  memory        {}", stats.memory);
-    println!(
+    outln!("{}:", source.path);
+    outln!("  registers     {}", stats.registers);
+    outln!("  labels        {}", stats.labels);
+    outln!("  memory        {}", stats.memory);
+    outln!(
         "  instructions  {} (ninstr; {} executable, labels excluded)",
-        stats.statements, stats.instructions
+        stats.statements,
+        stats.instructions
     );
     let Some(worst) = &stats.worst_case else {
-        println!("  worst case    not computed (fix the errors first)");
+        outln!("  worst case    not computed (fix the errors first)");
         return;
     };
     let per_cycle = match worst.max {
         Bound::Finite(count) => format!("{count} instructions per cycle"),
         Bound::Unbounded => "unbounded (a loop without `yield` lies on the way)".to_string(),
     };
-    println!("  worst case    {per_cycle}");
-    println!("    {:<30} {}", "from the start", worst.from_start);
+    outln!("  worst case    {per_cycle}");
+    outln!("    {:<30} {}", "from the start", worst.from_start);
     for (pc, bound) in &worst.from_yields {
         let line = line_of_pc(*pc);
-        println!(
+        outln!(
             "    {:<30} {bound}",
             format!("after the yield on line {line}")
         );
@@ -270,5 +310,5 @@ fn print_stats(
         Bound::Finite(bytes) => format!("at most {bytes} bytes per cycle"),
         Bound::Unbounded => "unbounded (a loop without `yield` writes)".to_string(),
     };
-    println!("  output        {output}");
+    outln!("  output        {output}");
 }

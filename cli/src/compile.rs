@@ -36,15 +36,8 @@ pub fn main(args: crate::CompileArgs) -> anyhow::Result<ExitCode> {
         &settings,
         args.optimize,
     );
-    let text = &script.text;
     let loaded = &script.loaded;
-    let source = SourceFile::new(&display, text);
-    for diagnostic in &loaded.diagnostics {
-        eprint!("{}", source.render(diagnostic));
-    }
-    if let Some(hint) = &script.hint {
-        eprintln!("{display}: note: {hint}");
-    }
+    render_all(&script, |text| eprint!("{text}"));
     tally.add(&loaded.diagnostics);
     // The compiled GLOC must also pass the GLOC checker (a loop with neither `yield`
     // nor a way out is refused there); its findings are shown on the GBASIC lines.
@@ -100,7 +93,7 @@ pub fn main(args: crate::CompileArgs) -> anyhow::Result<ExitCode> {
         if args.optimize {
             // What -O bought: the same program built without the optimizer. Its
             // errors, if any, were already reported by the optimized build.
-            let unoptimized = compile(text, &sensors, &CompileOptions { optimize: false });
+            let unoptimized = compile(&script.text, &sensors, &CompileOptions { optimize: false });
             if let Some(before) = unoptimized.stats {
                 eprintln!(
                     "{display}: -O: {} → {} instructions, {} → {} registers (unoptimized → optimized)",
@@ -122,15 +115,44 @@ fn map_path(output: &Path) -> PathBuf {
     output.with_file_name(name)
 }
 
-/// Renders every diagnostic of a loaded script with `print` (stdout for `check`,
-/// stderr for `run`), then the other-language hint if any.
+/// How many diagnostics are shown of a script that reads as the other language:
+/// the note says what is wrong; the rest would be noise (27 for Fig. 2 read as GBASIC).
+const SHOWN_WITH_LANGUAGE_NOTE: usize = 3;
+
+/// Renders a loaded script's problems with `print` (stdout for `check`, stderr for
+/// `run`), the one place every command does: a warning for an empty script; the
+/// other-language note first, then only the first few diagnostics and a count of
+/// the rest; else every diagnostic.
 pub fn render_all(script: &Script, print: impl Fn(&str)) {
+    // An empty GLOC file has its own error (E0010); an empty GBASIC file loads.
+    if script.empty && !script.loaded.has_errors() {
+        print(&format!(
+            "{}: warning: the script is empty: it does nothing in any control cycle\n",
+            script.display
+        ));
+    }
     let source = SourceFile::new(&script.display, &script.text);
-    for diagnostic in &script.loaded.diagnostics {
+    let diagnostics = &script.loaded.diagnostics;
+    let shown = match &script.hint {
+        Some(hint) => {
+            print(&format!("{}: note: {hint}\n", script.display));
+            SHOWN_WITH_LANGUAGE_NOTE
+        }
+        None => diagnostics.len(),
+    };
+    for diagnostic in diagnostics.iter().take(shown) {
         print(&source.render(diagnostic));
     }
-    if let Some(hint) = &script.hint {
-        print(&format!("{}: note: {hint}\n", script.display));
+    if diagnostics.len() > shown {
+        let language = match script.language {
+            Language::Gloc => "GLOC",
+            Language::Gbasic => "GBASIC",
+        };
+        print(&format!(
+            "{}: … and {} more problems from reading it as {language} (see the note)\n",
+            script.display,
+            diagnostics.len() - shown
+        ));
     }
 }
 

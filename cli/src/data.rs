@@ -138,12 +138,12 @@ fn info(args: InfoArgs) -> anyhow::Result<ExitCode> {
     let cache = sensor_cache(&args.source)?;
     for (position, path) in args.source.files.iter().enumerate() {
         if position > 0 {
-            println!();
+            outln!();
         }
         let mut source = gloc_dbd::open_path(path, cache.as_deref())?;
-        println!("{}", path.display());
+        outln!("{}", path.display());
         for (key, value) in &source.header().fields {
-            println!("  {key}: {value}");
+            outln!("  {key}: {value}");
         }
         let sensors = source.sensors().clone();
         let time = source.time_column();
@@ -157,27 +157,29 @@ fn info(args: InfoArgs) -> anyhow::Result<ExitCode> {
                 last = cycle.time;
             }
         }
-        println!("  sensors: {}", sensors.len());
-        println!(
+        outln!("  sensors: {}", sensors.len());
+        outln!(
             "  time sensor: {}",
             time.map_or("none", |column| sensors[column].name.as_str())
         );
-        println!("  cycles: {cycles}");
+        outln!("  cycles: {cycles}");
         if first.is_finite() && last.is_finite() {
-            println!(
+            outln!(
                 "  time span: {} .. {} ({} s)",
                 utc(first),
                 utc(last),
                 number((last - first).round())
             );
         } else {
-            println!("  time span: none (no cycle with a time)");
+            outln!("  time span: none (no cycle with a time)");
         }
         if args.sensors {
             for sensor in sensors.iter() {
-                println!(
+                outln!(
                     "    {} ({}) {} bytes",
-                    sensor.name, sensor.units, sensor.bytes
+                    sensor.name,
+                    sensor.units,
+                    sensor.bytes
                 );
             }
         }

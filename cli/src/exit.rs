@@ -45,16 +45,21 @@ impl std::fmt::Display for Unwritable {
 impl std::error::Error for Unreadable {}
 impl std::error::Error for Unwritable {}
 
+/// The exit code of a project error, by its kind.
+pub fn of_project(error: &gloc_project::ProjectError) -> u8 {
+    match error.kind {
+        ErrorKind::Setting => USAGE,
+        ErrorKind::Unreadable => UNREADABLE,
+        ErrorKind::Invalid => ERRORS,
+    }
+}
+
 /// The exit code of an error a subcommand returned: by the first cause in its chain
 /// that has one; anything else is a usage error.
 pub fn of_error(error: &anyhow::Error) -> u8 {
     for cause in error.chain() {
         if let Some(project) = cause.downcast_ref::<gloc_project::ProjectError>() {
-            return match project.kind {
-                ErrorKind::Setting => USAGE,
-                ErrorKind::Unreadable => UNREADABLE,
-                ErrorKind::Invalid => ERRORS,
-            };
+            return of_project(project);
         }
         if let Some(log) = cause.downcast_ref::<gloc_dbd::DbdError>() {
             return match log.kind {

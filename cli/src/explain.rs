@@ -37,12 +37,12 @@ fn line(info: &CodeInfo) -> String {
 pub fn main(args: ExplainArgs) -> anyhow::Result<ExitCode> {
     let Some(code) = args.code else {
         let all: Vec<String> = codes::ALL.iter().map(line).collect();
-        println!("{}", all.join("\n"));
+        outln!("{}", all.join("\n"));
         return Ok(ExitCode::SUCCESS);
     };
     match codes::lookup(code.trim()) {
         Some(info) => {
-            println!("{}", line(info));
+            outln!("{}", line(info));
             Ok(ExitCode::SUCCESS)
         }
         None => anyhow::bail!(

@@ -9,6 +9,21 @@ use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
 
+/// `print!` for what a command reports on stdout, through [`output::print`]: a
+/// closed pipe (`gloc data info … | head -2`) ends the output quietly instead of
+/// panicking.
+macro_rules! out {
+    ($($arg:tt)*) => { $crate::output::print(format_args!($($arg)*)) };
+}
+
+/// `println!` through [`output::print`] (see `out!`).
+macro_rules! outln {
+    () => { $crate::output::print(format_args!("\n")) };
+    ($($arg:tt)*) => {
+        $crate::output::print(format_args!("{}\n", format_args!($($arg)*)))
+    };
+}
+
 mod batch;
 mod calibrate;
 mod check;

@@ -7,7 +7,34 @@ use std::fs::File;
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
 
+use std::sync::atomic::{AtomicBool, Ordering};
+
 use anyhow::bail;
+
+/// Set once standard output turned out to be a closed pipe: nothing more is written.
+static STDOUT_CLOSED: AtomicBool = AtomicBool::new(false);
+
+/// Writes a command's report to standard output (the `out!` and `outln!` macros).
+/// A reader that stops early (`| head`) closes the pipe: the rest of the output is
+/// dropped and the command ends as it would have, with no message; any other
+/// error (a full disk behind a redirection) is reported once on stderr.
+pub fn print(args: std::fmt::Arguments<'_>) {
+    if STDOUT_CLOSED.load(Ordering::Relaxed) {
+        return;
+    }
+    if let Err(error) = io::stdout().lock().write_fmt(args) {
+        STDOUT_CLOSED.store(true, Ordering::Relaxed);
+        if !is_closed_pipe(&error) {
+            eprintln!("error: cannot write to standard output: {error}");
+        }
+    }
+}
+
+/// Whether a write failed because the reader closed the pipe (`| head`): not a
+/// failure of the command, which stops writing there.
+pub fn is_closed_pipe(error: &io::Error) -> bool {
+    error.kind() == io::ErrorKind::BrokenPipe
+}
 
 /// One output the command will write, with its flag for messages.
 pub struct Output<'a> {

@@ -248,7 +248,7 @@ fn replay(
             }
         }
         if let Some(error) = host.print_error.take() {
-            if error.kind() == std::io::ErrorKind::BrokenPipe {
+            if crate::output::is_closed_pipe(&error) {
                 return Ok(ExitCode::SUCCESS);
             }
             return Err(error).context("cannot write to stdout");

@@ -226,7 +226,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
             printed_lines += 1;
             if let Err(error) = writeln!(out, "{line}") {
                 // A closed pipe (`| head`) is not a failure of the run.
-                if error.kind() != std::io::ErrorKind::BrokenPipe {
+                if !crate::output::is_closed_pipe(&error) {
                     return Err(error).context("cannot write the script's output");
                 }
             }
@@ -767,15 +767,29 @@ struct SummaryFacts<'a> {
     format: crate::SummaryFormat,
 }
 
+/// The summary's wall time and speed-up, to what the clock can tell: a run of a few
+/// milliseconds has no meaningful speed-up (a million-fold figure from a 0.000 s
+/// run misleads), and a ratio is given to two significant figures.
+fn wall_time(wall_seconds: f64, simulated_seconds: f64) -> String {
+    if wall_seconds < 0.01 {
+        return format!(
+            "{:.1} ms (too short to measure the speed-up)",
+            wall_seconds * 1000.0
+        );
+    }
+    let ratio = simulated_seconds / wall_seconds;
+    if ratio < 10.0 {
+        return format!("{wall_seconds:.2} s ({ratio:.1}× real time)");
+    }
+    let step = 10f64.powi(ratio.log10().floor() as i32 - 1);
+    let rounded = (ratio / step).round() * step;
+    format!("{wall_seconds:.2} s (about {rounded:.0}× faster than real time)")
+}
+
 fn summary(facts: &SummaryFacts<'_>) {
     let sim = facts.sim;
     let simulated = sim.time();
     let wall = facts.wall.as_secs_f64();
-    let speedup = if wall > 0.0 {
-        format!("{:.0}×", simulated / wall)
-    } else {
-        "∞".to_string()
-    };
     let (shallowest, deepest) = sim.depth_range();
     let mut lines = vec![
         format!(
@@ -798,10 +812,7 @@ fn summary(facts: &SummaryFacts<'_>) {
             )
         },
         format!("simulated     {}", human_time(simulated)),
-        format!(
-            "wall time     {:.3} s ({speedup} faster than real time)",
-            wall
-        ),
+        format!("wall time     {}", wall_time(wall, simulated)),
         format!(
             "energy used   {:.1} kJ, {:.3} Ah",
             sim.energy_joules() / 1000.0,
@@ -981,6 +992,21 @@ fn mission_guards(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn wall_time_claims_no_speed_up_the_clock_cannot_tell() {
+        // The run: 2,244 s simulated in 0.2 ms printed "0.000 s (11222302×)".
+        assert_eq!(
+            wall_time(0.0002, 2244.0),
+            "0.2 ms (too short to measure the speed-up)"
+        );
+        // 6 h in 0.5 s: 43,200×, to two significant figures.
+        assert_eq!(
+            wall_time(0.5, 21_600.0),
+            "0.50 s (about 43000× faster than real time)"
+        );
+        assert_eq!(wall_time(2.0, 6.0), "2.00 s (3.0× real time)");
+    }
 
     #[test]
     fn durations() {

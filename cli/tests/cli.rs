@@ -106,9 +106,15 @@ fn unreadable_and_binary_files_do_not_panic() {
     let binary = temp("garbage.gloc");
     std::fs::write(&binary, [0x7f, 0x00, 0xff, 0xfe, b'\n', 0x80, 0x81]).expect("write");
     let output = gloc(&["check", &binary.display().to_string()]);
-    assert_eq!(output.status.code(), Some(1));
+    // Binary data (a NUL byte) is refused as the wrong kind of file, before parsing.
+    assert_eq!(output.status.code(), Some(2));
     assert!(!stderr(&output).contains("panicked"));
-    assert!(stdout(&output).contains(":1:1: error[E0002]: unexpected character"));
+    assert!(stdout(&output).contains("is binary data, not a script"));
+    // Stray bytes in text (no NUL) are parsed, shown as U+FFFD.
+    std::fs::write(&binary, [b'\n', 0x80, 0x81, b'\n']).expect("write");
+    let output = gloc(&["check", &binary.display().to_string()]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(stdout(&output).contains(":2:1: error[E0002]: unexpected character"));
 }
 
 /// A depth ramp 0 → 20 → 0 m in 1 m steps, one row per cycle.

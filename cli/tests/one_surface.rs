@@ -128,6 +128,35 @@ fn a_budget_in_gloc_toml_is_held_against_the_script_by_check_as_by_run() {
 }
 
 #[test]
+fn check_applies_each_files_own_gloc_toml() {
+    // b/ has no gloc.toml (the default budget, 10,000), a/ a budget of 10: named b first,
+    // check applied b's settings to a's file too (one resolve for all files).
+    let here = folder("two-projects");
+    for name in ["a", "b"] {
+        std::fs::create_dir_all(here.join(name)).expect("mkdir");
+        std::fs::copy(
+            repo("examples/fig2.gloc"),
+            here.join(name).join("fig2.gloc"),
+        )
+        .expect("copy");
+    }
+    std::fs::write(here.join("a/gloc.toml"), "cycle_budget = 10\n").expect("write");
+    let output = gloc_in(&here, &["check", "b/fig2.gloc", "a/fig2.gloc"]);
+    let printed = all(&output);
+    assert!(
+        printed.contains(
+            "a/fig2.gloc:1:1: warning[W2302]: a control cycle may execute 16 instructions, more than the budget of 10"
+        ),
+        "{printed}"
+    );
+    assert!(
+        !printed.contains("b/fig2.gloc:1:1: warning[W2302]"),
+        "{printed}"
+    );
+    let _ = std::fs::remove_dir_all(&here);
+}
+
+#[test]
 fn files_named_in_gloc_toml_that_cannot_be_read_name_gloc_toml_and_its_line() {
     let here = folder("named");
     std::fs::write(here.join("a.gbas"), SCRIPT).expect("write");

@@ -18,6 +18,16 @@
 
 use crate::{Diagnostic, LineIndex, Span};
 
+/// `text` with every control character but tab and line break shown as U+FFFD:
+/// a message quotes the source (`unknown instruction `…``), and the bytes of a
+/// binary file must not reach a terminal as escape sequences.
+pub fn printable(text: &str) -> String {
+    text.replace(
+        |c: char| c.is_control() && c != '\t' && c != '\n',
+        "\u{FFFD}",
+    )
+}
+
 /// A source text prepared for rendering many diagnostics.
 pub struct SourceFile<'a> {
     pub path: &'a str,
@@ -48,7 +58,7 @@ impl<'a> SourceFile<'a> {
             self.location(diagnostic.span.start as usize),
             diagnostic.severity,
             diagnostic.code,
-            diagnostic.message
+            printable(&diagnostic.message)
         )
     }
 
@@ -74,7 +84,7 @@ impl<'a> SourceFile<'a> {
             self.snippet(&mut out, span, marker, message, width);
         }
         if let Some(help) = &diagnostic.help {
-            out.push_str(&format!("{gutter} = help: {help}\n"));
+            out.push_str(&format!("{gutter} = help: {}\n", printable(help)));
         }
         out
     }
@@ -94,7 +104,7 @@ impl<'a> SourceFile<'a> {
         let source_line = self.text[line_start..line_end].trim_end_matches('\r');
         // Very long lines (binary garbage) are cut to keep the report readable.
         let shown: String = source_line.chars().take(200).collect();
-        let shown = shown.replace(|c: char| c.is_control() && c != '\t', "\u{FFFD}");
+        let shown = printable(&shown);
         let mut prefix = String::new();
         for (at, character) in source_line.char_indices() {
             if line_start + at >= start {
@@ -115,7 +125,7 @@ impl<'a> SourceFile<'a> {
         let tail = if message.is_empty() {
             String::new()
         } else {
-            format!(" {message}")
+            format!(" {}", printable(message))
         };
         out.push_str(&format!(
             "{} | {prefix}{markers}{tail}\n",

@@ -50,8 +50,8 @@ pub fn typed_word(text: &str, offset: usize) -> (usize, &str) {
 }
 
 /// How well `typed` matches `candidate`, lower is better; `None` when it does not.
-/// 0: the candidate starts with it (case ignored); 1: a part after `_` starts with
-/// it; 2 and up: its characters appear in order (the more spread, the higher).
+/// 0: the candidate starts with it (case ignored); 1: a part after `_` or a space
+/// starts with it (the index in a GLOC sensor's filter text `m_depth 444`); 2 and up: its characters appear in order (the more spread, the higher).
 pub fn match_class(typed: &str, candidate: &str) -> Option<u32> {
     if typed.is_empty() {
         return Some(0);
@@ -62,7 +62,7 @@ pub fn match_class(typed: &str, candidate: &str) -> Option<u32> {
         return Some(0);
     }
     if candidate
-        .split('_')
+        .split(['_', ' '])
         .skip(1)
         .any(|part| part.starts_with(&typed))
     {
@@ -173,6 +173,8 @@ mod tests {
         assert_eq!(match_class("mdp", "m_depth"), Some(4));
         assert_eq!(match_class("mdpth", "m_depth"), Some(4));
         assert_eq!(match_class("xyz", "m_depth"), None);
+        // A GLOC sensor's filter text: typing its index finds it as a word part.
+        assert_eq!(match_class("44", "m_depth 444"), Some(1));
         assert_eq!(match_class("", "anything"), Some(0));
     }
 

@@ -487,7 +487,9 @@ fn register_completions(text: &str) -> Vec<Completion> {
         .collect()
 }
 
-/// Sensors by name, inserting the index (GLOC names sensors by number).
+/// Sensors by name, inserting the index (GLOC names sensors by number). The
+/// label is the name, what the user types; the filter text adds the index, so
+/// typing `444` finds `m_depth` too; the detail names the index.
 fn sensor_index_completions(list: &SensorList, store: bool) -> Vec<Completion> {
     lang::sensor_completions(list, store)
         .into_iter()
@@ -495,7 +497,6 @@ fn sensor_index_completions(list: &SensorList, store: bool) -> Vec<Completion> {
             let id = list.lookup(&item.label)?;
             item.filter_text = Some(format!("{} {}", item.label, id.0));
             item.insert_text = Some(id.0.to_string());
-            item.label = format!("{} {}", id.0, item.label);
             Some(item)
         })
         .collect()

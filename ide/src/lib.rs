@@ -62,17 +62,29 @@ impl Language {
         }
     }
 
-    /// From an editor's language id, falling back to the file's path (or URI
-    /// path) extension.
+    /// The document's language: by the file's path (or URI path) when its
+    /// extension or name is one of gloc's own, whatever the editor's language id
+    /// says (an editor such as Emacs with eglot sends one id for every file of a
+    /// server); otherwise (`untitled:` buffers, a `.txt`) by the language id.
     pub fn detect(language_id: &str, path: &str) -> Option<Language> {
+        Language::of_path(path).or_else(|| Language::of_language_id(language_id))
+    }
+
+    /// By the editor's language id alone.
+    pub fn of_language_id(language_id: &str) -> Option<Language> {
         match language_id.to_ascii_lowercase().as_str() {
-            "gloc" => return Some(Language::Gloc),
-            "gbasic" | "gbas" => return Some(Language::Gbasic),
-            "slocum_mission" => return Some(Language::Mission),
-            "slocum_ma" => return Some(Language::MissionArgs),
-            "slocum_masterdata" => return Some(Language::Masterdata),
-            _ => {}
+            "gloc" => Some(Language::Gloc),
+            "gbasic" | "gbas" => Some(Language::Gbasic),
+            "slocum_mission" => Some(Language::Mission),
+            "slocum_ma" => Some(Language::MissionArgs),
+            "slocum_masterdata" => Some(Language::Masterdata),
+            _ => None,
         }
+    }
+
+    /// By the path's extension or name alone: the compiler's script extensions,
+    /// `.mi`, `.ma`, `.cac`, a file named `masterdata` and `gloc.toml`.
+    pub fn of_path(path: &str) -> Option<Language> {
         let script = std::path::Path::new(path)
             .extension()
             .and_then(|extension| extension.to_str())

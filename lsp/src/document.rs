@@ -10,8 +10,8 @@ use crate::position;
 
 pub use gloc_ide::Language;
 
-/// The document's language from the client's `languageId`, falling back to the
-/// file extension of its URI.
+/// The document's language: the file extension of its URI when it is one of
+/// gloc's own, else the client's `languageId` ([`Language::detect`]).
 pub fn detect_language(language_id: &str, uri: &Uri) -> Option<Language> {
     Language::detect(language_id, uri.path().as_str())
 }
@@ -160,6 +160,28 @@ mod tests {
             Some(Language::Gbasic)
         );
         assert_eq!(detect_language("rust", &uri("file:///x/y.rs")), None);
+        // The extension wins over a language id that disagrees (Emacs with eglot
+        // sends one id for every file of a server); a `.txt` keeps the client's.
+        assert_eq!(
+            detect_language("gbasic", &uri("file:///x/fig2.gloc")),
+            Some(Language::Gloc)
+        );
+        assert_eq!(
+            detect_language("gbasic", &uri("file:///g/missions/nsb3.mi")),
+            Some(Language::Mission)
+        );
+        assert_eq!(
+            detect_language("gloc", &uri("file:///x/fig3.gbas")),
+            Some(Language::Gbasic)
+        );
+        assert_eq!(
+            detect_language("gbasic", &uri("file:///g/mafiles/yo10.ma")),
+            Some(Language::MissionArgs)
+        );
+        assert_eq!(
+            detect_language("gloc", &uri("file:///x/notes.txt")),
+            Some(Language::Gloc)
+        );
         assert_eq!(
             detect_language("slocum_mission", &uri("untitled:2")),
             Some(Language::Mission)

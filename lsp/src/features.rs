@@ -31,6 +31,9 @@ pub struct ClientFeatures {
     pub resolve_documentation: bool,
     /// The client pulls diagnostics (`textDocument/diagnostic`): no push for scripts.
     pub pull_diagnostics: bool,
+    /// The client shows a diagnostic's related locations (`relatedInformation`);
+    /// without it they are written into the message.
+    pub related_information: bool,
     /// The client accepts `workspace/diagnostic/refresh`.
     pub diagnostic_refresh: bool,
     /// The client runs the code lens command `gloc.runMission` (it lists it in
@@ -75,6 +78,15 @@ impl ClientFeatures {
                 .and_then(|item| item.resolve_support.as_ref())
                 .is_some_and(|support| support.properties.iter().any(|p| p == "documentation")),
             pull_diagnostics: text.is_some_and(|text| text.diagnostic.is_some()),
+            related_information: if text.is_some_and(|text| text.diagnostic.is_some()) {
+                text.and_then(|text| text.diagnostic.as_ref())
+                    .and_then(|pull| pull.related_information)
+                    .unwrap_or(false)
+            } else {
+                text.and_then(|text| text.publish_diagnostics.as_ref())
+                    .and_then(|push| push.related_information)
+                    .unwrap_or(false)
+            },
             diagnostic_refresh: capabilities
                 .workspace
                 .as_ref()
@@ -99,7 +111,7 @@ fn client_runs(capabilities: &ClientCapabilities, command: &str) -> bool {
 }
 
 /// `text` (markdown) as the client can show it: plain text drops the inline code
-/// marks, emphasis and code fences.
+/// marks, emphasis (`**strong**`, `*emphasis*`) and code fences.
 fn markup(text: String, markdown: bool) -> MarkupContent {
     if markdown {
         return MarkupContent {
@@ -110,12 +122,34 @@ fn markup(text: String, markdown: bool) -> MarkupContent {
     let plain: Vec<String> = text
         .lines()
         .filter(|line| !line.trim_start().starts_with("```"))
-        .map(|line| line.replace("**", "").replace('`', ""))
+        .map(|line| without_emphasis(&line.replace("**", "").replace('`', "")))
         .collect();
     MarkupContent {
         kind: MarkupKind::PlainText,
         value: plain.join("\n"),
     }
+}
+
+/// `line` without the `*` that open or close an emphasis (`*from the paper*`);
+/// a `*` between spaces (`a * b`) is text and stays.
+fn without_emphasis(line: &str) -> String {
+    let chars: Vec<char> = line.chars().collect();
+    let mut out = String::with_capacity(line.len());
+    for (index, &c) in chars.iter().enumerate() {
+        if c == '*' {
+            let before = index.checked_sub(1).map(|i| chars[i]);
+            let after = chars.get(index + 1).copied();
+            let opens = before.is_none_or(|b| b.is_whitespace() || "([".contains(b))
+                && after.is_some_and(|a| !a.is_whitespace() && a != '*');
+            let closes = before.is_some_and(|b| !b.is_whitespace() && b != '*')
+                && after.is_none_or(|a| a.is_whitespace() || ".,;:)]".contains(a));
+            if opens || closes {
+                continue;
+            }
+        }
+        out.push(c);
+    }
+    out
 }
 
 /// A snippet's text without its tab stops (`${1:r0}` gives `r0`, `$1` nothing),
@@ -238,15 +272,26 @@ pub fn capabilities() -> ServerCapabilities {
     }
 }
 
-pub fn diagnostics(document: &Document, analysis: &Analysis) -> Vec<Diagnostic> {
-    diagnostics_for(document.rope(), &document.uri, &analysis.diagnostics)
+pub fn diagnostics(
+    document: &Document,
+    analysis: &Analysis,
+    client: ClientFeatures,
+) -> Vec<Diagnostic> {
+    diagnostics_for(
+        document.rope(),
+        &document.uri,
+        &analysis.diagnostics,
+        client,
+    )
 }
 
-/// Converts core diagnostics; labels become related information in the same file.
+/// Converts core diagnostics; labels become related information in the same file
+/// for a client that shows it, else lines of the message (`3:5: label`).
 pub fn diagnostics_for(
     rope: &Rope,
     uri: &Uri,
     diagnostics: &[gloc_engine::Diagnostic],
+    client: ClientFeatures,
 ) -> Vec<Diagnostic> {
     diagnostics
         .iter()
@@ -255,6 +300,17 @@ pub fn diagnostics_for(
             if let Some(help) = &diagnostic.help {
                 message.push_str("\nhelp: ");
                 message.push_str(help);
+            }
+            if !client.related_information {
+                for label in &diagnostic.labels {
+                    let at = range_of(rope, label.span).start;
+                    message.push_str(&format!(
+                        "\n{}:{}: {}",
+                        at.line + 1,
+                        at.character + 1,
+                        label.message
+                    ));
+                }
             }
             let related: Vec<DiagnosticRelatedInformation> = diagnostic
                 .labels
@@ -277,7 +333,8 @@ pub fn diagnostics_for(
                 code: Some(NumberOrString::String(diagnostic.code.to_string())),
                 source: Some("gloc".to_string()),
                 message,
-                related_information: (!related.is_empty()).then_some(related),
+                related_information: (client.related_information && !related.is_empty())
+                    .then_some(related),
                 ..Diagnostic::default()
             }
         })
@@ -304,13 +361,20 @@ pub fn completion(
         analysis,
         context,
     );
-    let (_, typed) = completion::typed_word(document.text(), offset);
+    let (start, typed) = completion::typed_word(document.text(), offset);
     let (ranked, cut) = completion::rank(candidates, typed, limit);
+    // Every item replaces the typed word through a text edit: clients that filter
+    // by what the item inserts (Emacs's eglot) match the label, which is what the
+    // user types, while the edit inserts what the file needs (a GLOC index).
+    let typed_range = Range {
+        start: position_of(document.rope(), start),
+        end: position_of(document.rope(), offset),
+    };
     let items = ranked
         .into_iter()
         .enumerate()
         .map(|(rank, completion)| {
-            let mut item = completion_item(completion, client);
+            let mut item = completion_item(completion, client, typed_range);
             // The client sorts by `sort_text`: keep the server's order.
             item.sort_text = Some(format!("{rank:05}"));
             if client.resolve_documentation && item.documentation.is_some() {
@@ -330,10 +394,22 @@ pub fn completion(
     }))
 }
 
+/// One item: the label and filter text are what the user types; what goes into
+/// the file (a snippet for a client that declared snippets, else plain text) is
+/// the new text of an edit over `typed_range`, never `insertText`.
 fn completion_item(
     completion: gloc_ide::analysis::Completion,
     client: ClientFeatures,
+    typed_range: Range,
 ) -> CompletionItem {
+    let new_text = match &completion.snippet {
+        Some(snippet) if client.snippets => snippet.clone(),
+        Some(snippet) => snippet_text(snippet),
+        None => completion
+            .insert_text
+            .clone()
+            .unwrap_or_else(|| completion.label.clone()),
+    };
     CompletionItem {
         label: completion.label,
         kind: Some(match completion.kind {
@@ -355,11 +431,10 @@ fn completion_item(
             .as_ref()
             .filter(|_| client.snippets)
             .map(|_| InsertTextFormat::SNIPPET),
-        insert_text: match completion.snippet {
-            Some(snippet) if client.snippets => Some(snippet),
-            Some(snippet) => Some(snippet_text(&snippet)),
-            None => completion.insert_text,
-        },
+        text_edit: Some(CompletionTextEdit::Edit(TextEdit {
+            range: typed_range,
+            new_text,
+        })),
         filter_text: completion.filter_text,
         sort_text: completion.sort_text,
         ..CompletionItem::default()
@@ -734,10 +809,15 @@ pub fn inlay_hints(document: &Document, analysis: &Analysis, range: Range) -> Ve
 }
 
 /// Quick fixes carried by the diagnostics that touch `range`.
-pub fn code_actions(document: &Document, analysis: &Analysis, range: Range) -> CodeActionResponse {
+pub fn code_actions(
+    document: &Document,
+    analysis: &Analysis,
+    range: Range,
+    client: ClientFeatures,
+) -> CodeActionResponse {
     let rope = document.rope();
     let wanted = span_of(rope, range);
-    let converted = diagnostics(document, analysis);
+    let converted = diagnostics(document, analysis, client);
     gloc_ide::actions::quick_fixes(analysis, wanted)
         .into_iter()
         .map(|fix| {
@@ -1008,6 +1088,20 @@ mod tests {
                 ]
             })
             .collect()
+    }
+
+    #[test]
+    fn plain_text_drops_emphasis_but_keeps_multiplication() {
+        let plain = markup(
+            "```gloc\nmul r,r,r\n```\n`dst := a * b`\n\n*from the paper (Fig. 2)*, **bold** and *x*."
+                .to_string(),
+            false,
+        );
+        assert_eq!(plain.kind, MarkupKind::PlainText);
+        assert_eq!(
+            plain.value,
+            "mul r,r,r\ndst := a * b\n\nfrom the paper (Fig. 2), bold and x."
+        );
     }
 
     #[test]

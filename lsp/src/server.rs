@@ -283,7 +283,11 @@ impl State {
         open.published_version = Some(open.document.version);
         Some(Publish {
             uri: uri.clone(),
-            diagnostics: features::diagnostics(&open.document, &open.analysis),
+            diagnostics: features::diagnostics(
+                &open.document,
+                &open.analysis,
+                self.client_features,
+            ),
             version: Some(open.document.version),
         })
     }
@@ -314,10 +318,16 @@ impl State {
                     open.document.rope(),
                     &uri,
                     &[(*error.diagnostic).clone()],
+                    self.client_features,
                 ),
                 (Some(error), None) => {
                     let rope = ropey::Rope::from_str(error.text.as_deref().unwrap_or(""));
-                    features::diagnostics_for(&rope, &uri, &[(*error.diagnostic).clone()])
+                    features::diagnostics_for(
+                        &rope,
+                        &uri,
+                        &[(*error.diagnostic).clone()],
+                        self.client_features,
+                    )
                 }
                 (None, _) => Vec::new(),
             };
@@ -1006,9 +1016,10 @@ impl LanguageServer for Backend {
         &self,
         params: DocumentDiagnosticParams,
     ) -> Result<DocumentDiagnosticReportResult> {
+        let client = lock(&self.state).client_features;
         let items = self
             .with_document(&params.text_document.uri, |document, analysis, _| {
-                Some(features::diagnostics(document, analysis))
+                Some(features::diagnostics(document, analysis, client))
             })
             .unwrap_or_default();
         Ok(features::diagnostic_report(items))
@@ -1075,9 +1086,15 @@ impl LanguageServer for Backend {
     }
 
     async fn code_action(&self, params: CodeActionParams) -> Result<Option<CodeActionResponse>> {
+        let client = lock(&self.state).client_features;
         Ok(
             self.with_document(&params.text_document.uri, |document, analysis, _| {
-                Some(features::code_actions(document, analysis, params.range))
+                Some(features::code_actions(
+                    document,
+                    analysis,
+                    params.range,
+                    client,
+                ))
             }),
         )
     }

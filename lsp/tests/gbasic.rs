@@ -180,7 +180,7 @@ async fn completion_items_carry_detail_snippets_and_sort_text() {
         .await;
     let items = result["items"].as_array().expect("items");
     let abs = items.iter().find(|i| i["label"] == "abs").expect("abs");
-    assert_eq!(abs["insertText"], "abs($1)");
+    assert_eq!(abs["textEdit"]["newText"], "abs($1)");
     assert_eq!(abs["insertTextFormat"], 2);
     // Declared variables come first and carry their type.
     change(

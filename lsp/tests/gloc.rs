@@ -95,7 +95,10 @@ async fn completion_after_incremental_edits_snippets_and_sensor_indices() {
         .find(|i| i["label"] == "stores")
         .expect("stores");
     assert_eq!(stores["detail"], "stores r,SENSOR");
-    assert_eq!(stores["insertText"], "stores ${1:r0},${2:0}");
+    // The typed `st` is replaced through an edit; no `insertText`.
+    assert_eq!(stores["textEdit"]["newText"], "stores ${1:r0},${2:0}");
+    assert_eq!(stores["textEdit"]["range"], range(30, 0, 30, 2));
+    assert!(stores.get("insertText").is_none());
     assert!(!labels(items).contains(&"label".to_string()));
 
     // Where a store expects a sensor: writable ones first (the first 100 of
@@ -128,9 +131,11 @@ async fn completion_after_incremental_edits_snippets_and_sensor_indices() {
     let items = result["items"].as_array().expect("items");
     let behs = items
         .iter()
-        .find(|i| i["label"] == "1387 sci_ruhp_behs")
+        .find(|i| i["label"] == "sci_ruhp_behs")
         .expect("hook sensor");
-    assert_eq!(behs["insertText"], "1387");
+    // The label is the name the user types; the edit puts the index over `sci_ru`.
+    assert_eq!(behs["textEdit"]["newText"], "1387");
+    assert_eq!(behs["textEdit"]["range"], range(30, 10, 30, 16));
     assert!(behs["detail"]
         .as_str()
         .expect("detail")
@@ -144,7 +149,7 @@ async fn completion_after_incremental_edits_snippets_and_sensor_indices() {
         .as_array()
         .expect("items")
         .iter()
-        .find(|i| i["label"] == "444 m_depth")
+        .find(|i| i["label"] == "m_depth")
         .cloned()
         .expect("m_depth");
     assert_eq!(depth["detail"], "sensor 444 (m), read-only");
@@ -643,4 +648,78 @@ async fn settings_files_on_disk_are_watched_when_the_client_allows_it() {
         .notifications
         .iter()
         .any(|message| message["method"] == "client/registerCapability"));
+}
+
+/// Emacs with eglot 1.9: one language id (`gbasic`) for every file of the
+/// server, completion matched against the label (no filter on `insertText`), no
+/// snippets, no related information, plain-text hover.
+#[tokio::test]
+async fn an_eglot_client_gets_what_it_declared_and_the_language_of_the_extension() {
+    let mut client = TestClient::initialized_with(support::eglot_capabilities(), Value::Null).await;
+    // Fig. 2 sent as `gbasic` is still GLOC (its extension): clean.
+    let published = client.open(URI, "gbasic", FIG2).await;
+    assert_eq!(published["diagnostics"], json!([]), "{published}");
+
+    // `loads m_dep`: the label is the name typed; the index goes in through an
+    // edit over `m_dep` (line 4 is `loads 444,r0`; make it `loads m_dep`).
+    client
+        .notify(
+            "textDocument/didChange",
+            json!({ "textDocument": { "uri": URI, "version": 2 },
+            "contentChanges": [{ "range": range(4, 6, 4, 12), "text": "m_dep" }] }),
+        )
+        .await;
+    let result = client
+        .request("textDocument/completion", at(URI, 4, 11))
+        .await;
+    let depth = result["items"]
+        .as_array()
+        .expect("items")
+        .iter()
+        .find(|i| i["label"] == "m_depth")
+        .cloned()
+        .expect("m_depth offered under its name");
+    assert_eq!(depth["textEdit"]["newText"], "444");
+    assert_eq!(depth["textEdit"]["range"], range(4, 6, 4, 11));
+    assert!(depth.get("insertText").is_none(), "{depth}");
+    // A mnemonic is plain text without snippet support: no tab stops, no format.
+    let result = client
+        .request("textDocument/completion", at(URI, 30, 0))
+        .await;
+    let stores = result["items"]
+        .as_array()
+        .expect("items")
+        .iter()
+        .find(|i| i["label"] == "stores")
+        .cloned()
+        .expect("stores");
+    assert_eq!(stores["textEdit"]["newText"], "stores r0,0");
+    assert!(stores.get("insertTextFormat").is_none(), "{stores}");
+
+    // Hover on `loadd` (line 5) in plain text: no markdown marks.
+    let hover = client.request("textDocument/hover", at(URI, 5, 1)).await;
+    assert_eq!(hover["contents"]["kind"], "plaintext");
+    let value = hover["contents"]["value"].as_str().expect("hover text");
+    assert!(value.contains("from the paper"), "{value}");
+    assert!(!value.contains('*') && !value.contains('`'), "{value}");
+
+    // A duplicate label: the first one's place is in the message, not in
+    // `relatedInformation`, which the client did not declare.
+    let text = "nregs 1\nnblbs 1\nninstr 3\nlabel 0\nlabel 0\nyield\n";
+    let published = client.open("file:///p/dup.gloc", "gbasic", text).await;
+    let duplicate = published["diagnostics"]
+        .as_array()
+        .expect("array")
+        .iter()
+        .find(|d| d["code"] == "E0103")
+        .cloned()
+        .expect("duplicate label");
+    assert!(duplicate.get("relatedInformation").is_none(), "{duplicate}");
+    assert!(
+        duplicate["message"]
+            .as_str()
+            .expect("message")
+            .contains("\n4:7: first defined here"),
+        "{duplicate}"
+    );
 }

@@ -23,17 +23,79 @@ pub struct Script {
     pub loaded: LoadedScript,
     /// When the script has errors and reads as the other language: what to do.
     pub hint: Option<String>,
+    /// The file holds nothing but blanks and comments: it loads (as GBASIC) but does
+    /// nothing, which is worth a warning, never a silent pass.
+    pub empty: bool,
 }
 
-/// Reads a script file; an unreadable file is an error of kind `Unreadable`.
+/// Reads a script file; an unreadable file is an error of kind `Unreadable`, and
+/// a file of another kind given as the script (a glider log, a mission, a sensor
+/// list, binary data) one of kind `Setting`, naming the option it belongs to,
+/// before any of it is parsed (a `.dbd` read as GLOC gave 5,010 errors).
 pub fn read_script(path: &Path) -> Result<String, ProjectError> {
-    gloc_engine::files::read_text(path, gloc_engine::files::SCRIPT).map_err(|error| {
+    if let Some(hint) = not_a_script(path) {
+        return Err(ProjectError::new(
+            ErrorKind::Setting,
+            None,
+            format!("`{}` is {hint}", path.display()),
+        ));
+    }
+    let bytes = gloc_engine::files::read(path, gloc_engine::files::SCRIPT).map_err(|error| {
         ProjectError::new(
             ErrorKind::Unreadable,
             None,
             format!("cannot read the script `{}`: {error}", path.display()),
         )
+    })?;
+    // A NUL byte near the start is binary data (git's and grep's test); text in a
+    // legacy encoding is read, its stray bytes as U+FFFD.
+    if bytes.iter().take(8192).any(|&byte| byte == 0) {
+        return Err(ProjectError::new(
+            ErrorKind::Setting,
+            None,
+            format!(
+                "`{}` is binary data, not a script: a script is a text file (`.gloc` or `.gbas`)",
+                path.display()
+            ),
+        ));
+    }
+    Ok(match String::from_utf8(bytes) {
+        Ok(text) => text,
+        Err(error) => String::from_utf8_lossy(error.as_bytes()).into_owned(),
     })
+}
+
+/// What a file given as the script is instead, by its extension, and where it goes.
+fn not_a_script(path: &Path) -> Option<String> {
+    if gloc_dbd::LogKind::from_path(path).is_some() {
+        return Some(
+            "a glider log, not a script: replay a script over it with \
+             `gloc run SCRIPT --replay LOG…` (or read it with `gloc data info`)"
+                .to_string(),
+        );
+    }
+    let extension = path.extension()?.to_str()?.to_ascii_lowercase();
+    let hint = match extension.as_str() {
+        "mi" => {
+            "a mission file, not a script: fly a script in it with \
+                 `gloc run SCRIPT --mission FILE.mi`"
+        }
+        "ma" => {
+            "a mission argument file, not a script: a mission (`--mission FILE.mi`) \
+                 loads it from `../mafiles/`"
+        }
+        "cac" | "ccc" => "a sensor list, not a script: give it with `--masterdata`",
+        "csv" => {
+            "a CSV file, not a script: replay a script over recorded values with \
+                  `gloc run SCRIPT --replay FILE.csv`"
+        }
+        "toml" => {
+            "a settings file, not a script: gloc reads the nearest `gloc.toml` \
+                   above the script by itself"
+        }
+        _ => return None,
+    };
+    Some(hint.to_string())
 }
 
 /// Reads and loads a `.gloc` or `.gbas` script (by extension), with the settings'
@@ -81,6 +143,7 @@ pub fn load_text(
         written_for,
     );
     let hint = language_hint(&text, language, &loaded, sensors);
+    let empty = words(&text).is_empty();
     Script {
         path: path.map(Path::to_path_buf),
         display,
@@ -88,6 +151,7 @@ pub fn load_text(
         language,
         loaded,
         hint,
+        empty,
     }
 }
 
@@ -108,17 +172,8 @@ fn other(language: Language) -> Language {
     }
 }
 
-/// By content: the script has errors as `language`, and reads as the other language
-/// (it loads there without errors, or opens with GLOC's header / GBASIC's `dim`).
-pub fn language_hint(
-    text: &str,
-    language: Language,
-    loaded: &LoadedScript,
-    sensors: &SensorList,
-) -> Option<String> {
-    if !loaded.has_errors() {
-        return None;
-    }
+/// The first word of each line that has one, outside comments (`#` GLOC, `'` GBASIC).
+fn words(text: &str) -> Vec<String> {
     let first_word = |line: &str| {
         line.split(['#', '\''])
             .next()
@@ -127,7 +182,22 @@ pub fn language_hint(
             .next()
             .map(str::to_ascii_lowercase)
     };
-    let words: Vec<String> = text.lines().filter_map(first_word).collect();
+    text.lines().filter_map(first_word).collect()
+}
+
+/// By content: the script has errors as `language`, and reads as the other language
+/// (it loads there without errors, or opens with GLOC's header / GBASIC's `dim`).
+pub fn language_hint(
+    text: &str,
+    language: Language,
+    loaded: &LoadedScript,
+    sensors: &SensorList,
+) -> Option<String> {
+    let words = words(text);
+    // An empty file reads as nothing in either language: its own error says so.
+    if !loaded.has_errors() || words.is_empty() {
+        return None;
+    }
     let looks_like = match other(language) {
         Language::Gloc => words.first().is_some_and(|word| word == "nregs"),
         Language::Gbasic => words.iter().any(|word| word == "dim"),
@@ -175,6 +245,15 @@ mod tests {
         );
         // GBASIC without `dim` still compiles as GBASIC.
         assert!(hint("print 1\nyield\n", Language::Gloc).is_some());
+    }
+
+    #[test]
+    fn an_empty_file_gets_no_hint_and_is_marked_empty() {
+        // E0010 says a GLOC file is empty; "looks like GBASIC" would be false.
+        assert_eq!(hint("", Language::Gloc), None);
+        assert_eq!(hint("\n  \n# only a comment\n", Language::Gloc), None);
+        assert!(words("' a comment\n\n").is_empty());
+        assert!(!words("yield\n").is_empty());
     }
 
     #[test]

@@ -199,7 +199,7 @@ fn gloc_operands_registers_labels_and_sensors_by_index() {
         Gloc,
         &text,
         expect![[r#"
-            1387 sci_ruhp_behs [Sensor] sensor 1387 (enum), writable => 1387
+            sci_ruhp_behs [Sensor] sensor 1387 (enum), writable => 1387
         "#]],
     );
     // A read-only sensor after `stores` is still offered, marked as not storable.
@@ -208,12 +208,12 @@ fn gloc_operands_registers_labels_and_sensors_by_index() {
         Gloc,
         &text,
         expect![[r#"
-            165 m_depth_subsampled [Sensor] sensor 165 (m), read-only: cannot be stored => 165
-            166 m_depth_rate [Sensor] sensor 166 (m/s), read-only: cannot be stored => 166
-            167 m_depth_rate_subsampled [Sensor] sensor 167 (m/s), read-only: cannot be stored => 167
-            170 m_depth_state [Sensor] sensor 170 (enum), read-only: cannot be stored => 170
-            444 m_depth [Sensor] sensor 444 (m), read-only: cannot be stored => 444
-            446 m_depth_rejected [Sensor] sensor 446 (bool), read-only: cannot be stored => 446
+            m_depth_subsampled [Sensor] sensor 165 (m), read-only: cannot be stored => 165
+            m_depth_rate [Sensor] sensor 166 (m/s), read-only: cannot be stored => 166
+            m_depth_rate_subsampled [Sensor] sensor 167 (m/s), read-only: cannot be stored => 167
+            m_depth_state [Sensor] sensor 170 (enum), read-only: cannot be stored => 170
+            m_depth [Sensor] sensor 444 (m), read-only: cannot be stored => 444
+            m_depth_rejected [Sensor] sensor 446 (bool), read-only: cannot be stored => 446
         "#]],
     );
     let text = format!("{SIMPLE_GLOC}loads m_depth_s$0\n");
@@ -221,8 +221,8 @@ fn gloc_operands_registers_labels_and_sensors_by_index() {
         Gloc,
         &text,
         expect![[r#"
-            165 m_depth_subsampled [Sensor] sensor 165 (m), read-only => 165
-            170 m_depth_state [Sensor] sensor 170 (enum), read-only => 170
+            m_depth_subsampled [Sensor] sensor 165 (m), read-only => 165
+            m_depth_state [Sensor] sensor 170 (enum), read-only => 170
         "#]],
     );
     // Nothing in a comment.

@@ -244,6 +244,24 @@ pub fn editor_capabilities() -> Value {
             } },
             "hover": { "contentFormat": ["markdown", "plaintext"] },
             "documentSymbol": { "hierarchicalDocumentSymbolSupport": true },
+            "publishDiagnostics": { "relatedInformation": true },
+        }
+    })
+}
+
+/// What Emacs 28's eglot 1.9 (Debian's `elpa-eglot`) sends for what the tests
+/// look at, from its `eglot-client-capabilities`: no snippets without yasnippet,
+/// no related information, plain-text hover without markdown-mode.
+pub fn eglot_capabilities() -> Value {
+    json!({
+        "textDocument": {
+            "completion": { "completionItem": {
+                "snippetSupport": false,
+                "deprecatedSupport": true,
+                "tagSupport": { "valueSet": [1] },
+            }, "contextSupport": true },
+            "hover": { "contentFormat": ["plaintext"] },
+            "publishDiagnostics": { "relatedInformation": false },
         }
     })
 }

@@ -1,0 +1,1 @@
+../../nvim/syntax/slocum_mission.vim

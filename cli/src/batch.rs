@@ -89,7 +89,7 @@ pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
             ..Overrides::new(Surface::Cli)
         },
     )?;
-    let Some(sensor_list) = crate::check::active_sensors(&settings, &mut tally)? else {
+    let Some(sensor_list) = crate::loading::active_sensors(&settings, &mut tally)? else {
         return Ok(crate::exit::code(crate::exit::ERRORS));
     };
     let sensor_list = Arc::new(sensor_list);

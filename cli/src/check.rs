@@ -11,8 +11,8 @@ use std::process::ExitCode;
 
 use gloc_engine::config::Config;
 use gloc_engine::gloc::{Bound, Stats};
-use gloc_engine::sensors::{SensorList, SensorOrder};
-use gloc_project::sensors::{load_sensor_list, load_sensor_list_file, LoadedSensors};
+use gloc_engine::sensors::SensorList;
+use gloc_project::sensors::load_sensor_list_file;
 use gloc_project::settings::{Origin, Settings, Sourced};
 use gloc_project::{Overrides, Surface};
 
@@ -69,7 +69,7 @@ pub fn main(args: crate::CheckArgs) -> anyhow::Result<ExitCode> {
                 };
                 match load_sensor_list_file(&origin, settings.sensor_order) {
                     Ok(loaded) => {
-                        let _ = print_list(loaded, &mut tally);
+                        let _ = crate::loading::print_list(loaded, &mut tally);
                     }
                     Err(error) => {
                         outln!("error: {error}");
@@ -88,7 +88,7 @@ pub fn main(args: crate::CheckArgs) -> anyhow::Result<ExitCode> {
             }
         };
         let source = SourceFile::new(&script.display, &script.text);
-        crate::compile::render_all(&script, |text| out!("{text}"));
+        crate::render::render_all(&script, |text| out!("{text}"));
         tally.add(&script.loaded.diagnostics);
         if args.stats {
             if let Some(checked_stats) = &script.loaded.stats {
@@ -132,7 +132,7 @@ impl Project {
         tally: &mut Tally,
     ) -> anyhow::Result<Option<Project>> {
         let settings = Settings::resolve(Some(path), overrides.clone())?;
-        let Some(sensors) = active_sensors(&settings, tally)? else {
+        let Some(sensors) = crate::loading::active_sensors(&settings, tally)? else {
             return Ok(None);
         };
         let options = gloc_project::simulation::mission_options(&settings, &sensors);
@@ -217,62 +217,6 @@ fn check_mission(
         }
     }
     Ok(())
-}
-
-/// The active sensor list of resolved settings (`gloc_project::sensors`), its
-/// diagnostics printed; `None` when it has errors. One place for every subcommand.
-pub fn active_sensors(
-    settings: &Settings,
-    tally: &mut Tally,
-) -> anyhow::Result<Option<SensorList>> {
-    let loaded = load_sensor_list(settings)?;
-    Ok(print_list(loaded, tally))
-}
-
-/// Loads a sensor list a flag names outside the settings (`reindex --to/--from`):
-/// prints its diagnostics; `None` when it has errors.
-pub fn load_sensors(
-    path: &Path,
-    flag: &'static str,
-    order: SensorOrder,
-    tally: &mut Tally,
-) -> anyhow::Result<Option<SensorList>> {
-    let loaded = load_sensor_list_file(
-        &Sourced {
-            value: path.to_path_buf(),
-            origin: Origin::Flag(flag),
-        },
-        order,
-    )?;
-    Ok(print_list(loaded, tally))
-}
-
-fn print_list(loaded: LoadedSensors, tally: &mut Tally) -> Option<SensorList> {
-    let display = loaded
-        .path
-        .as_deref()
-        .map(|path| path.display().to_string())
-        .unwrap_or_default();
-    let source = SourceFile::new(&display, &loaded.text);
-    for diagnostic in &loaded.diagnostics {
-        out!("{}", source.render(diagnostic));
-    }
-    tally.add(&loaded.diagnostics);
-    match loaded.errors() {
-        // Errors the diagnostics above did not show (a file without sensors).
-        Some(error)
-            if !loaded
-                .diagnostics
-                .iter()
-                .any(gloc_engine::Diagnostic::is_error) =>
-        {
-            outln!("error: {error}");
-            tally.errors += 1;
-            None
-        }
-        Some(_) => None,
-        None => Some(loaded.list),
-    }
 }
 
 fn print_stats(

@@ -5,11 +5,10 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use gloc_compiler::{compile, CompileOptions, Language};
-use gloc_project::script::Script;
 use gloc_project::settings::Settings;
 use gloc_project::{Overrides, Surface};
 
-use crate::render::{SourceFile, Tally};
+use crate::render::Tally;
 
 pub fn main(args: crate::CompileArgs) -> anyhow::Result<ExitCode> {
     let mut tally = Tally::default();
@@ -21,7 +20,7 @@ pub fn main(args: crate::CompileArgs) -> anyhow::Result<ExitCode> {
             ..Overrides::new(Surface::Cli)
         },
     )?;
-    let Some(sensors) = crate::check::active_sensors(&settings, &mut tally)? else {
+    let Some(sensors) = crate::loading::active_sensors(&settings, &mut tally)? else {
         return Ok(crate::exit::code(crate::exit::ERRORS));
     };
     // `gloc compile` compiles GBASIC whatever the file is called.
@@ -37,7 +36,7 @@ pub fn main(args: crate::CompileArgs) -> anyhow::Result<ExitCode> {
         args.optimize,
     );
     let loaded = &script.loaded;
-    render_all(&script, |text| eprint!("{text}"));
+    crate::render::render_all(&script, |text| eprint!("{text}"));
     tally.add(&loaded.diagnostics);
     // The compiled GLOC must also pass the GLOC checker (a loop with neither `yield`
     // nor a way out is refused there); its findings are shown on the GBASIC lines.
@@ -113,54 +112,4 @@ fn map_path(output: &Path) -> PathBuf {
         .unwrap_or_default();
     name.push(".map.json");
     output.with_file_name(name)
-}
-
-/// How many diagnostics are shown of a script that reads as the other language:
-/// the note says what is wrong; the rest would be noise (27 for Fig. 2 read as GBASIC).
-const SHOWN_WITH_LANGUAGE_NOTE: usize = 3;
-
-/// Renders a loaded script's problems with `print` (stdout for `check`, stderr for
-/// `run`), the one place every command does: a warning for an empty script; the
-/// other-language note first, then only the first few diagnostics and a count of
-/// the rest; else every diagnostic.
-pub fn render_all(script: &Script, print: impl Fn(&str)) {
-    // An empty GLOC file has its own error (E0010); an empty GBASIC file loads.
-    if script.empty && !script.loaded.has_errors() {
-        print(&format!(
-            "{}: warning: the script is empty: it does nothing in any control cycle\n",
-            script.display
-        ));
-    }
-    let source = SourceFile::new(&script.display, &script.text);
-    let diagnostics = &script.loaded.diagnostics;
-    let shown = match &script.hint {
-        Some(hint) => {
-            print(&format!("{}: note: {hint}\n", script.display));
-            SHOWN_WITH_LANGUAGE_NOTE
-        }
-        None => diagnostics.len(),
-    };
-    for diagnostic in diagnostics.iter().take(shown) {
-        print(&source.render(diagnostic));
-    }
-    if diagnostics.len() > shown {
-        let language = match script.language {
-            Language::Gloc => "GLOC",
-            Language::Gbasic => "GBASIC",
-        };
-        print(&format!(
-            "{}: … and {} more problems from reading it as {language} (see the note)\n",
-            script.display,
-            diagnostics.len() - shown
-        ));
-    }
-}
-
-/// `path:line:col` of the instruction at `pc`, in the script's own text.
-pub fn location_of_pc(script: &Script, pc: gloc_engine::program::Pc) -> String {
-    let source = SourceFile::new(&script.display, &script.text);
-    match script.loaded.span_of_pc(pc) {
-        Some(span) => source.location(span.start as usize),
-        None => script.display.clone(),
-    }
 }

@@ -31,11 +31,13 @@ mod compile;
 mod data;
 mod exit;
 mod explain;
+mod loading;
 mod output;
 mod reindex;
 pub mod render;
 mod replay;
 mod run;
+mod signals;
 mod simulate;
 
 #[derive(Parser, Debug)]

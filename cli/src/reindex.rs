@@ -33,12 +33,12 @@ pub fn main(args: crate::ReindexArgs) -> anyhow::Result<ExitCode> {
     let display = args.file.display().to_string();
     let order = args.sensor_order.unwrap_or_default();
     let mut tally = Tally::default();
-    let Some(to) = crate::check::load_sensors(&args.to, "--to", order, &mut tally)? else {
+    let Some(to) = crate::loading::load_sensors(&args.to, "--to", order, &mut tally)? else {
         return Ok(ExitCode::FAILURE);
     };
     let parsed = gloc::parse(&text);
     let from = match (&args.from, identity::stated_list(&parsed)) {
-        (Some(path), _) => match crate::check::load_sensors(path, "--from", order, &mut tally)? {
+        (Some(path), _) => match crate::loading::load_sensors(path, "--from", order, &mut tally)? {
             Some(list) => list,
             None => return Ok(ExitCode::FAILURE),
         },
@@ -54,7 +54,7 @@ pub fn main(args: crate::ReindexArgs) -> anyhow::Result<ExitCode> {
                     stated.crc
                 );
             };
-            match crate::check::load_sensors(&path, "--from", order, &mut tally)? {
+            match crate::loading::load_sensors(&path, "--from", order, &mut tally)? {
                 Some(list) => list,
                 None => return Ok(ExitCode::FAILURE),
             }

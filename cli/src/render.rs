@@ -1,8 +1,10 @@
 //! What the CLI adds to the engine's renderer (`gloc_engine::render`): the tally of
 //! errors and warnings behind its summaries and exit codes.
 
+use gloc_compiler::Language;
 pub use gloc_engine::render::SourceFile;
 use gloc_engine::{Diagnostic, Severity};
+use gloc_project::script::Script;
 
 /// Counts of errors and warnings, for summaries and exit codes.
 #[derive(Clone, Copy, Debug, Default)]
@@ -21,4 +23,69 @@ impl Tally {
             }
         }
     }
+}
+
+/// How many diagnostics are shown of a script that reads as the other language:
+/// the note says what is wrong; the rest would be noise (27 for Fig. 2 read as GBASIC).
+const SHOWN_WITH_LANGUAGE_NOTE: usize = 3;
+
+/// Renders a loaded script's problems with `print` (stdout for `check`, stderr for
+/// `run`), the one place every command does: a warning for an empty script; the
+/// other-language note first, then only the first few diagnostics and a count of
+/// the rest; else every diagnostic.
+pub fn render_all(script: &Script, print: impl Fn(&str)) {
+    // An empty GLOC file has its own error (E0010); an empty GBASIC file loads.
+    if script.empty && !script.loaded.has_errors() {
+        print(&format!(
+            "{}: warning: the script is empty: it does nothing in any control cycle\n",
+            script.display
+        ));
+    }
+    let source = SourceFile::new(&script.display, &script.text);
+    let diagnostics = &script.loaded.diagnostics;
+    let shown = match &script.hint {
+        Some(hint) => {
+            print(&format!("{}: note: {hint}\n", script.display));
+            SHOWN_WITH_LANGUAGE_NOTE
+        }
+        None => diagnostics.len(),
+    };
+    for diagnostic in diagnostics.iter().take(shown) {
+        print(&source.render(diagnostic));
+    }
+    if diagnostics.len() > shown {
+        let language = match script.language {
+            Language::Gloc => "GLOC",
+            Language::Gbasic => "GBASIC",
+        };
+        print(&format!(
+            "{}: … and {} more problems from reading it as {language} (see the note)\n",
+            script.display,
+            diagnostics.len() - shown
+        ));
+    }
+}
+
+/// `path:line:col` of the instruction at `pc`, in the script's own text.
+pub fn location_of_pc(script: &Script, pc: gloc_engine::program::Pc) -> String {
+    let source = SourceFile::new(&script.display, &script.text);
+    match script.loaded.span_of_pc(pc) {
+        Some(span) => source.location(span.start as usize),
+        None => script.display.clone(),
+    }
+}
+
+/// Days since 1970-01-01 → (year, month, day) (Howard Hinnant's algorithm).
+pub fn civil_from_days(days: i64) -> (i64, i64, i64) {
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let day_of_era = z - era * 146_097;
+    let year_of_era =
+        (day_of_era - day_of_era / 1460 + day_of_era / 36524 - day_of_era / 146_096) / 365;
+    let day_of_year = day_of_era - (365 * year_of_era + year_of_era / 4 - year_of_era / 100);
+    let mp = (5 * day_of_year + 2) / 153;
+    let day = day_of_year - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = year_of_era + era * 400 + i64::from(month <= 2);
+    (year, month, day)
 }

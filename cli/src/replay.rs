@@ -26,9 +26,6 @@ use gloc_replay::{ColumnMap, Input};
 use crate::output::AtomicFile;
 use crate::render::Tally;
 
-/// The paper's Fig. 2, the script `gloc run` uses when none is given.
-pub const FIG2: &str = include_str!("../../examples/fig2.gloc");
-
 pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
     if args.replay.is_empty() {
         bail!("--replay FILES is required here");
@@ -58,18 +55,18 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
             ..Overrides::new(Surface::Cli)
         },
     )?;
-    let Some(sensors) = crate::check::active_sensors(&settings, &mut tally)? else {
+    let Some(sensors) = crate::loading::active_sensors(&settings, &mut tally)? else {
         return Ok(crate::exit::code(crate::exit::ERRORS));
     };
-    let Some(script) = load_script(
+    let script = crate::loading::load_script(
         args.script.as_deref(),
         &sensors,
         &settings,
         args.optimized(),
-    )?
-    else {
+    )?;
+    if script.loaded.program.is_none() {
         return Ok(crate::exit::code(crate::exit::ERRORS));
-    };
+    }
     let config = MachineConfig {
         cycle_budget: settings.cycle_budget.value.get(),
     };
@@ -100,30 +97,6 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
     }
     let input = Input::open(&args.replay, settings.sensor_cache.as_deref())?;
     replay(&script, &sensors, input, args.out.as_ref(), config)
-}
-
-/// Loads the script (`.gloc`, or `.gbas` compiled in memory), printing
-/// diagnostics to stderr. `None` when it has errors.
-fn load_script(
-    path: Option<&Path>,
-    sensors: &SensorList,
-    settings: &Settings,
-    optimize: bool,
-) -> anyhow::Result<Option<Script>> {
-    let script = match path {
-        Some(path) => gloc_project::script::load_script(path, sensors, settings, optimize)?,
-        None => gloc_project::script::load_text(
-            None,
-            "<fig2.gloc>".to_string(),
-            FIG2.to_string(),
-            gloc_compiler::Language::Gloc,
-            sensors,
-            settings,
-            optimize,
-        ),
-    };
-    crate::compile::render_all(&script, |text| eprint!("{text}"));
-    Ok(script.loaded.program.is_some().then_some(script))
 }
 
 /// The replay host: the sensor array, what the script stored this cycle,
@@ -214,13 +187,13 @@ fn replay(
     let mut cycle = 0u64;
     let mut row = String::new();
     let mut updates = Vec::new();
-    let signal = crate::simulate::interrupt_signals()?;
+    let signal = crate::signals::interrupt_signals()?;
     while input.next_cycle(&mut updates)? {
         let received = signal.load(Ordering::Relaxed);
         if received != 0 {
             eprintln!(
                 "interrupted at cycle {cycle} by {} (cycles before it are in the output)",
-                crate::simulate::signal_name(received)
+                crate::signals::signal_name(received)
             );
             break;
         }
@@ -240,7 +213,7 @@ fn replay(
                     trapped = true;
                     eprintln!(
                         "{}: trap in cycle {cycle}: {} (pc {}); the script stops, the replay goes on",
-                        crate::compile::location_of_pc(script, trap.pc),
+                        crate::render::location_of_pc(script, trap.pc),
                         script.loaded.trap_message(&trap.kind),
                         trap.pc.0
                     );

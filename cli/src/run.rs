@@ -5,7 +5,7 @@ use std::process::ExitCode;
 
 pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
     // From here on a signal stops the run between cycles instead of killing it.
-    crate::simulate::interrupt_signals()?;
+    crate::signals::interrupt_signals()?;
     if !args.replay.is_empty() {
         return crate::replay::main(args);
     }

@@ -8,12 +8,12 @@
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::atomic::Ordering;
 use std::sync::Arc;
 use std::time::Instant;
 
 use anyhow::{bail, Context};
-use gloc_compiler::{Language, LoadedScript};
+use gloc_compiler::LoadedScript;
 use gloc_engine::sensors::SensorList;
 use gloc_project::settings::{Origin, Settings};
 use gloc_project::{Overrides, Surface};
@@ -69,7 +69,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
             ..Overrides::new(Surface::Cli)
         },
     )?;
-    let Some(sensor_list) = crate::check::active_sensors(&settings, &mut tally)? else {
+    let Some(sensor_list) = crate::loading::active_sensors(&settings, &mut tally)? else {
         return Ok(crate::exit::code(crate::exit::ERRORS));
     };
     let sensor_list = Arc::new(sensor_list);
@@ -193,7 +193,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         bar
     });
 
-    let signal = interrupt_signals()?;
+    let signal = crate::signals::interrupt_signals()?;
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     let mut printed_lines: u64 = 0;
@@ -208,7 +208,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         if received != 0 {
             stopped = Some(format!(
                 "interrupted at cycle {cycles_run} by {} (cycles before it are logged)",
-                signal_name(received)
+                crate::signals::signal_name(received)
             ));
             break;
         }
@@ -344,19 +344,7 @@ pub(crate) fn load_program(
     settings: &Settings,
     optimize: bool,
 ) -> anyhow::Result<Option<Script>> {
-    let script = match script {
-        Some(path) => gloc_project::script::load_script(path, sensor_list, settings, optimize)?,
-        None => gloc_project::script::load_text(
-            None,
-            "fig2.gloc".to_string(),
-            crate::replay::FIG2.to_string(),
-            Language::Gloc,
-            sensor_list,
-            settings,
-            optimize,
-        ),
-    };
-    crate::compile::render_all(&script, |text| eprint!("{text}"));
+    let script = crate::loading::load_script(script, sensor_list, settings, optimize)?;
     let Some(program) = script.loaded.program.clone() else {
         eprintln!(
             "error: `{}` has errors; nothing was simulated",
@@ -428,40 +416,6 @@ pub(crate) fn script_state(sim: &Simulation, loaded: &LoadedScript, script_name:
 }
 
 type OpenLog = (RunLog, PathBuf);
-
-/// SIGINT, SIGTERM and SIGHUP set the returned number (the signal) instead of ending
-/// the process, so the run stops between cycles, keeps its log and prints its summary;
-/// a second one while the first is handled ends the process at once. Installed once,
-/// by the first call (`gloc run` calls it before loading anything); later calls return
-/// the same flag.
-pub fn interrupt_signals() -> anyhow::Result<Arc<AtomicUsize>> {
-    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
-    static RECEIVED: std::sync::OnceLock<Arc<AtomicUsize>> = std::sync::OnceLock::new();
-    if let Some(received) = RECEIVED.get() {
-        return Ok(Arc::clone(received));
-    }
-    let received = Arc::new(AtomicUsize::new(0));
-    let seen = Arc::new(AtomicBool::new(false));
-    for signal in [SIGINT, SIGTERM, SIGHUP] {
-        signal_hook::flag::register_conditional_shutdown(signal, 128 + signal, Arc::clone(&seen))
-            .context("cannot install a signal handler")?;
-        signal_hook::flag::register(signal, Arc::clone(&seen))
-            .context("cannot install a signal handler")?;
-        signal_hook::flag::register_usize(signal, Arc::clone(&received), signal as usize)
-            .context("cannot install a signal handler")?;
-    }
-    Ok(Arc::clone(RECEIVED.get_or_init(|| received)))
-}
-
-pub fn signal_name(signal: usize) -> &'static str {
-    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
-    match signal as i32 {
-        SIGINT => "SIGINT",
-        SIGTERM => "SIGTERM",
-        SIGHUP => "SIGHUP",
-        _ => "a signal",
-    }
-}
 
 /// The run log: text (CSV, `.dba`) or a binary `.dbd` (+ `.ebd` for the
 /// science sensors), each with its `<crc>.cac` beside it.
@@ -698,7 +652,7 @@ fn glider_time(unix_seconds: f64) -> String {
     let seconds = unix_seconds.max(0.0) as i64;
     let days = seconds.div_euclid(86400);
     let of_day = seconds.rem_euclid(86400);
-    let (year, month, day) = civil_from_days(days);
+    let (year, month, day) = crate::render::civil_from_days(days);
     let weekday = ["Thu", "Fri", "Sat", "Sun", "Mon", "Tue", "Wed"][days.rem_euclid(7) as usize];
     let month_name = [
         "Jan", "Feb", "Mar", "Apr", "May", "Jun", "Jul", "Aug", "Sep", "Oct", "Nov", "Dec",
@@ -709,21 +663,6 @@ fn glider_time(unix_seconds: f64) -> String {
         of_day % 3600 / 60,
         of_day % 60
     )
-}
-
-/// Days since 1970-01-01 → (year, month, day) (Howard Hinnant's algorithm).
-pub(crate) fn civil_from_days(days: i64) -> (i64, i64, i64) {
-    let z = days + 719_468;
-    let era = z.div_euclid(146_097);
-    let day_of_era = z - era * 146_097;
-    let year_of_era =
-        (day_of_era - day_of_era / 1460 + day_of_era / 36524 - day_of_era / 146_096) / 365;
-    let day_of_year = day_of_era - (365 * year_of_era + year_of_era / 4 - year_of_era / 100);
-    let mp = (5 * day_of_year + 2) / 153;
-    let day = day_of_year - (153 * mp + 2) / 5 + 1;
-    let month = if mp < 10 { mp + 3 } else { mp - 9 };
-    let year = year_of_era + era * 400 + i64::from(month <= 2);
-    (year, month, day)
 }
 
 /// `3h 05m 12s`.

@@ -6,6 +6,62 @@
 //! resolved instructions, with the per-cycle budget as fuel, and in optimised
 //! builds threaded dispatch over the same code (`vm/threaded.rs`), with the
 //! `match` loop as its reference.
+//!
+//! ## How it runs (moved here from ARCHITECTURE.md)
+//!
+//! `vm::Machine` runs it: a `match` loop (and, in optimised builds, threaded code; below)
+//! with the cycle budget as fuel, state allocated in `new`, output line buffer reused
+//! (and handed to the host at 64 KiB, `MAX_OUTPUT_LINE`, so a script that never prints
+//! cannot grow it). The loop does not run `Instr` itself but the machine's own
+//! form, `vm::code` (built once in `Machine::new`, shared by clones): a one-to-one
+//! "plain" copy and a "fused" copy of the same length in which common groups are one
+//! dispatch (a constant operand and its arithmetic, compare and branch, a constant
+//! compare and branch, `i2d` and `add`, GBASIC's six-instruction array index check, a
+//! back-edge `jumpi` threaded into the loop test). A fused op at pc `i` writes every
+//! register its instructions write and leaves the covered pcs their plain copies, so
+//! jumps into a group stay right; groups that could trap, yield or print are never fused,
+//! so traps and output keep their pc. The fused loop runs while the fuel covers the
+//! widest group and the plain loop finishes the budget, so the cycle budget, `step` (one
+//! unit of fuel: always plain) and overrun traps stay exact to the instruction. In
+//! optimised builds the fused code runs as threaded code (`vm/threaded.rs`,
+//! `Dispatch::Threaded`): one slot per op holding the handler function chosen for its
+//! variant (and its comparison and its constant's type; integer fast paths that go on in
+//! the general handler by a tail call), its branch targets as offsets and its operands;
+//! every handler has one signature and ends by calling the next slot's handler in tail
+//! position, which LLVM compiles to an indirect `jmp` (one per handler, and a conditional
+//! branch before it in branching ops, so the predictor learns each). Rust does not
+//! guarantee the tail call, so `engine/tests/tail_calls.rs` builds the release library
+//! and reads its disassembly (`objdump`) and fails when a handler calls through a
+//! register; at `opt-level` 0 there are no tail calls, so `engine/build.rs` sets
+//! `cfg(gloc_threaded)` only at `opt-level` 2, 3, `s` or `z`, and the `match` loop stays
+//! the default elsewhere and the reference: `fused.rs` runs the loop, the threaded code
+//! and single steps on the same scripts and budgets (1–80) and compares everything after
+//! every cycle. Handlers are also specialised by the registers' static types: `Code::new`
+//! runs a forward data-flow analysis over the plain code (`code::Types`: per pc and
+//! register, the set {integer, float} it can hold, joined at merges; per pc because `-O`
+//! gives one register to variables of different types; memory untracked; given up past
+//! 65,536 pcs, 4 M (pc, register) cells or 64 M joins), and a second slot array
+//! (`Code::typed`) takes, for each op whose operands have one known type, a handler
+//! instantiated for it (a const parameter) that reads the register without testing its
+//! tag. The machine runs it while its registers agree with the analysis:
+//! `Machine::set_register` (the debugger's `setVariable`) switches to the untyped slots
+//! when the stored value's type is not one the analysis allows there, until `reset`. A
+//! typed read loads the payload from either variant, so a wrong analysis would give a
+//! wrong number, never undefined behaviour. The plain instruction list is written twice,
+//! as `program::Instr` and as the plain variants of `vm::code::Op` (the interpreter's
+//! `repr(u8)` enum, which adds the fused variants); `Op`'s `From<Instr>` is one
+//! exhaustive mapping generated from `code.rs`'s table, so an op or a field added to one
+//! and not the other does not compile. Output ops are left to the `match` loop (one
+//! implementation of printing); a handler gets at most 4,096 units of fuel per entry,
+//! which bounds the stack should a tail call ever be missing. Decision: register reads
+//! and op fetches are unchecked (`unsafe`) after `Code::new` established the invariants
+//! (the register file covers every register an op names; the code ends with `halt` and
+//! every target lies inside it): measured with callgrind, they were 15% of the loop's
+//! instructions. The engine is the one crate allowed `unsafe` (every other crate has
+//! `#![forbid(unsafe_code)]`), and only at those accesses: in the threaded handlers the
+//! bodies are safe code, registers are reached through `threaded::Registers` whose
+//! accessors carry the one SAFETY argument, and each slot dereference and tail call has
+//! its own SAFETY line (`clippy::undocumented_unsafe_blocks` is denied workspace-wide).
 
 use std::fmt::{self, Write as _};
 use std::sync::Arc;

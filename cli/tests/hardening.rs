@@ -672,6 +672,12 @@ fn a_signal_stops_a_replay_with_its_complete_rows() {
     std::fs::remove_dir_all(dir).ok();
 }
 
+fn make_fifo(path: &Path) {
+    let name = std::ffi::CString::new(path.to_string_lossy().as_bytes()).expect("a path");
+    // SAFETY: mkfifo(3) with a NUL-terminated path.
+    assert_eq!(unsafe { libc::mkfifo(name.as_ptr(), 0o600) }, 0);
+}
+
 #[test]
 fn devices_fifos_and_directories_are_refused_unread() {
     let dir = scratch("reads");
@@ -708,10 +714,12 @@ fn devices_fifos_and_directories_are_refused_unread() {
         let output = run(gloc().args(&arguments));
         assert_refused(&output, "not a regular file");
     }
-    // gloc.toml naming /dev/zero as the masterdata, for the CLI.
+    // gloc.toml naming a FIFO in the project as the masterdata, for the CLI (a file
+    // outside the project, such as /dev/zero, is refused before that: issue 28).
     let project = dir.join("project");
     std::fs::create_dir_all(&project).expect("folder");
-    std::fs::write(project.join("gloc.toml"), "masterdata = \"/dev/zero\"\n").expect("write");
+    make_fifo(&project.join("md"));
+    std::fs::write(project.join("gloc.toml"), "masterdata = \"md\"\n").expect("write");
     std::fs::copy(&script, project.join("fig2.gloc")).expect("copy");
     let output = run(gloc().arg("check").arg(project.join("fig2.gloc")));
     assert_refused(&output, "not a regular file");
@@ -719,9 +727,10 @@ fn devices_fifos_and_directories_are_refused_unread() {
 }
 
 #[test]
-fn the_language_server_refuses_a_masterdata_of_dev_zero_from_gloc_toml() {
+fn the_language_server_refuses_a_masterdata_fifo_from_gloc_toml() {
     let dir = scratch("lsp-zero");
-    std::fs::write(dir.join("gloc.toml"), "masterdata = \"/dev/zero\"\n").expect("write");
+    make_fifo(&dir.join("md"));
+    std::fs::write(dir.join("gloc.toml"), "masterdata = \"md\"\n").expect("write");
     let script = dir.join("fig2.gloc");
     std::fs::copy(examples().join("fig2.gloc"), &script).expect("copy");
     let uri = format!("file://{}", script.display());
@@ -1429,9 +1438,7 @@ fn a_fifo_as_the_output_of_data_convert_is_refused_unopened() {
     std::fs::write(&log, depth_time_log(&[(10.0, 0.0), (11.0, 4.0)])).expect("write");
     for (command, name) in [("convert", "fifo.csv"), ("plot", "fifo.svg")] {
         let fifo = dir.join(name);
-        let path = std::ffi::CString::new(fifo.to_string_lossy().as_bytes()).expect("a path");
-        // SAFETY: mkfifo(3) with a NUL-terminated path.
-        assert_eq!(unsafe { libc::mkfifo(path.as_ptr(), 0o600) }, 0);
+        make_fifo(&fifo);
         let output = run_within(
             gloc()
                 .args(["data", command])
@@ -1502,4 +1509,56 @@ fn calibrate_on_a_full_disk_leaves_the_previous_table() {
     assert_eq!(output.status.code(), Some(4), "{}", text(&output));
     assert_eq!(std::fs::read_to_string(&table).expect("read"), "old\n");
     assert_eq!(names(&disk.0), ["filler", "sim.toml"]);
+}
+
+#[test]
+fn gloc_toml_cannot_have_check_or_run_print_a_file_outside_the_project() {
+    // A gloc.toml in a parent folder naming /etc/passwd or /proc/self/environ, or a
+    // symbolic link in the project to one: `check` printed each line as a diagnostic
+    // and `run` the environment, tokens included.
+    let dir = scratch("leak");
+    let secret = dir.join("secret.txt");
+    std::fs::write(&secret, "TOKEN=hunter2-very-secret\nline two\n").expect("write");
+    let project = dir.join("project");
+    let nested = project.join("scripts");
+    std::fs::create_dir_all(&nested).expect("folders");
+    let script = nested.join("fig2.gloc");
+    std::fs::copy(examples().join("fig2.gloc"), &script).expect("copy");
+    std::os::unix::fs::symlink(&secret, project.join("link.txt")).expect("symlink");
+    let outside = secret.display().to_string();
+    for (setting, path, command) in [
+        ("masterdata", outside.as_str(), vec!["check"]),
+        ("masterdata", "link.txt", vec!["check"]),
+        ("masterdata", "/etc/passwd", vec!["check"]),
+        ("mission", outside.as_str(), vec!["run", "--cycles", "2"]),
+        (
+            "mission",
+            "/proc/self/environ",
+            vec!["run", "--cycles", "2"],
+        ),
+    ] {
+        std::fs::write(
+            project.join("gloc.toml"),
+            format!("{setting} = \"{path}\"\n"),
+        )
+        .expect("write");
+        let output = run(gloc().args(&command).arg(&script));
+        let all = text(&output);
+        assert_refused(&output, "is outside the project folder");
+        assert_eq!(output.status.code(), Some(2), "{all}");
+        assert!(all.contains("gloc.toml:1:"), "{all}");
+        for leaked in ["hunter2", "root:", "PATH="] {
+            assert!(!all.contains(leaked), "{leaked} in: {all}");
+        }
+    }
+    // Named by the user, a file that is no sensor list is refused without a line of it.
+    std::fs::remove_file(project.join("gloc.toml")).expect("remove");
+    let output = run(gloc()
+        .arg("check")
+        .arg("--masterdata")
+        .arg(&secret)
+        .arg(&script));
+    assert_refused(&output, "is not a sensor list");
+    assert!(!text(&output).contains("hunter2"), "{}", text(&output));
+    std::fs::remove_dir_all(dir).ok();
 }

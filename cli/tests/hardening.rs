@@ -1562,3 +1562,57 @@ fn gloc_toml_cannot_have_check_or_run_print_a_file_outside_the_project() {
     assert!(!text(&output).contains("hunter2"), "{}", text(&output));
     std::fs::remove_dir_all(dir).ok();
 }
+
+#[test]
+fn the_debugger_answers_pause_within_a_slice_of_time_under_slow_conditions() {
+    // A valid 200-term condition on every line makes each step slow; slices ended
+    // after 50,000 steps however long they took, so `pause` waited 8 s (release) to
+    // 50 s (debug build) to be read.
+    let dir = scratch("dap-slow-steps");
+    let script = dir.join("loop.gbas");
+    let mut lines = vec!["dim x as integer".to_string(), "do".to_string()];
+    lines.extend((0..40).map(|_| "  x = x + 1".to_string()));
+    lines.extend(["  yield".to_string(), "loop".to_string()]);
+    std::fs::write(&script, lines.join("\n") + "\n").expect("write");
+    let condition = vec!["(m_depth * 2 + x) < -1"; 200].join(" and ");
+    let mut server = Server::start("dap");
+    let mut request = |server: &mut Server, seq: u64, command: &str, arguments: Value| {
+        server.send(&json!({ "seq": seq, "type": "request", "command": command,
+            "arguments": arguments }));
+        let started = Instant::now();
+        let response = server.wait_for(command, |m| m["request_seq"] == seq);
+        assert_eq!(response["success"], true, "{response}");
+        started.elapsed()
+    };
+    request(&mut server, 1, "initialize", json!({ "adapterID": "gloc" }));
+    request(
+        &mut server,
+        2,
+        "launch",
+        json!({ "program": script, "stopOnEntry": true, "cycles": 1_000_000 }),
+    );
+    let breakpoints: Vec<Value> = (1..=lines.len())
+        .map(|line| json!({ "line": line, "condition": condition }))
+        .collect();
+    request(
+        &mut server,
+        3,
+        "setBreakpoints",
+        json!({ "source": { "path": script }, "breakpoints": breakpoints }),
+    );
+    request(&mut server, 4, "configurationDone", json!({}));
+    request(&mut server, 5, "continue", json!({ "threadId": 1 }));
+    thread::sleep(Duration::from_millis(300));
+    let waited = request(&mut server, 6, "pause", json!({ "threadId": 1 }));
+    assert!(
+        waited < Duration::from_secs(2),
+        "pause answered after {waited:?}"
+    );
+    let waited = request(&mut server, 7, "disconnect", json!({}));
+    assert!(
+        waited < Duration::from_secs(2),
+        "disconnect answered after {waited:?}"
+    );
+    assert!(server.close().code().is_some(), "ended by a signal");
+    std::fs::remove_dir_all(dir).ok();
+}

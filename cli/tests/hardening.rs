@@ -1576,7 +1576,7 @@ fn the_debugger_answers_pause_within_a_slice_of_time_under_slow_conditions() {
     std::fs::write(&script, lines.join("\n") + "\n").expect("write");
     let condition = vec!["(m_depth * 2 + x) < -1"; 200].join(" and ");
     let mut server = Server::start("dap");
-    let mut request = |server: &mut Server, seq: u64, command: &str, arguments: Value| {
+    let request = |server: &mut Server, seq: u64, command: &str, arguments: Value| {
         server.send(&json!({ "seq": seq, "type": "request", "command": command,
             "arguments": arguments }));
         let started = Instant::now();

@@ -1616,3 +1616,33 @@ fn the_debugger_answers_pause_within_a_slice_of_time_under_slow_conditions() {
     assert!(server.close().code().is_some(), "ended by a signal");
     std::fs::remove_dir_all(dir).ok();
 }
+
+#[test]
+fn the_language_server_opens_6000_documents_within_seconds() {
+    // Each didOpen re-read the gloc.toml of every open document (a walk up the
+    // folders and a read each): 4,000 opens took 15-28 s, 6,000 over 20 s.
+    let dir = scratch("lsp-opens");
+    std::fs::write(dir.join("gloc.toml"), "cycle_budget = 500\n").expect("write");
+    let text = std::fs::read_to_string(examples().join("fig2.gloc")).expect("fig2");
+    let mut server = Server::start("lsp");
+    let started = Instant::now();
+    server.send(&json!({ "jsonrpc": "2.0", "id": 1, "method": "initialize",
+        "params": { "processId": null, "rootUri": null, "capabilities": {} } }));
+    server.wait_for("the initialize response", |m| m["id"] == 1);
+    server.send(&json!({ "jsonrpc": "2.0", "method": "initialized", "params": {} }));
+    let count = 6000;
+    for index in 0..count {
+        let uri = format!("file://{}/s{index}.gloc", dir.display());
+        server.send(
+            &json!({ "jsonrpc": "2.0", "method": "textDocument/didOpen", "params": {
+            "textDocument": { "uri": uri, "languageId": "gloc", "version": 1, "text": text } } }),
+        );
+    }
+    server.send(&json!({ "jsonrpc": "2.0", "id": 2, "method": "shutdown" }));
+    server.wait_for("the shutdown response", |m| m["id"] == 2);
+    let elapsed = started.elapsed();
+    assert!(elapsed < ANSWER, "{count} opens took {elapsed:?}");
+    server.send(&json!({ "jsonrpc": "2.0", "method": "exit" }));
+    assert_eq!(server.close().code(), Some(0));
+    std::fs::remove_dir_all(dir).ok();
+}

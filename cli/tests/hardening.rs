@@ -1646,3 +1646,21 @@ fn the_language_server_opens_6000_documents_within_seconds() {
     assert_eq!(server.close().code(), Some(0));
     std::fs::remove_dir_all(dir).ok();
 }
+
+#[test]
+fn a_dba_claiming_a_hundred_trillion_label_lines_is_refused_in_bounded_memory() {
+    // Every line after the header was held as a label line: 40 MB of empty lines
+    // took 1.9 GB. 4 MB here: about 100 MB.
+    let dir = scratch("dba-labels");
+    let log = dir.join("labels.dba");
+    let mut contents = String::from(
+        "dbd_label: DBD_ASC(dinkum_binary_data_ascii)file\nencoding_ver: 2\nnum_ascii_tags: 4\nnum_label_lines: 99999999999999\n",
+    );
+    contents.push_str(&"\n".repeat(4_000_000));
+    std::fs::write(&log, contents).expect("write");
+    let (output, peak_mb) = run_measured(gloc().args(["data", "info"]).arg(&log));
+    assert!(peak_mb < 48, "peak {peak_mb} MB");
+    assert_refused(&output, "`num_label_lines: 99999999999999`: expected 3");
+    assert_eq!(output.status.code(), Some(1), "{}", text(&output));
+    std::fs::remove_dir_all(dir).ok();
+}

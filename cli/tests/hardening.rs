@@ -1664,3 +1664,36 @@ fn a_dba_claiming_a_hundred_trillion_label_lines_is_refused_in_bounded_memory() 
     assert_eq!(output.status.code(), Some(1), "{}", text(&output));
     std::fs::remove_dir_all(dir).ok();
 }
+
+#[test]
+fn a_batch_sweep_too_wide_is_refused_before_its_profiles_are_read() {
+    // Every --profile was read before the sweep's size was checked: 60 copies of a
+    // 16 MB profile took 1 GB. 20 copies of 4 MB here: about 90 MB.
+    let dir = scratch("batch-profiles");
+    let profile = dir.join("profile.csv");
+    let mut rows = String::from("depth_m,temp_degC\n");
+    let mut index = 0u64;
+    while rows.len() < 4_000_000 {
+        rows.push_str(&format!(
+            "{}.{:04},{}\n",
+            index / 10_000,
+            index % 10_000,
+            10 + index % 7
+        ));
+        index += 1;
+    }
+    std::fs::write(&profile, rows).expect("write");
+    let mut command = gloc();
+    command
+        .arg("batch")
+        .arg(fig2_script(&dir))
+        .args(["--seeds", "1-20000", "--cycles", "1"]);
+    for _ in 0..20 {
+        command.arg("--profile").arg(&profile);
+    }
+    let (output, peak_mb) = run_measured(&mut command);
+    assert!(peak_mb < 40, "peak {peak_mb} MB");
+    assert_refused(&output, "the sweep has more than 100000 missions");
+    assert_eq!(output.status.code(), Some(2), "{}", text(&output));
+    std::fs::remove_dir_all(dir).ok();
+}

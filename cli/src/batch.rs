@@ -98,26 +98,11 @@ pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
         Some(text) => parse_seeds(text).map_err(|error| anyhow::anyhow!("--seeds {error}"))?,
         None => vec![1],
     };
-    let mut profiles = Vec::new();
-    for given in if args.profiles.is_empty() {
+    let profile_names = if args.profiles.is_empty() {
         vec!["builtin".to_string()]
     } else {
         args.profiles.clone()
-    } {
-        if given == "builtin" {
-            profiles.push(Profile {
-                label: given,
-                profile: None,
-            });
-            continue;
-        }
-        let path = PathBuf::from(&given);
-        let profile = gloc_project::simulation::load_profile(&path, Origin::Flag("--profile"))?;
-        profiles.push(Profile {
-            label: given,
-            profile: Some(profile),
-        });
-    }
+    };
     let mut fault_sets = Vec::new();
     for given in if args.fault_sets.is_empty() {
         vec!["none".to_string()]
@@ -156,13 +141,40 @@ pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
         }
         _ => {}
     }
-    let missions = [profiles.len(), fault_sets.len()]
+    // The sweep's size is known from the arguments: checked before any profile is read
+    // (60 copies of a 16 MB profile were all read, 1 GB, before a sweep too wide).
+    let missions = [profile_names.len(), fault_sets.len()]
         .into_iter()
         .chain(axes.iter().map(Vec::len))
         .try_fold(seeds.len(), usize::checked_mul)
         .filter(|missions| *missions <= MAX_MISSIONS);
     if missions.is_none() {
         bail!("the sweep has more than {MAX_MISSIONS} missions: narrow --seeds or the other axes");
+    }
+    // A profile given twice is read once and shared.
+    let mut loaded: std::collections::HashMap<String, Arc<Profile>> =
+        std::collections::HashMap::new();
+    let mut profiles = Vec::with_capacity(profile_names.len());
+    for given in profile_names {
+        if let Some(known) = loaded.get(&given) {
+            profiles.push(Arc::clone(known));
+            continue;
+        }
+        let profile = if given == "builtin" {
+            None
+        } else {
+            let path = PathBuf::from(&given);
+            Some(gloc_project::simulation::load_profile(
+                &path,
+                Origin::Flag("--profile"),
+            )?)
+        };
+        let profile = Arc::new(Profile {
+            label: given.clone(),
+            profile,
+        });
+        loaded.insert(given, Arc::clone(&profile));
+        profiles.push(profile);
     }
     if let Some(csv) = &args.csv {
         // Outputs never overwrite inputs (`gloc run`'s rule).
@@ -263,7 +275,7 @@ const MAX_MISSIONS: usize = 100_000;
 /// Every combination; the seed varies fastest.
 fn sweep(
     seeds: &[u64],
-    profiles: Vec<Profile>,
+    profiles: Vec<Arc<Profile>>,
     fault_sets: Vec<FaultSet>,
     axes: &[Vec<(String, f64)>],
 ) -> Vec<Variant> {
@@ -283,7 +295,7 @@ fn sweep(
     let settings: Vec<Arc<Vec<(String, f64)>>> = settings.into_iter().map(Arc::new).collect();
     let fault_sets: Vec<Arc<FaultSet>> = fault_sets.into_iter().map(Arc::new).collect();
     let mut variants = Vec::new();
-    for profile in profiles.into_iter().map(Arc::new) {
+    for profile in profiles {
         for faults in &fault_sets {
             for chosen in &settings {
                 for &seed in seeds {
@@ -582,10 +594,10 @@ mod tests {
             parse_sweep_setting("dive_rate=0.15,0.2").expect("ok"),
             parse_sweep_setting("climb_rate=0.1,0.12,0.14").expect("ok"),
         ];
-        let profiles = vec![Profile {
+        let profiles = vec![Arc::new(Profile {
             label: "builtin".to_string(),
             profile: None,
-        }];
+        })];
         let faults = vec![FaultSet {
             label: "none".to_string(),
             faults: Vec::new(),

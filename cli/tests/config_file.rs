@@ -106,10 +106,12 @@ fn sensor_order_numbers_a_masterdata_file_in_file_or_sorted_order() {
     let text = String::from_utf8_lossy(&sorted.stdout);
     assert_eq!(sorted.status.code(), Some(0), "{text}");
 
-    // The same from gloc.toml, and a flag still wins over the file.
+    // The same from gloc.toml, and a flag still wins over the file. gloc.toml names
+    // files inside its folder only (issue 28), so the list is copied in.
+    std::fs::copy(&masterdata, dir.join("edge.masterdata")).expect("copy the list");
     std::fs::write(
         dir.join("gloc.toml"),
-        format!("masterdata = {masterdata:?}\nsensor_order = \"sorted\"\n"),
+        "masterdata = \"edge.masterdata\"\nsensor_order = \"sorted\"\n",
     )
     .expect("write gloc.toml");
     assert_eq!(gloc(&["check", &script]).status.code(), Some(0));

@@ -672,6 +672,12 @@ fn a_signal_stops_a_replay_with_its_complete_rows() {
     std::fs::remove_dir_all(dir).ok();
 }
 
+fn make_fifo(path: &Path) {
+    let name = std::ffi::CString::new(path.to_string_lossy().as_bytes()).expect("a path");
+    // SAFETY: mkfifo(3) with a NUL-terminated path.
+    assert_eq!(unsafe { libc::mkfifo(name.as_ptr(), 0o600) }, 0);
+}
+
 #[test]
 fn devices_fifos_and_directories_are_refused_unread() {
     let dir = scratch("reads");
@@ -708,10 +714,12 @@ fn devices_fifos_and_directories_are_refused_unread() {
         let output = run(gloc().args(&arguments));
         assert_refused(&output, "not a regular file");
     }
-    // gloc.toml naming /dev/zero as the masterdata, for the CLI.
+    // gloc.toml naming a FIFO in the project as the masterdata, for the CLI (a file
+    // outside the project, such as /dev/zero, is refused before that: issue 28).
     let project = dir.join("project");
     std::fs::create_dir_all(&project).expect("folder");
-    std::fs::write(project.join("gloc.toml"), "masterdata = \"/dev/zero\"\n").expect("write");
+    make_fifo(&project.join("md"));
+    std::fs::write(project.join("gloc.toml"), "masterdata = \"md\"\n").expect("write");
     std::fs::copy(&script, project.join("fig2.gloc")).expect("copy");
     let output = run(gloc().arg("check").arg(project.join("fig2.gloc")));
     assert_refused(&output, "not a regular file");
@@ -719,9 +727,10 @@ fn devices_fifos_and_directories_are_refused_unread() {
 }
 
 #[test]
-fn the_language_server_refuses_a_masterdata_of_dev_zero_from_gloc_toml() {
+fn the_language_server_refuses_a_masterdata_fifo_from_gloc_toml() {
     let dir = scratch("lsp-zero");
-    std::fs::write(dir.join("gloc.toml"), "masterdata = \"/dev/zero\"\n").expect("write");
+    make_fifo(&dir.join("md"));
+    std::fs::write(dir.join("gloc.toml"), "masterdata = \"md\"\n").expect("write");
     let script = dir.join("fig2.gloc");
     std::fs::copy(examples().join("fig2.gloc"), &script).expect("copy");
     let uri = format!("file://{}", script.display());
@@ -1429,9 +1438,7 @@ fn a_fifo_as_the_output_of_data_convert_is_refused_unopened() {
     std::fs::write(&log, depth_time_log(&[(10.0, 0.0), (11.0, 4.0)])).expect("write");
     for (command, name) in [("convert", "fifo.csv"), ("plot", "fifo.svg")] {
         let fifo = dir.join(name);
-        let path = std::ffi::CString::new(fifo.to_string_lossy().as_bytes()).expect("a path");
-        // SAFETY: mkfifo(3) with a NUL-terminated path.
-        assert_eq!(unsafe { libc::mkfifo(path.as_ptr(), 0o600) }, 0);
+        make_fifo(&fifo);
         let output = run_within(
             gloc()
                 .args(["data", command])
@@ -1502,4 +1509,191 @@ fn calibrate_on_a_full_disk_leaves_the_previous_table() {
     assert_eq!(output.status.code(), Some(4), "{}", text(&output));
     assert_eq!(std::fs::read_to_string(&table).expect("read"), "old\n");
     assert_eq!(names(&disk.0), ["filler", "sim.toml"]);
+}
+
+#[test]
+fn gloc_toml_cannot_have_check_or_run_print_a_file_outside_the_project() {
+    // A gloc.toml in a parent folder naming /etc/passwd or /proc/self/environ, or a
+    // symbolic link in the project to one: `check` printed each line as a diagnostic
+    // and `run` the environment, tokens included.
+    let dir = scratch("leak");
+    let secret = dir.join("secret.txt");
+    std::fs::write(&secret, "TOKEN=hunter2-very-secret\nline two\n").expect("write");
+    let project = dir.join("project");
+    let nested = project.join("scripts");
+    std::fs::create_dir_all(&nested).expect("folders");
+    let script = nested.join("fig2.gloc");
+    std::fs::copy(examples().join("fig2.gloc"), &script).expect("copy");
+    std::os::unix::fs::symlink(&secret, project.join("link.txt")).expect("symlink");
+    let outside = secret.display().to_string();
+    for (setting, path, command) in [
+        ("masterdata", outside.as_str(), vec!["check"]),
+        ("masterdata", "link.txt", vec!["check"]),
+        ("masterdata", "/etc/passwd", vec!["check"]),
+        ("mission", outside.as_str(), vec!["run", "--cycles", "2"]),
+        (
+            "mission",
+            "/proc/self/environ",
+            vec!["run", "--cycles", "2"],
+        ),
+    ] {
+        std::fs::write(
+            project.join("gloc.toml"),
+            format!("{setting} = \"{path}\"\n"),
+        )
+        .expect("write");
+        let output = run(gloc().args(&command).arg(&script));
+        let all = text(&output);
+        assert_refused(&output, "is outside the project folder");
+        assert_eq!(output.status.code(), Some(2), "{all}");
+        assert!(all.contains("gloc.toml:1:"), "{all}");
+        for leaked in ["hunter2", "root:", "PATH="] {
+            assert!(!all.contains(leaked), "{leaked} in: {all}");
+        }
+    }
+    // Named by the user, a file that is no sensor list is refused without a line of it.
+    std::fs::remove_file(project.join("gloc.toml")).expect("remove");
+    let output = run(gloc()
+        .arg("check")
+        .arg("--masterdata")
+        .arg(&secret)
+        .arg(&script));
+    assert_refused(&output, "is not a sensor list");
+    assert!(!text(&output).contains("hunter2"), "{}", text(&output));
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn the_debugger_answers_pause_within_a_slice_of_time_under_slow_conditions() {
+    // A valid 200-term condition on every line makes each step slow; slices ended
+    // after 50,000 steps however long they took, so `pause` waited 8 s (release) to
+    // 50 s (debug build) to be read.
+    let dir = scratch("dap-slow-steps");
+    let script = dir.join("loop.gbas");
+    let mut lines = vec!["dim x as integer".to_string(), "do".to_string()];
+    lines.extend((0..40).map(|_| "  x = x + 1".to_string()));
+    lines.extend(["  yield".to_string(), "loop".to_string()]);
+    std::fs::write(&script, lines.join("\n") + "\n").expect("write");
+    let condition = vec!["(m_depth * 2 + x) < -1"; 200].join(" and ");
+    let mut server = Server::start("dap");
+    let request = |server: &mut Server, seq: u64, command: &str, arguments: Value| {
+        server.send(&json!({ "seq": seq, "type": "request", "command": command,
+            "arguments": arguments }));
+        let started = Instant::now();
+        let response = server.wait_for(command, |m| m["request_seq"] == seq);
+        assert_eq!(response["success"], true, "{response}");
+        started.elapsed()
+    };
+    request(&mut server, 1, "initialize", json!({ "adapterID": "gloc" }));
+    request(
+        &mut server,
+        2,
+        "launch",
+        json!({ "program": script, "stopOnEntry": true, "cycles": 1_000_000 }),
+    );
+    let breakpoints: Vec<Value> = (1..=lines.len())
+        .map(|line| json!({ "line": line, "condition": condition }))
+        .collect();
+    request(
+        &mut server,
+        3,
+        "setBreakpoints",
+        json!({ "source": { "path": script }, "breakpoints": breakpoints }),
+    );
+    request(&mut server, 4, "configurationDone", json!({}));
+    request(&mut server, 5, "continue", json!({ "threadId": 1 }));
+    thread::sleep(Duration::from_millis(300));
+    let waited = request(&mut server, 6, "pause", json!({ "threadId": 1 }));
+    assert!(
+        waited < Duration::from_secs(2),
+        "pause answered after {waited:?}"
+    );
+    let waited = request(&mut server, 7, "disconnect", json!({}));
+    assert!(
+        waited < Duration::from_secs(2),
+        "disconnect answered after {waited:?}"
+    );
+    assert!(server.close().code().is_some(), "ended by a signal");
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn the_language_server_opens_6000_documents_within_seconds() {
+    // Each didOpen re-read the gloc.toml of every open document (a walk up the
+    // folders and a read each): 4,000 opens took 15-28 s, 6,000 over 20 s.
+    let dir = scratch("lsp-opens");
+    std::fs::write(dir.join("gloc.toml"), "cycle_budget = 500\n").expect("write");
+    let text = std::fs::read_to_string(examples().join("fig2.gloc")).expect("fig2");
+    let mut server = Server::start("lsp");
+    let started = Instant::now();
+    server.send(&json!({ "jsonrpc": "2.0", "id": 1, "method": "initialize",
+        "params": { "processId": null, "rootUri": null, "capabilities": {} } }));
+    server.wait_for("the initialize response", |m| m["id"] == 1);
+    server.send(&json!({ "jsonrpc": "2.0", "method": "initialized", "params": {} }));
+    let count = 6000;
+    for index in 0..count {
+        let uri = format!("file://{}/s{index}.gloc", dir.display());
+        server.send(
+            &json!({ "jsonrpc": "2.0", "method": "textDocument/didOpen", "params": {
+            "textDocument": { "uri": uri, "languageId": "gloc", "version": 1, "text": text } } }),
+        );
+    }
+    server.send(&json!({ "jsonrpc": "2.0", "id": 2, "method": "shutdown" }));
+    server.wait_for("the shutdown response", |m| m["id"] == 2);
+    let elapsed = started.elapsed();
+    assert!(elapsed < ANSWER, "{count} opens took {elapsed:?}");
+    server.send(&json!({ "jsonrpc": "2.0", "method": "exit" }));
+    assert_eq!(server.close().code(), Some(0));
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn a_dba_claiming_a_hundred_trillion_label_lines_is_refused_in_bounded_memory() {
+    // Every line after the header was held as a label line: 40 MB of empty lines
+    // took 1.9 GB. 4 MB here: about 100 MB.
+    let dir = scratch("dba-labels");
+    let log = dir.join("labels.dba");
+    let mut contents = String::from(
+        "dbd_label: DBD_ASC(dinkum_binary_data_ascii)file\nencoding_ver: 2\nnum_ascii_tags: 4\nnum_label_lines: 99999999999999\n",
+    );
+    contents.push_str(&"\n".repeat(4_000_000));
+    std::fs::write(&log, contents).expect("write");
+    let (output, peak_mb) = run_measured(gloc().args(["data", "info"]).arg(&log));
+    assert!(peak_mb < 48, "peak {peak_mb} MB");
+    assert_refused(&output, "`num_label_lines: 99999999999999`: expected 3");
+    assert_eq!(output.status.code(), Some(1), "{}", text(&output));
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn a_batch_sweep_too_wide_is_refused_before_its_profiles_are_read() {
+    // Every --profile was read before the sweep's size was checked: 60 copies of a
+    // 16 MB profile took 1 GB. 20 copies of 4 MB here: about 90 MB.
+    let dir = scratch("batch-profiles");
+    let profile = dir.join("profile.csv");
+    let mut rows = String::from("depth_m,temp_degC\n");
+    let mut index = 0u64;
+    while rows.len() < 4_000_000 {
+        rows.push_str(&format!(
+            "{}.{:04},{}\n",
+            index / 10_000,
+            index % 10_000,
+            10 + index % 7
+        ));
+        index += 1;
+    }
+    std::fs::write(&profile, rows).expect("write");
+    let mut command = gloc();
+    command
+        .arg("batch")
+        .arg(fig2_script(&dir))
+        .args(["--seeds", "1-20000", "--cycles", "1"]);
+    for _ in 0..20 {
+        command.arg("--profile").arg(&profile);
+    }
+    let (output, peak_mb) = run_measured(&mut command);
+    assert!(peak_mb < 40, "peak {peak_mb} MB");
+    assert_refused(&output, "the sweep has more than 100000 missions");
+    assert_eq!(output.status.code(), Some(2), "{}", text(&output));
+    std::fs::remove_dir_all(dir).ok();
 }

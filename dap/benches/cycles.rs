@@ -14,7 +14,7 @@ use std::time::Instant;
 use gloc_compiler::{load_script, Language, LoadOptions};
 use gloc_dap::debugger::{
     CycleBreakpoint, CycleBreakpointKind, Debugger, HistoryConfig, LineBreakpoint, Progress,
-    RunMode, StopReason,
+    RunMode, Slice, StopReason,
 };
 use gloc_dap::target::Target;
 use gloc_dap::world::{self, LaunchConfig};
@@ -127,7 +127,7 @@ fn debug(program: &Path, mission: &Path, fast: bool, breakpoint: Option<LineBrea
     let start = debugger.clock();
     let began = Instant::now();
     loop {
-        match debugger.run(RunMode::Continue, start, 50_000) {
+        match debugger.run(RunMode::Continue, start, Slice::steps(50_000)) {
             Progress::Running => continue,
             Progress::Stopped(stop) => {
                 assert_eq!(stop.reason, StopReason::CycleBreakpoint);

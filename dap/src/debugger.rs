@@ -7,6 +7,7 @@
 //! from a journal at the clocks where they were made.
 
 use std::collections::{BTreeMap, HashMap};
+use std::time::Instant;
 
 use crate::expr::{self, Number, Watched};
 use crate::program::DebugInfo;
@@ -59,6 +60,21 @@ pub struct Stop {
     pub description: String,
     pub text: Option<String>,
     pub hit_breakpoint_ids: Vec<i64>,
+}
+
+/// How much one call of [`Debugger::run`] may do: at most `steps` steps, none begun
+/// after `until` (at least one is always taken).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Slice {
+    pub steps: u64,
+    pub until: Option<Instant>,
+}
+
+impl Slice {
+    /// At most `steps` steps, however long they take (tests and benchmarks).
+    pub fn steps(steps: u64) -> Slice {
+        Slice { steps, until: None }
+    }
 }
 
 /// Where a forward run is after a slice of work.
@@ -379,8 +395,10 @@ impl<T: Target> Debugger<T> {
         }
     }
 
-    /// Runs forward for at most `budget` steps.
-    pub fn run(&mut self, mode: RunMode, start: Clock, budget: u64) -> Progress {
+    /// Runs forward for at most `slice.steps` steps, and begins none after
+    /// `slice.until`: a step can be slow (a long condition on every line), so a count
+    /// alone let one slice run for half a minute with `pause` and `disconnect` unread.
+    pub fn run(&mut self, mode: RunMode, start: Clock, slice: Slice) -> Progress {
         if let Some(summary) = &self.ended {
             return Progress::Ended {
                 summary: summary.clone(),
@@ -388,7 +406,10 @@ impl<T: Target> Debugger<T> {
         }
         self.refresh_stops();
         let mut steps = 0;
-        while steps < budget {
+        while steps < slice.steps {
+            if steps > 0 && slice.until.is_some_and(|until| Instant::now() >= until) {
+                break;
+            }
             let before = self.clock;
             let (event, fused_notices) = self.advance(mode);
             steps += if self.clock.steps > before.steps {

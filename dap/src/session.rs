@@ -13,7 +13,7 @@ use serde_json::{json, Value};
 use crate::cancel::Cancellations;
 use crate::debugger::{
     self, Category, Clock, CycleBreakpointKind, Debugger, HistoryConfig, HitCondition,
-    LineBreakpoint, Pc, Progress, RunMode, Stop, StopReason,
+    LineBreakpoint, Pc, Progress, RunMode, Slice, Stop, StopReason,
 };
 use crate::dispatch::Failure;
 use crate::features::{self, ClientOptions};
@@ -32,8 +32,11 @@ pub(crate) const SCOPE_VEHICLE: i64 = 4;
 pub(crate) const ALL_SENSORS: i64 = 5;
 /// `ARRAYS + i`: the elements of the i-th GBASIC variable (an array).
 pub(crate) const ARRAYS: i64 = 1000;
-/// Steps run between two looks at the incoming queue while running.
+/// Steps run between two looks at the incoming queue while running, and the longest
+/// time between two looks: a request (`pause`, `disconnect`) waits at most this long
+/// plus one step.
 const SLICE_STEPS: u64 = 50_000;
+const SLICE_TIME: Duration = Duration::from_millis(50);
 
 /// The launch attributes the adapter accepts (`editors/vscode/package.json` declares
 /// the same names; a test keeps them in step).
@@ -822,9 +825,14 @@ impl Session {
                 hit_breakpoint_ids: Vec::new(),
             })
         } else {
-            launched
-                .debugger
-                .run(running.mode, running.start, SLICE_STEPS)
+            launched.debugger.run(
+                running.mode,
+                running.start,
+                Slice {
+                    steps: SLICE_STEPS,
+                    until: Some(Instant::now() + SLICE_TIME),
+                },
+            )
         };
         if !matches!(progress, Progress::Running) {
             launched.running = None;

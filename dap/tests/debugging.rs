@@ -1316,7 +1316,7 @@ fn vehicle_scope_shows_depth_pitch_behaviors_and_energy() {
 
 #[test]
 fn reverse_history_keeps_a_bounded_number_of_snapshots() {
-    use gloc_dap::debugger::{Debugger, HistoryConfig, Progress, RunMode};
+    use gloc_dap::debugger::{Debugger, HistoryConfig, Progress, RunMode, Slice};
     use gloc_dap::target::Target;
     use gloc_dap::world::{self, LaunchConfig};
 
@@ -1340,7 +1340,7 @@ fn reverse_history_keeps_a_bounded_number_of_snapshots() {
     for _ in 0..1000 {
         let start = debugger.clock();
         loop {
-            match debugger.run(RunMode::Next, start, 100_000) {
+            match debugger.run(RunMode::Next, start, Slice::steps(100_000)) {
                 Progress::Running => continue,
                 Progress::Stopped(_) => break,
                 Progress::Ended { summary } => panic!("endless.mi ended: {summary}"),

@@ -8,7 +8,7 @@ use std::path::PathBuf;
 
 use gloc_dap::debugger::{
     CycleBreakpoint, CycleBreakpointKind, DataBreakpoint, Debugger, Edit, HistoryConfig,
-    HitCondition, InstructionBreakpoint, LineBreakpoint, Pc, Progress, RunMode,
+    HitCondition, InstructionBreakpoint, LineBreakpoint, Pc, Progress, RunMode, Slice,
 };
 use gloc_dap::expr::Number;
 use gloc_dap::target::Target;
@@ -90,7 +90,7 @@ fn session(
                 loop {
                     slices += 1;
                     assert!(slices < 1_000_000, "{command:?} does not stop");
-                    match debugger.run(*mode, start, 700) {
+                    match debugger.run(*mode, start, Slice::steps(700)) {
                         Progress::Running => continue,
                         other => break format!("{other:?}"),
                     }

@@ -9,6 +9,11 @@ use crate::cycle::{time_column, Cycle, FileSensor, SensorColumns, State};
 use crate::error::{DbdError, Location, Warning};
 use crate::header::{read_header, read_line, Header};
 
+/// The most label lines a `.dba` may announce: dbd2asc writes 3 (names, units, byte
+/// sizes). `num_label_lines: 99999999999999` had every line of a 40 MB file held as a
+/// label (2.1 GB).
+const MAX_LABEL_LINES: u64 = 16;
+
 /// Streams the cycles of one `.dba` file, one line at a time.
 pub struct DbaReader {
     file: String,
@@ -45,18 +50,22 @@ impl DbaReader {
             .with_help("a binary log needs its glider extension (.dbd, .ebd, …)"));
         }
         let labels = header.get_number("num_label_lines").unwrap_or(3);
-        if labels < 3 {
+        if !(3..=MAX_LABEL_LINES).contains(&labels) {
             return Err(DbdError::new(
                 file,
                 at(0),
-                format!("`num_label_lines: {labels}`: expected 3 (names, units, bytes)"),
+                format!(
+                    "`num_label_lines: {labels}`: expected 3 (names, units, bytes), at most {MAX_LABEL_LINES}"
+                ),
             ));
         }
-        let mut lines = Vec::new();
+        // The first three are kept; further label lines are read past, not held.
+        let mut lines = Vec::with_capacity(3);
         for _ in 0..labels {
             let start = offset;
             match read_line(&mut input, &mut offset, file, at)? {
-                Some(line) => lines.push(line),
+                Some(line) if lines.len() < 3 => lines.push(line),
+                Some(_) => {}
                 None => {
                     return Err(DbdError::new(
                         file,

@@ -212,6 +212,42 @@ impl Default for Sourced<CycleBudget> {
     }
 }
 
+/// Refuses a file that `gloc.toml` names outside the folder holding it (the project
+/// tree), symbolic links followed: a gloc.toml in a parent folder, or one a
+/// repository brings, could otherwise have `check` print `/etc/passwd` or
+/// `/proc/self/environ` as diagnostics. A file the user names (a flag, an editor
+/// setting, a launch attribute) may be anywhere. A path that does not exist is left
+/// to the reader, which says it cannot be read.
+fn within_project(
+    path: &Path,
+    config: Option<&Path>,
+    setting: Setting,
+    surface: Surface,
+) -> Result<(), String> {
+    let folder = match config.and_then(Path::parent) {
+        Some(folder) if !folder.as_os_str().is_empty() => folder,
+        Some(_) => Path::new("."),
+        None => return Ok(()),
+    };
+    let (Ok(real), Ok(root)) = (path.canonicalize(), folder.canonicalize()) else {
+        return Ok(());
+    };
+    if real.starts_with(&root) {
+        return Ok(());
+    }
+    Err(format!(
+        "`{}` is outside the project folder `{}` (where gloc.toml is){}: gloc.toml may name only files inside it; to use this file, give it as {}",
+        path.display(),
+        root.display(),
+        if real.as_path() == path {
+            String::new()
+        } else {
+            format!(" (it is `{}`)", real.display())
+        },
+        setting.origin(surface)
+    ))
+}
+
 impl Settings {
     /// Finds the `gloc.toml` that applies to `anchor` (a script; the current folder when
     /// `None`) and resolves the overrides over it.
@@ -247,14 +283,22 @@ impl Settings {
                     file: Option<PathBuf>,
                     position: Option<(usize, usize)>| {
             match given.filter(|path| !path.as_os_str().is_empty()) {
-                Some(value) => Some(Sourced {
+                Some(value) => Ok(Some(Sourced {
                     value,
                     origin: setting.origin(surface),
-                }),
-                None => file.map(|value| Sourced {
-                    value,
-                    origin: from_file(position),
-                }),
+                })),
+                None => match file {
+                    Some(value) => {
+                        let origin = from_file(position);
+                        match within_project(&value, config.path.as_deref(), setting, surface) {
+                            Ok(()) => Ok(Some(Sourced { value, origin })),
+                            Err(message) => {
+                                Err(ProjectError::new(ErrorKind::Setting, Some(origin), message))
+                            }
+                        }
+                    }
+                    None => Ok(None),
+                },
             }
         };
         let cycle_budget = match overrides.cycle_budget {
@@ -298,13 +342,13 @@ impl Settings {
                 Setting::Masterdata,
                 config.masterdata,
                 config.positions.masterdata,
-            ),
+            )?,
             mission: pick(
                 overrides.mission,
                 Setting::Mission,
                 config.mission,
                 config.positions.mission,
-            ),
+            )?,
             cycle_budget,
             sensor_order: overrides
                 .sensor_order

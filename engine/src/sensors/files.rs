@@ -78,6 +78,24 @@ pub fn load_sensor_file(path: &Path, order: SensorOrder) -> std::io::Result<Load
             .extension()
             .is_some_and(|extension| extension.eq_ignore_ascii_case("cac"))
         || looks_like_cac(&text);
+    if !has_list_line(&text) {
+        // Not a sensor list at all (`/etc/passwd`, a secret): one error, and none of
+        // its lines quoted, since a diagnostic shows its line.
+        return Ok(LoadedSensorList {
+            list: SensorList::from_sensors(Vec::new()),
+            diagnostics: vec![Diagnostic::error(
+                crate::codes::sensors::NO_SENSORS,
+                Span::new(0, 0),
+                format!(
+                    "`{}` is not a sensor list: none of its lines starts with `sensor:` (masterdata) or `s:` (.cac), so none is shown",
+                    path.display()
+                ),
+            )
+            .with_help("name the glider's masterdata or a `<crc>.cac` file")],
+            text: String::new(),
+            added_hook_sensors: Vec::new(),
+        });
+    }
     let (mut list, diagnostics) = if is_cac {
         parse_cac(&text)
     } else {
@@ -101,6 +119,14 @@ pub fn load_sensor_file(path: &Path, order: SensorOrder) -> std::io::Result<Load
         diagnostics,
         text,
         added_hook_sensors,
+    })
+}
+
+/// Whether any line of `text` is a sensor-list line (`sensor:` or `s:`).
+fn has_list_line(text: &str) -> bool {
+    text.lines().any(|line| {
+        let line = line.trim_start();
+        line.starts_with("sensor:") || line.starts_with("s:")
     })
 }
 

@@ -95,3 +95,19 @@ fn a_masterdata_file_is_checked_and_its_behaviors_used() {
         "{stdout}"
     );
 }
+
+#[test]
+fn an_unreadable_mission_is_exit_3_and_garbage_is_an_error() {
+    let output = gloc_in(&["check", "missions/nosuch.mi"], &folder());
+    assert_eq!(output.status.code(), Some(3));
+    assert!(
+        text(&output.stdout).starts_with("error: cannot read mission file `missions/nosuch.mi`")
+    );
+    let temp = support::temp_folder("check-garbage");
+    std::fs::write(temp.join("bin.mi"), b"\x00\x01\xff behavior: yo\n").expect("write");
+    std::fs::write(temp.join("bin.ma"), b"\xff\xfe<start:b_arg>\x00\n").expect("write");
+    let output = gloc_in(&["check", "bin.mi", "bin.ma"], &temp);
+    let stdout = text(&output.stdout);
+    assert_eq!(output.status.code(), Some(1), "{stdout}");
+    assert!(stdout.contains("bin.mi:1:1: error[S0002]"), "{stdout}");
+}

@@ -194,26 +194,7 @@ impl Mission {
     ) -> Mission {
         match files.read(path) {
             Ok(text) => Mission::load_text(path, text, options, files),
-            Err(error) => {
-                let mut mission = Mission {
-                    name: mission_name(path),
-                    ..Mission::default()
-                };
-                mission.sources.push(SourceFile {
-                    path: path.to_path_buf(),
-                    text: String::new(),
-                    loaded_at: None,
-                });
-                mission.diagnostics.push(MissionDiagnostic {
-                    file: 0,
-                    diagnostic: Diagnostic::error(
-                        gloc_engine::codes::mission::CANNOT_READ_MISSION,
-                        Span::default(),
-                        format!("cannot read mission file `{}`: {error}", path.display()),
-                    ),
-                });
-                mission
-            }
+            Err(error) => Mission::unreadable(path, &error),
         }
     }
 
@@ -242,6 +223,41 @@ impl Mission {
         options: &LoadOptions,
     ) -> Mission {
         parse_args_file(&path.into(), text.into(), options.table())
+    }
+
+    /// Reads a `.ma` file through `files` and parses it alone (as
+    /// [`Mission::parse_args_file_with`]); an unreadable file gives one S0001 error.
+    pub fn load_args_file(
+        path: &Path,
+        options: &LoadOptions,
+        files: &mut dyn MissionFiles,
+    ) -> Mission {
+        match files.read(path) {
+            Ok(text) => parse_args_file(path, text, options.table()),
+            Err(error) => Mission::unreadable(path, &error),
+        }
+    }
+
+    /// A mission whose file could not be read: one S0001 error.
+    fn unreadable(path: &Path, error: &std::io::Error) -> Mission {
+        let mut mission = Mission {
+            name: mission_name(path),
+            ..Mission::default()
+        };
+        mission.sources.push(SourceFile {
+            path: path.to_path_buf(),
+            text: String::new(),
+            loaded_at: None,
+        });
+        mission.diagnostics.push(MissionDiagnostic {
+            file: 0,
+            diagnostic: Diagnostic::error(
+                gloc_engine::codes::mission::CANNOT_READ_MISSION,
+                Span::default(),
+                format!("cannot read mission file `{}`: {error}", path.display()),
+            ),
+        });
+        mission
     }
 
     /// The behavior table the mission was read with.

@@ -1462,10 +1462,16 @@ mod tests {
             "b_arg: a(m) 1",
             "\u{feff}é(",
             "behavior: yo\nb_arg: a(b)c 1",
+            "<start:waypoints>\n1e308 -1e308 | é\n",
+            "behavior: goto_list\nb_arg: num_waypoints(nodim) 1e300\nb_arg: wpt_units_0(enum) 2\nb_arg: wpt_x_0(X) 1e300\nb_arg: wpt_y_0(X) -1e300\nbad",
+            "behavior: yo\nb_arg: d_target_depth(m) 1e300\nb_arg: c_target_depth(m) -1e300\nb_arg: args_from_file(enum) 1e300\nbad",
         ] {
             let mission = Mission::parse("g.mi", text);
             let _ = mission.render_plain();
-            let _ = Mission::parse_args_file("g.ma", text).render_plain();
+            let _ = mission.check(&SensorList::embedded());
+            let args = Mission::parse_args_file("g.ma", text);
+            let _ = args.render_plain();
+            let _ = args.check(&SensorList::embedded());
             assert!(mission.has_errors(), "{text:?} should be an error");
         }
     }

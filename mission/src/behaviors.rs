@@ -9,7 +9,7 @@
 
 use gloc_engine::sensors::{BehaviorDefaults, SensorList};
 
-/// The behaviors the simulator knows.
+/// The behaviors the simulator flies.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum BehaviorKind {
     Abend,
@@ -27,7 +27,8 @@ pub enum BehaviorKind {
     Hook,
     /// The GLOC script behavior.
     Gloc,
-    /// A `behavior:` the simulator does not know (warned about, ignored).
+    /// A `behavior:` the simulator does not fly: one the behavior table has but gloc
+    /// does not model (a note, S0111), or one nobody knows (a warning, S0101).
     Unknown,
 }
 

@@ -55,11 +55,11 @@ fn lsp_codes(mission: &Path) -> BTreeSet<(String, u32)> {
     let codes = server
         .seen
         .iter()
-        .filter(|message| {
+        .rev()
+        .find(|message| {
             message["method"] == "textDocument/publishDiagnostics"
                 && message["params"]["uri"] == mission_uri.as_str()
         })
-        .last()
         .and_then(|message| message["params"]["diagnostics"].as_array().cloned())
         .unwrap_or_default()
         .iter()

@@ -21,7 +21,7 @@ pub fn analyze(language: Language, text: &str, context: &Context) -> Analysis {
 }
 
 /// As [`analyze`], for the document at `path`: a mission reads the `.ma` files
-/// beside it (`../mafiles/`), as `gloc run` does.
+/// by the glider's file rules (`gloc_mission::files`), as `gloc run` does.
 pub fn analyze_at(
     language: Language,
     text: &str,

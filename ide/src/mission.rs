@@ -29,7 +29,9 @@ pub enum MissionFile {
 }
 
 /// Parses the document as `gloc run` would: a `.mi` loads its `.ma` files from
-/// `../mafiles/` beside it (from disk), reading the document itself from `text`.
+/// disk by the glider's file rules (`gloc_mission::files`: `mafiles/` beside `missions/`
+/// in any case, then beside the `.mi`), reading the document itself from `text`; its
+/// behaviors are those of `sensors`' masterdata (else the embedded release table).
 /// Without a path (an unsaved buffer) a `.mi` loads no `.ma` files.
 pub fn parse(kind: MissionFile, text: &str, path: Option<&Path>, sensors: &SensorList) -> Mission {
     let options = LoadOptions {

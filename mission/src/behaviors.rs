@@ -864,6 +864,8 @@ pub struct ArgInfo {
     /// `#! min = …; max = …`: the range Control Center enforces.
     pub min: Option<f64>,
     pub max: Option<f64>,
+    /// `#! choices = start_when([…])`: the only values Control Center allows.
+    pub choices: Option<Vec<f64>>,
 }
 
 /// A behavior as the active table defines it (a masterdata `behavior:` section).
@@ -954,6 +956,7 @@ impl BehaviorTable {
                 doc: arg.description.clone().unwrap_or_default(),
                 min: arg.min,
                 max: arg.max,
+                choices: arg.choices.clone(),
             });
             match behaviors
                 .iter_mut()
@@ -998,6 +1001,7 @@ impl BehaviorTable {
                         doc: arg.doc.to_string(),
                         min: None,
                         max: None,
+                        choices: None,
                     })
                     .collect(),
             });

@@ -318,6 +318,17 @@ fn arg_markdown(behavior: &BehaviorInfo, arg: &ArgInfo) -> String {
         (None, Some(max)) => format!(" · at most {max}"),
         (None, None) => String::new(),
     };
+    let range = match &arg.choices {
+        Some(choices) => format!(
+            "{range} · one of {}",
+            choices
+                .iter()
+                .map(|choice| choice.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+        None => range,
+    };
     let default = arg
         .default
         .map_or_else(|| "none (0)".to_string(), |value| value.to_string());
@@ -890,6 +901,18 @@ mod tests {
                 "behavior: abend\n    b_arg: overdepth($0m) 30\n"
             ),
             None
+        );
+        // yo's start_when: `#! choices=start_when([0, 1, 2, 4, 7, 8, 15, 17, 18])`.
+        let (_, markdown) = hover_at(
+            MissionFile::Mission,
+            "behavior: yo\n    b_arg: start_wh$0en(enum) 2\n",
+        )
+        .expect("hover");
+        assert!(
+            markdown.starts_with(
+                "**start_when**(enum) · yo · default 2 · one of 0, 1, 2, 4, 7, 8, 15, 17, 18"
+            ),
+            "{markdown}"
         );
         let (word, markdown) = hover_at(MissionFile::Mission, "behavior: y$0o\n").expect("hover");
         assert_eq!(word, "yo");

@@ -20,12 +20,18 @@ fn folder() -> PathBuf {
     PathBuf::from(support::repo("tests/fixtures/missions/check"))
 }
 
-/// `(code, line)` of every `FILE:LINE:COL: severity[CODE]` line about `file`.
+/// `(code, line)` of every `FILE:LINE:COL: severity[CODE]` line about `file` (a
+/// path that ends with it).
 fn cli_codes(output: &str, file: &str) -> BTreeSet<(String, u32)> {
     output
         .lines()
         .filter_map(|line| {
-            let rest = line.strip_prefix(file)?.strip_prefix(':')?;
+            // The file, as given or under a folder (`/tmp/…/shared/x.ma`).
+            let at = line.find(&format!("{file}:"))?;
+            if line[..at].contains(' ') || !(at == 0 || line[..at].ends_with('/')) {
+                return None;
+            }
+            let rest = &line[at + file.len() + 1..];
             let mut parts = rest.splitn(3, ':');
             let line_number: u32 = parts.next()?.parse().ok()?;
             let _column = parts.next()?;
@@ -36,9 +42,13 @@ fn cli_codes(output: &str, file: &str) -> BTreeSet<(String, u32)> {
 }
 
 fn lsp_codes(mission: &Path) -> BTreeSet<(String, u32)> {
-    let mut server = Peer::start("lsp", &folder());
+    let root = mission
+        .parent()
+        .and_then(Path::parent)
+        .map_or_else(folder, Path::to_path_buf);
+    let mut server = Peer::start("lsp", &root);
     server.send(json!({ "jsonrpc": "2.0", "id": 1, "method": "initialize",
-        "params": { "processId": null, "rootUri": uri(&folder()), "capabilities": {} } }));
+        "params": { "processId": null, "rootUri": uri(&root), "capabilities": {} } }));
     server.until(|seen| seen.iter().any(|message| message["id"] == 1));
     server.send(json!({ "jsonrpc": "2.0", "method": "initialized", "params": {} }));
     let text = std::fs::read_to_string(mission).expect("fixture");
@@ -108,4 +118,48 @@ fn check_run_and_the_editor_report_the_same_mission_problems() {
             "gloc lsp on {file}"
         );
     }
+}
+
+#[test]
+fn gloc_tomls_mafiles_reaches_check_run_and_the_editor() {
+    // `shared/surfac10.ma` sets when_secs 60, under the release masterdata's
+    // `#! min = 120.0`: S0120 on its line 3. Found through gloc.toml's `mafiles`, it is
+    // reported by check and run on the `.ma`, and by the editor on the `.mi`'s
+    // `args_from_file` line (line 2); without the key every surface would say S0004.
+    let temp = support::temp_folder("surfaces-mafiles");
+    std::fs::create_dir_all(temp.join("missions")).expect("mkdir");
+    std::fs::create_dir_all(temp.join("shared")).expect("mkdir");
+    std::fs::write(temp.join("gloc.toml"), "mafiles = \"shared\"\n").expect("write");
+    std::fs::write(
+        temp.join("missions/m.mi"),
+        "behavior: surface\n  b_arg: args_from_file(enum) 10\n",
+    )
+    .expect("write");
+    std::fs::write(
+        temp.join("shared/surfac10.ma"),
+        "behavior_name=surface\n<start:b_arg>\n  b_arg: when_secs(sec) 60\n<end:b_arg>\n",
+    )
+    .expect("write");
+    let ma = "shared/surfac10.ma";
+    let expected: BTreeSet<(String, u32)> = [("S0120".to_string(), 3)].into();
+    let check = gloc_in(&["check", "missions/m.mi"], &temp);
+    assert_eq!(check.status.code(), Some(0), "{}", text(&check.stdout));
+    assert_eq!(
+        cli_codes(&text(&check.stdout), ma),
+        expected,
+        "{}",
+        text(&check.stdout)
+    );
+    let run = gloc_in(
+        &["run", "--mission", "missions/m.mi", "--cycles", "3"],
+        &temp,
+    );
+    assert_eq!(
+        cli_codes(&text(&run.stderr), ma),
+        expected,
+        "{}",
+        text(&run.stderr)
+    );
+    let editor: BTreeSet<(String, u32)> = [("S0120".to_string(), 2)].into();
+    assert_eq!(lsp_codes(&temp.join("missions/m.mi")), editor);
 }

@@ -34,7 +34,13 @@ pub fn analyze_at(
         Language::Config => Analysis::default(),
         Language::Masterdata => masterdata::analyze(text),
         Language::Mission | Language::MissionArgs => match language.mission_file() {
-            Some(kind) => mission::analyze(kind, text, path, &context.sensors),
+            Some(kind) => mission::analyze_with(
+                kind,
+                text,
+                path,
+                &context.sensors,
+                context.mafiles.as_deref(),
+            ),
             None => Analysis::default(),
         },
     }));

@@ -34,9 +34,20 @@ pub enum MissionFile {
 /// behaviors are those of `sensors`' masterdata (else the embedded release table).
 /// Without a path (an unsaved buffer) a `.mi` loads no `.ma` files.
 pub fn parse(kind: MissionFile, text: &str, path: Option<&Path>, sensors: &SensorList) -> Mission {
+    parse_with(kind, text, path, sensors, None)
+}
+
+/// As [`parse`], searching `mafiles` first for `.ma` files (gloc.toml's `mafiles`).
+pub fn parse_with(
+    kind: MissionFile,
+    text: &str,
+    path: Option<&Path>,
+    sensors: &SensorList,
+    mafiles: Option<&Path>,
+) -> Mission {
     let options = LoadOptions {
         table: Some(BehaviorTable::for_sensors(sensors)),
-        ..LoadOptions::default()
+        mafiles: mafiles.map(Path::to_path_buf),
     };
     match (kind, path) {
         (MissionFile::Args, _) => {
@@ -78,7 +89,18 @@ pub fn analyze(
     path: Option<&Path>,
     sensors: &SensorList,
 ) -> Analysis {
-    let mission = parse(kind, text, path, sensors);
+    analyze_with(kind, text, path, sensors, None)
+}
+
+/// As [`analyze`], searching `mafiles` first for `.ma` files (gloc.toml's `mafiles`).
+pub fn analyze_with(
+    kind: MissionFile,
+    text: &str,
+    path: Option<&Path>,
+    sensors: &SensorList,
+    mafiles: Option<&Path>,
+) -> Analysis {
+    let mission = parse_with(kind, text, path, sensors, mafiles);
     let mut diagnostics: Vec<Diagnostic> = Vec::new();
     let entries = mission
         .diagnostics

@@ -1017,6 +1017,7 @@ mod tests {
             cycle_budget: None,
             cycle_budget_from: None,
             list_folders: Vec::new(),
+            mafiles: None,
         };
         let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
         let folders = [

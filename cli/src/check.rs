@@ -56,7 +56,7 @@ pub fn main(args: crate::CheckArgs) -> anyhow::Result<ExitCode> {
                 match check_mission(path, options, sensors, &mut shown, &mut tally) {
                     Ok(()) => {}
                     Err(error) => {
-                        outln!("error: cannot read `{}`: {error}", path.display());
+                        outln!("error: {error}");
                         not_checked = not_checked.max(Some(crate::exit::UNREADABLE));
                     }
                 }
@@ -187,11 +187,18 @@ fn check_mission(
     shown: &mut std::collections::HashSet<String>,
     tally: &mut Tally,
 ) -> std::io::Result<()> {
-    let text = gloc_engine::files::read_text(path, gloc_engine::files::MISSION)?;
     let mission = match FileKind::of(path) {
-        FileKind::Args => gloc_mission::Mission::parse_args_file_with(path, text, options),
-        _ => gloc_mission::Mission::load_text(path, text, options, &mut gloc_mission::Disk),
+        FileKind::Args => {
+            gloc_mission::Mission::load_args_file(path, options, &mut gloc_mission::Disk)
+        }
+        _ => gloc_mission::Mission::load_with_options(path, options, &mut gloc_mission::Disk),
     };
+    // A file that cannot be read is exit code 3, as for scripts.
+    if let Some(unreadable) = mission.diagnostics.iter().find(|entry| {
+        entry.file == 0 && entry.diagnostic.code == gloc_engine::codes::mission::CANNOT_READ_MISSION
+    }) {
+        return Err(std::io::Error::other(unreadable.diagnostic.message.clone()));
+    }
     let checks = mission.check(sensors);
     for entry in mission.diagnostics.iter().chain(&checks) {
         let Some(source) = mission.sources.get(entry.file) else {

@@ -55,7 +55,7 @@ struct Cli {
 #[allow(clippy::large_enum_variant)]
 #[derive(Subcommand, Debug)]
 enum Command {
-    /// Check GLOC or GBASIC files and print every diagnostic.
+    /// Check scripts, missions (`.mi`, `.ma`) and sensor lists and print every diagnostic.
     Check(CheckArgs),
     /// Compile a GBASIC file to GLOC.
     Compile(CompileArgs),

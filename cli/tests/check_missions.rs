@@ -95,3 +95,47 @@ fn a_masterdata_file_is_checked_and_its_behaviors_used() {
         "{stdout}"
     );
 }
+
+#[test]
+fn an_unreadable_mission_is_exit_3_and_garbage_is_an_error() {
+    let output = gloc_in(&["check", "missions/nosuch.mi"], &folder());
+    assert_eq!(output.status.code(), Some(3));
+    assert!(
+        text(&output.stdout).starts_with("error: cannot read mission file `missions/nosuch.mi`")
+    );
+    let temp = support::temp_folder("check-garbage");
+    std::fs::write(temp.join("bin.mi"), b"\x00\x01\xff behavior: yo\n").expect("write");
+    std::fs::write(temp.join("bin.ma"), b"\xff\xfe<start:b_arg>\x00\n").expect("write");
+    let output = gloc_in(&["check", "bin.mi", "bin.ma"], &temp);
+    let stdout = text(&output.stdout);
+    assert_eq!(output.status.code(), Some(1), "{stdout}");
+    assert!(stdout.contains("bin.mi:1:1: error[S0002]"), "{stdout}");
+}
+
+#[test]
+fn mafiles_named_by_flag_or_gloc_toml_are_searched_first() {
+    let temp = support::temp_folder("check-mafiles");
+    std::fs::create_dir_all(temp.join("missions")).expect("mkdir");
+    std::fs::create_dir_all(temp.join("shared")).expect("mkdir");
+    std::fs::write(
+        temp.join("missions/m.mi"),
+        "behavior: surface\n  b_arg: args_from_file(enum) 10\n",
+    )
+    .expect("write");
+    std::fs::write(
+        temp.join("shared/surfac10.ma"),
+        "behavior_name=surface\n<start:b_arg>\n  b_arg: gps_wait_time(sec) 300\n<end:b_arg>\n",
+    )
+    .expect("write");
+    // Not in mafiles/ nor beside the mission: an error.
+    let output = gloc_in(&["check", "missions/m.mi"], &temp);
+    assert_eq!(output.status.code(), Some(1), "{}", text(&output.stdout));
+    // Named by the flag.
+    let output = gloc_in(&["check", "--mafiles", "shared", "missions/m.mi"], &temp);
+    assert_eq!(output.status.code(), Some(0), "{}", text(&output.stdout));
+    assert_eq!(text(&output.stdout), "");
+    // Named by gloc.toml (relative to it).
+    std::fs::write(temp.join("gloc.toml"), "mafiles = \"shared\"\n").expect("write");
+    let output = gloc_in(&["check", "missions/m.mi"], &temp);
+    assert_eq!(output.status.code(), Some(0), "{}", text(&output.stdout));
+}

@@ -151,6 +151,7 @@ registry! {
         ARG_OVERRIDDEN_BY_MA = "S0109", Warning, "an argument set in the `.mi` and again, to another value, in the behavior's `.ma` file: the glider flies the `.ma` value";
         GENERATED_MA_MISSING = "S0110", Warning, "`args_from_file` 99 names a `.ma` file the glider writes itself during a mission (breadcrumb, ice) and it is not there: gloc flies the behavior's defaults";
         VALUE_OUT_OF_RANGE = "S0120", Warning, "an argument's value is outside the range the masterdata's `#!` metadata gives it (`min`, `max`)";
+        VALUE_NOT_A_CHOICE = "S0127", Warning, "an argument's value is not one of the masterdata's `#! choices` for it (a `start_when` code the behavior does not take)";
         WAYPOINT_NOT_NMEA = "S0121", Warning, "a waypoint that is not NMEA `dddmm.mmm`: minutes of 60 or more, beyond ±90° or ±180°, longitude and latitude swapped, or decimal degrees";
         TARGET_TOO_DEEP = "S0122", Warning, "a yo or dive target deeper than abend's `overdepth` or the mission's water depth (`s_water_depth_avg`)";
         CLIMB_BELOW_DIVE = "S0123", Warning, "a yo's climb target is deeper than its dive target";

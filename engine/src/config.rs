@@ -590,7 +590,7 @@ mod tests {
 
     #[test]
     fn parses_every_key_and_resolves_paths_against_the_folder() {
-        let text = "masterdata = \"md/masterdata.mi\"\ncycle_budget = 500\nmission = \"m/yo.mi\"\nsensor_cache = \"cac\"\n";
+        let text = "masterdata = \"md/masterdata.mi\"\ncycle_budget = 500\nmission = \"m/yo.mi\"\nsensor_cache = \"cac\"\nmafiles = \"shared/ma\"\n";
         let config = Config::parse(text, Path::new("/project")).expect("valid config");
         assert_eq!(
             config.masterdata,
@@ -606,6 +606,9 @@ mod tests {
         assert_eq!(config.positions.mission, Some((3, 11)));
         assert_eq!(config.positions.sensor_cache, Some((4, 16)));
         assert_eq!(config.positions.sensor_order, None);
+        // `mafiles = ` is 10 characters.
+        assert_eq!(config.mafiles, Some(PathBuf::from("/project/shared/ma")));
+        assert_eq!(config.positions.mafiles, Some((5, 11)));
     }
 
     #[test]

@@ -117,6 +117,8 @@ pub struct BehaviorArg {
     pub description: Option<String>,
     pub min: Option<f64>,
     pub max: Option<f64>,
+    /// `#! choices = start_when([0, 1, 2])`: the only values Control Center allows.
+    pub choices: Option<Vec<f64>>,
     pub line: u32,
 }
 

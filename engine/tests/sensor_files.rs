@@ -303,3 +303,21 @@ fn a_release_layout_masterdata_is_read_as_the_firmware_reads_it() {
     assert_eq!((depth.min, depth.max), (Some(1.0), Some(1000.0)));
     assert_eq!(depth.description.as_deref(), Some("dive to this depth"));
 }
+
+#[test]
+fn behavior_argument_choices_are_read_from_metadata() {
+    let text = "sensor: m_depth(m) 0\n\
+behavior: yo\n\
+    b_arg: start_when(enum) 2   #! choices=start_when([0, 1, 2, 4])\n\
+    b_arg: end_action(enum) 2\n\
+                                #! choices = end_action([0, 2]); simple=False\n\
+    b_arg: c_use_pitch(enum) 3  #! choices=use_pitch\n";
+    let (list, diagnostics) = parse_masterdata(text, SensorOrder::FileOrder);
+    assert!(diagnostics.is_empty(), "{diagnostics:?}");
+    let args = &list.behavior_defaults()[0].args;
+    assert_eq!(args[0].choices, Some(vec![0.0, 1.0, 2.0, 4.0]));
+    // On the comment line below its `b_arg:`, with other metadata after it.
+    assert_eq!(args[1].choices, Some(vec![0.0, 2.0]));
+    // A named list the file does not give: nothing to check against.
+    assert_eq!(args[2].choices, None);
+}

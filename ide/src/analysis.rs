@@ -21,6 +21,9 @@ pub struct Context {
     /// when it is neither the active list nor the embedded one: the document's
     /// folder, the active list's, then `sensor_cache` of gloc.toml.
     pub list_folders: Vec<std::path::PathBuf>,
+    /// The folder searched first for a mission's `.ma` files (`mafiles` in gloc.toml),
+    /// as `gloc check` and `gloc run` search it.
+    pub mafiles: Option<std::path::PathBuf>,
 }
 
 #[derive(Clone, Debug, Default)]

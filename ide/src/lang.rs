@@ -21,7 +21,7 @@ pub fn analyze(language: Language, text: &str, context: &Context) -> Analysis {
 }
 
 /// As [`analyze`], for the document at `path`: a mission reads the `.ma` files
-/// beside it (`../mafiles/`), as `gloc run` does.
+/// by the glider's file rules (`gloc_mission::files`), as `gloc run` does.
 pub fn analyze_at(
     language: Language,
     text: &str,
@@ -34,7 +34,13 @@ pub fn analyze_at(
         Language::Config => Analysis::default(),
         Language::Masterdata => masterdata::analyze(text),
         Language::Mission | Language::MissionArgs => match language.mission_file() {
-            Some(kind) => mission::analyze(kind, text, path, &context.sensors),
+            Some(kind) => mission::analyze_with(
+                kind,
+                text,
+                path,
+                &context.sensors,
+                context.mafiles.as_deref(),
+            ),
             None => Analysis::default(),
         },
     }));

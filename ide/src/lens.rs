@@ -79,6 +79,7 @@ mod tests {
             cycle_budget: None,
             cycle_budget_from: None,
             list_folders: Vec::new(),
+            mafiles: None,
         };
         crate::lang::analyze(language, text, &context)
     }

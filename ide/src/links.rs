@@ -99,8 +99,8 @@ mod tests {
         let _ = std::fs::remove_dir_all(&root);
         std::fs::create_dir_all(root.join("missions")).expect("folder");
         std::fs::create_dir_all(root.join("mafiles")).expect("folder");
-        // `surface` + 10 fits 8 characters as `surfac10` (the glider's 8.3 names);
-        // `yo` 99 is not there, so it gets a diagnostic and no link.
+        // `surface` cut to six characters and 10 in two digits is `surfac10`;
+        // `yo` 99 is not there, so it gets a diagnostic (S0110) and no link.
         std::fs::write(
             root.join("mafiles/surfac10.ma"),
             "behavior_name=surface\n<start:b_arg>\n<end:b_arg>\n",

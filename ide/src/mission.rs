@@ -29,12 +29,25 @@ pub enum MissionFile {
 }
 
 /// Parses the document as `gloc run` would: a `.mi` loads its `.ma` files from
-/// `../mafiles/` beside it (from disk), reading the document itself from `text`.
+/// disk by the glider's file rules (`gloc_mission::files`: `mafiles/` beside `missions/`
+/// in any case, then beside the `.mi`), reading the document itself from `text`; its
+/// behaviors are those of `sensors`' masterdata (else the embedded release table).
 /// Without a path (an unsaved buffer) a `.mi` loads no `.ma` files.
 pub fn parse(kind: MissionFile, text: &str, path: Option<&Path>, sensors: &SensorList) -> Mission {
+    parse_with(kind, text, path, sensors, None)
+}
+
+/// As [`parse`], searching `mafiles` first for `.ma` files (gloc.toml's `mafiles`).
+pub fn parse_with(
+    kind: MissionFile,
+    text: &str,
+    path: Option<&Path>,
+    sensors: &SensorList,
+    mafiles: Option<&Path>,
+) -> Mission {
     let options = LoadOptions {
         table: Some(BehaviorTable::for_sensors(sensors)),
-        ..LoadOptions::default()
+        mafiles: mafiles.map(Path::to_path_buf),
     };
     match (kind, path) {
         (MissionFile::Args, _) => {
@@ -76,7 +89,18 @@ pub fn analyze(
     path: Option<&Path>,
     sensors: &SensorList,
 ) -> Analysis {
-    let mission = parse(kind, text, path, sensors);
+    analyze_with(kind, text, path, sensors, None)
+}
+
+/// As [`analyze`], searching `mafiles` first for `.ma` files (gloc.toml's `mafiles`).
+pub fn analyze_with(
+    kind: MissionFile,
+    text: &str,
+    path: Option<&Path>,
+    sensors: &SensorList,
+    mafiles: Option<&Path>,
+) -> Analysis {
+    let mission = parse_with(kind, text, path, sensors, mafiles);
     let mut diagnostics: Vec<Diagnostic> = Vec::new();
     let entries = mission
         .diagnostics
@@ -315,6 +339,17 @@ fn arg_markdown(behavior: &BehaviorInfo, arg: &ArgInfo) -> String {
         (Some(min), None) => format!(" · at least {min}"),
         (None, Some(max)) => format!(" · at most {max}"),
         (None, None) => String::new(),
+    };
+    let range = match &arg.choices {
+        Some(choices) => format!(
+            "{range} · one of {}",
+            choices
+                .iter()
+                .map(|choice| choice.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+        None => range,
     };
     let default = arg
         .default
@@ -888,6 +923,18 @@ mod tests {
                 "behavior: abend\n    b_arg: overdepth($0m) 30\n"
             ),
             None
+        );
+        // yo's start_when: `#! choices=start_when([0, 1, 2, 4, 7, 8, 15, 17, 18])`.
+        let (_, markdown) = hover_at(
+            MissionFile::Mission,
+            "behavior: yo\n    b_arg: start_wh$0en(enum) 2\n",
+        )
+        .expect("hover");
+        assert!(
+            markdown.starts_with(
+                "**start_when**(enum) · yo · default 2 · one of 0, 1, 2, 4, 7, 8, 15, 17, 18"
+            ),
+            "{markdown}"
         );
         let (word, markdown) = hover_at(MissionFile::Mission, "behavior: y$0o\n").expect("hover");
         assert_eq!(word, "yo");

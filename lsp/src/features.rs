@@ -1111,6 +1111,7 @@ mod tests {
             cycle_budget: None,
             cycle_budget_from: None,
             list_folders: Vec::new(),
+            mafiles: None,
         };
         let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
         let folders = [

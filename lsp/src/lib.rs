@@ -40,6 +40,7 @@ pub fn time_semantic_tokens(text: &str, runs: usize) -> (usize, Vec<std::time::D
         cycle_budget: None,
         cycle_budget_from: None,
         list_folders: Vec::new(),
+        mafiles: None,
     };
     let language = document::Language::Gbasic;
     let uri = "file:///bench.gbas".parse().expect("a constant, valid URI");

@@ -218,6 +218,7 @@ impl State {
                 cycle_budget: Some(settings.cycle_budget.value.get()),
                 cycle_budget_from: Some(settings.cycle_budget.origin.to_string()),
                 list_folders,
+                mafiles: settings.mafiles.clone(),
             },
             problems,
         )
@@ -702,6 +703,7 @@ impl LanguageServer for Backend {
                 cycle_budget: None,
                 cycle_budget_from: None,
                 list_folders: Vec::new(),
+                mafiles: None,
             };
             state.documents.insert(
                 item.uri.clone(),

@@ -9,7 +9,7 @@
 
 use gloc_engine::sensors::{BehaviorDefaults, SensorList};
 
-/// The behaviors the simulator knows.
+/// The behaviors the simulator flies.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum BehaviorKind {
     Abend,
@@ -27,7 +27,8 @@ pub enum BehaviorKind {
     Hook,
     /// The GLOC script behavior.
     Gloc,
-    /// A `behavior:` the simulator does not know (warned about, ignored).
+    /// A `behavior:` the simulator does not fly: one the behavior table has but gloc
+    /// does not model (a note, S0111), or one nobody knows (a warning, S0101).
     Unknown,
 }
 
@@ -863,6 +864,8 @@ pub struct ArgInfo {
     /// `#! min = …; max = …`: the range Control Center enforces.
     pub min: Option<f64>,
     pub max: Option<f64>,
+    /// `#! choices = start_when([…])`: the only values Control Center allows.
+    pub choices: Option<Vec<f64>>,
 }
 
 /// A behavior as the active table defines it (a masterdata `behavior:` section).
@@ -953,6 +956,7 @@ impl BehaviorTable {
                 doc: arg.description.clone().unwrap_or_default(),
                 min: arg.min,
                 max: arg.max,
+                choices: arg.choices.clone(),
             });
             match behaviors
                 .iter_mut()
@@ -997,6 +1001,7 @@ impl BehaviorTable {
                         doc: arg.doc.to_string(),
                         min: None,
                         max: None,
+                        choices: None,
                     })
                     .collect(),
             });

@@ -118,6 +118,32 @@ fn limits(mission: &Mission, found: &mut Vec<MissionDiagnostic>) {
             if arg.value >= 1_000_000.0 {
                 continue;
             }
+            if let Some(choices) = def
+                .choices
+                .as_ref()
+                .filter(|choices| !choices.contains(&arg.value))
+            {
+                let listed = choices
+                    .iter()
+                    .map(|choice| choice.to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ");
+                warn(
+                    found,
+                    gloc_engine::codes::mission::VALUE_NOT_A_CHOICE,
+                    arg.at,
+                    format!(
+                        "`{}` is {}, not one of the values {} allows for `{}` here: {listed}",
+                        arg.name,
+                        arg.value,
+                        table.source_name(),
+                        spec.name
+                    ),
+                    "Control Center refuses this value; pick one of the listed codes",
+                    &[],
+                );
+                continue;
+            }
             let below = def.min.filter(|min| arg.value < *min);
             let above = def.max.filter(|max| arg.value > *max);
             if below.is_none() && above.is_none() {

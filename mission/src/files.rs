@@ -141,19 +141,35 @@ impl<'a> Lookup<'a> {
         mission: &Path,
         named: Option<&Path>,
     ) -> Lookup<'a> {
-        let mission_folder = match mission.parent() {
-            Some(folder) if !folder.as_os_str().is_empty() => folder.to_path_buf(),
-            _ => PathBuf::from("."),
+        // `./missions/x.mi` is `missions/x.mi`: paths in messages read as the user
+        // would write them, and a file reached from a mission is the same path as
+        // the one named on the command line.
+        let folder: PathBuf = mission
+            .parent()
+            .map(|folder| {
+                folder
+                    .components()
+                    .filter(|part| *part != std::path::Component::CurDir)
+                    .collect()
+            })
+            .unwrap_or_default();
+        let mission_folder = if folder.as_os_str().is_empty() {
+            PathBuf::from(".")
+        } else {
+            folder
         };
-        // `missions/x.mi` → the tree `.`, so paths read `mafiles/yo10.ma` (the same
-        // path whether a mission loads the file or the user names it); `../x.mi` or
-        // `./x.mi` go up with `..`.
-        let tree = match mission_folder.components().next_back() {
-            Some(std::path::Component::Normal(_)) => match mission_folder.parent() {
-                Some(parent) if !parent.as_os_str().is_empty() => parent.to_path_buf(),
-                _ => PathBuf::from("."),
-            },
-            _ => mission_folder.join(".."),
+        // `missions/x.mi` → the tree `.` (so `mafiles/yo10.ma`); `x.mi` → `..`;
+        // `../x.mi` → `../..`.
+        let tree = if mission_folder == Path::new(".") {
+            PathBuf::from("..")
+        } else {
+            match mission_folder.components().next_back() {
+                Some(std::path::Component::Normal(_)) => match mission_folder.parent() {
+                    Some(parent) if !parent.as_os_str().is_empty() => parent.to_path_buf(),
+                    _ => PathBuf::from("."),
+                },
+                _ => mission_folder.join(".."),
+            }
         };
         Lookup {
             files,
@@ -268,6 +284,38 @@ fn join(folder: &Path, name: &str) -> PathBuf {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The folders `find` searches for a mission at `mission`, as it names them.
+    fn searched(mission: &str) -> Vec<PathBuf> {
+        let mut nothing = |_: &Path| -> io::Result<String> { Err(io::ErrorKind::NotFound.into()) };
+        match Lookup::new(&mut nothing, Path::new(mission), None).find("yo10.ma") {
+            Err(NotLoaded::Missing { searched }) => searched,
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn folders_are_named_as_a_user_writes_them() {
+        // `mafiles` beside `missions`, then the mission's folder.
+        assert_eq!(
+            searched("missions/x.mi"),
+            ["mafiles", "missions"].map(PathBuf::from)
+        );
+        assert_eq!(
+            searched("./missions/x.mi"),
+            ["mafiles", "missions"].map(PathBuf::from)
+        );
+        assert_eq!(searched("x.mi"), ["../mafiles", "."].map(PathBuf::from));
+        assert_eq!(searched("./x.mi"), ["../mafiles", "."].map(PathBuf::from));
+        assert_eq!(
+            searched("/g/comet/missions/x.mi"),
+            ["/g/comet/mafiles", "/g/comet/missions"].map(PathBuf::from)
+        );
+        assert_eq!(
+            searched("../x.mi"),
+            ["../../mafiles", ".."].map(PathBuf::from)
+        );
+    }
 
     #[test]
     fn names_are_six_characters_and_two_digits() {

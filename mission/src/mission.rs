@@ -208,24 +208,7 @@ impl Mission {
     ) -> Mission {
         match files.read(path) {
             Ok(text) => Mission::load_text(path, text, options, files),
-            Err(error) => {
-                let mut mission = Mission {
-                    name: mission_name(path),
-                    ..Mission::default()
-                };
-                mission
-                    .sources
-                    .push(SourceFile::new(path.to_path_buf(), String::new(), None));
-                mission.diagnostics.push(MissionDiagnostic {
-                    file: 0,
-                    diagnostic: Diagnostic::error(
-                        gloc_engine::codes::mission::CANNOT_READ_MISSION,
-                        Span::default(),
-                        format!("cannot read mission file `{}`: {error}", path.display()),
-                    ),
-                });
-                mission
-            }
+            Err(error) => Mission::unreadable(path, &error),
         }
     }
 
@@ -254,6 +237,39 @@ impl Mission {
         options: &LoadOptions,
     ) -> Mission {
         parse_args_file(&path.into(), text.into(), options.table())
+    }
+
+    /// Reads a `.ma` file through `files` and parses it alone (as
+    /// [`Mission::parse_args_file_with`]); an unreadable file gives one S0001 error.
+    pub fn load_args_file(
+        path: &Path,
+        options: &LoadOptions,
+        files: &mut dyn MissionFiles,
+    ) -> Mission {
+        match files.read(path) {
+            Ok(text) => parse_args_file(path, text, options.table()),
+            Err(error) => Mission::unreadable(path, &error),
+        }
+    }
+
+    /// A mission whose file could not be read: one S0001 error.
+    fn unreadable(path: &Path, error: &std::io::Error) -> Mission {
+        let mut mission = Mission {
+            name: mission_name(path),
+            ..Mission::default()
+        };
+        mission
+            .sources
+            .push(SourceFile::new(path.to_path_buf(), String::new(), None));
+        mission.diagnostics.push(MissionDiagnostic {
+            file: 0,
+            diagnostic: Diagnostic::error(
+                gloc_engine::codes::mission::CANNOT_READ_MISSION,
+                Span::default(),
+                format!("cannot read mission file `{}`: {error}", path.display()),
+            ),
+        });
+        mission
     }
 
     /// The behavior table the mission was read with.
@@ -1453,10 +1469,16 @@ mod tests {
             "b_arg: a(m) 1",
             "\u{feff}é(",
             "behavior: yo\nb_arg: a(b)c 1",
+            "<start:waypoints>\n1e308 -1e308 | é\n",
+            "behavior: goto_list\nb_arg: num_waypoints(nodim) 1e300\nb_arg: wpt_units_0(enum) 2\nb_arg: wpt_x_0(X) 1e300\nb_arg: wpt_y_0(X) -1e300\nbad",
+            "behavior: yo\nb_arg: d_target_depth(m) 1e300\nb_arg: c_target_depth(m) -1e300\nb_arg: args_from_file(enum) 1e300\nbad",
         ] {
             let mission = Mission::parse("g.mi", text);
             let _ = mission.render_plain();
-            let _ = Mission::parse_args_file("g.ma", text).render_plain();
+            let _ = mission.check(&SensorList::embedded());
+            let args = Mission::parse_args_file("g.ma", text);
+            let _ = args.render_plain();
+            let _ = args.check(&SensorList::embedded());
             assert!(mission.has_errors(), "{text:?} should be an error");
         }
     }

@@ -60,6 +60,24 @@ fn values_outside_the_masterdata_limits() {
 }
 
 #[test]
+fn values_not_among_the_masterdata_choices() {
+    // yo `start_when(enum) 2  #! choices=start_when([0, 1, 2, 4, 7, 8, 15, 17, 18])` and
+    // surface `start_when … choices=start_when([0, 1, 2, 3, 6, 7, 8, 9, 10, 11, 12, 13, 16])`
+    // in the 10.5 release masterdata: yo 12 is not among them, surface 12 is.
+    let found = check(&[(
+        "x.mi",
+        "behavior: yo\n  b_arg: start_when(enum) 12\nbehavior: surface\n  b_arg: start_when(enum) 12\n",
+    )]);
+    assert_eq!(found.len(), 1, "{found:#?}");
+    assert!(
+        found[0].starts_with("x.mi:2:3: warning[S0127]: `start_when` is 12, not one of the values")
+            && found[0].contains(": 0, 1, 2, 4, 7, 8, 15, 17, 18"),
+        "{}",
+        found[0]
+    );
+}
+
+#[test]
 fn waypoints_that_are_not_nmea() {
     let ma = "behavior_name=goto_list\n<start:b_arg>\nb_arg: num_waypoints(nodim) 5\n<end:b_arg>\n\
 <start:waypoints>\n\

@@ -2,6 +2,8 @@
 //! in the repository's real glider files (`data/`, through gloc_testsupport).
 #![allow(dead_code)]
 
+pub mod peer;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 

@@ -212,7 +212,10 @@ pub fn parse_masterdata(text: &str, order: SensorOrder) -> (SensorList, Vec<Diag
                     Continuation::Arg(behavior, arg) => behaviors
                         .get_mut(behavior)
                         .and_then(|behavior| behavior.args.get_mut(arg))
-                        .map(|arg| (&mut arg.description, &mut arg.min, &mut arg.max)),
+                        .map(|arg| {
+                            apply_choices(comment, &mut arg.choices);
+                            (&mut arg.description, &mut arg.min, &mut arg.max)
+                        }),
                 };
                 if let Some((description, min, max)) = entry {
                     apply_comment(comment, description, min, max);
@@ -327,6 +330,7 @@ pub fn parse_masterdata(text: &str, order: SensorOrder) -> (SensorList, Vec<Diag
                             description: None,
                             min: None,
                             max: None,
+                            choices: None,
                             line: line_number,
                         };
                         if let Some(comment) = entry.comment {
@@ -336,6 +340,7 @@ pub fn parse_masterdata(text: &str, order: SensorOrder) -> (SensorList, Vec<Diag
                                 &mut arg.min,
                                 &mut arg.max,
                             );
+                            apply_choices(comment, &mut arg.choices);
                         }
                         let behavior = &mut behaviors[behavior_index];
                         behavior.args.push(arg);
@@ -703,6 +708,36 @@ fn apply_comment(
             existing.push_str(text);
         }
         None => *description = Some(text.to_string()),
+    }
+}
+
+/// `#! choices = start_when([0, 1, 2])`: the numbers in the brackets. A `choices`
+/// naming a list without giving it (`choices=use_pitch`) sets nothing.
+fn apply_choices(comment: &str, choices: &mut Option<Vec<f64>>) {
+    let Some(metadata) = comment.strip_prefix('!') else {
+        return;
+    };
+    for pair in metadata.split(';') {
+        let Some((key, value)) = pair.split_once('=') else {
+            continue;
+        };
+        if key.trim() != "choices" {
+            continue;
+        }
+        let Some(list) = value
+            .split_once('[')
+            .and_then(|(_, rest)| rest.split_once(']'))
+            .map(|(list, _)| list)
+        else {
+            continue;
+        };
+        let numbers: Option<Vec<f64>> = list
+            .split(',')
+            .map(|number| number.trim().parse::<f64>().ok())
+            .collect();
+        if let Some(numbers) = numbers.filter(|numbers| !numbers.is_empty()) {
+            *choices = Some(numbers);
+        }
     }
 }
 

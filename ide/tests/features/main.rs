@@ -56,6 +56,7 @@ pub fn context() -> Context {
         cycle_budget: None,
         cycle_budget_from: None,
         list_folders: Vec::new(),
+        mafiles: None,
     }
 }
 

@@ -4,8 +4,8 @@
 //! |---|---|
 //! | 0 | success |
 //! | 1 | the script or the data it reads (sensor list, mission, profile) has errors; the run trapped; a batch mission failed |
-//! | 2 | usage: bad arguments or settings (flags, `gloc.toml`), an output that would overwrite an input |
-//! | 3 | an input cannot be read (script, `gloc.toml`, sensor list, mission, profile, logs) |
+//! | 2 | usage: bad arguments or settings (flags, `gloc.toml`), an output that would overwrite an input, a file of another kind given as the script; a recording gloc cannot use (a log whose `<crc>.cac` is not found, or that cannot be opened or parsed; a malformed replay CSV) |
+//! | 3 | an input cannot be read (script, `gloc.toml`, sensor list, mission, profile, a replay file that does not exist) |
 //! | 4 | an output cannot be written |
 //! | 128 + N | stopped by signal N (130 for Ctrl-C) |
 

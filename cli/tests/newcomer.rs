@@ -160,3 +160,37 @@ fn a_short_run_claims_no_speed_up() {
         assert!(wall.contains("about "), "{wall}");
     }
 }
+
+/// The README's exit-code table for recordings: a glider log whose sensor list is
+/// in no folder searched, and a replay CSV with a bad cell, are 2 (the table said 3
+/// and 1); a replay file that does not exist is 3.
+#[test]
+fn recordings_gloc_cannot_use_exit_as_the_readme_says() {
+    let folder = temp_folder("recording-exit-codes");
+    let log = folder.join("comet-2019-222-02-154.dbd");
+    std::fs::copy(shared("comet/from-glider/comet-2019-222-02-154.dbd"), &log).expect("copy");
+    let fig2 = repo("examples/fig2.gloc");
+    let output = Command::new(env!("CARGO_BIN_EXE_gloc"))
+        .args(["run", &fig2, "--replay", &log.display().to_string()])
+        .env("HOME", &folder)
+        .env_remove("XDG_DATA_HOME")
+        .output()
+        .expect("gloc runs");
+    let stderr = text(&output.stderr);
+    assert!(
+        stderr.contains("sensor list 1f35be3b not found"),
+        "{stderr}"
+    );
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
+
+    let csv = folder.join("bad.csv");
+    std::fs::write(&csv, "m_depth\n1\nabc\n").expect("write");
+    let output = gloc(&["run", &fig2, "--replay", &csv.display().to_string()]);
+    let stderr = text(&output.stderr);
+    assert!(stderr.contains("`abc` is not a number"), "{stderr}");
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
+
+    let missing = folder.join("missing.csv");
+    let output = gloc(&["run", &fig2, "--replay", &missing.display().to_string()]);
+    assert_eq!(output.status.code(), Some(3), "{}", text(&output.stderr));
+}

@@ -86,8 +86,13 @@ async def test_restricted_client_gets_plain_completions(restricted, tmp_path):
     items = {item.label: item for item in items_of(result)}
     assert "abs" in items, sorted(items)[:20]
     assert all(item.insert_text_format != types.InsertTextFormat.Snippet for item in items.values())
-    # `abs($1)` as a snippet; without snippets the call with its tab stop removed.
-    assert items["abs"].insert_text == "abs()"
+    # `abs($1)` as a snippet; without snippets the call with its tab stop removed, inserted
+    # through a text edit over the typed `ab` (line 1, characters 4-6), never `insertText`.
+    assert items["abs"].insert_text is None
+    assert items["abs"].text_edit.new_text == "abs()"
+    assert items["abs"].text_edit.range == types.Range(
+        start=types.Position(line=1, character=4), end=types.Position(line=1, character=6)
+    )
     for item in items.values():
         if isinstance(item.documentation, types.MarkupContent):
             assert item.documentation.kind == types.MarkupKind.PlainText, item
@@ -100,7 +105,7 @@ async def test_vscode_client_gets_snippets_and_markdown(vscode, tmp_path):
         types.CompletionParams(text_document=types.TextDocumentIdentifier(uri=uri), position=types.Position(line=1, character=6))
     )
     items = {item.label: item for item in items_of(result)}
-    assert items["abs"].insert_text == "abs($1)"
+    assert items["abs"].text_edit.new_text == "abs($1)"
     assert items["abs"].insert_text_format == types.InsertTextFormat.Snippet
 
 

@@ -108,7 +108,7 @@ async def test_argument_completion_has_units_default_and_doc(vscode, tmp_path): 
     items = result.items if isinstance(result, types.CompletionList) else result
     depth = next(item for item in items if item.label == "d_target_depth")
     assert depth.detail == "(m) default 12"
-    assert depth.insert_text == "d_target_depth(m) ${1:12}"
+    assert depth.text_edit.new_text == "d_target_depth(m) ${1:12}"
     assert depth.insert_text_format == types.InsertTextFormat.Snippet
     documentation = depth.documentation
     if documentation is None:  # deferred to completionItem/resolve

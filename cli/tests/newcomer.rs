@@ -161,9 +161,10 @@ fn a_short_run_claims_no_speed_up() {
     }
 }
 
-/// The README's exit-code table for recordings: a glider log whose sensor list is
-/// in no folder searched, and a replay CSV with a bad cell, are 2 (the table said 3
-/// and 1); a replay file that does not exist is 3.
+/// The README's exit-code table for recordings: a glider log whose sensor list is in
+/// no folder searched cannot be read (3), a replay CSV with a bad cell has errors (1),
+/// a replay file that does not exist cannot be read (3). (Both were 2 before issue 28
+/// gave the readers' errors their kind.)
 #[test]
 fn recordings_gloc_cannot_use_exit_as_the_readme_says() {
     let folder = temp_folder("recording-exit-codes");
@@ -181,14 +182,14 @@ fn recordings_gloc_cannot_use_exit_as_the_readme_says() {
         stderr.contains("sensor list 1f35be3b not found"),
         "{stderr}"
     );
-    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    assert_eq!(output.status.code(), Some(3), "{stderr}");
 
     let csv = folder.join("bad.csv");
     std::fs::write(&csv, "m_depth\n1\nabc\n").expect("write");
     let output = gloc(&["run", &fig2, "--replay", &csv.display().to_string()]);
     let stderr = text(&output.stderr);
     assert!(stderr.contains("`abc` is not a number"), "{stderr}");
-    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
 
     let missing = folder.join("missing.csv");
     let output = gloc(&["run", &fig2, "--replay", &missing.display().to_string()]);

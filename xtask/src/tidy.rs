@@ -23,10 +23,10 @@ pub const LONG_FUNCTIONS: &[(&str, &str, usize)] = &[
     ("engine/src/vm.rs", "execute", 396),
     ("cli/src/simulate.rs", "main", 300),
     ("sim/src/plot.rs", "draw", 240),
-    ("engine/src/sensors/files.rs", "parse_masterdata", 215),
+    ("engine/src/sensors/files.rs", "parse_masterdata", 220),
     ("mission/src/mission.rs", "parse_ma", 165),
     ("dap/src/debugger.rs", "after_step", 185),
-    ("cli/src/batch.rs", "main", 180),
+    ("cli/src/batch.rs", "main", 191),
     ("sim/src/simulation.rs", "new", 191),
     ("cli/src/simulate.rs", "summary", 170),
 ];

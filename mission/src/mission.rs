@@ -886,10 +886,28 @@ impl Parser<'_> {
                     }
                 }
                 _ if section == Section::Waypoints => {
-                    // `lon lat` in DDDMM.MMMM; accepted and checked, not flown
-                    // (horizontal position is not modelled).
-                    let numbers_ok = words.len() == 2
-                        && words.iter().all(|word| parse_number(word.text).is_some());
+                    // `lon lat` in DDDMM.MMMM: goto_list's `wpt_x_N` / `wpt_y_N`, numbered
+                    // from 0 after those the behavior already has.
+                    let numbers: Vec<f64> =
+                        words.iter().filter_map(|word| parse_number(word.text)).collect();
+                    let numbers_ok = words.len() == 2 && numbers.len() == 2;
+                    if numbers_ok && kind == BehaviorKind::GotoList {
+                        let number = self.current().map_or(0, |current| {
+                            current
+                                .args
+                                .iter()
+                                .filter(|arg| arg.name.to_ascii_lowercase().starts_with("wpt_x_"))
+                                .count()
+                        });
+                        let at = Location {
+                            file,
+                            span: Span::new(first.start, last_end),
+                        };
+                        for (axis, value) in [("x", numbers[0]), ("y", numbers[1])] {
+                            let name = format!("wpt_{axis}_{number}");
+                            self.add_arg(file, first, name, "nmea".into(), value, at);
+                        }
+                    }
                     if !numbers_ok {
                         self.error(
                             file,

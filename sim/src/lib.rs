@@ -24,6 +24,7 @@ pub mod environment;
 pub mod faults;
 pub mod flight;
 pub mod log;
+pub mod navigation;
 pub mod plot;
 pub mod simulation;
 

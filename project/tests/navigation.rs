@@ -143,7 +143,8 @@ fn steering_reproduces_comets_c_heading() {
     let mut count = 0;
     for row in &rows {
         // Underwater, where the heading is steered on the dead-reckoned position.
-        let (Some(logged), Some(state)) = (row.updated(S::CHeading), row.updated(S::DrState)) else {
+        let (Some(logged), Some(state)) = (row.updated(S::CHeading), row.updated(S::DrState))
+        else {
             continue;
         };
         if state != 1.0 {

@@ -51,6 +51,22 @@ pub const DEFAULT_LOG_SENSORS: &[&str] = &[
     "sci_ruhp_behs",
     "sci_ruhp_dive_depth",
     "sci_ruhp_climb_depth",
+    // Navigation (docs/simulator.md, "Navigation").
+    "m_heading",
+    "c_heading",
+    "m_x_lmc",
+    "m_y_lmc",
+    "m_lat",
+    "m_lon",
+    "m_gps_lat",
+    "m_gps_lon",
+    "m_water_vx",
+    "m_water_vy",
+    "m_avg_speed",
+    "x_dr_state",
+    "m_dist_to_wpt",
+    "c_wpt_lat",
+    "c_wpt_lon",
 ];
 
 /// Resolves the default set plus `extra` sensors (for example those the

@@ -323,6 +323,10 @@ pub struct CycleMotion {
     pub surface_depth: f64,
     /// The winning heading command of the cycle, if any.
     pub heading_command: Option<f64>,
+    /// A surface behavior (or an abort) commands the climb: shallower than
+    /// `surface_depth` the glider is then at the surface. A yo's top turn that
+    /// overshoots above it is not a surfacing (comet's tops reach 1 m).
+    pub surfacing: bool,
 }
 
 /// The horizontal state: truth, belief, and the surfacing estimate.
@@ -428,6 +432,7 @@ impl Navigation {
     pub fn advance(&mut self, motion: &CycleMotion) {
         let diving = motion.depth_rate > 0.0;
         let underwater = motion.depth > motion.surface_depth;
+        let surfaced = !underwater && motion.surfacing;
         // Steering: the heading relaxes toward the command plus the roll
         // bias's error while flying; at the surface the fin does nothing.
         let heading_before = self.heading;
@@ -469,16 +474,16 @@ impl Navigation {
             motion.angle_of_attack,
             self.avg_speed,
         );
-        self.speed = if underwater { speed } else { 0.0 };
+        self.speed = if surfaced { 0.0 } else { speed };
         self.speed_estimated = estimated;
-        if underwater && !estimated && self.params.avg_speed_time > 0.0 {
+        if !surfaced && !estimated && self.params.avg_speed_time > 0.0 {
             let weight = (motion.period / self.params.avg_speed_time).min(1.0);
             self.avg_speed += (speed - self.avg_speed) * weight;
         }
         self.gps_fix = None;
         match self.dr_state {
             DrState::Underwater => {
-                if underwater || diving {
+                if !surfaced || diving {
                     self.dead_reckon(motion.period);
                 } else {
                     self.dr_state = DrState::Surfaced;

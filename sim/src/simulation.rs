@@ -844,6 +844,13 @@ impl Simulation {
                 true => None,
                 false => self.commands.heading.map(|(value, _)| value),
             },
+            surfacing: aborting
+                || self.end.is_some()
+                || self.commands.buoyancy.is_some_and(|(_, owner)| {
+                    self.behaviors
+                        .get(owner)
+                        .is_some_and(|behavior| behavior.kind == BehaviorKind::Surface)
+                }),
         });
         if self.vehicle.exhausted(&self.energy) {
             if !matches!(

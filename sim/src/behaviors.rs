@@ -828,12 +828,14 @@ impl Goto {
 
     fn activate(&mut self, world: &World<'_>) {
         let lmc = world.nav.lmc;
-        self.in_lmc = self
-            .waypoints
-            .iter()
-            .filter(|(lat, lon)| navigation::nmea_is_set(*lat) && navigation::nmea_is_set(*lon))
-            .map(|&(lat, lon)| lmc.nmea_to_xy(lat, lon))
-            .collect();
+        // Refilled in place: a behavior that resumes allocates nothing.
+        self.in_lmc.clear();
+        self.in_lmc.extend(
+            self.waypoints
+                .iter()
+                .filter(|(lat, lon)| navigation::nmea_is_set(*lat) && navigation::nmea_is_set(*lon))
+                .map(|&(lat, lon)| lmc.nmea_to_xy(lat, lon)),
+        );
         let count = self.in_lmc.len();
         if count == 0 {
             return;

@@ -121,7 +121,13 @@ impl SimConfig {
     /// The caller has checked the value's range; `false`: no such setting.
     pub fn set(&mut self, name: &str, value: f64) -> bool {
         let (flight, energy, timing) = (&mut self.flight, &mut self.energy, &mut self.timing);
+        let navigation = &mut self.navigation;
         let field = match name {
+            "gps_fix_time" => &mut self.gps_fix_time,
+            "turn_time" => &mut navigation.turn_time,
+            "max_turn_rate" => &mut navigation.max_turn_rate,
+            "heading_bias_dive" => &mut navigation.heading_bias_dive,
+            "heading_bias_climb" => &mut navigation.heading_bias_climb,
             "pump_in_rate" => &mut flight.pump_in_rate,
             "speed_exponent" => &mut flight.speed_exponent,
             "battpos_dive_pitch" => &mut flight.battpos_dive_pitch,

@@ -184,3 +184,50 @@ fn a_mission_without_navigation_starts_at_the_default_position() {
     assert!((sensor(&sim, "m_lon") - lon).abs() < 1e-9);
     assert!((sensor(&sim, "m_gps_lat") - lat).abs() < 1e-9);
 }
+
+#[test]
+fn a_script_reads_the_position_and_the_distance_to_the_waypoint() {
+    use gloc_engine::gloc::{self, CheckOptions};
+    let list = Arc::new(SensorList::embedded());
+    let index = |name: &str| list.lookup(name).expect("in the embedded list").index();
+    let script = format!(
+        "nregs 2\nnblbs 1\nninstr 7\nlabel 0\nloads {},r0\nloads {},r1\nwrite r0\nprint r1\nyield\njumpi 0\n",
+        index("m_y_lmc"),
+        index("m_dist_to_wpt"),
+    );
+    let checked = gloc::check(&gloc::parse(&script), &list, &CheckOptions::default());
+    let program = checked
+        .program
+        .unwrap_or_else(|| panic!("{:?}", checked.diagnostics));
+    let above = "behavior: goto_wpt\n  b_arg: wpt_x(X) 724.0\n  b_arg: wpt_y(X) 5419.0\n  \
+                 b_arg: when_wpt_dist(m) 50\n";
+    let sensors = "sensor: s_ini_lat(lat) 5418.0\nsensor: s_ini_lon(lon) 724.0\n";
+    let mut sim = Simulation::new(
+        &mission(sensors, above),
+        list.clone(),
+        Some(program),
+        &SimConfig::default(),
+    )
+    .expect("starts");
+    let waypoint_north = Lmc::from_nmea(5418.0, 724.0).nmea_to_xy(5419.0, 724.0).y;
+    let mut seen = 0;
+    while sim.time() < 1800.0 && sim.step_cycle() {
+        let line = sim.printed().next().expect("a line per cycle").to_string();
+        let mut words = line
+            .split(' ')
+            .map(|word| word.parse::<f64>().expect("a number"));
+        let (north, distance) = (words.next().expect("y"), words.next().expect("distance"));
+        // What the script read is the published belief of this cycle.
+        assert_eq!(north, sensor(&sim, "m_y_lmc"));
+        assert_eq!(distance, sensor(&sim, "m_dist_to_wpt"));
+        if distance > 0.0 {
+            // Steering north along the meridian: the distance is what is left of it.
+            assert!(
+                (distance - (waypoint_north - north)).abs() < 0.05 * waypoint_north,
+                "{line}"
+            );
+            seen += 1;
+        }
+    }
+    assert!(seen > 300, "{seen}");
+}

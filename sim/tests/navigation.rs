@@ -231,3 +231,50 @@ fn a_script_reads_the_position_and_the_distance_to_the_waypoint() {
     }
     assert!(seen > 300, "{seen}");
 }
+
+#[test]
+fn hostile_navigation_settings_fly_without_a_panic() {
+    let cases = [
+        "sensor: s_ini_lat(lat) 1e308\nsensor: s_ini_lon(lon) -1e308\n",
+        "sensor: s_ini_lat(lat) 9000\nsensor: s_ini_lon(lon) 18000\nsensor: s_water_speed(m/s) 1e300\n",
+        "sensor: s_water_speed(m/s) -1e308\nsensor: s_water_direction(rad) 1e308\nsensor: m_water_vx(m/s) 1e308\n",
+        "sensor: m_avg_speed(m/s) -5\nsensor: u_use_current_correction(nodim) 1\nsensor: m_water_vy(m/s) 1e30\n",
+    ];
+    let behaviors = [
+        "behavior: goto_list\n  b_arg: num_waypoints(nodim) 1e20\n  b_arg: initial_wpt(enum) -7\n  \
+         b_arg: wpt_x_0(X) -1e308\n  b_arg: wpt_y_0(X) 69696969\n  b_arg: wpt_x_1(X) 1e300\n  b_arg: wpt_y_1(X) 5419\n",
+        "behavior: goto_wpt\n  b_arg: wpt_x(X) -18000\n  b_arg: wpt_y(X) -9000\n  b_arg: when_wpt_dist(m) -1e308\n",
+        "behavior: set_heading\n  b_arg: heading_value(X) 1e308\n",
+        "behavior: surface\n  b_arg: start_when(enum) 15\n  b_arg: when_wpt_dist(m) -1\n  b_arg: end_action(enum) 2\n\
+         behavior: goto_list\n  b_arg: num_waypoints(nodim) 3\n  b_arg: num_legs_to_run(nodim) 2\n  \
+         b_arg: wpt_x_0(X) 724.1\n  b_arg: wpt_y_0(X) 5418.1\n",
+    ];
+    // Mission values are finite (the parser refuses NaN and infinities): the
+    // extremes are the largest finite ones.
+    let mut flown = 0;
+    for sensors in cases {
+        for above in behaviors {
+            let text = format!(
+                "{sensors}behavior: abend\n  b_arg: overdepth(m) 35\n{above}\
+                 behavior: yo\n  b_arg: start_when(enum) 0\n  b_arg: d_target_depth(m) 20\n  \
+                 b_arg: c_target_depth(m) 3\n  b_arg: end_action(enum) 2\n"
+            );
+            let mission = Mission::parse("hostile.mi", text);
+            assert!(!mission.has_errors(), "{}", mission.render_plain());
+            let mut sim = Simulation::new(
+                &mission,
+                Arc::new(SensorList::embedded()),
+                None,
+                &SimConfig::default(),
+            )
+            .expect("starts");
+            flown += 1;
+            for _ in 0..2000 {
+                if !sim.step_cycle() {
+                    break;
+                }
+            }
+        }
+    }
+    assert_eq!(flown, 16);
+}

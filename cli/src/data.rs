@@ -311,6 +311,85 @@ fn write_dba_header(
     Ok(())
 }
 
+/// The map of a log: the glider's logged position (`m_lat`/`m_lon`), its GPS
+/// fixes and the waypoints it steered to, in km from its first position (the
+/// simulator's one projection, `gloc_sim::navigation::Lmc`).
+struct LogMap {
+    columns: [Option<usize>; 6],
+    /// The latest (lat, lon), fix (lat, lon) of this cycle, waypoint (lat, lon).
+    position: Option<(f64, f64)>,
+    fix: Option<(f64, f64)>,
+    waypoint: Option<(f64, f64)>,
+    lmc: Option<gloc_sim::navigation::Lmc>,
+}
+
+impl LogMap {
+    fn new(column: &dyn Fn(&str) -> Option<usize>) -> LogMap {
+        LogMap {
+            columns: [
+                column("m_lat"),
+                column("m_lon"),
+                column("m_gps_lat"),
+                column("m_gps_lon"),
+                column("c_wpt_lat"),
+                column("c_wpt_lon"),
+            ],
+            position: None,
+            fix: None,
+            waypoint: None,
+            lmc: None,
+        }
+    }
+
+    /// Takes this cycle's positions (only updated values that hold one).
+    fn read(&mut self, cycle: &gloc_dbd::cycle::Cycle) {
+        use gloc_sim::navigation::nmea_is_set;
+        let pair = |lat: Option<usize>, lon: Option<usize>| {
+            let (lat, lon) = (cycle.value(lat?)?, cycle.value(lon?)?);
+            (nmea_is_set(lat) && nmea_is_set(lon) && lat.abs() <= 9000.0).then_some((lat, lon))
+        };
+        let [lat, lon, gps_lat, gps_lon, wpt_lat, wpt_lon] = self.columns;
+        if let Some(position) = pair(lat, lon) {
+            self.position = Some(position);
+        }
+        self.fix = pair(gps_lat, gps_lon);
+        if let Some(waypoint) = pair(wpt_lat, wpt_lon) {
+            self.waypoint = Some(waypoint);
+        }
+    }
+
+    /// Adds one point to the trace's map (the trace's points gained one).
+    fn record(&mut self, trace: &mut gloc_sim::plot::Trace) {
+        let Some((lat, lon)) = self.position.or(self.fix) else {
+            // No position yet: the map starts at the first one (has_map needs one per point).
+            trace.track.push((f32::NAN, f32::NAN));
+            trace.dead_reckoned.push((f32::NAN, f32::NAN));
+            return;
+        };
+        let lmc = *self
+            .lmc
+            .get_or_insert_with(|| gloc_sim::navigation::Lmc::from_nmea(lat, lon));
+        let at = lmc.nmea_to_xy(lat, lon);
+        trace.track.push((at.x as f32, at.y as f32));
+        trace.dead_reckoned.push((at.x as f32, at.y as f32));
+        if let Some((lat, lon)) = self.fix.take() {
+            let fix = lmc.nmea_to_xy(lat, lon);
+            trace.surfacings.push((fix.x as f32, fix.y as f32));
+        }
+        if let Some((lat, lon)) = self.waypoint {
+            let at = lmc.nmea_to_xy(lat, lon);
+            let point = (at.x as f32, at.y as f32);
+            if !trace.waypoints.contains(&point) {
+                trace.waypoints.push(point);
+            }
+        }
+        trace.map_caption = Some(
+            "map (km east and north of the first position): logged position (m_lat, m_lon) blue, GPS fixes black, waypoints red"
+                .to_string(),
+        );
+    }
+}
+
 fn plot(args: PlotArgs) -> anyhow::Result<ExitCode> {
     check_output(&args.output, &args.source.files)?;
     gloc_sim::plot::PlotFormat::from_path(&args.output).map_err(anyhow::Error::msg)?;
@@ -327,9 +406,11 @@ fn plot(args: PlotArgs) -> anyhow::Result<ExitCode> {
         10.0
     };
     let water = column("m_water_depth");
+    let mut map = LogMap::new(&column);
     let mut trace = gloc_sim::plot::Trace::default();
     let (mut start, mut water_depth) = (f64::NAN, 0.0f64);
     while let Some(cycle) = source.next_cycle()? {
+        map.read(&cycle);
         if let Some(value) = water.and_then(|water| cycle.value(water)) {
             if value.is_finite() && value > 0.0 {
                 water_depth = water_depth.max(value);
@@ -347,6 +428,7 @@ fn plot(args: PlotArgs) -> anyhow::Result<ExitCode> {
         trace
             .points
             .push(((time - start) as f32, (value * scale) as f32));
+        map.record(&mut trace);
     }
     print_warnings(&mut source);
     if trace.points.is_empty() {

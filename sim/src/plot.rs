@@ -54,6 +54,8 @@ pub struct Trace {
     pub waypoints: Vec<(f32, f32)>,
     pub surfacings: Vec<(f32, f32)>,
     pub current: (f32, f32),
+    /// What the map's lines are, when not a simulation's (a real log's).
+    pub map_caption: Option<String>,
     surfacings_seen: u64,
 }
 
@@ -777,13 +779,13 @@ fn draw_map<DB: DrawingBackend>(
     let half_y = metres_per_px * plot_h / 2.0 / 1000.0;
     let (cx, cy) = (cx / 1000.0, cy / 1000.0);
     let speed = (trace.current.0 as f64).hypot(trace.current.1 as f64);
-    let mut map = ChartBuilder::on(area)
-        .caption(
-            format!(
-                "map (km east and north of the start): true track blue, dead reckoning grey, waypoints red, first fixes black; current {speed:.2} m/s (arrow: 1 h of drift)"
-            ),
-            ("sans-serif", 14),
+    let caption = trace.map_caption.clone().unwrap_or_else(|| {
+        format!(
+            "map (km east and north of the start): true track blue, dead reckoning grey, waypoints red, first fixes black; current {speed:.2} m/s (arrow: 1 h of drift)"
         )
+    });
+    let mut map = ChartBuilder::on(area)
+        .caption(caption, ("sans-serif", 14))
         .margin_left(16)
         .margin_right(16)
         .margin_bottom(16)
@@ -796,14 +798,20 @@ fn draw_map<DB: DrawingBackend>(
         .light_line_style(RGBColor(240, 240, 240))
         .draw()?;
     let km = |&(x, y): &(f32, f32)| (x as f64 / 1000.0, y as f64 / 1000.0);
+    let known = |point: &&(f32, f32)| point.0.is_finite() && point.1.is_finite();
     // A long run: every k-th point, about 8,000 in all.
     let step = trace.track.len().div_ceil(8000).max(1);
     map.draw_series(LineSeries::new(
-        trace.dead_reckoned.iter().step_by(step).map(km),
+        trace
+            .dead_reckoned
+            .iter()
+            .step_by(step)
+            .filter(known)
+            .map(km),
         ShapeStyle::from(&RGBColor(150, 150, 150)).stroke_width(1),
     ))?;
     map.draw_series(LineSeries::new(
-        trace.track.iter().step_by(step).map(km),
+        trace.track.iter().step_by(step).filter(known).map(km),
         ShapeStyle::from(&RGBColor(30, 70, 200)).stroke_width(2),
     ))?;
     let red = RGBColor(200, 30, 30);
@@ -1047,5 +1055,42 @@ mod tests {
         let bytes = std::fs::read(&path).expect("written");
         let _ = std::fs::remove_file(&path);
         assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+    }
+
+    #[test]
+    fn a_map_is_drawn_only_when_the_glider_moved() {
+        let mut trace = Trace::default();
+        for i in 0..100 {
+            trace.points.push((i as f32 * 4.0, 10.0));
+            trace.track.push((i as f32 * 0.05, 0.0));
+            trace.dead_reckoned.push((i as f32 * 0.05, 0.0));
+        }
+        // 5 m east: no map.
+        assert!(!has_map(&trace));
+        let plain = render_svg(&trace, "test", 40.0).expect("svg");
+        assert!(!plain.contains("east (km)"));
+        for (i, point) in trace.track.iter_mut().enumerate() {
+            *point = (i as f32 * 30.0, i as f32 * 10.0);
+        }
+        trace.waypoints.push((3000.0, 1000.0));
+        trace.surfacings.push((2970.0, 990.0));
+        trace.current = (0.1, 0.0);
+        assert!(has_map(&trace));
+        let options = PlotOptions {
+            title: "test".into(),
+            water_depth: 40.0,
+            temperature: false,
+            battery: false,
+        };
+        assert_eq!(
+            height(&trace, &options),
+            MAIN_HEIGHT + EVENT_HEIGHT + MAP_HEIGHT
+        );
+        let svg = render_svg(&trace, "test", 40.0).expect("svg");
+        assert!(svg.contains("east (km)") && svg.contains("north (km)"));
+        assert!(svg.contains("current 0.10 m/s"));
+        // A track shorter than the points (not recorded every cycle) draws no map.
+        trace.track.pop();
+        assert!(!has_map(&trace));
     }
 }

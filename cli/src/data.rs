@@ -410,7 +410,7 @@ fn plot(args: PlotArgs) -> anyhow::Result<ExitCode> {
     let mut trace = gloc_sim::plot::Trace::default();
     let (mut start, mut water_depth) = (f64::NAN, 0.0f64);
     while let Some(cycle) = source.next_cycle()? {
-        map.read(&cycle);
+        map.read(cycle);
         if let Some(value) = water.and_then(|water| cycle.value(water)) {
             if value.is_finite() && value > 0.0 {
                 water_depth = water_depth.max(value);

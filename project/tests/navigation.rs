@@ -299,8 +299,9 @@ fn comet_mission(data: &Path, settings: &str, surface_after: f64) -> Mission {
 }
 
 /// Flies the mission from comet's start until the first fix after surfacing;
-/// gives the fix (LMC of the simulation) and the time underwater.
-fn first_fix_after_surfacing(mission: &Mission, config: &SimConfig) -> (Xy, f64, Lmc) {
+/// gives the fix (LMC of the simulation), the time underwater, the projection
+/// and the simulated glider's own initial current estimate.
+fn first_fix_after_surfacing(mission: &Mission, config: &SimConfig) -> (Xy, f64, Lmc, Xy) {
     let (list, problems) = gloc_engine::sensors::parse_cac(
         &std::fs::read_to_string(data().join("cac/1f35be3b.cac")).expect("comet's sensor list"),
     );
@@ -312,7 +313,7 @@ fn first_fix_after_surfacing(mission: &Mission, config: &SimConfig) -> (Xy, f64,
         dove |= nav.dr_state == gloc_sim::navigation::DrState::Underwater;
         if dove && nav.dr_state == gloc_sim::navigation::DrState::FirstFix {
             let fix = nav.gps_fix.expect("the first fix");
-            return (fix, nav.dr_time, nav.lmc);
+            return (fix, nav.dr_time, nav.lmc, nav.initial_water);
         }
     }
     panic!("no first fix after a dive in 30,000 s");
@@ -375,12 +376,15 @@ fn simulated_first_fix_lands_near_comets() {
             start.avg_speed,
         );
         let mission = comet_mission(&data, &settings, surface_after);
-        let (fix, underwater, lmc) = first_fix_after_surfacing(&mission, &config);
+        let (fix, underwater, lmc, estimate) = first_fix_after_surfacing(&mission, &config);
         let real = lmc.nmea_to_xy(real_fix.0, real_fix.1);
-        (fix.distance(real), underwater)
+        (fix.distance(real), underwater, estimate)
     };
-    let (miss, underwater) = fly(found);
-    let (null_miss, _) = fly(start.believed);
+    let (miss, underwater, estimate) = fly(found);
+    let (null_miss, _, _) = fly(start.believed);
+    // The simulated glider's own estimate at its first fix finds comet's.
+    eprintln!("the simulated m_initial_water_vx/vy {estimate:?}, comet's {found:?}");
+    assert!(estimate.distance(found) < 0.01, "{estimate:?} {found:?}");
     let bound = (0.015 * real_underwater).max(150.0);
     eprintln!(
         "first fix: {miss:.0} m from comet's (bound {bound:.0} m; {underwater:.0} s underwater, comet {real_underwater:.0} s); \

@@ -50,6 +50,8 @@ struct FaultSet {
 struct Row {
     cycles: u64,
     end: String,
+    /// abend aborted the mission.
+    aborted: bool,
     script: String,
     printed: u64,
     shallowest: f64,
@@ -261,10 +263,17 @@ pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
         variants.len() as f64 / wall.max(f64::MIN_POSITIVE)
     );
     let failed = rows.iter().filter(|row| row.is_err()).count();
-    Ok(if failed == 0 {
-        ExitCode::SUCCESS
-    } else {
+    let aborted = rows
+        .iter()
+        .filter(|row| row.as_ref().is_ok_and(|row| row.aborted))
+        .count();
+    Ok(if failed > 0 {
         ExitCode::FAILURE
+    } else if aborted > 0 {
+        eprintln!("{aborted} of {} missions aborted", rows.len());
+        crate::exit::code(crate::exit::ABORTED)
+    } else {
+        ExitCode::SUCCESS
     })
 }
 
@@ -392,6 +401,7 @@ fn fly(shared: &Shared<'_>, variant: &Variant) -> Result<Row, String> {
     Ok(Row {
         cycles,
         end,
+        aborted: matches!(sim.end().map(|end| end.reason), Some(EndReason::Aborted(_))),
         script,
         printed,
         shallowest,

@@ -332,6 +332,85 @@ fn write_dba_header(
     Ok(())
 }
 
+/// The map of a log: the glider's logged position (`m_lat`/`m_lon`), its GPS
+/// fixes and the waypoints it steered to, in km from its first position (the
+/// simulator's one projection, `gloc_sim::navigation::Lmc`).
+struct LogMap {
+    columns: [Option<usize>; 6],
+    /// The latest (lat, lon), fix (lat, lon) of this cycle, waypoint (lat, lon).
+    position: Option<(f64, f64)>,
+    fix: Option<(f64, f64)>,
+    waypoint: Option<(f64, f64)>,
+    lmc: Option<gloc_sim::navigation::Lmc>,
+}
+
+impl LogMap {
+    fn new(column: &dyn Fn(&str) -> Option<usize>) -> LogMap {
+        LogMap {
+            columns: [
+                column("m_lat"),
+                column("m_lon"),
+                column("m_gps_lat"),
+                column("m_gps_lon"),
+                column("c_wpt_lat"),
+                column("c_wpt_lon"),
+            ],
+            position: None,
+            fix: None,
+            waypoint: None,
+            lmc: None,
+        }
+    }
+
+    /// Takes this cycle's positions (only updated values that hold one).
+    fn read(&mut self, cycle: &gloc_dbd::cycle::Cycle) {
+        use gloc_sim::navigation::nmea_is_set;
+        let pair = |lat: Option<usize>, lon: Option<usize>| {
+            let (lat, lon) = (cycle.value(lat?)?, cycle.value(lon?)?);
+            (nmea_is_set(lat) && nmea_is_set(lon) && lat.abs() <= 9000.0).then_some((lat, lon))
+        };
+        let [lat, lon, gps_lat, gps_lon, wpt_lat, wpt_lon] = self.columns;
+        if let Some(position) = pair(lat, lon) {
+            self.position = Some(position);
+        }
+        self.fix = pair(gps_lat, gps_lon);
+        if let Some(waypoint) = pair(wpt_lat, wpt_lon) {
+            self.waypoint = Some(waypoint);
+        }
+    }
+
+    /// Adds one point to the trace's map (the trace's points gained one).
+    fn record(&mut self, trace: &mut gloc_sim::plot::Trace) {
+        let Some((lat, lon)) = self.position.or(self.fix) else {
+            // No position yet: the map starts at the first one (has_map needs one per point).
+            trace.track.push((f32::NAN, f32::NAN));
+            trace.dead_reckoned.push((f32::NAN, f32::NAN));
+            return;
+        };
+        let lmc = *self
+            .lmc
+            .get_or_insert_with(|| gloc_sim::navigation::Lmc::from_nmea(lat, lon));
+        let at = lmc.nmea_to_xy(lat, lon);
+        trace.track.push((at.x as f32, at.y as f32));
+        trace.dead_reckoned.push((at.x as f32, at.y as f32));
+        if let Some((lat, lon)) = self.fix.take() {
+            let fix = lmc.nmea_to_xy(lat, lon);
+            trace.surfacings.push((fix.x as f32, fix.y as f32));
+        }
+        if let Some((lat, lon)) = self.waypoint {
+            let at = lmc.nmea_to_xy(lat, lon);
+            let point = (at.x as f32, at.y as f32);
+            if !trace.waypoints.contains(&point) {
+                trace.waypoints.push(point);
+            }
+        }
+        trace.map_caption = Some(
+            "map (km east and north of the first position): logged position (m_lat, m_lon) blue, GPS fixes black, waypoints red"
+                .to_string(),
+        );
+    }
+}
+
 fn plot(args: PlotArgs) -> anyhow::Result<ExitCode> {
     check_output(&args.output, &args.source.files)?;
     gloc_sim::plot::PlotFormat::from_path(&args.output).map_err(anyhow::Error::msg)?;
@@ -353,7 +432,13 @@ fn plot(args: PlotArgs) -> anyhow::Result<ExitCode> {
     // Points whose time from the start or depth does not fit the plot's numbers
     // (beyond f32::MAX): skipped, the first one named.
     let mut unplottable: (u64, Option<String>) = (0, None);
+    // The map's positions (a log with m_lat/m_lon or GPS fixes), kept as they stream:
+    // every `map_stride`-th point, halved whenever they reach the plot's cap.
+    let mut map = LogMap::new(&column);
+    let mut nav = gloc_sim::plot::Trace::default();
+    let (mut map_stride, mut map_seen) = (1u64, 0u64);
     while let Some(cycle) = source.next_cycle()? {
+        map.read(cycle);
         if let Some(value) = water.and_then(|water| cycle.value(water)) {
             if value.is_finite() && value > 0.0 {
                 water_depth = water_depth.max(value);
@@ -384,6 +469,15 @@ fn plot(args: PlotArgs) -> anyhow::Result<ExitCode> {
         }
         points.push(point);
         count += 1;
+        if map_seen % map_stride == 0 {
+            map.record(&mut nav);
+            if nav.track.len() >= gloc_sim::plot::MAX_PLOT_POINTS {
+                nav.track = nav.track.iter().copied().step_by(2).collect();
+                nav.dead_reckoned = nav.dead_reckoned.iter().copied().step_by(2).collect();
+                map_stride *= 2;
+            }
+        }
+        map_seen += 1;
     }
     print_warnings(&mut source);
     if let (skipped @ 1.., Some(first)) = unplottable {
@@ -397,6 +491,20 @@ fn plot(args: PlotArgs) -> anyhow::Result<ExitCode> {
     }
     let mut trace = gloc_sim::plot::Trace::default();
     trace.points = points.finish();
+    // The map needs a position per plotted point: the kept positions spread over them.
+    let plotted = trace.points.len();
+    if !nav.track.is_empty() && plotted > 0 {
+        let spread = |positions: &[(f32, f32)]| -> Vec<(f32, f32)> {
+            (0..plotted)
+                .map(|index| positions[index * positions.len() / plotted])
+                .collect()
+        };
+        trace.track = spread(&nav.track);
+        trace.dead_reckoned = spread(&nav.dead_reckoned);
+    }
+    trace.surfacings = nav.surfacings;
+    trace.waypoints = nav.waypoints;
+    trace.map_caption = nav.map_caption;
     let title = args
         .source
         .files

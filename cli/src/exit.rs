@@ -7,6 +7,7 @@
 //! | 2 | usage: bad arguments or settings (flags, `gloc.toml`), an output that would overwrite an input, a file of another kind given as the script; a recording gloc cannot use (a log whose `<crc>.cac` is not found, or that cannot be opened or parsed; a malformed replay CSV) |
 //! | 3 | an input cannot be read (script, `gloc.toml`, sensor list, mission, profile, a replay file that does not exist) |
 //! | 4 | an output cannot be written |
+//! | 5 | the simulated mission aborted (abend: `MS_ABORT_OVERDEPTH`, …); in `batch`, a mission aborted and none failed |
 //! | 128 + N | stopped by signal N (130 for Ctrl-C) |
 
 use std::process::ExitCode;
@@ -17,6 +18,8 @@ pub const ERRORS: u8 = 1;
 pub const USAGE: u8 = 2;
 pub const UNREADABLE: u8 = 3;
 pub const UNWRITABLE: u8 = 4;
+/// The mission flew and abend aborted it: the run itself worked, the mission did not.
+pub const ABORTED: u8 = 5;
 
 pub fn code(code: u8) -> ExitCode {
     ExitCode::from(code)

@@ -324,6 +324,9 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         // The shell's convention for a process ended by a signal.
         return Ok(ExitCode::from(128 + received as u8));
     }
+    if matches!(sim.end().map(|end| end.reason), Some(EndReason::Aborted(_))) {
+        return Ok(crate::exit::code(crate::exit::ABORTED));
+    }
     Ok(ExitCode::SUCCESS)
 }
 

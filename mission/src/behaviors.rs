@@ -42,9 +42,9 @@ const NAMES: &[(&str, BehaviorKind, &str)] = &[
     ("prepare_to_dive", BehaviorKind::PrepareToDive, "Holds at the surface until a GPS fix or wait_time."),
     ("sensors_in", BehaviorKind::SensorsIn, "Sets how often the flight sensors are sampled (accepted; commands nothing here)."),
     ("sample", BehaviorKind::Sample, "Switches a science sensor on in the chosen states (accepted; commands nothing here)."),
-    ("goto_list", BehaviorKind::GotoList, "Steers through a list of waypoints (accepted; horizontal position is not simulated)."),
-    ("goto_wpt", BehaviorKind::GotoWpt, "Steers to one waypoint (accepted; horizontal position is not simulated)."),
-    ("set_heading", BehaviorKind::SetHeading, "Commands a heading (use_heading 1); the vertical-plane model does not turn."),
+    ("goto_list", BehaviorKind::GotoList, "Steers through a list of waypoints with the firmware's current-corrected heading, judged on the dead-reckoned position."),
+    ("goto_wpt", BehaviorKind::GotoWpt, "Steers to one waypoint with the firmware's current-corrected heading."),
+    ("set_heading", BehaviorKind::SetHeading, "Commands a heading (use_heading 1, heading_value in rad)."),
     ("hook", BehaviorKind::Hook, "gloc's hook: runs a climb_to (bit 128) or dive_to (bit 64) that a script requests in sci_ruhp_behs."),
     ("gloc", BehaviorKind::Gloc, "The GLOC script: runs the script once per control cycle, to its yield, at this place in the stack."),
 ];
@@ -72,7 +72,7 @@ const fn arg(name: &'static str, units: &'static str, default: f64, doc: &'stati
 
 /// Arguments every behavior with a start/stop state machine accepts.
 const COMMON: &[ArgDef] = &[
-    arg("start_when", "enum", 0.0, "When the behavior starts: 0 immediately, 1 stack idle, 2 pitch idle, 3 heading idle, 4 up/down idle, 5 never, 6 when_secs after its last end, 9 when_secs after its last start, 10 as 9 and up/down idle, 12 no comms for when_secs."),
+    arg("start_when", "enum", 0.0, "When the behavior starts: 0 immediately, 1 stack idle, 2 pitch idle, 3 heading idle, 4 up/down idle, 5 never, 6 when_secs after its last end, 9 when_secs after its last start, 10 as 9 and up/down idle, 12 no comms for when_secs, 7 m_dist_to_wpt below when_wpt_dist, 8 a waypoint hit, 15 m_dist_to_wpt above when_wpt_dist."),
     arg("stop_when", "enum", 0.0, "When the behavior stops: 0 on completion, other codes as start_when."),
     arg("when_secs", "sec", 0.0, "Seconds for the timed start_when/stop_when codes (6, 9, 10, 12)."),
     arg("when_wpt_dist", "m", 10.0, "Distance to the waypoint for the waypoint start_when codes (7, 15)."),

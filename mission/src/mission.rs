@@ -1070,6 +1070,81 @@ impl Parser<'_> {
         self.parse_ma(file, behavior);
     }
 
+    /// A line of a `.ma` file's `<start:waypoints>` list: `lon lat` in NMEA DDDMM.MMMM,
+    /// kept for the checks (`Mission::waypoints`) and, in a goto_list, flown as its
+    /// `wpt_x_N` / `wpt_y_N` (numbered from 0 after those the behavior already has).
+    fn waypoint_line(
+        &mut self,
+        file: usize,
+        behavior: &str,
+        words: &[Word<'_>],
+        (line_start, code): (usize, &str),
+        last_end: usize,
+    ) {
+        let Some(&first) = words.first() else {
+            return;
+        };
+        let numbers = (
+            parse_number(first.text),
+            words.get(1).and_then(|word| parse_number(word.text)),
+        );
+        let (Some(lon), Some(lat)) = numbers else {
+            self.error(
+                file,
+                Diagnostic::error(
+                    gloc_engine::codes::mission::BAD_WAYPOINT,
+                    first.span(),
+                    "expected a waypoint `LON LAT` (DDDMM.MMMM DDMM.MMMM)",
+                ),
+            );
+            return;
+        };
+        if let Some(extra) = words.get(2) {
+            // `lon lat | name`: no public documentation says the firmware reads a name
+            // there, so it is a warning, not an error.
+            let end = words
+                .last()
+                .map_or(extra.start, |word| word.start + word.text.len());
+            self.error(
+                file,
+                Diagnostic::warning(
+                    gloc_engine::codes::mission::WAYPOINT_TRAILING_TEXT,
+                    Span::new(extra.start, end),
+                    format!(
+                        "`{}` after the waypoint's longitude and latitude: the firmware's \
+                         documentation has only the two numbers",
+                        &code[extra.start - line_start..end - line_start]
+                    ),
+                )
+                .with_help("write a waypoint's name as a comment: `-7032.064 4138.106 # name`"),
+            );
+        }
+        let at = Location {
+            file,
+            span: Span::new(first.start, last_end),
+        };
+        if behavior.eq_ignore_ascii_case("goto_list") {
+            let number = self.current().map_or(0, |current| {
+                current
+                    .args
+                    .iter()
+                    .filter(|arg| arg.name.to_ascii_lowercase().starts_with("wpt_x_"))
+                    .count()
+            });
+            for (axis, value) in [("x", lon), ("y", lat)] {
+                let name = format!("wpt_{axis}_{number}");
+                self.add_arg(file, first, name, "nmea".into(), value, at);
+            }
+        }
+        let behavior = self.mission.behaviors.len().saturating_sub(1);
+        self.mission.waypoints.push(Waypoint {
+            behavior,
+            lon,
+            lat,
+            at,
+        });
+    }
+
     fn parse_ma(&mut self, file: usize, behavior: &str) {
         let text = self.mission.sources[file].text.clone();
         #[derive(PartialEq)]
@@ -1155,51 +1230,7 @@ impl Parser<'_> {
                     }
                 }
                 _ if section == Section::Waypoints => {
-                    // `lon lat` in DDDMM.MMMM; kept for the checks, not flown
-                    // (horizontal position is not modelled).
-                    let numbers = (
-                        words.first().and_then(|word| parse_number(word.text)),
-                        words.get(1).and_then(|word| parse_number(word.text)),
-                    );
-                    let (Some(lon), Some(lat)) = numbers else {
-                        self.error(
-                            file,
-                            Diagnostic::error(
-                                gloc_engine::codes::mission::BAD_WAYPOINT,
-                                first.span(),
-                                "expected a waypoint `LON LAT` (DDDMM.MMMM DDMM.MMMM)",
-                            ),
-                        );
-                        continue;
-                    };
-                    if let Some(extra) = words.get(2) {
-                        // `lon lat | name`: no public documentation says the firmware
-                        // reads a name there, so it is a warning, not an error.
-                        let end = words.last().map_or(extra.start, |word| word.start + word.text.len());
-                        self.error(
-                            file,
-                            Diagnostic::warning(
-                                gloc_engine::codes::mission::WAYPOINT_TRAILING_TEXT,
-                                Span::new(extra.start, end),
-                                format!(
-                                    "`{}` after the waypoint's longitude and latitude: the \
-                                     firmware's documentation has only the two numbers",
-                                    &code[extra.start - line_start..end - line_start]
-                                ),
-                            )
-                            .with_help("write a waypoint's name as a comment: `-7032.064 4138.106 # name`"),
-                        );
-                    }
-                    let behavior = self.mission.behaviors.len().saturating_sub(1);
-                    self.mission.waypoints.push(Waypoint {
-                        behavior,
-                        lon,
-                        lat,
-                        at: Location {
-                            file,
-                            span: Span::new(first.start, last_end),
-                        },
-                    });
+                    self.waypoint_line(file, behavior, &words, (line_start, code), last_end);
                 }
                 _ => self.error(
                     file,

@@ -12,6 +12,7 @@ pub use gloc_mission::behaviors::{ArgDef, BehaviorKind, KnownArgs};
 use gloc_mission::mission::{BehaviorSpec, Mission};
 
 use crate::flight::PitchControl;
+use crate::navigation::{self, Lmc, Xy};
 
 /// What a behavior is doing, as the glider numbers it in `cc_behavior_state`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -93,6 +94,53 @@ pub struct World<'a> {
     pub sensors: &'a mut [f64],
     pub hook_sensors: HookSensors,
     pub commands: &'a mut Commands,
+    /// What the glider knows of its horizontal position, and what the goto
+    /// behaviors report back (waypoint, distance, a waypoint hit this cycle).
+    pub nav: &'a mut NavView,
+}
+
+/// The navigation as the behaviors see it: the glider's belief (dead-reckoned
+/// position, believed current, mean speed), never the truth.
+#[derive(Clone, Copy, Debug)]
+pub struct NavView {
+    pub lmc: Lmc,
+    /// `m_x_lmc`, `m_y_lmc`.
+    pub position: Xy,
+    /// `m_water_vx/vy` when `u_use_current_correction` is 1, else zero.
+    pub water: Xy,
+    /// `m_avg_speed`.
+    pub avg_speed: f64,
+    /// The waypoint a goto behavior steers to (`c_wpt_x_lmc`, `c_wpt_y_lmc`).
+    pub waypoint: Option<Xy>,
+    /// `m_dist_to_wpt` (m; −1 before any waypoint).
+    pub dist_to_wpt: f64,
+    /// `x_hit_a_waypoint`: a waypoint was achieved this cycle.
+    pub hit_waypoint: bool,
+}
+
+impl NavView {
+    pub fn new(lmc: Lmc) -> NavView {
+        NavView {
+            lmc,
+            position: Xy::ZERO,
+            water: Xy::ZERO,
+            avg_speed: 0.0,
+            waypoint: None,
+            dist_to_wpt: -1.0,
+            hit_waypoint: false,
+        }
+    }
+
+    /// Steers to `waypoint` for behavior `owner`: reports it and its distance,
+    /// and commands the firmware's current-corrected heading.
+    fn steer(&mut self, waypoint: Xy, owner: usize, commands: &mut Commands) -> f64 {
+        let distance = self.position.distance(waypoint);
+        self.waypoint = Some(waypoint);
+        self.dist_to_wpt = distance;
+        let heading = navigation::steer(self.position, waypoint, self.water, self.avg_speed);
+        commands.heading = Some((heading, owner));
+        distance
+    }
 }
 
 /// Where the hook behavior's sensors sit in the active list (absent ones are `None`).
@@ -152,6 +200,7 @@ pub struct Behavior {
     start_when: i64,
     stop_when: i64,
     when_secs: f64,
+    when_wpt_dist: f64,
     end_action: i64,
     last_start: f64,
     last_end: f64,
@@ -172,10 +221,11 @@ enum Logic {
     SetHeading {
         heading: Option<f64>,
     },
+    Goto(Goto),
     Hook(Hook),
     /// The script: run by the simulation itself at this place.
     Script,
-    /// Accepted, commands nothing (sensors_in, sample, goto_list, goto_wpt).
+    /// Accepted, commands nothing (sensors_in, sample).
     Passive,
 }
 
@@ -282,12 +332,19 @@ impl Behavior {
                 hover_since: None,
                 reported_ignored: false,
             }),
+            BehaviorKind::GotoList => Logic::Goto(Goto::list(spec, &arg)),
+            BehaviorKind::GotoWpt => Logic::Goto(Goto {
+                waypoints: vec![(arg("wpt_y"), arg("wpt_x"))],
+                legs_to_run: -2,
+                initial: 0,
+                stop_when: 7,
+                when_wpt_dist: arg("when_wpt_dist"),
+                ..Goto::default()
+            }),
             BehaviorKind::Gloc => Logic::Script,
-            BehaviorKind::SensorsIn
-            | BehaviorKind::Sample
-            | BehaviorKind::GotoList
-            | BehaviorKind::GotoWpt
-            | BehaviorKind::Unknown => Logic::Passive,
+            BehaviorKind::SensorsIn | BehaviorKind::Sample | BehaviorKind::Unknown => {
+                Logic::Passive
+            }
         };
         Behavior {
             kind,
@@ -296,6 +353,7 @@ impl Behavior {
             start_when: arg("start_when") as i64,
             stop_when: arg("stop_when") as i64,
             when_secs: arg("when_secs"),
+            when_wpt_dist: arg("when_wpt_dist"),
             end_action: arg("end_action") as i64,
             last_start: 0.0,
             last_end: 0.0,
@@ -312,6 +370,7 @@ impl Behavior {
             start_when: 0,
             stop_when: 5,
             when_secs: 0.0,
+            when_wpt_dist: 0.0,
             end_action: 0,
             last_start: 0.0,
             last_end: 0.0,
@@ -398,8 +457,11 @@ impl Behavior {
             5 => false,
             6 => world.time - self.last_end >= self.when_secs,
             9 => world.time - self.last_start >= self.when_secs,
+            7 => world.nav.dist_to_wpt >= 0.0 && world.nav.dist_to_wpt < self.when_wpt_dist,
+            8 => world.nav.hit_waypoint,
             10 => world.time - self.last_start >= self.when_secs && commands.buoyancy.is_none(),
             12 => world.time - world.last_surface_time >= self.when_secs,
+            15 => world.nav.dist_to_wpt > self.when_wpt_dist,
             _ => false,
         }
     }
@@ -407,7 +469,7 @@ impl Behavior {
 
 /// The start_when/stop_when codes the simulator models.
 pub fn condition_is_modelled(code: i64) -> bool {
-    matches!(code, 0..=6 | 9 | 10 | 12)
+    matches!(code, 0..=10 | 12 | 15)
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -434,6 +496,7 @@ impl Logic {
             Logic::Surface(surface) => surface.surfaced_at = None,
             Logic::PrepareToDive { since, .. } => *since = world.time,
             Logic::Hook(hook) => hook.running = None,
+            Logic::Goto(goto) => goto.activate(world),
             _ => {}
         }
     }
@@ -478,6 +541,7 @@ impl Logic {
                 hook.step(index, world, events);
                 Step::Running
             }
+            Logic::Goto(goto) => goto.step(index, world),
             Logic::Script | Logic::Passive | Logic::Abend(_) => Step::Running,
         }
     }
@@ -711,6 +775,113 @@ impl Yo {
         Step::Running
     }
 }
+
+/// goto_list and goto_wpt: steer through waypoints with the firmware's
+/// current-corrected heading (`navigation::steer`), judged on the
+/// dead-reckoned position as the glider judges it.
+#[derive(Clone, Debug, Default)]
+struct Goto {
+    /// (latitude, longitude) in NMEA, as the mission gives them.
+    waypoints: Vec<(f64, f64)>,
+    /// The same in local mission coordinates (set on activation).
+    in_lmc: Vec<Xy>,
+    /// -1 loop for ever, -2 once through the list, N legs.
+    legs_to_run: i64,
+    /// -2 the closest, -1 the one after the last achieved, N that one.
+    initial: i64,
+    /// `list_stop_when`: 7 within `when_wpt_dist` (the only one modelled).
+    stop_when: i64,
+    when_wpt_dist: f64,
+    current: usize,
+    legs_done: i64,
+    last_achieved: Option<usize>,
+}
+
+impl Goto {
+    fn list(spec: &BehaviorSpec, arg: &dyn Fn(&str) -> f64) -> Goto {
+        // `num_waypoints` caps the list; without it, every waypoint given.
+        let stated = arg("num_waypoints");
+        let count = if stated > 0.0 {
+            (stated as usize).min(MAX_WAYPOINTS)
+        } else {
+            MAX_WAYPOINTS
+        };
+        let mut waypoints = Vec::with_capacity(count);
+        for number in 0..count {
+            let (Some(lon), Some(lat)) = (
+                spec.arg(&format!("wpt_x_{number}")),
+                spec.arg(&format!("wpt_y_{number}")),
+            ) else {
+                break;
+            };
+            waypoints.push((lat, lon));
+        }
+        Goto {
+            waypoints,
+            legs_to_run: arg("num_legs_to_run") as i64,
+            initial: arg("initial_wpt") as i64,
+            stop_when: arg("list_stop_when") as i64,
+            when_wpt_dist: arg("list_when_wpt_dist"),
+            ..Goto::default()
+        }
+    }
+
+    fn activate(&mut self, world: &World<'_>) {
+        let lmc = world.nav.lmc;
+        // Refilled in place: a behavior that resumes allocates nothing.
+        self.in_lmc.clear();
+        self.in_lmc.extend(
+            self.waypoints
+                .iter()
+                .filter(|(lat, lon)| navigation::nmea_is_set(*lat) && navigation::nmea_is_set(*lon))
+                .map(|&(lat, lon)| lmc.nmea_to_xy(lat, lon)),
+        );
+        let count = self.in_lmc.len();
+        if count == 0 {
+            return;
+        }
+        self.legs_done = 0;
+        let position = world.nav.position;
+        self.current = match self.initial {
+            -2 => (0..count)
+                .min_by(|&a, &b| {
+                    position
+                        .distance(self.in_lmc[a])
+                        .total_cmp(&position.distance(self.in_lmc[b]))
+                })
+                .unwrap_or(0),
+            -1 => self.last_achieved.map_or(0, |last| (last + 1) % count),
+            number => (number.max(0) as usize).min(count - 1),
+        };
+    }
+
+    fn step(&mut self, index: usize, world: &mut World<'_>) -> Step {
+        let count = self.in_lmc.len();
+        let Some(&waypoint) = self.in_lmc.get(self.current) else {
+            return Step::Running;
+        };
+        let distance = world.nav.steer(waypoint, index, world.commands);
+        if self.stop_when != 7 || distance >= self.when_wpt_dist {
+            return Step::Running;
+        }
+        world.nav.hit_waypoint = true;
+        self.last_achieved = Some(self.current);
+        self.legs_done += 1;
+        let once_through = self.legs_to_run == -2 && self.current + 1 == count;
+        if once_through || (self.legs_to_run > 0 && self.legs_done >= self.legs_to_run) {
+            return Step::Done;
+        }
+        self.current = (self.current + 1) % count;
+        world
+            .nav
+            .steer(self.in_lmc[self.current], index, world.commands);
+        Step::Running
+    }
+}
+
+/// The most waypoints a goto_list takes (the masterdata's `wpt_x_0` … `wpt_x_7`
+/// are 8; gloc takes more from a `.ma` list, up to this).
+const MAX_WAYPOINTS: usize = 64;
 
 /// Bit of `sci_ruhp_behs` that runs a climb_to (the paper's value 128).
 pub const HOOK_CLIMB_BIT: i64 = 128;

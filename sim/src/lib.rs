@@ -7,6 +7,8 @@
 //! - [`behaviors`]: the behavior stack (abend, surface, yo, dive_to, climb_to,
 //!   hook, the script behavior, …) and per-actuator arbitration.
 //! - [`flight`]: the kinematic vertical-plane model and the power model.
+//! - [`navigation`]: position (true and dead-reckoned), heading, GPS, the
+//!   current estimate and the firmware's steering to waypoints.
 //! - [`environment`]: water depth, temperature profile, seeded noise.
 //! - [`simulation`]: the sensor array and the control cycle, in phases.
 //! - [`log`] and [`plot`]: CSV / Slocum ASCII logs and the SVG flight profile.
@@ -24,6 +26,7 @@ pub mod environment;
 pub mod faults;
 pub mod flight;
 pub mod log;
+pub mod navigation;
 pub mod plot;
 pub mod simulation;
 

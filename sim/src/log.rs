@@ -51,6 +51,22 @@ pub const DEFAULT_LOG_SENSORS: &[&str] = &[
     "sci_ruhp_behs",
     "sci_ruhp_dive_depth",
     "sci_ruhp_climb_depth",
+    // Navigation (docs/simulator.md, "Navigation").
+    "m_heading",
+    "c_heading",
+    "m_x_lmc",
+    "m_y_lmc",
+    "m_lat",
+    "m_lon",
+    "m_gps_lat",
+    "m_gps_lon",
+    "m_water_vx",
+    "m_water_vy",
+    "m_avg_speed",
+    "x_dr_state",
+    "m_dist_to_wpt",
+    "c_wpt_lat",
+    "c_wpt_lon",
 ];
 
 /// Resolves the default set plus `extra` sensors (for example those the
@@ -96,10 +112,12 @@ pub fn parse_columns(list: &SensorList, names: &str) -> Result<Vec<SensorId>, St
     Ok(columns)
 }
 
-/// Whether a run log stores the sensor as an 8-byte double: times need one;
-/// everything else fits a 4-byte float as the glider logs it.
+/// Whether a run log stores the sensor as an 8-byte double: times and latitudes
+/// and longitudes need one (NMEA `ddmm.mmmm` in a float is good to 1 m; comet's
+/// list logs `m_lat`, `m_gps_lat`, `c_wpt_lat` as 8 bytes); everything else fits a
+/// 4-byte float as the glider logs it.
 pub fn logged_as_double(sensor: &gloc_engine::sensors::Sensor) -> bool {
-    sensor.units == "timestamp"
+    matches!(sensor.units.as_str(), "timestamp" | "lat" | "lon")
 }
 
 /// Header facts of a `.dba` file.

@@ -7,6 +7,8 @@
 //! is drawn as joined min/max bars, one per pixel while a yo spans several
 //! pixels, two yos wide when it does not (see [`TrackStyle`]). Every store is
 //! marked (no cap); a label is drawn only where it does not overlap another.
+//! When the glider moved horizontally, a map panel closes the plot: the true
+//! track, the dead-reckoned one, the waypoints, the surfacings and the current.
 
 use std::path::Path;
 
@@ -44,6 +46,17 @@ pub struct Trace {
     pub series: Vec<(String, u32, Vec<f32>)>,
     /// Last value the script stored in each sensor it stored (for "changed" marks).
     last_stored: Vec<(u32, f64)>,
+    /// The map: true and dead-reckoned positions per point (m east, north of
+    /// the mission origin), the waypoints steered to, the first fix of each
+    /// surfacing, and the true current (m/s).
+    pub track: Vec<(f32, f32)>,
+    pub dead_reckoned: Vec<(f32, f32)>,
+    pub waypoints: Vec<(f32, f32)>,
+    pub surfacings: Vec<(f32, f32)>,
+    pub current: (f32, f32),
+    /// What the map's lines are, when not a simulation's (a real log's).
+    pub map_caption: Option<String>,
+    surfacings_seen: u64,
 }
 
 impl Trace {
@@ -63,10 +76,34 @@ impl Trace {
         // The finished cycle ends where the next one starts.
         let time = sim.time() as f32;
         let depth = sim.depth() as f32;
+        let navigation = sim.navigation();
+        let truth = navigation.true_position;
+        let believed = navigation.dead_reckoned;
         if self.points.is_empty() {
             self.points.push((0.0, 0.0));
             self.volts.push(sim.battery_volts() as f32);
             self.temps.push(sim.water_temperature() as f32);
+            self.track.push((0.0, 0.0));
+            self.dead_reckoned.push((0.0, 0.0));
+            self.current = (
+                navigation.true_water.x as f32,
+                navigation.true_water.y as f32,
+            );
+        }
+        self.track.push((truth.x as f32, truth.y as f32));
+        self.dead_reckoned
+            .push((believed.x as f32, believed.y as f32));
+        if let Some(waypoint) = sim.waypoint() {
+            let point = (waypoint.x as f32, waypoint.y as f32);
+            if self.waypoints.last() != Some(&point) && !self.waypoints.contains(&point) {
+                self.waypoints.push(point);
+            }
+        }
+        if navigation.surfacings != self.surfacings_seen {
+            self.surfacings_seen = navigation.surfacings;
+            if let Some(fix) = navigation.gps_fix {
+                self.surfacings.push((fix.x as f32, fix.y as f32));
+            }
         }
         self.points.push((time, depth));
         self.volts.push(sim.battery_volts() as f32);
@@ -262,7 +299,42 @@ fn panels(trace: &Trace, options: &PlotOptions) -> Vec<(String, Vec<f32>)> {
 }
 
 fn height(trace: &Trace, options: &PlotOptions) -> u32 {
-    MAIN_HEIGHT + EVENT_HEIGHT + BATTERY_HEIGHT * panels(trace, options).len() as u32
+    let map = if has_map(trace) { MAP_HEIGHT } else { 0 };
+    MAIN_HEIGHT + EVENT_HEIGHT + BATTERY_HEIGHT * panels(trace, options).len() as u32 + map
+}
+
+/// The map panel's height (px).
+const MAP_HEIGHT: u32 = 620;
+
+/// Whether the glider moved far enough (10 m) for a map, with every point recorded.
+fn has_map(trace: &Trace) -> bool {
+    if trace.track.len() != trace.points.len() || trace.track.is_empty() {
+        return false;
+    }
+    let (low, high) = map_bounds(trace);
+    (high.0 - low.0).max(high.1 - low.1) > 10.0
+}
+
+/// The map's extent: tracks, waypoints and surfacings (m).
+fn map_bounds(trace: &Trace) -> ((f64, f64), (f64, f64)) {
+    let mut low = (f64::INFINITY, f64::INFINITY);
+    let mut high = (f64::NEG_INFINITY, f64::NEG_INFINITY);
+    let all = trace
+        .track
+        .iter()
+        .chain(&trace.dead_reckoned)
+        .chain(&trace.waypoints)
+        .chain(&trace.surfacings);
+    for &(x, y) in all {
+        if x.is_finite() && y.is_finite() {
+            low = (low.0.min(x as f64), low.1.min(y as f64));
+            high = (high.0.max(x as f64), high.1.max(y as f64));
+        }
+    }
+    if !low.0.is_finite() {
+        return ((0.0, 0.0), (0.0, 0.0));
+    }
+    (low, high)
 }
 
 static FONT: &[u8] = include_bytes!("../data/fonts/DejaVuSans-subset.ttf");
@@ -767,6 +839,113 @@ fn draw<DB: DrawingBackend>(
             ShapeStyle::from(&RGBColor(20, 130, 60)).stroke_width(2),
         ))?;
     }
+    if has_map(trace) {
+        let (area, _) = below.split_vertically(MAP_HEIGHT);
+        draw_map(&area, trace)?;
+    }
+    Ok(())
+}
+
+/// The map panel: east and north in km on equal scales, the true track
+/// (blue), the dead-reckoned one (grey, dashed by points), waypoints (red
+/// crosses), surfacings (first fixes, black circles), the current (an arrow
+/// from the start, 1 h of drift long).
+fn draw_map<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    trace: &Trace,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let ((x0, y0), (x1, y1)) = map_bounds(trace);
+    let drift = (
+        trace.current.0 as f64 * 3600.0,
+        trace.current.1 as f64 * 3600.0,
+    );
+    let (x0, x1) = (x0.min(drift.0), x1.max(drift.0));
+    let (y0, y1) = (y0.min(drift.1), y1.max(drift.1));
+    // Equal scales: widen the shorter side to the panel's aspect.
+    let (width, height) = area.dim_in_pixel();
+    let plot_w = width.saturating_sub(16 + 16 + 70).max(1) as f64;
+    let plot_h = height.saturating_sub(30 + 40 + 16).max(1) as f64;
+    let span_x = (x1 - x0).max(1.0) * 1.1;
+    let span_y = (y1 - y0).max(1.0) * 1.1;
+    let metres_per_px = (span_x / plot_w).max(span_y / plot_h);
+    let (cx, cy) = ((x0 + x1) / 2.0, (y0 + y1) / 2.0);
+    let half_x = metres_per_px * plot_w / 2.0 / 1000.0;
+    let half_y = metres_per_px * plot_h / 2.0 / 1000.0;
+    let (cx, cy) = (cx / 1000.0, cy / 1000.0);
+    let speed = (trace.current.0 as f64).hypot(trace.current.1 as f64);
+    let caption = trace.map_caption.clone().unwrap_or_else(|| {
+        format!(
+            "map (km east and north of the start): true track blue, dead reckoning grey, waypoints red, first fixes black; current {speed:.2} m/s (arrow: 1 h of drift)"
+        )
+    });
+    let mut map = ChartBuilder::on(area)
+        .caption(caption, ("sans-serif", 14))
+        .margin_left(16)
+        .margin_right(16)
+        .margin_bottom(16)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d((cx - half_x)..(cx + half_x), (cy - half_y)..(cy + half_y))?;
+    map.configure_mesh()
+        .x_desc("east (km)")
+        .y_desc("north (km)")
+        .light_line_style(RGBColor(240, 240, 240))
+        .draw()?;
+    let km = |&(x, y): &(f32, f32)| (x as f64 / 1000.0, y as f64 / 1000.0);
+    let known = |point: &&(f32, f32)| point.0.is_finite() && point.1.is_finite();
+    // A long run: every k-th point, about 8,000 in all.
+    let step = trace.track.len().div_ceil(8000).max(1);
+    map.draw_series(LineSeries::new(
+        trace
+            .dead_reckoned
+            .iter()
+            .step_by(step)
+            .filter(known)
+            .map(km),
+        ShapeStyle::from(&RGBColor(150, 150, 150)).stroke_width(1),
+    ))?;
+    map.draw_series(LineSeries::new(
+        trace.track.iter().step_by(step).filter(known).map(km),
+        ShapeStyle::from(&RGBColor(30, 70, 200)).stroke_width(2),
+    ))?;
+    let red = RGBColor(200, 30, 30);
+    map.draw_series(
+        trace
+            .waypoints
+            .iter()
+            .map(|point| Cross::new(km(point), 8, ShapeStyle::from(&red).stroke_width(3))),
+    )?;
+    map.draw_series(
+        trace
+            .surfacings
+            .iter()
+            .map(|point| Circle::new(km(point), 5, ShapeStyle::from(&BLACK).stroke_width(2))),
+    )?;
+    map.draw_series(std::iter::once(Circle::new(
+        (0.0, 0.0),
+        4,
+        ShapeStyle::from(&RGBColor(20, 130, 60)).filled(),
+    )))?;
+    if speed > 0.0 {
+        let tip = (drift.0 / 1000.0, drift.1 / 1000.0);
+        let green = RGBColor(20, 130, 60);
+        map.draw_series(LineSeries::new(
+            [(0.0, 0.0), tip],
+            ShapeStyle::from(&green).stroke_width(3),
+        ))?;
+        // The head: two strokes back from the tip, ±25° about the shaft.
+        let length = (drift.0.hypot(drift.1) / 1000.0).max(1e-9);
+        let back = (-tip.0 / length, -tip.1 / length);
+        let head = 0.15 * length;
+        for angle in [0.44f64, -0.44] {
+            let (sin, cos) = angle.sin_cos();
+            let side = (back.0 * cos - back.1 * sin, back.0 * sin + back.1 * cos);
+            map.draw_series(LineSeries::new(
+                [tip, (tip.0 + side.0 * head, tip.1 + side.1 * head)],
+                ShapeStyle::from(&green).stroke_width(3),
+            ))?;
+        }
+    }
     Ok(())
 }
 
@@ -991,5 +1170,42 @@ mod tests {
         let bytes = std::fs::read(&path).expect("written");
         let _ = std::fs::remove_file(&path);
         assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+    }
+
+    #[test]
+    fn a_map_is_drawn_only_when_the_glider_moved() {
+        let mut trace = Trace::default();
+        for i in 0..100 {
+            trace.points.push((i as f32 * 4.0, 10.0));
+            trace.track.push((i as f32 * 0.05, 0.0));
+            trace.dead_reckoned.push((i as f32 * 0.05, 0.0));
+        }
+        // 5 m east: no map.
+        assert!(!has_map(&trace));
+        let plain = render_svg(&trace, "test", 40.0).expect("svg");
+        assert!(!plain.contains("east (km)"));
+        for (i, point) in trace.track.iter_mut().enumerate() {
+            *point = (i as f32 * 30.0, i as f32 * 10.0);
+        }
+        trace.waypoints.push((3000.0, 1000.0));
+        trace.surfacings.push((2970.0, 990.0));
+        trace.current = (0.1, 0.0);
+        assert!(has_map(&trace));
+        let options = PlotOptions {
+            title: "test".into(),
+            water_depth: 40.0,
+            temperature: false,
+            battery: false,
+        };
+        assert_eq!(
+            height(&trace, &options),
+            MAIN_HEIGHT + EVENT_HEIGHT + MAP_HEIGHT
+        );
+        let svg = render_svg(&trace, "test", 40.0).expect("svg");
+        assert!(svg.contains("east (km)") && svg.contains("north (km)"));
+        assert!(svg.contains("current 0.10 m/s"));
+        // A track shorter than the points (not recorded every cycle) draws no map.
+        trace.track.pop();
+        assert!(!has_map(&trace));
     }
 }

@@ -24,11 +24,14 @@ use gloc_engine::vm::{CycleEnd, Host, Machine, MachineConfig, Status, Trap};
 
 use crate::behaviors::{
     build_stack, condition_is_modelled, AbortReason, Behavior, BehaviorEvent, BehaviorKind,
-    Commands, HookSensors, Outcome, ScriptPlacement, World,
+    Commands, HookSensors, NavView, Outcome, ScriptPlacement, World,
 };
 use crate::environment::{Rng, TemperatureProfile};
 use crate::flight::{EnergyParams, EnergyUse, FlightParams, SpeedLaw, Vehicle};
 use crate::mission::Mission;
+use crate::navigation::{
+    nmea_is_set, CycleMotion, NavParams, NavSetup, Navigation, Xy, DEFAULT_START_NMEA,
+};
 
 /// Settings of a run that are not in the mission.
 #[derive(Clone, Debug)]
@@ -55,6 +58,8 @@ pub struct SimConfig {
     pub pressure_noise: f64,
     /// Timing and sensors: the control cycle, turns, altimeter.
     pub timing: TimingParams,
+    /// The horizontal model: turns, the roll bias's zig-zag, `m_avg_speed`.
+    pub navigation: NavParams,
 }
 
 /// The control cycle's real period, the turn latency and the altimeter.
@@ -116,7 +121,13 @@ impl SimConfig {
     /// The caller has checked the value's range; `false`: no such setting.
     pub fn set(&mut self, name: &str, value: f64) -> bool {
         let (flight, energy, timing) = (&mut self.flight, &mut self.energy, &mut self.timing);
+        let navigation = &mut self.navigation;
         let field = match name {
+            "gps_fix_time" => &mut self.gps_fix_time,
+            "turn_time" => &mut navigation.turn_time,
+            "max_turn_rate" => &mut navigation.max_turn_rate,
+            "heading_bias_dive" => &mut navigation.heading_bias_dive,
+            "heading_bias_climb" => &mut navigation.heading_bias_climb,
             "pump_in_rate" => &mut flight.pump_in_rate,
             "speed_exponent" => &mut flight.speed_exponent,
             "battpos_dive_pitch" => &mut flight.battpos_dive_pitch,
@@ -167,12 +178,14 @@ impl Default for SimConfig {
             flight: FlightParams::default(),
             energy: EnergyParams::default(),
             cycle_budget: gloc_engine::vm::DEFAULT_CYCLE_BUDGET,
-            gps_fix_time: 60.0,
+            // comet 154: the first fix came 106 s after surfacing.
+            gps_fix_time: 106.0,
             // 2010-05-24 00:00:00 UTC, the paper's era.
             start_time: 1_274_659_200.0,
             temperature_noise: 0.01,
             pressure_noise: 0.001,
             timing: TimingParams::default(),
+            navigation: NavParams::default(),
         }
     }
 }
@@ -272,6 +285,97 @@ struct SensorSlots {
     c_science_on: Option<usize>,
     m_science_on: Option<usize>,
     hook: HookSensors,
+    nav: NavSlots,
+}
+
+/// The navigation's sensors (`docs/simulator.md`, "Navigation").
+#[derive(Clone, Copy, Debug, Default)]
+struct NavSlots {
+    x_lmc: Option<usize>,
+    y_lmc: Option<usize>,
+    lat: Option<usize>,
+    lon: Option<usize>,
+    heading: Option<usize>,
+    c_heading: Option<usize>,
+    speed_estimated: Option<usize>,
+    avg_speed: Option<usize>,
+    water_vx: Option<usize>,
+    water_vy: Option<usize>,
+    initial_water_vx: Option<usize>,
+    initial_water_vy: Option<usize>,
+    final_water_vx: Option<usize>,
+    final_water_vy: Option<usize>,
+    prior_water_vx: Option<usize>,
+    prior_water_vy: Option<usize>,
+    dr_state: Option<usize>,
+    dr_time: Option<usize>,
+    dr_fix_time: Option<usize>,
+    dr_postfix_time: Option<usize>,
+    dr_surf_x: Option<usize>,
+    dr_surf_y: Option<usize>,
+    dr_x_ini_err: Option<usize>,
+    dr_y_ini_err: Option<usize>,
+    dr_x_ta_drift: Option<usize>,
+    dr_y_ta_drift: Option<usize>,
+    gps_dist_from_dr: Option<usize>,
+    gps_lat: Option<usize>,
+    gps_lon: Option<usize>,
+    gps_x_lmc: Option<usize>,
+    gps_y_lmc: Option<usize>,
+    gps_status: Option<usize>,
+    gps_mag_var: Option<usize>,
+    wpt_x_lmc: Option<usize>,
+    wpt_y_lmc: Option<usize>,
+    wpt_lat: Option<usize>,
+    wpt_lon: Option<usize>,
+    dist_to_wpt: Option<usize>,
+    hit_waypoint: Option<usize>,
+}
+
+impl NavSlots {
+    fn resolve(find: &dyn Fn(&str) -> Option<usize>) -> NavSlots {
+        NavSlots {
+            x_lmc: find("m_x_lmc"),
+            y_lmc: find("m_y_lmc"),
+            lat: find("m_lat"),
+            lon: find("m_lon"),
+            heading: find("m_heading"),
+            c_heading: find("c_heading"),
+            speed_estimated: find("m_is_speed_estimated"),
+            avg_speed: find("m_avg_speed"),
+            water_vx: find("m_water_vx"),
+            water_vy: find("m_water_vy"),
+            initial_water_vx: find("m_initial_water_vx"),
+            initial_water_vy: find("m_initial_water_vy"),
+            final_water_vx: find("m_final_water_vx"),
+            final_water_vy: find("m_final_water_vy"),
+            prior_water_vx: find("x_prior_seg_water_vx"),
+            prior_water_vy: find("x_prior_seg_water_vy"),
+            dr_state: find("x_dr_state"),
+            dr_time: find("m_dr_time"),
+            dr_fix_time: find("m_dr_fix_time"),
+            dr_postfix_time: find("m_dr_postfix_time"),
+            dr_surf_x: find("m_dr_surf_x_lmc"),
+            dr_surf_y: find("m_dr_surf_y_lmc"),
+            dr_x_ini_err: find("m_dr_x_ini_err"),
+            dr_y_ini_err: find("m_dr_y_ini_err"),
+            dr_x_ta_drift: find("m_dr_x_ta_postfix_drift"),
+            dr_y_ta_drift: find("m_dr_y_ta_postfix_drift"),
+            gps_dist_from_dr: find("m_gps_dist_from_dr"),
+            gps_lat: find("m_gps_lat"),
+            gps_lon: find("m_gps_lon"),
+            gps_x_lmc: find("m_gps_x_lmc"),
+            gps_y_lmc: find("m_gps_y_lmc"),
+            gps_status: find("m_gps_status"),
+            gps_mag_var: find("m_gps_mag_var"),
+            wpt_x_lmc: find("c_wpt_x_lmc"),
+            wpt_y_lmc: find("c_wpt_y_lmc"),
+            wpt_lat: find("c_wpt_lat"),
+            wpt_lon: find("c_wpt_lon"),
+            dist_to_wpt: find("m_dist_to_wpt"),
+            hit_waypoint: find("x_hit_a_waypoint"),
+        }
+    }
 }
 
 impl SensorSlots {
@@ -304,6 +408,7 @@ impl SensorSlots {
                 dive_depth: find("sci_ruhp_dive_depth"),
                 climb_depth: find("sci_ruhp_climb_depth"),
             },
+            nav: NavSlots::resolve(&find),
         }
     }
 }
@@ -383,6 +488,12 @@ pub struct Simulation {
     warnings: Vec<String>,
     min_depth: f64,
     max_depth: f64,
+    /// The horizontal state (truth, dead reckoning, GPS, current estimate).
+    navigation: Navigation,
+    /// What the behaviors see of it, and what the goto behaviors report.
+    nav_view: NavView,
+    /// `s_mag_var` (rad), published as `m_gps_mag_var`.
+    mag_var: f64,
 }
 
 impl Simulation {
@@ -466,6 +577,13 @@ impl Simulation {
             )));
         }
         let surface_depth = read("u_reqd_depth_at_surface", 2.0);
+        let value = |name: &str| sensor_list.lookup(name).map(|id| sensors[id.index()]);
+        let navigation = Navigation::new(
+            &nav_setup(&mut mission_set, &value, &config.flight),
+            config.navigation.clone(),
+            config.gps_fix_time,
+        );
+        let mag_var = mission_set("s_mag_var").filter(|value| value.is_finite());
 
         // b_arg values ≥ 1,000,000 name u_mission_param_a … _x.
         let param_values: Vec<Option<f64>> = (b'a'..=b'x')
@@ -577,6 +695,9 @@ impl Simulation {
             warnings,
             min_depth: 0.0,
             max_depth: 0.0,
+            nav_view: NavView::new(navigation.lmc),
+            navigation,
+            mag_var: mag_var.unwrap_or(0.0),
         })
     }
 
@@ -608,7 +729,9 @@ impl Simulation {
         if self.vehicle.depth <= SURFACED_DEPTH {
             self.last_surface_time = self.time;
         }
+        // `x_hit_a_waypoint` shows last cycle's hit, then clears for this one.
         self.publish();
+        self.nav_view.hit_waypoint = false;
         let below = match self.script_index {
             Some(index) => index + 1,
             None => 0,
@@ -734,6 +857,7 @@ impl Simulation {
         }
         let period = self.cycle_period();
         let science_watts = self.science_power();
+        let distance_before = self.vehicle.distance;
         self.vehicle.fly(
             period,
             buoyancy,
@@ -746,6 +870,27 @@ impl Simulation {
             science_watts,
         );
         self.next_time = self.time + period;
+        self.navigation.advance(&CycleMotion {
+            time: self.next_time,
+            period,
+            through_water: self.vehicle.distance - distance_before,
+            depth: self.vehicle.depth,
+            depth_rate: self.vehicle.depth_rate,
+            pitch: self.vehicle.pitch,
+            angle_of_attack: self.flight.angle_of_attack,
+            surface_depth: self.surface_depth,
+            heading_command: match aborting {
+                true => None,
+                false => self.commands.heading.map(|(value, _)| value),
+            },
+            surfacing: aborting
+                || self.end.is_some()
+                || self.commands.buoyancy.is_some_and(|(_, owner)| {
+                    self.behaviors
+                        .get(owner)
+                        .is_some_and(|behavior| behavior.kind == BehaviorKind::Surface)
+                }),
+        });
         if self.vehicle.exhausted(&self.energy) {
             if !matches!(
                 self.end.map(|end| end.reason),
@@ -885,6 +1030,10 @@ impl Simulation {
         if self.end.is_some() {
             return;
         }
+        let navigation = &self.navigation;
+        self.nav_view.position = navigation.dead_reckoned;
+        self.nav_view.water = navigation.water;
+        self.nav_view.avg_speed = navigation.avg_speed;
         let mut world = World {
             time: self.time,
             depth: self.vehicle.depth,
@@ -896,6 +1045,7 @@ impl Simulation {
             sensors: &mut self.sensors,
             hook_sensors: self.slots.hook,
             commands: &mut self.commands,
+            nav: &mut self.nav_view,
         };
         for index in (from..to).rev() {
             let outcome = self.behaviors[index].step(index, &mut world, &mut self.events);
@@ -971,6 +1121,13 @@ impl Simulation {
         put(slots.inflections, vehicle.inflections as f64);
         put(slots.water_temp, temperature);
         put(slots.water_pressure, pressure.max(0.0));
+        publish_navigation(
+            &slots.nav,
+            &self.navigation,
+            &self.nav_view,
+            self.mag_var,
+            sensors,
+        );
     }
 
     // ----- accessors -----
@@ -1168,6 +1325,16 @@ impl Simulation {
         }
     }
 
+    /// The horizontal state: true and dead-reckoned positions, current, GPS.
+    pub fn navigation(&self) -> &Navigation {
+        &self.navigation
+    }
+
+    /// The waypoint a goto behavior steers to (LMC), if one does.
+    pub fn waypoint(&self) -> Option<Xy> {
+        self.nav_view.waypoint
+    }
+
     /// Setup warnings (unknown sensors, unmodelled conditions, missing hook sensors).
     pub fn warnings(&self) -> &[String] {
         &self.warnings
@@ -1188,6 +1355,129 @@ const MIN_ALTIMETER_RATE: f64 = 0.05;
 
 /// Depth at or above which the glider counts as floating at the surface (m).
 const SURFACED_DEPTH: f64 = 0.3;
+
+/// The navigation's start from the mission: `s_ini_lat`/`s_ini_lon` (else
+/// [`DEFAULT_START_NMEA`]), the true current from `s_water_speed` and
+/// `s_water_direction` (the direction it flows to), the glider's belief from
+/// the sensor array (`m_water_vx/vy`, `m_avg_speed`, `u_use_current_correction`,
+/// `m_heading`, after the mission's `sensor:` lines).
+fn nav_setup(
+    mission_set: &mut dyn FnMut(&str) -> Option<f64>,
+    value: &dyn Fn(&str) -> Option<f64>,
+    flight: &FlightParams,
+) -> NavSetup {
+    let finite = |value: Option<f64>| value.filter(|value| value.is_finite());
+    let (default_lat, default_lon) = DEFAULT_START_NMEA;
+    let start = match (mission_set("s_ini_lat"), mission_set("s_ini_lon")) {
+        (Some(lat), Some(lon)) if nmea_is_set(lat) && nmea_is_set(lon) && lat.abs() <= 9000.0 => {
+            (lat, lon)
+        }
+        _ => (default_lat, default_lon),
+    };
+    let speed = finite(mission_set("s_water_speed")).unwrap_or(0.0);
+    let direction = finite(mission_set("s_water_direction")).unwrap_or(0.0);
+    let believed = Xy::new(
+        finite(value("m_water_vx")).unwrap_or(0.0),
+        finite(value("m_water_vy")).unwrap_or(0.0),
+    );
+    // Without a logged mean speed: the nominal dive's speed through the water.
+    let nominal =
+        flight.dive_rate / (crate::behaviors::NOMINAL_PITCH + flight.angle_of_attack).tan();
+    let avg_speed = finite(value("m_avg_speed"))
+        .filter(|speed| *speed > 0.0)
+        .unwrap_or(nominal);
+    NavSetup {
+        start_lat: start.0,
+        start_lon: start.1,
+        water: Xy::polar(speed, direction),
+        believed_water: believed,
+        avg_speed,
+        heading: finite(value("m_heading")).unwrap_or(0.0),
+        current_correction: finite(value("u_use_current_correction")).unwrap_or(0.0) != 0.0,
+    }
+}
+
+/// Writes the navigation's sensors (those the active list has).
+fn publish_navigation(
+    slots: &NavSlots,
+    navigation: &Navigation,
+    view: &NavView,
+    mag_var: f64,
+    sensors: &mut [f64],
+) {
+    let mut put = |slot: Option<usize>, value: f64| {
+        if let Some(index) = slot {
+            sensors[index] = value;
+        }
+    };
+    let lmc = &navigation.lmc;
+    let position = navigation.dead_reckoned;
+    put(slots.x_lmc, position.x);
+    put(slots.y_lmc, position.y);
+    if slots.lat.is_some() || slots.lon.is_some() {
+        let (lat, lon) = lmc.xy_to_nmea(position);
+        put(slots.lat, lat);
+        put(slots.lon, lon);
+    }
+    put(slots.heading, navigation.heading);
+    if let Some(heading) = navigation.commanded_heading {
+        put(slots.c_heading, heading);
+    }
+    put(
+        slots.speed_estimated,
+        f64::from(u8::from(navigation.speed_estimated)),
+    );
+    put(slots.avg_speed, navigation.avg_speed);
+    put(slots.water_vx, navigation.water.x);
+    put(slots.water_vy, navigation.water.y);
+    put(slots.initial_water_vx, navigation.initial_water.x);
+    put(slots.initial_water_vy, navigation.initial_water.y);
+    put(slots.final_water_vx, navigation.final_water.x);
+    put(slots.final_water_vy, navigation.final_water.y);
+    put(slots.prior_water_vx, navigation.prior_segment_water.x);
+    put(slots.prior_water_vy, navigation.prior_segment_water.y);
+    put(slots.dr_state, navigation.dr_state as u8 as f64);
+    put(slots.dr_time, navigation.dr_time);
+    put(slots.dr_fix_time, navigation.fix_time);
+    put(slots.dr_postfix_time, navigation.postfix_time);
+    put(slots.dr_surf_x, navigation.dr_surface.x);
+    put(slots.dr_surf_y, navigation.dr_surface.y);
+    put(slots.dr_x_ini_err, navigation.initial_error.x);
+    put(slots.dr_y_ini_err, navigation.initial_error.y);
+    put(slots.dr_x_ta_drift, navigation.adjusted_drift.x);
+    put(slots.dr_y_ta_drift, navigation.adjusted_drift.y);
+    put(slots.gps_dist_from_dr, navigation.gps_dist_from_dr);
+    if let Some(fix) = navigation.last_gps {
+        if slots.gps_lat.is_some() || slots.gps_lon.is_some() {
+            let (lat, lon) = lmc.xy_to_nmea(fix);
+            put(slots.gps_lat, lat);
+            put(slots.gps_lon, lon);
+        }
+        put(slots.gps_x_lmc, fix.x);
+        put(slots.gps_y_lmc, fix.y);
+    }
+    // 0: a valid fix this cycle; 1: none (the glider's "no fix").
+    put(
+        slots.gps_status,
+        if navigation.gps_fix.is_some() {
+            0.0
+        } else {
+            1.0
+        },
+    );
+    put(slots.gps_mag_var, mag_var);
+    if let Some(waypoint) = view.waypoint {
+        put(slots.wpt_x_lmc, waypoint.x);
+        put(slots.wpt_y_lmc, waypoint.y);
+        if slots.wpt_lat.is_some() || slots.wpt_lon.is_some() {
+            let (lat, lon) = lmc.xy_to_nmea(waypoint);
+            put(slots.wpt_lat, lat);
+            put(slots.wpt_lon, lon);
+        }
+    }
+    put(slots.dist_to_wpt, view.dist_to_wpt);
+    put(slots.hit_waypoint, f64::from(u8::from(view.hit_waypoint)));
+}
 
 fn shelf_profile(mission_set: &mut dyn FnMut(&str) -> Option<f64>) -> TemperatureProfile {
     let TemperatureProfile::Shelf {

@@ -187,28 +187,28 @@ fn yo_over_prepare_to_dive(stop_when: u32) -> String {
 #[test]
 fn updown_idle_stops_a_behavior_when_the_one_below_stops_pumping() {
     // prepare_to_dive starts at t = 0 and commands buoyancy until
-    // t − 0 ≥ min(wait_time 720 s, GPS fix 60 s) = 60 s: cycles 0–14. In
-    // cycle 15 it is done and commands nothing, so the yo's stop_when 4
-    // (up/down idle below it) first holds in cycle 15: the yo completes
+    // t − 0 ≥ min(wait_time 720 s, GPS fix 106 s) = 106 s: cycles 0–26
+    // (26 × 4 = 104 s). In cycle 27 it is done and commands nothing, so the yo's stop_when 4
+    // (up/down idle below it) first holds in cycle 27: the yo completes
     // there (end_action 0: for good). Until then the yo, being higher, wins
     // the buoyancy.
     let (_, cycles) = fly(&yo_over_prepare_to_dive(4), None, 100);
     assert_eq!(cycles_with(&cycles, "yo", started), vec![0]);
-    assert_eq!(cycles_with(&cycles, "prepare_to_dive", completed), vec![15]);
-    assert_eq!(cycles_with(&cycles, "yo", completed), vec![15]);
-    assert!(cycles[..15]
+    assert_eq!(cycles_with(&cycles, "prepare_to_dive", completed), vec![27]);
+    assert_eq!(cycles_with(&cycles, "yo", completed), vec![27]);
+    assert!(cycles[..27]
         .iter()
         .all(|cycle| cycle.buoyancy_owner.as_deref() == Some("yo")));
-    assert!(cycles[15..]
+    assert!(cycles[27..]
         .iter()
         .all(|cycle| cycle.buoyancy_owner.is_none()));
 
     // stop_when 5 (never): the same idle stack does not stop the yo, which
     // has no end of its own (num_half_cycles_to_do −1) and flies on.
     let (_, cycles) = fly(&yo_over_prepare_to_dive(5), None, 100);
-    assert_eq!(cycles_with(&cycles, "prepare_to_dive", completed), vec![15]);
+    assert_eq!(cycles_with(&cycles, "prepare_to_dive", completed), vec![27]);
     assert!(cycles_with(&cycles, "yo", completed).is_empty());
-    assert!(cycles[15..]
+    assert!(cycles[27..]
         .iter()
         .all(|cycle| cycle.buoyancy_owner.as_deref() == Some("yo")));
 }

@@ -26,8 +26,8 @@ pub const LONG_FUNCTIONS: &[(&str, &str, usize)] = &[
     ("engine/src/sensors/files.rs", "parse_masterdata", 220),
     ("mission/src/mission.rs", "parse_ma", 165),
     ("dap/src/debugger.rs", "after_step", 185),
-    ("cli/src/batch.rs", "main", 191),
-    ("sim/src/simulation.rs", "new", 191),
+    ("cli/src/batch.rs", "main", 198),
+    ("sim/src/simulation.rs", "new", 201),
     ("cli/src/simulate.rs", "summary", 170),
 ];
 

@@ -383,7 +383,8 @@ async function runMission(
     await vscode.window.showErrorMessage(`GLOC: could not run "${binary}": ${outcome.error.message}`);
     return;
   }
-  if (outcome.code !== 0) {
+  // Exit status 5: the run worked and the mission aborted (abend); its plot is drawn.
+  if (outcome.code !== 0 && outcome.code !== 5) {
     const choice = await vscode.window.showErrorMessage(
       `GLOC: gloc run failed: ${helpers.firstLines(outcome.stderr, 2) || `exit status ${outcome.code}`}`,
       'Show Output',

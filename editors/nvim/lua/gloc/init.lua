@@ -451,7 +451,8 @@ function M.run(bufnr, on_done)
     on_exit = function(_, code)
       local target = scratch_window("gloc://run/" .. vim.fn.fnamemodify(script, ":t"), nil)
       set_scratch_lines(target, output)
-      if code ~= 0 then
+      -- Exit status 5: the run worked and the mission aborted (abend); its plot is drawn.
+      if code ~= 0 and code ~= 5 then
         notify("gloc run failed (exit status " .. code .. "); see the split for its messages", vim.log.levels.ERROR)
       elseif vim.fn.filereadable(plot) == 1 then
         table.insert(output, "Flight profile: " .. plot)

@@ -15,13 +15,19 @@ fn root() -> PathBuf {
 }
 
 fn gloc(args: &[&str]) -> (bool, String, String) {
+    let (code, stdout, stderr) = gloc_status(args);
+    (code == Some(0), stdout, stderr)
+}
+
+/// As `gloc`, with the exit status (5: a mission aborted).
+fn gloc_status(args: &[&str]) -> (Option<i32>, String, String) {
     let output = Command::new(env!("CARGO_BIN_EXE_gloc"))
         .current_dir(root())
         .args(args)
         .output()
         .expect("gloc runs");
     (
-        output.status.success(),
+        output.status.code(),
         String::from_utf8_lossy(&output.stdout).into_owned(),
         String::from_utf8_lossy(&output.stderr).into_owned(),
     )
@@ -138,7 +144,7 @@ fn a_batch_row_is_what_gloc_run_says_of_that_mission_on_any_number_of_threads() 
         let path =
             std::env::temp_dir().join(format!("gloc-batch-{jobs}-{}.csv", std::process::id()));
         let path_text = path.to_string_lossy().into_owned();
-        let (ok, stdout, stderr) = gloc(&[
+        let (code, stdout, stderr) = gloc_status(&[
             "batch",
             "examples/thermocline.gbas",
             "--mission",
@@ -158,9 +164,9 @@ fn a_batch_row_is_what_gloc_run_says_of_that_mission_on_any_number_of_threads() 
             "--csv",
             &path_text,
         ]);
-        // A sweep in which a mission aborted (dive_rate 0.25 overshoots the abort depth)
-        // exits 5, not 0 (issue 25: a mission abort has its own exit code).
-        assert!(ok || stderr.contains("missions aborted"), "{stderr}");
+        // The faster dives overshoot abend's 43 m: those missions abort, so the sweep exits 5.
+        assert_eq!(code, Some(5), "{stderr}");
+        assert!(stderr.contains("4 of 8 missions aborted"), "{stderr}");
         assert!(stderr.contains("8 missions in"), "{stderr}");
         assert_eq!(stdout.lines().count(), 9, "{stdout}");
         let text = std::fs::read_to_string(&path).expect("the CSV");
@@ -227,9 +233,9 @@ fn a_batch_row_is_what_gloc_run_says_of_that_mission_on_any_number_of_threads() 
         if let Some(fault) = fault {
             args.extend(["--fault", fault]);
         }
-        let (ok, _, stderr) = gloc(&args);
-        // An aborted mission exits 5 (issue 25); its summary says so.
-        assert!(ok || stderr.contains("ABORTED"), "{stderr}");
+        let (code, _, stderr) = gloc_status(&args);
+        let aborted = row[6].starts_with("ABORTED");
+        assert_eq!(code, Some(if aborted { 5 } else { 0 }), "{row:?}\n{stderr}");
         let (kilojoules, amp_hours, deepest) = summary_facts(&stderr);
         let cycles = stderr
             .lines()

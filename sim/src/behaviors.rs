@@ -29,6 +29,8 @@ pub enum AbortReason {
     Overtime,
     Samedepth,
     Undervolts,
+    /// The waypoint steered to is farther than `max_wpt_distance`.
+    WptTooFar,
 }
 
 impl AbortReason {
@@ -39,6 +41,7 @@ impl AbortReason {
             AbortReason::Overtime => "MS_ABORT_OVERTIME",
             AbortReason::Samedepth => "MS_ABORT_SAMEDEPTH",
             AbortReason::Undervolts => "MS_ABORT_UNDERVOLTS",
+            AbortReason::WptTooFar => "MS_ABORT_WPT_TOOFAR",
         }
     }
 }
@@ -247,6 +250,7 @@ impl Behavior {
                 samedepth_for: arg("samedepth_for"),
                 samedepth_sample_time: arg("samedepth_for_sample_time"),
                 undervolts: arg("undervolts"),
+                max_wpt_distance: arg("max_wpt_distance"),
                 last_overdepth_check: f64::NEG_INFINITY,
                 last_samedepth_sample: f64::NEG_INFINITY,
                 samedepth_reference: f64::NAN,
@@ -588,6 +592,8 @@ struct Abend {
     samedepth_for: f64,
     samedepth_sample_time: f64,
     undervolts: f64,
+    /// < 0 disables; judged on `m_dist_to_wpt` (the glider's belief), as the glider does.
+    max_wpt_distance: f64,
     last_overdepth_check: f64,
     last_samedepth_sample: f64,
     samedepth_reference: f64,
@@ -623,6 +629,9 @@ impl Abend {
         }
         if world.battery_volts < self.undervolts {
             return Outcome::Abort(AbortReason::Undervolts);
+        }
+        if self.max_wpt_distance >= 0.0 && world.nav.dist_to_wpt > self.max_wpt_distance {
+            return Outcome::Abort(AbortReason::WptTooFar);
         }
         Outcome::Continue
     }

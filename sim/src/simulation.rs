@@ -1116,7 +1116,9 @@ impl Simulation {
         put(slots.battery, volts);
         put(slots.coulomb, vehicle.amp_hours);
         put(slots.current, vehicle.current);
-        put(slots.speed, vehicle.speed);
+        // The firmware's m_speed: the dead reckoning's (the glide angle's, or the
+        // mean speed below 11.3° of pitch; 0 at the surface).
+        put(slots.speed, self.navigation.speed);
         put(slots.ballast, vehicle.ballast);
         put(slots.inflections, vehicle.inflections as f64);
         put(slots.water_temp, temperature);

@@ -278,3 +278,31 @@ fn hostile_navigation_settings_fly_without_a_panic() {
     }
     assert_eq!(flown, 16);
 }
+
+#[test]
+fn abend_aborts_when_the_waypoint_is_too_far() {
+    // The waypoint 1′ north is 1,855 m away: 1,000 m aborts at once, 300 km never.
+    let goto = "behavior: goto_wpt\n  b_arg: wpt_x(X) 724.0\n  b_arg: wpt_y(X) 5419.0\n";
+    let sensors = "sensor: s_ini_lat(lat) 5418.0\nsensor: s_ini_lon(lon) 724.0\n";
+    for (limit, aborts) in [(1000.0, true), (300_000.0, false), (-1.0, false)] {
+        let text = format!(
+            "{sensors}behavior: abend\n  b_arg: max_wpt_distance(m) {limit}\n{goto}\
+             behavior: yo\n  b_arg: start_when(enum) 0\n  b_arg: d_target_depth(m) 20\n  \
+             b_arg: c_target_depth(m) 3\n  b_arg: end_action(enum) 2\n"
+        );
+        let mut sim = start(&Mission::parse("far.mi", text));
+        while sim.time() < 600.0 && sim.step_cycle() {}
+        let reason = sim.end().map(|end| end.reason);
+        if aborts {
+            assert_eq!(
+                reason,
+                Some(EndReason::Aborted(
+                    gloc_sim::behaviors::AbortReason::WptTooFar
+                ))
+            );
+            assert_eq!(sim.end().map(|end| end.cycle), Some(0));
+        } else {
+            assert_eq!(reason, None, "{limit}");
+        }
+    }
+}

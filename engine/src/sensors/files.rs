@@ -163,24 +163,21 @@ pub fn is_crc(text: &str) -> bool {
 /// Parses a masterdata file. Never fails: malformed lines are diagnostics
 /// and are skipped.
 pub fn parse_masterdata(text: &str, order: SensorOrder) -> (SensorList, Vec<Diagnostic>) {
-    let mut diagnostics = Vec::new();
-    let mut sensors: Vec<Sensor> = Vec::new();
-    let mut sensor_spans: Vec<Span> = Vec::new();
-    let mut behaviors: Vec<BehaviorDefaults> = Vec::new();
-    let mut first_line_of: HashMap<String, (u32, Span)> = HashMap::new();
-    // What a following `# …` line continues: a sensor, a b_arg, or nothing.
-    let mut continues: Option<Continuation> = None;
+    let mut reader = MasterdataReader::default();
     let mut in_block_comment = false;
     let mut offset = 0usize;
     for (index, raw) in text.split_inclusive('\n').enumerate() {
-        let line_number = index as u32 + 1;
         let line = raw.trim_end_matches(['\n', '\r']);
-        let base = offset;
+        let at = LineAt {
+            number: index as u32 + 1,
+            base: offset,
+            indent: line.len() - line.trim_start().len(),
+            length: line.len(),
+        };
         offset += raw.len();
-        let indent = line.len() - line.trim_start().len();
         let trimmed = line.trim();
         if trimmed.is_empty() {
-            continues = None;
+            reader.continues = None;
             continue;
         }
         if is_preprocessor(trimmed) {
@@ -192,195 +189,239 @@ pub fn parse_masterdata(text: &str, order: SensorOrder) -> (SensorList, Vec<Diag
         // a `/* */` block is comment; after `END` nothing is read.
         if trimmed.starts_with("/*") {
             in_block_comment = !trimmed.ends_with("*/") || trimmed.len() < 4;
-            continues = None;
+            reader.continues = None;
             continue;
         }
         if trimmed.starts_with("*/") || trimmed.ends_with("*/") && in_block_comment {
             in_block_comment = false;
-            continues = None;
+            reader.continues = None;
             continue;
         }
         if trimmed == "END" {
             break;
         }
         if let Some(comment) = trimmed.strip_prefix('#') {
-            if let Some(target) = continues {
-                let entry = match target {
-                    Continuation::Sensor(at) => sensors
-                        .get_mut(at)
-                        .map(|sensor| (&mut sensor.description, &mut sensor.min, &mut sensor.max)),
-                    Continuation::Arg(behavior, arg) => behaviors
-                        .get_mut(behavior)
-                        .and_then(|behavior| behavior.args.get_mut(arg))
-                        .map(|arg| {
-                            apply_choices(comment, &mut arg.choices);
-                            (&mut arg.description, &mut arg.min, &mut arg.max)
-                        }),
-                };
-                if let Some((description, min, max)) = entry {
-                    apply_comment(comment, description, min, max);
-                }
-            }
+            reader.comment_line(comment);
             continue;
         }
         let keyword_end = trimmed.find(':').unwrap_or(0);
-        let keyword = &trimmed[..keyword_end];
-        let body_start = base + indent + keyword_end + 1;
-        match keyword {
+        let body = &trimmed[keyword_end + 1..];
+        let body_start = at.base + at.indent + keyword_end + 1;
+        reader.continues = None;
+        match &trimmed[..keyword_end] {
             "sensor" => {
-                continues = None;
-                if sensors.len() == MAX_SENSORS {
-                    diagnostics.push(Diagnostic::error(
-                        crate::codes::sensors::TOO_MANY_SENSORS,
-                        Span::new(base + indent, base + line.len()),
-                        format!(
-                            "more than {MAX_SENSORS} sensors: the rest of the file is not read"
-                        ),
-                    ));
+                if !reader.sensor_line(&at, body, body_start) {
                     break;
                 }
-                match entry_line(&trimmed[keyword_end + 1..], body_start) {
-                    Ok(mut entry) => {
-                        diagnostics.extend(entry.stray.take());
-                        let span = entry.name_span;
-                        let key = entry.name.to_ascii_lowercase();
-                        if let Some((first_line, first_span)) = first_line_of.get(&key) {
-                            diagnostics.push(
-                                Diagnostic::warning(
-                                    crate::codes::sensors::DUPLICATE_SENSOR,
-                                    span,
-                                    format!(
-                                        "sensor `{}` is declared again (first on line {first_line}); \
-                                         lookups by name use line {first_line}",
-                                        entry.name
-                                    ),
-                                )
-                                .with_label(*first_span, "first declared here"),
-                            );
-                        } else {
-                            first_line_of.insert(key, (line_number, span));
-                        }
-                        let mut sensor = Sensor {
-                            name: entry.name,
-                            units: entry.units,
-                            default: entry.default,
-                            description: None,
-                            min: None,
-                            max: None,
-                            line: line_number,
-                        };
-                        if let Some(comment) = entry.comment {
-                            apply_comment(
-                                comment,
-                                &mut sensor.description,
-                                &mut sensor.min,
-                                &mut sensor.max,
-                            );
-                        }
-                        sensors.push(sensor);
-                        sensor_spans.push(span);
-                        continues = Some(Continuation::Sensor(sensors.len() - 1));
-                    }
-                    Err(diagnostic) => diagnostics.push(*diagnostic),
-                }
             }
-            "behavior" => {
-                let (name, comment) = match trimmed[keyword_end + 1..].split_once('#') {
-                    Some((name, comment)) => (name.trim(), Some(comment)),
-                    None => (trimmed[keyword_end + 1..].trim(), None),
-                };
-                let description = comment
-                    .filter(|comment| !comment.starts_with('!'))
-                    .map(str::trim)
-                    .filter(|comment| !comment.is_empty())
-                    .map(str::to_string);
-                continues = None;
-                if name.is_empty() {
-                    diagnostics.push(Diagnostic::error(
-                        crate::codes::sensors::BAD_MASTERDATA_LINE,
-                        Span::new(base + indent, base + line.len()),
-                        "expected a behavior name after `behavior:`",
-                    ));
-                    continue;
-                }
-                behaviors.push(BehaviorDefaults {
-                    name: name.to_string(),
-                    description,
-                    line: line_number,
-                    args: Vec::new(),
-                });
-            }
-            "b_arg" => {
-                continues = None;
-                let Some(behavior_index) = behaviors.len().checked_sub(1) else {
-                    diagnostics.push(Diagnostic::warning(
-                        crate::codes::sensors::NOT_MASTERDATA,
-                        Span::new(base + indent, base + line.len()),
-                        "`b_arg:` outside a `behavior:` section is ignored",
-                    ));
-                    continue;
-                };
-                match entry_line(&trimmed[keyword_end + 1..], body_start) {
-                    Ok(mut entry) => {
-                        diagnostics.extend(entry.stray.take());
-                        let mut arg = BehaviorArg {
-                            name: entry.name,
-                            units: entry.units,
-                            default: entry.default,
-                            description: None,
-                            min: None,
-                            max: None,
-                            choices: None,
-                            line: line_number,
-                        };
-                        if let Some(comment) = entry.comment {
-                            apply_comment(
-                                comment,
-                                &mut arg.description,
-                                &mut arg.min,
-                                &mut arg.max,
-                            );
-                            apply_choices(comment, &mut arg.choices);
-                        }
-                        let behavior = &mut behaviors[behavior_index];
-                        behavior.args.push(arg);
-                        continues =
-                            Some(Continuation::Arg(behavior_index, behavior.args.len() - 1));
-                    }
-                    Err(diagnostic) => diagnostics.push(*diagnostic),
-                }
-            }
-            _ if in_block_comment => continues = None,
-            _ => {
-                continues = None;
-                diagnostics.push(
-                    Diagnostic::warning(
-                        crate::codes::sensors::NOT_MASTERDATA,
-                        Span::new(base + indent, base + line.len()),
-                        "line ignored: a masterdata line starts with `sensor:`, `behavior:`, `b_arg:` or `#`",
-                    ),
-                );
-            }
+            "behavior" => reader.behavior_line(&at, body),
+            "b_arg" => reader.arg_line(&at, body, body_start),
+            _ if in_block_comment => {}
+            _ => reader.diagnostics.push(Diagnostic::warning(
+                crate::codes::sensors::NOT_MASTERDATA,
+                at.span(),
+                "line ignored: a masterdata line starts with `sensor:`, `behavior:`, `b_arg:` or `#`",
+            )),
         }
     }
-    if sensors.is_empty() {
-        diagnostics.push(
-            Diagnostic::error(
-                crate::codes::sensors::NO_SENSORS,
-                Span::new(0, 0),
-                "no `sensor:` lines found",
-            )
-            .with_help("a masterdata line reads `sensor: NAME(UNITS) [DEFAULT] [# comment]`"),
-        );
+    reader.finish(order)
+}
+
+/// Where a masterdata line is: its number, its first byte, its indentation and length.
+struct LineAt {
+    number: u32,
+    base: usize,
+    indent: usize,
+    length: usize,
+}
+
+impl LineAt {
+    /// The line's text, without its indentation.
+    fn span(&self) -> Span {
+        Span::new(self.base + self.indent, self.base + self.length)
     }
-    if order == SensorOrder::SortedByName {
-        // Stable, so duplicate names keep their file order.
-        sensors.sort_by_cached_key(|sensor| sensor.name.to_ascii_uppercase());
+}
+
+/// What a masterdata file has given so far, line by line.
+#[derive(Default)]
+struct MasterdataReader {
+    diagnostics: Vec<Diagnostic>,
+    sensors: Vec<Sensor>,
+    behaviors: Vec<BehaviorDefaults>,
+    first_line_of: HashMap<String, (u32, Span)>,
+    /// What a following `# …` line continues: a sensor, a b_arg, or nothing.
+    continues: Option<Continuation>,
+}
+
+impl MasterdataReader {
+    /// A `# …` line: more of the description (and `#!` limits) of what it continues.
+    fn comment_line(&mut self, comment: &str) {
+        let Some(target) = self.continues else {
+            return;
+        };
+        let entry = match target {
+            Continuation::Sensor(at) => self
+                .sensors
+                .get_mut(at)
+                .map(|sensor| (&mut sensor.description, &mut sensor.min, &mut sensor.max)),
+            Continuation::Arg(behavior, arg) => self
+                .behaviors
+                .get_mut(behavior)
+                .and_then(|behavior| behavior.args.get_mut(arg))
+                .map(|arg| {
+                    apply_choices(comment, &mut arg.choices);
+                    (&mut arg.description, &mut arg.min, &mut arg.max)
+                }),
+        };
+        if let Some((description, min, max)) = entry {
+            apply_comment(comment, description, min, max);
+        }
     }
-    (
-        SensorList::from_sensors(sensors).with_behaviors(behaviors),
-        diagnostics,
-    )
+
+    /// A `sensor:` line; `false` when the list is full and the rest is not read.
+    fn sensor_line(&mut self, at: &LineAt, body: &str, body_start: usize) -> bool {
+        if self.sensors.len() == MAX_SENSORS {
+            self.diagnostics.push(Diagnostic::error(
+                crate::codes::sensors::TOO_MANY_SENSORS,
+                at.span(),
+                format!("more than {MAX_SENSORS} sensors: the rest of the file is not read"),
+            ));
+            return false;
+        }
+        let mut entry = match entry_line(body, body_start) {
+            Ok(entry) => entry,
+            Err(diagnostic) => {
+                self.diagnostics.push(*diagnostic);
+                return true;
+            }
+        };
+        self.diagnostics.extend(entry.stray.take());
+        let span = entry.name_span;
+        let key = entry.name.to_ascii_lowercase();
+        if let Some((first_line, first_span)) = self.first_line_of.get(&key) {
+            self.diagnostics.push(
+                Diagnostic::warning(
+                    crate::codes::sensors::DUPLICATE_SENSOR,
+                    span,
+                    format!(
+                        "sensor `{}` is declared again (first on line {first_line}); \
+                         lookups by name use line {first_line}",
+                        entry.name
+                    ),
+                )
+                .with_label(*first_span, "first declared here"),
+            );
+        } else {
+            self.first_line_of.insert(key, (at.number, span));
+        }
+        let mut sensor = Sensor {
+            name: entry.name,
+            units: entry.units,
+            default: entry.default,
+            description: None,
+            min: None,
+            max: None,
+            line: at.number,
+        };
+        if let Some(comment) = entry.comment {
+            apply_comment(
+                comment,
+                &mut sensor.description,
+                &mut sensor.min,
+                &mut sensor.max,
+            );
+        }
+        self.sensors.push(sensor);
+        self.continues = Some(Continuation::Sensor(self.sensors.len() - 1));
+        true
+    }
+
+    /// A `behavior: NAME [# description]` line: a new section of `b_arg:`s.
+    fn behavior_line(&mut self, at: &LineAt, body: &str) {
+        let (name, comment) = match body.split_once('#') {
+            Some((name, comment)) => (name.trim(), Some(comment)),
+            None => (body.trim(), None),
+        };
+        let description = comment
+            .filter(|comment| !comment.starts_with('!'))
+            .map(str::trim)
+            .filter(|comment| !comment.is_empty())
+            .map(str::to_string);
+        if name.is_empty() {
+            self.diagnostics.push(Diagnostic::error(
+                crate::codes::sensors::BAD_MASTERDATA_LINE,
+                at.span(),
+                "expected a behavior name after `behavior:`",
+            ));
+            return;
+        }
+        self.behaviors.push(BehaviorDefaults {
+            name: name.to_string(),
+            description,
+            line: at.number,
+            args: Vec::new(),
+        });
+    }
+
+    /// A `b_arg: NAME(UNITS) [DEFAULT] [# comment]` line of the current behavior.
+    fn arg_line(&mut self, at: &LineAt, body: &str, body_start: usize) {
+        let Some(behavior_index) = self.behaviors.len().checked_sub(1) else {
+            self.diagnostics.push(Diagnostic::warning(
+                crate::codes::sensors::NOT_MASTERDATA,
+                at.span(),
+                "`b_arg:` outside a `behavior:` section is ignored",
+            ));
+            return;
+        };
+        let mut entry = match entry_line(body, body_start) {
+            Ok(entry) => entry,
+            Err(diagnostic) => {
+                self.diagnostics.push(*diagnostic);
+                return;
+            }
+        };
+        self.diagnostics.extend(entry.stray.take());
+        let mut arg = BehaviorArg {
+            name: entry.name,
+            units: entry.units,
+            default: entry.default,
+            description: None,
+            min: None,
+            max: None,
+            choices: None,
+            line: at.number,
+        };
+        if let Some(comment) = entry.comment {
+            apply_comment(comment, &mut arg.description, &mut arg.min, &mut arg.max);
+            apply_choices(comment, &mut arg.choices);
+        }
+        let behavior = &mut self.behaviors[behavior_index];
+        behavior.args.push(arg);
+        self.continues = Some(Continuation::Arg(behavior_index, behavior.args.len() - 1));
+    }
+
+    /// The list, sorted as `order` says, and every diagnostic.
+    fn finish(mut self, order: SensorOrder) -> (SensorList, Vec<Diagnostic>) {
+        if self.sensors.is_empty() {
+            self.diagnostics.push(
+                Diagnostic::error(
+                    crate::codes::sensors::NO_SENSORS,
+                    Span::new(0, 0),
+                    "no `sensor:` lines found",
+                )
+                .with_help("a masterdata line reads `sensor: NAME(UNITS) [DEFAULT] [# comment]`"),
+            );
+        }
+        if order == SensorOrder::SortedByName {
+            // Stable, so duplicate names keep their file order.
+            self.sensors
+                .sort_by_cached_key(|sensor| sensor.name.to_ascii_uppercase());
+        }
+        (
+            SensorList::from_sensors(self.sensors).with_behaviors(self.behaviors),
+            self.diagnostics,
+        )
+    }
 }
 
 /// One line of a `.cac` sensor list: `s: T|F INDEX COLUMN BYTES NAME UNITS`.

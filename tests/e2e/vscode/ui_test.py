@@ -57,16 +57,18 @@ class Workbench:
     def command(self, title):
         """Runs a command by its title from the command palette."""
         box = self.page.locator(".quick-input-widget .quick-input-box input")
-        for attempt in range(3):
+        for attempt in range(5):
             self.page.keyboard.press("F1")
             try:
-                box.wait_for(state="visible", timeout=4_000)
+                # Generous: on a loaded 2-core machine the palette took over 4 s to show.
+                box.wait_for(state="visible", timeout=8_000)
                 break
             except Exception:
-                # Focus inside a webview (the SVG preview) keeps F1 from the workbench: give
-                # the focus back to the workbench and try again.
+                # Focus inside a webview (the SVG preview) or on a notification keeps F1
+                # from the workbench: give the focus back to the workbench and try again.
+                self.page.keyboard.press("Escape")
                 self.page.locator(".part.sidebar .pane-body").first.click(position={"x": 150, "y": 300})
-        box.wait_for(state="visible", timeout=4_000)
+        box.wait_for(state="visible", timeout=8_000)
         box.fill(">" + title)
 
         def exact_row():

@@ -20,7 +20,7 @@ use gloc_ide::{completion, lens, links, selection};
 
 /// What the client said it can show (`initialize`'s capabilities); answers follow it.
 /// Before `initialize`, and for a client that says nothing, the protocol's defaults:
-/// no snippets, flat symbols; markdown unless the client lists formats without it.
+/// no snippets, flat symbols, plain text (markdown only to a client that lists it).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ClientFeatures {
     pub snippets: bool,
@@ -61,7 +61,7 @@ impl ClientFeatures {
             .and_then(|text| text.completion.as_ref())
             .and_then(|completion| completion.completion_item.as_ref());
         let markdown = |formats: Option<&Vec<MarkupKind>>| {
-            formats.is_none_or(|formats| formats.contains(&MarkupKind::Markdown))
+            formats.is_some_and(|formats| formats.contains(&MarkupKind::Markdown))
         };
         ClientFeatures {
             snippets: item.and_then(|item| item.snippet_support).unwrap_or(false),

@@ -682,6 +682,10 @@ async fn an_eglot_client_gets_what_it_declared_and_the_language_of_the_extension
     assert_eq!(depth["textEdit"]["newText"], "444");
     assert_eq!(depth["textEdit"]["range"], range(4, 6, 4, 11));
     assert!(depth.get("insertText").is_none(), "{depth}");
+    // Eglot 1.9 lists no documentation format: plain text, without code marks.
+    assert_eq!(depth["documentation"]["kind"], "plaintext", "{depth}");
+    let documentation = depth["documentation"]["value"].as_str().expect("docs");
+    assert!(!documentation.contains('`'), "{documentation}");
     // A mnemonic is plain text without snippet support: no tab stops, no format.
     let result = client
         .request("textDocument/completion", at(URI, 30, 0))

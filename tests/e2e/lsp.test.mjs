@@ -45,7 +45,12 @@ async function start() {
   const init = await connection.sendRequest('initialize', {
     processId: process.pid,
     rootUri: null,
-    capabilities: { general: { positionEncodings: ['utf-16'] } },
+    // Markdown hover as VS Code asks for it (the server sends plain text to a client that
+    // does not list markdown).
+    capabilities: {
+      general: { positionEncodings: ['utf-16'] },
+      textDocument: { hover: { contentFormat: ['markdown', 'plaintext'] } },
+    },
   });
   await connection.sendNotification('initialized', {});
   /** Waits for diagnostics of `uri` with `version` (or any, when undefined). */

@@ -70,8 +70,9 @@
 (gloc-test-type-line 67 "    b_arg: d_t")
 (let ((offered (gloc-complete-and-choose "d_target_depth")))
   (gloc-test-check (member "d_target_depth" offered) "`b_arg: d_t' offers d_target_depth" offered)
-  (gloc-test-check (string-prefix-p "    b_arg: d_target_depth(m) " (gloc-test-line))
-                   "choosing it inserts `d_target_depth(m) …'" (gloc-test-line)))
+  ;; lsp-mode 8.0 declares snippets only with yasnippet loaded: the default comes filled in.
+  (gloc-test-check (equal (gloc-test-line) "    b_arg: d_target_depth(m) 12")
+                   "choosing it inserts `d_target_depth(m) 12'" (gloc-test-line)))
 (set-buffer-modified-p nil)
 
 (lsp-workspace-shutdown (car (lsp-workspaces)))

@@ -496,6 +496,80 @@ pub struct Simulation {
     mag_var: f64,
 }
 
+/// The sensor array a run starts from: the list's defaults, the simulator's own where
+/// the list has none (`SIM_DEFAULTS`), then the mission's `sensor:` settings. A setting
+/// the list lacks is S0106 (`Mission::check_sensor_settings`, reported by the front ends
+/// with a caret).
+fn initial_sensors(mission: &Mission, sensor_list: &SensorList) -> Vec<f64> {
+    let mut sensors = sensor_list.initial_values();
+    for &(name, value) in SIM_DEFAULTS {
+        if let Some(id) = sensor_list.lookup(name) {
+            if sensor_list
+                .get(id)
+                .is_some_and(|sensor| sensor.default.is_none())
+            {
+                sensors[id.index()] = value;
+            }
+        }
+    }
+    for setting in &mission.sensor_settings {
+        if let Some(id) = sensor_list.lookup(&setting.name) {
+            sensors[id.index()] = setting.value;
+        }
+    }
+    sensors
+}
+
+/// `u_cycle_time` within [`CYCLE_TIME`], or an error naming where it was set.
+fn check_cycle_time(mission: &Mission, cycle_time: f64) -> Result<(), SimError> {
+    if !CYCLE_TIME.contains(&cycle_time) {
+        // From the mission's last setting of it, or else the sensor list's default.
+        let origin = match mission
+            .sensor_settings
+            .iter()
+            .rev()
+            .find(|setting| setting.name.eq_ignore_ascii_case("u_cycle_time"))
+        {
+            Some(setting) => {
+                let (path, line, column) = mission.line_col(setting.at.file, setting.name_span);
+                format!("{}:{line}:{column}: ", path.display())
+            }
+            None => "the sensor list's default: ".to_string(),
+        };
+        let value = if cycle_time.abs() < 1e6 {
+            format!("{cycle_time}")
+        } else {
+            format!("{cycle_time:e}")
+        };
+        return Err(SimError::OutOfRange(format!(
+            "{origin}u_cycle_time {value} s is out of range: the simulator runs cycles of {} to {} s",
+            CYCLE_TIME.start(),
+            CYCLE_TIME.end()
+        )));
+    }
+    Ok(())
+}
+
+/// Warnings for the start and stop conditions the simulator does not model.
+fn unmodelled_conditions(mission: &Mission) -> Vec<String> {
+    let mut warnings = Vec::new();
+    for spec in mission.known_behaviors() {
+        for name in ["start_when", "stop_when"] {
+            if let Some(code) = spec.arg(name) {
+                if !condition_is_modelled(code as i64) {
+                    let (path, line, column) = mission.line_col(spec.at.file, spec.at.span);
+                    warnings.push(format!(
+                        "{}:{line}:{column}: warning: {} {name} {code} is not modelled by the simulator: it never holds",
+                        path.display(),
+                        spec.name
+                    ));
+                }
+            }
+        }
+    }
+    warnings
+}
+
 impl Simulation {
     /// Sets up a mission. `script` is the checked program of the `gloc`
     /// behavior; without one, a `behavior: gloc` in the mission stays idle.
@@ -509,17 +583,7 @@ impl Simulation {
             return Err(SimError::MissionErrors(mission.render_plain()));
         }
         let mut warnings = Vec::new();
-        let mut sensors = sensor_list.initial_values();
-        for &(name, value) in SIM_DEFAULTS {
-            if let Some(id) = sensor_list.lookup(name) {
-                if sensor_list
-                    .get(id)
-                    .is_some_and(|sensor| sensor.default.is_none())
-                {
-                    sensors[id.index()] = value;
-                }
-            }
-        }
+        let sensors = initial_sensors(mission, &sensor_list);
         let mut mission_set = |name: &str| -> Option<f64> {
             mission
                 .sensor_settings
@@ -528,13 +592,6 @@ impl Simulation {
                 .find(|setting| setting.name.eq_ignore_ascii_case(name))
                 .map(|setting| setting.value)
         };
-        // A setting the list lacks is S0106 (`Mission::check_sensor_settings`,
-        // reported by the front ends with a caret).
-        for setting in &mission.sensor_settings {
-            if let Some(id) = sensor_list.lookup(&setting.name) {
-                sensors[id.index()] = setting.value;
-            }
-        }
         let water_depth = config
             .water_depth
             .or_else(|| mission_set("s_water_depth_avg").filter(|depth| *depth > 0.0))
@@ -551,31 +608,7 @@ impl Simulation {
                 .unwrap_or(fallback)
         };
         let cycle_time = read("u_cycle_time", 4.0);
-        if !CYCLE_TIME.contains(&cycle_time) {
-            // From the mission's last setting of it, or else the sensor list's default.
-            let origin = match mission
-                .sensor_settings
-                .iter()
-                .rev()
-                .find(|setting| setting.name.eq_ignore_ascii_case("u_cycle_time"))
-            {
-                Some(setting) => {
-                    let (path, line, column) = mission.line_col(setting.at.file, setting.name_span);
-                    format!("{}:{line}:{column}: ", path.display())
-                }
-                None => "the sensor list's default: ".to_string(),
-            };
-            let value = if cycle_time.abs() < 1e6 {
-                format!("{cycle_time}")
-            } else {
-                format!("{cycle_time:e}")
-            };
-            return Err(SimError::OutOfRange(format!(
-                "{origin}u_cycle_time {value} s is out of range: the simulator runs cycles of {} to {} s",
-                CYCLE_TIME.start(),
-                CYCLE_TIME.end()
-            )));
-        }
+        check_cycle_time(mission, cycle_time)?;
         let surface_depth = read("u_reqd_depth_at_surface", 2.0);
         let value = |name: &str| sensor_list.lookup(name).map(|id| sensors[id.index()]);
         let navigation = Navigation::new(
@@ -610,20 +643,7 @@ impl Simulation {
         if behaviors.is_empty() {
             return Err(SimError::EmptyMission);
         }
-        for spec in mission.known_behaviors() {
-            for name in ["start_when", "stop_when"] {
-                if let Some(code) = spec.arg(name) {
-                    if !condition_is_modelled(code as i64) {
-                        let (path, line, column) = mission.line_col(spec.at.file, spec.at.span);
-                        warnings.push(format!(
-                            "{}:{line}:{column}: warning: {} {name} {code} is not modelled by the simulator: it never holds",
-                            path.display(),
-                            spec.name
-                        ));
-                    }
-                }
-            }
-        }
+        warnings.extend(unmodelled_conditions(mission));
         let slots = SensorSlots::resolve(&sensor_list);
         if behaviors
             .iter()

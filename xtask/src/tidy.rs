@@ -17,18 +17,15 @@ use std::path::{Path, PathBuf};
 /// The longest a function outside tests may be.
 pub const MAX_FUNCTION_LINES: usize = 150;
 
-/// Functions longer than [`MAX_FUNCTION_LINES`] when the check came in, with their length
-/// then: each may shrink, none may grow, and no other may join them.
+/// Functions longer than [`MAX_FUNCTION_LINES`], with their length when last measured:
+/// each may shrink, none may grow, and no other may join them.
 pub const LONG_FUNCTIONS: &[(&str, &str, usize)] = &[
-    ("engine/src/vm.rs", "execute", 396),
-    ("cli/src/simulate.rs", "main", 300),
-    ("sim/src/plot.rs", "draw", 240),
-    ("engine/src/sensors/files.rs", "parse_masterdata", 220),
-    ("mission/src/mission.rs", "parse_ma", 165),
-    ("dap/src/debugger.rs", "after_step", 185),
+    ("engine/src/vm.rs", "execute", 391),
+    ("cli/src/simulate.rs", "main", 292),
+    ("sim/src/plot.rs", "draw", 231),
     ("cli/src/batch.rs", "main", 198),
-    ("sim/src/simulation.rs", "new", 201),
-    ("cli/src/simulate.rs", "summary", 170),
+    ("dap/src/debugger.rs", "after_step", 185),
+    ("cli/src/simulate.rs", "summary", 157),
 ];
 
 /// Import circles between the modules of a crate when the check came in (each listed by

@@ -742,6 +742,23 @@ fn draw<DB: DrawingBackend>(
         )
     }))?;
 
+    draw_events(&events, trace, &x_range, scale)?;
+    let below = draw_panels(battery, trace, options, (&x_range, scale, unit), columns)?;
+    if has_map(trace) {
+        let (area, _) = below.split_vertically(MAP_HEIGHT);
+        draw_map(&area, trace)?;
+    }
+    Ok(())
+}
+
+/// The event track: every store a tick, labels where they fit.
+fn draw_events<DB: DrawingBackend>(
+    events: &DrawingArea<DB, plotters::coord::Shift>,
+    trace: &Trace,
+    x_range: &std::ops::Range<f64>,
+    scale: f64,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let red = RGBColor(200, 30, 30);
     // The event track: every store a tick, labels where they fit.
     let labelled_caption = |labelled: usize| {
         format!(
@@ -764,7 +781,7 @@ fn draw<DB: DrawingBackend>(
         WIDTH as f64 - 100.0,
     );
     let labelled = lanes.iter().filter(|lane| lane.is_some()).count();
-    let mut track = ChartBuilder::on(&events)
+    let mut track = ChartBuilder::on(events)
         .caption(labelled_caption(labelled), ("sans-serif", 14))
         .margin_left(16)
         .margin_right(16)
@@ -796,7 +813,18 @@ fn draw<DB: DrawingBackend>(
             ))
         },
     ))?;
+    Ok(())
+}
 
+/// The panels below the event track (battery, chosen sensors), one per series, on the
+/// depth plot's time axis; returns the area left below them.
+fn draw_panels<DB: DrawingBackend>(
+    battery: DrawingArea<DB, plotters::coord::Shift>,
+    trace: &Trace,
+    options: &PlotOptions,
+    (x_range, scale, unit): (&std::ops::Range<f64>, f64, &str),
+    columns: usize,
+) -> Result<DrawingArea<DB, plotters::coord::Shift>, DrawingAreaErrorKind<DB::ErrorType>> {
     let mut below = battery;
     for (name, values) in panels(trace, options) {
         let (area, rest) = below.split_vertically(BATTERY_HEIGHT);
@@ -839,11 +867,7 @@ fn draw<DB: DrawingBackend>(
             ShapeStyle::from(&RGBColor(20, 130, 60)).stroke_width(2),
         ))?;
     }
-    if has_map(trace) {
-        let (area, _) = below.split_vertically(MAP_HEIGHT);
-        draw_map(&area, trace)?;
-    }
-    Ok(())
+    Ok(below)
 }
 
 /// The map panel: east and north in km on equal scales, the true track

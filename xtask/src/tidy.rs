@@ -22,7 +22,6 @@ pub const MAX_FUNCTION_LINES: usize = 150;
 pub const LONG_FUNCTIONS: &[(&str, &str, usize)] = &[
     ("engine/src/vm.rs", "execute", 391),
     ("cli/src/simulate.rs", "main", 292),
-    ("sim/src/plot.rs", "draw", 231),
     ("cli/src/batch.rs", "main", 198),
     ("dap/src/debugger.rs", "after_step", 185),
     ("cli/src/simulate.rs", "summary", 157),

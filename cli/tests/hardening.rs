@@ -1697,3 +1697,53 @@ fn a_batch_sweep_too_wide_is_refused_before_its_profiles_are_read() {
     assert_eq!(output.status.code(), Some(2), "{}", text(&output));
     std::fs::remove_dir_all(dir).ok();
 }
+
+/// The peak resident memory (MB) of a running child so far: its `VmHWM`.
+fn peak_mb_so_far(child: &Child) -> u64 {
+    std::fs::read_to_string(format!("/proc/{}/status", child.id()))
+        .ok()
+        .and_then(|status| {
+            let line = status.lines().find(|line| line.starts_with("VmHWM:"))?;
+            line.split_whitespace().nth(1)?.parse::<u64>().ok()
+        })
+        .unwrap_or(0)
+        / 1024
+}
+
+#[test]
+fn the_language_server_applies_the_clis_16_mb_cap_to_every_feature() {
+    // A 16.8 MB one-line document was refused by the parser but still lexed for
+    // semantic tokens: 3.6 GB. Here 8.4 million `1+` tokens.
+    let dir = scratch("lsp-cap");
+    let uri = format!("file://{}/big.gbas", dir.display());
+    let text = format!("x = {}1\n", "1+".repeat((16 << 20) / 2 + 1000));
+    let mut server = Server::start("lsp");
+    server.send(&json!({ "jsonrpc": "2.0", "id": 1, "method": "initialize",
+        "params": { "processId": null, "rootUri": null, "capabilities": {} } }));
+    server.wait_for("the initialize response", |m| m["id"] == 1);
+    server.send(&json!({ "jsonrpc": "2.0", "method": "initialized", "params": {} }));
+    server.send(
+        &json!({ "jsonrpc": "2.0", "method": "textDocument/didOpen", "params": {
+        "textDocument": { "uri": uri, "languageId": "gbasic", "version": 1, "text": text } } }),
+    );
+    drop(text);
+    let published = server.wait_for("the diagnostics", |m| {
+        m["method"] == "textDocument/publishDiagnostics" && m["params"]["uri"] == uri
+    });
+    assert!(published.to_string().contains("E0013"), "{published}");
+    server.send(
+        &json!({ "jsonrpc": "2.0", "id": 2, "method": "textDocument/semanticTokens/full",
+        "params": { "textDocument": { "uri": uri } } }),
+    );
+    let tokens = server.wait_for("the tokens", |m| m["id"] == 2);
+    let peak_mb = peak_mb_so_far(&server.child);
+    // The text arrives as JSON and is held as a rope: a few copies of 17 MB.
+    assert!(peak_mb < 200, "peak {peak_mb} MB");
+    let count = tokens["result"]["data"].as_array().map_or(0, Vec::len);
+    assert_eq!(count, 0, "no tokens over the cap");
+    server.send(&json!({ "jsonrpc": "2.0", "id": 3, "method": "shutdown" }));
+    server.wait_for("the shutdown response", |m| m["id"] == 3);
+    server.send(&json!({ "jsonrpc": "2.0", "method": "exit" }));
+    assert_eq!(server.close().code(), Some(0));
+    std::fs::remove_dir_all(dir).ok();
+}

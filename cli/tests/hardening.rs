@@ -1747,3 +1747,51 @@ fn the_language_server_applies_the_clis_16_mb_cap_to_every_feature() {
     assert_eq!(server.close().code(), Some(0));
     std::fs::remove_dir_all(dir).ok();
 }
+
+#[test]
+fn the_debugger_bounds_its_recording_and_its_history() {
+    // `replay` held the whole recording (a 264 KB .dcd: 1.26 GB), and `"history":
+    // 1000000000` kept snapshots without end (400 MB by cycle 450,000). Here a 52 KB
+    // .dcd of 6.3 million cycles: about 250 MB held; refused after 2 million.
+    let dir = scratch("dap-bounds");
+    let log = dir.join("long.dcd");
+    std::fs::write(&log, long_compressed_log(192)).expect("write");
+    let script = fig2_script(&dir);
+    let mut server = Server::start("dap");
+    server.send(
+        &json!({ "seq": 1, "type": "request", "command": "initialize",
+        "arguments": { "adapterID": "gloc" } }),
+    );
+    server.wait_for("the initialize response", |m| m["request_seq"] == 1);
+    server.send(&json!({ "seq": 2, "type": "request", "command": "launch",
+        "arguments": { "program": script, "replay": log } }));
+    let response = server.wait_for("the launch response", |m| m["request_seq"] == 2);
+    let peak_mb = peak_mb_so_far(&server.child);
+    assert!(peak_mb < 150, "peak {peak_mb} MB");
+    assert_eq!(response["success"], false, "the recording is refused");
+    assert!(
+        response
+            .to_string()
+            .contains("longer than the debugger holds"),
+        "{}",
+        response.to_string().chars().take(500).collect::<String>()
+    );
+    assert!(server.close().code().is_some(), "ended by a signal");
+
+    let mut server = Server::start("dap");
+    server.send(
+        &json!({ "seq": 1, "type": "request", "command": "initialize",
+        "arguments": { "adapterID": "gloc" } }),
+    );
+    server.wait_for("the initialize response", |m| m["request_seq"] == 1);
+    server.send(&json!({ "seq": 2, "type": "request", "command": "launch",
+        "arguments": { "program": script, "history": 1_000_000_000u64 } }));
+    let response = server.wait_for("the launch response", |m| m["request_seq"] == 2);
+    assert_eq!(response["success"], false, "{response}");
+    assert!(
+        response.to_string().contains("from 1 to 4096"),
+        "{response}"
+    );
+    assert!(server.close().code().is_some(), "ended by a signal");
+    std::fs::remove_dir_all(dir).ok();
+}

@@ -1795,3 +1795,26 @@ fn the_debugger_bounds_its_recording_and_its_history() {
     assert!(server.close().code().is_some(), "ended by a signal");
     std::fs::remove_dir_all(dir).ok();
 }
+
+#[test]
+fn calibrate_holds_a_bounded_track() {
+    // Every timed cycle was held (96 bytes each): a 66 MB log of cycles carrying only
+    // a new time took 624 MB to 1 GB. Here 4 million cycles in 40 MB: 384 MB held;
+    // refused after 2 million.
+    let dir = scratch("calibrate-track");
+    let mut bytes = depth_time_log(&[(10.0, 1.5e9)]);
+    bytes.reserve(4_000_000 * 10);
+    for index in 1..4_000_000u64 {
+        // The time new, the depth the same (state bits 01 10).
+        bytes.extend_from_slice(&[b'd', 0x60]);
+        bytes.extend_from_slice(&(1.5e9 + 4.0 * index as f64).to_le_bytes());
+    }
+    bytes.push(b'X');
+    let log = dir.join("long.dbd");
+    std::fs::write(&log, bytes).expect("write");
+    let (output, peak_mb) = run_measured(gloc().arg("calibrate").arg(&log));
+    assert!(peak_mb < 300, "peak {peak_mb} MB");
+    assert_refused(&output, "more than 2000000 timed cycles");
+    assert_eq!(output.status.code(), Some(1), "{}", text(&output));
+    std::fs::remove_dir_all(dir).ok();
+}

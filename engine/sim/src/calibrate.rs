@@ -89,6 +89,10 @@ const EMPTY: Row = Row {
     altitude_fix: false,
 };
 
+/// The most timed cycles a [`Track`] holds: three months of 4 s cycles, about 200 MB
+/// (a 66 MB log of cycles carrying only a new time held 6 million, about 1 GB).
+pub const MAX_TRACK_ROWS: usize = 2_000_000;
+
 /// A log's rows, one per cycle with a time.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Track {
@@ -129,6 +133,19 @@ impl Track {
         let mut track = Track::default();
         while let Some(cycle) = source.next_cycle()? {
             track.push(|field| columns[field].and_then(|column| cycle.value(column)));
+            if track.rows.len() > MAX_TRACK_ROWS {
+                let at = gloc_dbd::Location {
+                    offset: cycle.offset,
+                    block: None,
+                };
+                return Err(DbdError::new(
+                    source.file(),
+                    at,
+                    format!(
+                        "more than {MAX_TRACK_ROWS} timed cycles: calibrate from fewer logs (a few days of yos are plenty)"
+                    ),
+                ));
+            }
         }
         Ok(track)
     }

@@ -62,7 +62,15 @@ fn finish(child: Child) -> Output {
     finish_within(child, DEADLINE)
 }
 
-fn finish_within(mut child: Child, limit: Duration) -> Output {
+fn finish_within(child: Child, limit: Duration) -> Output {
+    finish_watched(child, limit).0
+}
+
+/// Waits for `child` within `limit` (killed and the test failed past it), reading its
+/// output on threads, and returns it with the child's peak resident memory in MB: its
+/// `VmHWM` (its own address space's high-water mark, read from `/proc` every 2 ms while
+/// it runs; `ru_maxrss` would count this test process too, which it was forked from).
+fn finish_watched(mut child: Child, limit: Duration) -> (Output, u64) {
     let mut stdout = child.stdout.take().expect("piped");
     let mut stderr = child.stderr.take().expect("piped");
     let out = thread::spawn(move || {
@@ -76,7 +84,9 @@ fn finish_within(mut child: Child, limit: Duration) -> Output {
         bytes
     });
     let deadline = Instant::now() + limit;
+    let mut peak_mb = 0u64;
     let status = loop {
+        peak_mb = peak_mb.max(peak_mb_so_far(&child));
         if let Some(status) = child.try_wait().expect("wait") {
             break status;
         }
@@ -85,13 +95,14 @@ fn finish_within(mut child: Child, limit: Duration) -> Output {
             let _ = child.wait();
             panic!("gloc did not finish within {limit:?}");
         }
-        thread::sleep(Duration::from_millis(10));
+        thread::sleep(Duration::from_millis(2));
     };
-    Output {
+    let output = Output {
         status,
         stdout: out.join().expect("stdout reader"),
         stderr: err.join().expect("stderr reader"),
-    }
+    };
+    (output, peak_mb)
 }
 
 fn text(output: &Output) -> String {
@@ -163,6 +174,31 @@ fn a_million_term_expression_is_one_diagnostic_in_check_compile_and_run() {
         assert_refused(&simulate, &format!("error[{code}]"));
     }
     std::fs::remove_dir_all(dir).ok();
+}
+
+/// `gloc dap` initialized and asked to launch with `arguments`: the server and the
+/// launch response.
+fn dap_launch(arguments: Value) -> (Server, Value) {
+    let mut server = Server::start("dap");
+    server.send(
+        &json!({ "seq": 1, "type": "request", "command": "initialize",
+        "arguments": { "adapterID": "gloc" } }),
+    );
+    server.wait_for("the initialize response", |m| m["request_seq"] == 1);
+    server.send(&json!({ "seq": 2, "type": "request", "command": "launch",
+        "arguments": arguments }));
+    let response = server.wait_for("the launch response", |m| m["request_seq"] == 2);
+    (server, response)
+}
+
+/// A debugger launch with `arguments` is an error response saying `expected`, and the
+/// adapter then ends by itself (not by a signal).
+fn assert_launch_refused(arguments: Value, expected: &str) {
+    let (server, response) = dap_launch(arguments);
+    assert_eq!(response["success"], false, "{response}");
+    let shown: String = response.to_string().chars().take(2000).collect();
+    assert!(shown.contains(expected), "no `{expected}` in {shown}");
+    assert!(server.close().code().is_some(), "ended by a signal");
 }
 
 /// A stdio server with its messages read on a thread.
@@ -291,21 +327,7 @@ fn a_debugger_launch_of_a_million_term_expression_is_an_error_response() {
     let dir = scratch("dap-deep");
     let path = dir.join("deep.gbas");
     std::fs::write(&path, deep_sources().swap_remove(1).1).expect("write");
-    let mut server = Server::start("dap");
-    server.send(
-        &json!({ "seq": 1, "type": "request", "command": "initialize",
-        "arguments": { "adapterID": "gloc" } }),
-    );
-    server.wait_for("the initialize response", |m| m["request_seq"] == 1);
-    server.send(&json!({ "seq": 2, "type": "request", "command": "launch",
-        "arguments": { "program": path } }));
-    let response = server.wait_for("the launch response", |m| m["request_seq"] == 2);
-    assert_eq!(response["success"], false, "{response}");
-    assert!(
-        response.to_string().contains("256 operators deep"),
-        "{response}"
-    );
-    assert!(server.close().code().is_some(), "ended by a signal");
+    assert_launch_refused(json!({ "program": path }), "256 operators deep");
     std::fs::remove_dir_all(dir).ok();
 }
 
@@ -1003,55 +1025,15 @@ fn merging_logs_of_100000_sensors_each_is_answered_within_seconds() {
 }
 
 /// Runs `command` within [`ANSWER`] and returns its output and peak resident memory
-/// in MB: the child's `VmHWM` (its own address space's high-water mark, read from
-/// `/proc` every 2 ms while it runs; `ru_maxrss` would count this test process too,
-/// which the child was forked from).
+/// in MB ([`finish_watched`]).
 fn run_measured(command: &mut Command) -> (Output, u64) {
-    let mut child = command
+    let child = command
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
         .expect("gloc starts");
-    let status_file = format!("/proc/{}/status", child.id());
-    let mut stdout = child.stdout.take().expect("piped");
-    let mut stderr = child.stderr.take().expect("piped");
-    let out = thread::spawn(move || {
-        let mut bytes = Vec::new();
-        let _ = stdout.read_to_end(&mut bytes);
-        bytes
-    });
-    let err = thread::spawn(move || {
-        let mut bytes = Vec::new();
-        let _ = stderr.read_to_end(&mut bytes);
-        bytes
-    });
-    let deadline = Instant::now() + ANSWER;
-    let mut peak_kb = 0u64;
-    let status = loop {
-        let high_water = std::fs::read_to_string(&status_file)
-            .ok()
-            .and_then(|status| {
-                let line = status.lines().find(|line| line.starts_with("VmHWM:"))?;
-                line.split_whitespace().nth(1)?.parse::<u64>().ok()
-            });
-        peak_kb = peak_kb.max(high_water.unwrap_or(0));
-        if let Some(status) = child.try_wait().expect("wait") {
-            break status;
-        }
-        if Instant::now() > deadline {
-            let _ = child.kill();
-            let _ = child.wait();
-            panic!("gloc did not finish within {ANSWER:?}");
-        }
-        thread::sleep(Duration::from_millis(2));
-    };
-    let output = Output {
-        status,
-        stdout: out.join().expect("stdout reader"),
-        stderr: err.join().expect("stderr reader"),
-    };
-    (output, peak_kb / 1024)
+    finish_watched(child, ANSWER)
 }
 
 /// An LZ4 block of literals only (the block format: `engine/src/lz4.rs`).
@@ -1232,22 +1214,11 @@ fn a_cycle_time_of_1e29_is_refused_at_its_line_by_run_batch_and_the_debugger() {
         assert_eq!(output.status.code(), Some(1), "{}", text(&output));
     }
     let started = Instant::now();
-    let mut server = Server::start("dap");
-    server.send(
-        &json!({ "seq": 1, "type": "request", "command": "initialize",
-        "arguments": { "adapterID": "gloc" } }),
-    );
-    server.wait_for("the initialize response", |m| m["request_seq"] == 1);
-    server.send(&json!({ "seq": 2, "type": "request", "command": "launch",
-        "arguments": { "program": script, "mission": mission } }));
-    let response = server.wait_for("the launch response", |m| m["request_seq"] == 2);
-    assert_eq!(response["success"], false, "{response}");
-    assert!(
-        response.to_string().contains("is out of range"),
-        "{response}"
+    assert_launch_refused(
+        json!({ "program": script, "mission": mission }),
+        "is out of range",
     );
     assert!(started.elapsed() < ANSWER, "{:?}", started.elapsed());
-    assert!(server.close().code().is_some(), "ended by a signal");
     std::fs::remove_dir_all(dir).ok();
 }
 
@@ -1757,15 +1728,7 @@ fn the_debugger_bounds_its_recording_and_its_history() {
     let log = dir.join("long.dcd");
     std::fs::write(&log, long_compressed_log(192)).expect("write");
     let script = fig2_script(&dir);
-    let mut server = Server::start("dap");
-    server.send(
-        &json!({ "seq": 1, "type": "request", "command": "initialize",
-        "arguments": { "adapterID": "gloc" } }),
-    );
-    server.wait_for("the initialize response", |m| m["request_seq"] == 1);
-    server.send(&json!({ "seq": 2, "type": "request", "command": "launch",
-        "arguments": { "program": script, "replay": log } }));
-    let response = server.wait_for("the launch response", |m| m["request_seq"] == 2);
+    let (server, response) = dap_launch(json!({ "program": script, "replay": log }));
     let peak_mb = peak_mb_so_far(&server.child);
     assert!(peak_mb < 150, "peak {peak_mb} MB");
     assert_eq!(response["success"], false, "the recording is refused");
@@ -1778,21 +1741,10 @@ fn the_debugger_bounds_its_recording_and_its_history() {
     );
     assert!(server.close().code().is_some(), "ended by a signal");
 
-    let mut server = Server::start("dap");
-    server.send(
-        &json!({ "seq": 1, "type": "request", "command": "initialize",
-        "arguments": { "adapterID": "gloc" } }),
+    assert_launch_refused(
+        json!({ "program": script, "history": 1_000_000_000u64 }),
+        "from 1 to 4096",
     );
-    server.wait_for("the initialize response", |m| m["request_seq"] == 1);
-    server.send(&json!({ "seq": 2, "type": "request", "command": "launch",
-        "arguments": { "program": script, "history": 1_000_000_000u64 } }));
-    let response = server.wait_for("the launch response", |m| m["request_seq"] == 2);
-    assert_eq!(response["success"], false, "{response}");
-    assert!(
-        response.to_string().contains("from 1 to 4096"),
-        "{response}"
-    );
-    assert!(server.close().code().is_some(), "ended by a signal");
     std::fs::remove_dir_all(dir).ok();
 }
 

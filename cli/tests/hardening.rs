@@ -244,6 +244,24 @@ impl Server {
         Server { child, messages }
     }
 
+    /// `gloc lsp`, initialized.
+    fn lsp() -> Server {
+        let mut server = Server::start("lsp");
+        server.send(&json!({ "jsonrpc": "2.0", "id": 1, "method": "initialize",
+            "params": { "processId": null, "rootUri": null, "capabilities": {} } }));
+        server.wait_for("the initialize response", |m| m["id"] == 1);
+        server.send(&json!({ "jsonrpc": "2.0", "method": "initialized", "params": {} }));
+        server
+    }
+
+    /// `shutdown` answered, then `exit`: the server ends with code 0.
+    fn shut_down_cleanly(mut self) {
+        self.send(&json!({ "jsonrpc": "2.0", "id": "shutdown", "method": "shutdown" }));
+        self.wait_for("the shutdown response", |m| m["id"] == "shutdown");
+        self.send(&json!({ "jsonrpc": "2.0", "method": "exit" }));
+        assert_eq!(self.close().code(), Some(0));
+    }
+
     fn send(&mut self, message: &Value) {
         let body = message.to_string();
         let stdin = self.child.stdin.as_mut().expect("piped");
@@ -316,10 +334,7 @@ fn the_language_server_reports_a_million_term_expression_and_lives_on() {
         "{published}"
     );
     // Still alive: shutdown is answered and exit is clean.
-    server.send(&json!({ "jsonrpc": "2.0", "id": 2, "method": "shutdown" }));
-    server.wait_for("the shutdown response", |m| m["id"] == 2);
-    server.send(&json!({ "jsonrpc": "2.0", "method": "exit" }));
-    assert_eq!(server.close().code(), Some(0));
+    server.shut_down_cleanly();
 }
 
 #[test]
@@ -756,11 +771,7 @@ fn the_language_server_refuses_a_masterdata_fifo_from_gloc_toml() {
     let script = dir.join("fig2.gloc");
     std::fs::copy(examples().join("fig2.gloc"), &script).expect("copy");
     let uri = format!("file://{}", script.display());
-    let mut server = Server::start("lsp");
-    server.send(&json!({ "jsonrpc": "2.0", "id": 1, "method": "initialize",
-        "params": { "processId": null, "rootUri": null, "capabilities": {} } }));
-    server.wait_for("the initialize response", |m| m["id"] == 1);
-    server.send(&json!({ "jsonrpc": "2.0", "method": "initialized", "params": {} }));
+    let mut server = Server::lsp();
     let text = std::fs::read_to_string(&script).expect("read");
     server.send(
         &json!({ "jsonrpc": "2.0", "method": "textDocument/didOpen", "params": {
@@ -773,10 +784,7 @@ fn the_language_server_refuses_a_masterdata_fifo_from_gloc_toml() {
         published.to_string().contains("not a regular file"),
         "{published}"
     );
-    server.send(&json!({ "jsonrpc": "2.0", "id": 2, "method": "shutdown" }));
-    server.wait_for("the shutdown response", |m| m["id"] == 2);
-    server.send(&json!({ "jsonrpc": "2.0", "method": "exit" }));
-    assert_eq!(server.close().code(), Some(0));
+    server.shut_down_cleanly();
     std::fs::remove_dir_all(dir).ok();
 }
 
@@ -1595,12 +1603,8 @@ fn the_language_server_opens_6000_documents_within_seconds() {
     let dir = scratch("lsp-opens");
     std::fs::write(dir.join("gloc.toml"), "cycle_budget = 500\n").expect("write");
     let text = std::fs::read_to_string(examples().join("fig2.gloc")).expect("fig2");
-    let mut server = Server::start("lsp");
     let started = Instant::now();
-    server.send(&json!({ "jsonrpc": "2.0", "id": 1, "method": "initialize",
-        "params": { "processId": null, "rootUri": null, "capabilities": {} } }));
-    server.wait_for("the initialize response", |m| m["id"] == 1);
-    server.send(&json!({ "jsonrpc": "2.0", "method": "initialized", "params": {} }));
+    let mut server = Server::lsp();
     let count = 6000;
     for index in 0..count {
         let uri = format!("file://{}/s{index}.gloc", dir.display());
@@ -1688,11 +1692,7 @@ fn the_language_server_applies_the_clis_16_mb_cap_to_every_feature() {
     let dir = scratch("lsp-cap");
     let uri = format!("file://{}/big.gbas", dir.display());
     let text = format!("x = {}1\n", "1+".repeat((16 << 20) / 2 + 1000));
-    let mut server = Server::start("lsp");
-    server.send(&json!({ "jsonrpc": "2.0", "id": 1, "method": "initialize",
-        "params": { "processId": null, "rootUri": null, "capabilities": {} } }));
-    server.wait_for("the initialize response", |m| m["id"] == 1);
-    server.send(&json!({ "jsonrpc": "2.0", "method": "initialized", "params": {} }));
+    let mut server = Server::lsp();
     server.send(
         &json!({ "jsonrpc": "2.0", "method": "textDocument/didOpen", "params": {
         "textDocument": { "uri": uri, "languageId": "gbasic", "version": 1, "text": text } } }),
@@ -1712,10 +1712,7 @@ fn the_language_server_applies_the_clis_16_mb_cap_to_every_feature() {
     assert!(peak_mb < 200, "peak {peak_mb} MB");
     let count = tokens["result"]["data"].as_array().map_or(0, Vec::len);
     assert_eq!(count, 0, "no tokens over the cap");
-    server.send(&json!({ "jsonrpc": "2.0", "id": 3, "method": "shutdown" }));
-    server.wait_for("the shutdown response", |m| m["id"] == 3);
-    server.send(&json!({ "jsonrpc": "2.0", "method": "exit" }));
-    assert_eq!(server.close().code(), Some(0));
+    server.shut_down_cleanly();
     std::fs::remove_dir_all(dir).ok();
 }
 

@@ -82,10 +82,6 @@ fn corpus() -> Vec<Case> {
             .expect("examples/fig2.gloc")
             .into_boxed_str(),
     );
-    let edge = repo()
-        .join("tests/fixtures/sensors/edge.masterdata")
-        .canonicalize()
-        .expect("edge.masterdata");
     let mut cases = Vec::new();
     for (script, text, over_5_and_10) in [
         ("fig2.gloc", fig2, &[("W2302", 1u32)] as &[(&str, u32)]),
@@ -189,9 +185,10 @@ fn corpus() -> Vec<Case> {
             },
             script: "store0.gloc",
             text: STORE0_GLOC,
+            // gloc.toml names files inside its folder only (issue 28): `folder_for`
+            // copies the list in.
             toml: Some(format!(
-                "masterdata = {:?}\nsensor_order = \"{order}\"\n",
-                edge.display().to_string()
+                "masterdata = \"edge.masterdata\"\nsensor_order = \"{order}\"\n"
             )),
             overriding: Override::None,
             expect: Expect::Codes(expect),
@@ -245,6 +242,11 @@ fn folder_for(case: &Case, index: usize) -> PathBuf {
     if let Some(toml) = &case.toml {
         std::fs::write(folder.join("gloc.toml"), toml).expect("gloc.toml");
     }
+    std::fs::copy(
+        repo().join("tests/fixtures/sensors/edge.masterdata"),
+        folder.join("edge.masterdata"),
+    )
+    .expect("edge.masterdata");
     folder
 }
 

@@ -184,6 +184,8 @@ fn corpus() -> Vec<Case> {
             },
             script: "store0.gloc",
             text: STORE0_GLOC,
+            // gloc.toml names files inside its folder only (issue 28): `folder_for`
+            // copies the list in.
             toml: Some(format!(
                 "masterdata = \"edge.masterdata\"\nsensor_order = \"{order}\"\n"
             )),
@@ -246,6 +248,11 @@ fn folder_for(case: &Case, index: usize) -> PathBuf {
     if let Some(toml) = &case.toml {
         std::fs::write(folder.join("gloc.toml"), toml).expect("gloc.toml");
     }
+    std::fs::copy(
+        repo().join("tests/fixtures/sensors/edge.masterdata"),
+        folder.join("edge.masterdata"),
+    )
+    .expect("edge.masterdata");
     folder
 }
 

@@ -62,7 +62,15 @@ fn finish(child: Child) -> Output {
     finish_within(child, DEADLINE)
 }
 
-fn finish_within(mut child: Child, limit: Duration) -> Output {
+fn finish_within(child: Child, limit: Duration) -> Output {
+    finish_watched(child, limit).0
+}
+
+/// Waits for `child` within `limit` (killed and the test failed past it), reading its
+/// output on threads, and returns it with the child's peak resident memory in MB: its
+/// `VmHWM` (its own address space's high-water mark, read from `/proc` every 2 ms while
+/// it runs; `ru_maxrss` would count this test process too, which it was forked from).
+fn finish_watched(mut child: Child, limit: Duration) -> (Output, u64) {
     let mut stdout = child.stdout.take().expect("piped");
     let mut stderr = child.stderr.take().expect("piped");
     let out = thread::spawn(move || {
@@ -76,7 +84,9 @@ fn finish_within(mut child: Child, limit: Duration) -> Output {
         bytes
     });
     let deadline = Instant::now() + limit;
+    let mut peak_mb = 0u64;
     let status = loop {
+        peak_mb = peak_mb.max(peak_mb_so_far(&child));
         if let Some(status) = child.try_wait().expect("wait") {
             break status;
         }
@@ -85,13 +95,14 @@ fn finish_within(mut child: Child, limit: Duration) -> Output {
             let _ = child.wait();
             panic!("gloc did not finish within {limit:?}");
         }
-        thread::sleep(Duration::from_millis(10));
+        thread::sleep(Duration::from_millis(2));
     };
-    Output {
+    let output = Output {
         status,
         stdout: out.join().expect("stdout reader"),
         stderr: err.join().expect("stderr reader"),
-    }
+    };
+    (output, peak_mb)
 }
 
 fn text(output: &Output) -> String {
@@ -165,6 +176,31 @@ fn a_million_term_expression_is_one_diagnostic_in_check_compile_and_run() {
     std::fs::remove_dir_all(dir).ok();
 }
 
+/// `gloc dap` initialized and asked to launch with `arguments`: the server and the
+/// launch response.
+fn dap_launch(arguments: Value) -> (Server, Value) {
+    let mut server = Server::start("dap");
+    server.send(
+        &json!({ "seq": 1, "type": "request", "command": "initialize",
+        "arguments": { "adapterID": "gloc" } }),
+    );
+    server.wait_for("the initialize response", |m| m["request_seq"] == 1);
+    server.send(&json!({ "seq": 2, "type": "request", "command": "launch",
+        "arguments": arguments }));
+    let response = server.wait_for("the launch response", |m| m["request_seq"] == 2);
+    (server, response)
+}
+
+/// A debugger launch with `arguments` is an error response saying `expected`, and the
+/// adapter then ends by itself (not by a signal).
+fn assert_launch_refused(arguments: Value, expected: &str) {
+    let (server, response) = dap_launch(arguments);
+    assert_eq!(response["success"], false, "{response}");
+    let shown: String = response.to_string().chars().take(2000).collect();
+    assert!(shown.contains(expected), "no `{expected}` in {shown}");
+    assert!(server.close().code().is_some(), "ended by a signal");
+}
+
 /// A stdio server with its messages read on a thread.
 struct Server {
     child: Child,
@@ -206,6 +242,24 @@ impl Server {
             }
         });
         Server { child, messages }
+    }
+
+    /// `gloc lsp`, initialized.
+    fn lsp() -> Server {
+        let mut server = Server::start("lsp");
+        server.send(&json!({ "jsonrpc": "2.0", "id": 1, "method": "initialize",
+            "params": { "processId": null, "rootUri": null, "capabilities": {} } }));
+        server.wait_for("the initialize response", |m| m["id"] == 1);
+        server.send(&json!({ "jsonrpc": "2.0", "method": "initialized", "params": {} }));
+        server
+    }
+
+    /// `shutdown` answered, then `exit`: the server ends with code 0.
+    fn shut_down_cleanly(mut self) {
+        self.send(&json!({ "jsonrpc": "2.0", "id": "shutdown", "method": "shutdown" }));
+        self.wait_for("the shutdown response", |m| m["id"] == "shutdown");
+        self.send(&json!({ "jsonrpc": "2.0", "method": "exit" }));
+        assert_eq!(self.close().code(), Some(0));
     }
 
     fn send(&mut self, message: &Value) {
@@ -280,10 +334,7 @@ fn the_language_server_reports_a_million_term_expression_and_lives_on() {
         "{published}"
     );
     // Still alive: shutdown is answered and exit is clean.
-    server.send(&json!({ "jsonrpc": "2.0", "id": 2, "method": "shutdown" }));
-    server.wait_for("the shutdown response", |m| m["id"] == 2);
-    server.send(&json!({ "jsonrpc": "2.0", "method": "exit" }));
-    assert_eq!(server.close().code(), Some(0));
+    server.shut_down_cleanly();
 }
 
 #[test]
@@ -291,21 +342,7 @@ fn a_debugger_launch_of_a_million_term_expression_is_an_error_response() {
     let dir = scratch("dap-deep");
     let path = dir.join("deep.gbas");
     std::fs::write(&path, deep_sources().swap_remove(1).1).expect("write");
-    let mut server = Server::start("dap");
-    server.send(
-        &json!({ "seq": 1, "type": "request", "command": "initialize",
-        "arguments": { "adapterID": "gloc" } }),
-    );
-    server.wait_for("the initialize response", |m| m["request_seq"] == 1);
-    server.send(&json!({ "seq": 2, "type": "request", "command": "launch",
-        "arguments": { "program": path } }));
-    let response = server.wait_for("the launch response", |m| m["request_seq"] == 2);
-    assert_eq!(response["success"], false, "{response}");
-    assert!(
-        response.to_string().contains("256 operators deep"),
-        "{response}"
-    );
-    assert!(server.close().code().is_some(), "ended by a signal");
+    assert_launch_refused(json!({ "program": path }), "256 operators deep");
     std::fs::remove_dir_all(dir).ok();
 }
 
@@ -734,11 +771,7 @@ fn the_language_server_refuses_a_masterdata_fifo_from_gloc_toml() {
     let script = dir.join("fig2.gloc");
     std::fs::copy(examples().join("fig2.gloc"), &script).expect("copy");
     let uri = format!("file://{}", script.display());
-    let mut server = Server::start("lsp");
-    server.send(&json!({ "jsonrpc": "2.0", "id": 1, "method": "initialize",
-        "params": { "processId": null, "rootUri": null, "capabilities": {} } }));
-    server.wait_for("the initialize response", |m| m["id"] == 1);
-    server.send(&json!({ "jsonrpc": "2.0", "method": "initialized", "params": {} }));
+    let mut server = Server::lsp();
     let text = std::fs::read_to_string(&script).expect("read");
     server.send(
         &json!({ "jsonrpc": "2.0", "method": "textDocument/didOpen", "params": {
@@ -751,10 +784,7 @@ fn the_language_server_refuses_a_masterdata_fifo_from_gloc_toml() {
         published.to_string().contains("not a regular file"),
         "{published}"
     );
-    server.send(&json!({ "jsonrpc": "2.0", "id": 2, "method": "shutdown" }));
-    server.wait_for("the shutdown response", |m| m["id"] == 2);
-    server.send(&json!({ "jsonrpc": "2.0", "method": "exit" }));
-    assert_eq!(server.close().code(), Some(0));
+    server.shut_down_cleanly();
     std::fs::remove_dir_all(dir).ok();
 }
 
@@ -1003,55 +1033,15 @@ fn merging_logs_of_100000_sensors_each_is_answered_within_seconds() {
 }
 
 /// Runs `command` within [`ANSWER`] and returns its output and peak resident memory
-/// in MB: the child's `VmHWM` (its own address space's high-water mark, read from
-/// `/proc` every 2 ms while it runs; `ru_maxrss` would count this test process too,
-/// which the child was forked from).
+/// in MB ([`finish_watched`]).
 fn run_measured(command: &mut Command) -> (Output, u64) {
-    let mut child = command
+    let child = command
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
         .expect("gloc starts");
-    let status_file = format!("/proc/{}/status", child.id());
-    let mut stdout = child.stdout.take().expect("piped");
-    let mut stderr = child.stderr.take().expect("piped");
-    let out = thread::spawn(move || {
-        let mut bytes = Vec::new();
-        let _ = stdout.read_to_end(&mut bytes);
-        bytes
-    });
-    let err = thread::spawn(move || {
-        let mut bytes = Vec::new();
-        let _ = stderr.read_to_end(&mut bytes);
-        bytes
-    });
-    let deadline = Instant::now() + ANSWER;
-    let mut peak_kb = 0u64;
-    let status = loop {
-        let high_water = std::fs::read_to_string(&status_file)
-            .ok()
-            .and_then(|status| {
-                let line = status.lines().find(|line| line.starts_with("VmHWM:"))?;
-                line.split_whitespace().nth(1)?.parse::<u64>().ok()
-            });
-        peak_kb = peak_kb.max(high_water.unwrap_or(0));
-        if let Some(status) = child.try_wait().expect("wait") {
-            break status;
-        }
-        if Instant::now() > deadline {
-            let _ = child.kill();
-            let _ = child.wait();
-            panic!("gloc did not finish within {ANSWER:?}");
-        }
-        thread::sleep(Duration::from_millis(2));
-    };
-    let output = Output {
-        status,
-        stdout: out.join().expect("stdout reader"),
-        stderr: err.join().expect("stderr reader"),
-    };
-    (output, peak_kb / 1024)
+    finish_watched(child, ANSWER)
 }
 
 /// An LZ4 block of literals only (the block format: `engine/src/lz4.rs`).
@@ -1232,22 +1222,11 @@ fn a_cycle_time_of_1e29_is_refused_at_its_line_by_run_batch_and_the_debugger() {
         assert_eq!(output.status.code(), Some(1), "{}", text(&output));
     }
     let started = Instant::now();
-    let mut server = Server::start("dap");
-    server.send(
-        &json!({ "seq": 1, "type": "request", "command": "initialize",
-        "arguments": { "adapterID": "gloc" } }),
-    );
-    server.wait_for("the initialize response", |m| m["request_seq"] == 1);
-    server.send(&json!({ "seq": 2, "type": "request", "command": "launch",
-        "arguments": { "program": script, "mission": mission } }));
-    let response = server.wait_for("the launch response", |m| m["request_seq"] == 2);
-    assert_eq!(response["success"], false, "{response}");
-    assert!(
-        response.to_string().contains("is out of range"),
-        "{response}"
+    assert_launch_refused(
+        json!({ "program": script, "mission": mission }),
+        "is out of range",
     );
     assert!(started.elapsed() < ANSWER, "{:?}", started.elapsed());
-    assert!(server.close().code().is_some(), "ended by a signal");
     std::fs::remove_dir_all(dir).ok();
 }
 
@@ -1624,12 +1603,8 @@ fn the_language_server_opens_6000_documents_within_seconds() {
     let dir = scratch("lsp-opens");
     std::fs::write(dir.join("gloc.toml"), "cycle_budget = 500\n").expect("write");
     let text = std::fs::read_to_string(examples().join("fig2.gloc")).expect("fig2");
-    let mut server = Server::start("lsp");
     let started = Instant::now();
-    server.send(&json!({ "jsonrpc": "2.0", "id": 1, "method": "initialize",
-        "params": { "processId": null, "rootUri": null, "capabilities": {} } }));
-    server.wait_for("the initialize response", |m| m["id"] == 1);
-    server.send(&json!({ "jsonrpc": "2.0", "method": "initialized", "params": {} }));
+    let mut server = Server::lsp();
     let count = 6000;
     for index in 0..count {
         let uri = format!("file://{}/s{index}.gloc", dir.display());
@@ -1695,5 +1670,100 @@ fn a_batch_sweep_too_wide_is_refused_before_its_profiles_are_read() {
     assert!(peak_mb < 40, "peak {peak_mb} MB");
     assert_refused(&output, "the sweep has more than 100000 missions");
     assert_eq!(output.status.code(), Some(2), "{}", text(&output));
+    std::fs::remove_dir_all(dir).ok();
+}
+
+/// The peak resident memory (MB) of a running child so far: its `VmHWM`.
+fn peak_mb_so_far(child: &Child) -> u64 {
+    std::fs::read_to_string(format!("/proc/{}/status", child.id()))
+        .ok()
+        .and_then(|status| {
+            let line = status.lines().find(|line| line.starts_with("VmHWM:"))?;
+            line.split_whitespace().nth(1)?.parse::<u64>().ok()
+        })
+        .unwrap_or(0)
+        / 1024
+}
+
+#[test]
+fn the_language_server_applies_the_clis_16_mb_cap_to_every_feature() {
+    // A 16.8 MB one-line document was refused by the parser but still lexed for
+    // semantic tokens: 3.6 GB. Here 8.4 million `1+` tokens.
+    let dir = scratch("lsp-cap");
+    let uri = format!("file://{}/big.gbas", dir.display());
+    let text = format!("x = {}1\n", "1+".repeat((16 << 20) / 2 + 1000));
+    let mut server = Server::lsp();
+    server.send(
+        &json!({ "jsonrpc": "2.0", "method": "textDocument/didOpen", "params": {
+        "textDocument": { "uri": uri, "languageId": "gbasic", "version": 1, "text": text } } }),
+    );
+    drop(text);
+    let published = server.wait_for("the diagnostics", |m| {
+        m["method"] == "textDocument/publishDiagnostics" && m["params"]["uri"] == uri
+    });
+    assert!(published.to_string().contains("E0013"), "{published}");
+    server.send(
+        &json!({ "jsonrpc": "2.0", "id": 2, "method": "textDocument/semanticTokens/full",
+        "params": { "textDocument": { "uri": uri } } }),
+    );
+    let tokens = server.wait_for("the tokens", |m| m["id"] == 2);
+    let peak_mb = peak_mb_so_far(&server.child);
+    // The text arrives as JSON and is held as a rope: a few copies of 17 MB.
+    assert!(peak_mb < 200, "peak {peak_mb} MB");
+    let count = tokens["result"]["data"].as_array().map_or(0, Vec::len);
+    assert_eq!(count, 0, "no tokens over the cap");
+    server.shut_down_cleanly();
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn the_debugger_bounds_its_recording_and_its_history() {
+    // `replay` held the whole recording (a 264 KB .dcd: 1.26 GB), and `"history":
+    // 1000000000` kept snapshots without end (400 MB by cycle 450,000). Here a 52 KB
+    // .dcd of 6.3 million cycles: about 250 MB held; refused after 2 million.
+    let dir = scratch("dap-bounds");
+    let log = dir.join("long.dcd");
+    std::fs::write(&log, long_compressed_log(192)).expect("write");
+    let script = fig2_script(&dir);
+    let (server, response) = dap_launch(json!({ "program": script, "replay": log }));
+    let peak_mb = peak_mb_so_far(&server.child);
+    assert!(peak_mb < 150, "peak {peak_mb} MB");
+    assert_eq!(response["success"], false, "the recording is refused");
+    assert!(
+        response
+            .to_string()
+            .contains("longer than the debugger holds"),
+        "{}",
+        response.to_string().chars().take(500).collect::<String>()
+    );
+    assert!(server.close().code().is_some(), "ended by a signal");
+
+    assert_launch_refused(
+        json!({ "program": script, "history": 1_000_000_000u64 }),
+        "from 1 to 4096",
+    );
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn calibrate_holds_a_bounded_track() {
+    // Every timed cycle was held (96 bytes each): a 66 MB log of cycles carrying only
+    // a new time took 624 MB to 1 GB. Here 4 million cycles in 40 MB: 384 MB held;
+    // refused after 2 million.
+    let dir = scratch("calibrate-track");
+    let mut bytes = depth_time_log(&[(10.0, 1.5e9)]);
+    bytes.reserve(4_000_000 * 10);
+    for index in 1..4_000_000u64 {
+        // The time new, the depth the same (state bits 01 10).
+        bytes.extend_from_slice(&[b'd', 0x60]);
+        bytes.extend_from_slice(&(1.5e9 + 4.0 * index as f64).to_le_bytes());
+    }
+    bytes.push(b'X');
+    let log = dir.join("long.dbd");
+    std::fs::write(&log, bytes).expect("write");
+    let (output, peak_mb) = run_measured(gloc().arg("calibrate").arg(&log));
+    assert!(peak_mb < 300, "peak {peak_mb} MB");
+    assert_refused(&output, "more than 2000000 timed cycles");
+    assert_eq!(output.status.code(), Some(1), "{}", text(&output));
     std::fs::remove_dir_all(dir).ok();
 }

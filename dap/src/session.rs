@@ -37,6 +37,10 @@ pub(crate) const ARRAYS: i64 = 1000;
 /// plus one step.
 const SLICE_STEPS: u64 = 50_000;
 const SLICE_TIME: Duration = Duration::from_millis(50);
+/// The most snapshots the `history` launch attribute may ask for. A snapshot is the
+/// whole simulation (about 14 KB with Fig. 2's mission), so 4,096 are about 60 MB;
+/// `"history": 1000000000` grew by 400 MB in 450,000 cycles and without end.
+const MAX_HISTORY_SNAPSHOTS: u64 = 4096;
 
 /// The launch attributes the adapter accepts (`editors/vscode/package.json` declares
 /// the same names; a test keeps them in step).
@@ -427,14 +431,14 @@ impl Session {
             Some(Value::Bool(false)) => None,
             Some(Value::Number(number)) => match number.as_u64() {
                 Some(0) => None,
-                Some(count) => Some(HistoryConfig {
+                Some(count) if count <= MAX_HISTORY_SNAPSHOTS => Some(HistoryConfig {
                     max_snapshots: usize::try_from(count).unwrap_or(usize::MAX).max(2),
                     ..HistoryConfig::default()
                 }),
-                None => {
-                    return Err(
-                        "`history` must be true, false or a positive number of snapshots".into(),
-                    )
+                _ => {
+                    return Err(format!(
+                        "`history` must be true, false or a number of snapshots from 1 to {MAX_HISTORY_SNAPSHOTS}, not {number}"
+                    ))
                 }
             },
             Some(_) => {

@@ -28,6 +28,15 @@ pub fn analyze_at(
     path: Option<&Path>,
     context: &Context,
 ) -> Analysis {
+    // The CLI's cap, for every language and every editor feature (tokens, symbols,
+    // folding): a document over it is one E0013 error and nothing else (semantic
+    // tokens of a 16.8 MB one-line document took 3.6 GB).
+    if let Some(too_large) = gloc_engine::gloc::source_too_large(text) {
+        return Analysis {
+            diagnostics: vec![too_large],
+            ..Analysis::default()
+        };
+    }
     let outcome = catch_unwind(AssertUnwindSafe(|| match language {
         Language::Gloc => gloc_lang::analyze(text, context),
         Language::Gbasic => gbasic_lang::analyze(text, context),

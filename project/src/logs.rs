@@ -2,9 +2,10 @@
 //! (`gloc-dbd`) meet the simulator's [`Track`] here, so neither crate depends on the other.
 
 use gloc_dbd::{CycleSource, DbdError};
-use gloc_sim::calibrate::{Track, TRACK_SENSORS};
+use gloc_sim::calibrate::{Track, MAX_TRACK_ROWS, TRACK_SENSORS};
 
-/// Reads a log (a `.dbd`, a merge, a deployment) to its end into a [`Track`].
+/// Reads a log (a `.dbd`, a merge, a deployment) to its end into a [`Track`], at most
+/// [`MAX_TRACK_ROWS`] timed cycles (refused at the byte where the limit is passed).
 pub fn read_track(source: &mut dyn CycleSource) -> Result<Track, DbdError> {
     let columns: Vec<Option<usize>> = TRACK_SENSORS
         .iter()
@@ -18,6 +19,19 @@ pub fn read_track(source: &mut dyn CycleSource) -> Result<Track, DbdError> {
     let mut track = Track::default();
     while let Some(cycle) = source.next_cycle()? {
         track.push(|field| columns[field].and_then(|column| cycle.value(column)));
+        if track.rows.len() > MAX_TRACK_ROWS {
+            let at = gloc_dbd::Location {
+                offset: cycle.offset,
+                block: None,
+            };
+            return Err(DbdError::new(
+                source.file(),
+                at,
+                format!(
+                    "more than {MAX_TRACK_ROWS} timed cycles: calibrate from fewer logs (a few days of yos are plenty)"
+                ),
+            ));
+        }
     }
     Ok(track)
 }

@@ -230,6 +230,12 @@ impl ColumnMap {
     }
 }
 
+/// The most cycles a [`Recording`] holds (three months of 4 s cycles; a month is 650,000), and the
+/// most values (16 bytes each: 256 MB). A 264 KB compressed log of identical cycles
+/// decompresses to tens of millions of them (1.26 GB held).
+pub const MAX_RECORDED_CYCLES: usize = 2_000_000;
+pub const MAX_RECORDED_VALUES: usize = 16_000_000;
+
 /// A whole recording in memory, as sensor updates per cycle in the active list's
 /// indices (for the debugger, which steps back and forth).
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -263,6 +269,15 @@ impl Recording {
                 .extend(updates.iter().filter_map(|&(column, value)| {
                     map.ids.get(column).copied().flatten().map(|id| (id, value))
                 }));
+            if recording.starts.len() > MAX_RECORDED_CYCLES
+                || recording.updates.len() > MAX_RECORDED_VALUES
+            {
+                return Err(ReplayError::content(format!(
+                    "{}: the recording is longer than the debugger holds ({MAX_RECORDED_CYCLES} cycles or {MAX_RECORDED_VALUES} values; cycle {} is past it): the debugger keeps a whole recording to step back; replay it with `gloc run --replay`, or give fewer files",
+                    recording.source,
+                    recording.starts.len()
+                )));
+            }
         }
         recording.warnings.extend(input.take_warnings());
         Ok(recording)

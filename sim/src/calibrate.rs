@@ -87,6 +87,10 @@ const EMPTY: Row = Row {
     altitude_fix: false,
 };
 
+/// The most timed cycles a [`Track`] holds: three months of 4 s cycles, about 200 MB
+/// (a 66 MB log of cycles carrying only a new time held 6 million, about 1 GB).
+pub const MAX_TRACK_ROWS: usize = 2_000_000;
+
 /// A log's rows, one per cycle with a time.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Track {

@@ -410,11 +410,11 @@ impl<T: Target> Debugger<T> {
         while steps < slice.steps {
             // The clock is read every 16 steps: a step is fast unless a condition or a
             // watch is slow, and reading it costs about as much as a fused step.
-            iterations = iterations.wrapping_add(1);
-            if iterations.is_multiple_of(16)
-                && slice.until.is_some_and(|until| Instant::now() >= until)
-            {
-                break;
+            if let Some(until) = slice.until {
+                iterations = iterations.wrapping_add(1);
+                if iterations.is_multiple_of(16) && Instant::now() >= until {
+                    break;
+                }
             }
             let before = self.clock;
             let (event, fused_notices) = self.advance(mode);

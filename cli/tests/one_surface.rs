@@ -128,6 +128,23 @@ fn a_budget_in_gloc_toml_is_held_against_the_script_by_check_as_by_run() {
 }
 
 #[test]
+fn a_relative_script_in_a_subfolder_finds_the_gloc_toml_above_it() {
+    // `cd project/sub && gloc check fig2.gloc` with project/gloc.toml: the search for
+    // gloc.toml started at `` (the relative path's parent) and never went above `sub`.
+    let here = folder("relative-subfolder");
+    let sub = here.join("sub");
+    std::fs::create_dir_all(&sub).expect("mkdir");
+    std::fs::write(here.join("gloc.toml"), "cycle_budget = 10\n").expect("write");
+    std::fs::copy(repo("examples/fig2.gloc"), sub.join("fig2.gloc")).expect("copy");
+    let printed = all(&gloc_in(&sub, &["check", "fig2.gloc"]));
+    assert!(
+        printed.contains("fig2.gloc:1:1: warning[W2302]: a control cycle may execute 16 instructions, more than the budget of 10"),
+        "{printed}"
+    );
+    let _ = std::fs::remove_dir_all(&here);
+}
+
+#[test]
 fn check_applies_each_files_own_gloc_toml() {
     // b/ has no gloc.toml (the default budget, 10,000), a/ a budget of 10: named b first,
     // check applied b's settings to a's file too (one resolve for all files).

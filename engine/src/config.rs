@@ -460,15 +460,31 @@ impl Config {
     /// The nearest `gloc.toml` in `start` (a file's folder, or the file itself)
     /// or any folder above it.
     pub fn find(start: &Path) -> Option<PathBuf> {
-        let first = if start.is_dir() {
-            Some(start)
-        } else {
-            start.parent()
+        // A relative path is searched from its absolute form (`x.gloc`'s parent is ``,
+        // whose ancestors end at the current folder), and a file found below the
+        // current folder is named relative to it, as the user wrote the path.
+        let here = std::env::current_dir().ok();
+        let absolute = match &here {
+            Some(here) if start.is_relative() => here.join(start),
+            _ => start.to_path_buf(),
         };
-        first?
+        let first = if absolute.is_dir() {
+            Some(absolute.as_path())
+        } else {
+            absolute.parent()
+        };
+        let found = first?
             .ancestors()
             .map(|folder| folder.join(FILE_NAME))
-            .find(|candidate| candidate.is_file())
+            .find(|candidate| candidate.is_file())?;
+        match &here {
+            Some(here) if start.is_relative() => Some(
+                found
+                    .strip_prefix(here)
+                    .map_or_else(|_| found.clone(), Path::to_path_buf),
+            ),
+            _ => Some(found),
+        }
     }
 
     /// Parses the text of a `gloc.toml` that lives in `folder`. Errors carry a

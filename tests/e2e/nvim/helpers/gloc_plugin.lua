@@ -9,7 +9,7 @@ H.repo = vim.fn.fnamemodify(debug.getinfo(1, "S").source:sub(2), ":p:h:h:h:h:h")
 -- of mfussenegger/nvim-dap); by default the vendored copy in ../shared/vendor/nvim-dap.
 H.nvim_dap = vim.fn.fnamemodify(os.getenv("GLOC_NVIM_DAP") or (H.repo .. "/../shared/vendor/nvim-dap"), ":p")
 H.nvim_dap_missing = "nvim-dap is not at " .. H.nvim_dap
-  .. ": set GLOC_NVIM_DAP to a clone of https://github.com/mfussenegger/nvim-dap (tests/e2e/README.md)"
+  .. ": set GLOC_NVIM_DAP to a checkout of nvim-dap (mfussenegger/nvim-dap; see README.md, The two commands)"
 H.gloc_bin = vim.fn.fnamemodify(os.getenv("GLOC_BIN") or (H.repo .. "/target/debug/gloc"), ":p")
 H.failures = 0
 H.passes = 0

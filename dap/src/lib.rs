@@ -27,6 +27,7 @@ mod handlers;
 pub mod program;
 pub mod protocol;
 pub mod replay_world;
+pub mod script;
 pub mod session;
 pub mod target;
 pub mod types;

@@ -15,12 +15,12 @@ use gloc_replay::{Input, Recording};
 
 use crate::expr::Number;
 use crate::program::SourceLines;
-use crate::target::{Named, Notice, Phase, StepEvent, Target};
-use crate::world::{
+use crate::script::{
     element_of, float_text, registers_of, set_element_in, set_pc_in, set_register_in,
     set_variable_in, trap_event, trap_words, variable_of, variables_of, DebugScript, LaunchConfig,
     VariableSlot,
 };
+use crate::target::{Named, Notice, Phase, StepEvent, Target};
 
 /// What never changes during a replay; shared by every snapshot.
 #[derive(Debug)]

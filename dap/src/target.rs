@@ -5,7 +5,7 @@
 //! that it never depends on how the simulator phases a cycle; `world` implements it over
 //! the GLOC engine and the simulator.
 
-use crate::expr::Number;
+use gloc_engine::program::Value as Number;
 
 /// Where a run is inside a control cycle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -9,7 +9,7 @@ use crate::debugger::{Debugger, ExceptionConditions, ExceptionFilters};
 use crate::edits;
 use crate::expr::{type_name, Watched};
 use crate::format::ValueFormat;
-use crate::session::{address, ARRAYS};
+use crate::references::{address, ARRAYS};
 use crate::target::Target;
 use crate::types::*;
 use crate::world::World;

@@ -26,6 +26,7 @@ pub mod format;
 mod handlers;
 pub mod program;
 pub mod protocol;
+mod references;
 pub mod replay_world;
 pub mod script;
 pub mod session;

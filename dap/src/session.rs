@@ -23,15 +23,11 @@ use crate::target::Target;
 use crate::types::*;
 use crate::world::{self, LaunchConfig, World};
 
-pub const THREAD_ID: i64 = 1;
-pub(crate) const FRAME_ID: i64 = 1;
-pub(crate) const SCOPE_VARIABLES: i64 = 1;
-pub(crate) const SCOPE_REGISTERS: i64 = 2;
-pub(crate) const SCOPE_SENSORS: i64 = 3;
-pub(crate) const SCOPE_VEHICLE: i64 = 4;
-pub(crate) const ALL_SENSORS: i64 = 5;
-/// `ARRAYS + i`: the elements of the i-th GBASIC variable (an array).
-pub(crate) const ARRAYS: i64 = 1000;
+pub use crate::references::THREAD_ID;
+pub(crate) use crate::references::{
+    address, parse_address, ALL_SENSORS, ARRAYS, FRAME_ID, SCOPE_REGISTERS, SCOPE_SENSORS,
+    SCOPE_VARIABLES, SCOPE_VEHICLE,
+};
 /// Steps run between two looks at the incoming queue while running, and the longest
 /// time between two looks: a request (`pause`, `disconnect`) waits at most this long
 /// plus one step.
@@ -1102,18 +1098,6 @@ fn unverified(id: i64, line: i64, message: impl Into<String>) -> Breakpoint {
 /// A client's line number, echoed back only when it is a line number at all.
 fn echo_line(line: i64) -> Option<i64> {
     (1..=i64::from(u32::MAX)).contains(&line).then_some(line)
-}
-
-pub(crate) fn address(pc: usize) -> String {
-    format!("0x{pc:x}")
-}
-
-pub(crate) fn parse_address(text: &str) -> Option<i64> {
-    let text = text.trim();
-    match text.strip_prefix("0x").or_else(|| text.strip_prefix("0X")) {
-        Some(hex) => i64::from_str_radix(hex, 16).ok(),
-        None => text.parse().ok(),
-    }
 }
 
 pub(crate) fn source_of(debugger: &Debugger<World>) -> Source {

@@ -29,13 +29,11 @@ pub const LONG_FUNCTIONS: &[(&str, &str, usize)] = &[
 
 /// Import circles between the modules of a crate when the check came in (each listed by
 /// its modules in name order): they may be broken, no new one may appear.
-pub const KNOWN_CIRCLES: &[&[&str]] = &[
-    &[
-        "dap/src/features.rs",
-        "dap/src/handlers.rs",
-        "dap/src/session.rs",
-    ],
-];
+pub const KNOWN_CIRCLES: &[&[&str]] = &[&[
+    "dap/src/features.rs",
+    "dap/src/handlers.rs",
+    "dap/src/session.rs",
+]];
 
 /// The workspace's root (this crate sits in it).
 pub fn workspace_root() -> PathBuf {

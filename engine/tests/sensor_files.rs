@@ -321,3 +321,12 @@ behavior: yo\n\
     // A named list the file does not give: nothing to check against.
     assert_eq!(args[2].choices, None);
 }
+
+#[test]
+fn a_masterdata_line_without_a_colon_that_starts_with_a_wide_character_is_a_warning() {
+    // Found by the fuzzer: the keyword split sliced at byte 1 of `é`.
+    let (list, diagnostics) = parse_masterdata("éa b\nsensor: m_x(m) 1\n", SensorOrder::FileOrder);
+    assert_eq!(list.len(), 1);
+    assert_eq!(diagnostics.len(), 1, "{diagnostics:?}");
+    assert_eq!(diagnostics[0].span.start, 0);
+}

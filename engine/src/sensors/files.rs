@@ -204,11 +204,12 @@ pub fn parse_masterdata(text: &str, order: SensorOrder) -> (SensorList, Vec<Diag
             reader.comment_line(comment);
             continue;
         }
-        let keyword_end = trimmed.find(':').unwrap_or(0);
-        let body = &trimmed[keyword_end + 1..];
-        let body_start = at.base + at.indent + keyword_end + 1;
+        // `keyword: body`; a line without a colon has no keyword (and its first byte may
+        // be inside a character, so nothing is sliced at a guessed offset).
+        let (keyword, body) = trimmed.split_once(':').unwrap_or(("", ""));
+        let body_start = at.base + at.indent + keyword.len() + 1;
         reader.continues = None;
-        match &trimmed[..keyword_end] {
+        match keyword {
             "sensor" => {
                 if !reader.sensor_line(&at, body, body_start) {
                     break;

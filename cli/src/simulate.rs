@@ -776,30 +776,7 @@ fn summary(facts: &SummaryFacts<'_>) {
             sim.water_depth()
         ),
     ];
-    let ended = match sim.end() {
-        Some(end) => {
-            let how = match end.reason {
-                EndReason::Completed => "completed".to_string(),
-                EndReason::Aborted(reason) => format!("ABORTED ({})", reason.glider_name()),
-                EndReason::BatteryExhausted => format!(
-                    "BATTERY EXHAUSTED ({:.0} Wh used of {:.0} Wh)",
-                    sim.energy_joules() / 3600.0,
-                    sim.battery_joules() / 3600.0
-                ),
-            };
-            format!(
-                "{how} at cycle {} ({}) at {:.1} m",
-                end.cycle,
-                human_time(end.time),
-                end.depth
-            )
-        }
-        None if facts.limit_given => "still running at the end of the requested time".to_string(),
-        None => format!(
-            "still running after {} (the default limit; use --duration or --cycles)",
-            human_time(DEFAULT_LIMIT_SECONDS)
-        ),
-    };
+    let ended = mission_end_text(facts);
     let ended = match facts.stopped {
         Some(stopped) if sim.end().is_none() => stopped.to_string(),
         _ => ended,
@@ -883,6 +860,35 @@ fn summary(facts: &SummaryFacts<'_>) {
     }
     for line in lines {
         let _ = writeln!(err, "{line}");
+    }
+}
+
+/// How the mission ended, as the summary's `mission end` line says it.
+fn mission_end_text(facts: &SummaryFacts<'_>) -> String {
+    let sim = facts.sim;
+    match facts.sim.end() {
+        Some(end) => {
+            let how = match end.reason {
+                EndReason::Completed => "completed".to_string(),
+                EndReason::Aborted(reason) => format!("ABORTED ({})", reason.glider_name()),
+                EndReason::BatteryExhausted => format!(
+                    "BATTERY EXHAUSTED ({:.0} Wh used of {:.0} Wh)",
+                    sim.energy_joules() / 3600.0,
+                    sim.battery_joules() / 3600.0
+                ),
+            };
+            format!(
+                "{how} at cycle {} ({}) at {:.1} m",
+                end.cycle,
+                human_time(end.time),
+                end.depth
+            )
+        }
+        None if facts.limit_given => "still running at the end of the requested time".to_string(),
+        None => format!(
+            "still running after {} (the default limit; use --duration or --cycles)",
+            human_time(DEFAULT_LIMIT_SECONDS)
+        ),
     }
 }
 

@@ -4,7 +4,7 @@
 
 mod support;
 
-use support::{gloc, shared, temp_folder, text};
+use support::{gloc, real_file, temp_folder, text};
 
 #[test]
 fn a_log_with_positions_gets_a_map() {
@@ -13,9 +13,9 @@ fn a_log_with_positions_gets_a_map() {
     let output = gloc(&[
         "data",
         "plot",
-        &shared("comet/from-glider/comet-2019-222-02-154.dbd"),
+        &real_file("comet/from-glider/comet-2019-222-02-154.dbd"),
         "--sensor-cache",
-        &shared("cac"),
+        &real_file("cac"),
         "-o",
         &out.display().to_string(),
     ]);
@@ -31,9 +31,9 @@ fn a_log_with_positions_gets_a_map() {
     let output = gloc(&[
         "data",
         "plot",
-        &shared("comet/from-glider/comet-2019-222-02-154.ebd"),
+        &real_file("comet/from-glider/comet-2019-222-02-154.ebd"),
         "--sensor-cache",
-        &shared("cac"),
+        &real_file("cac"),
         "-o",
         &out.display().to_string(),
     ]);

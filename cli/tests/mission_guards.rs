@@ -4,7 +4,7 @@
 
 mod support;
 
-use support::{gloc, repo, shared, text};
+use support::{gloc, real_file, repo, text};
 
 fn run(args: &[&str]) -> (Option<i32>, String) {
     let output = gloc(args);
@@ -13,7 +13,7 @@ fn run(args: &[&str]) -> (Option<i32>, String) {
 
 #[test]
 fn fig2_with_nsb3_warns_about_the_hook_and_the_unknown_sensor() {
-    let nsb3 = shared("comet/missions/nsb3.mi");
+    let nsb3 = real_file("comet/missions/nsb3.mi");
     let (code, stderr) = run(&["run", "--mission", &nsb3, "--cycles", "5"]);
     assert_eq!(code, Some(0), "{stderr}");
     let expected_setting = format!(
@@ -36,7 +36,7 @@ fn fig2_with_nsb3_warns_about_the_hook_and_the_unknown_sensor() {
 
 #[test]
 fn a_gbasic_script_gets_the_warning_on_its_own_line() {
-    let nsb3 = shared("comet/missions/nsb3.mi");
+    let nsb3 = real_file("comet/missions/nsb3.mi");
     let fig3 = repo("examples/fig3.gbas");
     let (_, stderr) = run(&["run", &fig3, "--mission", &nsb3, "--cycles", "5"]);
     // `SCI_RUHP_BEHS = 128` is line 3 of Fig. 3, indented two spaces.

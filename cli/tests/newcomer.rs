@@ -7,19 +7,19 @@ mod support;
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
 
-use support::{gloc, repo, shared, temp_folder, text};
+use support::{gloc, real_file, repo, temp_folder, text};
 
 /// `gloc data info … | head -2`: the reader closes the pipe after two lines; gloc
 /// ended with `failed printing to stdout: Broken pipe` and exit 101 (a panic).
 #[test]
 fn a_closed_pipe_ends_the_output_quietly() {
     let logs = [
-        shared("comet/from-glider/comet-2019-222-02-154.dbd"),
-        shared("comet/from-glider/comet-2019-222-02-154.ebd"),
+        real_file("comet/from-glider/comet-2019-222-02-154.dbd"),
+        real_file("comet/from-glider/comet-2019-222-02-154.ebd"),
     ];
     let mut child = Command::new(env!("CARGO_BIN_EXE_gloc"))
         .args(["data", "info", &logs[0], &logs[1], "--sensor-cache"])
-        .arg(shared("cac"))
+        .arg(real_file("cac"))
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
@@ -41,9 +41,9 @@ fn a_closed_pipe_ends_the_output_quietly() {
 /// what the file is and which option takes it, exit 2 (usage), no diagnostics.
 #[test]
 fn the_wrong_kind_of_file_as_the_script_fails_fast_with_the_option_it_belongs_to() {
-    let log = shared("comet/from-glider/comet-2019-222-02-154.dbd");
-    let mission = shared("comet/missions/nsb3.mi");
-    let list = shared("cac/1f35be3b.cac");
+    let log = real_file("comet/from-glider/comet-2019-222-02-154.dbd");
+    let mission = real_file("comet/missions/nsb3.mi");
+    let list = real_file("cac/1f35be3b.cac");
     // (`gloc check` takes missions and sensor lists as files of their own: issue 24.)
     let cases: [(&[&str], &str); 4] = [
         (&["run", &log], "--replay"),
@@ -68,7 +68,7 @@ fn binary_data_as_a_script_is_refused_as_binary() {
     let folder = temp_folder("binary-script");
     let script = folder.join("log.gloc");
     std::fs::copy(
-        shared("comet/from-glider/comet-2019-222-02-154.dbd"),
+        real_file("comet/from-glider/comet-2019-222-02-154.dbd"),
         &script,
     )
     .expect("copy");
@@ -169,7 +169,11 @@ fn a_short_run_claims_no_speed_up() {
 fn recordings_gloc_cannot_use_exit_as_the_readme_says() {
     let folder = temp_folder("recording-exit-codes");
     let log = folder.join("comet-2019-222-02-154.dbd");
-    std::fs::copy(shared("comet/from-glider/comet-2019-222-02-154.dbd"), &log).expect("copy");
+    std::fs::copy(
+        real_file("comet/from-glider/comet-2019-222-02-154.dbd"),
+        &log,
+    )
+    .expect("copy");
     let fig2 = repo("examples/fig2.gloc");
     let output = Command::new(env!("CARGO_BIN_EXE_gloc"))
         .args(["run", &fig2, "--replay", &log.display().to_string()])

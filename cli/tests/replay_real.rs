@@ -12,17 +12,17 @@
 
 mod support;
 
-use support::{gloc, repo, shared};
+use support::{gloc, real_file, repo};
 
 fn comet(extension: &str) -> String {
-    shared(&format!(
+    real_file(&format!(
         "comet/from-glider/comet-2019-222-02-154.{extension}"
     ))
 }
 
 #[test]
 fn the_thermocline_tracker_replays_a_real_deployment_and_finds_the_thermocline() {
-    let cache = shared("cac");
+    let cache = real_file("cac");
     let output = gloc(&[
         "run",
         &repo("examples/thermocline.gbas"),
@@ -85,12 +85,12 @@ fn a_missing_sensor_list_names_the_crc_and_the_folders() {
 fn a_real_list_without_the_hook_sensors_still_runs_the_thermocline_tracker() {
     // Comet's own list as the active list: the hook sensors are appended (issue 14
     // saw E2101 here), and the data's sensors all map by name.
-    let cache = shared("cac");
+    let cache = real_file("cac");
     let output = gloc(&[
         "run",
         &repo("examples/thermocline.gbas"),
         "--masterdata",
-        &shared("cac/1f35be3b.cac"),
+        &real_file("cac/1f35be3b.cac"),
         "--replay",
         &comet("dbd"),
         &comet("ebd"),

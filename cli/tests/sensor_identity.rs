@@ -8,10 +8,10 @@ mod support;
 
 use std::path::PathBuf;
 
-use support::{gloc, repo, shared, text};
+use support::{gloc, real_file, repo, text};
 
 fn comet_cac() -> String {
-    shared("cac/1f35be3b.cac")
+    real_file("cac/1f35be3b.cac")
 }
 
 fn scratch(name: &str) -> PathBuf {
@@ -247,7 +247,7 @@ fn the_sensor_cache_of_gloc_toml_is_searched_too() {
     std::fs::create_dir_all(&folder).expect("dir");
     std::fs::write(
         folder.join("gloc.toml"),
-        format!("sensor_cache = \"{}\"\n", shared("cac")),
+        format!("sensor_cache = \"{}\"\n", real_file("cac")),
     )
     .expect("write");
     let script = folder.join("comet.gloc");

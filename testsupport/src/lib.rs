@@ -18,11 +18,6 @@ pub fn repo_root() -> PathBuf {
         .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")))
 }
 
-/// A path in the repository, `relative` to its root (not checked).
-pub fn repo(relative: &str) -> PathBuf {
-    repo_root().join(relative)
-}
-
 /// A real glider file or folder in the repository's `data/` (see `data/README.md` for
 /// where each came from). Panics, naming the path, when it is missing: the files are part
 /// of the repository, so a missing one is a broken checkout, not a reason to skip.

@@ -42,7 +42,7 @@ pub fn repo(path: &str) -> String {
 }
 
 /// A real glider file in the repository's `data/` (a missing one fails the test).
-pub fn shared(path: &str) -> String {
+pub fn real_file(path: &str) -> String {
     gloc_testsupport::data_arg(path)
 }
 

@@ -100,6 +100,7 @@ fn gbasic_expressions_offer_every_sensor_statements_mark_read_only_ones() {
             sci_ruhp_dive_depth [Sensor] sensor 1385 (m), writable
             sci_ruhp_climb_depth [Sensor] sensor 1386 (m), writable
             sci_ruhp_behs [Sensor] sensor 1387 (enum), writable
+            sci_ruhp_heading [Sensor] sensor 1388 (rad), writable
         "#]],
     );
 }

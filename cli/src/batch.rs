@@ -11,13 +11,10 @@ use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 use anyhow::{bail, Context};
-use gloc_compiler::LoadedScript;
-use gloc_engine::program::Program;
 use gloc_engine::sensors::SensorList;
 use gloc_project::settings::{Origin, Settings};
-use gloc_project::{Overrides, Surface};
 use gloc_sim::faults::{step_cycle_with_faults, Fault, FaultPlan};
-use gloc_sim::{EndReason, Mission, TemperatureProfile};
+use gloc_sim::{EndReason, TemperatureProfile};
 
 use crate::render::Tally;
 use crate::simulate::{
@@ -63,12 +60,8 @@ struct Row {
 
 /// What every mission shares.
 struct Shared<'a> {
-    program: &'a Arc<Program>,
-    loaded: &'a LoadedScript,
+    plan: gloc_project::simulation::Plan<'a>,
     script_name: &'a str,
-    mission: &'a Mission,
-    sensor_list: &'a Arc<SensorList>,
-    settings: &'a Settings,
     limit: Limit,
 }
 
@@ -80,17 +73,7 @@ enum Limit {
 
 pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
     let mut tally = Tally::default();
-    let settings = Settings::resolve(
-        args.script.as_deref(),
-        Overrides {
-            masterdata: args.flight.masterdata.clone(),
-            cycle_budget: args.flight.cycle_budget,
-            mission: args.flight.mission.clone(),
-            sensor_order: args.flight.sensor_order,
-            mafiles: args.flight.mafiles.clone(),
-            ..Overrides::new(Surface::Cli)
-        },
-    )?;
+    let settings = Settings::resolve(args.script.as_deref(), args.flight.overrides())?;
     let Some(sensor_list) = crate::loading::active_sensors(&settings, &mut tally)? else {
         return Ok(crate::exit::code(crate::exit::ERRORS));
     };
@@ -199,9 +182,9 @@ pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
 
     let Some(Script {
         name: script_name,
+        text: script_text,
         loaded,
         program,
-        ..
     }) = load_program(
         args.script.as_deref(),
         &sensor_list,
@@ -216,14 +199,37 @@ pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
     };
 
     let shared = Shared {
-        program: &program,
-        loaded: &loaded,
+        plan: gloc_project::simulation::Plan {
+            settings: &settings,
+            sensors: &sensor_list,
+            mission: &mission,
+            script: &loaded,
+            program: &program,
+        },
         script_name: &script_name,
-        mission: &mission,
-        sensor_list: &sensor_list,
-        settings: &settings,
         limit,
     };
+    // The mission against the list and the script, and the simulator's own warnings,
+    // once for the sweep (they are the same for every variant but a swept setting's).
+    // A variant that cannot be prepared shows its error in its row.
+    if let Some(first) = variants.first() {
+        let prepared = gloc_project::simulation::prepare(
+            &shared.plan,
+            gloc_project::simulation::Flight {
+                seed: Some(first.seed),
+                profile: first.profile.profile.clone(),
+                simulator: first.settings.to_vec(),
+            },
+        );
+        if let Ok(prepared) = prepared {
+            crate::simulate::print_warnings(
+                &prepared.warnings,
+                &mission,
+                &script_name,
+                &script_text,
+            );
+        }
+    }
     let jobs = args
         .jobs
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
@@ -359,22 +365,17 @@ fn fly_all(
 /// One mission, start to end.
 fn fly(shared: &Shared<'_>, variant: &Variant) -> Result<Row, String> {
     let started = Instant::now();
-    let config = gloc_project::simulation::sim_config(
-        shared.settings,
+    // The warnings were shown once, from the first variant (`main`).
+    let mut sim = gloc_project::simulation::prepare(
+        &shared.plan,
         gloc_project::simulation::Flight {
             seed: Some(variant.seed),
             profile: variant.profile.profile.clone(),
             simulator: variant.settings.to_vec(),
         },
     )
-    .map_err(|error| error.to_string())?;
-    let mut sim = gloc_project::simulation::build_simulation(
-        shared.mission,
-        shared.sensor_list.clone(),
-        shared.program.clone(),
-        &config,
-    )
-    .map_err(|error| error.to_string())?;
+    .map_err(|error| error.to_string())?
+    .simulation;
     let max_cycles = match shared.limit {
         Limit::Seconds(seconds) => crate::simulate::cycles_for(seconds, &sim),
         Limit::Cycles(cycles) => cycles,
@@ -396,7 +397,7 @@ fn fly(shared: &Shared<'_>, variant: &Variant) -> Result<Row, String> {
         },
         None => "running".to_string(),
     };
-    let script = script_state(&sim, shared.loaded, shared.script_name);
+    let script = script_state(&sim, shared.plan.script, shared.script_name);
     let (shallowest, deepest) = sim.depth_range();
     Ok(Row {
         cycles,

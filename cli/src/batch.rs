@@ -78,89 +78,8 @@ pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
         return Ok(crate::exit::code(crate::exit::ERRORS));
     };
     let sensor_list = Arc::new(sensor_list);
-    // Every axis is checked before anything flies: a typo costs nothing.
-    let seeds = match &args.seeds {
-        Some(text) => parse_seeds(text).map_err(|error| anyhow::anyhow!("--seeds {error}"))?,
-        None => vec![1],
-    };
-    let profile_names = if args.profiles.is_empty() {
-        vec!["builtin".to_string()]
-    } else {
-        args.profiles.clone()
-    };
-    let mut fault_sets = Vec::new();
-    for given in if args.fault_sets.is_empty() {
-        vec!["none".to_string()]
-    } else {
-        args.fault_sets.clone()
-    } {
-        let faults = parse_fault_set(&given, &sensor_list)
-            .map_err(|error| anyhow::anyhow!("--fault-set `{given}`: {error}"))?;
-        let label = if faults.is_empty() {
-            "none".to_string()
-        } else {
-            given
-        };
-        fault_sets.push(FaultSet { label, faults });
-    }
-    let mut axes: Vec<Vec<(String, f64)>> = Vec::new();
-    for given in &args.simulator {
-        axes.push(parse_sweep_setting(given).map_err(|error| anyhow::anyhow!("--sim {error}"))?);
-    }
-    let limit = match (&args.duration, args.cycles) {
-        (Some(text), _) => Limit::Seconds(parse_duration(text)?),
-        (None, Some(cycles)) => Limit::Cycles(cycles),
-        (None, None) => Limit::Seconds(DEFAULT_LIMIT_SECONDS),
-    };
-    // The same bound as `gloc run`: every mission of a sweep must be able to finish.
-    match limit {
-        Limit::Cycles(cycles) if cycles > crate::simulate::MAX_RUN_CYCLES => bail!(
-            "--cycles {cycles} is more than {}, the most one run may take",
-            crate::simulate::MAX_RUN_CYCLES
-        ),
-        Limit::Seconds(seconds) if seconds > crate::simulate::MAX_RUN_CYCLES as f64 * 4.0 => {
-            bail!(
-                "--duration is more than {} control cycles of 4 s, the most one run may take",
-                crate::simulate::MAX_RUN_CYCLES
-            )
-        }
-        _ => {}
-    }
-    // The sweep's size is known from the arguments: checked before any profile is read
-    // (60 copies of a 16 MB profile were all read, 1 GB, before a sweep too wide).
-    let missions = [profile_names.len(), fault_sets.len()]
-        .into_iter()
-        .chain(axes.iter().map(Vec::len))
-        .try_fold(seeds.len(), usize::checked_mul)
-        .filter(|missions| *missions <= MAX_MISSIONS);
-    if missions.is_none() {
-        bail!("the sweep has more than {MAX_MISSIONS} missions: narrow --seeds or the other axes");
-    }
-    // A profile given twice is read once and shared.
-    let mut loaded: std::collections::HashMap<String, Arc<Profile>> =
-        std::collections::HashMap::new();
-    let mut profiles = Vec::with_capacity(profile_names.len());
-    for given in profile_names {
-        if let Some(known) = loaded.get(&given) {
-            profiles.push(Arc::clone(known));
-            continue;
-        }
-        let profile = if given == "builtin" {
-            None
-        } else {
-            let path = PathBuf::from(&given);
-            Some(gloc_project::simulation::load_profile(
-                &path,
-                Origin::Flag("--profile"),
-            )?)
-        };
-        let profile = Arc::new(Profile {
-            label: given.clone(),
-            profile,
-        });
-        loaded.insert(given, Arc::clone(&profile));
-        profiles.push(profile);
-    }
+    let axes = parse_axes(&args, &sensor_list)?;
+    let profiles = load_profiles(axes.profile_names)?;
     if let Some(csv) = &args.csv {
         // Outputs never overwrite inputs (`gloc run`'s rule).
         let inputs: Vec<&Path> = args
@@ -178,7 +97,7 @@ pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
             }],
         )?;
     }
-    let variants = sweep(&seeds, profiles, fault_sets, &axes);
+    let variants = sweep(&axes.seeds, profiles, axes.fault_sets, &axes.settings);
 
     let Some(Script {
         name: script_name,
@@ -198,6 +117,7 @@ pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
         return Ok(crate::exit::code(crate::exit::ERRORS));
     };
 
+    let limit = axes.limit;
     let shared = Shared {
         plan: gloc_project::simulation::Plan {
             settings: &settings,
@@ -252,7 +172,127 @@ pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
         bar.finish_and_clear();
     }
 
-    let table = table(&variants, &rows);
+    report(&variants, &rows, wall, jobs, &args)
+}
+
+/// The sweep's axes as the command line gives them, each checked before anything flies.
+struct Axes {
+    seeds: Vec<u64>,
+    profile_names: Vec<String>,
+    fault_sets: Vec<FaultSet>,
+    /// Each `--sim NAME=V1,V2,…` as its list of settings.
+    settings: Vec<Vec<(String, f64)>>,
+    limit: Limit,
+}
+
+/// Reads and checks every axis and the limit, and refuses a sweep too wide before any
+/// profile is read: a typo costs nothing.
+fn parse_axes(args: &crate::BatchArgs, sensor_list: &SensorList) -> anyhow::Result<Axes> {
+    let seeds = match &args.seeds {
+        Some(text) => parse_seeds(text).map_err(|error| anyhow::anyhow!("--seeds {error}"))?,
+        None => vec![1],
+    };
+    let profile_names = if args.profiles.is_empty() {
+        vec!["builtin".to_string()]
+    } else {
+        args.profiles.clone()
+    };
+    let mut fault_sets = Vec::new();
+    for given in if args.fault_sets.is_empty() {
+        vec!["none".to_string()]
+    } else {
+        args.fault_sets.clone()
+    } {
+        let faults = parse_fault_set(&given, sensor_list)
+            .map_err(|error| anyhow::anyhow!("--fault-set `{given}`: {error}"))?;
+        let label = if faults.is_empty() {
+            "none".to_string()
+        } else {
+            given
+        };
+        fault_sets.push(FaultSet { label, faults });
+    }
+    let mut axes: Vec<Vec<(String, f64)>> = Vec::new();
+    for given in &args.simulator {
+        axes.push(parse_sweep_setting(given).map_err(|error| anyhow::anyhow!("--sim {error}"))?);
+    }
+    let limit = match (&args.duration, args.cycles) {
+        (Some(text), _) => Limit::Seconds(parse_duration(text)?),
+        (None, Some(cycles)) => Limit::Cycles(cycles),
+        (None, None) => Limit::Seconds(DEFAULT_LIMIT_SECONDS),
+    };
+    // The same bound as `gloc run`: every mission of a sweep must be able to finish.
+    match limit {
+        Limit::Cycles(cycles) if cycles > crate::simulate::MAX_RUN_CYCLES => bail!(
+            "--cycles {cycles} is more than {}, the most one run may take",
+            crate::simulate::MAX_RUN_CYCLES
+        ),
+        Limit::Seconds(seconds) if seconds > crate::simulate::MAX_RUN_CYCLES as f64 * 4.0 => {
+            bail!(
+                "--duration is more than {} control cycles of 4 s, the most one run may take",
+                crate::simulate::MAX_RUN_CYCLES
+            )
+        }
+        _ => {}
+    }
+    // The sweep's size is known from the arguments: checked before any profile is read
+    // (60 copies of a 16 MB profile were all read, 1 GB, before a sweep too wide).
+    let missions = [profile_names.len(), fault_sets.len()]
+        .into_iter()
+        .chain(axes.iter().map(Vec::len))
+        .try_fold(seeds.len(), usize::checked_mul)
+        .filter(|missions| *missions <= MAX_MISSIONS);
+    if missions.is_none() {
+        bail!("the sweep has more than {MAX_MISSIONS} missions: narrow --seeds or the other axes");
+    }
+    Ok(Axes {
+        seeds,
+        profile_names,
+        fault_sets,
+        settings: axes,
+        limit,
+    })
+}
+
+/// Reads each profile once (a profile given twice is shared; `builtin` is none).
+fn load_profiles(names: Vec<String>) -> anyhow::Result<Vec<Arc<Profile>>> {
+    let mut loaded: std::collections::HashMap<String, Arc<Profile>> =
+        std::collections::HashMap::new();
+    let mut profiles = Vec::with_capacity(names.len());
+    for given in names {
+        if let Some(known) = loaded.get(&given) {
+            profiles.push(Arc::clone(known));
+            continue;
+        }
+        let profile = if given == "builtin" {
+            None
+        } else {
+            let path = PathBuf::from(&given);
+            Some(gloc_project::simulation::load_profile(
+                &path,
+                Origin::Flag("--profile"),
+            )?)
+        };
+        let profile = Arc::new(Profile {
+            label: given.clone(),
+            profile,
+        });
+        loaded.insert(given, Arc::clone(&profile));
+        profiles.push(profile);
+    }
+    Ok(profiles)
+}
+
+/// Prints the table (and writes the CSV) and the sweep's speed; the exit code says
+/// whether a mission failed or aborted.
+fn report(
+    variants: &[Variant],
+    rows: &[Result<Row, String>],
+    wall: f64,
+    jobs: usize,
+    args: &crate::BatchArgs,
+) -> anyhow::Result<ExitCode> {
+    let table = table(variants, rows);
     let mut out = std::io::stdout().lock();
     match write_readable(&mut out, &table) {
         Err(error) if !crate::output::is_closed_pipe(&error) => {

@@ -108,7 +108,7 @@ pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
         args.script.as_deref(),
         &sensor_list,
         &settings,
-        !args.no_optimize,
+        args.optimization(),
     )?
     else {
         return Ok(crate::exit::code(crate::exit::ERRORS));

@@ -8,6 +8,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
+use gloc_compiler::Optimization;
 
 /// `print!` for what a command reports on stdout, through [`output::print`]: a
 /// closed pipe (`gloc data info … | head -2`) ends the output quietly instead of
@@ -198,8 +199,35 @@ pub struct RunArgs {
 
 impl RunArgs {
     /// GBASIC runs optimized unless `--no-optimize` says otherwise.
-    pub fn optimized(&self) -> bool {
-        !self.no_optimize
+    pub fn optimization(&self) -> Optimization {
+        optimized_unless(self.no_optimize)
+    }
+}
+
+impl BatchArgs {
+    /// GBASIC flies optimized unless `--no-optimize` says otherwise.
+    pub fn optimization(&self) -> Optimization {
+        optimized_unless(self.no_optimize)
+    }
+}
+
+impl CompileArgs {
+    /// `-O` compiles with the optimizer.
+    pub fn optimization(&self) -> Optimization {
+        if self.optimize {
+            Optimization::Optimized
+        } else {
+            Optimization::Plain
+        }
+    }
+}
+
+/// `--no-optimize` as an [`Optimization`].
+fn optimized_unless(no_optimize: bool) -> Optimization {
+    if no_optimize {
+        Optimization::Plain
+    } else {
+        Optimization::Optimized
     }
 }
 

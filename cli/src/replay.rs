@@ -62,7 +62,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         args.script.as_deref(),
         &sensors,
         &settings,
-        args.optimized(),
+        args.optimization(),
     )?;
     if script.loaded.program.is_none() {
         return Ok(crate::exit::code(crate::exit::ERRORS));

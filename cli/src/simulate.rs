@@ -124,7 +124,7 @@ fn prepare_run(args: &crate::RunArgs) -> anyhow::Result<Option<Run>> {
         args.script.as_deref(),
         &sensor_list,
         &settings,
-        args.optimized(),
+        args.optimization(),
     )?
     else {
         return Ok(None);
@@ -433,9 +433,9 @@ pub(crate) fn load_program(
     script: Option<&Path>,
     sensor_list: &SensorList,
     settings: &Settings,
-    optimize: bool,
+    optimization: gloc_compiler::Optimization,
 ) -> anyhow::Result<Option<Script>> {
-    let script = crate::loading::load_script(script, sensor_list, settings, optimize)?;
+    let script = crate::loading::load_script(script, sensor_list, settings, optimization)?;
     let Some(program) = script.loaded.program.clone() else {
         eprintln!(
             "error: `{}` has errors; nothing was simulated",

@@ -7,6 +7,7 @@
 use crate::completion::{self, Kind};
 use crate::debugger::{Debugger, ExceptionConditions, ExceptionFilters};
 use crate::edits;
+use crate::error::{DebugError, DebugResult};
 use crate::expr::{type_name, Watched};
 use crate::format::ValueFormat;
 use crate::references::{address, ARRAYS};
@@ -89,7 +90,7 @@ pub fn exception_breakpoint_filters() -> Vec<ExceptionBreakpointsFilter> {
 pub fn exception_filters(
     arguments: &SetExceptionBreakpointsArguments,
     condition_error: impl Fn(&str) -> Option<String>,
-) -> Result<(ExceptionFilters, Vec<Breakpoint>), String> {
+) -> DebugResult<(ExceptionFilters, Vec<Breakpoint>)> {
     let options = arguments.filter_options.clone().unwrap_or_default();
     let ids = arguments
         .filters
@@ -114,9 +115,9 @@ pub fn exception_filters(
             "overrun" => (&mut filters.overrun, &mut filters.conditions.overrun),
             "abend" => (&mut filters.abend, &mut filters.conditions.abend),
             other => {
-                return Err(format!(
+                return Err(DebugError::request(format!(
                     "unknown exception filter `{other}` (known: trap, overrun, abend)"
-                ))
+                )))
             }
         };
         match condition.and_then(&condition_error) {
@@ -197,7 +198,7 @@ pub fn completions(
 pub fn evaluate(
     debugger: &Debugger<World>,
     arguments: &EvaluateArguments,
-) -> Result<EvaluateBody, String> {
+) -> DebugResult<EvaluateBody> {
     let format = value_format(arguments.format);
     match debugger.watch(&arguments.expression)? {
         Watched::Value(value) => Ok(EvaluateBody {
@@ -230,7 +231,7 @@ pub fn evaluate(
 pub fn set_expression(
     debugger: &mut Debugger<World>,
     arguments: &SetExpressionArguments,
-) -> Result<SetExpressionBody, String> {
+) -> DebugResult<SetExpressionBody> {
     let value = edits::assign(debugger, &arguments.expression, &arguments.value)?;
     Ok(SetExpressionBody {
         value: value_format(arguments.format).number(value),
@@ -272,14 +273,14 @@ pub fn goto_targets(
     debugger: &Debugger<World>,
     arguments: &GotoTargetsArguments,
     client: ClientOptions,
-) -> Result<Vec<GotoTarget>, String> {
+) -> DebugResult<Vec<GotoTarget>> {
     let info = &debugger.info;
     let path = arguments.source.path.as_deref().unwrap_or_default();
     if !info.is_same_source(path) {
-        return Err(format!(
+        return Err(DebugError::request(format!(
             "{path} is not the program being debugged ({})",
             info.source_name()
-        ));
+        )));
     }
     let requested = arguments
         .line
@@ -287,7 +288,9 @@ pub fn goto_targets(
     let line = u32::try_from(requested)
         .ok()
         .filter(|line| *line >= 1)
-        .ok_or_else(|| format!("line {requested} is not a line of the program"))?;
+        .ok_or_else(|| {
+            DebugError::request(format!("line {requested} is not a line of the program"))
+        })?;
     let (Some(line), pcs) = info.goto_targets(line) else {
         return Ok(Vec::new());
     };
@@ -311,12 +314,12 @@ pub fn goto_targets(
 }
 
 /// `goto`: jumps (journaled) and says where, for the `stopped` event that follows.
-pub fn goto(debugger: &mut Debugger<World>, arguments: &GotoArguments) -> Result<String, String> {
+pub fn goto(debugger: &mut Debugger<World>, arguments: &GotoArguments) -> DebugResult<String> {
     let pc = usize::try_from(arguments.target_id).map_err(|_| {
-        format!(
+        DebugError::request(format!(
             "goto target {} is not one of gotoTargets'",
             arguments.target_id
-        )
+        ))
     })?;
     edits::goto(debugger, pc)?;
     let line = debugger

@@ -1,7 +1,11 @@
 //! The numbers the adapter hands the client for what it shows: the one thread and
 //! frame, the scopes' and arrays' variable references, and instruction addresses
-//! (`0x1f`). Shared by the session, the request handlers and the features, which
+//! (`0x1f`), and the source. Shared by the session, the request handlers and the features, which
 //! import this module rather than each other.
+
+use crate::debugger::Debugger;
+use crate::types::Source;
+use crate::world::World;
 
 pub const THREAD_ID: i64 = 1;
 pub(crate) const FRAME_ID: i64 = 1;
@@ -24,5 +28,13 @@ pub(crate) fn parse_address(text: &str) -> Option<i64> {
     match text.strip_prefix("0x").or_else(|| text.strip_prefix("0X")) {
         Some(hex) => i64::from_str_radix(hex, 16).ok(),
         None => text.parse().ok(),
+    }
+}
+
+/// The program's source as the client is shown it.
+pub(crate) fn source_of(debugger: &Debugger<World>) -> Source {
+    Source {
+        name: Some(debugger.info.source_name()),
+        path: Some(debugger.info.path.display().to_string()),
     }
 }

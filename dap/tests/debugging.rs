@@ -1320,11 +1320,7 @@ fn reverse_history_keeps_a_bounded_number_of_snapshots() {
     use gloc_dap::target::Target;
     use gloc_dap::world::{self, LaunchConfig};
 
-    let config = LaunchConfig {
-        program: fixture("fig3.gbas").into(),
-        mission: Some(fixture("endless.mi").into()),
-        ..LaunchConfig::default()
-    };
+    let config = LaunchConfig::new(fixture("fig3.gbas"), Some(fixture("endless.mi").into()));
     let (world, info) = world::launch(&config).expect("launch");
     let history = HistoryConfig {
         max_snapshots: 8,

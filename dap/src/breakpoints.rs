@@ -294,14 +294,24 @@ impl Breakpoints {
         let mut accepted = Vec::new();
         for breakpoint in requested {
             let id = self.new_id();
-            let placed = breakpoint
-                .hit_condition()
+            // A condition that can never be evaluated is refused here, as a line
+            // breakpoint's is, rather than stopping at every hit.
+            let invalid = breakpoint
+                .condition()
                 .filter(|text| !text.trim().is_empty())
-                .map(HitCondition::parse)
-                .transpose()
-                .and_then(|hit_condition| {
-                    Ok((place(debugger.as_deref(), breakpoint)?, hit_condition))
-                });
+                .zip(debugger.as_deref())
+                .and_then(|(condition, debugger)| condition_error(debugger, condition));
+            let placed = match invalid {
+                Some(message) => Err(DebugError::request(message)),
+                None => breakpoint
+                    .hit_condition()
+                    .filter(|text| !text.trim().is_empty())
+                    .map(HitCondition::parse)
+                    .transpose()
+                    .and_then(|hit_condition| {
+                        Ok((place(debugger.as_deref(), breakpoint)?, hit_condition))
+                    }),
+            };
             match placed {
                 Ok(((at, shown), hit_condition)) => {
                     accepted.push(debugger::Breakpoint {

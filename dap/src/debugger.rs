@@ -12,7 +12,7 @@ use std::time::Instant;
 use crate::error::{DebugError, DebugResult};
 use crate::expr::{self, Number, Watched};
 use crate::program::DebugInfo;
-use crate::target::{Notice, Phase, StepEvent, Target, TrapKind};
+use crate::target::{Milestone, Notice, Phase, StepEvent, Target, TrapKind};
 
 /// A point in a run: the cycle, and how many steps were taken in it (0 = its boundary).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -52,6 +52,10 @@ pub enum StopReason {
     Exception,
     /// A `goto` moved the script's next instruction.
     Goto,
+    /// A goto behavior reached its waypoint (the `waypoint` filter).
+    Waypoint,
+    /// The glider surfaced (the `surfacing` filter).
+    Surfacing,
 }
 
 /// Why the run stopped.
@@ -199,12 +203,17 @@ impl HitCondition {
     }
 }
 
-/// Which runtime failures stop the run (DAP exception filters).
+/// Which runtime failures and points of the journey stop the run (DAP exception
+/// filters).
 #[derive(Clone, Debug)]
 pub struct ExceptionFilters {
     pub overrun: bool,
     pub trap: bool,
     pub abend: bool,
+    /// A waypoint reached; off unless asked for.
+    pub waypoint: bool,
+    /// A surfacing; off unless asked for.
+    pub surfacing: bool,
     /// GBASIC conditions (DAP `exceptionFilterOptions`): an enabled filter with one
     /// stops only where it holds, evaluated on the state at the failure.
     pub conditions: ExceptionConditions,
@@ -215,6 +224,8 @@ pub struct ExceptionConditions {
     pub overrun: Option<String>,
     pub trap: Option<String>,
     pub abend: Option<String>,
+    pub waypoint: Option<String>,
+    pub surfacing: Option<String>,
 }
 
 impl Default for ExceptionFilters {
@@ -223,6 +234,8 @@ impl Default for ExceptionFilters {
             overrun: true,
             trap: true,
             abend: true,
+            waypoint: false,
+            surfacing: false,
             conditions: ExceptionConditions::default(),
         }
     }
@@ -292,6 +305,12 @@ pub struct Debugger<T: Target> {
     pause_requested: bool,
     ended: Option<String>,
     pub trap: Option<String>,
+}
+
+/// What happened in a step that an exception filter may stop on.
+enum Happening {
+    Abend(String),
+    Milestone(Milestone, String),
 }
 
 enum Check {
@@ -433,21 +452,12 @@ impl<T: Target> Debugger<T> {
                     line: None,
                 });
             }
-            let abend = match fused_notices {
+            let happenings = match fused_notices {
                 Some(notices) => self.report_notices(notices),
                 None => self.collect_notices(),
             };
-            let abend_condition = self.filters.conditions.abend.clone();
-            let abend_stops = abend.is_some()
-                && self.filters.abend
-                && self.exception_condition_holds(abend_condition.as_deref(), &Check::Live);
-            if let (Some(reason), true) = (abend, abend_stops) {
-                return Progress::Stopped(Stop {
-                    reason: StopReason::Exception,
-                    description: "Paused on abend".into(),
-                    text: Some(reason),
-                    hit_breakpoint_ids: Vec::new(),
-                });
+            if let Some(stop) = self.filtered_stop(happenings) {
+                return Progress::Stopped(stop);
             }
             if let Some(progress) = self.after_step(&event, mode, start, Check::Live) {
                 if let Progress::Stopped(_) = progress {
@@ -597,15 +607,16 @@ impl<T: Target> Debugger<T> {
         event
     }
 
-    /// Turns the world's notices into output; returns the abort reason if one happened.
-    fn collect_notices(&mut self) -> Option<String> {
+    /// Turns the world's notices into output; returns what the exception filters may
+    /// stop on (an abend, a milestone of the journey).
+    fn collect_notices(&mut self) -> Vec<Happening> {
         let notices = self.target.take_notices();
         self.report_notices(notices)
     }
 
     /// Turns notices into output, a printed line pointing at the line of its `print`.
-    fn report_notices(&mut self, notices: Vec<Notice>) -> Option<String> {
-        let mut abend = None;
+    fn report_notices(&mut self, notices: Vec<Notice>) -> Vec<Happening> {
+        let mut happenings = Vec::new();
         for notice in notices {
             // Only what the script printed points at a source line.
             let (category, text, line) = match notice {
@@ -613,8 +624,14 @@ impl<T: Target> Debugger<T> {
                 Notice::Behavior(text) => (Category::Note, format!("behavior: {text}"), None),
                 Notice::Warning(text) => (Category::Important, text, None),
                 Notice::Abend(text) => {
-                    abend = Some(text.clone());
-                    (Category::Important, format!("abend: {text}"), None)
+                    let shown = format!("abend: {text}");
+                    happenings.push(Happening::Abend(text));
+                    (Category::Important, shown, None)
+                }
+                Notice::Milestone(milestone, text) => {
+                    let shown = format!("navigation: {text}");
+                    happenings.push(Happening::Milestone(milestone, text));
+                    (Category::Note, shown, None)
                 }
             };
             self.outputs.push(Output {
@@ -623,7 +640,46 @@ impl<T: Target> Debugger<T> {
                 line,
             });
         }
-        abend
+        happenings
+    }
+
+    /// The first of `happenings` whose exception filter is on and whose condition
+    /// holds, as a stop.
+    fn filtered_stop(&mut self, happenings: Vec<Happening>) -> Option<Stop> {
+        for happening in happenings {
+            let (wanted, condition, reason, description, text) = match happening {
+                Happening::Abend(text) => (
+                    self.filters.abend,
+                    self.filters.conditions.abend.clone(),
+                    StopReason::Exception,
+                    "Paused on abend".to_string(),
+                    text,
+                ),
+                Happening::Milestone(Milestone::WaypointReached, text) => (
+                    self.filters.waypoint,
+                    self.filters.conditions.waypoint.clone(),
+                    StopReason::Waypoint,
+                    format!("Paused: {text}"),
+                    text,
+                ),
+                Happening::Milestone(Milestone::Surfaced, text) => (
+                    self.filters.surfacing,
+                    self.filters.conditions.surfacing.clone(),
+                    StopReason::Surfacing,
+                    format!("Paused: {text}"),
+                    text,
+                ),
+            };
+            if wanted && self.exception_condition_holds(condition.as_deref(), &Check::Live) {
+                return Some(Stop {
+                    reason,
+                    description,
+                    text: Some(text),
+                    hit_breakpoint_ids: Vec::new(),
+                });
+            }
+        }
+        None
     }
 
     /// The pc to show: the next instruction, except after the script's share when

@@ -50,30 +50,46 @@ pub fn value_format(format: Option<ValueFormatArgument>) -> ValueFormat {
     }
 }
 
-/// The exception filters the adapter offers, each with a condition (a GBASIC
-/// expression over the state at the failure).
-pub const EXCEPTION_FILTERS: [(&str, &str, &str); 3] = [
+/// The exception filters the adapter offers (id, label, description, on by default),
+/// each with a condition (a GBASIC expression over the state where it happens): the
+/// script's failures and the mission's abort, on by default, and the points of the
+/// journey, off until the user turns them on.
+pub const EXCEPTION_FILTERS: [(&str, &str, &str, bool); 5] = [
     (
         "trap",
         "Runtime traps",
         "Stop when the script traps (division by zero, bad jump, ...)",
+        true,
     ),
     (
         "overrun",
         "Cycle overrun",
         "Stop when the script exceeds its per-cycle instruction budget",
+        true,
     ),
-    ("abend", "Abend", "Stop when the mission aborts"),
+    ("abend", "Abend", "Stop when the mission aborts", true),
+    (
+        "waypoint",
+        "Waypoint reached",
+        "Stop when a goto behavior reaches its waypoint (x_hit_a_waypoint, judged on the dead-reckoned position)",
+        false,
+    ),
+    (
+        "surfacing",
+        "Surfacing",
+        "Stop when the glider comes up (x_dr_state goes from 1, underwater, to 2, surfaced)",
+        false,
+    ),
 ];
 
 pub fn exception_breakpoint_filters() -> Vec<ExceptionBreakpointsFilter> {
     EXCEPTION_FILTERS
         .iter()
-        .map(|(filter, label, description)| ExceptionBreakpointsFilter {
+        .map(|(filter, label, description, default)| ExceptionBreakpointsFilter {
             filter: (*filter).into(),
             label: (*label).into(),
             description: Some((*description).into()),
-            default: Some(true),
+            default: Some(*default),
             supports_condition: Some(true),
             condition_description: Some(
                 "a GBASIC expression over the state where it happens, e.g. `m_depth > 10` or `cycle > 100`"
@@ -105,6 +121,8 @@ pub fn exception_filters(
         overrun: false,
         trap: false,
         abend: false,
+        waypoint: false,
+        surfacing: false,
         conditions: ExceptionConditions::default(),
     };
     let mut breakpoints = Vec::new();
@@ -114,9 +132,11 @@ pub fn exception_filters(
             "trap" => (&mut filters.trap, &mut filters.conditions.trap),
             "overrun" => (&mut filters.overrun, &mut filters.conditions.overrun),
             "abend" => (&mut filters.abend, &mut filters.conditions.abend),
+            "waypoint" => (&mut filters.waypoint, &mut filters.conditions.waypoint),
+            "surfacing" => (&mut filters.surfacing, &mut filters.conditions.surfacing),
             other => {
                 return Err(DebugError::request(format!(
-                    "unknown exception filter `{other}` (known: trap, overrun, abend)"
+                    "unknown exception filter `{other}` (known: trap, overrun, abend, waypoint, surfacing)"
                 )))
             }
         };

@@ -17,8 +17,8 @@ use crate::format::ValueFormat;
 use crate::launch::{LaunchArguments, RestartArguments};
 use crate::program::Language;
 use crate::references::{
-    address, parse_address, source_of, ALL_SENSORS, ARRAYS, FRAME_ID, SCOPE_REGISTERS,
-    SCOPE_SENSORS, SCOPE_VARIABLES, SCOPE_VEHICLE, THREAD_ID,
+    address, parse_address, source_of, ALL_SENSORS, ARRAYS, FRAME_ID, SCOPE_NAVIGATION,
+    SCOPE_REGISTERS, SCOPE_SENSORS, SCOPE_VARIABLES, SCOPE_VEHICLE, THREAD_ID,
 };
 use crate::session::{Running, Session, Then};
 use crate::target::{Named, Phase, Target};
@@ -236,7 +236,7 @@ fn data_breakpoint_info(
     let target = &session.launched_mut()?.debugger.target;
     let in_sensor_scope = matches!(
         arguments.variables_reference,
-        None | Some(SCOPE_SENSORS) | Some(ALL_SENSORS)
+        None | Some(SCOPE_SENSORS) | Some(ALL_SENSORS) | Some(SCOPE_NAVIGATION)
     );
     let sensor = if in_sensor_scope {
         target.sensor_index(arguments.name.trim())
@@ -498,6 +498,12 @@ fn scopes(session: &mut Session, _: ScopesArguments) -> Answer<ScopesBody> {
                 target.touched_sensors().len() + 1,
             ),
             scope("Vehicle", None, SCOPE_VEHICLE, target.vehicle().len()),
+            scope(
+                "Navigation",
+                None,
+                SCOPE_NAVIGATION,
+                target.navigation().len(),
+            ),
         ],
     })
 }
@@ -739,6 +745,7 @@ fn variable_list(
             list
         }
         SCOPE_VEHICLE => target.vehicle().into_iter().map(plain).collect(),
+        SCOPE_NAVIGATION => target.navigation().into_iter().map(plain).collect(),
         ALL_SENSORS if arguments.filter.as_deref() == Some("named") => return Ok(Vec::new()),
         ALL_SENSORS => {
             let start = usize::try_from(arguments.start.unwrap_or(0)).unwrap_or(0);
@@ -811,7 +818,14 @@ fn set_value(
                 .map(|value| format.number(*value))
                 .ok_or_else(|| DebugError::edit(format!("no register `{}`", arguments.name)))
         }
-        SCOPE_SENSORS | ALL_SENSORS => {
+        SCOPE_NAVIGATION if debugger.target.sensor_index(&arguments.name).is_none() => {
+            Err(DebugError::edit(format!(
+                "`{}` is read-only (the simulator computes it); set one of the rows named by a sensor, such as `m_lat`",
+                arguments.name
+            )))
+        }
+        // A navigation row named by its sensor sets the sensor.
+        SCOPE_SENSORS | ALL_SENSORS | SCOPE_NAVIGATION => {
             let index = debugger
                 .target
                 .sensor_index(&arguments.name)

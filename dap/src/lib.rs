@@ -29,6 +29,7 @@ pub mod expr;
 pub mod features;
 pub mod format;
 mod handlers;
+mod journey;
 pub mod launch;
 pub mod program;
 pub mod protocol;

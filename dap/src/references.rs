@@ -14,6 +14,7 @@ pub(crate) const SCOPE_REGISTERS: i64 = 2;
 pub(crate) const SCOPE_SENSORS: i64 = 3;
 pub(crate) const SCOPE_VEHICLE: i64 = 4;
 pub(crate) const ALL_SENSORS: i64 = 5;
+pub(crate) const SCOPE_NAVIGATION: i64 = 6;
 /// `ARRAYS + i`: the elements of the i-th GBASIC variable (an array).
 pub(crate) const ARRAYS: i64 = 1000;
 

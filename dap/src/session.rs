@@ -480,6 +480,10 @@ fn reason_name(reason: StopReason) -> &'static str {
         StopReason::InstructionBreakpoint => "instruction breakpoint",
         StopReason::Exception => "exception",
         StopReason::Goto => "goto",
+        // Reasons of their own (the schema's list is open): a client shows them as
+        // "Paused on waypoint", "Paused on surfacing".
+        StopReason::Waypoint => "waypoint",
+        StopReason::Surfacing => "surfacing",
     }
 }
 

@@ -61,6 +61,19 @@ pub enum Notice {
     /// The mission aborted (abend): the reason. The glider surfaces; the run goes on
     /// until it is up.
     Abend(String),
+    /// A point of the journey a run can stop at (exception filters `waypoint` and
+    /// `surfacing`), and what happened.
+    Milestone(Milestone, String),
+}
+
+/// Points of the journey the user can choose to stop at.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Milestone {
+    /// A goto behavior reached its waypoint (judged on the dead-reckoned position, as
+    /// the glider judges it): `x_hit_a_waypoint`.
+    WaypointReached,
+    /// The glider came up: `x_dr_state` went from 1 (underwater) to 2 (surfaced).
+    Surfaced,
 }
 
 /// A named value in one of the scopes the debugger shows.
@@ -138,4 +151,8 @@ pub trait Target: Clone {
     fn touched_sensors(&self) -> Vec<usize>;
     /// Cycle, mission time, depth, pitch, active behaviors, energy.
     fn vehicle(&self) -> Vec<Named>;
+    /// Position and navigation: latitude and longitude, mission coordinates, heading,
+    /// the waypoint and the distance to it, the current estimate (and, simulated, the
+    /// truth beside the dead-reckoned belief).
+    fn navigation(&self) -> Vec<Named>;
 }

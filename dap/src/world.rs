@@ -11,15 +11,17 @@ use gloc_engine::vm::{CycleEnd, Machine};
 use gloc_engine::Diagnostic;
 use gloc_project::settings::{Origin, Settings};
 use gloc_sim::behaviors::EventKind;
+use gloc_sim::navigation::{DrState, Xy};
 use gloc_sim::{EndReason, Phase as SimPhase, Simulation};
 
 use crate::error::{DebugError, DebugResult};
 use crate::expr::Number;
+use crate::journey;
 use crate::program::{DebugInfo, Language, SourceLines};
 use crate::replay_world::ReplayWorld;
 use crate::script::{float_text, DebugScript, ScriptState, VariableSlot};
 pub use crate::script::{resolve, LaunchConfig};
-use crate::target::{Named, Notice, Phase, StepEvent, Target};
+use crate::target::{Milestone, Named, Notice, Phase, StepEvent, Target};
 
 /// The world being debugged: the script (its [`ScriptState`], shared by every
 /// snapshot) and where it runs, the simulator or a recorded deployment (`replay`).
@@ -52,6 +54,27 @@ pub(crate) struct SimWorld {
     events_reported: usize,
     abend_reported: bool,
     notices: Vec<Notice>,
+    /// The journey as the last cycle left it: the waypoint steered to and its place in
+    /// its list, and `x_dr_state` (a milestone is a change of these).
+    journey: Journey,
+}
+
+/// What the milestones are judged against: the state at the end of the last cycle.
+#[derive(Clone, Copy, Debug)]
+struct Journey {
+    waypoint: Option<Xy>,
+    index: Option<(usize, usize)>,
+    dr_state: DrState,
+}
+
+impl Journey {
+    fn of(sim: &Simulation) -> Journey {
+        Journey {
+            waypoint: sim.waypoint(),
+            index: sim.waypoint_index(),
+            dr_state: sim.navigation().dr_state,
+        }
+    }
 }
 
 /// Loads the script and the sensor list, then the mission and the profile (or the
@@ -263,6 +286,7 @@ fn launch_sim(
         ));
     }
     Ok(SimWorld {
+        journey: Journey::of(&sim),
         sim,
         printed_reported: 0,
         events_reported: 0,
@@ -384,6 +408,7 @@ impl SimWorld {
             SimPhase::ScriptDone | SimPhase::BetweenCycles => {
                 self.sim.finish_cycle();
                 self.collect();
+                self.milestones();
                 let cut_short = script.max_cycles.is_some_and(|max| self.sim.cycle() >= max);
                 if self.sim.is_finished() || cut_short {
                     return StepEvent::MissionEnded {
@@ -473,6 +498,96 @@ impl SimWorld {
 
     fn sensor(&self, index: usize) -> f64 {
         self.sim.sensors().get(index).copied().unwrap_or(0.0)
+    }
+
+    /// After a cycle: a waypoint reached in it and a surfacing (`x_dr_state` 1 → 2)
+    /// become milestones, worded with where the glider believes it is and where it is.
+    fn milestones(&mut self) {
+        let before = self.journey;
+        let now = Journey::of(&self.sim);
+        self.journey = now;
+        let navigation = self.sim.navigation();
+        let cycle = self.sim.cycle().saturating_sub(1);
+        if self.sim.nav_view().hit_waypoint {
+            // The waypoint steered to when the cycle began (the behavior has moved on to
+            // the next), or the one steered to now if none was before.
+            let reached = before.waypoint.or(now.waypoint);
+            let which = match before.index.or(now.index) {
+                Some((index, count)) => format!("waypoint {index} (of {count})"),
+                None => "the waypoint".to_string(),
+            };
+            let distances = reached.map_or_else(String::new, |waypoint| {
+                let (lat, lon) = navigation.lmc.xy_to_nmea(waypoint);
+                format!(
+                    " at {} {}: {:.1} m from it by dead reckoning (at the cycle's end the glider is truly {:.1} m from it)",
+                    float_text(lat),
+                    float_text(lon),
+                    self.sim.nav_view().position.distance(waypoint),
+                    navigation.true_position.distance(waypoint)
+                )
+            });
+            self.notices.push(Notice::Milestone(
+                Milestone::WaypointReached,
+                format!("{which} reached in cycle {cycle}{distances}"),
+            ));
+        }
+        if before.dr_state == DrState::Underwater && now.dr_state == DrState::Surfaced {
+            let (lat, lon) = navigation.lmc.xy_to_nmea(navigation.dead_reckoned);
+            self.notices.push(Notice::Milestone(
+                Milestone::Surfaced,
+                format!(
+                    "surfaced in cycle {cycle} at dead-reckoned {} {}, {:.1} m from where the glider is",
+                    float_text(lat),
+                    float_text(lon),
+                    navigation.dead_reckoned.distance(navigation.true_position)
+                ),
+            ));
+        }
+    }
+
+    /// The Navigation scope: the sensors, then the waypoint's place in its list and
+    /// the truth the simulator keeps apart from the glider's belief.
+    fn navigation(&self, script: &ScriptState) -> Vec<Named> {
+        let mut rows = journey::sensor_rows(script, |index| self.sensor(index));
+        let navigation = self.sim.navigation();
+        if let Some((index, count)) = self.sim.waypoint_index() {
+            rows.push(Named::plain(
+                "waypoint index",
+                format!("{index} of {count}"),
+                "the goto behavior's waypoint, numbered from 0 as wpt_x_0",
+            ));
+        }
+        let (lat, lon) = navigation.lmc.xy_to_nmea(navigation.true_position);
+        let truth = [
+            ("true lat", float_text(lat), "NMEA, where the glider is"),
+            ("true lon", float_text(lon), "NMEA, where the glider is"),
+            (
+                "true x (m)",
+                float_text(navigation.true_position.x),
+                "m east of the mission origin",
+            ),
+            (
+                "true y (m)",
+                float_text(navigation.true_position.y),
+                "m north of the mission origin",
+            ),
+            (
+                "dead-reckoning error (m)",
+                float_text(navigation.dead_reckoned.distance(navigation.true_position)),
+                "m between the belief and the truth",
+            ),
+            (
+                "true current",
+                journey::flow(navigation.true_water),
+                "s_water_speed toward s_water_direction",
+            ),
+        ];
+        rows.extend(
+            truth
+                .into_iter()
+                .map(|(name, value, ty)| Named::plain(name, value, ty)),
+        );
+        rows
     }
 }
 
@@ -631,6 +746,13 @@ impl Target for World {
         match &self.run {
             Run::Sim(world) => world.vehicle(&self.script),
             Run::Replay(world) => world.vehicle(&self.script),
+        }
+    }
+
+    fn navigation(&self) -> Vec<Named> {
+        match &self.run {
+            Run::Sim(world) => world.navigation(&self.script),
+            Run::Replay(world) => journey::sensor_rows(&self.script, |index| world.sensor(index)),
         }
     }
 }

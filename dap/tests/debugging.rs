@@ -116,7 +116,10 @@ fn stop_on_entry_shows_cycle_zero_at_the_first_statement() {
         .iter()
         .filter_map(|scope| scope["name"].as_str())
         .collect();
-    assert_eq!(names, ["Variables", "Registers", "Sensors", "Vehicle"]);
+    assert_eq!(
+        names,
+        ["Variables", "Registers", "Sensors", "Vehicle", "Navigation"]
+    );
     // The sensors the script touches come first, then the paged container of all.
     let sensors = values(&mut client, SENSORS);
     assert_eq!(sensors[0].0, "m_depth");

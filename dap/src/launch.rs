@@ -138,8 +138,13 @@ impl LaunchArguments {
 /// Loads what `arguments` name into a debugger paused at cycle 0: the attributes
 /// checked for their form, the settings resolved by the project layer (a launch
 /// refuses what `gloc run` refuses, in the same words), the inputs checked for their
-/// kind before anything reads them.
-pub fn launch(arguments: &LaunchArguments) -> DebugResult<Debugger<World>> {
+/// kind before anything reads them. An error of loading them, which may quote what a
+/// file holds, goes through `shown` (the session blanks quotes out over TCP); the
+/// others name attributes and paths only.
+pub fn launch(
+    arguments: &LaunchArguments,
+    shown: impl FnOnce(DebugError) -> DebugError,
+) -> DebugResult<Debugger<World>> {
     let config = arguments.config()?;
     let history = arguments.history()?;
     let settings = world::resolve(&config)?;
@@ -156,7 +161,7 @@ pub fn launch(arguments: &LaunchArguments) -> DebugResult<Debugger<World>> {
         // Real sensor lists are called `masterdata` or `*.cac`: no extension rule.
         check_input(&masterdata.value, "masterdata", &[])?;
     }
-    let (world, info) = world::launch_with(&config, &settings)?;
+    let (world, info) = world::launch_with(&config, &settings).map_err(shown)?;
     Ok(Debugger::new(world, info, history))
 }
 

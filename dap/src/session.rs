@@ -292,7 +292,8 @@ impl Session {
     /// quote what a file holds: diagnostics quote tokens of the line at fault, so
     /// quoted text is blanked out.
     pub(crate) fn launch(&mut self, arguments: LaunchArguments) -> DebugResult<()> {
-        let mut debugger = launch::launch(&arguments).map_err(|error| match self.access {
+        let access = &self.access;
+        let mut debugger = launch::launch(&arguments, |error| match access {
             Access::Open => error,
             Access::Token(_) => error.map_message(|message| redact_quotes(&message)),
         })?;

@@ -608,21 +608,6 @@ impl Run {
     }
 }
 
-impl World {
-    /// The script's state, shared by every snapshot.
-    pub fn script(&self) -> &ScriptState {
-        &self.script
-    }
-
-    /// The simulation, when the script is flown (not replayed).
-    pub fn simulation(&self) -> Option<&Simulation> {
-        match &self.run {
-            Run::Sim(world) => Some(&world.sim),
-            Run::Replay(_) => None,
-        }
-    }
-}
-
 impl Target for World {
     fn cycle(&self) -> u64 {
         match &self.run {

@@ -104,11 +104,7 @@ fn simulate(program: &Path, mission: &Path, optimize: bool) -> f64 {
 }
 
 fn debug(program: &Path, mission: &Path, fast: bool, breakpoint: Option<LineBreakpoint>) {
-    let config = LaunchConfig {
-        program: program.to_path_buf(),
-        mission: Some(mission.to_path_buf()),
-        ..LaunchConfig::default()
-    };
+    let config = LaunchConfig::new(program, Some(mission.to_path_buf()));
     let (world, info) = world::launch(&config).expect("launch");
     let mut debugger = Debugger::new(world, info, Some(HistoryConfig::default()));
     debugger.fast_shares = fast;

@@ -9,9 +9,10 @@
 use std::collections::{BTreeMap, HashMap};
 use std::time::Instant;
 
+use crate::error::{DebugError, DebugResult};
 use crate::expr::{self, Number, Watched};
 use crate::program::DebugInfo;
-use crate::target::{Notice, Phase, StepEvent, Target, TrapKind};
+use crate::target::{Milestone, Notice, Phase, StepEvent, Target, TrapKind};
 
 /// A point in a run: the cycle, and how many steps were taken in it (0 = its boundary).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -51,6 +52,10 @@ pub enum StopReason {
     Exception,
     /// A `goto` moved the script's next instruction.
     Goto,
+    /// A goto behavior reached its waypoint (the `waypoint` filter).
+    Waypoint,
+    /// The glider surfaced (the `surfacing` filter).
+    Surfacing,
 }
 
 /// Why the run stopped.
@@ -164,21 +169,23 @@ pub enum HitCondition {
 }
 
 impl HitCondition {
-    pub fn parse(text: &str) -> Result<HitCondition, String> {
+    pub fn parse(text: &str) -> DebugResult<HitCondition> {
         let text = text.trim();
         let (operator, rest) = ["==", ">=", "<=", ">", "<", "%", "="]
             .iter()
             .find_map(|operator| text.strip_prefix(operator).map(|rest| (*operator, rest)))
             .unwrap_or(("==", text));
         let count: u64 = rest.trim().parse().map_err(|_| {
-            format!("hit count `{text}` is not `N`, `>= N`, `> N`, `< N`, `<= N` or `% N`")
+            DebugError::request(format!(
+                "hit count `{text}` is not `N`, `>= N`, `> N`, `< N`, `<= N` or `% N`"
+            ))
         })?;
         Ok(match operator {
             ">=" => HitCondition::GreaterEqual(count),
             "<=" => HitCondition::LessEqual(count),
             ">" => HitCondition::Greater(count),
             "<" => HitCondition::Less(count),
-            "%" if count == 0 => return Err("`% 0` would never stop".into()),
+            "%" if count == 0 => return Err(DebugError::request("`% 0` would never stop")),
             "%" => HitCondition::Every(count),
             _ => HitCondition::Equal(count),
         })
@@ -196,12 +203,17 @@ impl HitCondition {
     }
 }
 
-/// Which runtime failures stop the run (DAP exception filters).
+/// Which runtime failures and points of the journey stop the run (DAP exception
+/// filters).
 #[derive(Clone, Debug)]
 pub struct ExceptionFilters {
     pub overrun: bool,
     pub trap: bool,
     pub abend: bool,
+    /// A waypoint reached; off unless asked for.
+    pub waypoint: bool,
+    /// A surfacing; off unless asked for.
+    pub surfacing: bool,
     /// GBASIC conditions (DAP `exceptionFilterOptions`): an enabled filter with one
     /// stops only where it holds, evaluated on the state at the failure.
     pub conditions: ExceptionConditions,
@@ -212,6 +224,8 @@ pub struct ExceptionConditions {
     pub overrun: Option<String>,
     pub trap: Option<String>,
     pub abend: Option<String>,
+    pub waypoint: Option<String>,
+    pub surfacing: Option<String>,
 }
 
 impl Default for ExceptionFilters {
@@ -220,6 +234,8 @@ impl Default for ExceptionFilters {
             overrun: true,
             trap: true,
             abend: true,
+            waypoint: false,
+            surfacing: false,
             conditions: ExceptionConditions::default(),
         }
     }
@@ -289,6 +305,12 @@ pub struct Debugger<T: Target> {
     pause_requested: bool,
     ended: Option<String>,
     pub trap: Option<String>,
+}
+
+/// What happened in a step that an exception filter may stop on.
+enum Happening {
+    Abend(String),
+    Milestone(Milestone, String),
 }
 
 enum Check {
@@ -430,21 +452,12 @@ impl<T: Target> Debugger<T> {
                     line: None,
                 });
             }
-            let abend = match fused_notices {
+            let happenings = match fused_notices {
                 Some(notices) => self.report_notices(notices),
                 None => self.collect_notices(),
             };
-            let abend_condition = self.filters.conditions.abend.clone();
-            let abend_stops = abend.is_some()
-                && self.filters.abend
-                && self.exception_condition_holds(abend_condition.as_deref(), &Check::Live);
-            if let (Some(reason), true) = (abend, abend_stops) {
-                return Progress::Stopped(Stop {
-                    reason: StopReason::Exception,
-                    description: "Paused on abend".into(),
-                    text: Some(reason),
-                    hit_breakpoint_ids: Vec::new(),
-                });
+            if let Some(stop) = self.filtered_stop(happenings) {
+                return Progress::Stopped(stop);
             }
             if let Some(progress) = self.after_step(&event, mode, start, Check::Live) {
                 if let Progress::Stopped(_) = progress {
@@ -458,7 +471,7 @@ impl<T: Target> Debugger<T> {
 
     /// Re-applies the user's edits recorded at the present clock: running forward over
     /// a stretch of history that was edited reproduces the edit.
-    fn replay_edits(&mut self) -> Result<(), String> {
+    fn replay_edits(&mut self) -> DebugResult<()> {
         let Some(history) = &self.history else {
             return Ok(());
         };
@@ -594,15 +607,16 @@ impl<T: Target> Debugger<T> {
         event
     }
 
-    /// Turns the world's notices into output; returns the abort reason if one happened.
-    fn collect_notices(&mut self) -> Option<String> {
+    /// Turns the world's notices into output; returns what the exception filters may
+    /// stop on (an abend, a milestone of the journey).
+    fn collect_notices(&mut self) -> Vec<Happening> {
         let notices = self.target.take_notices();
         self.report_notices(notices)
     }
 
     /// Turns notices into output, a printed line pointing at the line of its `print`.
-    fn report_notices(&mut self, notices: Vec<Notice>) -> Option<String> {
-        let mut abend = None;
+    fn report_notices(&mut self, notices: Vec<Notice>) -> Vec<Happening> {
+        let mut happenings = Vec::new();
         for notice in notices {
             // Only what the script printed points at a source line.
             let (category, text, line) = match notice {
@@ -610,8 +624,14 @@ impl<T: Target> Debugger<T> {
                 Notice::Behavior(text) => (Category::Note, format!("behavior: {text}"), None),
                 Notice::Warning(text) => (Category::Important, text, None),
                 Notice::Abend(text) => {
-                    abend = Some(text.clone());
-                    (Category::Important, format!("abend: {text}"), None)
+                    let shown = format!("abend: {text}");
+                    happenings.push(Happening::Abend(text));
+                    (Category::Important, shown, None)
+                }
+                Notice::Milestone(milestone, text) => {
+                    let shown = format!("navigation: {text}");
+                    happenings.push(Happening::Milestone(milestone, text));
+                    (Category::Note, shown, None)
                 }
             };
             self.outputs.push(Output {
@@ -620,7 +640,46 @@ impl<T: Target> Debugger<T> {
                 line,
             });
         }
-        abend
+        happenings
+    }
+
+    /// The first of `happenings` whose exception filter is on and whose condition
+    /// holds, as a stop.
+    fn filtered_stop(&mut self, happenings: Vec<Happening>) -> Option<Stop> {
+        for happening in happenings {
+            let (wanted, condition, reason, description, text) = match happening {
+                Happening::Abend(text) => (
+                    self.filters.abend,
+                    self.filters.conditions.abend.clone(),
+                    StopReason::Exception,
+                    "Paused on abend".to_string(),
+                    text,
+                ),
+                Happening::Milestone(Milestone::WaypointReached, text) => (
+                    self.filters.waypoint,
+                    self.filters.conditions.waypoint.clone(),
+                    StopReason::Waypoint,
+                    format!("Paused: {text}"),
+                    text,
+                ),
+                Happening::Milestone(Milestone::Surfaced, text) => (
+                    self.filters.surfacing,
+                    self.filters.conditions.surfacing.clone(),
+                    StopReason::Surfacing,
+                    format!("Paused: {text}"),
+                    text,
+                ),
+            };
+            if wanted && self.exception_condition_holds(condition.as_deref(), &Check::Live) {
+                return Some(Stop {
+                    reason,
+                    description,
+                    text: Some(text),
+                    hit_breakpoint_ids: Vec::new(),
+                });
+            }
+        }
+        None
     }
 
     /// The pc to show: the next instruction, except after the script's share when
@@ -640,7 +699,10 @@ impl<T: Target> Debugger<T> {
             .or_else(|| self.info.line(self.target.pc()))
     }
 
-    /// Decides whether the run stops after one step.
+    /// Decides whether the run stops after one step: on a trap its filter stops on,
+    /// at the mission's end, at a cycle boundary (a pause, a cycle or data
+    /// breakpoint, the end of a `next`), on an instruction or line breakpoint where
+    /// the script runs next, or where the step mode ends.
     fn after_step(
         &mut self,
         event: &StepEvent,
@@ -650,39 +712,7 @@ impl<T: Target> Debugger<T> {
     ) -> Option<Progress> {
         match event {
             StepEvent::Trapped { kind, message } => {
-                let line = self.info.line(self.target.pc());
-                let where_ = line
-                    .map(|line| format!(" at line {line}"))
-                    .unwrap_or_default();
-                let text = format!("{message}{where_} (cycle {})", self.clock.cycle);
-                self.trap = Some(text.clone());
-                if let Check::Live = check {
-                    self.outputs.push(Output {
-                        category: Category::Error,
-                        text: format!("script trap: {text}\n"),
-                        line,
-                    });
-                }
-                let (wanted, condition) = match kind {
-                    TrapKind::CycleOverrun => (
-                        self.filters.overrun,
-                        self.filters.conditions.overrun.clone(),
-                    ),
-                    TrapKind::Runtime => (self.filters.trap, self.filters.conditions.trap.clone()),
-                };
-                if wanted && self.exception_condition_holds(condition.as_deref(), &check) {
-                    let filter = match kind {
-                        TrapKind::CycleOverrun => "overrun",
-                        TrapKind::Runtime => "trap",
-                    };
-                    return Some(Progress::Stopped(Stop {
-                        reason: StopReason::Exception,
-                        description: format!("Paused on {filter}: {message}"),
-                        text: Some(text),
-                        hit_breakpoint_ids: Vec::new(),
-                    }));
-                }
-                return None;
+                return self.trapped(*kind, message, &check).map(Progress::Stopped);
             }
             StepEvent::MissionEnded { summary } => {
                 self.ended = Some(summary.clone());
@@ -692,136 +722,198 @@ impl<T: Target> Debugger<T> {
             }
             _ => {}
         }
-        let phase = self.target.phase();
         if *event == StepEvent::CycleBegan {
-            if let Check::Live = check {
-                if self.pause_requested {
-                    return Some(stopped(
-                        StopReason::Pause,
-                        "Paused at the cycle boundary".into(),
-                        Vec::new(),
-                    ));
-                }
+            if let Some(stop) = self.at_boundary(mode, start, &check) {
+                return Some(Progress::Stopped(stop));
             }
-            let cycle = self.clock.cycle;
-            let hit = self.hits(
-                &check,
-                |debugger| &mut debugger.cycle_breakpoints,
-                |_, at| match at {
-                    CycleBreakpointKind::At(at) => cycle == at,
-                    CycleBreakpointKind::Every(every) => every > 0 && cycle.is_multiple_of(every),
-                },
-            );
-            if !hit.is_empty() {
-                return Some(stopped(
+        }
+        let script_can_run = matches!(self.target.phase(), Phase::Boundary | Phase::InScript)
+            && self.target.script_alive();
+        if script_can_run {
+            if let Some(stop) = self.script_breakpoints(&check) {
+                return Some(Progress::Stopped(stop));
+            }
+        }
+        self.step_ends(event, mode, script_can_run)
+            .map(Progress::Stopped)
+    }
+
+    /// A trap: reported (on a live run), and a stop when its filter is on and its
+    /// condition holds.
+    fn trapped(&mut self, kind: TrapKind, message: &str, check: &Check) -> Option<Stop> {
+        let line = self.info.line(self.target.pc());
+        let where_ = line
+            .map(|line| format!(" at line {line}"))
+            .unwrap_or_default();
+        let text = format!("{message}{where_} (cycle {})", self.clock.cycle);
+        self.trap = Some(text.clone());
+        if let Check::Live = check {
+            self.outputs.push(Output {
+                category: Category::Error,
+                text: format!("script trap: {text}\n"),
+                line,
+            });
+        }
+        let (wanted, condition, filter) = match kind {
+            TrapKind::CycleOverrun => (
+                self.filters.overrun,
+                self.filters.conditions.overrun.clone(),
+                "overrun",
+            ),
+            TrapKind::Runtime => (
+                self.filters.trap,
+                self.filters.conditions.trap.clone(),
+                "trap",
+            ),
+        };
+        if !(wanted && self.exception_condition_holds(condition.as_deref(), check)) {
+            return None;
+        }
+        Some(Stop {
+            reason: StopReason::Exception,
+            description: format!("Paused on {filter}: {message}"),
+            text: Some(text),
+            hit_breakpoint_ids: Vec::new(),
+        })
+    }
+
+    /// At a cycle boundary: a pause asked for, a cycle breakpoint, a watched sensor
+    /// that changed (the baseline moves on), the end of a `next`.
+    fn at_boundary(&mut self, mode: RunMode, start: Clock, check: &Check) -> Option<Stop> {
+        if let Check::Live = check {
+            if self.pause_requested {
+                return Some(stopped_body(
+                    StopReason::Pause,
+                    "Paused at the cycle boundary".into(),
+                ));
+            }
+        }
+        let cycle = self.clock.cycle;
+        let hit = self.hits(
+            check,
+            |debugger| &mut debugger.cycle_breakpoints,
+            |_, at| match at {
+                CycleBreakpointKind::At(at) => cycle == at,
+                CycleBreakpointKind::Every(every) => every > 0 && cycle.is_multiple_of(every),
+            },
+        );
+        if !hit.is_empty() {
+            return Some(Stop {
+                hit_breakpoint_ids: hit,
+                ..stopped_body(
                     StopReason::CycleBreakpoint,
                     format!("Paused at cycle {cycle}"),
-                    hit,
-                ));
-            }
-            let changed_from = |debugger: &Self, sensor: usize| {
-                let before = debugger.baseline.get(&sensor).copied()?;
-                let value = debugger.target.sensor(sensor);
-                (before.to_bits() != value.to_bits()).then_some(before)
-            };
-            let hit = self.hits(
-                &check,
-                |debugger| &mut debugger.data_breakpoints,
-                |debugger, sensor| changed_from(debugger, sensor).is_some(),
-            );
-            let changed: Vec<String> = self
-                .data_breakpoints
-                .iter()
-                .filter(|breakpoint| hit.contains(&breakpoint.id))
-                .filter_map(|breakpoint| {
-                    let before = changed_from(self, breakpoint.at)?;
-                    let name = self.target.sensor_name(breakpoint.at).unwrap_or("?");
-                    let value = self.target.sensor(breakpoint.at);
-                    Some(format!("{name}: {before:?} → {value:?}"))
-                })
-                .collect();
-            for breakpoint in &self.data_breakpoints {
-                self.baseline
-                    .insert(breakpoint.at, self.target.sensor(breakpoint.at));
-            }
-            if !hit.is_empty() {
-                let text = changed.join(", ");
-                return Some(Progress::Stopped(Stop {
-                    reason: StopReason::DataBreakpoint,
-                    description: format!("Paused at cycle {cycle}: {text}"),
-                    text: Some(text),
-                    hit_breakpoint_ids: hit,
-                }));
-            }
-            if mode == RunMode::Next && cycle > start.cycle {
-                return Some(stopped(
-                    StopReason::Step,
-                    format!("Cycle {cycle}"),
-                    Vec::new(),
-                ));
-            }
+                )
+            });
         }
-        let script_can_run =
-            matches!(phase, Phase::Boundary | Phase::InScript) && self.target.script_alive();
-        if script_can_run {
-            let pc = self.target.pc();
-            let hit = self.hits(
-                &check,
-                |debugger| &mut debugger.instruction_breakpoints,
-                |_, at| at == Pc(pc),
-            );
-            if !hit.is_empty() {
-                return Some(stopped(
+        if let Some(stop) = self.data_changes(check) {
+            return Some(stop);
+        }
+        if mode == RunMode::Next && cycle > start.cycle {
+            return Some(stopped_body(StopReason::Step, format!("Cycle {cycle}")));
+        }
+        None
+    }
+
+    /// The data breakpoints whose sensor changed since the baseline, which then
+    /// takes the sensors' values now.
+    fn data_changes(&mut self, check: &Check) -> Option<Stop> {
+        let changed_from = |debugger: &Self, sensor: usize| {
+            let before = debugger.baseline.get(&sensor).copied()?;
+            let value = debugger.target.sensor(sensor);
+            (before.to_bits() != value.to_bits()).then_some(before)
+        };
+        let hit = self.hits(
+            check,
+            |debugger| &mut debugger.data_breakpoints,
+            |debugger, sensor| changed_from(debugger, sensor).is_some(),
+        );
+        let changed: Vec<String> = self
+            .data_breakpoints
+            .iter()
+            .filter(|breakpoint| hit.contains(&breakpoint.id))
+            .filter_map(|breakpoint| {
+                let before = changed_from(self, breakpoint.at)?;
+                let name = self.target.sensor_name(breakpoint.at).unwrap_or("?");
+                let value = self.target.sensor(breakpoint.at);
+                Some(format!("{name}: {before:?} → {value:?}"))
+            })
+            .collect();
+        for breakpoint in &self.data_breakpoints {
+            self.baseline
+                .insert(breakpoint.at, self.target.sensor(breakpoint.at));
+        }
+        if hit.is_empty() {
+            return None;
+        }
+        let text = changed.join(", ");
+        Some(Stop {
+            reason: StopReason::DataBreakpoint,
+            description: format!("Paused at cycle {}: {text}", self.clock.cycle),
+            text: Some(text),
+            hit_breakpoint_ids: hit,
+        })
+    }
+
+    /// An instruction breakpoint at the next pc, or a line breakpoint where the next
+    /// pc enters its line.
+    fn script_breakpoints(&mut self, check: &Check) -> Option<Stop> {
+        let pc = self.target.pc();
+        let hit = self.hits(
+            check,
+            |debugger| &mut debugger.instruction_breakpoints,
+            |_, at| at == Pc(pc),
+        );
+        if !hit.is_empty() {
+            return Some(Stop {
+                hit_breakpoint_ids: hit,
+                ..stopped_body(
                     StopReason::InstructionBreakpoint,
                     format!("Paused at instruction {pc}"),
-                    hit,
-                ));
-            }
-            if self.info.is_line_entry(pc) {
-                let line = self.info.line(pc);
-                let hit = self.hits(
-                    &check,
-                    |debugger| &mut debugger.line_breakpoints,
-                    |_, at| Some(at) == line,
-                );
-                if !hit.is_empty() {
-                    let line = line.unwrap_or(0);
-                    return Some(stopped(
-                        StopReason::Breakpoint,
-                        format!("Paused on line {line}"),
-                        hit,
-                    ));
-                }
-            }
+                )
+            });
         }
+        if !self.info.is_line_entry(pc) {
+            return None;
+        }
+        let line = self.info.line(pc);
+        let hit = self.hits(
+            check,
+            |debugger| &mut debugger.line_breakpoints,
+            |_, at| Some(at) == line,
+        );
+        if hit.is_empty() {
+            return None;
+        }
+        Some(Stop {
+            hit_breakpoint_ids: hit,
+            ..stopped_body(
+                StopReason::Breakpoint,
+                format!("Paused on line {}", line.unwrap_or(0)),
+            )
+        })
+    }
+
+    /// Where the step mode ends: after one instruction, at the next statement or
+    /// boundary, at the end of the script's share.
+    fn step_ends(&self, event: &StepEvent, mode: RunMode, script_can_run: bool) -> Option<Stop> {
         match mode {
-            RunMode::StepIn { instruction: true } => Some(stopped(
+            RunMode::StepIn { instruction: true } => Some(stopped_body(
                 StopReason::Step,
                 "Stepped one instruction".into(),
-                Vec::new(),
             )),
             RunMode::StepIn { instruction: false } => {
                 let at_statement = script_can_run && self.info.is_statement_start(self.target.pc());
-                if at_statement || *event == StepEvent::CycleBegan {
-                    Some(stopped(
-                        StopReason::Step,
-                        "Stepped one statement".into(),
-                        Vec::new(),
-                    ))
-                } else {
-                    None
-                }
+                (at_statement || *event == StepEvent::CycleBegan)
+                    .then(|| stopped_body(StopReason::Step, "Stepped one statement".into()))
             }
             RunMode::StepOut => {
-                if matches!(event, StepEvent::Yielded | StepEvent::Halted) {
-                    Some(stopped(
+                matches!(event, StepEvent::Yielded | StepEvent::Halted).then(|| {
+                    stopped_body(
                         StopReason::Step,
                         format!("End of the script's share of cycle {}", self.clock.cycle),
-                        Vec::new(),
-                    ))
-                } else {
-                    None
-                }
+                    )
+                })
             }
             _ => None,
         }
@@ -953,17 +1045,17 @@ impl<T: Target> Debugger<T> {
     }
 
     /// The value of a GBASIC expression on the paused world.
-    pub fn evaluate(&self, expression: &str) -> Result<Number, String> {
+    pub fn evaluate(&self, expression: &str) -> DebugResult<Number> {
         expr::evaluate(expression, &self.info.scope, &self.target)
     }
 
     /// As [`Debugger::evaluate`], and a whole array named alone is shown.
-    pub fn watch(&self, expression: &str) -> Result<Watched, String> {
+    pub fn watch(&self, expression: &str) -> DebugResult<Watched> {
         expr::watch(expression, &self.info.scope, &self.target)
     }
 
     /// Why `expression` can never be evaluated (a syntax, name or type error).
-    pub fn check_expression(&self, expression: &str) -> Result<(), String> {
+    pub fn check_expression(&self, expression: &str) -> DebugResult<()> {
         expr::check(expression, &self.info.scope, &self.target)
     }
 
@@ -972,7 +1064,7 @@ impl<T: Target> Debugger<T> {
 
     /// Applies a user edit now and records it so replays reproduce it. An edit in the
     /// past rewrites the future: later journal entries and snapshots are dropped.
-    pub fn edit(&mut self, edit: Edit) -> Result<(), String> {
+    pub fn edit(&mut self, edit: Edit) -> DebugResult<()> {
         apply(&mut self.target, &edit)?;
         let clock = self.clock;
         if let Some(history) = &mut self.history {
@@ -1016,12 +1108,12 @@ impl<T: Target> Debugger<T> {
 
     /// Moves the world to `target` (≤ the present): restore, then replay with the
     /// journal. No breakpoint fires and nothing is printed during the replay.
-    fn travel_to(&mut self, target: Clock) -> Result<(), String> {
+    fn travel_to(&mut self, target: Clock) -> DebugResult<()> {
         let Some(history) = &self.history else {
-            return Err("reverse debugging is off (launch with \"history\": true)".into());
+            return Err(DebugError::NoHistory);
         };
         let Some((&at, snapshot)) = history.snapshots.range(..=target).next_back() else {
-            return Err("that point is older than the kept history".into());
+            return Err(DebugError::BeforeHistory);
         };
         let journal: Vec<(Clock, Edit)> = history
             .journal
@@ -1061,9 +1153,9 @@ impl<T: Target> Debugger<T> {
     }
 
     /// Back to the previous cycle boundary (undoes one `next`).
-    pub fn step_back(&mut self) -> Result<Stop, String> {
+    pub fn step_back(&mut self) -> DebugResult<Stop> {
         if self.history.is_none() {
-            return Err("reverse debugging is off (launch with \"history\": true)".into());
+            return Err(DebugError::NoHistory);
         }
         let target = if self.clock.steps == 0 {
             if self.clock <= self.origin {
@@ -1091,21 +1183,18 @@ impl<T: Target> Debugger<T> {
     }
 
     /// Back to the most recent breakpoint hit before now, or the start of the history.
-    pub fn reverse_continue(&mut self) -> Result<Stop, String> {
+    pub fn reverse_continue(&mut self) -> DebugResult<Stop> {
         self.reverse_continue_unless(&|| false)
     }
 
     /// `reverse_continue`, which gives up when `cancelled()` turns true (it is asked
     /// between steps): it then stops at the earliest point from which everything up to
     /// where it started was checked for breakpoints (a segment's end, a snapshot).
-    pub fn reverse_continue_unless(
-        &mut self,
-        cancelled: &dyn Fn() -> bool,
-    ) -> Result<Stop, String> {
+    pub fn reverse_continue_unless(&mut self, cancelled: &dyn Fn() -> bool) -> DebugResult<Stop> {
         let present = self.clock;
         self.refresh_stops();
         let Some(history) = &self.history else {
-            return Err("reverse debugging is off (launch with \"history\": true)".into());
+            return Err(DebugError::NoHistory);
         };
         let starts: Vec<Clock> = history
             .snapshots
@@ -1173,15 +1262,6 @@ impl<T: Target> Debugger<T> {
     }
 }
 
-fn stopped(reason: StopReason, description: String, hit_breakpoint_ids: Vec<i64>) -> Progress {
-    Progress::Stopped(Stop {
-        reason,
-        description,
-        text: None,
-        hit_breakpoint_ids,
-    })
-}
-
 fn stopped_body(reason: StopReason, description: String) -> Stop {
     Stop {
         reason,
@@ -1191,7 +1271,7 @@ fn stopped_body(reason: StopReason, description: String) -> Stop {
     }
 }
 
-fn apply<T: Target>(target: &mut T, edit: &Edit) -> Result<(), String> {
+fn apply<T: Target>(target: &mut T, edit: &Edit) -> DebugResult<()> {
     match edit {
         Edit::Register(index, value) => target.set_register(*index, *value),
         Edit::Variable(name, value) => target.set_variable(name, *value),

@@ -9,6 +9,8 @@ use serde::de::DeserializeOwned;
 use serde::Serialize;
 use serde_json::Value;
 
+use crate::error::DebugError;
+
 /// Why a request failed: the message of its error response.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Failure(pub String);
@@ -16,6 +18,12 @@ pub struct Failure(pub String);
 impl From<String> for Failure {
     fn from(message: String) -> Failure {
         Failure(message)
+    }
+}
+
+impl From<DebugError> for Failure {
+    fn from(error: DebugError) -> Failure {
+        Failure(error.to_string())
     }
 }
 

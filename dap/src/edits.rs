@@ -7,6 +7,7 @@
 
 use crate::completion::{Kind, Vocabulary};
 use crate::debugger::{Debugger, Edit};
+use crate::error::{DebugError, DebugResult};
 use crate::expr::Number;
 use crate::target::{Named, Phase, Target};
 
@@ -22,12 +23,12 @@ pub enum Place {
 /// The value the user typed: hex as the hex format shows it (`0xc0`), else a GBASIC
 /// expression over the paused state (`12`, `m_depth + 1`), as the right side of an
 /// assignment in the script.
-pub fn value_of<T: Target>(debugger: &Debugger<T>, text: &str) -> Result<Number, String> {
+pub fn value_of<T: Target>(debugger: &Debugger<T>, text: &str) -> DebugResult<Number> {
     match crate::format::parse_hex(text) {
         Some(value) => Ok(value),
-        None => debugger
-            .evaluate(text)
-            .map_err(|message| format!("`{}` is not a value: {message}", text.trim())),
+        None => debugger.evaluate(text).map_err(|message| {
+            DebugError::edit(format!("`{}` is not a value: {message}", text.trim()))
+        }),
     }
 }
 
@@ -35,7 +36,7 @@ pub fn value_of<T: Target>(debugger: &Debugger<T>, text: &str) -> Result<Number,
 /// scalar variable, then a register `rN`, then a sensor: the order expressions look
 /// names up in) or `name(index)` (an element of an array; the index is an expression,
 /// evaluated now).
-pub fn place<T: Target>(debugger: &Debugger<T>, expression: &str) -> Result<Place, String> {
+pub fn place<T: Target>(debugger: &Debugger<T>, expression: &str) -> DebugResult<Place> {
     use gloc_compiler::ast::ExprKind;
     let text = expression.trim();
     let parsed = gloc_compiler::parser::parse_expression(text);
@@ -44,12 +45,15 @@ pub fn place<T: Target>(debugger: &Debugger<T>, expression: &str) -> Result<Plac
         .iter()
         .find(|diagnostic| diagnostic.is_error())
     {
-        return Err(format!("`{text}` is not an expression: {}", error.message));
+        return Err(DebugError::edit(format!(
+            "`{text}` is not an expression: {}",
+            error.message
+        )));
     }
     let cannot = || {
-        format!(
+        DebugError::edit(format!(
             "`{text}` cannot be assigned: write a variable, an array element like `a(3)`, a register like `r2` or a sensor"
-        )
+        ))
     };
     let target = &debugger.target;
     let kind = parsed.expr.map(|expr| expr.kind).ok_or_else(cannot)?;
@@ -60,10 +64,16 @@ pub fn place<T: Target>(debugger: &Debugger<T>, expression: &str) -> Result<Plac
                 .iter()
                 .any(|named| named.length.is_some() && named.name.eq_ignore_ascii_case(&name.text));
             if !is_array {
-                return Err(format!("`{}` is not an array of the script", name.text));
+                return Err(DebugError::edit(format!(
+                    "`{}` is not an array of the script",
+                    name.text
+                )));
             }
             let [index] = args.as_slice() else {
-                return Err(format!("an element of `{}` takes one index", name.text));
+                return Err(DebugError::edit(format!(
+                    "an element of `{}` takes one index",
+                    name.text
+                )));
             };
             let span = index.span;
             let index_text = text
@@ -71,10 +81,10 @@ pub fn place<T: Target>(debugger: &Debugger<T>, expression: &str) -> Result<Plac
                 .ok_or_else(cannot)?;
             match debugger.evaluate(index_text)? {
                 Number::Int(index) => Ok(Place::Element(name.text, index)),
-                Number::Float(value) => Err(format!(
+                Number::Float(value) => Err(DebugError::edit(format!(
                     "the index of `{}` must be an integer, not {value:?}",
                     name.text
-                )),
+                ))),
             }
         }
         ExprKind::Name(name) => {
@@ -85,10 +95,10 @@ pub fn place<T: Target>(debugger: &Debugger<T>, expression: &str) -> Result<Plac
                 .find(|named| named.name.eq_ignore_ascii_case(&name))
             {
                 return match named.length {
-                    Some(_) => Err(format!(
+                    Some(_) => Err(DebugError::edit(format!(
                         "`{}` is an array: assign to one element, like `{}(0)`",
                         named.name, named.name
-                    )),
+                    ))),
                     None => Ok(Place::Variable(named.name)),
                 };
             }
@@ -99,9 +109,9 @@ pub fn place<T: Target>(debugger: &Debugger<T>, expression: &str) -> Result<Plac
                 .iter()
                 .any(|constant| constant.name.eq_ignore_ascii_case(&name))
             {
-                return Err(format!(
+                return Err(DebugError::edit(format!(
                     "`{name}` is a constant; change its `const` line and restart"
-                ));
+                )));
             }
             if let Some(index) = name
                 .strip_prefix(['r', 'R'])
@@ -126,7 +136,7 @@ pub fn assign<T: Target>(
     debugger: &mut Debugger<T>,
     expression: &str,
     value: &str,
-) -> Result<Number, String> {
+) -> DebugResult<Number> {
     let place = place(debugger, expression)?;
     let value = value_of(debugger, value)?;
     let edit = match &place {
@@ -143,7 +153,12 @@ pub fn assign<T: Target>(
         Place::Register(index) => target.registers().get(*index).copied(),
         Place::Sensor(index) => Some(Number::Float(target.sensor(*index))),
     };
-    now.ok_or_else(|| format!("`{}` has no value after the assignment", expression.trim()))
+    now.ok_or_else(|| {
+        DebugError::edit(format!(
+            "`{}` has no value after the assignment",
+            expression.trim()
+        ))
+    })
 }
 
 /// The script's array that `expression` names on its own (`tsum`), with its position
@@ -163,22 +178,24 @@ pub fn array<T: Target>(debugger: &Debugger<T>, expression: &str) -> Option<(usi
 /// boundary) the share starts at `pc`; part way through it goes on from `pc`; once the
 /// script yielded, the share is over and a jump would land in the next cycle, so it is
 /// refused with what to do instead. A halted or trapped script cannot go on.
-pub fn goto<T: Target>(debugger: &mut Debugger<T>, pc: usize) -> Result<(), String> {
+pub fn goto<T: Target>(debugger: &mut Debugger<T>, pc: usize) -> DebugResult<()> {
     if pc >= debugger.info.instruction_count() {
-        return Err(format!("pc {pc} is not an instruction of the program"));
+        return Err(DebugError::edit(format!(
+            "pc {pc} is not an instruction of the program"
+        )));
     }
     if !debugger.target.script_alive() {
-        return Err(
-            "the script has halted or trapped: it cannot go on; restart to run it again".into(),
-        );
+        return Err(DebugError::edit(
+            "the script has halted or trapped: it cannot go on; restart to run it again",
+        ));
     }
     match debugger.target.phase() {
         Phase::Boundary | Phase::InScript => debugger.edit(Edit::Pc(pc)),
-        Phase::ScriptDone => Err(format!(
+        Phase::ScriptDone => Err(DebugError::edit(format!(
             "the script already yielded in cycle {}: a jump now would leave the cycle; step to the next cycle (`next` stops at its boundary) and jump there",
             debugger.clock().cycle
-        )),
-        Phase::Ended => Err("the mission has ended".into()),
+        ))),
+        Phase::Ended => Err(DebugError::edit("the mission has ended")),
     }
 }
 

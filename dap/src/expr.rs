@@ -11,6 +11,7 @@ use gloc_compiler::expression::{self, ExpressionScope, ExpressionState};
 use gloc_compiler::typed::{Ty, VarId};
 use gloc_engine::sensors::SensorId;
 
+use crate::error::{DebugError, DebugResult};
 use crate::target::Target;
 
 /// A value as the script sees it: the machine's own value (integer or float).
@@ -34,27 +35,20 @@ pub enum Watched {
 }
 
 /// The value of `text` in the paused `target` (`scope`: the script's symbols).
-pub fn evaluate<T: Target>(
-    text: &str,
-    scope: &ExpressionScope,
-    target: &T,
-) -> Result<Number, String> {
+pub fn evaluate<T: Target>(text: &str, scope: &ExpressionScope, target: &T) -> DebugResult<Number> {
     let (scope, registers) = with_registers(text, scope, target);
-    let expr = expression::compile_expression(text, &scope)?;
+    let expr = expression::compile_expression(text, &scope).map_err(DebugError::Expression)?;
     let state = State {
         target,
         scope: &scope,
         registers,
     };
-    expression::evaluate(&expr, &scope, &state).map_err(|error| error.to_string())
+    expression::evaluate(&expr, &scope, &state)
+        .map_err(|error| DebugError::Expression(error.to_string()))
 }
 
 /// As [`evaluate`], and a whole array named alone (`tsum`) is shown.
-pub fn watch<T: Target>(
-    text: &str,
-    scope: &ExpressionScope,
-    target: &T,
-) -> Result<Watched, String> {
+pub fn watch<T: Target>(text: &str, scope: &ExpressionScope, target: &T) -> DebugResult<Watched> {
     if let Some(array) = array_named(text, scope) {
         if let Some(named) = target
             .variables()
@@ -72,9 +66,11 @@ pub fn watch<T: Target>(
 
 /// Why `text` can never be evaluated here (a syntax, name or type error); a value
 /// that only fails on the current state (a division by zero) is not such a reason.
-pub fn check<T: Target>(text: &str, scope: &ExpressionScope, target: &T) -> Result<(), String> {
+pub fn check<T: Target>(text: &str, scope: &ExpressionScope, target: &T) -> DebugResult<()> {
     let (scope, _) = with_registers(text, scope, target);
-    expression::compile_expression(text, &scope).map(|_| ())
+    expression::compile_expression(text, &scope)
+        .map(|_| ())
+        .map_err(DebugError::Expression)
 }
 
 /// The array `text` names alone, if it is one of the script's arrays.

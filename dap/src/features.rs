@@ -7,6 +7,7 @@
 use crate::completion::{self, Kind};
 use crate::debugger::{Debugger, ExceptionConditions, ExceptionFilters};
 use crate::edits;
+use crate::error::{DebugError, DebugResult};
 use crate::expr::{type_name, Watched};
 use crate::format::ValueFormat;
 use crate::references::{address, ARRAYS};
@@ -49,30 +50,46 @@ pub fn value_format(format: Option<ValueFormatArgument>) -> ValueFormat {
     }
 }
 
-/// The exception filters the adapter offers, each with a condition (a GBASIC
-/// expression over the state at the failure).
-pub const EXCEPTION_FILTERS: [(&str, &str, &str); 3] = [
+/// The exception filters the adapter offers (id, label, description, on by default),
+/// each with a condition (a GBASIC expression over the state where it happens): the
+/// script's failures and the mission's abort, on by default, and the points of the
+/// journey, off until the user turns them on.
+pub const EXCEPTION_FILTERS: [(&str, &str, &str, bool); 5] = [
     (
         "trap",
         "Runtime traps",
         "Stop when the script traps (division by zero, bad jump, ...)",
+        true,
     ),
     (
         "overrun",
         "Cycle overrun",
         "Stop when the script exceeds its per-cycle instruction budget",
+        true,
     ),
-    ("abend", "Abend", "Stop when the mission aborts"),
+    ("abend", "Abend", "Stop when the mission aborts", true),
+    (
+        "waypoint",
+        "Waypoint reached",
+        "Stop when a goto behavior reaches its waypoint (x_hit_a_waypoint, judged on the dead-reckoned position)",
+        false,
+    ),
+    (
+        "surfacing",
+        "Surfacing",
+        "Stop when the glider comes up (x_dr_state goes from 1, underwater, to 2, surfaced)",
+        false,
+    ),
 ];
 
 pub fn exception_breakpoint_filters() -> Vec<ExceptionBreakpointsFilter> {
     EXCEPTION_FILTERS
         .iter()
-        .map(|(filter, label, description)| ExceptionBreakpointsFilter {
+        .map(|(filter, label, description, default)| ExceptionBreakpointsFilter {
             filter: (*filter).into(),
             label: (*label).into(),
             description: Some((*description).into()),
-            default: Some(true),
+            default: Some(*default),
             supports_condition: Some(true),
             condition_description: Some(
                 "a GBASIC expression over the state where it happens, e.g. `m_depth > 10` or `cycle > 100`"
@@ -89,7 +106,7 @@ pub fn exception_breakpoint_filters() -> Vec<ExceptionBreakpointsFilter> {
 pub fn exception_filters(
     arguments: &SetExceptionBreakpointsArguments,
     condition_error: impl Fn(&str) -> Option<String>,
-) -> Result<(ExceptionFilters, Vec<Breakpoint>), String> {
+) -> DebugResult<(ExceptionFilters, Vec<Breakpoint>)> {
     let options = arguments.filter_options.clone().unwrap_or_default();
     let ids = arguments
         .filters
@@ -104,6 +121,8 @@ pub fn exception_filters(
         overrun: false,
         trap: false,
         abend: false,
+        waypoint: false,
+        surfacing: false,
         conditions: ExceptionConditions::default(),
     };
     let mut breakpoints = Vec::new();
@@ -113,10 +132,12 @@ pub fn exception_filters(
             "trap" => (&mut filters.trap, &mut filters.conditions.trap),
             "overrun" => (&mut filters.overrun, &mut filters.conditions.overrun),
             "abend" => (&mut filters.abend, &mut filters.conditions.abend),
+            "waypoint" => (&mut filters.waypoint, &mut filters.conditions.waypoint),
+            "surfacing" => (&mut filters.surfacing, &mut filters.conditions.surfacing),
             other => {
-                return Err(format!(
-                    "unknown exception filter `{other}` (known: trap, overrun, abend)"
-                ))
+                return Err(DebugError::request(format!(
+                    "unknown exception filter `{other}` (known: trap, overrun, abend, waypoint, surfacing)"
+                )))
             }
         };
         match condition.and_then(&condition_error) {
@@ -197,7 +218,7 @@ pub fn completions(
 pub fn evaluate(
     debugger: &Debugger<World>,
     arguments: &EvaluateArguments,
-) -> Result<EvaluateBody, String> {
+) -> DebugResult<EvaluateBody> {
     let format = value_format(arguments.format);
     match debugger.watch(&arguments.expression)? {
         Watched::Value(value) => Ok(EvaluateBody {
@@ -230,7 +251,7 @@ pub fn evaluate(
 pub fn set_expression(
     debugger: &mut Debugger<World>,
     arguments: &SetExpressionArguments,
-) -> Result<SetExpressionBody, String> {
+) -> DebugResult<SetExpressionBody> {
     let value = edits::assign(debugger, &arguments.expression, &arguments.value)?;
     Ok(SetExpressionBody {
         value: value_format(arguments.format).number(value),
@@ -272,14 +293,14 @@ pub fn goto_targets(
     debugger: &Debugger<World>,
     arguments: &GotoTargetsArguments,
     client: ClientOptions,
-) -> Result<Vec<GotoTarget>, String> {
+) -> DebugResult<Vec<GotoTarget>> {
     let info = &debugger.info;
     let path = arguments.source.path.as_deref().unwrap_or_default();
     if !info.is_same_source(path) {
-        return Err(format!(
+        return Err(DebugError::request(format!(
             "{path} is not the program being debugged ({})",
             info.source_name()
-        ));
+        )));
     }
     let requested = arguments
         .line
@@ -287,7 +308,9 @@ pub fn goto_targets(
     let line = u32::try_from(requested)
         .ok()
         .filter(|line| *line >= 1)
-        .ok_or_else(|| format!("line {requested} is not a line of the program"))?;
+        .ok_or_else(|| {
+            DebugError::request(format!("line {requested} is not a line of the program"))
+        })?;
     let (Some(line), pcs) = info.goto_targets(line) else {
         return Ok(Vec::new());
     };
@@ -311,12 +334,12 @@ pub fn goto_targets(
 }
 
 /// `goto`: jumps (journaled) and says where, for the `stopped` event that follows.
-pub fn goto(debugger: &mut Debugger<World>, arguments: &GotoArguments) -> Result<String, String> {
+pub fn goto(debugger: &mut Debugger<World>, arguments: &GotoArguments) -> DebugResult<String> {
     let pc = usize::try_from(arguments.target_id).map_err(|_| {
-        format!(
+        DebugError::request(format!(
             "goto target {} is not one of gotoTargets'",
             arguments.target_id
-        )
+        ))
     })?;
     edits::goto(debugger, pc)?;
     let line = debugger

@@ -11,20 +11,57 @@ use serde::de::IgnoredAny;
 use crate::debugger::{Debugger, Edit, RunMode, Stop, StopReason};
 use crate::dispatch::{Dispatcher, Failure};
 use crate::edits;
+use crate::error::{DebugError, DebugResult};
 use crate::features::{self, ClientOptions};
 use crate::format::ValueFormat;
+use crate::launch::{LaunchArguments, RestartArguments};
 use crate::program::Language;
-use crate::session::{
-    address, capabilities, condition_error, parse_address, source_of, LaunchArguments,
-    RestartArguments, Running, Session, Then, ALL_SENSORS, ARRAYS, FRAME_ID, MAX_DISASSEMBLE,
+use crate::references::{
+    address, parse_address, source_of, ALL_SENSORS, ARRAYS, FRAME_ID, SCOPE_NAVIGATION,
     SCOPE_REGISTERS, SCOPE_SENSORS, SCOPE_VARIABLES, SCOPE_VEHICLE, THREAD_ID,
 };
+use crate::session::{Running, Session, Then};
 use crate::target::{Named, Phase, Target};
 use crate::types::*;
 use crate::world::World;
 use gloc_compiler::typed::Ty;
 
 type Answer<T> = Result<T, Failure>;
+
+/// The most instructions one `disassemble` may ask for (the response holds exactly
+/// as many, padded with invalid entries where there is no code).
+pub const MAX_DISASSEMBLE: i64 = 100_000;
+
+/// What the adapter can do, as `initialize` answers it.
+fn capabilities() -> Capabilities {
+    Capabilities {
+        supports_configuration_done_request: Some(true),
+        supports_function_breakpoints: Some(true),
+        supports_conditional_breakpoints: Some(true),
+        supports_hit_conditional_breakpoints: Some(true),
+        supports_evaluate_for_hovers: Some(true),
+        exception_breakpoint_filters: Some(features::exception_breakpoint_filters()),
+        supports_set_variable: Some(true),
+        supports_restart_request: Some(true),
+        supports_log_points: Some(true),
+        supports_terminate_request: Some(true),
+        supports_data_breakpoints: Some(true),
+        supports_disassemble_request: Some(true),
+        supports_stepping_granularity: Some(true),
+        supports_instruction_breakpoints: Some(true),
+        supports_breakpoint_locations_request: Some(true),
+        supports_exception_info_request: Some(true),
+        supports_loaded_sources_request: Some(true),
+        // Announced after launch with a `capabilities` event when history is on.
+        supports_step_back: None,
+        supports_completions_request: Some(true),
+        supports_set_expression: Some(true),
+        supports_goto_targets_request: Some(true),
+        supports_value_formatting_options: Some(true),
+        supports_cancel_request: Some(true),
+        supports_exception_filter_options: Some(true),
+    }
+}
 
 /// Every command the adapter answers, with its handler.
 pub fn table() -> &'static Dispatcher<Session> {
@@ -140,7 +177,11 @@ fn set_breakpoints(
     session: &mut Session,
     arguments: SetBreakpointsArguments,
 ) -> Answer<BreakpointsBody> {
-    let breakpoints = session.set_breakpoints(arguments)?;
+    let debugger = session
+        .launched
+        .as_mut()
+        .map(|launched| &mut launched.debugger);
+    let breakpoints = session.breakpoints.set_source(arguments, debugger)?;
     Ok(BreakpointsBody { breakpoints })
 }
 
@@ -148,9 +189,14 @@ fn set_function_breakpoints(
     session: &mut Session,
     arguments: SetFunctionBreakpointsArguments,
 ) -> Answer<BreakpointsBody> {
-    session.requested.functions = arguments.breakpoints;
+    let debugger = session
+        .launched
+        .as_mut()
+        .map(|launched| &mut launched.debugger);
     Ok(BreakpointsBody {
-        breakpoints: session.apply_function_breakpoints(),
+        breakpoints: session
+            .breakpoints
+            .set_functions(arguments.breakpoints, debugger),
     })
 }
 
@@ -160,13 +206,11 @@ fn set_exception_breakpoints(
     session: &mut Session,
     arguments: SetExceptionBreakpointsArguments,
 ) -> Answer<BreakpointsBody> {
-    let debugger = session.launched.as_ref().map(|launched| &launched.debugger);
-    let (_, breakpoints) = features::exception_filters(&arguments, |condition| {
-        debugger.and_then(|debugger| condition_error(debugger, condition))
-    })?;
-    session.requested.filters = Some(arguments.filters);
-    session.requested.filter_options = arguments.filter_options.unwrap_or_default();
-    session.apply_filters();
+    let debugger = session
+        .launched
+        .as_mut()
+        .map(|launched| &mut launched.debugger);
+    let breakpoints = session.breakpoints.set_filters(arguments, debugger)?;
     Ok(BreakpointsBody { breakpoints })
 }
 
@@ -174,9 +218,14 @@ fn set_instruction_breakpoints(
     session: &mut Session,
     arguments: SetInstructionBreakpointsArguments,
 ) -> Answer<BreakpointsBody> {
-    session.requested.instructions = arguments.breakpoints;
+    let debugger = session
+        .launched
+        .as_mut()
+        .map(|launched| &mut launched.debugger);
     Ok(BreakpointsBody {
-        breakpoints: session.apply_instruction_breakpoints(),
+        breakpoints: session
+            .breakpoints
+            .set_instructions(arguments.breakpoints, debugger),
     })
 }
 
@@ -187,7 +236,7 @@ fn data_breakpoint_info(
     let target = &session.launched_mut()?.debugger.target;
     let in_sensor_scope = matches!(
         arguments.variables_reference,
-        None | Some(SCOPE_SENSORS) | Some(ALL_SENSORS)
+        None | Some(SCOPE_SENSORS) | Some(ALL_SENSORS) | Some(SCOPE_NAVIGATION)
     );
     let sensor = if in_sensor_scope {
         target.sensor_index(arguments.name.trim())
@@ -220,9 +269,14 @@ fn set_data_breakpoints(
     session: &mut Session,
     arguments: SetDataBreakpointsArguments,
 ) -> Answer<BreakpointsBody> {
-    session.requested.data = arguments.breakpoints;
+    let debugger = session
+        .launched
+        .as_mut()
+        .map(|launched| &mut launched.debugger);
     Ok(BreakpointsBody {
-        breakpoints: session.apply_data_breakpoints(),
+        breakpoints: session
+            .breakpoints
+            .set_data(arguments.breakpoints, debugger),
     })
 }
 
@@ -344,15 +398,13 @@ fn reverse_continue(session: &mut Session, _: IgnoredAny) -> Answer<()> {
     if shows_progress {
         session
             .start_progress(&progress, "Running backwards", request_seq)
-            .map_err(|error| format!("cannot write to the client: {error}"))?;
+            .map_err(DebugError::from)?;
     }
     let cancellations = session.cancellations.clone();
     let stop = paused(session)?
         .reverse_continue_unless(&|| cancellations.cancelled(request_seq, Some(&progress)));
     if shows_progress {
-        session
-            .end_progress(progress)
-            .map_err(|error| format!("cannot write to the client: {error}"))?;
+        session.end_progress(progress).map_err(DebugError::from)?;
     }
     session.then(Then::Stop(stop?));
     Ok(())
@@ -397,7 +449,7 @@ fn cancel(_: &mut Session, _: CancelArguments) -> Answer<()> {
 fn paused(session: &mut Session) -> Answer<&mut Debugger<World>> {
     let launched = session.launched_mut()?;
     if launched.running.is_some() {
-        return Err("the program is running; `pause` first".into());
+        return Err(DebugError::Running.into());
     }
     Ok(&mut launched.debugger)
 }
@@ -446,6 +498,12 @@ fn scopes(session: &mut Session, _: ScopesArguments) -> Answer<ScopesBody> {
                 target.touched_sensors().len() + 1,
             ),
             scope("Vehicle", None, SCOPE_VEHICLE, target.vehicle().len()),
+            scope(
+                "Navigation",
+                None,
+                SCOPE_NAVIGATION,
+                target.navigation().len(),
+            ),
         ],
     })
 }
@@ -576,7 +634,7 @@ fn sensor_variable(target: &World, index: usize, format: ValueFormat) -> Variabl
 fn variable_list(
     debugger: &Debugger<World>,
     arguments: &VariablesArguments,
-) -> Result<Vec<Variable>, String> {
+) -> DebugResult<Vec<Variable>> {
     let target = &debugger.target;
     let format = features::value_format(arguments.format);
     let all: Vec<Variable> = match arguments.variables_reference {
@@ -622,7 +680,9 @@ fn variable_list(
                 .into_iter()
                 .nth(position)
                 .filter(|named| named.length.is_some())
-                .ok_or_else(|| format!("unknown variablesReference {reference}"))?;
+                .ok_or_else(|| {
+                    DebugError::request(format!("unknown variablesReference {reference}"))
+                })?;
             let length = array.length.unwrap_or(0);
             let start = usize::try_from(arguments.start.unwrap_or(0))
                 .unwrap_or(0)
@@ -685,6 +745,7 @@ fn variable_list(
             list
         }
         SCOPE_VEHICLE => target.vehicle().into_iter().map(plain).collect(),
+        SCOPE_NAVIGATION => target.navigation().into_iter().map(plain).collect(),
         ALL_SENSORS if arguments.filter.as_deref() == Some("named") => return Ok(Vec::new()),
         ALL_SENSORS => {
             let start = usize::try_from(arguments.start.unwrap_or(0)).unwrap_or(0);
@@ -697,7 +758,11 @@ fn variable_list(
                 .map(|index| sensor_variable(target, index, format))
                 .collect());
         }
-        other => return Err(format!("unknown variablesReference {other}")),
+        other => {
+            return Err(DebugError::request(format!(
+                "unknown variablesReference {other}"
+            )))
+        }
     };
     let start = usize::try_from(arguments.start.unwrap_or(0))
         .unwrap_or(0)
@@ -712,7 +777,7 @@ fn variable_list(
 fn set_value(
     debugger: &mut Debugger<World>,
     arguments: &SetVariableArguments,
-) -> Result<String, String> {
+) -> DebugResult<String> {
     let value = edits::value_of(debugger, &arguments.value)?;
     let format = features::value_format(arguments.format);
     match arguments.variables_reference {
@@ -724,10 +789,10 @@ fn set_value(
                 .iter()
                 .any(|constant| constant.name.eq_ignore_ascii_case(&arguments.name)) =>
         {
-            Err(format!(
+            Err(DebugError::edit(format!(
                 "`{}` is a constant; change its `const` line and restart",
                 arguments.name
-            ))
+            )))
         }
         SCOPE_VARIABLES => {
             debugger.edit(Edit::Variable(arguments.name.clone(), value))?;
@@ -735,31 +800,42 @@ fn set_value(
                 .target
                 .variable(&arguments.name)
                 .map(|value| format.number(value))
-                .ok_or_else(|| format!("no variable `{}`", arguments.name))
+                .ok_or_else(|| DebugError::edit(format!("no variable `{}`", arguments.name)))
         }
         SCOPE_REGISTERS => {
             let index = arguments
                 .name
                 .strip_prefix('r')
                 .and_then(|digits| digits.parse::<usize>().ok())
-                .ok_or_else(|| format!("`{}` is not a register", arguments.name))?;
+                .ok_or_else(|| {
+                    DebugError::edit(format!("`{}` is not a register", arguments.name))
+                })?;
             debugger.edit(Edit::Register(index, value))?;
             debugger
                 .target
                 .registers()
                 .get(index)
                 .map(|value| format.number(*value))
-                .ok_or_else(|| format!("no register `{}`", arguments.name))
+                .ok_or_else(|| DebugError::edit(format!("no register `{}`", arguments.name)))
         }
-        SCOPE_SENSORS | ALL_SENSORS => {
+        SCOPE_NAVIGATION if debugger.target.sensor_index(&arguments.name).is_none() => {
+            Err(DebugError::edit(format!(
+                "`{}` is read-only (the simulator computes it); set one of the rows named by a sensor, such as `m_lat`",
+                arguments.name
+            )))
+        }
+        // A navigation row named by its sensor sets the sensor.
+        SCOPE_SENSORS | ALL_SENSORS | SCOPE_NAVIGATION => {
             let index = debugger
                 .target
                 .sensor_index(&arguments.name)
-                .ok_or_else(|| format!("`{}` is not a sensor", arguments.name))?;
+                .ok_or_else(|| DebugError::edit(format!("`{}` is not a sensor", arguments.name)))?;
             debugger.edit(Edit::Sensor(index, value.as_f64()))?;
             Ok(format.sensor(debugger.target.sensor(index)))
         }
-        SCOPE_VEHICLE => Err("the Vehicle scope is read-only; set a sensor instead".into()),
+        SCOPE_VEHICLE => Err(DebugError::edit(
+            "the Vehicle scope is read-only; set a sensor instead",
+        )),
         reference if reference >= ARRAYS => {
             // The element's name in the array's children (`[3]`), or its expression (`a(3)`).
             let position = usize::try_from(reference - ARRAYS).unwrap_or(usize::MAX);
@@ -770,7 +846,9 @@ fn set_value(
                 .nth(position)
                 .filter(|named| named.length.is_some())
                 .map(|named| named.name)
-                .ok_or_else(|| format!("unknown variablesReference {reference}"))?;
+                .ok_or_else(|| {
+                    DebugError::request(format!("unknown variablesReference {reference}"))
+                })?;
             let element = arguments
                 .name
                 .strip_prefix('[')
@@ -783,40 +861,42 @@ fn set_value(
             let (name, index) = element
                 .and_then(|(name, index)| Some((name, index.trim().parse::<i64>().ok()?)))
                 .ok_or_else(|| {
-                    format!(
+                    DebugError::edit(format!(
                         "`{}` is not an array element like `[3]` or `{array}(3)`",
                         arguments.name
-                    )
+                    ))
                 })?;
             debugger.edit(Edit::Element(name.clone(), index, value))?;
             debugger
                 .target
                 .element(&name, index)
                 .map(|value| format.number(value))
-                .ok_or_else(|| format!("no element `{}`", arguments.name))
+                .ok_or_else(|| DebugError::edit(format!("no element `{}`", arguments.name)))
         }
-        other => Err(format!("unknown variablesReference {other}")),
+        other => Err(DebugError::request(format!(
+            "unknown variablesReference {other}"
+        ))),
     }
 }
 
 fn instructions(
     debugger: &Debugger<World>,
     arguments: &DisassembleArguments,
-) -> Result<Vec<DisassembledInstruction>, String> {
+) -> DebugResult<Vec<DisassembledInstruction>> {
     let base = parse_address(&arguments.memory_reference).ok_or_else(|| {
-        format!(
+        DebugError::request(format!(
             "`{}` is not an instruction address",
             arguments.memory_reference
-        )
+        ))
     })?;
     let first = base
         .saturating_add(arguments.offset.unwrap_or(0))
         .saturating_add(arguments.instruction_offset.unwrap_or(0));
     let count = arguments.instruction_count;
     if !(0..=MAX_DISASSEMBLE).contains(&count) {
-        return Err(format!(
+        return Err(DebugError::request(format!(
             "`instructionCount` {count} is outside 0 to {MAX_DISASSEMBLE}"
-        ));
+        )));
     }
     let source = source_of(debugger);
     let mut out = Vec::with_capacity(count as usize);

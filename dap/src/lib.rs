@@ -2,10 +2,13 @@
 //! the GLOC interpreter inside the glider simulator, cycle by cycle, forwards and back.
 //!
 //! Layers: `protocol` (framing, envelope, the one writer), `types` (serde structs),
-//! `session` (the session's state and the protocol edge), `dispatch` and `handlers`
-//! (the command table: one typed handler per command), `debugger` (breakpoints,
-//! stepping, history; protocol free), `target` (what the debugger needs from a world), `world` (that, over the
-//! engine and simulator), `expr` (GBASIC expressions for conditions and watches),
+//! `session` (the protocol edge: token, responses, events, run slices), `launch` (the
+//! launch attributes onto the project layer's `Overrides`), `breakpoints` (what the
+//! client sets, kept for `restart`), `dispatch` and `handlers` (the command table: one
+//! typed handler per command), `error` (`DebugError`), `debugger` (breakpoints,
+//! stepping, history; protocol free), `target` (what the debugger needs from a world),
+//! `world` (the one such world, over the simulator or a replay), `script` (the
+//! `ScriptState` both share), `expr` (GBASIC expressions for conditions and watches),
 //! `edits` (setExpression, goto, the console's names), `completion` (filtering and
 //! ranking them), `format` (values as `print` writes them, or hex), `features` (the
 //! console's, Watch's and goto's answers), `cancel` (`cancel`s noted as they arrive).
@@ -15,15 +18,19 @@
 // Stdout is the protocol: nothing else may print there.
 #![deny(clippy::print_stdout)]
 
+pub mod breakpoints;
 pub mod cancel;
 pub mod completion;
 pub mod debugger;
 pub mod dispatch;
 pub mod edits;
+pub mod error;
 pub mod expr;
 pub mod features;
 pub mod format;
 mod handlers;
+mod journey;
+pub mod launch;
 pub mod program;
 pub mod protocol;
 mod references;
@@ -46,7 +53,8 @@ use std::time::{Duration, Instant};
 use protocol::{Frame, Reader, Writer};
 use session::{Flow, Session};
 
-pub use session::{Access, LAUNCH_ATTRIBUTES};
+pub use launch::LAUNCH_ATTRIBUTES;
+pub use session::Access;
 
 /// Limits of `gloc dap --port` (documented in docs/dap.md).
 pub mod limits {
@@ -257,7 +265,7 @@ fn serve_session(
                 break;
             }
         })?;
-    let mut session = Session::new(Writer::new(Box::new(output)), access)
+    let mut session = Session::new(Writer::new(Box::new(output)), access, handlers::table())
         .signalling(authenticated)
         .cancelling(cancellations);
     let mut admitted = false;

@@ -7,38 +7,21 @@
 
 use std::sync::Arc;
 
-use gloc_compiler::LoadedScript;
 use gloc_engine::program::Pc;
-use gloc_engine::sensors::{SensorId, SensorList};
-use gloc_engine::vm::{CycleEnd, Host, Machine, MachineConfig, Status};
+use gloc_engine::sensors::SensorId;
+use gloc_engine::vm::{Host, Machine, MachineConfig, Status};
 use gloc_replay::{Input, Recording};
 
-use crate::expr::Number;
-use crate::program::SourceLines;
-use crate::script::{
-    element_of, float_text, registers_of, set_element_in, set_pc_in, set_register_in,
-    set_variable_in, trap_event, trap_words, variable_of, variables_of, DebugScript, LaunchConfig,
-    VariableSlot,
-};
-use crate::target::{Named, Notice, Phase, StepEvent, Target};
+use crate::error::{DebugError, DebugResult};
+use crate::script::{float_text, DebugScript, LaunchConfig, ScriptState};
+use crate::target::{Named, Notice, Phase, StepEvent};
 
-/// What never changes during a replay; shared by every snapshot.
-#[derive(Debug)]
-struct Fixed {
-    recording: Recording,
-    variables: Vec<VariableSlot>,
-    lines: SourceLines,
-    /// The loaded script, which names traps for the script's author.
-    loaded: LoadedScript,
-    /// The script's sensors first, then the recorded ones the list has.
-    touched: Vec<usize>,
-    max_cycles: Option<u64>,
-    sensor_list: Arc<SensorList>,
-}
-
+/// The script over a recording: its machine and sensor array, and the recorded cycle
+/// it is in. The script's own state is the world's `ScriptState`.
 #[derive(Clone, Debug)]
-pub struct ReplayWorld {
-    fixed: Arc<Fixed>,
+pub(crate) struct ReplayWorld {
+    /// The whole recording, shared by every snapshot.
+    recording: Arc<Recording>,
     machine: Machine,
     /// The sensor array, indexed by the active list.
     values: Vec<f64>,
@@ -46,8 +29,6 @@ pub struct ReplayWorld {
     cycle: u64,
     phase: Phase,
     notices: Vec<Notice>,
-    /// How the script last ended its share (for the summary).
-    last_end: Option<CycleEnd>,
 }
 
 /// The script's view of the sensor array; prints become notices.
@@ -82,18 +63,22 @@ impl Host for ReplayHost<'_> {
 
 impl ReplayWorld {
     /// Reads the whole recording (sensors matched to the active list by name) and
-    /// opens its first cycle.
+    /// opens its first cycle. Also answers the sensors the Sensors scope lists: the
+    /// script's first, then the recorded ones the list has.
     pub(crate) fn launch(
         config: &LaunchConfig,
         settings: &gloc_project::Settings,
-        script: DebugScript,
-    ) -> Result<ReplayWorld, String> {
+        script: &DebugScript,
+    ) -> DebugResult<(ReplayWorld, Vec<usize>)> {
         let input = Input::open(&config.replay, settings.sensor_cache.as_deref())
-            .map_err(|error| error.to_string())?;
-        let recording =
-            Recording::read(input, &script.sensor_list).map_err(|error| error.to_string())?;
+            .map_err(|error| DebugError::launch(error.to_string()))?;
+        let recording = Recording::read(input, &script.sensor_list)
+            .map_err(|error| DebugError::launch(error.to_string()))?;
         if recording.is_empty() {
-            return Err(format!("{} has no recorded cycles", recording.source));
+            return Err(DebugError::launch(format!(
+                "{} has no recorded cycles",
+                recording.source
+            )));
         }
         let mut notices: Vec<Notice> = script
             .warnings
@@ -126,28 +111,19 @@ impl ReplayWorld {
         );
         let mut world = ReplayWorld {
             values: script.sensor_list.initial_values(),
-            fixed: Arc::new(Fixed {
-                recording,
-                variables: script.variables,
-                lines: script.lines,
-                loaded: script.loaded,
-                touched,
-                max_cycles: config.max_cycles,
-                sensor_list: script.sensor_list,
-            }),
+            recording: Arc::new(recording),
             machine,
             cycle: 0,
             phase: Phase::Boundary,
             notices,
-            last_end: None,
         };
         world.publish();
-        Ok(world)
+        Ok((world, touched))
     }
 
     /// Writes the current recorded cycle's values into the sensor array.
     fn publish(&mut self) {
-        let Some(updates) = self.fixed.recording.cycle(self.cycle as usize) else {
+        let Some(updates) = self.recording.cycle(self.cycle as usize) else {
             return;
         };
         for &(sensor, value) in updates {
@@ -157,57 +133,46 @@ impl ReplayWorld {
         }
     }
 
-    fn summary(&self, cut_short: bool) -> String {
+    fn summary(&self, script: &ScriptState, cut_short: bool) -> String {
         let how = if cut_short {
             format!("stopped after maxCycles = {}", self.cycle + 1)
         } else {
             "end of the recording".to_string()
         };
-        let script = match self.machine.status() {
-            Status::Trapped(trap) => {
-                format!(
-                    "; script trapped: {}",
-                    trap_words(&trap, &self.fixed.lines, &self.fixed.loaded)
-                )
-            }
+        let trapped = match self.machine.status() {
+            Status::Trapped(trap) => format!("; script trapped: {}", script.trap_words(&trap)),
             Status::Halted => "; script halted".to_string(),
             Status::Running => String::new(),
         };
         format!(
-            "replay of {}: {how} after {} of {} cycles{script}",
-            self.fixed.recording.source,
+            "replay of {}: {how} after {} of {} cycles{trapped}",
+            self.recording.source,
             self.cycle + 1,
-            self.fixed.recording.len()
+            self.recording.len()
         )
     }
 
-    fn value_of(&self, name: &str) -> Option<f64> {
-        let id = self.fixed.sensor_list.lookup(name)?;
-        self.values.get(id.index()).copied()
+    pub(crate) fn machine(&self) -> &Machine {
+        &self.machine
     }
-}
 
-impl Target for ReplayWorld {
-    fn cycle(&self) -> u64 {
+    pub(crate) fn machine_mut(&mut self) -> &mut Machine {
+        &mut self.machine
+    }
+
+    pub(crate) fn cycle(&self) -> u64 {
         self.cycle
     }
 
-    fn phase(&self) -> Phase {
+    pub(crate) fn phase(&self) -> Phase {
         self.phase
     }
 
-    fn pc(&self) -> usize {
-        self.machine.pc().index()
-    }
-
-    fn script_alive(&self) -> bool {
-        self.machine.status() == Status::Running
-    }
-
-    fn step(&mut self) -> StepEvent {
+    /// One instruction of the script, or the next recorded cycle once its share is done.
+    pub(crate) fn step(&mut self, script: &ScriptState) -> StepEvent {
         match self.phase {
             Phase::Ended => StepEvent::MissionEnded {
-                summary: self.summary(false),
+                summary: self.summary(script, false),
             },
             Phase::Boundary | Phase::InScript => {
                 if self.machine.status() != Status::Running {
@@ -218,29 +183,20 @@ impl Target for ReplayWorld {
                     values: &mut self.values,
                     notices: &mut self.notices,
                 };
-                match self.machine.step(&mut host) {
-                    None => {
-                        self.phase = Phase::InScript;
-                        StepEvent::Executed
-                    }
-                    Some(end) => {
-                        self.phase = Phase::ScriptDone;
-                        self.last_end = Some(end);
-                        match end {
-                            CycleEnd::Yielded => StepEvent::Yielded,
-                            CycleEnd::Halted => StepEvent::Halted,
-                            CycleEnd::Trapped(trap) => trap_event(&trap, &self.fixed.loaded),
-                        }
-                    }
-                }
+                let end = self.machine.step(&mut host);
+                self.phase = match end {
+                    None => Phase::InScript,
+                    Some(_) => Phase::ScriptDone,
+                };
+                script.step_event(end)
             }
             Phase::ScriptDone => {
                 let next = self.cycle + 1;
-                let cut_short = self.fixed.max_cycles.is_some_and(|max| next >= max);
-                if cut_short || next as usize >= self.fixed.recording.len() {
+                let cut_short = script.max_cycles.is_some_and(|max| next >= max);
+                if cut_short || next as usize >= self.recording.len() {
                     self.phase = Phase::Ended;
                     return StepEvent::MissionEnded {
-                        summary: self.summary(cut_short),
+                        summary: self.summary(script, cut_short),
                     };
                 }
                 self.cycle = next;
@@ -251,92 +207,33 @@ impl Target for ReplayWorld {
         }
     }
 
-    fn take_notices(&mut self) -> Vec<Notice> {
+    pub(crate) fn take_notices(&mut self) -> Vec<Notice> {
         std::mem::take(&mut self.notices)
     }
 
-    fn set_pc(&mut self, pc: usize) -> Result<(), String> {
-        set_pc_in(Some(&mut self.machine), pc)
-    }
-
-    fn registers(&self) -> Vec<Number> {
-        registers_of(Some(&self.machine))
-    }
-
-    fn set_register(&mut self, index: usize, value: Number) -> Result<(), String> {
-        set_register_in(Some(&mut self.machine), index, value)
-    }
-
-    fn variables(&self) -> Vec<Named> {
-        variables_of(Some(&self.machine), &self.fixed.variables)
-    }
-
-    fn variable(&self, name: &str) -> Option<Number> {
-        variable_of(Some(&self.machine), &self.fixed.variables, name)
-    }
-
-    fn set_variable(&mut self, name: &str, value: Number) -> Result<(), String> {
-        set_variable_in(Some(&mut self.machine), &self.fixed.variables, name, value)
-    }
-
-    fn element(&self, name: &str, index: i64) -> Option<Number> {
-        element_of(Some(&self.machine), &self.fixed.variables, name, index)
-    }
-
-    fn set_element(&mut self, name: &str, index: i64, value: Number) -> Result<(), String> {
-        set_element_in(
-            Some(&mut self.machine),
-            &self.fixed.variables,
-            name,
-            index,
-            value,
-        )
-    }
-
-    fn sensor_count(&self) -> usize {
-        self.fixed.sensor_list.len()
-    }
-
-    fn sensor_name(&self, index: usize) -> Option<&str> {
-        self.fixed.sensor_list.name(SensorId(index as u32))
-    }
-
-    fn sensor_index(&self, name: &str) -> Option<usize> {
-        self.fixed.sensor_list.lookup(name).map(SensorId::index)
-    }
-
-    fn sensor(&self, index: usize) -> f64 {
+    pub(crate) fn sensor(&self, index: usize) -> f64 {
         self.values.get(index).copied().unwrap_or(0.0)
     }
 
-    fn set_sensor(&mut self, index: usize, value: f64) -> Result<(), String> {
+    /// Sets sensor `index`; false when there is none.
+    pub(crate) fn set_sensor(&mut self, index: usize, value: f64) -> bool {
         match self.values.get_mut(index) {
             Some(slot) => {
                 *slot = value;
-                Ok(())
+                true
             }
-            None => Err(format!("there is no sensor {index}")),
+            None => false,
         }
     }
 
-    fn touched_sensors(&self) -> Vec<usize> {
-        self.fixed.touched.clone()
-    }
-
-    fn vehicle(&self) -> Vec<Named> {
-        let named = |name: &str, value: String, ty: &'static str| Named {
-            name: name.to_string(),
-            value,
-            ty,
-            length: None,
-            element: None,
-            evaluate_name: None,
-        };
+    /// The cycle, the phase, the recording and the recorded vehicle's sensors.
+    pub(crate) fn vehicle(&self, script: &ScriptState) -> Vec<Named> {
+        let named = Named::plain;
         // A recorded sensor, named by itself when the list has it.
-        let recorded = |label: &str, sensor: &str| match self.value_of(sensor) {
-            Some(value) => Named {
+        let recorded = |label: &str, sensor: &str| match script.sensor_index(sensor) {
+            Some(index) => Named {
                 evaluate_name: Some(sensor.to_string()),
-                ..named(label, float_text(value), "float")
+                ..named(label, float_text(self.sensor(index)), "float")
             },
             None => named(label, "not in the sensor list".to_string(), "float"),
         };
@@ -353,8 +250,8 @@ impl Target for ReplayWorld {
                 "replay of",
                 format!(
                     "{} ({} cycles)",
-                    self.fixed.recording.source,
-                    self.fixed.recording.len()
+                    self.recording.source,
+                    self.recording.len()
                 ),
                 "string",
             ),

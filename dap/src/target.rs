@@ -2,10 +2,12 @@
 //! (script + simulated vehicle) that advances one small step at a time.
 //!
 //! The debugger logic (breakpoints, stepping, history) is written against this trait so
-//! that it never depends on how the simulator phases a cycle; `world` implements it over
-//! the GLOC engine and the simulator.
+//! that it never depends on how the simulator phases a cycle; `world::World` implements
+//! it once, for the simulated and the replayed world alike.
 
 use gloc_engine::program::Value as Number;
+
+use crate::error::DebugResult;
 
 /// Where a run is inside a control cycle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -59,6 +61,19 @@ pub enum Notice {
     /// The mission aborted (abend): the reason. The glider surfaces; the run goes on
     /// until it is up.
     Abend(String),
+    /// A point of the journey a run can stop at (exception filters `waypoint` and
+    /// `surfacing`), and what happened.
+    Milestone(Milestone, String),
+}
+
+/// Points of the journey the user can choose to stop at.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Milestone {
+    /// A goto behavior reached its waypoint (judged on the dead-reckoned position, as
+    /// the glider judges it): `x_hit_a_waypoint`.
+    WaypointReached,
+    /// The glider came up: `x_dr_state` went from 1 (underwater) to 2 (surfaced).
+    Surfaced,
 }
 
 /// A named value in one of the scopes the debugger shows.
@@ -74,6 +89,20 @@ pub struct Named {
     /// The GBASIC expression whose value this is (DAP `evaluateName`); `None` for what
     /// no expression names (the phase, the active behaviors, the energy).
     pub evaluate_name: Option<String>,
+}
+
+impl Named {
+    /// A value the Variables view shows that no expression names.
+    pub fn plain(name: &str, value: String, ty: &'static str) -> Named {
+        Named {
+            name: name.to_string(),
+            value,
+            ty,
+            length: None,
+            element: None,
+            evaluate_name: None,
+        }
+    }
 }
 
 pub trait Target: Clone {
@@ -101,25 +130,29 @@ pub trait Target: Clone {
 
     /// Moves the script's next instruction to `pc` (a `goto`); refused when the script
     /// halted or trapped, or `pc` is not an instruction.
-    fn set_pc(&mut self, pc: usize) -> Result<(), String>;
+    fn set_pc(&mut self, pc: usize) -> DebugResult<()>;
 
     fn registers(&self) -> Vec<Number>;
-    fn set_register(&mut self, index: usize, value: Number) -> Result<(), String>;
+    fn set_register(&mut self, index: usize, value: Number) -> DebugResult<()>;
     /// Source-level variables (GBASIC names through the source map), in declaration order.
     fn variables(&self) -> Vec<Named>;
     fn variable(&self, name: &str) -> Option<Number>;
-    fn set_variable(&mut self, name: &str, value: Number) -> Result<(), String>;
+    fn set_variable(&mut self, name: &str, value: Number) -> DebugResult<()>;
     /// Element `index` of the GBASIC array `name`.
     fn element(&self, name: &str, index: i64) -> Option<Number>;
-    fn set_element(&mut self, name: &str, index: i64, value: Number) -> Result<(), String>;
+    fn set_element(&mut self, name: &str, index: i64, value: Number) -> DebugResult<()>;
 
     fn sensor_count(&self) -> usize;
     fn sensor_name(&self, index: usize) -> Option<&str>;
     fn sensor_index(&self, name: &str) -> Option<usize>;
     fn sensor(&self, index: usize) -> f64;
-    fn set_sensor(&mut self, index: usize, value: f64) -> Result<(), String>;
+    fn set_sensor(&mut self, index: usize, value: f64) -> DebugResult<()>;
     /// The sensors the script loads or stores, in first-use order.
     fn touched_sensors(&self) -> Vec<usize>;
     /// Cycle, mission time, depth, pitch, active behaviors, energy.
     fn vehicle(&self) -> Vec<Named>;
+    /// Position and navigation: latitude and longitude, mission coordinates, heading,
+    /// the waypoint and the distance to it, the current estimate (and, simulated, the
+    /// truth beside the dead-reckoned belief).
+    fn navigation(&self) -> Vec<Named>;
 }

@@ -6,79 +6,108 @@ use std::path::Path;
 use std::sync::Arc;
 
 use gloc_compiler::expression::{scope_of_source_map, ExpressionScope};
-use gloc_compiler::{LoadedScript, Optimization};
+use gloc_compiler::Optimization;
 use gloc_engine::program::Pc;
-use gloc_engine::sensors::{SensorId, SensorList};
-use gloc_engine::vm::CycleEnd;
+use gloc_engine::vm::{CycleEnd, Machine};
 use gloc_engine::Diagnostic;
 use gloc_project::settings::{Origin, Settings};
+use gloc_project::simulation::Warning;
 use gloc_sim::behaviors::EventKind;
+use gloc_sim::navigation::{DrState, Xy};
 use gloc_sim::{EndReason, Phase as SimPhase, Simulation};
 
+use crate::error::{DebugError, DebugResult};
 use crate::expr::Number;
+use crate::journey;
 use crate::program::{DebugInfo, Language, SourceLines};
 use crate::replay_world::ReplayWorld;
-use crate::script::{
-    element_of, float_text, registers_of, set_element_in, set_pc_in, set_register_in,
-    set_variable_in, trap_event, trap_words, variable_of, variables_of, DebugScript, VariableSlot,
-};
+use crate::script::{float_text, DebugScript, ScriptState, VariableSlot};
 pub use crate::script::{resolve, LaunchConfig};
-use crate::target::{Named, Notice, Phase, StepEvent, Target};
+use crate::target::{Milestone, Named, Notice, Phase, StepEvent, Target};
 
-/// What never changes during a run; shared by every snapshot.
-#[derive(Debug)]
-struct Fixed {
-    variables: Vec<VariableSlot>,
-    lines: SourceLines,
-    /// The loaded script, which names traps for the script's author.
-    loaded: LoadedScript,
-    touched: Vec<usize>,
-    max_cycles: Option<u64>,
-    sensor_list: Arc<SensorList>,
+/// The world being debugged: the script (its [`ScriptState`], shared by every
+/// snapshot) and where it runs, the simulator or a recorded deployment (`replay`).
+/// The one [`Target`]: what the two runs differ in (how a step advances, where the
+/// machine and the sensor array live, what the Vehicle scope shows) is asked of the
+/// run, everything about the script of the `ScriptState`.
+#[derive(Clone, Debug)]
+pub struct World {
+    script: Arc<ScriptState>,
+    run: Run,
+}
+
+/// Where the script runs.
+// Not boxed: one world lives per snapshot (at most a few hundred), and the simulated
+// one, the common case, then needs no extra allocation per snapshot.
+#[allow(clippy::large_enum_variant)]
+#[derive(Clone, Debug)]
+enum Run {
+    Sim(SimWorld),
+    Replay(ReplayWorld),
 }
 
 /// The script flown in the simulator.
 #[derive(Clone, Debug)]
-pub struct SimWorld {
+pub(crate) struct SimWorld {
     sim: Simulation,
-    fixed: Arc<Fixed>,
     /// Bytes of this cycle's printed text already reported.
     printed_reported: usize,
     /// Behavior events of this cycle already reported.
     events_reported: usize,
     abend_reported: bool,
     notices: Vec<Notice>,
+    /// The journey as the last cycle left it: the waypoint steered to and its place in
+    /// its list, and `x_dr_state` (a milestone is a change of these).
+    journey: Journey,
 }
 
-/// The world being debugged: the script in the simulator, or the script over a
-/// recorded deployment (`replay`); both behind [`Target`].
-// Not boxed: one world lives per snapshot (at most a few hundred), and the simulated
-// one, the common case, then needs no extra allocation per snapshot.
-#[allow(clippy::large_enum_variant)]
-#[derive(Clone, Debug)]
-pub enum World {
-    Sim(SimWorld),
-    Replay(ReplayWorld),
+/// What the milestones are judged against: the state at the end of the last cycle.
+#[derive(Clone, Copy, Debug)]
+struct Journey {
+    waypoint: Option<Xy>,
+    index: Option<(usize, usize)>,
+    dr_state: DrState,
+}
+
+impl Journey {
+    fn of(sim: &Simulation) -> Journey {
+        Journey {
+            waypoint: sim.waypoint(),
+            index: sim.waypoint_index(),
+            dr_state: sim.navigation().dr_state,
+        }
+    }
 }
 
 /// Loads the script and the sensor list, then the mission and the profile (or the
 /// recording, with `replay`), and opens cycle 0.
-pub fn launch(config: &LaunchConfig) -> Result<(World, DebugInfo), String> {
+pub fn launch(config: &LaunchConfig) -> DebugResult<(World, DebugInfo)> {
     launch_with(config, &resolve(config)?)
 }
 
 /// [`launch`] with settings already resolved.
-pub fn launch_with(
-    config: &LaunchConfig,
-    settings: &Settings,
-) -> Result<(World, DebugInfo), String> {
+pub fn launch_with(config: &LaunchConfig, settings: &Settings) -> DebugResult<(World, DebugInfo)> {
     let script = load_debug_script(config, settings)?;
     let info = debug_info(&script).with_scope(expression_scope(&script));
-    let world = if config.replay.is_empty() {
-        World::Sim(launch_sim(config, settings, script)?)
+    let (run, touched) = if config.replay.is_empty() {
+        let touched = script.touched.clone();
+        (Run::Sim(launch_sim(config, settings, &script)?), touched)
     } else {
-        World::Replay(ReplayWorld::launch(config, settings, script)?)
+        let (replay, touched) = ReplayWorld::launch(config, settings, &script)?;
+        (Run::Replay(replay), touched)
     };
+    let script = ScriptState {
+        touched,
+        ..ScriptState::new(script, config.max_cycles)
+    };
+    let mut world = World {
+        script: Arc::new(script),
+        run,
+    };
+    // What loading said, then what opening cycle 0 did.
+    if let Run::Sim(sim) = &mut world.run {
+        sim.collect();
+    }
     Ok((world, info))
 }
 
@@ -91,15 +120,15 @@ fn expression_scope(script: &DebugScript) -> ExpressionScope {
     }
 }
 
-fn load_debug_script(config: &LaunchConfig, settings: &Settings) -> Result<DebugScript, String> {
+fn load_debug_script(config: &LaunchConfig, settings: &Settings) -> DebugResult<DebugScript> {
     let path = &config.program;
     let sensor_list = gloc_project::sensors::load_sensor_list(settings)
         .and_then(gloc_project::sensors::LoadedSensors::into_list)
-        .map_err(|error| error.to_string())?;
+        .map_err(|error| DebugError::launch(error.to_string()))?;
     // The debugger runs the unoptimized code, so that every line has its instructions.
     let script =
         gloc_project::script::load_script(path, &sensor_list, settings, Optimization::Plain)
-            .map_err(|error| error.to_string())?;
+            .map_err(|error| DebugError::launch(error.to_string()))?;
     let gloc_project::script::Script {
         text, loaded, hint, ..
     } = script;
@@ -113,11 +142,11 @@ fn load_debug_script(config: &LaunchConfig, settings: &Settings) -> Result<Debug
         let note = hint
             .map(|hint| format!("\n{}: note: {hint}", path.display()))
             .unwrap_or_default();
-        return Err(format!(
+        return Err(DebugError::launch(format!(
             "{} has errors:\n{}{note}",
             path.display(),
             errors.join("\n")
-        ));
+        )));
     };
     let mut touched: Vec<usize> = Vec::new();
     for sensor in program.loaded_sensors.iter().chain(&program.stored_sensors) {
@@ -199,21 +228,12 @@ fn debug_info(script: &DebugScript) -> DebugInfo {
 fn launch_sim(
     config: &LaunchConfig,
     settings: &Settings,
-    script: DebugScript,
-) -> Result<SimWorld, String> {
-    let DebugScript {
-        path,
-        text,
-        program,
-        lines,
-        loaded,
-        variables,
-        touched,
-        sensor_list,
-        warnings,
-    } = script;
-    let mission = gloc_project::simulation::load_mission(settings, &sensor_list)
-        .map_err(|error| error.to_string())?;
+    script: &DebugScript,
+) -> DebugResult<SimWorld> {
+    let launch_error = |error: gloc_project::ProjectError| DebugError::launch(error.to_string());
+    let sensor_list = &script.sensor_list;
+    let mission =
+        gloc_project::simulation::load_mission(settings, sensor_list).map_err(launch_error)?;
     let profile = match &config.profile {
         None => None,
         Some(profile_path) => Some(
@@ -221,65 +241,54 @@ fn launch_sim(
                 profile_path,
                 Origin::LaunchAttribute("profile"),
             )
-            .map_err(|error| error.to_string())?,
+            .map_err(launch_error)?,
         ),
     };
-    let sim_config = gloc_project::simulation::sim_config(
+    let plan = gloc_project::simulation::Plan {
         settings,
+        sensors: sensor_list,
+        mission: &mission,
+        script: &script.loaded,
+        program: &script.program,
+    };
+    let prepared = gloc_project::simulation::prepare(
+        &plan,
         gloc_project::simulation::Flight {
             seed: config.seed,
             profile,
             simulator: Vec::new(),
         },
     )
-    .map_err(|error| error.to_string())?;
-    let mut sim = gloc_project::simulation::build_simulation(
-        &mission,
-        sensor_list.clone(),
-        program.clone(),
-        &sim_config,
-    )
-    .map_err(|error| error.to_string())?;
-    let mut notices: Vec<Notice> = warnings
-        .into_iter()
-        .chain(sim.warnings().iter().cloned())
+    .map_err(launch_error)?;
+    let mut notices: Vec<Notice> = script
+        .warnings
+        .iter()
+        .cloned()
         .map(Notice::Warning)
         .collect();
-    // The mission against the list and the script: S0106 and S0107.
-    for entry in mission.check(&sensor_list) {
-        notices.push(Notice::Warning(mission.render_one(&entry)));
-    }
-    let unhooked: Vec<_> = mission
-        .unhooked_stores(&sensor_list, &program)
-        .into_iter()
-        .filter_map(|pc| loaded.span_of_pc(pc))
-        .collect();
-    if let Some(warning) = mission.unhooked_store_warning(&unhooked) {
-        notices.push(Notice::Warning(render(&path, &text, &warning)));
-    }
+    // The mission against the list and the script (S0106, S0107, S012x), as `gloc run`
+    // shows them, one line each.
+    notices.extend(prepared.warnings.iter().map(|warning| {
+        Notice::Warning(match warning {
+            Warning::Simulator(line) => line.clone(),
+            Warning::Mission(entry) => mission.render_one(entry),
+            Warning::Script(diagnostic) => render(&script.path, &script.text, diagnostic),
+        })
+    }));
+    let mut sim = prepared.simulation;
     if !sim.begin_cycle() {
-        return Err("the mission ended before its first cycle".into());
+        return Err(DebugError::launch(
+            "the mission ended before its first cycle",
+        ));
     }
-    let fixed = Arc::new(Fixed {
-        variables,
-        lines,
-        loaded,
-        touched,
-        max_cycles: config.max_cycles,
-        sensor_list,
-    });
-    let mut world = SimWorld {
+    Ok(SimWorld {
+        journey: Journey::of(&sim),
         sim,
-        fixed,
         printed_reported: 0,
         events_reported: 0,
         abend_reported: false,
-        notices: Vec::new(),
-    };
-    world.collect();
-    notices.append(&mut world.notices);
-    world.notices = notices;
-    Ok(world)
+        notices,
+    })
 }
 
 fn gloc_line_text(lines: &[&str], line: u32) -> String {
@@ -353,25 +362,22 @@ impl SimWorld {
         }
     }
 
-    fn summary(&self, cut_short: bool) -> String {
+    fn summary(&self, script: &ScriptState, cut_short: bool) -> String {
         let (shallowest, deepest) = self.sim.depth_range();
         let how = match (self.sim.end(), cut_short) {
             (_, true) => format!("stopped after maxCycles = {}", self.sim.cycle()),
             (Some(end), false) => format!("mission {}", end.reason),
             (None, false) => "mission ended".to_string(),
         };
-        let script = match self.sim.script_trap() {
-            Some(trap) => format!(
-                "; script trapped: {}",
-                trap_words(&trap, &self.fixed.lines, &self.fixed.loaded)
-            ),
+        let trapped = match self.sim.script_trap() {
+            Some(trap) => format!("; script trapped: {}", script.trap_words(&trap)),
             None => match self.sim.script_last_end() {
                 Some(CycleEnd::Halted) => "; script halted".to_string(),
                 _ => String::new(),
             },
         };
         format!(
-            "{}: {how} after {} cycles ({:.0} s); depth {:.2}–{:.2} m; energy {:.0} J{script}",
+            "{}: {how} after {} cycles ({:.0} s); depth {:.2}–{:.2} m; energy {:.0} J{trapped}",
             self.sim.mission_name(),
             self.sim.cycle(),
             self.sim.time(),
@@ -379,15 +385,6 @@ impl SimWorld {
             deepest,
             self.sim.energy_joules(),
         )
-    }
-}
-
-// The script's state as the debugger sees it, for either world: each takes the
-// machine (`None` when there is no script) and the GBASIC variables.
-
-impl Target for SimWorld {
-    fn cycle(&self) -> u64 {
-        self.sim.cycle()
     }
 
     fn phase(&self) -> Phase {
@@ -399,34 +396,19 @@ impl Target for SimWorld {
         }
     }
 
-    fn pc(&self) -> usize {
-        self.sim.machine().map_or(0, |machine| machine.pc().index())
-    }
-
-    fn script_alive(&self) -> bool {
-        self.sim
-            .machine()
-            .is_some_and(|machine| machine.status() == gloc_engine::vm::Status::Running)
-    }
-
-    fn step(&mut self) -> StepEvent {
+    fn step(&mut self, script: &ScriptState) -> StepEvent {
         let event = match self.sim.phase() {
-            SimPhase::Boundary | SimPhase::ScriptRunning => match self.sim.script_step() {
-                None => StepEvent::Executed,
-                Some(CycleEnd::Yielded) => StepEvent::Yielded,
-                Some(CycleEnd::Halted) => StepEvent::Halted,
-                Some(CycleEnd::Trapped(trap)) => trap_event(&trap, &self.fixed.loaded),
-            },
+            SimPhase::Boundary | SimPhase::ScriptRunning => {
+                script.step_event(self.sim.script_step())
+            }
             SimPhase::ScriptDone | SimPhase::BetweenCycles => {
                 self.sim.finish_cycle();
                 self.collect();
-                let cut_short = self
-                    .fixed
-                    .max_cycles
-                    .is_some_and(|max| self.sim.cycle() >= max);
+                self.milestones();
+                let cut_short = script.max_cycles.is_some_and(|max| self.sim.cycle() >= max);
                 if self.sim.is_finished() || cut_short {
                     return StepEvent::MissionEnded {
-                        summary: self.summary(cut_short && !self.sim.is_finished()),
+                        summary: self.summary(script, cut_short && !self.sim.is_finished()),
                     };
                 }
                 self.printed_reported = 0;
@@ -436,7 +418,7 @@ impl Target for SimWorld {
             }
             SimPhase::Finished => {
                 return StepEvent::MissionEnded {
-                    summary: self.summary(false),
+                    summary: self.summary(script, false),
                 }
             }
         };
@@ -444,7 +426,7 @@ impl Target for SimWorld {
         event
     }
 
-    fn run_share(&mut self, max_steps: u64) -> Option<(StepEvent, u64)> {
+    fn run_share(&mut self, script: &ScriptState, max_steps: u64) -> Option<(StepEvent, u64)> {
         if self.sim.phase() != SimPhase::ScriptRunning {
             return None;
         }
@@ -455,12 +437,7 @@ impl Target for SimWorld {
                 .map_or(0, |machine| machine.instructions_this_cycle())
         };
         let before = executed(self);
-        let event = match self.sim.script_run(max_steps) {
-            None => StepEvent::Executed,
-            Some(CycleEnd::Yielded) => StepEvent::Yielded,
-            Some(CycleEnd::Halted) => StepEvent::Halted,
-            Some(CycleEnd::Trapped(trap)) => trap_event(&trap, &self.fixed.loaded),
-        };
+        let event = script.step_event(self.sim.script_run(max_steps));
         // Every instruction is one step, the one that ends the share included; a share
         // that could not run after all is one step, as `script_step` answers it.
         let steps = executed(self).saturating_sub(before).max(1);
@@ -468,90 +445,14 @@ impl Target for SimWorld {
         Some((event, steps))
     }
 
-    fn take_notices(&mut self) -> Vec<Notice> {
-        std::mem::take(&mut self.notices)
-    }
-
-    fn set_pc(&mut self, pc: usize) -> Result<(), String> {
-        set_pc_in(self.sim.script_parts().map(|(machine, _)| machine), pc)
-    }
-
-    fn registers(&self) -> Vec<Number> {
-        registers_of(self.sim.machine())
-    }
-
-    fn set_register(&mut self, index: usize, value: Number) -> Result<(), String> {
-        set_register_in(
-            self.sim.script_parts().map(|(machine, _)| machine),
-            index,
-            value,
-        )
-    }
-
-    fn variables(&self) -> Vec<Named> {
-        variables_of(self.sim.machine(), &self.fixed.variables)
-    }
-
-    fn variable(&self, name: &str) -> Option<Number> {
-        variable_of(self.sim.machine(), &self.fixed.variables, name)
-    }
-
-    fn set_variable(&mut self, name: &str, value: Number) -> Result<(), String> {
-        let machine = self.sim.script_parts().map(|(machine, _)| machine);
-        set_variable_in(machine, &self.fixed.variables, name, value)
-    }
-
-    fn element(&self, name: &str, index: i64) -> Option<Number> {
-        element_of(self.sim.machine(), &self.fixed.variables, name, index)
-    }
-
-    fn set_element(&mut self, name: &str, index: i64, value: Number) -> Result<(), String> {
-        let machine = self.sim.script_parts().map(|(machine, _)| machine);
-        set_element_in(machine, &self.fixed.variables, name, index, value)
-    }
-
-    fn sensor_count(&self) -> usize {
-        self.fixed.sensor_list.len()
-    }
-
-    fn sensor_name(&self, index: usize) -> Option<&str> {
-        self.fixed.sensor_list.name(SensorId(index as u32))
-    }
-
-    fn sensor_index(&self, name: &str) -> Option<usize> {
-        self.fixed.sensor_list.lookup(name).map(SensorId::index)
-    }
-
-    fn sensor(&self, index: usize) -> f64 {
-        self.sim.sensors().get(index).copied().unwrap_or(0.0)
-    }
-
-    fn set_sensor(&mut self, index: usize, value: f64) -> Result<(), String> {
-        if self.sim.set_sensor(SensorId(index as u32), value) {
-            Ok(())
-        } else {
-            Err(format!("there is no sensor {index}"))
-        }
-    }
-
-    fn touched_sensors(&self) -> Vec<usize> {
-        self.fixed.touched.clone()
-    }
-
-    fn vehicle(&self) -> Vec<Named> {
-        let named = |name: &str, value: String, ty: &'static str| Named {
-            name: name.to_string(),
-            value,
-            ty,
-            length: None,
-            element: None,
-            evaluate_name: None,
-        };
+    /// Cycle, mission time, depth, pitch, active behaviors, energy.
+    fn vehicle(&self, script: &ScriptState) -> Vec<Named> {
         // The vehicle's state, named by the sensor the simulator writes it to at each
         // boundary while the sensor holds exactly the value shown.
+        let named = Named::plain;
         let mirrored = |name: &str, value: f64, sensor: &str| {
             let shown = float_text(value);
-            let evaluate_name = self
+            let evaluate_name = script
                 .sensor_index(sensor)
                 .filter(|index| self.sensor(*index).to_bits() == value.to_bits())
                 .map(|_| sensor.to_string());
@@ -590,83 +491,249 @@ impl Target for SimWorld {
             mirrored("water depth (m)", self.sim.water_depth(), "m_water_depth"),
         ]
     }
+
+    fn sensor(&self, index: usize) -> f64 {
+        self.sim.sensors().get(index).copied().unwrap_or(0.0)
+    }
+
+    /// After a cycle: a waypoint reached in it and a surfacing (`x_dr_state` 1 → 2)
+    /// become milestones, worded with where the glider believes it is and where it is.
+    fn milestones(&mut self) {
+        let before = self.journey;
+        let now = Journey::of(&self.sim);
+        self.journey = now;
+        let navigation = self.sim.navigation();
+        let cycle = self.sim.cycle().saturating_sub(1);
+        if self.sim.nav_view().hit_waypoint {
+            // The waypoint steered to when the cycle began (the behavior has moved on to
+            // the next), or the one steered to now if none was before.
+            let reached = before.waypoint.or(now.waypoint);
+            let which = match before.index.or(now.index) {
+                Some((index, count)) => format!("waypoint {index} (of {count})"),
+                None => "the waypoint".to_string(),
+            };
+            let distances = reached.map_or_else(String::new, |waypoint| {
+                let (lat, lon) = navigation.lmc.xy_to_nmea(waypoint);
+                format!(
+                    " at {} {}: {:.1} m from it by dead reckoning (at the cycle's end the glider is truly {:.1} m from it)",
+                    float_text(lat),
+                    float_text(lon),
+                    self.sim.nav_view().position.distance(waypoint),
+                    navigation.true_position.distance(waypoint)
+                )
+            });
+            self.notices.push(Notice::Milestone(
+                Milestone::WaypointReached,
+                format!("{which} reached in cycle {cycle}{distances}"),
+            ));
+        }
+        if before.dr_state == DrState::Underwater && now.dr_state == DrState::Surfaced {
+            let (lat, lon) = navigation.lmc.xy_to_nmea(navigation.dead_reckoned);
+            self.notices.push(Notice::Milestone(
+                Milestone::Surfaced,
+                format!(
+                    "surfaced in cycle {cycle} at dead-reckoned {} {}, {:.1} m from where the glider is",
+                    float_text(lat),
+                    float_text(lon),
+                    navigation.dead_reckoned.distance(navigation.true_position)
+                ),
+            ));
+        }
+    }
+
+    /// The Navigation scope: the sensors, then the waypoint's place in its list and
+    /// the truth the simulator keeps apart from the glider's belief.
+    fn navigation(&self, script: &ScriptState) -> Vec<Named> {
+        let mut rows = journey::sensor_rows(script, |index| self.sensor(index));
+        let navigation = self.sim.navigation();
+        if let Some((index, count)) = self.sim.waypoint_index() {
+            rows.push(Named::plain(
+                "waypoint index",
+                format!("{index} of {count}"),
+                "the goto behavior's waypoint, numbered from 0 as wpt_x_0",
+            ));
+        }
+        let (lat, lon) = navigation.lmc.xy_to_nmea(navigation.true_position);
+        let truth = [
+            ("true lat", float_text(lat), "NMEA, where the glider is"),
+            ("true lon", float_text(lon), "NMEA, where the glider is"),
+            (
+                "true x (m)",
+                float_text(navigation.true_position.x),
+                "m east of the mission origin",
+            ),
+            (
+                "true y (m)",
+                float_text(navigation.true_position.y),
+                "m north of the mission origin",
+            ),
+            (
+                "dead-reckoning error (m)",
+                float_text(navigation.dead_reckoned.distance(navigation.true_position)),
+                "m between the belief and the truth",
+            ),
+            (
+                "true current",
+                journey::flow(navigation.true_water),
+                "s_water_speed toward s_water_direction",
+            ),
+        ];
+        rows.extend(
+            truth
+                .into_iter()
+                .map(|(name, value, ty)| Named::plain(name, value, ty)),
+        );
+        rows
+    }
 }
 
-/// Calls the same method on whichever world is running.
-macro_rules! each_world {
-    ($self:ident, $world:ident => $call:expr) => {
-        match $self {
-            World::Sim($world) => $call,
-            World::Replay($world) => $call,
+impl Run {
+    /// The script's machine (`None`: the simulation runs no script).
+    fn machine(&self) -> Option<&Machine> {
+        match self {
+            Run::Sim(world) => world.sim.machine(),
+            Run::Replay(world) => Some(world.machine()),
         }
-    };
+    }
+
+    fn machine_mut(&mut self) -> Option<&mut Machine> {
+        match self {
+            Run::Sim(world) => world.sim.script_parts().map(|(machine, _)| machine),
+            Run::Replay(world) => Some(world.machine_mut()),
+        }
+    }
 }
 
 impl Target for World {
     fn cycle(&self) -> u64 {
-        each_world!(self, world => world.cycle())
+        match &self.run {
+            Run::Sim(world) => world.sim.cycle(),
+            Run::Replay(world) => world.cycle(),
+        }
     }
+
     fn phase(&self) -> Phase {
-        each_world!(self, world => world.phase())
+        match &self.run {
+            Run::Sim(world) => world.phase(),
+            Run::Replay(world) => world.phase(),
+        }
     }
+
     fn pc(&self) -> usize {
-        each_world!(self, world => world.pc())
+        self.run.machine().map_or(0, |machine| machine.pc().index())
     }
+
     fn script_alive(&self) -> bool {
-        each_world!(self, world => world.script_alive())
+        self.run
+            .machine()
+            .is_some_and(|machine| machine.status() == gloc_engine::vm::Status::Running)
     }
+
     fn step(&mut self) -> StepEvent {
-        each_world!(self, world => world.step())
+        match &mut self.run {
+            Run::Sim(world) => world.step(&self.script),
+            Run::Replay(world) => world.step(&self.script),
+        }
     }
+
     fn run_share(&mut self, max_steps: u64) -> Option<(StepEvent, u64)> {
-        each_world!(self, world => world.run_share(max_steps))
+        match &mut self.run {
+            Run::Sim(world) => world.run_share(&self.script, max_steps),
+            // The replay steps: it runs no fused machine.
+            Run::Replay(_) => None,
+        }
     }
+
     fn take_notices(&mut self) -> Vec<Notice> {
-        each_world!(self, world => world.take_notices())
+        match &mut self.run {
+            Run::Sim(world) => std::mem::take(&mut world.notices),
+            Run::Replay(world) => world.take_notices(),
+        }
     }
-    fn set_pc(&mut self, pc: usize) -> Result<(), String> {
-        each_world!(self, world => world.set_pc(pc))
+
+    fn set_pc(&mut self, pc: usize) -> DebugResult<()> {
+        self.script.set_pc(self.run.machine_mut(), pc)
     }
+
     fn registers(&self) -> Vec<Number> {
-        each_world!(self, world => world.registers())
+        self.script.registers(self.run.machine())
     }
-    fn set_register(&mut self, index: usize, value: Number) -> Result<(), String> {
-        each_world!(self, world => world.set_register(index, value))
+
+    fn set_register(&mut self, index: usize, value: Number) -> DebugResult<()> {
+        self.script
+            .set_register(self.run.machine_mut(), index, value)
     }
+
     fn variables(&self) -> Vec<Named> {
-        each_world!(self, world => world.variables())
+        self.script.variables(self.run.machine())
     }
+
     fn variable(&self, name: &str) -> Option<Number> {
-        each_world!(self, world => world.variable(name))
+        self.script.variable(self.run.machine(), name)
     }
-    fn set_variable(&mut self, name: &str, value: Number) -> Result<(), String> {
-        each_world!(self, world => world.set_variable(name, value))
+
+    fn set_variable(&mut self, name: &str, value: Number) -> DebugResult<()> {
+        self.script
+            .set_variable(self.run.machine_mut(), name, value)
     }
+
     fn element(&self, name: &str, index: i64) -> Option<Number> {
-        each_world!(self, world => world.element(name, index))
+        self.script.element(self.run.machine(), name, index)
     }
-    fn set_element(&mut self, name: &str, index: i64, value: Number) -> Result<(), String> {
-        each_world!(self, world => world.set_element(name, index, value))
+
+    fn set_element(&mut self, name: &str, index: i64, value: Number) -> DebugResult<()> {
+        self.script
+            .set_element(self.run.machine_mut(), name, index, value)
     }
+
     fn sensor_count(&self) -> usize {
-        each_world!(self, world => world.sensor_count())
+        self.script.sensor_count()
     }
+
     fn sensor_name(&self, index: usize) -> Option<&str> {
-        each_world!(self, world => world.sensor_name(index))
+        self.script.sensor_name(index)
     }
+
     fn sensor_index(&self, name: &str) -> Option<usize> {
-        each_world!(self, world => world.sensor_index(name))
+        self.script.sensor_index(name)
     }
+
     fn sensor(&self, index: usize) -> f64 {
-        each_world!(self, world => world.sensor(index))
+        match &self.run {
+            Run::Sim(world) => world.sensor(index),
+            Run::Replay(world) => world.sensor(index),
+        }
     }
-    fn set_sensor(&mut self, index: usize, value: f64) -> Result<(), String> {
-        each_world!(self, world => world.set_sensor(index, value))
+
+    fn set_sensor(&mut self, index: usize, value: f64) -> DebugResult<()> {
+        let done = match &mut self.run {
+            Run::Sim(world) => world
+                .sim
+                .set_sensor(gloc_engine::sensors::SensorId(index as u32), value),
+            Run::Replay(world) => world.set_sensor(index, value),
+        };
+        if done {
+            Ok(())
+        } else {
+            Err(DebugError::edit(format!("there is no sensor {index}")))
+        }
     }
+
     fn touched_sensors(&self) -> Vec<usize> {
-        each_world!(self, world => world.touched_sensors())
+        self.script.touched.clone()
     }
+
     fn vehicle(&self) -> Vec<Named> {
-        each_world!(self, world => world.vehicle())
+        match &self.run {
+            Run::Sim(world) => world.vehicle(&self.script),
+            Run::Replay(world) => world.vehicle(&self.script),
+        }
+    }
+
+    fn navigation(&self) -> Vec<Named> {
+        match &self.run {
+            Run::Sim(world) => world.navigation(&self.script),
+            Run::Replay(world) => journey::sensor_rows(&self.script, |index| world.sensor(index)),
+        }
     }
 }

@@ -88,7 +88,7 @@ fn the_new_capabilities_are_announced() {
         .iter()
         .map(|filter| filter["filter"].as_str().unwrap_or_default())
         .collect();
-    assert_eq!(ids, ["trap", "overrun", "abend"]);
+    assert_eq!(ids, ["trap", "overrun", "abend", "waypoint", "surfacing"]);
     assert!(filters
         .iter()
         .all(|filter| filter["supportsCondition"] == true));

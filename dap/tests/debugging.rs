@@ -116,7 +116,10 @@ fn stop_on_entry_shows_cycle_zero_at_the_first_statement() {
         .iter()
         .filter_map(|scope| scope["name"].as_str())
         .collect();
-    assert_eq!(names, ["Variables", "Registers", "Sensors", "Vehicle"]);
+    assert_eq!(
+        names,
+        ["Variables", "Registers", "Sensors", "Vehicle", "Navigation"]
+    );
     // The sensors the script touches come first, then the paged container of all.
     let sensors = values(&mut client, SENSORS);
     assert_eq!(sensors[0].0, "m_depth");
@@ -1320,11 +1323,7 @@ fn reverse_history_keeps_a_bounded_number_of_snapshots() {
     use gloc_dap::target::Target;
     use gloc_dap::world::{self, LaunchConfig};
 
-    let config = LaunchConfig {
-        program: fixture("fig3.gbas").into(),
-        mission: Some(fixture("endless.mi").into()),
-        ..LaunchConfig::default()
-    };
+    let config = LaunchConfig::new(fixture("fig3.gbas"), Some(fixture("endless.mi").into()));
     let (world, info) = world::launch(&config).expect("launch");
     let history = HistoryConfig {
         max_snapshots: 8,

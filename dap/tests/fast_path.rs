@@ -64,14 +64,12 @@ fn session(
     commands: &[Command],
     fast: bool,
 ) -> (Vec<String>, u64) {
-    let config = LaunchConfig {
-        program,
-        mission: Some(mission),
-        cycle_budget,
+    let mut config = LaunchConfig {
         // A run with nothing left to stop it ends here (the missions are endless).
         max_cycles: Some(3000),
-        ..LaunchConfig::default()
+        ..LaunchConfig::new(program, Some(mission))
     };
+    config.overrides.cycle_budget = cycle_budget;
     let (world, info) = world::launch(&config).expect("launch");
     let history = HistoryConfig {
         max_snapshots: 16,

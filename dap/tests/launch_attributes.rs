@@ -48,7 +48,7 @@ fn every_accepted_attribute_is_read() {
         };
         let mut arguments = serde_json::Map::new();
         arguments.insert((*name).to_string(), value.clone());
-        let parsed: gloc_dap::session::LaunchArguments =
+        let parsed: gloc_dap::launch::LaunchArguments =
             serde_json::from_value(Value::Object(arguments)).expect("valid launch arguments");
         let echoed = serde_json::to_value(&parsed).expect("serializable");
         if *name == "token" {

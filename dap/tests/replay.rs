@@ -15,6 +15,9 @@ mod support;
 use serde_json::{json, Value};
 use support::{cycle, sensor, stopped, value, values, Client, SENSORS, VEHICLE};
 
+/// The Navigation scope's `variablesReference`.
+const NAVIGATION: i64 = 6;
+
 fn fixture(name: &str) -> String {
     format!("{}/tests/fixtures/{name}", env!("CARGO_MANIFEST_DIR"))
 }
@@ -79,6 +82,26 @@ fn a_real_deployment_stops_on_a_data_breakpoint_and_steps_back() {
         );
     }
     assert!(value(&mut client, VEHICLE, "replay of").contains("2244 cycles"));
+    // The Navigation scope shows the recorded position: NMEA as comet logged it (off
+    // Helgoland, 54° N 7° E), and in decimal degrees, converted here by hand.
+    let navigation = values(&mut client, NAVIGATION);
+    let shown = |name: &str| -> f64 {
+        navigation
+            .iter()
+            .find(|(known, _)| known == name)
+            .and_then(|(_, value)| value.parse().ok())
+            .unwrap_or_else(|| panic!("{name} in {navigation:?}"))
+    };
+    let (lat, lon) = (shown("m_lat"), shown("m_lon"));
+    assert!(
+        (5400.0..5500.0).contains(&lat) && (700.0..800.0).contains(&lon),
+        "{lat} {lon}"
+    );
+    let by_hand = 54.0 + (lat - 5400.0) / 60.0;
+    assert!((shown("m_lat (°)") - by_hand).abs() < 1e-12);
+    assert!(navigation
+        .iter()
+        .all(|(name, _)| !name.starts_with("true ")));
     // Back to the boundary of cycle 38: the recorded depth, and the store undone.
     client.ok("stepBack", json!({ "threadId": 1 }));
     assert_eq!(stopped(&mut client)["reason"], "step");

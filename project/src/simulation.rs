@@ -81,7 +81,7 @@ pub struct Flight {
 
 /// The simulator's configuration: the defaults, then the settings' budget and
 /// constants, then the flight's.
-pub fn sim_config(settings: &Settings, flight: Flight) -> Result<SimConfig, ProjectError> {
+fn sim_config(settings: &Settings, flight: Flight) -> Result<SimConfig, ProjectError> {
     let defaults = SimConfig::default();
     let mut config = SimConfig {
         seed: flight.seed.unwrap_or(defaults.seed),
@@ -103,7 +103,7 @@ pub fn sim_config(settings: &Settings, flight: Flight) -> Result<SimConfig, Proj
 }
 
 /// The simulation of `program` on `mission`.
-pub fn build_simulation(
+fn build_simulation(
     mission: &Mission,
     sensors: Arc<SensorList>,
     program: Arc<Program>,

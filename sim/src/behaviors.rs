@@ -388,6 +388,15 @@ impl Behavior {
         self.state == BehaviorState::Active
     }
 
+    /// For a goto behavior that has its waypoints (it started): the one it steers to,
+    /// as its place among them (0-based), and how many there are.
+    pub fn waypoint_index(&self) -> Option<(usize, usize)> {
+        match &self.logic {
+            Logic::Goto(goto) if !goto.in_lmc.is_empty() => Some((goto.current, goto.in_lmc.len())),
+            _ => None,
+        }
+    }
+
     /// Steps the behavior's state machine and, when active, its logic.
     /// For the script behavior this only manages activation; the simulation
     /// runs the script itself when `is_active()`.

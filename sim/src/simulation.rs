@@ -1358,6 +1358,22 @@ impl Simulation {
         self.nav_view.waypoint
     }
 
+    /// What the behaviors know and report of the journey: the glider's belief, the
+    /// waypoint, `m_dist_to_wpt` as last steered, and whether a waypoint was reached
+    /// in this cycle (cleared when the next cycle begins).
+    pub fn nav_view(&self) -> &NavView {
+        &self.nav_view
+    }
+
+    /// The active goto behavior's waypoint: its place in the behavior's list
+    /// (0-based) and the list's length.
+    pub fn waypoint_index(&self) -> Option<(usize, usize)> {
+        self.behaviors
+            .iter()
+            .filter(|behavior| behavior.is_active())
+            .find_map(Behavior::waypoint_index)
+    }
+
     /// Setup warnings (unknown sensors, unmodelled conditions, missing hook sensors).
     pub fn warnings(&self) -> &[String] {
         &self.warnings

@@ -115,7 +115,7 @@ test('stop on entry at the first statement of cycle 0', async () => {
   const threads = await dc.threadsRequest();
   assert.equal(threads.body.threads.length, 1);
   const scopes = await dc.scopesRequest({ frameId: 1 });
-  assert.deepEqual(scopes.body.scopes.map((scope) => scope.name), ['Variables', 'Registers', 'Sensors', 'Vehicle']);
+  assert.deepEqual(scopes.body.scopes.map((scope) => scope.name), ['Variables', 'Registers', 'Sensors', 'Vehicle', 'Navigation']);
   await dc.stop();
 });
 

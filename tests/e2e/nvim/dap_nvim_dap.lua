@@ -232,7 +232,7 @@ local scopes = request("scopes", { frameId = dap.session().current_frame.id }) o
 local scope_names = vim.tbl_map(function(scope)
   return scope.name
 end, scopes.scopes)
-H.equal(scope_names, { "Variables", "Registers", "Sensors", "Vehicle" }, "four scopes")
+H.equal(scope_names, { "Variables", "Registers", "Sensors", "Vehicle", "Navigation" }, "five scopes")
 
 local entity = require("dap.entity")
 local function children(reference)
@@ -286,6 +286,28 @@ local positive = vim.tbl_filter(function(variable)
 end, tsum_children or {})
 H.check(#positive > 0, "after 300 cycles some temperature bins hold sums", #positive)
 terminate("session 3")
+
+-- Session 3b: the journey. examples/goto.mi with the `surfacing` and `waypoint` filters turned on
+-- through nvim-dap's own function; the stops' reasons are the adapter's own words. The cycles are
+-- those of `gloc run dap/tests/fixtures/journey.gbas --mission examples/goto.mi --no-optimize --log`
+-- (seed 1): x_dr_state reads 2 from the boundary of cycle 2410, x_hit_a_waypoint 1 at 4249.
+local journey_path = workspace .. "/journey.gbas"
+H.write_file(journey_path, vim.fn.readfile(H.repo .. "/dap/tests/fixtures/journey.gbas"))
+_, before = launch(journey_path, { stopOnEntry = true, mission = H.repo .. "/examples/goto.mi" })
+frame = next_stop("the stop on entry of the journey", before)
+H.equal(frame.cycle, 0, "the journey stops on entry")
+dap.set_exception_breakpoints({ "surfacing", "waypoint" })
+frame = stop_after("the first surfacing", dap.continue)
+H.equal({ frame.cycle, frame.reason }, { 2410, "surfacing" }, "the surfacing filter stops where the glider came up")
+scopes = request("scopes", { frameId = dap.session().current_frame.id }) or { scopes = {} }
+local navigation = {}
+for _, variable in ipairs(children(scopes.scopes[5].variablesReference)) do
+  navigation[variable.name] = variable.value
+end
+H.equal(navigation.x_dr_state, "2.0", "the Navigation scope shows x_dr_state 2 (surfaced)")
+frame = stop_after("the first waypoint", dap.continue)
+H.equal({ frame.cycle, frame.reason }, { 4249, "waypoint" }, "the waypoint filter stops after the waypoint is reached")
+terminate("the journey")
 
 -- Session 4: over TCP. dap_transport = "tcp" starts one `gloc dap --port 0`; the plugin reads
 -- its port and token and adds the token to each launch.

@@ -350,6 +350,7 @@ fn branch_op(op: &Op, parts: &mut Parts<'_>, fuel: &mut u64, pc: usize) -> Next 
         }};
     }
     match *op {
+        // The `jump` before a group is one more instruction charged, nothing else.
         Op::CmpBr {
             cmp,
             a,
@@ -357,15 +358,18 @@ fn branch_op(op: &Op, parts: &mut Parts<'_>, fuel: &mut u64, pc: usize) -> Next 
             c,
             if_true,
             if_false,
-        } => compare_branch!(1, cmp, a, parts.get(b), c, if_true, if_false),
-        Op::JumpCmpBr {
+        }
+        | Op::JumpCmpBr {
             cmp,
             a,
             b,
             c,
             if_true,
             if_false,
-        } => compare_branch!(2, cmp, a, parts.get(b), c, if_true, if_false),
+        } => {
+            let extra = if matches!(op, Op::CmpBr { .. }) { 1 } else { 2 };
+            compare_branch!(extra, cmp, a, parts.get(b), c, if_true, if_false)
+        }
         Op::CmpKBr {
             cmp,
             a,
@@ -374,11 +378,8 @@ fn branch_op(op: &Op, parts: &mut Parts<'_>, fuel: &mut u64, pc: usize) -> Next 
             c,
             if_true,
             if_false,
-        } => {
-            parts.set(t, k);
-            compare_branch!(2, cmp, a, k, c, if_true, if_false)
         }
-        Op::JumpCmpKBr {
+        | Op::JumpCmpKBr {
             cmp,
             a,
             k,
@@ -388,7 +389,12 @@ fn branch_op(op: &Op, parts: &mut Parts<'_>, fuel: &mut u64, pc: usize) -> Next 
             if_false,
         } => {
             parts.set(t, k);
-            compare_branch!(3, cmp, a, k, c, if_true, if_false)
+            let extra = if matches!(op, Op::CmpKBr { .. }) {
+                2
+            } else {
+                3
+            };
+            compare_branch!(extra, cmp, a, k, c, if_true, if_false)
         }
         Op::AddJumpCmpBr {
             p,
@@ -400,12 +406,8 @@ fn branch_op(op: &Op, parts: &mut Parts<'_>, fuel: &mut u64, pc: usize) -> Next 
             c,
             if_true,
             if_false,
-        } => {
-            let total = add(parts.get(p), parts.get(q));
-            parts.set(sum, total);
-            compare_branch!(3, cmp, a, parts.get(b), c, if_true, if_false)
         }
-        Op::JumpAddJumpCmpBr {
+        | Op::JumpAddJumpCmpBr {
             p,
             q,
             sum,
@@ -418,7 +420,12 @@ fn branch_op(op: &Op, parts: &mut Parts<'_>, fuel: &mut u64, pc: usize) -> Next 
         } => {
             let total = add(parts.get(p), parts.get(q));
             parts.set(sum, total);
-            compare_branch!(4, cmp, a, parts.get(b), c, if_true, if_false)
+            let extra = if matches!(op, Op::AddJumpCmpBr { .. }) {
+                3
+            } else {
+                4
+            };
+            compare_branch!(extra, cmp, a, parts.get(b), c, if_true, if_false)
         }
         Op::AddJumpCmpKBr {
             p,

@@ -49,6 +49,8 @@ fn figures(track: &Track) -> Vec<(&'static str, f64)> {
         ("bottom overshoot (m)", f.bottom_overshoot),
         ("top overshoot (m)", f.top_overshoot),
         ("turn latency (s)", f.turn_latency),
+        ("bottom turn time (s)", f.bottom_turn_time),
+        ("top turn time (s)", f.top_turn_time),
         ("cycle period (s)", f.cycle_period),
         ("power (W)", f.power),
     ]

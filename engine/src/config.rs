@@ -13,7 +13,7 @@
 //! mafiles = "shared/mafiles"              # folder searched first for a mission's .ma files
 //!
 //! [simulator]                            # the flight and energy models' constants
-//! dive_rate = 0.2                        # see SIMULATOR_SETTINGS for every name
+//! drag_cd0 = 0.2                        # see SIMULATOR_SETTINGS for every name
 //! ```
 //!
 //! Parsing is pure ([`Config::parse`] takes text and returns a [`Diagnostic`]
@@ -113,7 +113,7 @@ pub const SIMULATOR_SETTINGS: &[SimulatorSetting] = &[
         units: "s",
         min: 0.05,
         max: 2.0,
-        about: "integration step of the flight model within a 4 s cycle (the force balance's lift settles in about a second)",
+        about: "integration step of the flight model within a 4 s cycle",
     },
     SimulatorSetting {
         name: "pump_max",
@@ -729,20 +729,20 @@ mod tests {
 
     #[test]
     fn simulator_settings_are_checked_by_name_and_range() {
-        let text = "[simulator]\ndive_rate = 0.2\nbattery_wh = 800\n";
+        let text = "[simulator]\ndrag_cd0 = 0.2\nbattery_wh = 800\n";
         let config = Config::parse(text, Path::new("/p")).expect("valid");
         assert_eq!(
             config.simulator,
             vec![
                 ("battery_wh".to_string(), 800.0),
-                ("dive_rate".to_string(), 0.2)
+                ("drag_cd0".to_string(), 0.2)
             ]
         );
-        let text = "cycle_budget = 5\n[simulator]\ndive_rat = 0.2\n";
+        let text = "cycle_budget = 5\n[simulator]\ndrag_c0 = 0.2\n";
         let error = Config::parse(text, Path::new("/p")).expect_err("unknown name");
-        assert_eq!(&text[error.span.range()], "dive_rat");
+        assert_eq!(&text[error.span.range()], "drag_c0");
         assert!(
-            error.message.contains("did you mean `dive_rate`?"),
+            error.message.contains("did you mean `drag_cd0`?"),
             "{}",
             error.message
         );
@@ -751,7 +751,7 @@ mod tests {
         let error = Config::parse(text, Path::new("/p")).expect_err("out of range");
         assert_eq!(&text[error.span.range()], "step");
         assert!(
-            error.message.contains("from 0.05 to 4 s"),
+            error.message.contains("from 0.05 to 2 s"),
             "{}",
             error.message
         );

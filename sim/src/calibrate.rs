@@ -809,8 +809,9 @@ fn least_squares<const N: usize>(rows: &[([f64; N], f64)]) -> Option<[f64; N]> {
         }
         for row in column + 1..N {
             let factor = matrix[row][column] / matrix[column][column];
-            for k in column..N {
-                matrix[row][k] -= factor * matrix[column][k];
+            let pivot_row = matrix[column];
+            for (cell, above) in matrix[row].iter_mut().zip(pivot_row).skip(column) {
+                *cell -= factor * above;
             }
             vector[row] -= factor * vector[column];
         }

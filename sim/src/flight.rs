@@ -156,7 +156,7 @@ impl FlightParams {
         let glide = pitch + alpha;
         let drag = self.drag_cd0 + self.drag_cd1 * alpha * alpha;
         let squared = 2.0 * force * glide.sin() / (self.water_density * self.wing_area * drag);
-        if !(squared > 0.0) || pitch.abs() < MIN_GLIDE_PITCH {
+        if squared.is_nan() || squared <= 0.0 || pitch.abs() < MIN_GLIDE_PITCH {
             return (0.0, 0.0);
         }
         let speed = squared.sqrt();
@@ -622,10 +622,12 @@ mod tests {
 
     #[test]
     fn the_speed_relaxes_rather_than_jumps() {
-        let mut vehicle = Vehicle::default();
-        vehicle.depth = 10.0;
-        vehicle.ballast = -230.0;
-        vehicle.pitch = -0.43936;
+        let mut vehicle = Vehicle {
+            depth: 10.0,
+            ballast: -230.0,
+            pitch: -0.43936,
+            ..Vehicle::default()
+        };
         // From rest, a second later the glider is far from its 0.155 m/s.
         fly_for(&mut vehicle, 1.0, -230.0, 1000.0);
         assert!(
@@ -654,6 +656,52 @@ mod tests {
         assert!((0.5..2.5).contains(&overshoot), "overshoot {overshoot}");
         assert!((10.0..40.0).contains(&seconds), "turn {seconds} s");
         assert_eq!(vehicle.inflections, 1);
+    }
+
+    /// How far a servoed turn carries on past the turn (m), from a steady
+    /// leg at 100 m: pump and pitch (±0.4538 rad) reverse together.
+    fn servoed_overshoot(from: f64) -> f64 {
+        let (flight, energy) = (FlightParams::default(), EnergyParams::default());
+        let pitch = 0.4538 * from.signum();
+        let mut vehicle = Vehicle {
+            depth: 100.0,
+            ballast: from.clamp(-230.0, 230.0),
+            pitch,
+            ..Vehicle::default()
+        };
+        let fly = |vehicle: &mut Vehicle, seconds, buoyancy, pitch| {
+            vehicle.fly(
+                seconds,
+                buoyancy,
+                pitch,
+                PitchControl::Servo,
+                1000.0,
+                &flight,
+                &energy,
+                0.0,
+            )
+        };
+        fly(&mut vehicle, 300.0, from, pitch);
+        let start = vehicle.depth;
+        let mut furthest: f64 = 0.0;
+        for _ in 0..400 {
+            fly(&mut vehicle, 0.5, -from, -pitch);
+            furthest = furthest.max((start - vehicle.depth) * from.signum());
+        }
+        furthest
+    }
+
+    #[test]
+    fn a_servoed_turn_carries_on_until_the_pump_is_past_neutral() {
+        // The glider is 71 cc heavy at 100 m (1024 kg/m³ × 71.547 L × (1 −
+        // 5e−10 × 1.0e6 Pa) against 73.3 kg, by hand). At the bottom the pump
+        // passes that after (230 + 71) / 34.6 = 8.7 s at up to 0.16 m/s:
+        // between half that (0.70 m) and that plus 3 s of coasting (1.87 m).
+        // At the top: (230 − 71) / 43.7 = 3.6 s at up to 0.13 m/s: 0.24–0.86 m.
+        let bottom = servoed_overshoot(-260.0);
+        assert!((0.70..1.87).contains(&bottom), "bottom {bottom}");
+        let top = servoed_overshoot(260.0);
+        assert!((0.24..0.86).contains(&top), "top {top}");
     }
 
     #[test]

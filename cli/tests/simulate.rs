@@ -196,7 +196,7 @@ fn simulator_settings_from_flags_and_gloc_toml() {
     let range = gloc(&["run", "--sim", "step=0"], &folder);
     assert_eq!(range.status.code(), Some(2));
     assert!(
-        text(&range.stderr).contains("from 0.05 to 2 s"),
+        text(&range.stderr).contains("from 0.05 to 1.5 s"),
         "{}",
         text(&range.stderr)
     );

@@ -13,7 +13,7 @@
 //! mafiles = "shared/mafiles"              # folder searched first for a mission's .ma files
 //!
 //! [simulator]                            # the flight and energy models' constants
-//! drag_cd0 = 0.2                        # see SIMULATOR_SETTINGS for every name
+//! drag_cd0 = 0.15                       # see SIMULATOR_SETTINGS for every name
 //! ```
 //!
 //! Parsing is pure ([`Config::parse`] takes text and returns a [`Diagnostic`]
@@ -112,7 +112,7 @@ pub const SIMULATOR_SETTINGS: &[SimulatorSetting] = &[
         name: "step",
         units: "s",
         min: 0.05,
-        max: 2.0,
+        max: 1.5,
         about: "integration step of the flight model within a 4 s cycle",
     },
     SimulatorSetting {
@@ -751,7 +751,7 @@ mod tests {
         let error = Config::parse(text, Path::new("/p")).expect_err("out of range");
         assert_eq!(&text[error.span.range()], "step");
         assert!(
-            error.message.contains("from 0.05 to 2 s"),
+            error.message.contains("from 0.05 to 1.5 s"),
             "{}",
             error.message
         );

@@ -1021,3 +1021,52 @@ fn fit_heading_bias(fit: &mut Fit, (dive_rows, climb_rows): (&[Row], &[Row])) {
         why,
     );
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn least_squares_solves_an_overdetermined_line() {
+        // Points (0, 1.1), (1, 2.8), (2, 5.0): by hand the normal equations
+        // 5a + 3b = 12.8 and 3a + 3b = 8.9 give a = 1.95, b = 1.016667.
+        let rows = [([0.0, 1.0], 1.1), ([1.0, 1.0], 2.8), ([2.0, 1.0], 5.0)];
+        let [a, b] = least_squares(&rows).expect("solved");
+        assert!((a - 1.95).abs() < 1e-12, "{a}");
+        assert!((b - 3.05 / 3.0).abs() < 1e-12, "{b}");
+        // One point cannot fix two unknowns.
+        assert_eq!(least_squares(&[([1.0, 1.0], 1.0)]), None);
+    }
+
+    #[test]
+    fn the_drag_and_volume_fit_inverts_the_steady_glide() {
+        // Legs flown by a glider with other constants than the defaults the fit
+        // starts from: the fit must find them again from the legs alone.
+        let mut truth = FlightParams::default();
+        (truth.drag_cd0, truth.hull_volume) = (0.3, 71.6);
+        let steady: Vec<SteadyLeg> = [
+            (-230.0, -0.45, 30.0),
+            (230.0, 0.42, 10.0),
+            (-200.0, -0.40, 20.0),
+        ]
+        .iter()
+        .map(|&(ballast, pitch, depth)| SteadyLeg {
+            rise: -truth.steady_glide(ballast, pitch, depth).1,
+            pitch,
+            ballast,
+            depth,
+            battpos: 0.405,
+        })
+        .collect();
+        let mut fit = Fit::default();
+        let mut flight = FlightParams::default();
+        fit_drag_and_volume(&mut fit, &mut flight, &steady);
+        assert!((flight.drag_cd0 - 0.3).abs() < 1e-6, "{}", flight.drag_cd0);
+        assert!(
+            (flight.hull_volume - 71.6).abs() < 1e-6,
+            "{}",
+            flight.hull_volume
+        );
+        assert_eq!(fit.values.len(), 2);
+    }
+}

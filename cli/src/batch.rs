@@ -613,11 +613,11 @@ fn parse_fault_set(text: &str, list: &SensorList) -> Result<Vec<Fault>, String> 
         .collect()
 }
 
-/// `dive_rate=0.15,0.2`: one simulator setting and the values to sweep, each checked
+/// `drag_cd0=0.15,0.2`: one simulator setting and the values to sweep, each checked
 /// as `gloc run --sim` checks it.
 fn parse_sweep_setting(text: &str) -> Result<Vec<(String, f64)>, String> {
     let (name, values) = text.split_once('=').ok_or_else(|| {
-        format!("`{text}` is not NAME=VALUE[,VALUE...], e.g. `dive_rate=0.15,0.2`")
+        format!("`{text}` is not NAME=VALUE[,VALUE...], e.g. `drag_cd0=0.15,0.2`")
     })?;
     values
         .split(',')
@@ -642,8 +642,8 @@ mod tests {
     #[test]
     fn a_sweep_is_every_combination_seed_fastest() {
         let axes = vec![
-            parse_sweep_setting("dive_rate=0.15,0.2").expect("ok"),
-            parse_sweep_setting("climb_rate=0.1,0.12,0.14").expect("ok"),
+            parse_sweep_setting("drag_cd0=0.15,0.2").expect("ok"),
+            parse_sweep_setting("drag_cd1=0.1,0.12,0.14").expect("ok"),
         ];
         let profiles = vec![Arc::new(Profile {
             label: "builtin".to_string(),
@@ -661,18 +661,18 @@ mod tests {
         assert_eq!(
             *variants[1].settings,
             [
-                ("dive_rate".to_string(), 0.15),
-                ("climb_rate".to_string(), 0.1)
+                ("drag_cd0".to_string(), 0.15),
+                ("drag_cd1".to_string(), 0.1)
             ]
         );
         assert_eq!(
             *variants[11].settings,
             [
-                ("dive_rate".to_string(), 0.2),
-                ("climb_rate".to_string(), 0.14)
+                ("drag_cd0".to_string(), 0.2),
+                ("drag_cd1".to_string(), 0.14)
             ]
         );
-        assert!(parse_sweep_setting("dive_rate").is_err());
+        assert!(parse_sweep_setting("drag_cd0").is_err());
         assert!(parse_sweep_setting("no_such_setting=1").is_err());
     }
 

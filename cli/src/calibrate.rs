@@ -57,7 +57,7 @@ pub fn main(args: CalibrateArgs) -> anyhow::Result<ExitCode> {
     let table = fitted.to_toml(&names.join(", "));
     if let Ok(figures) = yo_figures(&track, args.climb_target) {
         eprintln!(
-            "measured      {} legs: dive {:.3} m/s, climb {:.3} m/s, pitch {:.3}/{:.3} rad, half-yo {:.0} s, overshoot {:.2}/{:.2} m, turn latency {:.1} s, cycle {:.3} s, power {:.2} W",
+            "measured      {} legs: dive {:.3} m/s, climb {:.3} m/s, pitch {:.3}/{:.3} rad, half-yo {:.0} s, overshoot {:.2}/{:.2} m, turn {:.1}/{:.1} s, turn latency {:.1} s, cycle {:.3} s, power {:.2} W",
             figures.legs,
             figures.dive_rate,
             figures.climb_rate,
@@ -66,6 +66,8 @@ pub fn main(args: CalibrateArgs) -> anyhow::Result<ExitCode> {
             figures.half_yo_time,
             figures.bottom_overshoot,
             figures.top_overshoot,
+            figures.bottom_turn_time,
+            figures.top_turn_time,
             figures.turn_latency,
             figures.cycle_period,
             figures.power

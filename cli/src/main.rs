@@ -172,7 +172,7 @@ pub struct RunArgs {
     /// stuck=VALUE, spike=OFFSET; cycles from 0, END excluded. E.g. `m_depth:nan@20`.
     #[arg(long = "fault", value_name = "SENSOR:KIND@START[..END]")]
     pub faults: Vec<String>,
-    /// Set a flight or energy constant (repeatable), e.g. `dive_rate=0.2`; wins over
+    /// Set a flight or energy constant (repeatable), e.g. `drag_cd0=0.2`; wins over
     /// `[simulator]` in gloc.toml. The names and ranges are in docs/simulator.md.
     #[arg(long = "sim", value_name = "NAME=VALUE", value_parser = gloc_project::settings::parse_simulator_setting)]
     pub simulator: Vec<(String, f64)>,
@@ -255,7 +255,7 @@ pub struct BatchArgs {
     /// (repeatable; `none` for a variant without faults); default: `none`.
     #[arg(long = "fault-set", value_name = "FAULTS")]
     pub fault_sets: Vec<String>,
-    /// A simulator setting and the values to sweep (repeatable), e.g. `dive_rate=0.15,0.2`;
+    /// A simulator setting and the values to sweep (repeatable), e.g. `drag_cd0=0.15,0.2`;
     /// default: gloc.toml's `[simulator]`, else the built-in constants.
     #[arg(long = "sim", value_name = "NAME=V1,V2")]
     pub simulator: Vec<String>,

@@ -25,19 +25,25 @@ fn calibrate_writes_a_commented_table_and_never_overwrites() {
     assert!(output.status.success(), "{}", text(&output.stderr));
     let table = std::fs::read_to_string(folder.join("gloc.toml")).expect("written");
     assert!(table.contains("[simulator]"), "{table}");
-    // comet's dive rate, 0.16 m/s (domain notes §3: 0.157 m/s median with dbdreader).
-    let dive = table
-        .lines()
-        .find_map(|line| line.strip_prefix("dive_rate = "))
-        .expect("dive_rate fitted");
-    let value: f64 = dive
-        .split_whitespace()
-        .next()
-        .unwrap_or("")
-        .parse()
-        .expect("number");
-    assert!((0.15..0.17).contains(&value), "{dive}");
-    assert!(dive.contains("# median m_depth rate"), "{dive}");
+    // comet's drag and hull volume as gliderflight's glidertrim fits them on the
+    // same log (domain notes §7): Cd0 0.209, Vg 71.549 L.
+    let value = |name: &str| -> (f64, String) {
+        let line = table
+            .lines()
+            .find_map(|line| line.strip_prefix(&format!("{name} = ")))
+            .unwrap_or_else(|| panic!("{name} fitted: {table}"));
+        let number = line.split_whitespace().next().unwrap_or("").parse();
+        (number.expect("number"), line.to_string())
+    };
+    let (cd0, line) = value("drag_cd0");
+    assert!((0.19..0.23).contains(&cd0), "{line}");
+    assert!(line.contains("# least squares"), "{line}");
+    let (volume, line) = value("hull_volume");
+    assert!((71.45..71.65).contains(&volume), "{line}");
+    assert!(
+        table.contains("#   pitch_t2: m_battpos stays within"),
+        "{table}"
+    );
     assert!(table.contains("#   battery_wh: "), "{table}");
     // The table is a gloc.toml gloc run accepts.
     let run = gloc(&["run", "--cycles", "10"], &folder);

@@ -159,47 +159,55 @@ fn first_cycle_below_ten_metres(log: &std::path::Path) -> usize {
 
 #[test]
 fn simulator_settings_from_flags_and_gloc_toml() {
-    // At full dive volume the glider sinks at `dive_rate`: 10 m takes at least 62 s at
-    // the default 0.16 m/s and 33 s at 0.30, the pump and pitch time being the same:
-    // 29 s is 6.5 cycles of 4.5 s, so twice the rate is there at least 5 cycles earlier.
+    // At full dive volume and 26° the glider sinks at 0.160 m/s with comet's 71.547 L
+    // hull and 0.279 m/s with a 71 L one (sim/tests/settings.rs): 10 m takes at least
+    // 62 s and 36 s, the pump and pitch time being the same: 26 s is 5.8 cycles of
+    // 4.5 s, so the heavier glider is there at least 4 cycles earlier. With all 230 cc
+    // pumped out it is still 0.36 kg heavy (1024 kg/m³ × 71.23 L < 73.3 kg): it cannot
+    // climb, and abend aborts it at fig2's 30 m overdepth (exit 5) within the 80 cycles.
     let folder = temp_folder("sim-settings");
     let run = |extra: &[&str], folder: &PathBuf, log: &str| {
         let mut args = vec!["run", "--cycles", "80", "--log", log];
         args.extend_from_slice(extra);
         let output = gloc(&args, folder);
-        assert_eq!(output.status.code(), Some(0), "{}", text(&output.stderr));
+        let heavy = extra.contains(&"hull_volume=71")
+            || std::fs::read_to_string(folder.join("gloc.toml"))
+                .is_ok_and(|file| file.contains("hull_volume = 71\n"))
+                && !extra.contains(&"hull_volume=71.547");
+        let expected = if heavy { Some(5) } else { Some(0) };
+        assert_eq!(output.status.code(), expected, "{}", text(&output.stderr));
         first_cycle_below_ten_metres(&folder.join(log))
     };
     let slow = run(&[], &folder, "default.csv");
-    let fast = run(&["--sim", "dive_rate=0.3"], &folder, "flag.csv");
-    assert!(fast + 5 <= slow, "--sim: fast {fast}, slow {slow}");
+    let fast = run(&["--sim", "hull_volume=71"], &folder, "flag.csv");
+    assert!(fast + 4 <= slow, "--sim: fast {fast}, slow {slow}");
 
     // The same from gloc.toml (found from the current folder for the embedded script),
     // and a flag still wins over the file.
     let project = temp_folder("sim-settings-toml");
-    std::fs::write(project.join("gloc.toml"), "[simulator]\ndive_rate = 0.3\n").expect("write");
+    std::fs::write(project.join("gloc.toml"), "[simulator]\nhull_volume = 71\n").expect("write");
     assert_eq!(run(&[], &project, "file.csv"), fast);
     assert_eq!(
-        run(&["--sim", "dive_rate=0.16"], &project, "both.csv"),
+        run(&["--sim", "hull_volume=71.547"], &project, "both.csv"),
         slow
     );
 
     // Bad settings say what is wrong and what is allowed.
-    let unknown = gloc(&["run", "--sim", "dive_rat=0.3"], &folder);
+    let unknown = gloc(&["run", "--sim", "drag_c0=0.3"], &folder);
     assert_eq!(unknown.status.code(), Some(2));
     assert!(
-        text(&unknown.stderr).contains("did you mean `dive_rate`?"),
+        text(&unknown.stderr).contains("did you mean `drag_cd0`?"),
         "{}",
         text(&unknown.stderr)
     );
     let range = gloc(&["run", "--sim", "step=0"], &folder);
     assert_eq!(range.status.code(), Some(2));
     assert!(
-        text(&range.stderr).contains("from 0.05 to 4 s"),
+        text(&range.stderr).contains("from 0.05 to 1.5 s"),
         "{}",
         text(&range.stderr)
     );
-    let shape = gloc(&["run", "--sim", "dive_rate"], &folder);
+    let shape = gloc(&["run", "--sim", "drag_cd0"], &folder);
     assert!(
         text(&shape.stderr).contains("NAME=VALUE"),
         "{}",

@@ -117,8 +117,15 @@ fn the_tracker_finds_the_amadeus_thermocline() {
     // 2.5→3.5 m (0.157, counted at 3 m), 5.5→9.5 m (0.41, 0.60, 0.32, 0.141) and
     // 9.5→13.5 m (0.16, 0.54, 1.84, 0.67, the last counted at 13 m); deeper steps are
     // under 0.05. So the bounds are 3 m (climb) and 13 m (dive), give or take one
-    // metre for the 3 m step, which is close to the mean.
+    // metre for the 3 m step, which is close to the mean. The mean is over the bins
+    // the glider has sampled: with bins to 36 m it is 0.157 °C/m, the 3 m step itself,
+    // and with bins to 30 m only 0.188, which leaves the 3 m step out and puts the
+    // climb bound at the next step above the mean, 6 m (the same 1 m means, by hand
+    // and in a short script). Either is the algorithm's answer on this profile.
     let (dive, climb) = *flown.bounds.last().expect("rows");
-    assert!((2.0..=4.0).contains(&climb), "climb depth {climb}");
+    assert!(
+        (2.0..=4.0).contains(&climb) || climb == 6.0,
+        "climb depth {climb}"
+    );
     assert!((12.0..=14.0).contains(&dive), "dive depth {dive}");
 }

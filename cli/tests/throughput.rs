@@ -154,7 +154,7 @@ fn a_batch_row_is_what_gloc_run_says_of_that_mission_on_any_number_of_threads() 
             "--seeds",
             "1-2",
             "--sim",
-            "dive_rate=0.15,0.25",
+            "hull_volume=71.547,71",
             "--fault-set",
             "none",
             "--fault-set",
@@ -164,7 +164,9 @@ fn a_batch_row_is_what_gloc_run_says_of_that_mission_on_any_number_of_threads() 
             "--csv",
             &path_text,
         ]);
-        // The faster dives overshoot abend's 43 m: those missions abort, so the sweep exits 5.
+        // 71 L is 0.55 L under comet's hull: with all 230 cc pumped the glider is still
+        // 0.36 kg heavy (1024 kg/m³ × 71.23 L < 73.3 kg), cannot climb and sinks past
+        // abend's 43 m: those missions abort, so the sweep exits 5.
         assert_eq!(code, Some(5), "{stderr}");
         assert!(stderr.contains("4 of 8 missions aborted"), "{stderr}");
         assert!(stderr.contains("8 missions in"), "{stderr}");
@@ -207,17 +209,17 @@ fn a_batch_row_is_what_gloc_run_says_of_that_mission_on_any_number_of_threads() 
     // Seed fastest, then the setting, then the fault set. Every row against `gloc run`.
     let mut expected_missions = Vec::new();
     for fault in [None, Some("m_depth:nan@100..140")] {
-        for dive_rate in ["0.15", "0.25"] {
+        for volume in ["71.547", "71"] {
             for seed in ["1", "2"] {
-                expected_missions.push((fault, dive_rate, seed));
+                expected_missions.push((fault, volume, seed));
             }
         }
     }
-    for (row, (fault, dive_rate, seed)) in one[1..].iter().zip(expected_missions) {
+    for (row, (fault, volume, seed)) in one[1..].iter().zip(expected_missions) {
         assert_eq!(row[1], seed);
         assert_eq!(row[3], fault.unwrap_or("none"));
-        assert_eq!(row[4], format!("dive_rate={dive_rate}"));
-        let sim = format!("dive_rate={dive_rate}");
+        assert_eq!(row[4], format!("hull_volume={volume}"));
+        let sim = format!("hull_volume={volume}");
         let mut args = vec![
             "run",
             "examples/thermocline.gbas",
@@ -258,7 +260,7 @@ fn a_batch_row_is_what_gloc_run_says_of_that_mission_on_any_number_of_threads() 
 fn a_bad_sweep_is_refused_before_anything_flies() {
     for (args, expected) in [
         (vec!["--seeds", "9-3"], "runs backwards"),
-        (vec!["--sim", "dive_rat=0.2"], "did you mean `dive_rate`"),
+        (vec!["--sim", "drag_c0=0.2"], "did you mean `drag_cd0`"),
         (vec!["--fault-set", "m_dpeth:nan@3"], "m_dpeth"),
         (
             vec!["--profile", "no/such/profile.csv"],
@@ -266,7 +268,7 @@ fn a_bad_sweep_is_refused_before_anything_flies() {
         ),
         // 60,000 seeds × 2 settings: more than a sweep may hold.
         (
-            vec!["--seeds", "1-60000", "--sim", "dive_rate=0.1,0.2"],
+            vec!["--seeds", "1-60000", "--sim", "drag_cd0=0.1,0.2"],
             "more than 100000 missions",
         ),
     ] {

@@ -13,7 +13,7 @@
 //! mafiles = "shared/mafiles"              # folder searched first for a mission's .ma files
 //!
 //! [simulator]                            # the flight and energy models' constants
-//! dive_rate = 0.2                        # see SIMULATOR_SETTINGS for every name
+//! drag_cd0 = 0.15                       # see SIMULATOR_SETTINGS for every name
 //! ```
 //!
 //! Parsing is pure ([`Config::parse`] takes text and returns a [`Diagnostic`]
@@ -112,29 +112,15 @@ pub const SIMULATOR_SETTINGS: &[SimulatorSetting] = &[
         name: "step",
         units: "s",
         min: 0.05,
-        max: 4.0,
+        max: 1.5,
         about: "integration step of the flight model within a 4 s cycle",
-    },
-    SimulatorSetting {
-        name: "dive_rate",
-        units: "m/s",
-        min: 0.01,
-        max: 2.0,
-        about: "vertical speed at full dive volume",
-    },
-    SimulatorSetting {
-        name: "climb_rate",
-        units: "m/s",
-        min: 0.01,
-        max: 2.0,
-        about: "vertical speed at full climb volume",
     },
     SimulatorSetting {
         name: "pump_max",
         units: "cc",
         min: 1.0,
         max: 2000.0,
-        about: "pumped volume at which the glider flies at full rate",
+        about: "pumped volume the pump reaches either way",
     },
     SimulatorSetting {
         name: "pump_rate",
@@ -151,20 +137,6 @@ pub const SIMULATOR_SETTINGS: &[SimulatorSetting] = &[
         about: "speed of letting oil in (going down)",
     },
     SimulatorSetting {
-        name: "speed_lag",
-        units: "s",
-        min: 0.01,
-        max: 600.0,
-        about: "time constant of the vertical speed following the pumped volume",
-    },
-    SimulatorSetting {
-        name: "speed_exponent",
-        units: "",
-        min: 0.05,
-        max: 3.0,
-        about: "exponent of the vertical speed against the net buoyancy (0.5: lift and drag)",
-    },
-    SimulatorSetting {
         name: "pitch_rate",
         units: "rad/s",
         min: 0.001,
@@ -172,32 +144,109 @@ pub const SIMULATOR_SETTINGS: &[SimulatorSetting] = &[
         about: "pitch slew rate of the battery",
     },
     SimulatorSetting {
-        name: "angle_of_attack",
-        units: "rad",
+        name: "pitch_period",
+        units: "s",
+        min: 0.5,
+        max: 600.0,
+        about: "natural period of the hull's pitch swinging toward the battery relation with the battery held (use_pitch 1)",
+    },
+    SimulatorSetting {
+        name: "pitch_damping",
+        units: "",
+        min: 0.01,
+        max: 10.0,
+        about: "damping ratio of that swing (1: critical, less overshoots)",
+    },
+    SimulatorSetting {
+        name: "mass",
+        units: "kg",
+        min: 1.0,
+        max: 10000.0,
+        about: "the glider's mass",
+    },
+    SimulatorSetting {
+        name: "hull_volume",
+        units: "L",
+        min: 1.0,
+        max: 10000.0,
+        about: "hull volume at the surface with nothing pumped",
+    },
+    SimulatorSetting {
+        name: "hull_compressibility",
+        units: "1/Pa",
         min: 0.0,
-        max: 0.5,
-        about: "angle of attack added to the pitch for the glide angle",
+        max: 1.0e-8,
+        about: "relative loss of hull volume per pascal",
     },
     SimulatorSetting {
-        name: "max_speed",
-        units: "m/s",
-        min: 0.01,
-        max: 3.0,
-        about: "cap on the horizontal speed",
+        name: "water_density",
+        units: "kg/m³",
+        min: 900.0,
+        max: 1100.0,
+        about: "sea-water density",
     },
     SimulatorSetting {
-        name: "battpos_dive_pitch",
-        units: "rad",
-        min: 0.01,
-        max: 1.2,
-        about: "pitch diving with the battery held in place (use_pitch 1)",
+        name: "drag_cd0",
+        units: "",
+        min: 0.001,
+        max: 10.0,
+        about: "zero-lift drag coefficient",
     },
     SimulatorSetting {
-        name: "battpos_climb_pitch",
-        units: "rad",
+        name: "drag_cd1",
+        units: "1/rad²",
+        min: 0.0,
+        max: 100.0,
+        about: "induced drag coefficient (drag_cd0 + drag_cd1·α²)",
+    },
+    SimulatorSetting {
+        name: "lift_slope",
+        units: "1/rad",
         min: 0.01,
-        max: 1.2,
-        about: "pitch climbing with the battery held in place (use_pitch 1)",
+        max: 100.0,
+        about: "lift coefficient per radian of angle of attack (wings and hull)",
+    },
+    SimulatorSetting {
+        name: "wing_area",
+        units: "m²",
+        min: 0.001,
+        max: 100.0,
+        about: "reference area of the lift and drag coefficients",
+    },
+    SimulatorSetting {
+        name: "added_mass_along",
+        units: "",
+        min: 0.0,
+        max: 10.0,
+        about: "added mass along the hull, a fraction of mass",
+    },
+    SimulatorSetting {
+        name: "added_mass_across",
+        units: "",
+        min: 0.0,
+        max: 10.0,
+        about: "added mass across the hull, a fraction of mass",
+    },
+    SimulatorSetting {
+        name: "pitch_t1",
+        units: "1/m³",
+        min: -1.0e6,
+        max: 1.0e6,
+        about: "battery relation tan(pitch) = T1·pumped volume + T2·battpos + T3: T1",
+    },
+    SimulatorSetting {
+        name: "pitch_t2",
+        units: "1/m",
+        min: -1.0e4,
+        max: 1.0e4,
+        about: "the battery relation's T2 (battery position in metres, > 0 nose down)",
+    },
+    SimulatorSetting {
+        name: "pitch_t3",
+        units: "",
+        min: -10.0,
+        max: 10.0,
+        about: "the battery relation's T3 (the trim)",
     },
     SimulatorSetting {
         name: "cycle_overrun",
@@ -680,20 +729,20 @@ mod tests {
 
     #[test]
     fn simulator_settings_are_checked_by_name_and_range() {
-        let text = "[simulator]\ndive_rate = 0.2\nbattery_wh = 800\n";
+        let text = "[simulator]\ndrag_cd0 = 0.2\nbattery_wh = 800\n";
         let config = Config::parse(text, Path::new("/p")).expect("valid");
         assert_eq!(
             config.simulator,
             vec![
                 ("battery_wh".to_string(), 800.0),
-                ("dive_rate".to_string(), 0.2)
+                ("drag_cd0".to_string(), 0.2)
             ]
         );
-        let text = "cycle_budget = 5\n[simulator]\ndive_rat = 0.2\n";
+        let text = "cycle_budget = 5\n[simulator]\ndrag_c0 = 0.2\n";
         let error = Config::parse(text, Path::new("/p")).expect_err("unknown name");
-        assert_eq!(&text[error.span.range()], "dive_rat");
+        assert_eq!(&text[error.span.range()], "drag_c0");
         assert!(
-            error.message.contains("did you mean `dive_rate`?"),
+            error.message.contains("did you mean `drag_cd0`?"),
             "{}",
             error.message
         );
@@ -702,7 +751,7 @@ mod tests {
         let error = Config::parse(text, Path::new("/p")).expect_err("out of range");
         assert_eq!(&text[error.span.range()], "step");
         assert!(
-            error.message.contains("from 0.05 to 4 s"),
+            error.message.contains("from 0.05 to 1.5 s"),
             "{}",
             error.message
         );

@@ -120,7 +120,7 @@ mod tests {
 
     #[test]
     fn every_path_key_links_to_the_path_beside_the_file() {
-        let text = "cycle_budget = 2000\nmasterdata = \"config/masterdata.mi\"   # list\nmission = 'missions/yo.mi'\n\n[simulator]\ndive_rate = 0.2\nsensor_cache = \"x\"\n";
+        let text = "cycle_budget = 2000\nmasterdata = \"config/masterdata.mi\"   # list\nmission = 'missions/yo.mi'\n\n[simulator]\ndrag_cd0 = 0.2\nsensor_cache = \"x\"\n";
         let links = config_links(text, Path::new("/project"));
         // `sensor_cache` under [simulator] is not the top-level key.
         assert_eq!(links.len(), 2, "{links:?}");

@@ -458,7 +458,7 @@ pub fn parse_cycle_budget(text: &str) -> Result<u64, String> {
 pub fn parse_simulator_setting(text: &str) -> Result<(String, f64), String> {
     let (name, value) = text
         .split_once('=')
-        .ok_or_else(|| format!("`{text}` is not NAME=VALUE, e.g. `dive_rate=0.2`"))?;
+        .ok_or_else(|| format!("`{text}` is not NAME=VALUE, e.g. `drag_cd0=0.2`"))?;
     let (name, value) = (name.trim(), value.trim());
     let number: f64 = value
         .parse()
@@ -546,20 +546,17 @@ mod tests {
 
     #[test]
     fn simulator_overrides_are_checked_and_come_after_gloc_toml() {
-        let file = config("[simulator]\ndive_rate = 0.1\n");
+        let file = config("[simulator]\ndrag_cd0 = 0.1\n");
         let mut overrides = Overrides::new(Surface::Cli);
-        overrides.simulator = vec![("dive_rate".into(), 0.3)];
+        overrides.simulator = vec![("drag_cd0".into(), 0.3)];
         let settings = Settings::from_config(file.clone(), overrides).expect("valid");
         assert_eq!(
             settings.simulator,
-            vec![
-                ("dive_rate".to_string(), 0.1),
-                ("dive_rate".to_string(), 0.3)
-            ]
+            vec![("drag_cd0".to_string(), 0.1), ("drag_cd0".to_string(), 0.3)]
         );
         let mut overrides = Overrides::new(Surface::Launch);
-        overrides.simulator = vec![("dive_rat".into(), 0.3)];
+        overrides.simulator = vec![("drag_c0".into(), 0.3)];
         let error = Settings::from_config(file, overrides).expect_err("unknown name");
-        assert!(error.to_string().starts_with("launch attribute simulator: `dive_rat` is not a simulator setting; did you mean `dive_rate`?"), "{error}");
+        assert!(error.to_string().starts_with("launch attribute simulator: `drag_c0` is not a simulator setting; did you mean `drag_cd0`?"), "{error}");
     }
 }

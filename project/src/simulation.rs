@@ -212,7 +212,7 @@ mod tests {
     #[test]
     fn the_budget_and_constants_of_the_settings_reach_the_simulator() {
         let mut config = gloc_engine::config::Config::parse(
-            "cycle_budget = 77\n[simulator]\ndive_rate = 0.3\n",
+            "cycle_budget = 77\n[simulator]\ndrag_cd0 = 0.3\n",
             Path::new("/p"),
         )
         .expect("valid");
@@ -228,7 +228,7 @@ mod tests {
         .expect("valid");
         assert_eq!(sim.cycle_budget, 77);
         assert_eq!(sim.seed, 9);
-        assert_eq!(sim.flight.dive_rate, 0.3);
+        assert_eq!(sim.flight.drag_cd0, 0.3);
         assert_eq!(
             load_mission(&settings, &SensorList::embedded()).map(|m| m.has_errors()),
             Ok(false)

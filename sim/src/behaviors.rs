@@ -260,7 +260,11 @@ impl Behavior {
             }),
             BehaviorKind::Surface => Logic::Surface(Surface {
                 bpump_value: arg("c_bpump_value").abs(),
-                pitch_value: pitch_for(arg("c_use_pitch"), arg("c_pitch_value"), Direction::Climb),
+                pitch_value: servo_pitch(
+                    arg("c_use_pitch"),
+                    arg("c_pitch_value"),
+                    Direction::Climb,
+                ),
                 wait: arg("gps_wait_time").max(0.0)
                     + if arg("end_action") as i64 == 1 {
                         arg("keystroke_wait_time").max(0.0)
@@ -580,10 +584,29 @@ fn pitch_control(use_pitch: f64) -> PitchControl {
     }
 }
 
-/// The pitch a dive or climb asks for. `use_pitch` 3 gives the angle in
-/// radians; the other modes (battery position, pumped fluid) fly the nominal
-/// pitch. The sign always follows the direction (< 0 dives).
+/// The pitch command of a dive or climb: with `use_pitch` 1 the battery
+/// position (in, > 0 nose down) the glider holds, otherwise the angle
+/// ([`servo_pitch`]).
 fn pitch_for(use_pitch: f64, value: f64, direction: Direction) -> f64 {
+    if use_pitch as i64 == 1 {
+        if value.is_finite() {
+            value.clamp(-MAX_BATTPOS, MAX_BATTPOS)
+        } else {
+            0.0
+        }
+    } else {
+        servo_pitch(use_pitch, value, direction)
+    }
+}
+
+/// The battery's travel either side of its middle (in): glidersim's shallow
+/// glider moves it about ±1–1.65 in.
+const MAX_BATTPOS: f64 = 2.0;
+
+/// The pitch angle a servoed dive or climb asks for. `use_pitch` 3 gives the
+/// angle in radians; the other modes (battery position, pumped fluid) fly the
+/// nominal pitch. The sign always follows the direction (< 0 dives).
+fn servo_pitch(use_pitch: f64, value: f64, direction: Direction) -> f64 {
     let magnitude = if use_pitch as i64 == 3 && value.abs() > 0.01 {
         value.abs().min(1.2)
     } else {

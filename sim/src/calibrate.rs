@@ -6,13 +6,16 @@
 //! only records changes). [`yo_figures`] measures dive and climb rates, pitch,
 //! half-yo time, overshoot, turn latency, cycle period and power the same way
 //! for any track; [`fit`] turns a real track into `[simulator]` settings, each
-//! with what it was fitted from, and says what it could not fit and why.
+//! with what it was fitted from, and says what it could not fit and why. The
+//! flight model's constants are fitted as smerckel/gliderflight's `glidertrim`
+//! does: drag and hull volume by least squares on the steady glide's force
+//! balance, the battery relation by least squares on tan(pitch).
 
-use crate::flight::{EnergyParams, FlightParams, PitchControl, SpeedLaw, Vehicle};
+use crate::flight::{FlightParams, GRAVITY, METRES_PER_INCH};
 use crate::simulation::{SimConfig, Simulation};
 
 /// The sensors a track reads, in [`Row`] field order.
-pub const TRACK_SENSORS: [&str; 11] = [
+pub const TRACK_SENSORS: [&str; 13] = [
     "m_present_time",
     "m_depth",
     "m_pitch",
@@ -24,6 +27,8 @@ pub const TRACK_SENSORS: [&str; 11] = [
     "m_battery",
     "u_cycle_time",
     "m_altitude",
+    "m_heading",
+    "c_heading",
 ];
 
 /// One control cycle: each value as last updated (NaN before the first update).
@@ -48,6 +53,9 @@ pub struct Row {
     /// Height above the bottom (m); `altitude_fix` marks the rows that measured it.
     pub altitude: f64,
     pub altitude_fix: bool,
+    /// Heading and commanded heading (rad).
+    pub heading: f64,
+    pub c_heading: f64,
 }
 
 impl Row {
@@ -63,6 +71,8 @@ impl Row {
             7 => &mut self.amp_hours,
             8 => &mut self.volts,
             9 => &mut self.cycle_time,
+            11 => &mut self.heading,
+            12 => &mut self.c_heading,
             _ => {
                 self.altitude_fix = true;
                 &mut self.altitude
@@ -85,6 +95,8 @@ const EMPTY: Row = Row {
     cycle_time: f64::NAN,
     altitude: f64::NAN,
     altitude_fix: false,
+    heading: f64::NAN,
+    c_heading: f64::NAN,
 };
 
 /// The most timed cycles a [`Track`] holds: three months of 4 s cycles, about 200 MB
@@ -156,6 +168,11 @@ pub struct YoFigures {
     pub top_overshoot: f64,
     /// Median time from the first row above the climb target to the turn's row (s).
     pub turn_latency: f64,
+    /// Median time from a bottom turn's row (the command) to the climb
+    /// reaching 90% of its leg's rate ([`turn_time`]) (s) …
+    pub bottom_turn_time: f64,
+    /// … and from a top turn's row to the dive reaching 90% of its rate (s).
+    pub top_turn_time: f64,
     /// Mean time between cycles, pauses over twice the median left out (s).
     pub cycle_period: f64,
     /// Standard deviation of the same (s).
@@ -270,6 +287,39 @@ fn cycle_period(rows: &[Row]) -> Option<(f64, f64)> {
     Some((mean, variance.sqrt()))
 }
 
+/// The time from a leg's first row (the turn's command) to its vertical
+/// rate reaching 90% of the leg's rate ([`leg_rate`]) (s). The rate between
+/// two rows counts at the middle of their interval; the crossing is
+/// interpolated linearly between two such rates. NaN if it never does.
+fn turn_time(rows: &[Row], leg: Leg) -> f64 {
+    let want = TURN_RATE_FRACTION * leg_rate(rows, leg);
+    let sign = if leg.dive { 1.0 } else { -1.0 };
+    let start = rows[leg.start].time;
+    let mut previous: Option<(f64, f64)> = None;
+    for pair in rows[leg.start..leg.end].windows(2) {
+        let dt = pair[1].time - pair[0].time;
+        if dt <= 0.0 || !(pair[1].depth - pair[0].depth).is_finite() {
+            continue;
+        }
+        let rate = sign * (pair[1].depth - pair[0].depth) / dt;
+        let at = 0.5 * (pair[0].time + pair[1].time);
+        if rate >= want {
+            return match previous {
+                Some((before_at, before_rate)) if before_rate < want => {
+                    before_at + (want - before_rate) / (rate - before_rate) * (at - before_at)
+                        - start
+                }
+                _ => at - start,
+            };
+        }
+        previous = Some((at, rate));
+    }
+    f64::NAN
+}
+
+/// The fraction of a leg's rate that ends a turn ([`turn_time`]).
+pub const TURN_RATE_FRACTION: f64 = 0.9;
+
 /// Measures a yo. `climb_target` is the yo's climb target depth (m), for the
 /// turn latency. An error says what the track lacks.
 pub fn yo_figures(track: &Track, climb_target: f64) -> Result<YoFigures, String> {
@@ -296,16 +346,20 @@ pub fn yo_figures(track: &Track, climb_target: f64) -> Result<YoFigures, String>
     let mut bottom = Vec::new();
     let mut top = Vec::new();
     let mut latency = Vec::new();
+    let (mut bottom_time, mut top_time) = (Vec::new(), Vec::new());
     for (before, after) in legs.iter().zip(legs.iter().skip(1)) {
         if before.end != after.start {
             continue;
         }
         let turn = rows[after.start];
         let (lo, hi) = depth_range(&rows[after.start..after.end]);
+        let timing = turn_time(rows, *after);
         if before.dive {
             bottom.push(hi - turn.depth);
+            bottom_time.push(timing);
         } else {
             top.push(turn.depth - lo);
+            top_time.push(timing);
             if let Some(cross) = rows[before.start..before.end]
                 .iter()
                 .find(|row| row.depth <= climb_target)
@@ -343,6 +397,8 @@ pub fn yo_figures(track: &Track, climb_target: f64) -> Result<YoFigures, String>
         turn_latency: median(latency).ok_or_else(|| {
             format!("cannot measure the turn latency: no climb crossed {climb_target} m before its turn")
         })?,
+        bottom_turn_time: median(bottom_time).ok_or_else(|| missing("bottom turn time"))?,
+        top_turn_time: median(top_time).ok_or_else(|| missing("top turn time"))?,
         cycle_period: period,
         cycle_spread: spread,
         power,
@@ -475,7 +531,6 @@ pub fn fit(track: &Track, climb_target: f64, defaults: &SimConfig) -> Result<Fit
     let turn_rows = turns(rows);
     let legs = legs(rows, &turn_rows);
     let mut fit = Fit::default();
-    let n = figures.legs;
 
     let mid = |dive: bool| -> Vec<Row> {
         legs.iter()
@@ -484,18 +539,6 @@ pub fn fit(track: &Track, climb_target: f64, defaults: &SimConfig) -> Result<Fit
             .collect()
     };
     let (dive_rows, climb_rows) = (mid(true), mid(false));
-    fit.put(
-        "dive_rate",
-        Some(figures.dive_rate),
-        format!("median m_depth rate in the middle of {n} legs' dives"),
-        "",
-    );
-    fit.put(
-        "climb_rate",
-        Some(figures.climb_rate),
-        "median m_depth rate in the middle of the climbs".into(),
-        "",
-    );
     let pump_max = median(
         dive_rows
             .iter()
@@ -541,9 +584,14 @@ pub fn fit(track: &Track, climb_target: f64, defaults: &SimConfig) -> Result<Fit
         pump_max,
         defaults,
     );
-    fit_pitch(&mut fit, &figures, (&dive_rows, &climb_rows));
+    let mut flight = defaults.flight.clone();
+    flight.pump_max = pump_max;
+    let steady = steady_legs(rows, &legs);
+    fit_battery_relation(&mut fit, &mut flight, &steady);
+    fit_drag_and_volume(&mut fit, &mut flight, &steady);
+    fit_pitch_swing(&mut fit, &flight, rows, &turn_rows);
+    fit_heading_bias(&mut fit, (&dive_rows, &climb_rows));
     fit_timing(&mut fit, rows, &figures);
-    fit_speed_lag(&mut fit, &figures, defaults);
     fit_battery(&mut fit, rows);
     Ok(fit)
 }
@@ -635,43 +683,6 @@ fn fit_pump_swings(
     ));
 }
 
-/// Pitch: on the battery position (it stays put) or servoed.
-fn fit_pitch(fit: &mut Fit, figures: &YoFigures, (dive_rows, climb_rows): (&[Row], &[Row])) {
-    let battpos: Vec<f64> = dive_rows
-        .iter()
-        .chain(climb_rows.iter())
-        .map(|row| row.battpos)
-        .filter(|value| value.is_finite())
-        .collect();
-    let battpos_spread = battpos.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
-        - battpos.iter().cloned().fold(f64::INFINITY, f64::min);
-    if !battpos.is_empty() && battpos_spread < BATTPOS_STILL {
-        fit.put(
-            "battpos_dive_pitch",
-            Some(figures.dive_pitch),
-            format!(
-                "median |m_pitch| in the middle of the dives; m_battpos stays within {battpos_spread:.3} in (use_pitch 1)"
-            ),
-            "",
-        );
-        fit.put(
-            "battpos_climb_pitch",
-            Some(figures.climb_pitch),
-            "median |m_pitch| in the middle of the climbs".into(),
-            "",
-        );
-        fit.not_fitted.push((
-            "pitch_j_per_rad",
-            "the battery does not move between dive and climb in this log".into(),
-        ));
-    } else {
-        fit.not_fitted.push((
-            "battpos_dive_pitch",
-            "m_battpos moves (servoed pitch) or is not in the log".into(),
-        ));
-    }
-}
-
 /// The control cycle's timing and the turn's latency.
 fn fit_timing(fit: &mut Fit, rows: &[Row], figures: &YoFigures) {
     let cycle_time = median(rows.iter().map(|row| row.cycle_time).collect()).unwrap_or(4.0);
@@ -701,52 +712,6 @@ fn fit_timing(fit: &mut Fit, rows: &[Row], figures: &YoFigures) {
     );
 }
 
-/// The speed's lag: the one the flight model needs to overshoot a turn as the log does
-/// (the pump rates and speeds fitted before held fixed).
-fn fit_speed_lag(fit: &mut Fit, figures: &YoFigures, defaults: &SimConfig) {
-    let mut flight = defaults.flight.clone();
-    for fitted in &fit.values {
-        let mut probe = SimConfig {
-            flight: flight.clone(),
-            ..SimConfig::default()
-        };
-        if probe.set(fitted.name, fitted.value) {
-            flight = probe.flight;
-        }
-    }
-    let mut best: Option<(f64, f64, f64)> = None;
-    for exponent in EXPONENTS {
-        flight.speed_exponent = exponent;
-        for step in 0..=LAG_STEPS {
-            flight.speed_lag = LAG_MIN * (LAG_MAX / LAG_MIN).powf(step as f64 / LAG_STEPS as f64);
-            let error = (model_overshoot(&flight, true) / figures.bottom_overshoot - 1.0).powi(2)
-                + (model_overshoot(&flight, false) / figures.top_overshoot - 1.0).powi(2)
-                // Of two that overshoot alike, the quicker: a lag also slows
-                // every leg's start, which the log does not show.
-                + 1e-4 * flight.speed_lag;
-            if best.is_none_or(|(least, _, _)| error < least) {
-                best = Some((error, flight.speed_lag, exponent));
-            }
-        }
-    }
-    let lag = best.map(|(_, lag, _)| lag);
-    fit.put(
-        "speed_exponent",
-        best.map(|(_, _, exponent)| exponent),
-        "with speed_lag, the flight model's overshoot at the turns as the log's".into(),
-        "",
-    );
-    fit.put(
-        "speed_lag",
-        lag,
-        format!(
-            "the lag at which the flight model overshoots a turn as the log does: {:.2} m at the bottom, {:.2} m at the top (medians)",
-            figures.bottom_overshoot, figures.top_overshoot
-        ),
-        "",
-    );
-}
-
 /// The battery: what a short log shows of it, and what it cannot.
 fn fit_battery(fit: &mut Fit, rows: &[Row]) {
     let volts = median(rows.iter().map(|row| row.volts).collect());
@@ -760,8 +725,14 @@ fn fit_battery(fit: &mut Fit, rows: &[Row]) {
         ("volts_empty", "an empty battery is not in the log"),
         ("battery_wh", "the capacity is not in the log (m_coulomb_amphr_total counts use, not what is left)"),
         ("battery_ohms", "m_battery updates once a minute, never during a pump swing, so its sag under load is not seen"),
-        ("angle_of_attack", "needs the speed through water (m_speed is a model output on the glider)"),
-        ("max_speed", "needs the speed through water"),
+        ("mass", "only the hull volume less the mass shows in a glide; hull_volume is fitted for the configured mass and water_density"),
+        ("water_density", "the flight log has no CTD; the .ebd's conductivity, temperature and pressure give it (TEOS-10)"),
+        ("hull_compressibility", "a shallow log's 40 m change the hull by 0.02%, below what the rates resolve"),
+        ("drag_cd1", "gliderflight holds it (10.5) and fits the zero-lift drag only"),
+        ("lift_slope", "gliderflight holds it (aw from the wing's shape, ah 3.8)"),
+        ("wing_area", "a reference area: it scales the coefficients, not the flight"),
+        ("added_mass_along", "the turns are set by the pump and pitch, not inertia: the log cannot resolve it"),
+        ("added_mass_across", "as added_mass_along"),
         ("altimeter_range", "the glider's altimeter use is set by its own u_alt_* settings, not the water"),
         ("altimeter_fraction", "as altimeter_range"),
         ("altimeter_min_depth", "as altimeter_range"),
@@ -771,62 +742,331 @@ fn fit_battery(fit: &mut Fit, rows: &[Row]) {
     }
 }
 
-/// The speed lags searched (s), log-spaced.
-const LAG_MIN: f64 = 0.5;
-const LAG_MAX: f64 = 120.0;
-const LAG_STEPS: u32 = 60;
-/// The speed-law exponents searched.
-const EXPONENTS: [f64; 13] = [
-    0.1, 0.15, 0.2, 0.25, 0.3, 0.35, 0.4, 0.5, 0.6, 0.75, 1.0, 1.5, 2.0,
-];
-
-/// How far the flight model travels past a turn (m): steady at full volume,
-/// then the pump reverses at once (the turn's row), until the vertical speed
-/// changes sign. `bottom`: a dive turning to a climb.
-pub fn model_overshoot(flight: &FlightParams, bottom: bool) -> f64 {
-    let energy = EnergyParams::default();
-    let (before, after) = if bottom {
-        (-flight.pump_max, flight.pump_max)
-    } else {
-        (flight.pump_max, -flight.pump_max)
-    };
-    let mut vehicle = Vehicle::default();
-    vehicle.depth = 500.0;
-    vehicle.ballast = before;
-    let law = SpeedLaw::new(flight);
-    let fly = |vehicle: &mut Vehicle, seconds: f64, buoyancy: f64| {
-        vehicle.fly(
-            seconds,
-            buoyancy,
-            0.0,
-            PitchControl::Battpos,
-            1000.0,
-            flight,
-            &law,
-            &energy,
-            0.0,
-        );
-    };
-    fly(&mut vehicle, 600.0, before);
-    let start = vehicle.depth;
-    let mut furthest: f64 = 0.0;
-    for _ in 0..2000 {
-        fly(&mut vehicle, flight.step, after);
-        let travelled = if bottom {
-            vehicle.depth - start
-        } else {
-            start - vehicle.depth
-        };
-        furthest = furthest.max(travelled);
-        if travelled < furthest {
-            break;
-        }
-    }
-    furthest
-}
-
 /// Current above the hotel current (A) below which the pump counts as stopped.
 const PUMP_QUIET_AMPS: f64 = 0.05;
 
 /// m_battpos spread (in) below which the battery counts as held in place.
 const BATTPOS_STILL: f64 = 0.1;
+
+/// A leg in steady flight: its middle rows' medians.
+#[derive(Clone, Copy, Debug)]
+struct SteadyLeg {
+    /// Vertical speed (m/s, > 0 up).
+    rise: f64,
+    /// Signed pitch (rad), pumped volume (cc), depth (m), battery position (in).
+    pitch: f64,
+    ballast: f64,
+    depth: f64,
+    battpos: f64,
+}
+
+/// Pitch (rad) below which a row is left out of the flight fits (gliderflight: 11°).
+const MIN_FIT_PITCH: f64 = 11.0 * std::f64::consts::PI / 180.0;
+
+fn steady_legs(rows: &[Row], legs: &[Leg]) -> Vec<SteadyLeg> {
+    legs.iter()
+        .filter_map(|leg| {
+            let inside: Vec<&Row> = middle(rows, *leg).collect();
+            let values = |field: fn(&Row) -> f64| median(inside.iter().map(|r| field(r)).collect());
+            let rate = leg_rate(rows, *leg);
+            let steady = SteadyLeg {
+                rise: if leg.dive { -rate } else { rate },
+                pitch: values(|r| r.pitch)?,
+                ballast: values(|r| r.ballast)?,
+                depth: values(|r| r.depth)?,
+                battpos: values(|r| r.battpos).unwrap_or(f64::NAN),
+            };
+            (steady.rise.is_finite() && steady.pitch.abs() >= MIN_FIT_PITCH).then_some(steady)
+        })
+        .collect()
+}
+
+/// Least squares for a small system: the `unknowns` coefficients of rows
+/// (`coefficients`, `right side`), by the normal equations and Gaussian
+/// elimination. `None` when they do not determine the unknowns.
+fn least_squares<const N: usize>(rows: &[([f64; N], f64)]) -> Option<[f64; N]> {
+    let mut matrix = [[0.0; N]; N];
+    let mut vector = [0.0; N];
+    for (coefficients, right) in rows {
+        for i in 0..N {
+            vector[i] += coefficients[i] * right;
+            for j in 0..N {
+                matrix[i][j] += coefficients[i] * coefficients[j];
+            }
+        }
+    }
+    for column in 0..N {
+        let pivot = (column..N).max_by(|a, b| {
+            matrix[*a][column]
+                .abs()
+                .total_cmp(&matrix[*b][column].abs())
+        })?;
+        matrix.swap(column, pivot);
+        vector.swap(column, pivot);
+        let scale = matrix[column].iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        if matrix[column][column].abs() <= 1e-12 * scale.max(f64::MIN_POSITIVE) {
+            return None;
+        }
+        for row in column + 1..N {
+            let factor = matrix[row][column] / matrix[column][column];
+            let pivot_row = matrix[column];
+            for (cell, above) in matrix[row].iter_mut().zip(pivot_row).skip(column) {
+                *cell -= factor * above;
+            }
+            vector[row] -= factor * vector[column];
+        }
+    }
+    let mut solution = [0.0; N];
+    for row in (0..N).rev() {
+        let known: f64 = (row + 1..N).map(|k| matrix[row][k] * solution[k]).sum();
+        solution[row] = (vector[row] - known) / matrix[row][row];
+    }
+    solution.iter().all(|v| v.is_finite()).then_some(solution)
+}
+
+/// The battery relation tan θ = T1·ΔV + T2·battpos + T3 by least squares over
+/// the steady legs (glidertrim's `estimate_pitch_relation`). A battery held in
+/// one place cannot separate T2 from T3: T2 is kept and T3 takes the rest.
+fn fit_battery_relation(fit: &mut Fit, flight: &mut FlightParams, steady: &[SteadyLeg]) {
+    let rows: Vec<([f64; 3], f64)> = steady
+        .iter()
+        .filter(|leg| leg.battpos.is_finite())
+        .map(|leg| {
+            (
+                [leg.ballast * 1e-6, leg.battpos * METRES_PER_INCH, 1.0],
+                leg.pitch.tan(),
+            )
+        })
+        .collect();
+    let battpos: Vec<f64> = rows.iter().map(|(c, _)| c[1] / METRES_PER_INCH).collect();
+    let spread = battpos.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
+        - battpos.iter().cloned().fold(f64::INFINITY, f64::min);
+    let from = format!(
+        "least squares of tan(m_pitch) on m_ballast_pumped and m_battpos over {} steady legs (glidertrim)",
+        rows.len()
+    );
+    if rows.is_empty() {
+        for name in ["pitch_t1", "pitch_t2", "pitch_t3"] {
+            fit.not_fitted.push((
+                name,
+                "m_battpos or m_ballast_pumped is not in the log".into(),
+            ));
+        }
+        return;
+    }
+    if spread >= BATTPOS_STILL {
+        if let Some([t1, t2, t3]) = least_squares(&rows) {
+            fit.put("pitch_t1", Some(t1), from.clone(), "");
+            fit.put("pitch_t2", Some(t2), from.clone(), "");
+            fit.put("pitch_t3", Some(t3), from, "");
+            (flight.pitch_t1, flight.pitch_t2, flight.pitch_t3) = (t1, t2, t3);
+            return;
+        }
+    }
+    let two: Vec<([f64; 2], f64)> = rows.iter().map(|(c, y)| ([c[0], 1.0], *y)).collect();
+    let Some([t1, intercept]) = least_squares(&two) else {
+        for name in ["pitch_t1", "pitch_t2", "pitch_t3"] {
+            fit.not_fitted
+                .push((name, "the steady legs all have one pumped volume".into()));
+        }
+        return;
+    };
+    let held = median(battpos).unwrap_or(0.0) * METRES_PER_INCH;
+    let t3 = intercept - flight.pitch_t2 * held;
+    fit.put("pitch_t1", Some(t1), from.clone(), "");
+    fit.put(
+        "pitch_t3",
+        Some(t3),
+        format!(
+            "{from}, less pitch_t2 × the battery's {:.3} in",
+            held / METRES_PER_INCH
+        ),
+        "",
+    );
+    fit.not_fitted.push((
+        "pitch_t2",
+        format!(
+            "m_battpos stays within {spread:.3} in (use_pitch 1): T2 cannot be told from T3; the default {} is kept",
+            flight.pitch_t2
+        ),
+    ));
+    (flight.pitch_t1, flight.pitch_t3) = (t1, t3);
+}
+
+/// Zero-lift drag and hull volume by least squares on the steady glide's
+/// force balance (gliderflight's steady model), one equation per steady leg:
+/// net buoyancy / g = ρ·S·w²·(Cd0 + Cd1·α²) / (2 g sin³(θ + α)), linear in
+/// (hull volume, Cd0) once α is known; α follows Cd0, so ten rounds.
+fn fit_drag_and_volume(fit: &mut Fit, flight: &mut FlightParams, steady: &[SteadyLeg]) {
+    let rho = flight.water_density;
+    let mut solved = None;
+    let mut trial = flight.clone();
+    for _ in 0..10 {
+        let rows: Vec<([f64; 2], f64)> = steady
+            .iter()
+            .map(|leg| {
+                let alpha = trial.steady_angle_of_attack(leg.pitch);
+                let glide = leg.pitch + alpha;
+                let k = leg.rise * leg.rise * rho * trial.wing_area
+                    / (2.0 * GRAVITY * glide.sin().powi(3));
+                let squeeze = 1.0 - trial.hull_compressibility * rho * GRAVITY * leg.depth;
+                (
+                    [rho * squeeze * 1e-3, -k],
+                    trial.mass - rho * leg.ballast * 1e-6 + k * trial.drag_cd1 * alpha * alpha,
+                )
+            })
+            .collect();
+        let Some([volume, cd0]) = least_squares(&rows) else {
+            break;
+        };
+        if !(cd0 > 0.0 && volume > 0.0) {
+            break;
+        }
+        (trial.hull_volume, trial.drag_cd0) = (volume, cd0);
+        solved = Some((volume, cd0));
+    }
+    let from = format!(
+        "least squares on the steady glide's force balance over {} legs (median m_depth rate, m_pitch, m_ballast_pumped), for mass {} kg and water_density {} kg/m³",
+        steady.len(),
+        flight.mass,
+        flight.water_density
+    );
+    let why = "the steady legs do not determine drag and volume (one direction only?)";
+    fit.put("hull_volume", solved.map(|(v, _)| v), from.clone(), why);
+    fit.put("drag_cd0", solved.map(|(_, c)| c), from, why);
+    if let Some((volume, cd0)) = solved {
+        (flight.hull_volume, flight.drag_cd0) = (volume, cd0);
+    }
+}
+
+/// The hull's swing toward the battery relation: the natural period and
+/// damping at which the relation, fed the log's pumped volume through each
+/// turn ([`crate::flight::swing_pitch`]), gives the log's pitch best (least
+/// squares over the turns' first minute; a grid search, two unknowns).
+fn fit_pitch_swing(fit: &mut Fit, flight: &FlightParams, rows: &[Row], turn_rows: &[usize]) {
+    let battpos = median(rows.iter().map(|row| row.battpos).collect()).unwrap_or(f64::NAN);
+    let error = |period: f64, damping: f64| -> f64 {
+        let mut total = 0.0;
+        for &turn in turn_rows {
+            let start = turn.saturating_sub(1);
+            let mut state = (rows[start].pitch, 0.0);
+            for pair in rows[start..].windows(2) {
+                if pair[1].time - rows[turn].time > PITCH_SWING_WINDOW {
+                    break;
+                }
+                let dt = pair[1].time - pair[0].time;
+                let target =
+                    flight.battpos_pitch(0.5 * (pair[0].ballast + pair[1].ballast), battpos);
+                state = crate::flight::swing_pitch(state, target, dt, period, damping);
+                let miss = state.0 - pair[1].pitch;
+                if miss.is_finite() {
+                    total += miss * miss;
+                }
+            }
+        }
+        total
+    };
+    let mut best: Option<(f64, f64, f64)> = None;
+    for step in 0..=PITCH_PERIOD_STEPS {
+        let period = PITCH_PERIOD_MIN
+            * (PITCH_PERIOD_MAX / PITCH_PERIOD_MIN).powf(step as f64 / PITCH_PERIOD_STEPS as f64);
+        for tenth in 1..=PITCH_DAMPING_STEPS {
+            let damping = tenth as f64 * PITCH_DAMPING_STEP;
+            let miss = error(period, damping);
+            if miss > 0.0 && best.is_none_or(|(least, _, _)| miss < least) {
+                best = Some((miss, period, damping));
+            }
+        }
+    }
+    let best = best.filter(|_| battpos.is_finite());
+    let why = "no turn with m_pitch, m_ballast_pumped and m_battpos in the log";
+    let from = format!(
+        "the swing with which the battery relation, fed m_ballast_pumped, follows m_pitch best through {} turns",
+        turn_rows.len()
+    );
+    fit.put("pitch_period", best.map(|b| b.1), from.clone(), why);
+    fit.put("pitch_damping", best.map(|b| b.2), from, why);
+}
+
+/// The natural periods searched (s, log-spaced), the damping ratios (steps of
+/// 0.05 to 2), and the part of a turn compared (s).
+const PITCH_PERIOD_MIN: f64 = 2.0;
+const PITCH_PERIOD_MAX: f64 = 120.0;
+const PITCH_PERIOD_STEPS: u32 = 60;
+const PITCH_DAMPING_STEP: f64 = 0.05;
+const PITCH_DAMPING_STEPS: u32 = 40;
+const PITCH_SWING_WINDOW: f64 = 60.0;
+
+/// The roll bias's heading error: the median of m_heading − c_heading in the
+/// middle of the dives and of the climbs.
+fn fit_heading_bias(fit: &mut Fit, (dive_rows, climb_rows): (&[Row], &[Row])) {
+    let bias = |rows: &[Row]| {
+        median(
+            rows.iter()
+                .map(|row| crate::navigation::angle_difference(row.heading, row.c_heading))
+                .collect(),
+        )
+    };
+    let why = "m_heading or c_heading is not in the log";
+    fit.put(
+        "heading_bias_dive",
+        bias(dive_rows),
+        "median m_heading − c_heading in the middle of the dives".into(),
+        why,
+    );
+    fit.put(
+        "heading_bias_climb",
+        bias(climb_rows),
+        "median m_heading − c_heading in the middle of the climbs".into(),
+        why,
+    );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn least_squares_solves_an_overdetermined_line() {
+        // Points (0, 1.1), (1, 2.8), (2, 5.0): by hand the normal equations
+        // 5a + 3b = 12.8 and 3a + 3b = 8.9 give a = 1.95, b = 1.016667.
+        let rows = [([0.0, 1.0], 1.1), ([1.0, 1.0], 2.8), ([2.0, 1.0], 5.0)];
+        let [a, b] = least_squares(&rows).expect("solved");
+        assert!((a - 1.95).abs() < 1e-12, "{a}");
+        assert!((b - 3.05 / 3.0).abs() < 1e-12, "{b}");
+        // One point cannot fix two unknowns.
+        assert_eq!(least_squares(&[([1.0, 1.0], 1.0)]), None);
+    }
+
+    #[test]
+    fn the_drag_and_volume_fit_inverts_the_steady_glide() {
+        // Legs flown by a glider with other constants than the defaults the fit
+        // starts from: the fit must find them again from the legs alone.
+        let mut truth = FlightParams::default();
+        (truth.drag_cd0, truth.hull_volume) = (0.3, 71.6);
+        let steady: Vec<SteadyLeg> = [
+            (-230.0, -0.45, 30.0),
+            (230.0, 0.42, 10.0),
+            (-200.0, -0.40, 20.0),
+        ]
+        .iter()
+        .map(|&(ballast, pitch, depth)| SteadyLeg {
+            rise: -truth.steady_glide(ballast, pitch, depth).1,
+            pitch,
+            ballast,
+            depth,
+            battpos: 0.405,
+        })
+        .collect();
+        let mut fit = Fit::default();
+        let mut flight = FlightParams::default();
+        fit_drag_and_volume(&mut fit, &mut flight, &steady);
+        assert!((flight.drag_cd0 - 0.3).abs() < 1e-6, "{}", flight.drag_cd0);
+        assert!(
+            (flight.hull_volume - 71.6).abs() < 1e-6,
+            "{}",
+            flight.hull_volume
+        );
+        assert_eq!(fit.values.len(), 2);
+    }
+}

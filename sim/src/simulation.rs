@@ -27,7 +27,7 @@ use crate::behaviors::{
     Commands, HookSensors, NavView, Outcome, ScriptPlacement, World,
 };
 use crate::environment::{Rng, TemperatureProfile};
-use crate::flight::{EnergyParams, EnergyUse, FlightParams, SpeedLaw, Vehicle};
+use crate::flight::{EnergyParams, EnergyUse, FlightParams, Vehicle};
 use crate::mission::Mission;
 use crate::navigation::{
     nmea_is_set, CycleMotion, NavParams, NavSetup, Navigation, Xy, DEFAULT_START_NMEA,
@@ -129,9 +129,21 @@ impl SimConfig {
             "heading_bias_dive" => &mut navigation.heading_bias_dive,
             "heading_bias_climb" => &mut navigation.heading_bias_climb,
             "pump_in_rate" => &mut flight.pump_in_rate,
-            "speed_exponent" => &mut flight.speed_exponent,
-            "battpos_dive_pitch" => &mut flight.battpos_dive_pitch,
-            "battpos_climb_pitch" => &mut flight.battpos_climb_pitch,
+            "pitch_period" => &mut flight.pitch_period,
+            "pitch_damping" => &mut flight.pitch_damping,
+            "mass" => &mut flight.mass,
+            "hull_volume" => &mut flight.hull_volume,
+            "hull_compressibility" => &mut flight.hull_compressibility,
+            "water_density" => &mut flight.water_density,
+            "drag_cd0" => &mut flight.drag_cd0,
+            "drag_cd1" => &mut flight.drag_cd1,
+            "lift_slope" => &mut flight.lift_slope,
+            "wing_area" => &mut flight.wing_area,
+            "added_mass_along" => &mut flight.added_mass_along,
+            "added_mass_across" => &mut flight.added_mass_across,
+            "pitch_t1" => &mut flight.pitch_t1,
+            "pitch_t2" => &mut flight.pitch_t2,
+            "pitch_t3" => &mut flight.pitch_t3,
             "battery_ohms" => &mut energy.battery_ohms,
             "science_on_power" => &mut energy.science_on_power,
             "science_sleep_power" => &mut energy.science_sleep_power,
@@ -145,14 +157,9 @@ impl SimConfig {
             "altimeter_min_depth" => &mut timing.altimeter_min_depth,
             "ctd_period" => &mut timing.ctd_period,
             "step" => &mut flight.step,
-            "dive_rate" => &mut flight.dive_rate,
-            "climb_rate" => &mut flight.climb_rate,
             "pump_max" => &mut flight.pump_max,
             "pump_rate" => &mut flight.pump_rate,
-            "speed_lag" => &mut flight.speed_lag,
             "pitch_rate" => &mut flight.pitch_rate,
-            "angle_of_attack" => &mut flight.angle_of_attack,
-            "max_speed" => &mut flight.max_speed,
             "dive_power" => &mut energy.dive_power,
             "climb_power" => &mut energy.climb_power,
             "pump_out_j_per_cc" => &mut energy.pump_out_j_per_cc,
@@ -281,6 +288,7 @@ struct SensorSlots {
     water_pressure: Option<usize>,
     sci_present_time: Option<usize>,
     c_pitch: Option<usize>,
+    c_battpos: Option<usize>,
     c_ballast: Option<usize>,
     c_science_on: Option<usize>,
     m_science_on: Option<usize>,
@@ -400,6 +408,7 @@ impl SensorSlots {
             water_pressure: find("sci_water_pressure"),
             sci_present_time: find("sci_m_present_time"),
             c_pitch: find("c_pitch"),
+            c_battpos: find("c_battpos"),
             c_ballast: find("c_ballast_pumped"),
             c_science_on: find("c_science_on"),
             m_science_on: find("m_science_on"),
@@ -445,7 +454,6 @@ pub struct Simulation {
     script: Option<Script>,
     vehicle: Vehicle,
     flight: FlightParams,
-    law: SpeedLaw,
     energy: EnergyParams,
     profile: TemperatureProfile,
     water_depth: f64,
@@ -684,7 +692,6 @@ impl Simulation {
             script,
             vehicle,
             flight: config.flight.clone(),
-            law: SpeedLaw::new(&config.flight),
             energy: config.energy.clone(),
             profile,
             water_depth,
@@ -869,7 +876,12 @@ impl Simulation {
         } else {
             self.commands.pitch_control
         };
-        if let Some(index) = self.slots.c_pitch {
+        // The pitch command is an angle, or with the battery held its position (in).
+        let slot = match control {
+            crate::flight::PitchControl::Servo => self.slots.c_pitch,
+            crate::flight::PitchControl::Battpos => self.slots.c_battpos,
+        };
+        if let Some(index) = slot {
             self.sensors[index] = pitch;
         }
         if let Some(index) = self.slots.c_ballast {
@@ -886,7 +898,6 @@ impl Simulation {
             control,
             self.water_depth,
             &self.flight,
-            &self.law,
             &self.energy,
             science_watts,
         );
@@ -898,7 +909,7 @@ impl Simulation {
             depth: self.vehicle.depth,
             depth_rate: self.vehicle.depth_rate,
             pitch: self.vehicle.pitch,
-            angle_of_attack: self.flight.angle_of_attack,
+            angle_of_attack: self.vehicle.angle_of_attack,
             surface_depth: self.surface_depth,
             heading_command: match aborting {
                 true => None,
@@ -1419,9 +1430,15 @@ fn nav_setup(
         finite(value("m_water_vx")).unwrap_or(0.0),
         finite(value("m_water_vy")).unwrap_or(0.0),
     );
-    // Without a logged mean speed: the nominal dive's speed through the water.
-    let nominal =
-        flight.dive_rate / (crate::behaviors::NOMINAL_PITCH + flight.angle_of_attack).tan();
+    // Without a logged mean speed: the steady speed through the water of a
+    // dive at full volume and the nominal pitch, half-way down 40 m.
+    let nominal = flight
+        .steady_glide(
+            -flight.pump_max,
+            -crate::behaviors::NOMINAL_PITCH,
+            DEFAULT_WATER_DEPTH / 2.0,
+        )
+        .0;
     let avg_speed = finite(value("m_avg_speed"))
         .filter(|speed| *speed > 0.0)
         .unwrap_or(nominal);

@@ -33,6 +33,19 @@ pub struct Unreadable(pub String);
 #[derive(Debug)]
 pub struct Unwritable(pub String);
 
+/// An input that was read but cannot serve (a forecast's logs without a fix, currents
+/// that do not cover the track): exit code 1.
+#[derive(Debug)]
+pub struct Invalid(pub String);
+
+impl std::fmt::Display for Invalid {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for Invalid {}
+
 impl std::fmt::Display for Unreadable {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(&self.0)
@@ -82,6 +95,9 @@ pub fn of_error(error: &anyhow::Error) -> u8 {
         }
         if cause.is::<Unwritable>() {
             return UNWRITABLE;
+        }
+        if cause.is::<Invalid>() {
+            return ERRORS;
         }
     }
     USAGE

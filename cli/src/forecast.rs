@@ -28,10 +28,16 @@ pub struct ForecastArgs {
     /// Hours to forecast, up to 720; default 12.
     #[arg(long, value_name = "H", default_value_t = 12.0)]
     pub hours: f64,
-    /// The true current: a CSV time series `time,u,v` (Unix seconds or UTC, m/s east and
-    /// north); default: the glider's own latest estimate (`m_water_vx/vy`).
+    /// The true current: an ocean model's CF NetCDF (`.nc`: u/v on time × [depth ×] lat ×
+    /// lon, averaged over the glider's depth range) or a CSV time series `time,u,v` (Unix
+    /// seconds or UTC, m/s east and north); default: the glider's own latest estimate
+    /// (`m_water_vx/vy`).
     #[arg(long, value_name = "FILE")]
     pub currents: Option<PathBuf>,
+    /// The water depth under the track: a NetCDF elevation or depth grid (GEBCO-style,
+    /// `.nc`); default: the mission's `s_water_depth_avg`, else 40 m.
+    #[arg(long, value_name = "FILE")]
+    pub bathymetry: Option<PathBuf>,
     /// Write the forecast (repeatable): `.geojson`, `.kml` or `.csv` by the extension;
     /// default: print only.
     #[arg(short = 'o', long = "output", value_name = "FILE")]
@@ -39,7 +45,7 @@ pub struct ForecastArgs {
     /// Fly each segment of the logs again with the current found after it and print
     /// the miss at the real first fix, beside the null model's (the prior current);
     /// default: forecast from the logs' end.
-    #[arg(long, conflicts_with_all = ["members", "outputs", "currents"])]
+    #[arg(long, conflicts_with_all = ["members", "outputs", "currents", "bathymetry"])]
     pub hindcast: bool,
     /// Fly an ensemble of N members over the current's uncertainty (up to 100,000);
     /// default: none, the single track.
@@ -85,6 +91,7 @@ pub fn main(args: ForecastArgs) -> anyhow::Result<ExitCode> {
     let mut inputs: Vec<&Path> = args.source.files.iter().map(PathBuf::as_path).collect();
     inputs.extend(args.mission.as_deref());
     inputs.extend(args.currents.as_deref());
+    inputs.extend(args.bathymetry.as_deref());
     let outputs: Vec<crate::output::Output<'_>> = args
         .outputs
         .iter()
@@ -145,7 +152,17 @@ pub fn main(args: ForecastArgs) -> anyhow::Result<ExitCode> {
         return print_hindcast(&history, &mission, &sensors, &config);
     }
     let currents = match &args.currents {
-        Some(path) => Some(load_currents(path)?),
+        Some(path) => Some(load_currents(path, history.depth_range)?),
+        None => None,
+    };
+    let bathymetry = match &args.bathymetry {
+        Some(path) => {
+            let grid = gloc_forecast::netcdf::read_bathymetry(path)
+                .map_err(|message| anyhow::Error::new(crate::exit::Unreadable(message)))
+                .context("--bathymetry")?;
+            let shared: Arc<dyn gloc_forecast::netcdf::DepthField> = Arc::new(grid);
+            Some(shared)
+        }
         None => None,
     };
     let ensemble = match members {
@@ -165,10 +182,11 @@ pub fn main(args: ForecastArgs) -> anyhow::Result<ExitCode> {
     let request = Request {
         hours: args.hours,
         currents,
+        bathymetry,
         ensemble,
     };
     let forecast = gloc_forecast::forecast(&history, &mission, &sensors, &config, &request)
-        .map_err(|error| anyhow::anyhow!("cannot forecast: {error}"))?;
+        .map_err(|error| crate::exit::Invalid(format!("cannot forecast: {error}")))?;
     print_forecast(&forecast, &history);
     for (path, format) in args.outputs.iter().zip(formats) {
         let bytes = format.write(&forecast).map_err(anyhow::Error::msg)?;
@@ -179,31 +197,42 @@ pub fn main(args: ForecastArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-fn load_currents(path: &Path) -> anyhow::Result<(Arc<dyn CurrentField>, String)> {
+fn load_currents(
+    path: &Path,
+    depth_range: Option<(f64, f64)>,
+) -> anyhow::Result<(Arc<dyn CurrentField>, String)> {
     let extension = path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
-    if extension.as_deref() != Some("csv") {
-        bail!(
-            "--currents `{}`: give a CSV time series `time,u,v` (.csv)",
+    let unreadable = |message: String| anyhow::Error::new(crate::exit::Unreadable(message));
+    match extension.as_deref() {
+        Some("nc" | "nc3" | "cdf" | "netcdf") => {
+            let grid = gloc_forecast::netcdf::read_currents(path, depth_range)
+                .map_err(unreadable)
+                .context("--currents")?;
+            let levels = if grid.levels.is_empty() {
+                String::new()
+            } else {
+                format!(", levels {:?} m averaged", grid.levels)
+            };
+            let name = format!("currents from {}{levels}", path.display());
+            Ok((Arc::new(grid), name))
+        }
+        Some("csv") => {
+            let text = gloc_engine::files::read_text(path, gloc_engine::files::PROFILE).map_err(
+                |error| unreadable(format!("cannot read the currents `{}`: {error}", path.display())),
+            )?;
+            let series = CurrentSeries::from_csv(&path.display().to_string(), &text)
+                .map_err(unreadable)
+                .context("--currents")?;
+            Ok((Arc::new(series), format!("currents from {}", path.display())))
+        }
+        _ => bail!(
+            "--currents `{}`: give an ocean model's NetCDF (.nc) or a CSV time series `time,u,v` (.csv)",
             path.display()
-        );
+        ),
     }
-    let text =
-        gloc_engine::files::read_text(path, gloc_engine::files::PROFILE).map_err(|error| {
-            crate::exit::Unreadable(format!(
-                "cannot read the currents `{}`: {error}",
-                path.display()
-            ))
-        })?;
-    let series = CurrentSeries::from_csv(&path.display().to_string(), &text)
-        .map_err(|message| anyhow::Error::new(crate::exit::Unreadable(message)))
-        .context("--currents")?;
-    Ok((
-        Arc::new(series),
-        format!("currents from {}", path.display()),
-    ))
 }
 
 fn parse_spread(text: &str) -> anyhow::Result<Xy> {
@@ -301,7 +330,7 @@ fn print_hindcast(
     config: &gloc_sim::SimConfig,
 ) -> anyhow::Result<ExitCode> {
     let results = hindcast::hindcast(history, mission, sensors, config)
-        .map_err(|error| anyhow::anyhow!("cannot hindcast: {error}"))?;
+        .map_err(|error| crate::exit::Invalid(format!("cannot hindcast: {error}")))?;
     if results.is_empty() {
         bail!(
             "no segment to hindcast: the logs need a fix before a dive, the first fix after \

@@ -12,6 +12,18 @@ use gloc_forecast::fly::{prepare_mission, Start, Truth};
 use gloc_forecast::logs::read_history;
 use gloc_sim::{Mission, SimConfig};
 
+/// The process's user + system CPU time (s), from /proc/self/stat (Linux,
+/// 100 ticks a second); `None` elsewhere. Wall time on a shared machine
+/// counts other processes; CPU time says what the ensemble itself cost.
+fn process_cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    let after_name = &stat[stat.rfind(')')? + 2..];
+    let fields: Vec<&str> = after_name.split_whitespace().collect();
+    // Fields 14 and 15 of the line (utime, stime) are 12 and 13 after the name.
+    let ticks: f64 = fields.get(11)?.parse::<f64>().ok()? + fields.get(12)?.parse::<f64>().ok()?;
+    Some(ticks / 100.0)
+}
+
 fn main() {
     let arguments: Vec<String> = std::env::args()
         .skip(1)
@@ -48,6 +60,7 @@ fn main() {
         config: &config,
         start: &start,
         truth: &truth,
+        bathymetry: None,
         hours,
     };
     let cores = std::thread::available_parallelism().map_or(1, std::num::NonZero::get);
@@ -63,13 +76,18 @@ fn main() {
             spread: spread_from_history(&history),
             threads,
         };
+        let cpu_before = process_cpu_seconds();
         let began = Instant::now();
         let ensemble = run_ensemble(&input, &options).expect("flies");
         let seconds = began.elapsed().as_secs_f64();
+        let cpu = process_cpu_seconds()
+            .zip(cpu_before)
+            .map(|(after, before)| after - before);
         let single = *first.get_or_insert(seconds);
         println!(
-            "ensemble {members} members × {hours} h, {threads} thread(s): {seconds:.2} s wall \
-             ({:.1} ms per member-hour·1000, speed-up {:.2}×), {} hourly regions",
+            "ensemble {members} members × {hours} h, {threads} thread(s): {seconds:.2} s wall, \
+             {} CPU ({:.0} µs of wall per member-hour, speed-up {:.2}× over 1 thread), {} hourly regions",
+            cpu.map_or("?".to_string(), |cpu| format!("{cpu:.2} s")),
             seconds / (members as f64 * hours) * 1e6,
             single / seconds,
             ensemble.regions.len()

@@ -123,6 +123,7 @@ pub struct EnsembleInput<'a> {
     pub start: &'a Start,
     /// The forecast's current (each member adds its offset).
     pub truth: &'a Truth,
+    pub bathymetry: Option<&'a Arc<dyn crate::netcdf::DepthField>>,
     pub hours: f64,
 }
 
@@ -221,6 +222,7 @@ pub fn fly_members(
                             &config,
                             input.start,
                             &truth,
+                            input.bathymetry,
                             &plan,
                         );
                         done.push((number, track));

@@ -14,6 +14,7 @@ use gloc_sim::{EndReason, Mission, SimConfig, Simulation};
 
 use crate::currents::CurrentField;
 use crate::logs::{LogHistory, Segment};
+use crate::netcdf::DepthField;
 use crate::ForecastError;
 
 /// Where and in what state a forecast starts: the glider at its last fix.
@@ -230,13 +231,16 @@ fn set_arg(spec: &mut gloc_mission::mission::BehaviorSpec, name: &str, units: &s
     }
 }
 
-/// Flies `mission` (already [`prepare_mission`]ed) from `start` in `truth`.
+/// Flies `mission` (already [`prepare_mission`]ed) from `start` in `truth`,
+/// over `bathymetry`'s water depth when given (else the mission's or the
+/// configuration's).
 pub fn fly(
     mission: &Mission,
     sensors: &Arc<SensorList>,
     config: &SimConfig,
     start: &Start,
     truth: &Truth,
+    bathymetry: Option<&Arc<dyn DepthField>>,
     plan: &FlightPlan,
 ) -> Result<Track, ForecastError> {
     let mut config = config.clone();
@@ -261,6 +265,13 @@ pub fn fly(
                 .at(start.time + now, lat, lon)
                 .map_err(ForecastError::Currents)?;
             sim.set_true_water(water + *offset);
+        }
+        if let Some(bathymetry) = bathymetry {
+            let (lat, lon) = lmc.to_lat_lon(sim.navigation().true_position);
+            let depth = bathymetry
+                .depth_at(start.time + now, lat, lon)
+                .map_err(ForecastError::Currents)?;
+            sim.set_water_depth(depth);
         }
         if now >= next_record || now >= plan.seconds {
             let (lat, lon) = lmc.to_lat_lon(sim.navigation().true_position);

@@ -92,6 +92,7 @@ pub fn hindcast(
                 config,
                 &start,
                 &Truth::Uniform(water),
+                None,
                 &plan,
             )?;
             Ok(track.surfacings.first().map(|s| {

@@ -9,6 +9,7 @@
 //! - [`ensemble`]: members over the current's uncertainty on every core, the
 //!   region per hour and the surfacing spread.
 //! - [`currents`]: current fields in time and space (CSV time series);
+//!   [`netcdf`]: ocean-model currents and bathymetry from NetCDF;
 //!   [`export`]: GeoJSON, KML and CSV.
 //!
 //! Decision: a crate of its own above `gloc-project` (ARCHITECTURE.md): it
@@ -31,6 +32,7 @@ pub mod export;
 pub mod fly;
 pub mod hindcast;
 pub mod logs;
+pub mod netcdf;
 
 pub use ensemble::{Ensemble, EnsembleOptions};
 pub use fly::{Start, Surfacing, Track, Truth};
@@ -83,6 +85,8 @@ pub struct Request {
     pub hours: f64,
     /// The true current; `None`: the glider's own latest estimate.
     pub currents: Option<(Arc<dyn currents::CurrentField>, String)>,
+    /// The water depth under the track; `None`: the mission's or the configuration's.
+    pub bathymetry: Option<Arc<dyn netcdf::DepthField>>,
     pub ensemble: Option<EnsembleOptions>,
 }
 
@@ -114,7 +118,15 @@ pub fn forecast(
         record_every: 60.0,
         stop_at_first_fix: fly::StopAt::Horizon,
     };
-    let track = fly::fly(&prepared, sensors, config, &start, &truth, &plan)?;
+    let track = fly::fly(
+        &prepared,
+        sensors,
+        config,
+        &start,
+        &truth,
+        request.bathymetry.as_ref(),
+        &plan,
+    )?;
     let ensemble = match &request.ensemble {
         Some(options) => Some(ensemble::run_ensemble(
             &ensemble::EnsembleInput {
@@ -123,6 +135,7 @@ pub fn forecast(
                 config,
                 start: &start,
                 truth: &truth,
+                bathymetry: request.bathymetry.as_ref(),
                 hours: request.hours,
             },
             options,

@@ -40,6 +40,7 @@ fn comet_forecast(members: usize, hours: f64) -> gloc_forecast::Forecast {
     let request = Request {
         hours,
         currents: None,
+        bathymetry: None,
         ensemble: Some(EnsembleOptions {
             members,
             seed: 3,
@@ -218,6 +219,7 @@ fn the_same_seed_gives_the_same_members_on_any_number_of_threads() {
         config: &config,
         start: &start,
         truth: &truth,
+        bathymetry: None,
         hours: 2.0,
     };
     let options = |threads| EnsembleOptions {

@@ -11,6 +11,7 @@ use anyhow::{bail, Context as _};
 use clap::Args;
 use gloc_forecast::currents::{CurrentField, CurrentSeries};
 use gloc_forecast::export::{iso_time, nmea_text, Format};
+use gloc_forecast::map::{write_map, MapFormat};
 use gloc_forecast::{ensemble, hindcast, EnsembleOptions, Forecast, Request};
 use gloc_project::{Overrides, Settings, Surface};
 use gloc_sim::navigation::Xy;
@@ -38,8 +39,8 @@ pub struct ForecastArgs {
     /// `.nc`); default: the mission's `s_water_depth_avg`, else 40 m.
     #[arg(long, value_name = "FILE")]
     pub bathymetry: Option<PathBuf>,
-    /// Write the forecast (repeatable): `.geojson`, `.kml` or `.csv` by the extension;
-    /// default: print only.
+    /// Write the forecast (repeatable): `.geojson`, `.kml` or `.csv` by the extension, or
+    /// a map `.png` / `.svg`; default: print only.
     #[arg(short = 'o', long = "output", value_name = "FILE")]
     pub outputs: Vec<PathBuf>,
     /// Fly each segment of the logs again with the current found after it and print
@@ -86,8 +87,13 @@ pub fn main(args: ForecastArgs) -> anyhow::Result<ExitCode> {
     let formats = args
         .outputs
         .iter()
-        .map(|path| Format::from_path(path).map_err(anyhow::Error::msg))
-        .collect::<anyhow::Result<Vec<Format>>>()?;
+        .map(|path| match MapFormat::from_path(path) {
+            Some(_) => Ok(None),
+            None => Format::from_path(path)
+                .map(Some)
+                .map_err(|message| anyhow::anyhow!("{message}, or a map .png or .svg")),
+        })
+        .collect::<anyhow::Result<Vec<Option<Format>>>>()?;
     let mut inputs: Vec<&Path> = args.source.files.iter().map(PathBuf::as_path).collect();
     inputs.extend(args.mission.as_deref());
     inputs.extend(args.currents.as_deref());
@@ -189,9 +195,16 @@ pub fn main(args: ForecastArgs) -> anyhow::Result<ExitCode> {
         .map_err(|error| crate::exit::Invalid(format!("cannot forecast: {error}")))?;
     print_forecast(&forecast, &history);
     for (path, format) in args.outputs.iter().zip(formats) {
-        let bytes = format.write(&forecast).map_err(anyhow::Error::msg)?;
-        crate::output::write_atomically(path, &bytes)
-            .map_err(|error| crate::output::write_error(error, "the forecast", path))?;
+        match format {
+            Some(format) => {
+                let bytes = format.write(&forecast).map_err(anyhow::Error::msg)?;
+                crate::output::write_atomically(path, &bytes)
+                    .map_err(|error| crate::output::write_error(error, "the forecast", path))?;
+            }
+            None => crate::output::write_through_temporary(path, |temporary| {
+                write_map(&forecast, &history.fixes, temporary)
+            })?,
+        }
         eprintln!("wrote {}", path.display());
     }
     Ok(ExitCode::SUCCESS)

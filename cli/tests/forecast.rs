@@ -91,5 +91,7 @@ fn an_output_that_is_an_input_is_refused() {
     assert!(text(&output.stderr).contains("is the input"));
     let output = forecast(&["-o", "/tmp/forecast.txt"]);
     assert_eq!(output.status.code(), Some(2));
-    assert!(text(&output.stderr).contains(".geojson (or .json), .kml or .csv"));
+    assert!(
+        text(&output.stderr).contains(".geojson (or .json), .kml or .csv, or a map .png or .svg")
+    );
 }

@@ -10,7 +10,7 @@
 //!   region per hour and the surfacing spread.
 //! - [`currents`]: current fields in time and space (CSV time series);
 //!   [`netcdf`]: ocean-model currents and bathymetry from NetCDF;
-//!   [`export`]: GeoJSON, KML and CSV.
+//!   [`export`]: GeoJSON, KML and CSV; [`map`]: the map (PNG, SVG).
 //!
 //! Decision: a crate of its own above `gloc-project` (ARCHITECTURE.md): it
 //! reads logs and flies the simulator, starts threads (the simulator never
@@ -32,6 +32,7 @@ pub mod export;
 pub mod fly;
 pub mod hindcast;
 pub mod logs;
+pub mod map;
 pub mod netcdf;
 
 pub use ensemble::{Ensemble, EnsembleOptions};

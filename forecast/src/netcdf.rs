@@ -112,6 +112,12 @@ fn open(path: &Path) -> Result<(FileReader, u64), String> {
             path.display()
         ));
     }
+    check_header(&bytes).map_err(|problem| {
+        format!(
+            "`{}`: not a readable NetCDF-3 file: {problem}",
+            path.display()
+        )
+    })?;
     let reader =
         FileReader::open_seek_read(&path.display().to_string(), Box::new(Cursor::new(bytes)))
             .map_err(|error| {
@@ -121,6 +127,128 @@ fn open(path: &Path) -> Result<(FileReader, u64), String> {
                 )
             })?;
     Ok((reader, length))
+}
+
+/// Walks a classic (CDF-1) or 64-bit-offset (CDF-2) header and checks that every
+/// count it declares fits in the bytes that follow, before the `netcdf3` parser
+/// sizes its vectors from those counts (a damaged count would otherwise ask for
+/// gigabytes and abort the process).
+fn check_header(bytes: &[u8]) -> Result<(), String> {
+    let mut cursor = HeaderCursor { bytes, at: 0 };
+    let offset_bytes = match cursor.take(4)? {
+        b"CDF\x01" => 4,
+        b"CDF\x02" => 8,
+        b"CDF\x05" => {
+            return Err(
+                "CDF-5 (64-bit data) is not read: convert it with `nccopy -k classic`".to_string(),
+            )
+        }
+        _ => return Err("an unknown NetCDF version".to_string()),
+    };
+    cursor.word()?; // numrecs
+    let tag = cursor.word()?;
+    let dims = cursor.count(12)?;
+    if !(tag == 0x0A || (tag == 0 && dims == 0)) {
+        return Err("byte 8: expected a dimension list".to_string());
+    }
+    for _ in 0..dims {
+        cursor.name()?;
+        cursor.word()?;
+    }
+    cursor.attributes()?;
+    let tag = cursor.word()?;
+    let vars = cursor.count(16)?;
+    if !(tag == 0x0B || (tag == 0 && vars == 0)) {
+        return Err(format!("byte {}: expected a variable list", cursor.at - 8));
+    }
+    for _ in 0..vars {
+        cursor.name()?;
+        let rank = cursor.count(4)?;
+        for _ in 0..rank {
+            if cursor.word()? as usize >= dims {
+                return Err(format!(
+                    "byte {}: a variable names a dimension that does not exist",
+                    cursor.at - 4
+                ));
+            }
+        }
+        cursor.attributes()?;
+        type_size(cursor.word()?)?;
+        cursor.word()?; // vsize
+        cursor.take(offset_bytes)?; // begin
+    }
+    Ok(())
+}
+
+/// Reads a NetCDF-3 header's words, checking each against what is left.
+struct HeaderCursor<'a> {
+    bytes: &'a [u8],
+    at: usize,
+}
+
+impl HeaderCursor<'_> {
+    fn left(&self) -> usize {
+        self.bytes.len().saturating_sub(self.at)
+    }
+
+    fn take(&mut self, count: usize) -> Result<&[u8], String> {
+        if count > self.left() {
+            return Err(format!("the header is cut short at byte {}", self.at));
+        }
+        let slice = &self.bytes[self.at..self.at + count];
+        self.at += count;
+        Ok(slice)
+    }
+
+    fn word(&mut self) -> Result<u32, String> {
+        let four = self.take(4)?;
+        Ok(u32::from_be_bytes([four[0], four[1], four[2], four[3]]))
+    }
+
+    /// A count of items of at least `item` bytes each, which must fit in the file.
+    fn count(&mut self, item: usize) -> Result<usize, String> {
+        let at = self.at;
+        let count = self.word()? as usize;
+        if count.saturating_mul(item.max(1)) > self.left() {
+            return Err(format!(
+                "byte {at}: a count of {count} does not fit in the file"
+            ));
+        }
+        Ok(count)
+    }
+
+    fn name(&mut self) -> Result<(), String> {
+        let length = self.count(1)?;
+        self.take(length.div_ceil(4) * 4).map(|_| ())
+    }
+
+    fn attributes(&mut self) -> Result<(), String> {
+        let tag = self.word()?;
+        let count = self.count(12)?;
+        if tag == 0 && count == 0 {
+            return Ok(());
+        }
+        if tag != 0x0C {
+            return Err(format!("byte {}: expected an attribute list", self.at - 8));
+        }
+        for _ in 0..count {
+            self.name()?;
+            let size = type_size(self.word()?)?;
+            let values = self.count(size)?;
+            self.take((values * size).div_ceil(4) * 4)?;
+        }
+        Ok(())
+    }
+}
+
+fn type_size(code: u32) -> Result<usize, String> {
+    match code {
+        1 | 2 => Ok(1),
+        3 => Ok(2),
+        4 | 5 => Ok(4),
+        6 => Ok(8),
+        other => Err(format!("unknown data type {other}")),
+    }
 }
 
 /// A variable's values as f64, unpacked, fill values as NaN. Refuses a
@@ -414,7 +542,11 @@ pub fn read_currents(path: &Path, depth_range: Option<(f64, f64)>) -> Result<Gri
     let v_raw = read_values(&mut reader, length, &v_name, path)?;
     let (nt, ny, nx) = (times.values.len(), lats.values.len(), lons.values.len());
     let nz = levels_all.len().max(1);
-    if u_raw.len() != nt * nz * ny * nx || v_raw.len() != u_raw.len() {
+    let cells = nt
+        .checked_mul(nz)
+        .and_then(|n| n.checked_mul(ny))
+        .and_then(|n| n.checked_mul(nx));
+    if cells != Some(u_raw.len()) || v_raw.len() != u_raw.len() {
         return Err(format!(
             "`{}`: `{u_name}` does not match its dimensions",
             path.display()
@@ -602,7 +734,7 @@ pub fn read_bathymetry(path: &Path) -> Result<Bathymetry, String> {
     )?;
     let raw = read_values(&mut reader, length, &pick, path)?;
     let (ny, nx) = (lats.values.len(), lons.values.len());
-    if raw.len() != ny * nx {
+    if ny.checked_mul(nx) != Some(raw.len()) {
         return Err(format!(
             "`{}`: `{pick}` does not match its dimensions",
             path.display()

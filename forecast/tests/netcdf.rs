@@ -385,3 +385,46 @@ fn netcdf4_and_garbage_are_refused_with_what_to_do() {
         .expect_err("not NetCDF")
         .contains("not a NetCDF file"));
 }
+
+#[test]
+fn damaged_netcdf_files_are_errors_not_panics() {
+    let folder = folder("damaged");
+    let path = folder.join("good.nc");
+    write_currents(
+        &path,
+        &[0.0, 6.0],
+        Some(&[0.0, 10.0]),
+        &grid(54.0, 54.4, 3),
+        &grid(7.0, 7.4, 3),
+        |_, _, _, _| (0.1, 0.2),
+    );
+    let good = std::fs::read(&path).expect("written");
+    let mut rng = gloc_testsupport::Rng::new(2026);
+    let damaged = folder.join("damaged.nc");
+    let mut refused = 0;
+    for round in 0..400 {
+        let mut bytes = good.clone();
+        match round % 3 {
+            // Flip bytes, mostly in the header where the sizes are.
+            0 | 1 => {
+                for _ in 0..1 + rng.index(4) {
+                    let at =
+                        rng.index(
+                            bytes
+                                .len()
+                                .min(if round % 3 == 0 { 400 } else { bytes.len() }),
+                        );
+                    bytes[at] = rng.next_u64() as u8;
+                }
+            }
+            _ => bytes.truncate(rng.index(bytes.len())),
+        }
+        std::fs::write(&damaged, &bytes).expect("write");
+        // Either a field or an error; never a panic, never a hang.
+        if read_currents(&damaged, Some((5.0, 30.0))).is_err() {
+            refused += 1;
+        }
+        let _ = read_bathymetry(&damaged);
+    }
+    assert!(refused > 100, "{refused}");
+}

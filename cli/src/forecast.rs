@@ -320,6 +320,13 @@ fn print_forecast(forecast: &Forecast, history: &gloc_forecast::LogHistory) {
             ensemble.spread.x,
             ensemble.spread.y
         );
+        if let Some((number, message)) = ensemble.left_grid.first() {
+            eprintln!(
+                "warning: {} of {} members left the grid and stopped there (they count in the hours before); member {number}: {message}",
+                ensemble.left_grid.len(),
+                ensemble.members
+            );
+        }
         for spread in &ensemble.surfacings {
             outln!(
                 "  surfacing {}: {} members, {} to {}, 95% within {:.0} m of ({:.5}, {:.5}), all within {:.0} m",

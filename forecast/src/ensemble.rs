@@ -16,7 +16,7 @@ use gloc_engine::sensors::SensorList;
 use gloc_sim::navigation::{Lmc, Xy};
 use gloc_sim::{Mission, SimConfig};
 
-use crate::fly::{fly, FlightPlan, Start, StopAt, Track, Truth};
+use crate::fly::{fly, FlightPlan, Outside, Start, StopAt, Track, Truth};
 use crate::logs::LogHistory;
 use crate::ForecastError;
 
@@ -78,6 +78,9 @@ pub struct Ensemble {
     pub offsets: Vec<Xy>,
     pub regions: Vec<Region>,
     pub surfacings: Vec<SurfacingSpread>,
+    /// Members whose track left the current or bathymetry grid, with where and
+    /// when: they count in the regions up to then.
+    pub left_grid: Vec<(usize, String)>,
 }
 
 /// The default σ: the spread (standard deviation per component) of the
@@ -172,7 +175,13 @@ pub fn run_ensemble(
             .collect();
         surfacings.push(spread_of(index + 1, &found, &lmc));
     }
+    let left_grid = tracks
+        .iter()
+        .enumerate()
+        .filter_map(|(number, track)| track.left_grid.clone().map(|message| (number, message)))
+        .collect();
     Ok(Ensemble {
+        left_grid,
         members: options.members,
         seed: options.seed,
         spread: options.spread,
@@ -194,6 +203,7 @@ pub fn fly_members(
         seconds: input.hours * 3600.0,
         record_every: 3600.0,
         stop_at_first_fix: StopAt::Horizon,
+        outside: Outside::Stop,
     };
     let results: Vec<Vec<(usize, Result<Track, ForecastError>)>> = std::thread::scope(|scope| {
         let workers: Vec<_> = (0..threads)

@@ -134,6 +134,9 @@ pub struct Track {
     pub ended: Option<String>,
     /// Charge the flight used (Ah).
     pub amp_hours_used: f64,
+    /// Where and when the track left its current or bathymetry grid, if it did
+    /// (with [`Outside::Stop`]).
+    pub left_grid: Option<String>,
 }
 
 /// How a track is flown.
@@ -145,6 +148,19 @@ pub struct FlightPlan {
     pub record_every: f64,
     /// Stop at the first surfacing (a hindcast's segment).
     pub stop_at_first_fix: StopAt,
+    /// What leaving the current or bathymetry grid does.
+    pub outside: Outside,
+}
+
+/// What a track that leaves its current or bathymetry grid does.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Outside {
+    /// The flight fails with the error (the forecast's own track).
+    Fail,
+    /// The track ends there, the error kept in [`Track::left_grid`] (an
+    /// ensemble member: the others fly on, and the regions say how many
+    /// members each holds).
+    Stop,
 }
 
 /// Where a flight stops.
@@ -259,19 +275,15 @@ pub fn fly(
     }
     loop {
         let now = sim.time();
-        if let Truth::Field(field, offset) = truth {
-            let (lat, lon) = lmc.to_lat_lon(sim.navigation().true_position);
-            let water = field
-                .at(start.time + now, lat, lon)
-                .map_err(ForecastError::Currents)?;
-            sim.set_true_water(water + *offset);
-        }
-        if let Some(bathymetry) = bathymetry {
-            let (lat, lon) = lmc.to_lat_lon(sim.navigation().true_position);
-            let depth = bathymetry
-                .depth_at(start.time + now, lat, lon)
-                .map_err(ForecastError::Currents)?;
-            sim.set_water_depth(depth);
+        if let Err(message) = set_surroundings(&mut sim, &lmc, start.time + now, truth, bathymetry)
+        {
+            match plan.outside {
+                Outside::Fail => return Err(ForecastError::Currents(message)),
+                Outside::Stop => {
+                    track.left_grid = Some(message);
+                    break;
+                }
+            }
         }
         if now >= next_record || now >= plan.seconds {
             let (lat, lon) = lmc.to_lat_lon(sim.navigation().true_position);
@@ -329,6 +341,25 @@ pub fn fly(
     }
     track.amp_hours_used = sim.amp_hours() - amp_hours_before;
     Ok(track)
+}
+
+/// The true current and the water depth at the glider's true position now.
+fn set_surroundings(
+    sim: &mut Simulation,
+    lmc: &Lmc,
+    time: f64,
+    truth: &Truth,
+    bathymetry: Option<&Arc<dyn DepthField>>,
+) -> Result<(), String> {
+    let (lat, lon) = lmc.to_lat_lon(sim.navigation().true_position);
+    if let Truth::Field(field, offset) = truth {
+        let water = field.at(time, lat, lon)?;
+        sim.set_true_water(water + *offset);
+    }
+    if let Some(bathymetry) = bathymetry {
+        sim.set_water_depth(bathymetry.depth_at(time, lat, lon)?);
+    }
+    Ok(())
 }
 
 /// Decimal degrees of an NMEA pair.

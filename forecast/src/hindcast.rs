@@ -10,7 +10,7 @@ use std::sync::Arc;
 use gloc_engine::sensors::SensorList;
 use gloc_sim::{Mission, SimConfig};
 
-use crate::fly::{fly, prepare_mission, FlightPlan, Start, StopAt, Truth};
+use crate::fly::{fly, prepare_mission, FlightPlan, Outside, Start, StopAt, Truth};
 use crate::logs::{LogHistory, Segment};
 use crate::ForecastError;
 
@@ -82,6 +82,7 @@ pub fn hindcast(
             seconds: segment.end.time - segment.start.time + EXTRA_SECONDS,
             record_every: 60.0,
             stop_at_first_fix: StopAt::FirstSurfacing,
+            outside: Outside::Fail,
         };
         let lmc = start.lmc();
         let real = lmc.nmea_to_xy(segment.end.lat, segment.end.lon);

@@ -118,6 +118,7 @@ pub fn forecast(
         seconds: request.hours * 3600.0,
         record_every: 60.0,
         stop_at_first_fix: fly::StopAt::Horizon,
+        outside: fly::Outside::Fail,
     };
     let track = fly::fly(
         &prepared,

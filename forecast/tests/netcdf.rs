@@ -10,7 +10,7 @@ use std::sync::Arc;
 
 use gloc_engine::sensors::SensorList;
 use gloc_forecast::currents::CurrentField;
-use gloc_forecast::fly::{fly, prepare_mission, FlightPlan, Start, StopAt, Truth};
+use gloc_forecast::fly::{fly, prepare_mission, FlightPlan, Outside, Start, StopAt, Truth};
 use gloc_forecast::netcdf::{read_bathymetry, read_currents, DepthField};
 use gloc_forecast::ForecastError;
 use gloc_sim::navigation::{degrees_to_nmea, Lmc, Xy};
@@ -125,6 +125,7 @@ fn plan(hours: f64) -> FlightPlan {
         seconds: hours * 3600.0,
         record_every: 60.0,
         stop_at_first_fix: StopAt::Horizon,
+        outside: Outside::Fail,
     }
 }
 
@@ -427,4 +428,61 @@ fn damaged_netcdf_files_are_errors_not_panics() {
         let _ = read_bathymetry(&damaged);
     }
     assert!(refused > 100, "{refused}");
+}
+
+#[test]
+fn ensemble_members_that_leave_the_grid_stop_there_and_are_reported() {
+    use gloc_forecast::ensemble::{run_ensemble, EnsembleInput, EnsembleOptions};
+    let folder = folder("members");
+    let path = folder.join("narrow.nc");
+    // A calm grid 0.04° (2.6 km) wide around the start; members drift with
+    // σ 0.3 m/s east and north: most leave it within three hours.
+    write_currents(
+        &path,
+        &[0.0, 12.0],
+        None,
+        &grid(54.2, 54.4, 3),
+        &grid(7.33, 7.37, 3),
+        |_, _, _, _| (0.0, 0.0),
+    );
+    let field: Arc<dyn gloc_forecast::currents::CurrentField> =
+        Arc::new(read_currents(&path, None).expect("readable"));
+    let drifter = Mission::parse(
+        "drift.mi",
+        "behavior: abend\n  b_arg: overdepth(m) 35\nbehavior: sensors_in\n",
+    );
+    let start = start_at(54.3, 7.35);
+    let prepared = prepare_mission(&drifter, &start);
+    let truth = Truth::Field(field, Xy::ZERO);
+    let sensors = Arc::new(SensorList::embedded());
+    let config = SimConfig::default();
+    let input = EnsembleInput {
+        mission: &prepared,
+        sensors: &sensors,
+        config: &config,
+        start: &start,
+        truth: &truth,
+        bathymetry: None,
+        hours: 3.0,
+    };
+    let options = EnsembleOptions {
+        members: 20,
+        seed: 4,
+        spread: Xy::new(0.3, 0.3),
+        threads: 2,
+    };
+    let ensemble = run_ensemble(&input, &options).expect("the ensemble flies");
+    assert!(!ensemble.left_grid.is_empty());
+    assert!(ensemble
+        .left_grid
+        .iter()
+        .all(|(_, message)| message.contains("leaves the currents")));
+    // A member that left is missing from the later regions, never from the earlier ones.
+    let counts: Vec<usize> = ensemble.regions.iter().map(|r| r.members).collect();
+    assert!(counts.windows(2).all(|w| w[1] <= w[0]), "{counts:?}");
+    assert_eq!(
+        counts.last().copied().unwrap_or(0) + ensemble.left_grid.len(),
+        20,
+        "{counts:?}"
+    );
 }

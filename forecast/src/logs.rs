@@ -161,7 +161,6 @@ pub fn read_history(source: &mut dyn CycleSource) -> Result<LogHistory, LogError
     let mut water = (None::<f64>, None::<f64>);
     let mut initial = (None::<f64>, None::<f64>);
     let mut waypoint = (None::<f64>, None::<f64>);
-    let mut gps = (None::<f64>, None::<f64>);
     let mut low = f64::INFINITY;
     let mut high = f64::NEG_INFINITY;
     while let Some(cycle) = source.next_cycle()? {
@@ -185,14 +184,20 @@ pub fn read_history(source: &mut dyn CycleSource) -> Result<LogHistory, LogError
         let lat = get(Column::GpsLat);
         let lon = get(Column::GpsLon);
         if lat.is_some() || lon.is_some() {
-            gps = (lat.or(gps.0), lon.or(gps.1));
-            if let (Some(lat), Some(lon)) = gps {
+            // A cycle that logs one half of a fix (a log that writes changes
+            // only) takes the other half's latest value.
+            let latest = |column: Column| {
+                columns[column as usize].and_then(|c| cycle.values.get(c).copied())
+            };
+            let pair = (
+                lat.or_else(|| latest(Column::GpsLat)),
+                lon.or_else(|| latest(Column::GpsLon)),
+            );
+            if let (Some(lat), Some(lon)) = pair {
                 if nmea_is_set(lat) && nmea_is_set(lon) && lat.abs() <= 9000.0 {
                     history.fixes.push(Fix { time, lat, lon });
                 }
             }
-            // A fix is the pair of one cycle: the next starts afresh.
-            gps = (None, None);
         }
         let (vx, vy) = (get(Column::WaterVx), get(Column::WaterVy));
         if vx.is_some() || vy.is_some() {

@@ -147,7 +147,7 @@ pub fn main(args: ForecastArgs) -> anyhow::Result<ExitCode> {
     let history = gloc_forecast::logs::read_history(&mut source).map_err(|error| match error {
         gloc_forecast::logs::LogError::Read(error) => anyhow::Error::new(error),
         gloc_forecast::logs::LogError::Content(message) => {
-            anyhow::Error::new(crate::exit::Unreadable(message))
+            anyhow::Error::new(crate::exit::Invalid(message))
         }
     })?;
     for warning in gloc_dbd::CycleSource::take_warnings(&mut source) {
@@ -296,9 +296,14 @@ fn print_forecast(forecast: &Forecast, history: &gloc_forecast::LogHistory) {
         outln!("  none within {} h", forecast.hours);
     }
     for (index, s) in forecast.track.surfacings.iter().enumerate() {
-        let distance = s
-            .distance_to_waypoint
-            .map_or(String::new(), |d| format!("  {d:.0} m to the waypoint"));
+        let distance = match (s.distance_to_waypoint, s.waypoint) {
+            (Some(d), Some((wlat, wlon))) => format!(
+                "  {d:.0} m to the waypoint {} {}",
+                nmea_text(wlat),
+                nmea_text(wlon)
+            ),
+            _ => String::new(),
+        };
         outln!(
             "  {:>2}  {}  {} {}  ({:.5}, {:.5}){distance}",
             index + 1,

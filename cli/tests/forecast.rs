@@ -95,3 +95,67 @@ fn an_output_that_is_an_input_is_refused() {
         text(&output.stderr).contains(".geojson (or .json), .kml or .csv, or a map .png or .svg")
     );
 }
+
+fn run_with(logs: &[&str], extra: &[&str]) -> std::process::Output {
+    let mission = real_file("comet/missions/nsb3.mi");
+    let cache = real_file("cac");
+    let logs: Vec<String> = logs.iter().map(|file| real_file(file)).collect();
+    let mut args: Vec<&str> = vec!["forecast"];
+    args.extend(logs.iter().map(String::as_str));
+    args.extend(["--sensor-cache", &cache, "--mission", &mission]);
+    args.extend(extra);
+    gloc(&args)
+}
+
+#[test]
+fn what_the_glider_sends_home_is_enough() {
+    // Only the short .sbd files of 152 and 153: the last fix is 152's last,
+    // 1566394933.59 = 13:42:14 UTC (153's first cycle repeats it; `gloc data
+    // convert` shows both rows).
+    let output = run_with(
+        &[
+            "comet/from-glider/comet-2019-222-02-152.sbd",
+            "comet/from-glider/comet-2019-222-02-153.sbd",
+        ],
+        &["--hours", "4"],
+    );
+    let stdout = text(&output.stdout);
+    assert_eq!(output.status.code(), Some(0), "{}", text(&output.stderr));
+    assert!(
+        stdout.contains("start    2019-08-21T13:42:14Z  5418.9931 724.3016"),
+        "{stdout}"
+    );
+    // 153's m_water_vx/vy, as gloc data convert shows them: (0.37317303, −0.100204095).
+    assert!(stdout.contains("(+0.373, -0.100)"), "{stdout}");
+    // The first surfacing is due 3 hours after the surfacing began; comet's real
+    // one (154) came at 16:39 UTC.
+    assert!(stdout.contains("   1  2019-08-21T16:"), "{stdout}");
+    assert!(stdout.contains("m to the waypoint"), "{stdout}");
+}
+
+#[test]
+fn a_science_log_alone_and_currents_that_end_too_soon_are_refused() {
+    let output = run_with(&["comet/from-glider/comet-2019-222-02-154.ebd"], &[]);
+    assert_eq!(output.status.code(), Some(1), "{}", text(&output.stderr));
+    assert!(text(&output.stderr).contains("a forecast needs a flight log"));
+    // A current series that ends an hour after comet's last fix (16:42:48 UTC).
+    let folder = temp_folder("forecast-currents");
+    let series = folder.join("tide.csv");
+    std::fs::write(
+        &series,
+        "time,u,v\n2019-08-21T16:00:00Z,-0.1,0.15\n2019-08-21T17:42:00Z,0.0,0.2\n",
+    )
+    .expect("write");
+    let series = series.display().to_string();
+    let logs = ["comet/from-glider/comet-2019-222-02-154.dbd"];
+    let output = run_with(&logs, &["--currents", &series, "--hours", "3"]);
+    assert_eq!(output.status.code(), Some(1), "{}", text(&output.stderr));
+    let stderr = text(&output.stderr);
+    assert!(
+        stderr.contains("the currents cover 2019-08-21T16:00:00Z to 2019-08-21T17:42:00Z; the track needs 2019-08-21T17:42:"),
+        "{stderr}"
+    );
+    let output = run_with(&logs, &["--currents", &series, "--hours", "0.9"]);
+    assert_eq!(output.status.code(), Some(0), "{}", text(&output.stderr));
+    assert!(text(&output.stdout).contains("currents from"));
+}

@@ -194,7 +194,13 @@ pub fn read_history(source: &mut dyn CycleSource) -> Result<LogHistory, LogError
                 lon.or_else(|| latest(Column::GpsLon)),
             );
             if let (Some(lat), Some(lon)) = pair {
-                if nmea_is_set(lat) && nmea_is_set(lon) && lat.abs() <= 9000.0 {
+                // A fix equal to the one before is the log repeating it (a new
+                // file's first cycle repeats every value), not a new fix.
+                let repeated = history
+                    .fixes
+                    .last()
+                    .is_some_and(|last| last.lat == lat && last.lon == lon);
+                if nmea_is_set(lat) && nmea_is_set(lon) && lat.abs() <= 9000.0 && !repeated {
                     history.fixes.push(Fix { time, lat, lon });
                 }
             }

@@ -44,9 +44,9 @@ pub struct ForecastArgs {
     #[arg(short = 'o', long = "output", value_name = "FILE")]
     pub outputs: Vec<PathBuf>,
     /// Fly each segment of the logs again with the current found after it and print
-    /// the miss at the real first fix, beside the null model's (the prior current);
-    /// default: forecast from the logs' end.
-    #[arg(long, conflicts_with_all = ["members", "outputs", "currents", "bathymetry"])]
+    /// the miss at the real first fix, beside the null model's (the prior current); `-o`
+    /// then takes a map (.png, .svg); default: forecast from the logs' end.
+    #[arg(long, conflicts_with_all = ["members", "currents", "bathymetry"])]
     pub hindcast: bool,
     /// Fly an ensemble of N members over the current's uncertainty (up to 100,000);
     /// default: none, the single track.
@@ -155,7 +155,17 @@ pub fn main(args: ForecastArgs) -> anyhow::Result<ExitCode> {
     }
 
     if args.hindcast {
-        return print_hindcast(&history, &mission, &sensors, &config);
+        if let Some(path) = args
+            .outputs
+            .iter()
+            .find(|path| MapFormat::from_path(path).is_none())
+        {
+            bail!(
+                "-o `{}`: a hindcast writes a map (.png or .svg)",
+                path.display()
+            );
+        }
+        return print_hindcast(&history, &mission, &sensors, &config, &args.outputs);
     }
     let currents = match &args.currents {
         Some(path) => Some(load_currents(path, history.depth_range)?),
@@ -353,6 +363,7 @@ fn print_hindcast(
     mission: &gloc_sim::Mission,
     sensors: &Arc<gloc_engine::sensors::SensorList>,
     config: &gloc_sim::SimConfig,
+    maps: &[PathBuf],
 ) -> anyhow::Result<ExitCode> {
     let results = hindcast::hindcast(history, mission, sensors, config)
         .map_err(|error| crate::exit::Invalid(format!("cannot hindcast: {error}")))?;
@@ -387,5 +398,11 @@ fn print_hindcast(
         "{within} of {} segments within the bound max(150 m, 0.015 m/s × time underwater)",
         results.len()
     );
+    for path in maps {
+        crate::output::write_through_temporary(path, |temporary| {
+            gloc_forecast::map::write_hindcast_map(&results, &history.fixes, temporary)
+        })?;
+        eprintln!("wrote {}", path.display());
+    }
     Ok(ExitCode::SUCCESS)
 }

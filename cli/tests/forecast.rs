@@ -71,13 +71,21 @@ fn a_forecast_prints_the_surfacings_and_writes_every_format() {
 
 #[test]
 fn the_hindcast_of_comets_segments_is_within_the_bound() {
-    let output = forecast(&["--hindcast"]);
+    let map = temp_folder("forecast-hindcast").join("hindcast.png");
+    let map = map.display().to_string();
+    let output = forecast(&["--hindcast", "-o", &map]);
     let stdout = text(&output.stdout);
     assert_eq!(output.status.code(), Some(0), "{}", text(&output.stderr));
     assert!(
         stdout.contains("2 of 2 segments within the bound"),
         "{stdout}"
     );
+    let png = std::fs::read(&map).expect("the map");
+    assert!(png.starts_with(b"\x89PNG"));
+    // A hindcast writes maps only.
+    let output = forecast(&["--hindcast", "-o", "/tmp/hindcast.geojson"]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(text(&output.stderr).contains("a hindcast writes a map"));
 }
 
 #[test]

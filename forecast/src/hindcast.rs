@@ -32,6 +32,10 @@ pub struct SegmentHindcast {
     /// The error bound a pilot holds a hindcast to: max(150 m, 0.015 m/s ×
     /// time underwater) (the navigation issue's).
     pub bound: f64,
+    /// The simulated tracks (decimal degrees lat, lon, a point a minute) with
+    /// the found current and with the prior one, for the map.
+    pub track: Vec<(f64, f64)>,
+    pub null_track: Vec<(f64, f64)>,
 }
 
 /// The shortest `when_secs` of the mission's timed surface behaviors
@@ -96,21 +100,25 @@ pub fn hindcast(
                 None,
                 &plan,
             )?;
-            Ok(track.surfacings.first().map(|s| {
+            let points: Vec<(f64, f64)> = track.points.iter().map(|p| (p.lat, p.lon)).collect();
+            let first = track.surfacings.first().map(|s| {
                 (
                     lmc.to_xy(s.lat, s.lon).distance(real),
                     (s.lat, s.lon, s.time),
                 )
-            }))
+            });
+            Ok((first, points))
         };
-        let with_found = fly_in(found)?;
-        let with_prior = fly_in(segment.prior)?;
+        let (with_found, track) = fly_in(found)?;
+        let (with_prior, null_track) = fly_in(segment.prior)?;
         results.push(SegmentHindcast {
             segment: *segment,
             miss: with_found.map(|(miss, _)| miss),
             null_miss: with_prior.map(|(miss, _)| miss),
             simulated: with_found.map(|(_, at)| at),
             bound: bound(segment.underwater),
+            track,
+            null_track,
         });
     }
     Ok(results)

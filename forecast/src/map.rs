@@ -84,11 +84,15 @@ fn extent(forecast: &Forecast, fixes: &[Fix]) -> Vec<(f64, f64)> {
 /// degrees; also the visible window (centre lat, lon; half spans).
 type Frame<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
 
+/// A frame and its window, or the backend's error.
+type Framed<'a, DB> =
+    Result<(Frame<'a, DB>, [f64; 4]), DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;
+
 fn frame<'a, DB: DrawingBackend>(
     root: &'a DrawingArea<DB, Shift>,
     points: &[(f64, f64)],
     title: String,
-) -> Result<(Frame<'a, DB>, [f64; 4]), DrawingAreaErrorKind<DB::ErrorType>> {
+) -> Framed<'a, DB> {
     root.fill(&WHITE)?;
     let mut low = (f64::INFINITY, f64::INFINITY);
     let mut high = (f64::NEG_INFINITY, f64::NEG_INFINITY);

@@ -3,7 +3,7 @@
 //! | code | cause |
 //! |---|---|
 //! | 0 | success |
-//! | 1 | the script or the data it reads (sensor list, mission, profile) has errors; the run trapped; a batch mission failed |
+//! | 1 | the script or the data it reads (sensor list, mission, profile) has errors; the run trapped; a batch mission failed; a forecast's logs, currents or bathymetry cannot serve (no fix, a malformed NetCDF, a track off the grid) |
 //! | 2 | usage: bad arguments or settings (flags, `gloc.toml`), an output that would overwrite an input, a file of another kind given as the script; a recording gloc cannot use (a log whose `<crc>.cac` is not found, or that cannot be opened or parsed; a malformed replay CSV) |
 //! | 3 | an input cannot be read (script, `gloc.toml`, sensor list, mission, profile, a replay file that does not exist) |
 //! | 4 | an output cannot be written |

@@ -173,8 +173,9 @@ pub fn main(args: ForecastArgs) -> anyhow::Result<ExitCode> {
     };
     let bathymetry = match &args.bathymetry {
         Some(path) => {
+            readable(path, "the bathymetry")?;
             let grid = gloc_forecast::netcdf::read_bathymetry(path)
-                .map_err(|message| anyhow::Error::new(crate::exit::Unreadable(message)))
+                .map_err(|message| anyhow::Error::new(crate::exit::Invalid(message)))
                 .context("--bathymetry")?;
             let shared: Arc<dyn gloc_forecast::netcdf::DepthField> = Arc::new(grid);
             Some(shared)
@@ -228,11 +229,12 @@ fn load_currents(
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
-    let unreadable = |message: String| anyhow::Error::new(crate::exit::Unreadable(message));
+    let invalid = |message: String| anyhow::Error::new(crate::exit::Invalid(message));
     match extension.as_deref() {
         Some("nc" | "nc3" | "cdf" | "netcdf") => {
+            readable(path, "the currents")?;
             let grid = gloc_forecast::netcdf::read_currents(path, depth_range)
-                .map_err(unreadable)
+                .map_err(invalid)
                 .context("--currents")?;
             let levels = if grid.levels.is_empty() {
                 String::new()
@@ -244,10 +246,15 @@ fn load_currents(
         }
         Some("csv") => {
             let text = gloc_engine::files::read_text(path, gloc_engine::files::PROFILE).map_err(
-                |error| unreadable(format!("cannot read the currents `{}`: {error}", path.display())),
+                |error| {
+                    crate::exit::Unreadable(format!(
+                        "cannot read the currents `{}`: {error}",
+                        path.display()
+                    ))
+                },
             )?;
             let series = CurrentSeries::from_csv(&path.display().to_string(), &text)
-                .map_err(unreadable)
+                .map_err(invalid)
                 .context("--currents")?;
             Ok((Arc::new(series), format!("currents from {}", path.display())))
         }
@@ -256,6 +263,18 @@ fn load_currents(
             path.display()
         ),
     }
+}
+
+/// An input file that cannot be opened is exit code 3; what is wrong inside it, 1.
+fn readable(path: &Path, what: &str) -> anyhow::Result<()> {
+    gloc_engine::files::open_regular(path)
+        .map(drop)
+        .map_err(|error| {
+            anyhow::Error::new(crate::exit::Unreadable(format!(
+                "cannot read {what} `{}`: {error}",
+                path.display()
+            )))
+        })
 }
 
 fn parse_spread(text: &str) -> anyhow::Result<Xy> {

@@ -167,3 +167,21 @@ fn a_science_log_alone_and_currents_that_end_too_soon_are_refused() {
     assert_eq!(output.status.code(), Some(0), "{}", text(&output.stderr));
     assert!(text(&output.stdout).contains("currents from"));
 }
+
+#[test]
+fn a_missing_current_file_is_unreadable_and_a_damaged_one_is_an_error() {
+    let logs = ["comet/from-glider/comet-2019-222-02-154.dbd"];
+    let folder = temp_folder("forecast-nc");
+    let missing = folder.join("nosuch.nc").display().to_string();
+    let output = run_with(&logs, &["--currents", &missing]);
+    assert_eq!(output.status.code(), Some(3), "{}", text(&output.stderr));
+    assert!(text(&output.stderr).contains("cannot read the currents"));
+    let damaged = folder.join("model.nc");
+    std::fs::write(&damaged, b"\x89HDF\r\n\x1a\nnot classic").expect("write");
+    let damaged = damaged.display().to_string();
+    let output = run_with(&logs, &["--currents", &damaged]);
+    assert_eq!(output.status.code(), Some(1), "{}", text(&output.stderr));
+    assert!(text(&output.stderr).contains("nccopy -k classic"));
+    let output = run_with(&logs, &["--bathymetry", &damaged]);
+    assert_eq!(output.status.code(), Some(1), "{}", text(&output.stderr));
+}

@@ -417,6 +417,12 @@ fn print_hindcast(
         "{within} of {} segments within the bound max(150 m, 0.015 m/s × time underwater)",
         results.len()
     );
+    let skipped = history.segments.len() - results.len();
+    if skipped > 0 {
+        outln!(
+            "{skipped} segment(s) skipped: the logs end before the glider's estimate after them"
+        );
+    }
     for path in maps {
         crate::output::write_through_temporary(path, |temporary| {
             gloc_forecast::map::write_hindcast_map(&results, &history.fixes, temporary)

@@ -267,7 +267,7 @@ pub fn read_history(source: &mut dyn CycleSource) -> Result<LogHistory, LogError
     if low <= high {
         history.depth_range = Some((low, high));
     }
-    history.segments = segments(&history, &samples, source.file())?;
+    history.segments = segments(&history, &samples);
     if let Some(last) = history.fixes.last() {
         history.last_timers_elapsed = timers_elapsed(&history.fixes, &samples, last.time);
     }
@@ -276,11 +276,7 @@ pub fn read_history(source: &mut dyn CycleSource) -> Result<LogHistory, LogError
 
 /// The segments between surface intervals: consecutive fixes more than
 /// [`FIX_GAP`] apart with the glider underwater between them.
-fn segments(
-    history: &LogHistory,
-    samples: &[Sample],
-    _file: &str,
-) -> Result<Vec<Segment>, LogError> {
+fn segments(history: &LogHistory, samples: &[Sample]) -> Vec<Segment> {
     let mut segments = Vec::new();
     for pair in history.fixes.windows(2) {
         let (start, end) = (pair[0], pair[1]);
@@ -331,7 +327,7 @@ fn segments(
             surfacing_began: end.time - timers_elapsed(&history.fixes, samples, end.time),
         });
     }
-    Ok(segments)
+    segments
 }
 
 fn samples_between(samples: &[Sample], from: f64, to: f64) -> &[Sample] {

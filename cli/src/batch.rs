@@ -11,13 +11,10 @@ use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 use anyhow::{bail, Context};
-use gloc_compiler::LoadedScript;
-use gloc_engine::program::Program;
 use gloc_engine::sensors::SensorList;
 use gloc_project::settings::{Origin, Settings};
-use gloc_project::{Overrides, Surface};
 use gloc_sim::faults::{step_cycle_with_faults, Fault, FaultPlan};
-use gloc_sim::{EndReason, Mission, TemperatureProfile};
+use gloc_sim::{EndReason, TemperatureProfile};
 
 use crate::render::Tally;
 use crate::simulate::{
@@ -63,12 +60,8 @@ struct Row {
 
 /// What every mission shares.
 struct Shared<'a> {
-    program: &'a Arc<Program>,
-    loaded: &'a LoadedScript,
+    plan: gloc_project::simulation::Plan<'a>,
     script_name: &'a str,
-    mission: &'a Mission,
-    sensor_list: &'a Arc<SensorList>,
-    settings: &'a Settings,
     limit: Limit,
 }
 
@@ -80,22 +73,121 @@ enum Limit {
 
 pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
     let mut tally = Tally::default();
-    let settings = Settings::resolve(
-        args.script.as_deref(),
-        Overrides {
-            masterdata: args.flight.masterdata.clone(),
-            cycle_budget: args.flight.cycle_budget,
-            mission: args.flight.mission.clone(),
-            sensor_order: args.flight.sensor_order,
-            mafiles: args.flight.mafiles.clone(),
-            ..Overrides::new(Surface::Cli)
-        },
-    )?;
+    let settings = Settings::resolve(args.script.as_deref(), args.flight.overrides())?;
     let Some(sensor_list) = crate::loading::active_sensors(&settings, &mut tally)? else {
         return Ok(crate::exit::code(crate::exit::ERRORS));
     };
     let sensor_list = Arc::new(sensor_list);
-    // Every axis is checked before anything flies: a typo costs nothing.
+    let axes = parse_axes(&args, &sensor_list)?;
+    let profiles = load_profiles(axes.profile_names)?;
+    if let Some(csv) = &args.csv {
+        // Outputs never overwrite inputs (`gloc run`'s rule).
+        let inputs: Vec<&Path> = args
+            .script
+            .as_deref()
+            .into_iter()
+            .chain(settings.input_paths())
+            .chain(args.profiles.iter().map(Path::new))
+            .collect();
+        crate::output::check_outputs(
+            &inputs,
+            &[crate::output::Output {
+                flag: "--csv",
+                path: csv,
+            }],
+        )?;
+    }
+    let variants = sweep(&axes.seeds, profiles, axes.fault_sets, &axes.settings);
+
+    let Some(Script {
+        name: script_name,
+        text: script_text,
+        loaded,
+        program,
+    }) = load_program(
+        args.script.as_deref(),
+        &sensor_list,
+        &settings,
+        args.optimization(),
+    )?
+    else {
+        return Ok(crate::exit::code(crate::exit::ERRORS));
+    };
+    let Some(mission) = load_mission(&settings, &sensor_list)? else {
+        return Ok(crate::exit::code(crate::exit::ERRORS));
+    };
+
+    let limit = axes.limit;
+    let shared = Shared {
+        plan: gloc_project::simulation::Plan {
+            settings: &settings,
+            sensors: &sensor_list,
+            mission: &mission,
+            script: &loaded,
+            program: &program,
+        },
+        script_name: &script_name,
+        limit,
+    };
+    // The mission against the list and the script, and the simulator's own warnings,
+    // once for the sweep (they are the same for every variant but a swept setting's).
+    // A variant that cannot be prepared shows its error in its row.
+    if let Some(first) = variants.first() {
+        let prepared = gloc_project::simulation::prepare(
+            &shared.plan,
+            gloc_project::simulation::Flight {
+                seed: Some(first.seed),
+                profile: first.profile.profile.clone(),
+                simulator: first.settings.to_vec(),
+            },
+        );
+        if let Ok(prepared) = prepared {
+            crate::simulate::print_warnings(
+                &prepared.warnings,
+                &mission,
+                &script_name,
+                &script_text,
+            );
+        }
+    }
+    let jobs = args
+        .jobs
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
+        .clamp(1, variants.len().max(1));
+    let progress = std::io::stderr().is_terminal().then(|| {
+        let bar = indicatif::ProgressBar::new(variants.len() as u64);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{spinner} flying [{bar:40}] {pos}/{len} missions ({eta} left)",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
+            .progress_chars("=> "),
+        );
+        bar
+    });
+    let started = Instant::now();
+    let rows = fly_all(&shared, &variants, jobs, progress.as_ref());
+    let wall = started.elapsed().as_secs_f64();
+    if let Some(bar) = progress {
+        bar.finish_and_clear();
+    }
+
+    report(&variants, &rows, wall, jobs, &args)
+}
+
+/// The sweep's axes as the command line gives them, each checked before anything flies.
+struct Axes {
+    seeds: Vec<u64>,
+    profile_names: Vec<String>,
+    fault_sets: Vec<FaultSet>,
+    /// Each `--sim NAME=V1,V2,…` as its list of settings.
+    settings: Vec<Vec<(String, f64)>>,
+    limit: Limit,
+}
+
+/// Reads and checks every axis and the limit, and refuses a sweep too wide before any
+/// profile is read: a typo costs nothing.
+fn parse_axes(args: &crate::BatchArgs, sensor_list: &SensorList) -> anyhow::Result<Axes> {
     let seeds = match &args.seeds {
         Some(text) => parse_seeds(text).map_err(|error| anyhow::anyhow!("--seeds {error}"))?,
         None => vec![1],
@@ -111,7 +203,7 @@ pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
     } else {
         args.fault_sets.clone()
     } {
-        let faults = parse_fault_set(&given, &sensor_list)
+        let faults = parse_fault_set(&given, sensor_list)
             .map_err(|error| anyhow::anyhow!("--fault-set `{given}`: {error}"))?;
         let label = if faults.is_empty() {
             "none".to_string()
@@ -153,11 +245,21 @@ pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
     if missions.is_none() {
         bail!("the sweep has more than {MAX_MISSIONS} missions: narrow --seeds or the other axes");
     }
-    // A profile given twice is read once and shared.
+    Ok(Axes {
+        seeds,
+        profile_names,
+        fault_sets,
+        settings: axes,
+        limit,
+    })
+}
+
+/// Reads each profile once (a profile given twice is shared; `builtin` is none).
+fn load_profiles(names: Vec<String>) -> anyhow::Result<Vec<Arc<Profile>>> {
     let mut loaded: std::collections::HashMap<String, Arc<Profile>> =
         std::collections::HashMap::new();
-    let mut profiles = Vec::with_capacity(profile_names.len());
-    for given in profile_names {
+    let mut profiles = Vec::with_capacity(names.len());
+    for given in names {
         if let Some(known) = loaded.get(&given) {
             profiles.push(Arc::clone(known));
             continue;
@@ -178,75 +280,19 @@ pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
         loaded.insert(given, Arc::clone(&profile));
         profiles.push(profile);
     }
-    if let Some(csv) = &args.csv {
-        // Outputs never overwrite inputs (`gloc run`'s rule).
-        let inputs: Vec<&Path> = args
-            .script
-            .as_deref()
-            .into_iter()
-            .chain(settings.input_paths())
-            .chain(args.profiles.iter().map(Path::new))
-            .collect();
-        crate::output::check_outputs(
-            &inputs,
-            &[crate::output::Output {
-                flag: "--csv",
-                path: csv,
-            }],
-        )?;
-    }
-    let variants = sweep(&seeds, profiles, fault_sets, &axes);
+    Ok(profiles)
+}
 
-    let Some(Script {
-        name: script_name,
-        loaded,
-        program,
-        ..
-    }) = load_program(
-        args.script.as_deref(),
-        &sensor_list,
-        &settings,
-        !args.no_optimize,
-    )?
-    else {
-        return Ok(crate::exit::code(crate::exit::ERRORS));
-    };
-    let Some(mission) = load_mission(&settings, &sensor_list)? else {
-        return Ok(crate::exit::code(crate::exit::ERRORS));
-    };
-
-    let shared = Shared {
-        program: &program,
-        loaded: &loaded,
-        script_name: &script_name,
-        mission: &mission,
-        sensor_list: &sensor_list,
-        settings: &settings,
-        limit,
-    };
-    let jobs = args
-        .jobs
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
-        .clamp(1, variants.len().max(1));
-    let progress = std::io::stderr().is_terminal().then(|| {
-        let bar = indicatif::ProgressBar::new(variants.len() as u64);
-        bar.set_style(
-            indicatif::ProgressStyle::with_template(
-                "{spinner} flying [{bar:40}] {pos}/{len} missions ({eta} left)",
-            )
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
-            .progress_chars("=> "),
-        );
-        bar
-    });
-    let started = Instant::now();
-    let rows = fly_all(&shared, &variants, jobs, progress.as_ref());
-    let wall = started.elapsed().as_secs_f64();
-    if let Some(bar) = progress {
-        bar.finish_and_clear();
-    }
-
-    let table = table(&variants, &rows);
+/// Prints the table (and writes the CSV) and the sweep's speed; the exit code says
+/// whether a mission failed or aborted.
+fn report(
+    variants: &[Variant],
+    rows: &[Result<Row, String>],
+    wall: f64,
+    jobs: usize,
+    args: &crate::BatchArgs,
+) -> anyhow::Result<ExitCode> {
+    let table = table(variants, rows);
     let mut out = std::io::stdout().lock();
     match write_readable(&mut out, &table) {
         Err(error) if !crate::output::is_closed_pipe(&error) => {
@@ -359,22 +405,17 @@ fn fly_all(
 /// One mission, start to end.
 fn fly(shared: &Shared<'_>, variant: &Variant) -> Result<Row, String> {
     let started = Instant::now();
-    let config = gloc_project::simulation::sim_config(
-        shared.settings,
+    // The warnings were shown once, from the first variant (`main`).
+    let mut sim = gloc_project::simulation::prepare(
+        &shared.plan,
         gloc_project::simulation::Flight {
             seed: Some(variant.seed),
             profile: variant.profile.profile.clone(),
             simulator: variant.settings.to_vec(),
         },
     )
-    .map_err(|error| error.to_string())?;
-    let mut sim = gloc_project::simulation::build_simulation(
-        shared.mission,
-        shared.sensor_list.clone(),
-        shared.program.clone(),
-        &config,
-    )
-    .map_err(|error| error.to_string())?;
+    .map_err(|error| error.to_string())?
+    .simulation;
     let max_cycles = match shared.limit {
         Limit::Seconds(seconds) => crate::simulate::cycles_for(seconds, &sim),
         Limit::Cycles(cycles) => cycles,
@@ -396,7 +437,7 @@ fn fly(shared: &Shared<'_>, variant: &Variant) -> Result<Row, String> {
         },
         None => "running".to_string(),
     };
-    let script = script_state(&sim, shared.loaded, shared.script_name);
+    let script = script_state(&sim, shared.plan.script, shared.script_name);
     let (shallowest, deepest) = sim.depth_range();
     Ok(Row {
         cycles,

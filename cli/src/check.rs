@@ -9,6 +9,7 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+use gloc_compiler::Optimization;
 use gloc_engine::config::Config;
 use gloc_engine::gloc::{Bound, Stats};
 use gloc_engine::sensors::SensorList;
@@ -79,14 +80,15 @@ pub fn main(args: crate::CheckArgs) -> anyhow::Result<ExitCode> {
                 continue;
             }
         }
-        let script = match gloc_project::script::load_script(path, sensors, settings, false) {
-            Ok(script) => script,
-            Err(error) => {
-                outln!("error: {error}");
-                not_checked = not_checked.max(Some(crate::exit::of_project(&error)));
-                continue;
-            }
-        };
+        let script =
+            match gloc_project::script::load_script(path, sensors, settings, Optimization::Plain) {
+                Ok(script) => script,
+                Err(error) => {
+                    outln!("error: {error}");
+                    not_checked = not_checked.max(Some(crate::exit::of_project(&error)));
+                    continue;
+                }
+            };
         let source = SourceFile::new(&script.display, &script.text);
         crate::render::render_all(&script, |text| out!("{text}"));
         tally.add(&script.loaded.diagnostics);

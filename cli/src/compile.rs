@@ -33,7 +33,7 @@ pub fn main(args: crate::CompileArgs) -> anyhow::Result<ExitCode> {
         Language::Gbasic,
         &sensors,
         &settings,
-        args.optimize,
+        args.optimization(),
     );
     let loaded = &script.loaded;
     crate::render::render_all(&script, |text| eprint!("{text}"));

@@ -21,10 +21,10 @@ pub fn load_script(
     path: Option<&Path>,
     sensors: &SensorList,
     settings: &Settings,
-    optimize: bool,
+    optimization: gloc_compiler::Optimization,
 ) -> anyhow::Result<Script> {
     let script = match path {
-        Some(path) => gloc_project::script::load_script(path, sensors, settings, optimize)?,
+        Some(path) => gloc_project::script::load_script(path, sensors, settings, optimization)?,
         None => gloc_project::script::load_text(
             None,
             "fig2.gloc".to_string(),
@@ -32,7 +32,7 @@ pub fn load_script(
             gloc_compiler::Language::Gloc,
             sensors,
             settings,
-            optimize,
+            optimization,
         ),
     };
     crate::render::render_all(&script, |text| eprint!("{text}"));

@@ -8,6 +8,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
+use gloc_compiler::Optimization;
 
 /// `print!` for what a command reports on stdout, through [`output::print`]: a
 /// closed pipe (`gloc data info … | head -2`) ends the output quietly instead of
@@ -31,6 +32,7 @@ mod compile;
 mod data;
 mod exit;
 mod explain;
+mod flags;
 mod forecast;
 mod loading;
 mod output;
@@ -149,7 +151,7 @@ pub struct RunArgs {
     #[arg(long, value_name = "OUT.csv")]
     pub out: Option<PathBuf>,
     #[command(flatten)]
-    pub flight: FlightArgs,
+    pub flight: flags::FlightArgs,
     /// Temperature profile CSV (`depth_m,temp_degC`); default: the built-in summer shelf profile.
     #[arg(long, value_name = "T.csv")]
     pub profile: Option<PathBuf>,
@@ -199,35 +201,37 @@ pub struct RunArgs {
     pub no_optimize: bool,
 }
 
-/// The flags `gloc run` and `gloc batch` share for the mission, the sensor list and the
-/// budget (one definition, so both parse and bound them alike).
-#[derive(Args, Debug)]
-pub struct FlightArgs {
-    /// Per-cycle instruction budget, 1 to 1,000,000,000; default: gloc.toml's, else 10,000
-    /// (a script that runs longer traps with "cycle overrun").
-    #[arg(long, value_name = "N", value_parser = gloc_project::settings::parse_cycle_budget)]
-    pub cycle_budget: Option<u64>,
-    /// Mission file (`.mi`); default: gloc.toml's, else the embedded Fig. 2 mission.
-    #[arg(long, value_name = "M.mi")]
-    pub mission: Option<PathBuf>,
-    /// The sensor list (masterdata or `.cac`/`.ccc`); default: gloc.toml's, else the
-    /// embedded 2008 list.
-    #[arg(long, value_name = "FILE")]
-    pub masterdata: Option<PathBuf>,
-    /// How a masterdata file's sensors are numbered: `file` or `sorted` (firmware 2014+);
-    /// default: gloc.toml's, else `file`.
-    #[arg(long, value_name = "ORDER", value_parser = gloc_project::settings::parse_sensor_order)]
-    pub sensor_order: Option<gloc_engine::sensors::SensorOrder>,
-    /// A folder searched first for the mission's `.ma` files, before `mafiles/` beside
-    /// `missions/` and the mission's own folder; default: gloc.toml's `mafiles`.
-    #[arg(long, value_name = "DIR")]
-    pub mafiles: Option<PathBuf>,
-}
-
 impl RunArgs {
     /// GBASIC runs optimized unless `--no-optimize` says otherwise.
-    pub fn optimized(&self) -> bool {
-        !self.no_optimize
+    pub fn optimization(&self) -> Optimization {
+        optimized_unless(self.no_optimize)
+    }
+}
+
+impl BatchArgs {
+    /// GBASIC flies optimized unless `--no-optimize` says otherwise.
+    pub fn optimization(&self) -> Optimization {
+        optimized_unless(self.no_optimize)
+    }
+}
+
+impl CompileArgs {
+    /// `-O` compiles with the optimizer.
+    pub fn optimization(&self) -> Optimization {
+        if self.optimize {
+            Optimization::Optimized
+        } else {
+            Optimization::Plain
+        }
+    }
+}
+
+/// `--no-optimize` as an [`Optimization`].
+fn optimized_unless(no_optimize: bool) -> Optimization {
+    if no_optimize {
+        Optimization::Plain
+    } else {
+        Optimization::Optimized
     }
 }
 
@@ -236,7 +240,7 @@ pub struct BatchArgs {
     /// A `.gloc` or `.gbas` script (default: the paper's Fig. 2 script).
     pub script: Option<PathBuf>,
     #[command(flatten)]
-    pub flight: FlightArgs,
+    pub flight: flags::FlightArgs,
     /// Simulated duration of each mission, e.g. `6h`, `30d`; default: until the mission
     /// ends, at most 24 h.
     #[arg(long, conflicts_with = "cycles")]

@@ -20,7 +20,7 @@ use gloc_engine::sensors::{SensorId, SensorList};
 use gloc_engine::vm::{CycleEnd, Host, Machine, MachineConfig};
 use gloc_project::script::Script;
 use gloc_project::settings::Settings;
-use gloc_project::{Overrides, Surface};
+use gloc_project::Overrides;
 use gloc_replay::{ColumnMap, Input};
 
 use crate::output::AtomicFile;
@@ -47,12 +47,12 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
     let mut tally = Tally::default();
     let settings = Settings::resolve(
         args.script.as_deref(),
+        // A replay flies no mission: the mission flags are not its settings.
         Overrides {
-            masterdata: args.flight.masterdata.clone(),
-            cycle_budget: args.flight.cycle_budget,
-            sensor_order: args.flight.sensor_order,
             sensor_cache: args.sensor_cache.clone(),
-            ..Overrides::new(Surface::Cli)
+            mission: None,
+            mafiles: None,
+            ..args.flight.overrides()
         },
     )?;
     let Some(sensors) = crate::loading::active_sensors(&settings, &mut tally)? else {
@@ -62,7 +62,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         args.script.as_deref(),
         &sensors,
         &settings,
-        args.optimized(),
+        args.optimization(),
     )?;
     if script.loaded.program.is_none() {
         return Ok(crate::exit::code(crate::exit::ERRORS));

@@ -16,7 +16,7 @@ use anyhow::{bail, Context};
 use gloc_compiler::LoadedScript;
 use gloc_engine::sensors::SensorList;
 use gloc_project::settings::{Origin, Settings};
-use gloc_project::{Overrides, Surface};
+use gloc_project::Overrides;
 use gloc_sim::behaviors::EventKind;
 use gloc_sim::faults::{step_cycle_with_faults, Fault, FaultPlan};
 use gloc_sim::log::{default_columns, parse_columns, DbaHeader, LogFormat, LogWriter};
@@ -38,6 +38,17 @@ pub(crate) const MAX_RUN_CYCLES: u64 = 100_000_000;
 const PROGRESS_MIN_CYCLES: u64 = 50_000;
 
 pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
+    check_flags(&args)?;
+    let Some(mut run) = prepare_run(&args)? else {
+        return Ok(crate::exit::code(crate::exit::ERRORS));
+    };
+    let flown = fly(&mut run, &args)?;
+    finish(run, flown, &args)
+}
+
+/// The flags alone, before anything is read or flown: `--out` belongs to a replay, the
+/// plot is no input and has a known format, the panels exist.
+fn check_flags(args: &crate::RunArgs) -> anyhow::Result<()> {
     if args.out.is_some() {
         bail!("--out belongs to --replay; to log a simulated run use --log FILE.csv or FILE.dba");
     }
@@ -48,7 +59,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
             .into_iter()
             .filter_map(|path| path.as_deref())
             .collect();
-        crate::output::check_outputs(&inputs, &run_outputs(&args))?;
+        crate::output::check_outputs(&inputs, &run_outputs(args))?;
         PlotFormat::from_path(plot).map_err(anyhow::Error::msg)?;
     }
     for panel in &args.plot_panels {
@@ -56,21 +67,47 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
             bail!("--plot-panels: `{panel}` is not a panel; the panels are temperature, battery and sensor names (m_battery, sci_ruhp_behs, …)");
         }
     }
+    Ok(())
+}
+
+/// A run ready to fly: its inputs read and checked, its simulation prepared.
+struct Run {
+    sim: Simulation,
+    sensor_list: Arc<SensorList>,
+    mission: Mission,
+    script: Script,
+    fault_plan: FaultPlan,
+    max_cycles: u64,
+    limit_given: bool,
+}
+
+/// What flying the run gave, for the summary.
+struct Flown {
+    cycles_run: u64,
+    wall: std::time::Duration,
+    printed_lines: u64,
+    last_printed: Vec<String>,
+    stopped: Option<String>,
+    hook_ignored: Option<(u64, f64)>,
+    trace: Option<Trace>,
+    log_error: Option<anyhow::Error>,
+    signal: Arc<std::sync::atomic::AtomicUsize>,
+}
+
+/// Reads the settings, the sensor list, the faults, the script, the mission and the
+/// profile, prepares the simulation (printing its warnings) and bounds the run; `None`
+/// when an input has errors (they were printed).
+fn prepare_run(args: &crate::RunArgs) -> anyhow::Result<Option<Run>> {
     let mut tally = Tally::default();
     let settings = Settings::resolve(
         args.script.as_deref(),
         Overrides {
-            masterdata: args.flight.masterdata.clone(),
-            cycle_budget: args.flight.cycle_budget,
-            mission: args.flight.mission.clone(),
-            sensor_order: args.flight.sensor_order,
-            mafiles: args.flight.mafiles.clone(),
             simulator: args.simulator.clone(),
-            ..Overrides::new(Surface::Cli)
+            ..args.flight.overrides()
         },
     )?;
     let Some(sensor_list) = crate::loading::active_sensors(&settings, &mut tally)? else {
-        return Ok(crate::exit::code(crate::exit::ERRORS));
+        return Ok(None);
     };
     let sensor_list = Arc::new(sensor_list);
     // Bad faults are a bad command line: stop before anything is flown.
@@ -81,24 +118,19 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
             Fault::parse(text, &sensor_list).map_err(|error| anyhow::anyhow!("--fault {error}"))
         })
         .collect::<anyhow::Result<Vec<Fault>>>()?;
-    let mut fault_plan = FaultPlan::new(faults);
+    let fault_plan = FaultPlan::new(faults);
 
-    let Some(Script {
-        name: script_name,
-        text: script_text,
-        loaded,
-        program,
-    }) = load_program(
+    let Some(script) = load_program(
         args.script.as_deref(),
         &sensor_list,
         &settings,
-        args.optimized(),
+        args.optimization(),
     )?
     else {
-        return Ok(crate::exit::code(crate::exit::ERRORS));
+        return Ok(None);
     };
     let Some(mission) = load_mission(&settings, &sensor_list)? else {
-        return Ok(crate::exit::code(crate::exit::ERRORS));
+        return Ok(None);
     };
 
     let profile = match &args.profile {
@@ -108,25 +140,23 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         )?),
         None => None,
     };
-    let config = gloc_project::simulation::sim_config(
-        &settings,
+    let plan = gloc_project::simulation::Plan {
+        settings: &settings,
+        sensors: &sensor_list,
+        mission: &mission,
+        script: &script.loaded,
+        program: &script.program,
+    };
+    let prepared = gloc_project::simulation::prepare(
+        &plan,
         gloc_project::simulation::Flight {
             seed: args.seed,
             profile,
             simulator: Vec::new(),
         },
     )?;
-    let mut sim = gloc_project::simulation::build_simulation(
-        &mission,
-        sensor_list.clone(),
-        program.clone(),
-        &config,
-    )?;
-    for warning in sim.warnings() {
-        eprintln!("{warning}");
-    }
-    let source = SourceFile::new(&script_name, &script_text);
-    mission_guards(&mission, &sensor_list, &loaded, &source);
+    print_warnings(&prepared.warnings, &mission, &script.name, &script.text);
+    let sim = prepared.simulation;
 
     let (max_cycles, limit_given) = match (&args.duration, args.cycles) {
         (Some(text), _) if parse_duration(text)? / sim.cycle_time() > MAX_RUN_CYCLES as f64 => {
@@ -150,16 +180,39 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         .chain(args.profile.iter().map(PathBuf::as_path))
         .chain(mission.sources.iter().map(|source| source.path.as_path()))
         .collect();
-    crate::output::check_outputs(&inputs, &run_outputs(&args))?;
+    crate::output::check_outputs(&inputs, &run_outputs(args))?;
+    Ok(Some(Run {
+        sim,
+        sensor_list,
+        mission,
+        script,
+        fault_plan,
+        max_cycles,
+        limit_given,
+    }))
+}
 
+/// Flies the run to its limit or its end, writing what the script prints to stdout and
+/// the log as it goes; a signal or a log that cannot be written stops it between cycles.
+fn fly(run: &mut Run, args: &crate::RunArgs) -> anyhow::Result<Flown> {
+    let Run {
+        sim,
+        sensor_list,
+        mission,
+        script,
+        fault_plan,
+        max_cycles,
+        ..
+    } = run;
+    let max_cycles = *max_cycles;
     let mut log = match &args.log {
         Some(path) => Some(open_log(
             path,
-            &args,
-            &sensor_list,
-            &loaded.stored_sensors,
-            &mission,
-            &sim,
+            args,
+            sensor_list,
+            &script.loaded.stored_sensors,
+            mission,
+            sim,
         )?),
         None => None,
     };
@@ -212,7 +265,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
             ));
             break;
         }
-        if !step_cycle_with_faults(&mut sim, &mut fault_plan) {
+        if !step_cycle_with_faults(sim, fault_plan) {
             break;
         }
         if hook_ignored.is_none() {
@@ -246,7 +299,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
             }
         }
         if let Some(trace) = trace.as_mut() {
-            trace.record(&sim);
+            trace.record(sim);
         }
         if let Some(bar) = &progress {
             if cycles_run.is_multiple_of(4096) {
@@ -268,6 +321,41 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
             }
         }
     }
+    Ok(Flown {
+        cycles_run,
+        wall,
+        printed_lines,
+        last_printed,
+        stopped,
+        hook_ignored,
+        trace,
+        log_error,
+        signal,
+    })
+}
+
+/// Draws the plot, prints the summary and decides the exit code.
+fn finish(run: Run, flown: Flown, args: &crate::RunArgs) -> anyhow::Result<ExitCode> {
+    let Run {
+        sim,
+        mission,
+        script,
+        fault_plan,
+        limit_given,
+        ..
+    } = run;
+    let Flown {
+        cycles_run,
+        wall,
+        printed_lines,
+        last_printed,
+        stopped,
+        hook_ignored,
+        trace,
+        log_error,
+        signal,
+    } = flown;
+    let script_name = &script.name;
     let mut plot_error = None;
     if let (Some(trace), Some(path)) = (&trace, &args.plot) {
         // File names, not paths, in the title.
@@ -280,7 +368,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
         let title = format!(
             "{} with {}",
             file_name(&mission.name),
-            file_name(&script_name)
+            file_name(script_name)
         );
         let options = PlotOptions {
             title,
@@ -299,8 +387,8 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
 
     summary(&SummaryFacts {
         sim: &sim,
-        loaded: &loaded,
-        script_name: &script_name,
+        loaded: &script.loaded,
+        script_name,
         cycles_run,
         wall,
         limit_given,
@@ -345,9 +433,9 @@ pub(crate) fn load_program(
     script: Option<&Path>,
     sensor_list: &SensorList,
     settings: &Settings,
-    optimize: bool,
+    optimization: gloc_compiler::Optimization,
 ) -> anyhow::Result<Option<Script>> {
-    let script = crate::loading::load_script(script, sensor_list, settings, optimize)?;
+    let script = crate::loading::load_script(script, sensor_list, settings, optimization)?;
     let Some(program) = script.loaded.program.clone() else {
         eprintln!(
             "error: `{}` has errors; nothing was simulated",
@@ -915,24 +1003,29 @@ fn fault_line(fault: &Fault, applied: Option<(u64, u64)>, text: &str, sim: &Simu
     }
 }
 
-/// The mission checked against the sensor list and the script (rendered with a
-/// caret): `sensor:` settings the list lacks (S0106, on the mission), and stores to
-/// `sci_ruhp_behs` in a mission without a hook behavior (S0107, on the script).
-fn mission_guards(
+/// Prints what preparing a flight found, each with a caret under its place: the
+/// simulator's lines, the mission's files (S0106, S012x), the script (S0107).
+pub(crate) fn print_warnings(
+    warnings: &[gloc_project::simulation::Warning],
     mission: &Mission,
-    sensor_list: &SensorList,
-    loaded: &gloc_compiler::LoadedScript,
-    script_source: &SourceFile,
+    script_name: &str,
+    script_text: &str,
 ) {
-    print_mission_diagnostics(mission, &mission.check(sensor_list));
-    if let Some(program) = &loaded.program {
-        let spans: Vec<_> = mission
-            .unhooked_stores(sensor_list, program)
-            .into_iter()
-            .filter_map(|pc| loaded.span_of_pc(pc))
-            .collect();
-        if let Some(warning) = mission.unhooked_store_warning(&spans) {
-            eprint!("{}", script_source.render(&warning));
+    use gloc_project::simulation::Warning;
+    let mut on_mission = Vec::new();
+    let mut on_script = Vec::new();
+    for warning in warnings {
+        match warning {
+            Warning::Simulator(line) => eprintln!("{line}"),
+            Warning::Mission(entry) => on_mission.push(entry.clone()),
+            Warning::Script(diagnostic) => on_script.push(diagnostic),
+        }
+    }
+    print_mission_diagnostics(mission, &on_mission);
+    if !on_script.is_empty() {
+        let source = SourceFile::new(script_name, script_text);
+        for diagnostic in on_script {
+            eprint!("{}", source.render(diagnostic));
         }
     }
 }

@@ -45,3 +45,28 @@ fn a_gbasic_script_gets_the_warning_on_its_own_line() {
         "{stderr}"
     );
 }
+
+#[test]
+fn a_batch_shows_the_same_warnings_once_for_the_sweep() {
+    // `gloc batch` flies through the same preparation as `gloc run`: both guards, once
+    // for three seeds (before, a sweep flew nsb3 without a word about either).
+    let nsb3 = real_file("comet/missions/nsb3.mi");
+    let (code, stderr) = run(&[
+        "batch",
+        "--mission",
+        &nsb3,
+        "--cycles",
+        "5",
+        "--seeds",
+        "1-3",
+    ]);
+    assert_eq!(code, Some(0), "{stderr}");
+    assert_eq!(stderr.matches("warning[S0106]").count(), 1, "{stderr}");
+    assert_eq!(stderr.matches("warning[S0107]").count(), 1, "{stderr}");
+    assert!(
+        stderr.contains(&format!(
+            "{nsb3}:12:9: warning[S0106]: sensor `u_sci_dbd_sensor_list_xmit_control`"
+        )),
+        "{stderr}"
+    );
+}

@@ -32,6 +32,23 @@ pub use codegen::{ForBound, Storage};
 pub use loader::{load_script, Language, LoadOptions, LoadedScript};
 pub use source_map::{ConstantValue, Origin, SourceMap};
 
+/// Whether GBASIC is compiled with the optimizer (`-O`): the argument of every
+/// function that loads a script for a front end (a named choice, not a bare `bool`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Optimization {
+    /// As written: what the debugger and the checker load, so lines map one to one.
+    Plain,
+    /// `-O`: what `gloc run` and `gloc batch` fly by default.
+    Optimized,
+}
+
+impl Optimization {
+    /// `true` for [`Optimization::Optimized`] (the options structs' field).
+    pub fn enabled(self) -> bool {
+        self == Optimization::Optimized
+    }
+}
+
 /// How to compile.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct CompileOptions {

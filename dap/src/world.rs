@@ -6,7 +6,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use gloc_compiler::expression::{scope_of_source_map, ExpressionScope};
-use gloc_compiler::LoadedScript;
+use gloc_compiler::{LoadedScript, Optimization};
 use gloc_engine::program::Pc;
 use gloc_engine::sensors::{SensorId, SensorList};
 use gloc_engine::vm::CycleEnd;
@@ -97,8 +97,9 @@ fn load_debug_script(config: &LaunchConfig, settings: &Settings) -> Result<Debug
         .and_then(gloc_project::sensors::LoadedSensors::into_list)
         .map_err(|error| error.to_string())?;
     // The debugger runs the unoptimized code, so that every line has its instructions.
-    let script = gloc_project::script::load_script(path, &sensor_list, settings, false)
-        .map_err(|error| error.to_string())?;
+    let script =
+        gloc_project::script::load_script(path, &sensor_list, settings, Optimization::Plain)
+            .map_err(|error| error.to_string())?;
     let gloc_project::script::Script {
         text, loaded, hint, ..
     } = script;

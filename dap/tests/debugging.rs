@@ -992,8 +992,8 @@ fn masterdata_and_profile_are_used() {
     assert_eq!(body["variables"][0]["name"], "m_depth");
     assert_eq!(body["variables"][0]["type"], "sensor 1");
     assert_eq!(body["variables"][1]["type"], "sensor 2");
-    // The file's 3 sensors, then the 2 hook sensors it lacks (appended).
-    assert_eq!(body["variables"][2]["indexedVariables"], 3 + 2);
+    // The file's 3 sensors, then the 3 hook sensors it lacks (appended).
+    assert_eq!(body["variables"][2]["indexedVariables"], 3 + 3);
     // fig2.mi sets u_cycle_time, which three.cac lacks: the simulator's warning is shown.
     assert!(
         client

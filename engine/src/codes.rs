@@ -77,6 +77,7 @@ registry! {
         INDEX_NAMES_ANOTHER_SENSOR = "E0113", Error, "a sensor index names another sensor in the active list than in the list the file states (`# sensors: CRC`): \"index 444 is `m_depth` in 813b137d but `m_certainly_at_surface` in 1f35be3b\" (one per index)";
         LIST_NOT_STATED = "W0114", Warning, "the file states no list (`# sensors: CRC`) and is checked against a list other than the embedded one: its indices were not verified by name (once, at the first sensor index)";
         LIST_NOT_VERIFIED = "W0115", Warning, "the `# sensors:` line is not a CRC, or the list it names is neither the active, nor the embedded, nor a `<crc>.cac` found beside the script, beside the active list or in the sensor cache folder: not verified by name";
+        UNKNOWN_SENSOR_NAME = "E0117", Error, "a sensor named by name (`loads m_depth,r0`) that the active sensor list lacks (\"did you mean\" when one is close)";
         REINDEX_NAME_MISSING = "E0116", Error, "`gloc reindex`: an index whose name the target list lacks (or that is outside the source list); nothing is written";
     }
     /// Sensor lists: masterdata, `.cac` and `.ccc` (E02xx).

@@ -20,10 +20,11 @@ pub const EMBEDDED_CRC: &str = "813b137d";
 
 /// The hook behavior's sensors (gloc's own, after the paper): a list that lacks
 /// them gets them appended, in this order, with these units.
-pub const HOOK_SENSORS: [(&str, &str); 3] = [
+pub const HOOK_SENSORS: [(&str, &str); 4] = [
     ("sci_ruhp_dive_depth", "m"),
     ("sci_ruhp_climb_depth", "m"),
     ("sci_ruhp_behs", "enum"),
+    ("sci_ruhp_heading", "rad"),
 ];
 
 /// Index of a sensor in the active sensor list.
@@ -198,7 +199,8 @@ impl SensorList {
     /// The list compiled into the binary: the 1,385 sensors of the 2008
     /// firmware list (`813b137d.cac`) in its index order, then the hook
     /// behavior's sensors 1385 `sci_ruhp_dive_depth`, 1386
-    /// `sci_ruhp_climb_depth`, 1387 `sci_ruhp_behs`, then 1388
+    /// `sci_ruhp_climb_depth`, 1387 `sci_ruhp_behs`, 1388 `sci_ruhp_heading`
+    /// (where the 2008 `.cac` gets them appended too), then 1389
     /// `m_coulomb_amphr_total` (charge used, published by the simulator; the
     /// 2008 firmware had no coulomb counter).
     pub fn embedded() -> SensorList {
@@ -291,8 +293,9 @@ mod tests {
     #[test]
     fn embedded_list_has_the_paper_indices() {
         let list = SensorList::embedded();
-        assert_eq!(list.len(), 1389);
-        assert_eq!(list.lookup("m_coulomb_amphr_total"), Some(SensorId(1388)));
+        assert_eq!(list.len(), 1390);
+        assert_eq!(list.lookup("m_coulomb_amphr_total"), Some(SensorId(1389)));
+        assert_eq!(list.lookup("sci_ruhp_heading"), Some(SensorId(1388)));
         assert_eq!(list.lookup("m_depth"), Some(SensorId(444)));
         assert_eq!(list.lookup("m_pressure"), Some(SensorId(443)));
         assert_eq!(list.lookup("SCI_RUHP_BEHS"), Some(SensorId(1387)));

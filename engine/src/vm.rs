@@ -71,9 +71,10 @@ use crate::program::{Pc, Program, Reg, Value};
 use crate::sensors::SensorId;
 
 mod code;
+mod match_loop;
 mod threaded;
 
-use code::{Cmp, Code, Op, MAX_FUSED};
+use code::{Cmp, Code, MAX_FUSED};
 
 /// The default per-cycle instruction budget. The paper's engine added at most
 /// 30 ms to the 4 s cycle on a 16 MHz Persistor, where an interpreted
@@ -398,343 +399,43 @@ impl Machine {
                 .saturating_sub(self.executed_this_cycle),
         );
         let mut fuel = allowed;
-        let program: &Program = &self.program;
         let code: &Code = &self.code;
-        let registers = self.registers.as_mut_slice();
-        let memory = self.memory.as_mut_slice();
-        let output = &mut self.output;
         let mut pc = self.pc as usize;
         debug_assert!(pc < code.len());
-        let (fused, plain): (&[Op], &[Op]) = (&code.fused, &code.plain);
-
-        debug_assert!(registers.len() >= code.register_bound);
-        macro_rules! reg {
-            ($register:expr) => {
-                // SAFETY: `Machine::new` made the register file `code.register_bound`
-                // long, one more than the highest register any op names, and
-                // nothing changes its length afterwards.
-                *unsafe { registers.get_unchecked_mut($register.0 as usize) }
-            };
-        }
-        macro_rules! address {
-            ($value:expr) => {
-                match memory_index($value, memory.len()) {
-                    Ok(index) => index,
-                    Err(kind) => break Exit::Trap(kind),
-                }
-            };
-        }
-        macro_rules! divisor_not_zero {
-            ($a:expr, $b:expr) => {
-                if integer_division_by_zero(reg!($a), reg!($b)) {
-                    break Exit::Trap(TrapKind::DivisionByZero);
-                }
-            };
-        }
-
-        // A fused `loadi/loadd K,t; op a,t,dst`: charges the second instruction (the
-        // loop charged the first), writes the constant's register, then `dst`.
-        macro_rules! with_constant {
-            ($op:ident, $a:expr, $k:expr, $t:expr, $dst:expr) => {{
-                fuel -= 1;
-                reg!($t) = $k;
-                reg!($dst) = $op(reg!($a), $k);
-                pc += 1;
-            }};
-        }
-        // A fused compare and branch: charges `$extra` instructions beyond the one the
-        // loop charged, writes the compare's result register and branches.
-        macro_rules! compare_branch {
-            ($extra:expr, $cmp:expr, $a:expr, $b:expr, $c:expr, $if_true:expr, $if_false:expr) => {{
-                fuel -= $extra;
-                let result = compare($cmp, reg!($a), $b);
-                reg!($c) = truth(result);
-                pc = if result {
-                    $if_true.index()
-                } else {
-                    $if_false.index()
-                };
-                continue;
-            }};
-        }
-
-        // The loop, over one of the two forms of the code. Stops with `OutOfFuel`
-        // when less than `$fuel_needed` is left.
-        macro_rules! run {
-            ($ops:expr, $fuel_needed:expr) => {
-                loop {
-                    if fuel < $fuel_needed {
-                        break Exit::OutOfFuel;
-                    }
-                    // SAFETY: `pc < code.len()` always: execution starts at 0 or
-                    // where it stopped; the last op is a `halt`, so stepping past
-                    // any other op stays inside; a fused group never covers the
-                    // last op; branch targets were clamped into the code by
-                    // `Code::new`; and an indirect jump checks its target.
-                    let op = unsafe { $ops.get_unchecked(pc) };
-                    fuel -= 1;
-                    match *op {
-                        Op::LoadSensor { sensor, dst } => {
-                            reg!(dst) = Value::Float(host.load_sensor(sensor));
-                        }
-                        Op::StoreSensor { src, sensor } => {
-                            host.store_sensor(sensor, reg!(src).as_f64());
-                        }
-                        Op::LoadInt { value, dst } => reg!(dst) = Value::Int(value),
-                        Op::LoadFloat { value, dst } => reg!(dst) = Value::Float(value),
-                        Op::Move { src, dst } => reg!(dst) = reg!(src),
-                        Op::Add { a, b, dst } => reg!(dst) = add(reg!(a), reg!(b)),
-                        Op::Sub { a, b, dst } => reg!(dst) = sub(reg!(a), reg!(b)),
-                        Op::Mul { a, b, dst } => reg!(dst) = mul(reg!(a), reg!(b)),
-                        Op::Div { a, b, dst } => {
-                            divisor_not_zero!(a, b);
-                            reg!(dst) = div(reg!(a), reg!(b));
-                        }
-                        Op::Mod { a, b, dst } => {
-                            divisor_not_zero!(a, b);
-                            reg!(dst) = rem(reg!(a), reg!(b));
-                        }
-                        Op::Min { a, b, dst } => reg!(dst) = minimum(reg!(a), reg!(b)),
-                        Op::Max { a, b, dst } => reg!(dst) = maximum(reg!(a), reg!(b)),
-                        Op::And { a, b, dst } => reg!(dst) = bit_and(reg!(a), reg!(b)),
-                        Op::Or { a, b, dst } => reg!(dst) = bit_or(reg!(a), reg!(b)),
-                        Op::Xor { a, b, dst } => reg!(dst) = bit_xor(reg!(a), reg!(b)),
-                        Op::CmpEq { a, b, dst } => {
-                            reg!(dst) = truth(compare(Cmp::Eq, reg!(a), reg!(b)))
-                        }
-                        Op::CmpNe { a, b, dst } => {
-                            reg!(dst) = truth(compare(Cmp::Ne, reg!(a), reg!(b)))
-                        }
-                        Op::CmpLt { a, b, dst } => {
-                            reg!(dst) = truth(compare(Cmp::Lt, reg!(a), reg!(b)))
-                        }
-                        Op::CmpLe { a, b, dst } => {
-                            reg!(dst) = truth(compare(Cmp::Le, reg!(a), reg!(b)))
-                        }
-                        Op::CmpGt { a, b, dst } => {
-                            reg!(dst) = truth(compare(Cmp::Gt, reg!(a), reg!(b)))
-                        }
-                        Op::CmpGe { a, b, dst } => {
-                            reg!(dst) = truth(compare(Cmp::Ge, reg!(a), reg!(b)))
-                        }
-                        Op::Neg { src, dst } => reg!(dst) = negate(reg!(src)),
-                        Op::Abs { src, dst } => reg!(dst) = absolute(reg!(src)),
-                        Op::Sqrt { src, dst } => reg!(dst) = square_root(reg!(src)),
-                        Op::IntToFloat { src, dst } => reg!(dst) = to_float(reg!(src)),
-                        Op::FloatToInt { src, dst } => reg!(dst) = to_int(reg!(src)),
-                        Op::Not { src, dst } => reg!(dst) = logical_not(reg!(src)),
-                        Op::LoadMem { addr, dst } => {
-                            let index = address!(reg!(addr));
-                            reg!(dst) = memory[index];
-                        }
-                        Op::LoadMemAt { addr, dst } => reg!(dst) = memory[addr as usize],
-                        Op::StoreMem { src, addr } => {
-                            let index = address!(reg!(addr));
-                            memory[index] = reg!(src);
-                        }
-                        Op::StoreMemAt { src, addr } => memory[addr as usize] = reg!(src),
-                        Op::Branch {
-                            cond,
-                            if_true,
-                            if_false,
-                        } => {
-                            pc = if reg!(cond).is_true() {
-                                if_true.index()
-                            } else {
-                                if_false.index()
-                            };
-                            continue;
-                        }
-                        Op::Jump { target } => {
-                            pc = target.index();
-                            continue;
-                        }
-                        Op::JumpIndirect { register } => {
-                            match indirect_target(program, reg!(register), plain.len()) {
-                                Ok(target) => {
-                                    pc = target;
-                                    continue;
-                                }
-                                Err(exit) => break exit,
-                            }
-                        }
-                        Op::Yield {} => break Exit::Yield,
-                        Op::Halt {} => break Exit::Halt,
-                        Op::Nop {} => {}
-                        Op::Write { src } => {
-                            append_item(output, |out| write_value(out, reg!(src)));
-                            cap_output_line(output, host, pc);
-                        }
-                        Op::WriteText { text } => {
-                            let text = program.texts.get(text as usize).map_or("", |text| text);
-                            append_item(output, |out| out.push_str(text));
-                            cap_output_line(output, host, pc);
-                        }
-                        Op::Print { src } => {
-                            append_item(output, |out| write_value(out, reg!(src)));
-                            host.print_line_at(output, Pc(pc as u32));
-                            output.clear();
-                        }
-                        Op::PrintText { text } => {
-                            let text = program.texts.get(text as usize).map_or("", |text| text);
-                            append_item(output, |out| out.push_str(text));
-                            host.print_line_at(output, Pc(pc as u32));
-                            output.clear();
-                        }
-                        // Fused groups: each writes what its instructions write, in their order.
-                        Op::AddK { a, k, t, dst } => with_constant!(add, a, k, t, dst),
-                        Op::SubK { a, k, t, dst } => with_constant!(sub, a, k, t, dst),
-                        Op::MulK { a, k, t, dst } => with_constant!(mul, a, k, t, dst),
-                        Op::DivK { a, k, t, dst } => with_constant!(div, a, k, t, dst),
-                        Op::ModK { a, k, t, dst } => with_constant!(rem, a, k, t, dst),
-                        Op::IntToFloatAdd { src, t, a, dst } => {
-                            fuel -= 1;
-                            let widened = Value::Float(reg!(src).as_f64());
-                            reg!(t) = widened;
-                            reg!(dst) = add(reg!(a), widened);
-                            pc += 1;
-                        }
-                        Op::CmpBr {
-                            cmp,
-                            a,
-                            b,
-                            c,
-                            if_true,
-                            if_false,
-                        } => {
-                            compare_branch!(1, cmp, a, reg!(b), c, if_true, if_false)
-                        }
-                        Op::JumpCmpBr {
-                            cmp,
-                            a,
-                            b,
-                            c,
-                            if_true,
-                            if_false,
-                        } => {
-                            compare_branch!(2, cmp, a, reg!(b), c, if_true, if_false)
-                        }
-                        Op::JumpCmpKBr {
-                            cmp,
-                            a,
-                            k,
-                            t,
-                            c,
-                            if_true,
-                            if_false,
-                        } => {
-                            reg!(t) = k;
-                            compare_branch!(3, cmp, a, k, c, if_true, if_false)
-                        }
-                        Op::AddJumpCmpBr {
-                            p,
-                            q,
-                            sum,
-                            cmp,
-                            a,
-                            b,
-                            c,
-                            if_true,
-                            if_false,
-                        } => {
-                            reg!(sum) = add(reg!(p), reg!(q));
-                            compare_branch!(3, cmp, a, reg!(b), c, if_true, if_false)
-                        }
-                        Op::JumpAddJumpCmpBr {
-                            p,
-                            q,
-                            sum,
-                            cmp,
-                            a,
-                            b,
-                            c,
-                            if_true,
-                            if_false,
-                        } => {
-                            reg!(sum) = add(reg!(p), reg!(q));
-                            compare_branch!(4, cmp, a, reg!(b), c, if_true, if_false)
-                        }
-                        Op::AddJumpCmpKBr {
-                            p,
-                            q,
-                            sum,
-                            cmp,
-                            a,
-                            k,
-                            t,
-                            c,
-                            if_true,
-                            if_false,
-                        } => {
-                            reg!(sum) = add(reg!(p), reg!(q));
-                            reg!(t) = k;
-                            compare_branch!(4, cmp, a, k, c, if_true, if_false)
-                        }
-                        Op::RangeBr {
-                            x,
-                            lo,
-                            t_lo,
-                            c_lo,
-                            hi,
-                            t_hi,
-                            c_hi,
-                            d,
-                            if_out,
-                            if_in,
-                        } => {
-                            fuel -= 5;
-                            let index = reg!(x);
-                            let below = compare(Cmp::Lt, index, lo);
-                            let above = compare(Cmp::Ge, index, hi);
-                            reg!(t_lo) = lo;
-                            reg!(c_lo) = truth(below);
-                            reg!(t_hi) = hi;
-                            reg!(c_hi) = truth(above);
-                            reg!(d) = truth(below | above);
-                            pc = if below | above {
-                                if_out.index()
-                            } else {
-                                if_in.index()
-                            };
-                            continue;
-                        }
-                        Op::CmpKBr {
-                            cmp,
-                            a,
-                            k,
-                            t,
-                            c,
-                            if_true,
-                            if_false,
-                        } => {
-                            reg!(t) = k;
-                            compare_branch!(2, cmp, a, k, c, if_true, if_false)
-                        }
-                    }
-                    pc += 1;
-                }
-            };
-        }
-
+        debug_assert!(self.registers.len() >= code.register_bound);
+        let mut parts = match_loop::Parts {
+            program: &self.program,
+            code_len: code.plain.len(),
+            registers: self.registers.as_mut_slice(),
+            memory: self.memory.as_mut_slice(),
+            output: &mut self.output,
+        };
         // Fused ops only while the fuel covers the widest of them; the last one or
         // two instructions of a budget run plain, so that the budget runs out at
         // exactly the same instruction as in plain code.
         let mut exit = match self.dispatch {
-            Dispatch::Loop => run!(fused, MAX_FUSED),
+            Dispatch::Loop => {
+                match_loop::run(&code.fused, MAX_FUSED, &mut parts, host, &mut pc, &mut fuel)
+            }
             Dispatch::Threaded => loop {
-                let mut context =
-                    threaded::Context::new(&mut *host, &mut *memory, program, code.len());
+                let mut context = threaded::Context::new(
+                    &mut *host,
+                    &mut *parts.memory,
+                    parts.program,
+                    code.len(),
+                );
                 let slots = match &code.typed {
                     Some(typed) if self.typed => typed,
                     _ => &code.threaded,
                 };
-                match threaded::run(slots, registers, &mut pc, &mut fuel, &mut context) {
+                match threaded::run(slots, parts.registers, &mut pc, &mut fuel, &mut context) {
                     threaded::Stop::Exit(exit) => break exit,
-                    // An output op: the loop below runs it, with one unit of fuel.
+                    // An output op: the match loop runs it, with one unit of fuel.
                     threaded::Stop::RunInLoop => {
                         let rest = fuel - 1;
                         fuel = 1;
-                        let exit = run!(plain, 1);
+                        let exit =
+                            match_loop::run(&code.plain, 1, &mut parts, host, &mut pc, &mut fuel);
                         fuel += rest;
                         if !matches!(exit, Exit::OutOfFuel) {
                             break exit;
@@ -744,10 +445,16 @@ impl Machine {
             },
         };
         if matches!(exit, Exit::OutOfFuel) {
-            exit = run!(plain, 1);
+            exit = match_loop::run(&code.plain, 1, &mut parts, host, &mut pc, &mut fuel);
         }
+        self.conclude(exit, allowed - fuel, pc)
+    }
 
-        self.executed_this_cycle += allowed - fuel;
+    /// Ends a run of the interpreter: counts what it spent, keeps its pc, and turns how
+    /// it stopped into the cycle's end (`None`: out of this call's instructions, the
+    /// cycle goes on).
+    fn conclude(&mut self, exit: Exit, spent: u64, pc: usize) -> Option<CycleEnd> {
+        self.executed_this_cycle += spent;
         self.pc = pc as u32;
         match exit {
             Exit::Yield => {

@@ -165,18 +165,18 @@ fn cac_files() {
 
 #[test]
 fn loading_picks_the_reader_by_extension_or_content() {
-    // Each file's sensors, then the three hook sensors it lacks (appended).
+    // Each file's sensors, then the four hook sensors it lacks (appended).
     let loaded = load_sensor_file(&fixture("small.cac"), SensorOrder::FileOrder).expect("reads");
-    assert_eq!(loaded.list.len(), 3 + 3);
+    assert_eq!(loaded.list.len(), 3 + 4);
     let loaded =
         load_sensor_file(&fixture("edge.masterdata"), SensorOrder::FileOrder).expect("reads");
-    assert_eq!(loaded.list.len(), 7 + 3);
+    assert_eq!(loaded.list.len(), 7 + 4);
     // A `.cac` list under another name is recognised by its `s:` lines.
     let copy = std::env::temp_dir().join(format!("gloc-sensors-{}.txt", std::process::id()));
     std::fs::write(&copy, read("small.cac")).expect("temp file");
     let loaded = load_sensor_file(&copy, SensorOrder::FileOrder).expect("reads");
     let _ = std::fs::remove_file(&copy);
-    assert_eq!(loaded.list.len(), 3 + 3);
+    assert_eq!(loaded.list.len(), 3 + 4);
     // Not named like a CRC, so no CRC.
     assert_eq!(loaded.list.crc(), None);
     assert!(load_sensor_file(Path::new("/no/such/file.cac"), SensorOrder::FileOrder).is_err());
@@ -196,14 +196,15 @@ fn the_real_2008_cac_list_matches_the_embedded_list() {
     assert!(loaded.diagnostics.is_empty(), "{:?}", loaded.diagnostics);
     let list = loaded.list;
     // The 1,385 sensors of the file, then the hook sensors appended: at 1385 to
-    // 1387, exactly where the embedded list has them.
-    assert_eq!(list.len(), 1385 + 3);
+    // 1388, exactly where the embedded list has them.
+    assert_eq!(list.len(), 1385 + 4);
     assert_eq!(
         loaded.added_hook_sensors,
         [
             "sci_ruhp_dive_depth",
             "sci_ruhp_climb_depth",
-            "sci_ruhp_behs"
+            "sci_ruhp_behs",
+            "sci_ruhp_heading"
         ]
     );
     assert_eq!(list.crc(), Some("813b137d"));
@@ -217,7 +218,7 @@ fn the_real_2008_cac_list_matches_the_embedded_list() {
 }
 
 /// Comet's real 2019 list (sorted by name, 2,142 sensors) lacks the hook sensors:
-/// they are appended at 2142 to 2144 and every file index stays where it was
+/// they are appended at 2142 to 2145 and every file index stays where it was
 /// (checked by hand in the file: 444 `m_certainly_at_surface`, 459 `m_depth`).
 #[test]
 fn a_real_list_without_the_hook_sensors_gets_them_appended() {
@@ -226,13 +227,14 @@ fn a_real_list_without_the_hook_sensors_gets_them_appended() {
     assert!(loaded.diagnostics.is_empty(), "{:?}", loaded.diagnostics);
     let list = loaded.list;
     assert_eq!(list.crc(), Some("1f35be3b"));
-    assert_eq!(list.len(), 2142 + 3);
+    assert_eq!(list.len(), 2142 + 4);
     assert_eq!(list.name(SensorId(444)), Some("m_certainly_at_surface"));
     assert_eq!(list.name(SensorId(459)), Some("m_depth"));
     assert_eq!(list.name(SensorId(2141)), Some("x_why_lens_completed"));
     assert_eq!(list.lookup("sci_ruhp_dive_depth"), Some(SensorId(2142)));
     assert_eq!(list.lookup("sci_ruhp_climb_depth"), Some(SensorId(2143)));
     assert_eq!(list.lookup("sci_ruhp_behs"), Some(SensorId(2144)));
+    assert_eq!(list.lookup("sci_ruhp_heading"), Some(SensorId(2145)));
 }
 
 /// A compressed list (`.ccc`, newer gliders) loads as its `.cac` would: `06a36d4e.ccc`

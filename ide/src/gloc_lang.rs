@@ -186,6 +186,14 @@ fn collect_tokens(text: &str, file: &File, context: &Context, analysis: &mut Ana
                             };
                             (kind, known)
                         }
+                        (OperandKind::Name(name), OperandShape::Sensor) => {
+                            let kind = if instruction.opcode == Opcode::Stores {
+                                TokenKind::SensorWrite
+                            } else {
+                                TokenKind::SensorRead
+                            };
+                            (kind, context.sensors.lookup(name))
+                        }
                         (OperandKind::Integer(_), OperandShape::Label) => (TokenKind::Label, None),
                         (OperandKind::Text(_), _) => (TokenKind::String, None),
                         _ => (TokenKind::Number, None),
@@ -360,9 +368,7 @@ pub fn completions(
     };
     match shape {
         OperandShape::Register | OperandShape::Address => register_completions(text),
-        OperandShape::Sensor => {
-            sensor_index_completions(&context.sensors, opcode == Opcode::Stores)
-        }
+        OperandShape::Sensor => gloc_sensor_completions(&context.sensors, opcode == Opcode::Stores),
         OperandShape::Label => analysis
             .symbols
             .iter()
@@ -487,16 +493,16 @@ fn register_completions(text: &str) -> Vec<Completion> {
         .collect()
 }
 
-/// Sensors by name, inserting the index (GLOC names sensors by number). The
-/// label is the name, what the user types; the filter text adds the index, so
-/// typing `444` finds `m_depth` too; the detail names the index.
-fn sensor_index_completions(list: &SensorList, store: bool) -> Vec<Completion> {
+/// Sensors by name, inserting the name (GLOC takes a sensor's name or its
+/// index; the name reads better and holds on any list). The label is the name,
+/// what the user types; the filter text adds the index, so typing `444` finds
+/// `m_depth` too; the detail names the index.
+fn gloc_sensor_completions(list: &SensorList, store: bool) -> Vec<Completion> {
     lang::sensor_completions(list, store)
         .into_iter()
         .filter_map(|mut item| {
             let id = list.lookup(&item.label)?;
             item.filter_text = Some(format!("{} {}", item.label, id.0));
-            item.insert_text = Some(id.0.to_string());
             Some(item)
         })
         .collect()

@@ -133,8 +133,8 @@ async fn completion_after_incremental_edits_snippets_and_sensor_indices() {
         .iter()
         .find(|i| i["label"] == "sci_ruhp_behs")
         .expect("hook sensor");
-    // The label is the name the user types; the edit puts the index over `sci_ru`.
-    assert_eq!(behs["textEdit"]["newText"], "1387");
+    // The label is the name the user types; the edit puts the name over `sci_ru`.
+    assert_eq!(behs["textEdit"]["newText"], "sci_ruhp_behs");
     assert_eq!(behs["textEdit"]["range"], range(30, 10, 30, 16));
     assert!(behs["detail"]
         .as_str()
@@ -679,7 +679,7 @@ async fn an_eglot_client_gets_what_it_declared_and_the_language_of_the_extension
         .find(|i| i["label"] == "m_depth")
         .cloned()
         .expect("m_depth offered under its name");
-    assert_eq!(depth["textEdit"]["newText"], "444");
+    assert_eq!(depth["textEdit"]["newText"], "m_depth");
     assert_eq!(depth["textEdit"]["range"], range(4, 6, 4, 11));
     assert!(depth.get("insertText").is_none(), "{depth}");
     // Eglot 1.9 lists no documentation format: plain text, without code marks.

@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use gloc_compiler::loader::load_script_written_for;
-use gloc_compiler::{Language, LoadOptions, LoadedScript};
+use gloc_compiler::{Language, LoadOptions, LoadedScript, Optimization};
 use gloc_engine::sensors::SensorList;
 
 use crate::error::{ErrorKind, ProjectError};
@@ -104,7 +104,7 @@ pub fn load_script(
     path: &Path,
     sensors: &SensorList,
     settings: &Settings,
-    optimize: bool,
+    optimization: Optimization,
 ) -> Result<Script, ProjectError> {
     let text = read_script(path)?;
     Ok(load_text(
@@ -114,7 +114,7 @@ pub fn load_script(
         Language::of_path(path),
         sensors,
         settings,
-        optimize,
+        optimization,
     ))
 }
 
@@ -126,7 +126,7 @@ pub fn load_text(
     language: Language,
     sensors: &SensorList,
     settings: &Settings,
-    optimize: bool,
+    optimization: Optimization,
 ) -> Script {
     let written_for = path.and_then(|path| {
         gloc_engine::gloc::identity::find_written_for(
@@ -139,7 +139,7 @@ pub fn load_text(
         &text,
         language,
         sensors,
-        &load_options(settings, optimize),
+        &load_options(settings, optimization),
         written_for,
     );
     let hint = language_hint(&text, language, &loaded, sensors);
@@ -157,9 +157,9 @@ pub fn load_text(
 
 /// The loader's options for these settings: the budget always applies (the default
 /// one too), so `W2302` is decided the same way everywhere.
-pub fn load_options(settings: &Settings, optimize: bool) -> LoadOptions {
+pub fn load_options(settings: &Settings, optimization: Optimization) -> LoadOptions {
     LoadOptions {
-        optimize,
+        optimize: optimization.enabled(),
         cycle_budget: Some(settings.cycle_budget.value.get()),
     }
 }

@@ -1,13 +1,17 @@
 //! The simulation of a project: its mission (the settings' `.mi`, or the embedded
 //! Fig. 2 mission), a temperature profile, and the simulator configured from the
 //! settings (seed, cycle budget, `[simulator]` constants). The CLI's `run` and `batch`
-//! and the debugger build their simulations here.
+//! and the debugger build their simulations here, through [`prepare`]: the one place a
+//! flight is assembled and the mission checked against the list and the script.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+use gloc_compiler::LoadedScript;
+use gloc_engine::diagnostic::Diagnostic;
 use gloc_engine::program::Program;
 use gloc_engine::sensors::SensorList;
+use gloc_mission::mission::MissionDiagnostic;
 use gloc_sim::{default_mission, Mission, SimConfig, Simulation, TemperatureProfile};
 
 use crate::error::{ErrorKind, ProjectError};
@@ -107,6 +111,74 @@ pub fn build_simulation(
 ) -> Result<Simulation, ProjectError> {
     Simulation::new(mission, sensors, Some(program), config)
         .map_err(|error| ProjectError::new(ErrorKind::Invalid, None, error.to_string()))
+}
+
+/// What every flight of one script on one mission shares.
+#[derive(Clone, Copy)]
+pub struct Plan<'a> {
+    pub settings: &'a Settings,
+    pub sensors: &'a Arc<SensorList>,
+    pub mission: &'a Mission,
+    pub script: &'a LoadedScript,
+    /// The script's program (`script.program`, which a plan requires).
+    pub program: &'a Arc<Program>,
+}
+
+/// A warning found while a flight was prepared, for the front end to show where it
+/// belongs.
+#[derive(Clone, Debug)]
+pub enum Warning {
+    /// The simulator's own, one line each (a mission setting it cannot honour, …).
+    Simulator(String),
+    /// On the mission's files (S0106, the S012x checks), against `mission.sources`.
+    Mission(MissionDiagnostic),
+    /// On the script: S0107, stores to `sci_ruhp_behs` in a mission without a hook.
+    Script(Diagnostic),
+}
+
+/// A simulation ready to fly and what preparing it found.
+pub struct Prepared {
+    pub simulation: Simulation,
+    pub warnings: Vec<Warning>,
+}
+
+/// Prepares one flight of `plan`: the simulator configured from the settings and the
+/// flight, the simulation built, and the mission checked against the sensor list and
+/// the script (S0106, S0107, S0120–S0127). `gloc run`, `gloc batch` and the debugger
+/// all start here, so they warn alike.
+pub fn prepare(plan: &Plan<'_>, flight: Flight) -> Result<Prepared, ProjectError> {
+    let config = sim_config(plan.settings, flight)?;
+    let simulation = build_simulation(
+        plan.mission,
+        plan.sensors.clone(),
+        plan.program.clone(),
+        &config,
+    )?;
+    let mut warnings: Vec<Warning> = simulation
+        .warnings()
+        .iter()
+        .cloned()
+        .map(Warning::Simulator)
+        .collect();
+    warnings.extend(
+        plan.mission
+            .check(plan.sensors)
+            .into_iter()
+            .map(Warning::Mission),
+    );
+    let unhooked: Vec<_> = plan
+        .mission
+        .unhooked_stores(plan.sensors, plan.program)
+        .into_iter()
+        .filter_map(|pc| plan.script.span_of_pc(pc))
+        .collect();
+    if let Some(warning) = plan.mission.unhooked_store_warning(&unhooked) {
+        warnings.push(Warning::Script(warning));
+    }
+    Ok(Prepared {
+        simulation,
+        warnings,
+    })
 }
 
 /// The mission's path as the settings give it (for messages), `None` when embedded.

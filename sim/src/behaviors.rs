@@ -152,6 +152,8 @@ pub struct HookSensors {
     pub behs: Option<usize>,
     pub dive_depth: Option<usize>,
     pub climb_depth: Option<usize>,
+    /// `sci_ruhp_heading`: the heading bit 32 steers to.
+    pub heading: Option<usize>,
 }
 
 impl World<'_> {
@@ -903,6 +905,9 @@ const MAX_WAYPOINTS: usize = 64;
 pub const HOOK_CLIMB_BIT: i64 = 128;
 /// Bit of `sci_ruhp_behs` that runs a dive_to (our choice).
 pub const HOOK_DIVE_BIT: i64 = 64;
+/// Bit of `sci_ruhp_behs` that steers to `sci_ruhp_heading` (our choice), as
+/// set_heading steers to its `heading_value`.
+pub const HOOK_HEADING_BIT: i64 = 32;
 /// The largest `sci_ruhp_behs` the hook reads as bits (a C `int`). The sensor is a
 /// float: a fraction, a negative number, NaN or anything above this (`1e308`, which
 /// saturates to all bits set) is no request, so a stuck or garbage value cannot hold
@@ -928,7 +933,8 @@ struct Hook {
 }
 
 impl Hook {
-    /// Reads `sci_ruhp_behs` each cycle. Bit 128 wins over bit 64 (climbing is
+    /// Reads `sci_ruhp_behs` each cycle. Bit 32 steers to `sci_ruhp_heading`
+    /// for as long as it is set. Bit 128 wins over bit 64 (climbing is
     /// the safe side). When the sub-behavior reaches its depth the hook clears
     /// its bit, so a script can see that it is done, and commands nothing.
     fn step(&mut self, index: usize, world: &mut World<'_>, events: &mut Vec<BehaviorEvent>) {
@@ -946,6 +952,14 @@ impl Hook {
                 0
             }
         };
+        if flags & HOOK_HEADING_BIT != 0 {
+            // A heading that is no number commands nothing (the fin holds), as
+            // set_heading without a usable heading_value does.
+            let heading = world.read(world.hook_sensors.heading);
+            if heading.is_finite() {
+                world.commands.heading = Some((heading.rem_euclid(std::f64::consts::TAU), index));
+            }
+        }
         let wanted = if flags & HOOK_CLIMB_BIT != 0 {
             Some(Direction::Climb)
         } else if flags & HOOK_DIVE_BIT != 0 {

@@ -407,6 +407,7 @@ impl SensorSlots {
                 behs: find("sci_ruhp_behs"),
                 dive_depth: find("sci_ruhp_dive_depth"),
                 climb_depth: find("sci_ruhp_climb_depth"),
+                heading: find("sci_ruhp_heading"),
             },
             nav: NavSlots::resolve(&find),
         }

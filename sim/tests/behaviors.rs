@@ -534,3 +534,77 @@ fn a_yo_without_a_dive_target_flies_the_active_masterdatas_default() {
     assert!((42.0..45.0).contains(&from_masterdata), "{from_masterdata}");
     assert!((12.0..15.0).contains(&embedded), "{embedded}");
 }
+
+/// A script that stores `heading` to sci_ruhp_heading and `flags` to
+/// sci_ruhp_behs in its first cycle, then only yields (by name: GLOC takes names).
+fn request_heading(heading: &str, flags: i64) -> String {
+    format!(
+        "nregs 2\nnblbs 1\nninstr 7\nloadd {heading},r0\nstores r0,sci_ruhp_heading\nloadi {flags},r1\nstores r1,sci_ruhp_behs\nlabel 0\nyield\njumpi 0\n"
+    )
+}
+
+#[test]
+fn hook_bit_32_steers_to_sci_ruhp_heading() {
+    // East is π/2 rad clockwise from north. The script writes in cycle 0, the
+    // hook (below it) reads the request from cycle 1 on and commands that
+    // heading every cycle while the bit stays set; the yo below flies the
+    // vertical, so the glider makes way east: m_x_lmc (east) grows, m_y_lmc
+    // (north) stays small beside it (the fin's roll-bias zig-zag is about zero
+    // per leg).
+    let list = list();
+    let c_heading = list.lookup("c_heading").expect("c_heading");
+    let x = list.lookup("m_x_lmc").expect("m_x_lmc");
+    let y = list.lookup("m_y_lmc").expect("m_y_lmc");
+    let script = request_heading("1.5707963267948966", 32);
+    let mission = hook_mission(12.0, true);
+    let parsed = Mission::parse("test.mi", &mission);
+    let program = compile(&script, &list);
+    let mut sim =
+        Simulation::new(&parsed, list.clone(), Some(program), &ideal_clock()).expect("starts");
+    let mut headings = Vec::new();
+    for _ in 0..400 {
+        assert!(sim.step_cycle());
+        headings.push(sim.sensor(c_heading).expect("c_heading"));
+        let owner = sim
+            .commands()
+            .heading
+            .map(|(_, owner)| sim.behaviors()[owner].name.clone());
+        assert_eq!(owner.as_deref(), (headings.len() > 1).then_some("hook"));
+    }
+    assert!(
+        // c_heading publishes the command at the next cycle's start.
+        headings[2..]
+            .iter()
+            .all(|heading| (heading - std::f64::consts::FRAC_PI_2).abs() < 1e-12),
+        "{:?}",
+        &headings[..5]
+    );
+    let (east, north) = (sim.sensor(x).expect("x"), sim.sensor(y).expect("y"));
+    // 400 cycles of 4 s at a horizontal speed of a few tenths of a m/s.
+    assert!(east > 100.0, "east {east} m");
+    assert!(
+        north.abs() < 0.2 * east,
+        "north {north} m against east {east} m"
+    );
+}
+
+#[test]
+fn hook_heading_request_wraps_and_a_non_number_commands_nothing() {
+    // −π/2 is west, 3π/2 after wrapping into [0, 2π); an infinite heading
+    // (1e308 + 1e308) commands no heading.
+    let list = list();
+    let c_heading = list.lookup("c_heading").expect("c_heading");
+    let (sim, _) = fly(
+        &hook_mission(12.0, true),
+        Some(&request_heading("-1.5707963267948966", 32)),
+        10,
+    );
+    let west = sim.sensor(c_heading).expect("c_heading");
+    assert!(
+        (west - 3.0 * std::f64::consts::FRAC_PI_2).abs() < 1e-12,
+        "{west}"
+    );
+    let infinite = "nregs 2\nnblbs 1\nninstr 8\nloadd 1e308,r0\nadd r0,r0,r0\nstores r0,sci_ruhp_heading\nloadi 32,r1\nstores r1,sci_ruhp_behs\nlabel 0\nyield\njumpi 0\n";
+    let (sim, _) = fly(&hook_mission(12.0, true), Some(infinite), 10);
+    assert_eq!(sim.commands().heading, None);
+}

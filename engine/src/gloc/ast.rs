@@ -126,6 +126,9 @@ pub enum OperandKind {
     Float(f64),
     /// `"text"`, unescaped.
     Text(String),
+    /// A word that is no register and no number: a sensor named by name
+    /// (`loads m_depth,r0`), resolved against the active list by the checker.
+    Name(String),
 }
 
 /// What an operand position accepts.
@@ -133,7 +136,7 @@ pub enum OperandKind {
 pub enum OperandShape {
     /// `rN`.
     Register,
-    /// A sensor index (a non-negative integer literal).
+    /// A sensor: its index (a non-negative integer literal) or its name.
     Sensor,
     /// A label number (a non-negative integer literal).
     Label,
@@ -151,7 +154,7 @@ impl OperandShape {
     pub fn describe(self) -> &'static str {
         match self {
             OperandShape::Register => "a register such as `r0`",
-            OperandShape::Sensor => "a sensor index such as `444`",
+            OperandShape::Sensor => "a sensor name or index such as `m_depth` or `444`",
             OperandShape::Label => "a label number such as `3`",
             OperandShape::Integer => "an integer such as `128`",
             OperandShape::Number => "a number such as `15.0`",

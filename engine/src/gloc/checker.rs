@@ -520,7 +520,7 @@ impl Resolver<'_, '_, '_> {
         }
         match instruction.opcode {
             Opcode::Loads => {
-                let sensor = self.sensor(integer(0), span_of(0), None);
+                let sensor = self.sensor_operand(operands.first(), None);
                 if !loaded.contains(&sensor) {
                     loaded.push(sensor);
                 }
@@ -531,7 +531,7 @@ impl Resolver<'_, '_, '_> {
             }
             Opcode::Stores => {
                 let src = register(self, 0);
-                let sensor = self.sensor(integer(1), span_of(1), Some(instruction.opcode_span));
+                let sensor = self.sensor_operand(operands.get(1), Some(instruction.opcode_span));
                 if !stored.contains(&sensor) {
                     stored.push(sensor);
                 }
@@ -685,6 +685,51 @@ impl Resolver<'_, '_, '_> {
             }
         }
         Reg(register)
+    }
+
+    /// Resolves a sensor operand, an index or a name; `store` is the `stores`
+    /// mnemonic's span when writing. A name is looked up in the active list
+    /// (by `SensorList::lookup`, the one name rule), with "did you mean" when absent.
+    fn sensor_operand(&mut self, operand: Option<&Operand>, store: Option<Span>) -> SensorId {
+        let Some(operand) = operand else {
+            return SensorId(0);
+        };
+        match &operand.kind {
+            OperandKind::Integer(index) => self.sensor(*index, operand.span, store),
+            OperandKind::Name(name) => {
+                let sensors = self.checker.sensors;
+                match sensors.lookup(name) {
+                    Some(id) => self.sensor(i64::from(id.0), operand.span, store),
+                    None => {
+                        let mut diagnostic = Diagnostic::error(
+                            crate::codes::gloc::UNKNOWN_SENSOR_NAME,
+                            operand.span,
+                            format!(
+                                "no sensor `{name}` in the active sensor list ({} sensors)",
+                                sensors.len()
+                            ),
+                        );
+                        let names = sensors.iter().map(|(_, sensor)| sensor.name.as_str());
+                        diagnostic = match crate::suggest::closest(name, names) {
+                            Some(suggestion) => diagnostic
+                                .with_help(format!("did you mean `{suggestion}`?"))
+                                .with_fix(
+                                    format!("replace with `{suggestion}`"),
+                                    operand.span,
+                                    suggestion,
+                                ),
+                            None => diagnostic.with_help(
+                                "check the name against the masterdata of the glider (`--masterdata FILE`)",
+                            ),
+                        };
+                        self.checker.diagnostics.push(diagnostic);
+                        SensorId(0)
+                    }
+                }
+            }
+            // The parser admits only an index or a name here.
+            _ => SensorId(0),
+        }
     }
 
     /// Resolves a sensor index; `store` is the `stores` mnemonic's span when writing.

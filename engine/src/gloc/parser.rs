@@ -265,6 +265,7 @@ fn fits(kind: &OperandKind, shape: OperandShape) -> bool {
         (OperandShape::Sensor | OperandShape::Label, OperandKind::Integer(value)) => {
             u32::try_from(*value).is_ok()
         }
+        (OperandShape::Sensor, OperandKind::Name(_)) => true,
         (OperandShape::Integer, OperandKind::Integer(_)) => true,
         (OperandShape::Number, OperandKind::Integer(_) | OperandKind::Float(_)) => true,
         (OperandShape::Address, OperandKind::Register(_)) => true,
@@ -280,6 +281,7 @@ fn describe_operand(kind: &OperandKind) -> String {
         OperandKind::Integer(value) => format!("`{value}`"),
         OperandKind::Float(value) => format!("`{value:?}`"),
         OperandKind::Text(_) => "a string".to_string(),
+        OperandKind::Name(name) => format!("the name `{name}`"),
     }
 }
 
@@ -444,13 +446,20 @@ fn operand_word(word: &str, span: Span) -> Result<OperandKind, Diagnostic> {
         )
         .with_help("write an integer (`128`, `-3`) or a float (`15.0`, `1.5e-3`)"));
     }
+    if (first.is_ascii_alphabetic() || first == b'_')
+        && word
+            .bytes()
+            .all(|byte| byte.is_ascii_alphanumeric() || byte == b'_')
+    {
+        return Ok(OperandKind::Name(word.to_string()));
+    }
     Err(Diagnostic::error(
         crate::codes::gloc::OPERAND_KIND,
         span,
         format!("expected an operand, found `{word}`"),
     )
     .with_help(
-        "operands are registers (`r0`), numbers (`444`, `15.0`) or strings (\"text\"); sensors are written by index",
+        "operands are registers (`r0`), numbers (`444`, `15.0`), strings (\"text\") or sensor names (`m_depth`)",
     ))
 }
 

@@ -51,6 +51,7 @@ fn print_operand(out: &mut String, operand: &Operand) {
             let _ = write!(out, "{value:?}");
         }
         OperandKind::Text(text) => write_quoted(out, text),
+        OperandKind::Name(name) => out.push_str(name),
     }
 }
 

@@ -100,6 +100,7 @@ fn gbasic_expressions_offer_every_sensor_statements_mark_read_only_ones() {
             sci_ruhp_dive_depth [Sensor] sensor 1385 (m), writable
             sci_ruhp_climb_depth [Sensor] sensor 1386 (m), writable
             sci_ruhp_behs [Sensor] sensor 1387 (enum), writable
+            sci_ruhp_heading [Sensor] sensor 1388 (rad), writable
         "#]],
     );
 }
@@ -172,7 +173,7 @@ fn gloc_first_word_instructions_label_and_directives() {
 }
 
 #[test]
-fn gloc_operands_registers_labels_and_sensors_by_index() {
+fn gloc_operands_registers_labels_and_sensors_by_name() {
     // `nregs 2`: r0 and r1.
     let text = format!("{SIMPLE_GLOC}mov r$0\n");
     check_completion(
@@ -193,13 +194,13 @@ fn gloc_operands_registers_labels_and_sensors_by_index() {
             1 [Label] label 1 (0 jumps)
         "#]],
     );
-    // A store takes a writable sensor; the index is inserted.
+    // A store takes a writable sensor; its name is inserted (GLOC takes names).
     let text = format!("{SIMPLE_GLOC}stores r0,sci_ruhp_b$0\n");
     check_completion(
         Gloc,
         &text,
         expect![[r#"
-            sci_ruhp_behs [Sensor] sensor 1387 (enum), writable => 1387
+            sci_ruhp_behs [Sensor] sensor 1387 (enum), writable
         "#]],
     );
     // A read-only sensor after `stores` is still offered, marked as not storable.
@@ -208,12 +209,12 @@ fn gloc_operands_registers_labels_and_sensors_by_index() {
         Gloc,
         &text,
         expect![[r#"
-            m_depth_subsampled [Sensor] sensor 165 (m), read-only: cannot be stored => 165
-            m_depth_rate [Sensor] sensor 166 (m/s), read-only: cannot be stored => 166
-            m_depth_rate_subsampled [Sensor] sensor 167 (m/s), read-only: cannot be stored => 167
-            m_depth_state [Sensor] sensor 170 (enum), read-only: cannot be stored => 170
-            m_depth [Sensor] sensor 444 (m), read-only: cannot be stored => 444
-            m_depth_rejected [Sensor] sensor 446 (bool), read-only: cannot be stored => 446
+            m_depth_subsampled [Sensor] sensor 165 (m), read-only: cannot be stored
+            m_depth_rate [Sensor] sensor 166 (m/s), read-only: cannot be stored
+            m_depth_rate_subsampled [Sensor] sensor 167 (m/s), read-only: cannot be stored
+            m_depth_state [Sensor] sensor 170 (enum), read-only: cannot be stored
+            m_depth [Sensor] sensor 444 (m), read-only: cannot be stored
+            m_depth_rejected [Sensor] sensor 446 (bool), read-only: cannot be stored
         "#]],
     );
     let text = format!("{SIMPLE_GLOC}loads m_depth_s$0\n");
@@ -221,8 +222,8 @@ fn gloc_operands_registers_labels_and_sensors_by_index() {
         Gloc,
         &text,
         expect![[r#"
-            m_depth_subsampled [Sensor] sensor 165 (m), read-only => 165
-            m_depth_state [Sensor] sensor 170 (enum), read-only => 170
+            m_depth_subsampled [Sensor] sensor 165 (m), read-only
+            m_depth_state [Sensor] sensor 170 (enum), read-only
         "#]],
     );
     // Nothing in a comment.

@@ -138,6 +138,24 @@ fn gloc_sensor_index() {
 }
 
 #[test]
+fn gloc_sensor_name_hovers_as_its_index_does() {
+    let fixture = Fixture::new(
+        Gloc,
+        "nregs 1\nnblbs 1\nninstr 3\nlabel 0\nloads m_de$0pth,r0\nyield\n",
+    );
+    let hover = gloc_ide::hover::hover(
+        Gloc,
+        &fixture.text,
+        &fixture.analysis,
+        &fixture.context,
+        fixture.cursor(),
+    )
+    .expect("a hover");
+    assert_eq!(&fixture.text[hover.span.range()], "m_depth");
+    assert_eq!(hover.markdown, M_DEPTH);
+}
+
+#[test]
 fn gloc_instruction_register_directive_and_label() {
     // docs/gloc.md: `cbr r,Ltrue,Lfalse` jumps to Ltrue when r is not 0; an instruction
     // of the paper's Fig. 2.

@@ -5,7 +5,7 @@
 ;; Eglot 1.9 sends `gbasic' as the language id of every later file), then Fig. 2
 ;; as GLOC and comet's nsb3.mi: each must be read in its own language (no bogus
 ;; errors), and completion must insert what the file needs: `loads m_dep' →
-;; `loads 444', `b_arg: d_t' → `b_arg: d_target_depth(m) 12', `m_dep' → `m_depth'.
+;; `loads m_depth', `b_arg: d_t' → `b_arg: d_target_depth(m) 12', `m_dep' → `m_depth'.
 
 (load (expand-file-name "common.el" (file-name-directory load-file-name)) nil t)
 
@@ -66,7 +66,7 @@ for completion at point and choose CANDIDATE; the candidates offered."
                    (seq-take offered 10))
   (gloc-test-check (equal (try-completion "m_dep" offered) "m_depth")
                    "completion-at-point would complete `m_dep' to the common `m_depth'")
-  (gloc-test-check (equal (gloc-test-line) "loads 444") "choosing it inserts the index: `loads 444'"
+  (gloc-test-check (equal (gloc-test-line) "loads m_depth") "choosing it inserts the name: `loads m_depth'"
                    (gloc-test-line)))
 ;; A typo after it: the server's diagnostic reaches Flymake.
 (gloc-test-type-line 0 "lodd 1.0,r0")

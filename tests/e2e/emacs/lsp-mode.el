@@ -3,7 +3,7 @@
 ;; Run by tests/e2e/run: emacs --batch -q -l tests/e2e/emacs/lsp-mode.el, with
 ;; GLOC_SETUP the guide's `emacs-lsp-mode' block. Opens Fig. 2 as GLOC, Fig. 3
 ;; as GBASIC and comet's nsb3.mi, and completes in each: `loads m_dep' →
-;; `loads 444', `m_dep' → `m_depth', `b_arg: d_t' → `b_arg: d_target_depth(m) 12'.
+;; `loads m_depth', `m_dep' → `m_depth', `b_arg: d_t' → `b_arg: d_target_depth(m) 12'.
 
 (load (expand-file-name "common.el" (file-name-directory load-file-name)) nil t)
 
@@ -49,7 +49,7 @@
 (let ((offered (gloc-complete-and-choose "m_depth")))
   (gloc-test-check (member "m_depth" offered) "`loads m_dep' offers m_depth by name"
                    (seq-take offered 10))
-  (gloc-test-check (equal (gloc-test-line) "loads 444") "choosing it inserts the index: `loads 444'"
+  (gloc-test-check (equal (gloc-test-line) "loads m_depth") "choosing it inserts the name: `loads m_depth'"
                    (gloc-test-line)))
 (set-buffer-modified-p nil)
 

@@ -35,14 +35,14 @@ for _, item in ipairs(result.items or result) do
   if item.label == "m_depth" then depth = item end
 end
 t.check(depth == nil, "read-only m_depth not among the first items for a store")
--- With `1387` typed, the sensor is offered by name and inserts the index.
+-- With `1387` typed, the sensor is offered by name and inserts its name (GLOC takes both).
 result = t.request(buf, "textDocument/completion", t.position(buf, 10, 14))
 local behs
 for _, item in ipairs(result.items or result) do
   if item.label == "sci_ruhp_behs" then behs = item end
 end
-t.check(behs ~= nil and behs.textEdit and behs.textEdit.newText == "1387",
-  "sci_ruhp_behs offered, inserting 1387 through its text edit")
+t.check(behs ~= nil and behs.textEdit and behs.textEdit.newText == "sci_ruhp_behs",
+  "sci_ruhp_behs offered, inserting its name through its text edit")
 
 -- Hover on the numeric index names the sensor.
 local hover = t.request(buf, "textDocument/hover", t.position(buf, 4, 7))

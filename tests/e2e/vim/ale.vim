@@ -90,18 +90,11 @@ function! s:Main() abort
     " GLOC
     call s:Open('fig2.gloc', 'gloc')
     call s:Check(empty(s:Errors()), 'Fig. 2 has no errors', s:Errors())
-    " ALE takes a completion's start from a word that begins with a letter, so an
-    " index is completed with nothing typed after `loads `: the menu lists indices
-    " (the server's ranking; each name beside its index in the menu's detail).
-    call s:Type(0, 'loads ')
+    " GLOC takes sensor names: completion inserts the name, which ALE filters by.
+    call s:Type(0, 'loads m_dep')
     let [l:words, l:line] = s:Complete()
-    call s:Check(len(l:words) > 0 && empty(filter(copy(l:words), 'v:val !~# "^\\d\\+$"')),
-    \   '`loads ` offers sensor indices', l:words[:9])
-    call s:Check(l:line is# 'loads ' . get(l:words, 0, ''), 'accepting the first inserts its index', l:line)
-    " What docs/editors.md says ALE 3.3 cannot do: it filters by the inserted index.
-    call setline('.', 'loads m_dep')
-    let [l:words, l:line] = s:Complete()
-    call s:Check(empty(l:words), 'as the guide says, ALE 3.3 finds no sensor by name after `loads`', l:words[:9])
+    call s:Check(index(l:words, 'm_depth') >= 0, '`loads m_dep` offers m_depth in GLOC', l:words[:9])
+    call s:Check(l:line is# 'loads m_depth', 'choosing it gives `loads m_depth`', l:line)
     " A typo: the server's diagnostic reaches ALE's list.
     call setline('.', 'lodd 1.0,r0')
     ALELint

@@ -3,7 +3,7 @@
 //! | code | cause |
 //! |---|---|
 //! | 0 | success |
-//! | 1 | the script or the data it reads (sensor list, mission, profile) has errors; the run trapped; a batch mission failed |
+//! | 1 | the script or the data it reads (sensor list, mission, profile) has errors; the run trapped; a batch mission failed; a forecast's logs, currents or bathymetry cannot serve (no fix, a malformed NetCDF, a track off the grid) |
 //! | 2 | usage: bad arguments or settings (flags, `gloc.toml`), an output that would overwrite an input, a file of another kind given as the script; a recording gloc cannot use (a log whose `<crc>.cac` is not found, or that cannot be opened or parsed; a malformed replay CSV) |
 //! | 3 | an input cannot be read (script, `gloc.toml`, sensor list, mission, profile, a replay file that does not exist) |
 //! | 4 | an output cannot be written |
@@ -32,6 +32,19 @@ pub struct Unreadable(pub String);
 /// An output that cannot be written.
 #[derive(Debug)]
 pub struct Unwritable(pub String);
+
+/// An input that was read but cannot serve (a forecast's logs without a fix, currents
+/// that do not cover the track): exit code 1.
+#[derive(Debug)]
+pub struct Invalid(pub String);
+
+impl std::fmt::Display for Invalid {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for Invalid {}
 
 impl std::fmt::Display for Unreadable {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -82,6 +95,9 @@ pub fn of_error(error: &anyhow::Error) -> u8 {
         }
         if cause.is::<Unwritable>() {
             return UNWRITABLE;
+        }
+        if cause.is::<Invalid>() {
+            return ERRORS;
         }
     }
     USAGE

@@ -33,6 +33,7 @@ mod data;
 mod exit;
 mod explain;
 mod flags;
+mod forecast;
 mod loading;
 mod output;
 mod reindex;
@@ -78,6 +79,9 @@ enum Command {
     Calibrate(calibrate::CalibrateArgs),
     /// Explain a diagnostic code (`gloc explain E0101`), or list them all.
     Explain(explain::ExplainArgs),
+    /// Forecast where a glider will be from its logs and its mission (surfacings, track,
+    /// ensembles as GeoJSON, KML, CSV), or hindcast the logs' segments.
+    Forecast(forecast::ForecastArgs),
 }
 
 #[derive(Args, Debug)]
@@ -318,6 +322,7 @@ fn main() -> ExitCode {
         Command::Data(command) => data::main(command),
         Command::Calibrate(args) => calibrate::main(args),
         Command::Explain(args) => explain::main(args),
+        Command::Forecast(args) => forecast::main(args),
     };
     match result {
         Ok(code) => code,

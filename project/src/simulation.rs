@@ -81,7 +81,7 @@ pub struct Flight {
 
 /// The simulator's configuration: the defaults, then the settings' budget and
 /// constants, then the flight's.
-fn sim_config(settings: &Settings, flight: Flight) -> Result<SimConfig, ProjectError> {
+pub fn sim_config(settings: &Settings, flight: Flight) -> Result<SimConfig, ProjectError> {
     let defaults = SimConfig::default();
     let mut config = SimConfig {
         seed: flight.seed.unwrap_or(defaults.seed),

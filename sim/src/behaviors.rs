@@ -401,6 +401,13 @@ impl Behavior {
         }
     }
 
+    /// Moves the times the behavior last started and ended by `seconds`
+    /// (negative: earlier), for a run that begins part way into a mission.
+    pub fn shift_timers(&mut self, seconds: f64) {
+        self.last_start += seconds;
+        self.last_end += seconds;
+    }
+
     /// Steps the behavior's state machine and, when active, its logic.
     /// For the script behavior this only manages activation; the simulation
     /// runs the script itself when `is_active()`.

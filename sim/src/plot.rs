@@ -339,7 +339,9 @@ fn map_bounds(trace: &Trace) -> ((f64, f64), (f64, f64)) {
 
 static FONT: &[u8] = include_bytes!("../data/fonts/DejaVuSans-subset.ttf");
 
-fn register_font() {
+/// Registers the embedded font as plotters' `sans-serif` (once per process):
+/// every plot gloc draws, the forecast's map too, measures and draws text with it.
+pub fn register_font() {
     // A subset of DejaVu Sans (ASCII, °, ±, ×, –, −, µ; data/fonts, its
     // licence beside it): plotters measures and draws text with it.
     static ONCE: std::sync::Once = std::sync::Once::new();

@@ -1364,6 +1364,40 @@ impl Simulation {
         &self.navigation
     }
 
+    /// Sets the true depth-averaged current from now on (m/s, x east, y north):
+    /// a forecast's current field, which varies in time and space, sets it
+    /// before each cycle. The glider's belief is not touched.
+    pub fn set_true_water(&mut self, water: Xy) {
+        if water.x.is_finite() && water.y.is_finite() {
+            self.navigation.true_water = water;
+        }
+    }
+
+    /// Sets the water depth under the glider from now on (m, positive): a
+    /// forecast's bathymetry sets it before each cycle. Ignored unless finite
+    /// and positive.
+    pub fn set_water_depth(&mut self, depth: f64) {
+        if depth.is_finite() && depth > 0.0 {
+            self.water_depth = depth;
+        }
+    }
+
+    /// Starts the mission's timers `seconds` before the run: the behaviors
+    /// last started and ended then (`when_secs` of start_when 6, 9 and 10
+    /// counts from there; start_when 12 counts from the last time at the
+    /// surface, which a run starting at the surface sets itself). A
+    /// forecast that starts at a glider's last fix gives the time since its
+    /// surfacing began, so the next timed surfacing comes when the glider's.
+    /// Call before the first cycle; a negative or non-finite value is ignored.
+    pub fn start_timers_before(&mut self, seconds: f64) {
+        if !(seconds.is_finite() && seconds > 0.0) || self.cycle > 0 {
+            return;
+        }
+        for behavior in &mut self.behaviors {
+            behavior.shift_timers(-seconds);
+        }
+    }
+
     /// The waypoint a goto behavior steers to (LMC), if one does.
     pub fn waypoint(&self) -> Option<Xy> {
         self.nav_view.waypoint

@@ -1,0 +1,341 @@
+//! The forecast on a map (PNG or SVG, with plotters and the simulator's
+//! embedded font): longitude and latitude at equal metric scales, the logged
+//! fixes, the forecast track, the predicted surfacings with their times, the
+//! waypoint, and with an ensemble the region of each hour and the spread of
+//! each surfacing.
+
+use std::path::Path;
+
+use plotters::coord::types::RangedCoordf64;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use crate::export::iso_time;
+use crate::logs::Fix;
+use crate::Forecast;
+
+const WIDTH: u32 = 1100;
+const HEIGHT: u32 = 930;
+
+/// A map's format, by the extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MapFormat {
+    Png,
+    Svg,
+}
+
+impl MapFormat {
+    /// `.png` or `.svg`; `None` for another extension.
+    pub fn from_path(path: &Path) -> Option<MapFormat> {
+        match path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase)
+            .as_deref()
+        {
+            Some("png") => Some(MapFormat::Png),
+            Some("svg") => Some(MapFormat::Svg),
+            _ => None,
+        }
+    }
+}
+
+/// Draws the map to `path` (PNG or SVG by the extension). `fixes` are the
+/// logged GPS fixes to show where the glider has been.
+pub fn write_map(forecast: &Forecast, fixes: &[Fix], path: &Path) -> Result<(), String> {
+    gloc_sim::plot::register_font();
+    let result = match MapFormat::from_path(path) {
+        Some(MapFormat::Png) => {
+            let root = BitMapBackend::new(path, (WIDTH, HEIGHT)).into_drawing_area();
+            draw(&root, forecast, fixes)
+                .and_then(|()| root.present())
+                .map_err(|error| error.to_string())
+        }
+        Some(MapFormat::Svg) => {
+            let root = SVGBackend::new(path, (WIDTH, HEIGHT)).into_drawing_area();
+            draw(&root, forecast, fixes)
+                .and_then(|()| root.present())
+                .map_err(|error| error.to_string())
+        }
+        None => Err("a map is .png or .svg".to_string()),
+    };
+    result.map_err(|error| format!("cannot draw the map `{}`: {error}", path.display()))
+}
+
+/// Every (lat, lon) the map shows.
+fn extent(forecast: &Forecast, fixes: &[Fix]) -> Vec<(f64, f64)> {
+    let mut points: Vec<(f64, f64)> = forecast
+        .track
+        .points
+        .iter()
+        .map(|p| (p.lat, p.lon))
+        .collect();
+    points.extend(fixes.iter().map(|f| crate::fly::degrees(f.lat, f.lon)));
+    points.push(crate::fly::degrees(forecast.start.lat, forecast.start.lon));
+    if let Some(ensemble) = &forecast.ensemble {
+        for region in &ensemble.regions {
+            points.extend(region.hull.iter().copied());
+        }
+    }
+    points
+}
+
+/// The map's frame around `points` (lat, lon): equal metric scales, axes in
+/// degrees; also the visible window (centre lat, lon; half spans).
+type Frame<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+/// A frame and its window, or the backend's error.
+type Framed<'a, DB> =
+    Result<(Frame<'a, DB>, [f64; 4]), DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;
+
+fn frame<'a, DB: DrawingBackend>(
+    root: &'a DrawingArea<DB, Shift>,
+    points: &[(f64, f64)],
+    title: String,
+) -> Framed<'a, DB> {
+    root.fill(&WHITE)?;
+    let mut low = (f64::INFINITY, f64::INFINITY);
+    let mut high = (f64::NEG_INFINITY, f64::NEG_INFINITY);
+    for &(lat, lon) in points
+        .iter()
+        .filter(|(a, b)| a.is_finite() && b.is_finite())
+    {
+        low = (low.0.min(lat), low.1.min(lon));
+        high = (high.0.max(lat), high.1.max(lon));
+    }
+    if !low.0.is_finite() {
+        (low, high) = ((0.0, 0.0), (0.0, 0.0));
+    }
+    let ((lat0, lon0), (lat1, lon1)) = (low, high);
+    // Equal metric scales: a degree of longitude is cos(latitude) of one of latitude.
+    let middle = (lat0 + lat1) / 2.0;
+    let squeeze = middle.to_radians().cos().max(0.05);
+    let plot_w = f64::from(WIDTH - 90 - 30);
+    let plot_h = f64::from(HEIGHT - 60 - 80);
+    let span_lat = ((lat1 - lat0) * 1.15).max(0.01);
+    let span_lon = ((lon1 - lon0) * 1.15).max(0.01);
+    let per_px = (span_lat / plot_h).max(span_lon * squeeze / plot_w);
+    let half_lat = per_px * plot_h / 2.0;
+    let half_lon = per_px * plot_w / 2.0 / squeeze;
+    let (clat, clon) = (middle, (lon0 + lon1) / 2.0);
+    let mut chart = ChartBuilder::on(root)
+        .caption(title, ("sans-serif", 20))
+        .margin(14)
+        .margin_bottom(44)
+        .x_label_area_size(45)
+        .y_label_area_size(75)
+        .build_cartesian_2d(
+            (clon - half_lon)..(clon + half_lon),
+            (clat - half_lat)..(clat + half_lat),
+        )?;
+    chart
+        .configure_mesh()
+        .x_desc("longitude (°E)")
+        .y_desc("latitude (°N)")
+        .x_label_formatter(&|v| format!("{v:.2}"))
+        .y_label_formatter(&|v| format!("{v:.2}"))
+        .light_line_style(RGBColor(238, 238, 238))
+        .draw()?;
+    Ok((chart, [clat, clon, half_lat, half_lon]))
+}
+
+fn draw<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    forecast: &Forecast,
+    fixes: &[Fix],
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let title = format!(
+        "gloc forecast: {} from {}, {} h",
+        forecast.mission_name,
+        iso_time(forecast.start.time),
+        forecast.hours
+    );
+    let (mut chart, [clat, clon, half_lat, half_lon]) =
+        frame(root, &extent(forecast, fixes), title)?;
+    let blue = RGBColor(40, 110, 220);
+    if let Some(ensemble) = &forecast.ensemble {
+        for region in &ensemble.regions {
+            if region.hull.len() >= 3 {
+                let ring: Vec<(f64, f64)> =
+                    region.hull.iter().map(|&(lat, lon)| (lon, lat)).collect();
+                chart.draw_series(std::iter::once(Polygon::new(
+                    ring.clone(),
+                    blue.mix(0.08).filled(),
+                )))?;
+                let mut closed = ring.clone();
+                closed.push(ring[0]);
+                chart.draw_series(std::iter::once(PathElement::new(
+                    closed,
+                    ShapeStyle::from(&blue.mix(0.6)).stroke_width(1),
+                )))?;
+                // The hour at the region's easternmost corner.
+                if let Some(&(lon, lat)) = ring.iter().max_by(|a, b| a.0.total_cmp(&b.0)) {
+                    chart.draw_series(std::iter::once(Text::new(
+                        format!("{} h", region.hour),
+                        (lon, lat),
+                        ("sans-serif", 13).into_font().color(&blue),
+                    )))?;
+                }
+            }
+        }
+    }
+    let grey = RGBColor(120, 120, 120);
+    chart.draw_series(fixes.iter().map(|fix| {
+        let (lat, lon) = crate::fly::degrees(fix.lat, fix.lon);
+        Circle::new((lon, lat), 2, grey.filled())
+    }))?;
+    let red = RGBColor(200, 30, 30);
+    chart.draw_series(LineSeries::new(
+        forecast.track.points.iter().map(|p| (p.lon, p.lat)),
+        ShapeStyle::from(&red).stroke_width(2),
+    ))?;
+    for (index, surfacing) in forecast.track.surfacings.iter().enumerate() {
+        let at = (surfacing.lon, surfacing.lat);
+        chart.draw_series(std::iter::once(Circle::new(
+            at,
+            6,
+            ShapeStyle::from(&BLACK).stroke_width(2),
+        )))?;
+        let clock = iso_time(surfacing.time);
+        chart.draw_series(std::iter::once(Text::new(
+            format!("  {} {}", index + 1, &clock[11..16]),
+            at,
+            ("sans-serif", 14).into_font().color(&BLACK),
+        )))?;
+    }
+    let (slat, slon) = crate::fly::degrees(forecast.start.lat, forecast.start.lon);
+    let green = RGBColor(20, 130, 60);
+    chart.draw_series(std::iter::once(Circle::new(
+        (slon, slat),
+        6,
+        green.filled(),
+    )))?;
+    chart.draw_series(std::iter::once(Text::new(
+        "  start (last fix)",
+        (slon, slat),
+        ("sans-serif", 14).into_font().color(&green),
+    )))?;
+    if let Some((wlat, wlon)) = forecast
+        .start
+        .waypoint
+        .map(|(lat, lon)| crate::fly::degrees(lat, lon))
+    {
+        let inside = (wlat - clat).abs() < half_lat && (wlon - clon).abs() < half_lon;
+        if inside {
+            chart.draw_series(std::iter::once(Cross::new(
+                (wlon, wlat),
+                9,
+                ShapeStyle::from(&red).stroke_width(3),
+            )))?;
+        }
+    }
+    let legend = match &forecast.ensemble {
+        Some(ensemble) => format!(
+            "red: forecast track, circles: predicted first fixes (UTC); grey: logged fixes; blue: where {} members can be, per hour (current sd {:.2} east, {:.2} north m/s)",
+            ensemble.members, ensemble.spread.x, ensemble.spread.y
+        ),
+        None => "red: forecast track, circles: predicted first fixes (UTC); grey: logged fixes".to_string(),
+    };
+    root.draw(&Text::new(
+        legend,
+        (20, (HEIGHT - 22) as i32),
+        ("sans-serif", 13).into_font().color(&BLACK),
+    ))?;
+    Ok(())
+}
+
+/// Draws a hindcast to `path` (PNG or SVG): per segment the track flown with
+/// the current found after it (red), with the prior current (orange, the
+/// null model), the start (green) and the real first fix (black cross).
+pub fn write_hindcast_map(
+    segments: &[crate::hindcast::SegmentHindcast],
+    fixes: &[Fix],
+    path: &Path,
+) -> Result<(), String> {
+    gloc_sim::plot::register_font();
+    let result = match MapFormat::from_path(path) {
+        Some(MapFormat::Png) => {
+            let root = BitMapBackend::new(path, (WIDTH, HEIGHT)).into_drawing_area();
+            draw_hindcast(&root, segments, fixes)
+                .and_then(|()| root.present())
+                .map_err(|error| error.to_string())
+        }
+        Some(MapFormat::Svg) => {
+            let root = SVGBackend::new(path, (WIDTH, HEIGHT)).into_drawing_area();
+            draw_hindcast(&root, segments, fixes)
+                .and_then(|()| root.present())
+                .map_err(|error| error.to_string())
+        }
+        None => Err("a map is .png or .svg".to_string()),
+    };
+    result.map_err(|error| format!("cannot draw the map `{}`: {error}", path.display()))
+}
+
+fn draw_hindcast<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    segments: &[crate::hindcast::SegmentHindcast],
+    fixes: &[Fix],
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let mut points: Vec<(f64, f64)> = fixes
+        .iter()
+        .map(|f| crate::fly::degrees(f.lat, f.lon))
+        .collect();
+    for result in segments {
+        points.extend(result.track.iter().copied());
+        points.extend(result.null_track.iter().copied());
+    }
+    let title = format!("gloc hindcast: {} segment(s) flown again", segments.len());
+    let (mut chart, _) = frame(root, &points, title)?;
+    let grey = RGBColor(120, 120, 120);
+    chart.draw_series(fixes.iter().map(|fix| {
+        let (lat, lon) = crate::fly::degrees(fix.lat, fix.lon);
+        Circle::new((lon, lat), 2, grey.filled())
+    }))?;
+    let red = RGBColor(200, 30, 30);
+    let orange = RGBColor(235, 140, 20);
+    let green = RGBColor(20, 130, 60);
+    for result in segments {
+        let swap = |&(lat, lon): &(f64, f64)| (lon, lat);
+        chart.draw_series(LineSeries::new(
+            result.null_track.iter().map(swap),
+            ShapeStyle::from(&orange).stroke_width(2),
+        ))?;
+        chart.draw_series(LineSeries::new(
+            result.track.iter().map(swap),
+            ShapeStyle::from(&red).stroke_width(2),
+        ))?;
+        let (slat, slon) = crate::fly::degrees(result.segment.start.lat, result.segment.start.lon);
+        chart.draw_series(std::iter::once(Circle::new(
+            (slon, slat),
+            6,
+            green.filled(),
+        )))?;
+        let (elat, elon) = crate::fly::degrees(result.segment.end.lat, result.segment.end.lon);
+        chart.draw_series(std::iter::once(Cross::new(
+            (elon, elat),
+            9,
+            ShapeStyle::from(&BLACK).stroke_width(3),
+        )))?;
+        let label = match (result.miss, result.null_miss) {
+            (Some(miss), Some(null)) => {
+                format!("{miss:.0} m (null model {:.1} km)", null / 1000.0)
+            }
+            _ => "no surfacing".to_string(),
+        };
+        // Beside the cross, above it: the next segment starts where this one ended.
+        chart.draw_series(std::iter::once(
+            EmptyElement::at((elon, elat))
+                + Text::new(
+                    label,
+                    (12, -24),
+                    ("sans-serif", 15).into_font().color(&BLACK),
+                ),
+        ))?;
+    }
+    root.draw(&Text::new(
+        "green: start (last fix before the dive); red: flown with the current found after the segment; orange: with the prior current; black cross: the real first fix; grey: logged fixes",
+        (20, (HEIGHT - 22) as i32),
+        ("sans-serif", 13).into_font().color(&BLACK),
+    ))?;
+    Ok(())
+}

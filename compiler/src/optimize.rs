@@ -23,8 +23,9 @@ pub struct Optimized {
 /// The largest liveness table the optimizer builds: instructions × registers, in
 /// bits. Liveness is a bit set per instruction, so its memory and time grow with the
 /// product (32,000 `x=1` lines took 542 MB and 12 s); the largest real script is
-/// far below (a thousand lines: about 2^22), and this keeps each table at 32 MB.
-pub const MAX_LIVENESS_BITS: usize = 1 << 28;
+/// far below (a 4,000-line generated program is about 2^29: 1.3 s, 151 MB), and this
+/// keeps each table at 128 MB.
+pub const MAX_LIVENESS_BITS: usize = 1 << 30;
 
 /// Optimizes `code` in place; `None`, with `code` untouched, when it is over
 /// [`MAX_LIVENESS_BITS`].

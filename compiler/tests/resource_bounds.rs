@@ -78,8 +78,8 @@ fn a_thousand_diagnostics_per_pass_then_one_count() {
 
 #[test]
 fn dash_o_on_a_program_beyond_the_liveness_limit_compiles_without_it() {
-    // 20,000 `x = 1` lines: 40,000 instructions × 20,000 registers, over 2^28 bits.
-    let text = format!("dim x as integer\n{}yield\n", "x = 1\n".repeat(20_000));
+    // 30,000 `x = 1` lines: 60,000 instructions × 30,001 registers, over 2^30 bits.
+    let text = format!("dim x as integer\n{}yield\n", "x = 1\n".repeat(30_000));
     let compiled = gloc_compiler::compile(
         &text,
         &gloc_engine::sensors::SensorList::embedded(),
@@ -88,5 +88,5 @@ fn dash_o_on_a_program_beyond_the_liveness_limit_compiles_without_it() {
     let codes: Vec<&str> = compiled.diagnostics.iter().map(|d| d.code).collect();
     assert_eq!(codes, ["W2303"], "{:?}", compiled.diagnostics);
     let stats = compiled.stats.expect("compiled");
-    assert_eq!(stats.registers, 20_001);
+    assert_eq!(stats.registers, 30_001);
 }

@@ -121,7 +121,7 @@ registry! {
         UNUSED = "W2102", Warning, "a variable declared but never used";
         ZERO_STEP = "W2301", Warning, "a `for` loop with step 0";
         OVER_BUDGET = "W2302", Warning, "the worst case per cycle exceeds the cycle budget given to the loader";
-        NOT_OPTIMIZED = "W2303", Warning, "a program too large for `-O` (instructions × registers over 2^28), compiled without it";
+        NOT_OPTIMIZED = "W2303", Warning, "a program too large for `-O` (instructions × registers over 2^30), compiled without it";
     }
     /// Missions: `.mi` and `.ma` files, and the mission against the list and the script (S-codes).
     mission {

@@ -199,7 +199,7 @@ impl<'a> Checker<'a> {
 
     /// Reports a declaration whose name is taken; returns true when it is free.
     fn name_is_free(&mut self, name: &ast::Name) -> bool {
-        if let Some(existing) = self.names.get(&name.key()).copied() {
+        if let Some(existing) = self.names.get(&*name.key()).copied() {
             let first = match existing {
                 Symbol::Variable(id) => self.symbols.variables[id.0].definition,
                 Symbol::Constant(index) => self.symbols.constants[index].definition,
@@ -215,7 +215,7 @@ impl<'a> Checker<'a> {
             );
             return false;
         }
-        if Builtin::of_name(&name.key()).is_some() || KEYWORDS.contains(&name.key().as_str()) {
+        if Builtin::of_name(&name.key()).is_some() || KEYWORDS.contains(&&*name.key()) {
             self.error(
                 Diagnostic::error(
                     codes::DUPLICATE,
@@ -256,7 +256,8 @@ impl<'a> Checker<'a> {
                         definition: name.span,
                         references: Vec::new(),
                     });
-                    self.names.insert(name.key(), Symbol::Constant(index));
+                    self.names
+                        .insert(name.key().into_owned(), Symbol::Constant(index));
                     self.constant_values.push(value.clone());
                 }
             }
@@ -287,10 +288,11 @@ impl<'a> Checker<'a> {
                             definition: name.span,
                             references: Vec::new(),
                         });
-                        self.names.insert(name.key(), Symbol::Variable(id));
+                        self.names
+                            .insert(name.key().into_owned(), Symbol::Variable(id));
                     }
                 }
-                ast::StmtKind::Label(name) => match self.labels.get(&name.key()).copied() {
+                ast::StmtKind::Label(name) => match self.labels.get(&*name.key()).copied() {
                     Some(id) => {
                         let first = self.symbols.labels[id.0].definition.unwrap_or_default();
                         self.error(
@@ -310,7 +312,7 @@ impl<'a> Checker<'a> {
                             definition: Some(name.span),
                             references: Vec::new(),
                         });
-                        self.labels.insert(name.key(), id);
+                        self.labels.insert(name.key().into_owned(), id);
                     }
                 },
                 _ => {}
@@ -322,7 +324,7 @@ impl<'a> Checker<'a> {
     fn array_size(&mut self, size: &ast::ArraySize) -> Option<usize> {
         let (value, span) = match size {
             ast::ArraySize::Literal { value, span } => (*value, *span),
-            ast::ArraySize::Const(name) => match self.names.get(&name.key()).copied() {
+            ast::ArraySize::Const(name) => match self.names.get(&*name.key()).copied() {
                 Some(Symbol::Constant(index)) => {
                     self.symbols.constants[index].references.push(name.span);
                     match self.constant_values[index] {
@@ -485,14 +487,14 @@ impl<'a> Checker<'a> {
                 typed::StmtKind::If { arms, else_body }
             }
             ast::StmtKind::Label(name) => {
-                let id = self.labels.get(&name.key()).copied()?;
+                let id = self.labels.get(&*name.key()).copied()?;
                 // A duplicate label was reported; only the first definition counts.
                 if self.symbols.labels[id.0].definition != Some(name.span) {
                     return None;
                 }
                 typed::StmtKind::Label(id)
             }
-            ast::StmtKind::Goto(name) => match self.labels.get(&name.key()).copied() {
+            ast::StmtKind::Goto(name) => match self.labels.get(&*name.key()).copied() {
                 Some(id) => {
                     self.symbols.labels[id.0].references.push(name.span);
                     typed::StmtKind::Goto(id)
@@ -595,7 +597,7 @@ impl<'a> Checker<'a> {
         body: &[ast::Stmt],
         end_span: Option<Span>,
     ) -> Option<typed::Stmt> {
-        let var_id = match self.names.get(&variable.key()).copied() {
+        let var_id = match self.names.get(&*variable.key()).copied() {
             Some(Symbol::Variable(id)) if self.symbols.variables[id.0].size.is_none() => {
                 self.symbols.variables[id.0].references.push(variable.span);
                 Some(id)
@@ -687,7 +689,7 @@ impl<'a> Checker<'a> {
 
     fn check_place(&mut self, target: &ast::Target) -> Place {
         let name = target.name();
-        match self.names.get(&name.key()).copied() {
+        match self.names.get(&*name.key()).copied() {
             Some(Symbol::Constant(index)) => {
                 self.symbols.constants[index].references.push(name.span);
                 self.error(
@@ -889,7 +891,7 @@ impl<'a> Checker<'a> {
                 ty: Ty::Float,
                 span,
             },
-            ast::ExprKind::Name(name) => match self.names.get(&name.key()).copied() {
+            ast::ExprKind::Name(name) => match self.names.get(&*name.key()).copied() {
                 Some(Symbol::Constant(index)) => {
                     self.symbols.constants[index].references.push(name.span);
                     match self.constant_values[index] {
@@ -1074,7 +1076,7 @@ impl<'a> Checker<'a> {
             ty: Ty::Error,
             span,
         };
-        match self.names.get(&name.key()).copied() {
+        match self.names.get(&*name.key()).copied() {
             Some(Symbol::Variable(id)) => {
                 self.symbols.variables[id.0].references.push(name.span);
                 let size = self.symbols.variables[id.0].size;

@@ -21,7 +21,7 @@ impl Name {
 
     /// The lower-cased spelling, used for every lookup (GBASIC ignores case):
     /// borrowed when the name is already lower case, as most are (an allocation per
-    /// lookup cost the compiler a fifth of its time).
+    /// lookup showed in the compile bench).
     pub fn key(&self) -> std::borrow::Cow<'_, str> {
         if self.text.bytes().any(|byte| byte.is_ascii_uppercase()) {
             std::borrow::Cow::Owned(self.text.to_ascii_lowercase())

@@ -113,10 +113,30 @@ fn analyze_compiled(
 ) -> (Analysis, crate::Compiled) {
     let parsed = parser::parse(text);
     let checked = check::check(&parsed.program, sensors);
-    let compiled =
-        crate::compile_checked(text, parsed.diagnostics.clone(), &checked, sensors, options);
+    let mut blocks = Vec::new();
+    collect_blocks(&parsed.program.body, &mut blocks);
+    // The tree is not needed past here: not kept beside the code and the analysis.
+    let parser::Parsed {
+        program,
+        mut diagnostics,
+    } = parsed;
+    drop(program);
+    let check::Checked {
+        program,
+        symbols: checked_symbols,
+        diagnostics: check_diagnostics,
+    } = checked;
+    diagnostics.extend(check_diagnostics);
+    let compiled = crate::compile_checked(
+        text,
+        diagnostics,
+        program,
+        &checked_symbols,
+        sensors,
+        options,
+    );
     let mut symbols = Vec::new();
-    for variable in &checked.symbols.variables {
+    for variable in &checked_symbols.variables {
         let (kind, detail) = match variable.size {
             Some(size) => (
                 SymbolKind::Array,
@@ -138,7 +158,7 @@ fn analyze_compiled(
             sensor_index: None,
         });
     }
-    for constant in &checked.symbols.constants {
+    for constant in &checked_symbols.constants {
         symbols.push(SymbolInfo {
             name: constant.name.clone(),
             kind: SymbolKind::Constant,
@@ -150,7 +170,7 @@ fn analyze_compiled(
             sensor_index: None,
         });
     }
-    for (number, label) in checked.symbols.labels.iter().enumerate() {
+    for (number, label) in checked_symbols.labels.iter().enumerate() {
         symbols.push(SymbolInfo {
             name: label.name.clone(),
             kind: SymbolKind::Label,
@@ -162,7 +182,7 @@ fn analyze_compiled(
             sensor_index: None,
         });
     }
-    for sensor in &checked.symbols.sensors {
+    for sensor in &checked_symbols.sensors {
         let units = sensors
             .get(gloc_engine::sensors::SensorId(sensor.sensor))
             .map_or(String::new(), |info| info.units.clone());
@@ -180,8 +200,6 @@ fn analyze_compiled(
             sensor_index: Some(sensor.sensor),
         });
     }
-    let mut blocks = Vec::new();
-    collect_blocks(&parsed.program.body, &mut blocks);
     let analysis = Analysis {
         diagnostics: compiled.diagnostics.clone(),
         symbols,

@@ -2,11 +2,12 @@
 
 use gloc_engine::Span;
 
-/// A name as written; `key` is the lower-cased spelling used for lookups.
+/// A name as written. Its lookup key, the lower-cased spelling, is made when asked
+/// ([`Name::key`]) rather than stored: a tree holds millions of names at most, and a
+/// second string each doubled their cost.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Name {
     pub text: String,
-    pub key: String,
     pub span: Span,
 }
 
@@ -14,8 +15,18 @@ impl Name {
     pub fn new(text: &str, span: Span) -> Name {
         Name {
             text: text.to_string(),
-            key: text.to_ascii_lowercase(),
             span,
+        }
+    }
+
+    /// The lower-cased spelling, used for every lookup (GBASIC ignores case):
+    /// borrowed when the name is already lower case, as most are (an allocation per
+    /// lookup showed in the compile bench).
+    pub fn key(&self) -> std::borrow::Cow<'_, str> {
+        if self.text.bytes().any(|byte| byte.is_ascii_uppercase()) {
+            std::borrow::Cow::Owned(self.text.to_ascii_lowercase())
+        } else {
+            std::borrow::Cow::Borrowed(&self.text)
         }
     }
 }
@@ -116,7 +127,9 @@ pub enum ExprKind {
     Name(Name),
     /// `name(args)`: an array element or a built-in call; the checker decides.
     Call {
-        name: Name,
+        /// Boxed, as the rare large fields below are: an expression or a statement
+        /// is as large as its largest variant, and a tree holds millions.
+        name: Box<Name>,
         args: Vec<Expr>,
     },
     Unary {
@@ -142,7 +155,7 @@ pub struct Expr {
 #[derive(Clone, Debug, PartialEq)]
 pub enum Target {
     Name(Name),
-    Element { name: Name, index: Expr },
+    Element { name: Name, index: Box<Expr> },
 }
 
 impl Target {
@@ -220,16 +233,16 @@ pub enum StmtKind {
         end_span: Option<Span>,
     },
     Do {
-        pre: Option<DoCondition>,
+        pre: Option<Box<DoCondition>>,
         body: Vec<Stmt>,
-        post: Option<DoCondition>,
+        post: Option<Box<DoCondition>>,
         end_span: Option<Span>,
     },
     For {
         variable: Name,
-        from: Expr,
-        to: Expr,
-        step: Option<Expr>,
+        from: Box<Expr>,
+        to: Box<Expr>,
+        step: Option<Box<Expr>>,
         body: Vec<Stmt>,
         end_span: Option<Span>,
     },

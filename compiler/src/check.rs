@@ -27,6 +27,7 @@ pub fn check(program: &ast::Program, sensors: &SensorList) -> Checked {
         sensors,
         symbols: Symbols::default(),
         diagnostics: Vec::new(),
+        suppressed: crate::Suppressed::default(),
         names: HashMap::new(),
         labels: HashMap::new(),
         sensor_uses: HashMap::new(),
@@ -37,6 +38,7 @@ pub fn check(program: &ast::Program, sensors: &SensorList) -> Checked {
     checker.declare_rest(&program.body);
     let body = checker.check_block(&program.body);
     checker.warn_unused();
+    checker.suppressed.finish(&mut checker.diagnostics);
     Checked {
         program: typed::Program { body },
         symbols: checker.symbols,
@@ -141,6 +143,7 @@ pub fn check_expression(expr: &ast::Expr, scope: &ExpressionScope) -> CheckedExp
         sensors: &scope.sensors,
         symbols: scope.symbols.clone(),
         diagnostics: Vec::new(),
+        suppressed: crate::Suppressed::default(),
         names: scope.names.clone(),
         labels: HashMap::new(),
         sensor_uses: HashMap::new(),
@@ -164,6 +167,8 @@ struct Checker<'a> {
     sensors: &'a SensorList,
     symbols: Symbols,
     diagnostics: Vec<Diagnostic>,
+    /// Diagnostics past [`crate::MAX_DIAGNOSTICS`], counted and summed up at the end.
+    suppressed: crate::Suppressed,
     /// Lower-cased name → variable or constant.
     names: HashMap<String, Symbol>,
     labels: HashMap<String, LabelId>,
@@ -189,12 +194,12 @@ pub fn format_float(value: f64) -> String {
 
 impl<'a> Checker<'a> {
     fn error(&mut self, diagnostic: Diagnostic) {
-        self.diagnostics.push(diagnostic);
+        self.suppressed.push(&mut self.diagnostics, diagnostic);
     }
 
     /// Reports a declaration whose name is taken; returns true when it is free.
     fn name_is_free(&mut self, name: &ast::Name) -> bool {
-        if let Some(existing) = self.names.get(&name.key).copied() {
+        if let Some(existing) = self.names.get(&*name.key()).copied() {
             let first = match existing {
                 Symbol::Variable(id) => self.symbols.variables[id.0].definition,
                 Symbol::Constant(index) => self.symbols.constants[index].definition,
@@ -210,7 +215,7 @@ impl<'a> Checker<'a> {
             );
             return false;
         }
-        if Builtin::of_name(&name.key).is_some() || KEYWORDS.contains(&name.key.as_str()) {
+        if Builtin::of_name(&name.key()).is_some() || KEYWORDS.contains(&&*name.key()) {
             self.error(
                 Diagnostic::error(
                     codes::DUPLICATE,
@@ -221,7 +226,7 @@ impl<'a> Checker<'a> {
             );
             return false;
         }
-        if let Some(sensor) = self.sensors.lookup(&name.key) {
+        if let Some(sensor) = self.sensors.lookup(&name.key()) {
             let sensor_name = self.sensors.name(sensor).unwrap_or("").to_string();
             self.error(
                 Diagnostic::error(
@@ -251,7 +256,8 @@ impl<'a> Checker<'a> {
                         definition: name.span,
                         references: Vec::new(),
                     });
-                    self.names.insert(name.key.clone(), Symbol::Constant(index));
+                    self.names
+                        .insert(name.key().into_owned(), Symbol::Constant(index));
                     self.constant_values.push(value.clone());
                 }
             }
@@ -282,10 +288,11 @@ impl<'a> Checker<'a> {
                             definition: name.span,
                             references: Vec::new(),
                         });
-                        self.names.insert(name.key.clone(), Symbol::Variable(id));
+                        self.names
+                            .insert(name.key().into_owned(), Symbol::Variable(id));
                     }
                 }
-                ast::StmtKind::Label(name) => match self.labels.get(&name.key).copied() {
+                ast::StmtKind::Label(name) => match self.labels.get(&*name.key()).copied() {
                     Some(id) => {
                         let first = self.symbols.labels[id.0].definition.unwrap_or_default();
                         self.error(
@@ -305,7 +312,7 @@ impl<'a> Checker<'a> {
                             definition: Some(name.span),
                             references: Vec::new(),
                         });
-                        self.labels.insert(name.key.clone(), id);
+                        self.labels.insert(name.key().into_owned(), id);
                     }
                 },
                 _ => {}
@@ -317,7 +324,7 @@ impl<'a> Checker<'a> {
     fn array_size(&mut self, size: &ast::ArraySize) -> Option<usize> {
         let (value, span) = match size {
             ast::ArraySize::Literal { value, span } => (*value, *span),
-            ast::ArraySize::Const(name) => match self.names.get(&name.key).copied() {
+            ast::ArraySize::Const(name) => match self.names.get(&*name.key()).copied() {
                 Some(Symbol::Constant(index)) => {
                     self.symbols.constants[index].references.push(name.span);
                     match self.constant_values[index] {
@@ -370,7 +377,9 @@ impl<'a> Checker<'a> {
                 );
             }
         }
-        self.diagnostics.extend(warnings);
+        for warning in warnings {
+            self.error(warning);
+        }
     }
 
     fn use_sensor(&mut self, sensor: SensorId, span: Span, write: bool) {
@@ -413,12 +422,22 @@ impl<'a> Checker<'a> {
     }
 
     fn undeclared(&mut self, name: &ast::Name) {
+        if self.diagnostics.len() >= crate::MAX_DIAGNOSTICS {
+            // Not kept: counted without the search for a suggestion, the costly part
+            // (half a million undeclared names took 6.8 s with it).
+            self.error(Diagnostic::error(
+                codes::UNDECLARED,
+                name.span,
+                String::new(),
+            ));
+            return;
+        }
         let mut diagnostic = Diagnostic::error(
             codes::UNDECLARED,
             name.span,
             format!("`{}` is not declared and is not a sensor", name.text),
         );
-        match self.suggest(&name.key) {
+        match self.suggest(&name.key()) {
             Some(suggestion) => {
                 diagnostic = diagnostic
                     .with_help(format!("did you mean `{suggestion}`?"))
@@ -468,14 +487,14 @@ impl<'a> Checker<'a> {
                 typed::StmtKind::If { arms, else_body }
             }
             ast::StmtKind::Label(name) => {
-                let id = self.labels.get(&name.key).copied()?;
+                let id = self.labels.get(&*name.key()).copied()?;
                 // A duplicate label was reported; only the first definition counts.
                 if self.symbols.labels[id.0].definition != Some(name.span) {
                     return None;
                 }
                 typed::StmtKind::Label(id)
             }
-            ast::StmtKind::Goto(name) => match self.labels.get(&name.key).copied() {
+            ast::StmtKind::Goto(name) => match self.labels.get(&*name.key()).copied() {
                 Some(id) => {
                     self.symbols.labels[id.0].references.push(name.span);
                     typed::StmtKind::Goto(id)
@@ -487,7 +506,7 @@ impl<'a> Checker<'a> {
                         format!("there is no label `{}`", name.text),
                     );
                     let closest = suggest::closest(
-                        &name.key,
+                        &name.key(),
                         self.symbols.labels.iter().map(|label| label.name.as_str()),
                     )
                     .map(str::to_string);
@@ -515,15 +534,15 @@ impl<'a> Checker<'a> {
             ast::StmtKind::Do {
                 pre, body, post, ..
             } => {
-                let pre = pre
-                    .as_ref()
-                    .map(|condition| (condition.until, self.check_condition(&condition.expr)));
+                let pre = pre.as_ref().map(|condition| {
+                    Box::new((condition.until, self.check_condition(&condition.expr)))
+                });
                 self.loops.push(LoopKind::Do);
                 let body = self.check_block(body);
                 self.loops.pop();
-                let post = post
-                    .as_ref()
-                    .map(|condition| (condition.until, self.check_condition(&condition.expr)));
+                let post = post.as_ref().map(|condition| {
+                    Box::new((condition.until, self.check_condition(&condition.expr)))
+                });
                 typed::StmtKind::Do { pre, body, post }
             }
             ast::StmtKind::For {
@@ -533,7 +552,7 @@ impl<'a> Checker<'a> {
                 step,
                 body,
                 end_span,
-            } => return self.check_for(stmt, variable, from, to, step.as_ref(), body, *end_span),
+            } => return self.check_for(stmt, variable, from, to, step.as_deref(), body, *end_span),
             ast::StmtKind::Exit(kind) => {
                 if !self.loops.contains(kind) {
                     let word = kind.keyword();
@@ -578,7 +597,7 @@ impl<'a> Checker<'a> {
         body: &[ast::Stmt],
         end_span: Option<Span>,
     ) -> Option<typed::Stmt> {
-        let var_id = match self.names.get(&variable.key).copied() {
+        let var_id = match self.names.get(&*variable.key()).copied() {
             Some(Symbol::Variable(id)) if self.symbols.variables[id.0].size.is_none() => {
                 self.symbols.variables[id.0].references.push(variable.span);
                 Some(id)
@@ -598,7 +617,7 @@ impl<'a> Checker<'a> {
                 None
             }
             None => {
-                if self.sensors.lookup(&variable.key).is_some() {
+                if self.sensors.lookup(&variable.key()).is_some() {
                     self.error(
                         Diagnostic::error(
                             codes::WRONG_KIND,
@@ -657,9 +676,9 @@ impl<'a> Checker<'a> {
         Some(typed::Stmt {
             kind: typed::StmtKind::For {
                 variable: var_id,
-                from,
-                to,
-                step,
+                from: Box::new(from),
+                to: Box::new(to),
+                step: step.map(Box::new),
                 body: body_typed,
                 trip_count,
                 next_span: end_span.unwrap_or(stmt.span),
@@ -670,7 +689,7 @@ impl<'a> Checker<'a> {
 
     fn check_place(&mut self, target: &ast::Target) -> Place {
         let name = target.name();
-        match self.names.get(&name.key).copied() {
+        match self.names.get(&*name.key()).copied() {
             Some(Symbol::Constant(index)) => {
                 self.symbols.constants[index].references.push(name.span);
                 self.error(
@@ -694,7 +713,10 @@ impl<'a> Checker<'a> {
                     (ast::Target::Name(_), None) => Place::Variable(id),
                     (ast::Target::Element { index, .. }, Some(size)) => {
                         let index = self.check_index(index, size);
-                        Place::Element { array: id, index }
+                        Place::Element {
+                            array: id,
+                            index: Box::new(index),
+                        }
                     }
                     (ast::Target::Name(_), Some(_)) => {
                         self.error(
@@ -717,7 +739,7 @@ impl<'a> Checker<'a> {
                     }
                 }
             }
-            None => match self.sensors.lookup(&name.key) {
+            None => match self.sensors.lookup(&name.key()) {
                 Some(sensor) => {
                     self.use_sensor(sensor, name.span, true);
                     if let ast::Target::Element { .. } = target {
@@ -869,7 +891,7 @@ impl<'a> Checker<'a> {
                 ty: Ty::Float,
                 span,
             },
-            ast::ExprKind::Name(name) => match self.names.get(&name.key).copied() {
+            ast::ExprKind::Name(name) => match self.names.get(&*name.key()).copied() {
                 Some(Symbol::Constant(index)) => {
                     self.symbols.constants[index].references.push(name.span);
                     match self.constant_values[index] {
@@ -902,7 +924,7 @@ impl<'a> Checker<'a> {
                         span,
                     }
                 }
-                None => match self.sensors.lookup(&name.key) {
+                None => match self.sensors.lookup(&name.key()) {
                     Some(sensor) => {
                         self.use_sensor(sensor, span, false);
                         typed::Expr {
@@ -912,7 +934,7 @@ impl<'a> Checker<'a> {
                         }
                     }
                     None => {
-                        if Builtin::of_name(&name.key).is_some() {
+                        if Builtin::of_name(&name.key()).is_some() {
                             self.error(
                                 Diagnostic::error(
                                     codes::WRONG_KIND,
@@ -1054,7 +1076,7 @@ impl<'a> Checker<'a> {
             ty: Ty::Error,
             span,
         };
-        match self.names.get(&name.key).copied() {
+        match self.names.get(&*name.key()).copied() {
             Some(Symbol::Variable(id)) => {
                 self.symbols.variables[id.0].references.push(name.span);
                 let size = self.symbols.variables[id.0].size;
@@ -1096,8 +1118,8 @@ impl<'a> Checker<'a> {
             }
             None => {}
         }
-        let Some(builtin) = Builtin::of_name(&name.key) else {
-            if self.sensors.lookup(&name.key).is_some() {
+        let Some(builtin) = Builtin::of_name(&name.key()) else {
+            if self.sensors.lookup(&name.key()).is_some() {
                 self.error(Diagnostic::error(
                     codes::WRONG_KIND,
                     name.span,
@@ -1116,7 +1138,7 @@ impl<'a> Checker<'a> {
                     .filter(|variable| variable.size.is_some())
                     .map(|variable| variable.name.as_str());
                 let closest = suggest::closest(
-                    &name.key,
+                    &name.key(),
                     BUILTINS.iter().map(|info| info.name).chain(arrays),
                 )
                 .map(str::to_string);
@@ -1145,7 +1167,7 @@ impl<'a> Checker<'a> {
                 span,
                 format!(
                     "`{}` takes {} argument{}, not {}",
-                    name.key,
+                    name.key(),
                     builtin.arity(),
                     if builtin.arity() == 1 { "" } else { "s" },
                     args.len()

@@ -152,7 +152,7 @@ impl Generator {
                 let top = self.label();
                 let exit = self.label();
                 self.emit(Instr::Label(top));
-                if let Some((until, condition)) = pre {
+                if let Some((until, condition)) = pre.as_deref() {
                     let enter = self.label();
                     let condition = self.expr(condition);
                     self.span = stmt.span;
@@ -165,7 +165,7 @@ impl Generator {
                     self.emit(Instr::Label(enter));
                 }
                 self.loop_body(LoopKind::Do, exit, body);
-                match post {
+                match post.as_deref() {
                     Some((until, condition)) => {
                         self.span = condition.span;
                         let condition = self.expr(condition);
@@ -196,7 +196,7 @@ impl Generator {
                 *variable,
                 from,
                 to,
-                step.as_ref(),
+                step.as_deref(),
                 body,
                 *trip_count,
                 *next_span,

@@ -29,7 +29,9 @@ use gloc_engine::Diagnostic;
 pub use analysis::{analyze, Analysis, Block, SymbolInfo, SymbolKind};
 pub use codegen::{ForBound, Storage};
 
-pub use loader::{load_script, Language, LoadOptions, LoadedScript};
+pub use loader::{
+    load_script, source_too_large, Language, LoadOptions, LoadedScript, MAX_GBASIC_BYTES,
+};
 pub use source_map::{ConstantValue, Origin, SourceMap};
 
 /// Whether GBASIC is compiled with the optimizer (`-O`): the argument of every
@@ -46,6 +48,47 @@ impl Optimization {
     /// `true` for [`Optimization::Optimized`] (the options structs' field).
     pub fn enabled(self) -> bool {
         self == Optimization::Optimized
+    }
+}
+
+/// The most diagnostics one pass (the parser, the checker) keeps: a file with
+/// millions of wrong lines would otherwise hold millions of messages (4 million
+/// undeclared `x=1` took 2 GB). The rest are counted and summed up in one E2011.
+pub const MAX_DIAGNOSTICS: usize = 1000;
+
+/// A pass's count of diagnostics past [`MAX_DIAGNOSTICS`].
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Suppressed {
+    count: usize,
+    last: gloc_engine::Span,
+}
+
+impl Suppressed {
+    /// Keeps `diagnostic` while the pass has fewer than [`MAX_DIAGNOSTICS`], else counts it.
+    pub(crate) fn push(&mut self, diagnostics: &mut Vec<Diagnostic>, diagnostic: Diagnostic) {
+        if diagnostics.len() < MAX_DIAGNOSTICS {
+            diagnostics.push(diagnostic);
+        } else {
+            self.count += 1;
+            self.last = self.last.max(diagnostic.span);
+        }
+    }
+
+    /// Adds the one E2011 that sums up what was not kept, at the last of them.
+    pub(crate) fn finish(self, diagnostics: &mut Vec<Diagnostic>) {
+        if self.count > 0 {
+            diagnostics.push(
+                Diagnostic::error(
+                    codes::TOO_MANY_DIAGNOSTICS,
+                    self.last,
+                    format!(
+                        "{} more diagnostics not shown (the first {MAX_DIAGNOSTICS} are listed)",
+                        self.count
+                    ),
+                )
+                .with_help("fix the first ones: the rest often follow from them"),
+            );
+        }
     }
 }
 
@@ -93,22 +136,35 @@ impl Compiled {
 
 /// Compiles a GBASIC program against a sensor list.
 pub fn compile(text: &str, sensors: &SensorList, options: &CompileOptions) -> Compiled {
-    let parsed = parser::parse(text);
-    let checked = check::check(&parsed.program, sensors);
-    compile_checked(text, parsed.diagnostics, &checked, sensors, options)
+    let parser::Parsed {
+        program,
+        diagnostics,
+    } = parser::parse(text);
+    let checked = check::check(&program, sensors);
+    // The tree is not needed past the checker: not kept beside the code.
+    drop(program);
+    let check::Checked {
+        program,
+        symbols,
+        diagnostics: check_diagnostics,
+    } = checked;
+    let mut diagnostics = diagnostics;
+    diagnostics.extend(check_diagnostics);
+    compile_checked(text, diagnostics, program, &symbols, sensors, options)
 }
 
 /// The code generation half of [`compile`], for callers that already parsed and
-/// checked the text (the language server's analysis does, and compiles only once).
+/// checked the text (the language server's analysis does, and compiles only once):
+/// `diagnostics` are the parser's and the checker's; the typed `program` is dropped
+/// once the code is generated.
 pub(crate) fn compile_checked(
     text: &str,
-    parse_diagnostics: Vec<Diagnostic>,
-    checked: &check::Checked,
+    mut diagnostics: Vec<Diagnostic>,
+    program: typed::Program,
+    symbols: &typed::Symbols,
     sensors: &SensorList,
     options: &CompileOptions,
 ) -> Compiled {
-    let mut diagnostics = parse_diagnostics;
-    diagnostics.extend(checked.diagnostics.iter().cloned());
     diagnostics.sort_by_key(|diagnostic| (diagnostic.span.start, diagnostic.span.end));
     if diagnostics.iter().any(Diagnostic::is_error) {
         return Compiled {
@@ -116,23 +172,43 @@ pub(crate) fn compile_checked(
             ..Compiled::default()
         };
     }
-    let generated = codegen::generate(&checked.program, &checked.symbols);
+    let generated = codegen::generate(&program, symbols);
+    // The typed tree is not needed past code generation: not kept beside the code.
+    drop(program);
     let mut code = generated.code;
     code.sensor_list = stated_list(sensors);
     let mut for_bounds = generated.for_bounds;
     let mut stored_sensors: Vec<SensorId> = Vec::new();
+    let mut seen = std::collections::HashSet::new();
     for instr in &code.instrs {
         if let ir::Instr::StoreS { sensor, .. } = instr {
-            if !stored_sensors.contains(&SensorId(*sensor)) {
+            if seen.insert(*sensor) {
                 stored_sensors.push(SensorId(*sensor));
             }
         }
     }
     let mut label_renumbering = None;
     if options.optimize {
-        let optimized = optimize::optimize(&mut code, &for_bounds);
-        for_bounds = optimized.for_bounds;
-        label_renumbering = Some(optimized.labels);
+        match optimize::optimize(&mut code, &for_bounds) {
+            Some(optimized) => {
+                for_bounds = optimized.for_bounds;
+                label_renumbering = Some(optimized.labels);
+            }
+            None => diagnostics.push(
+                Diagnostic::warning(
+                    codes::NOT_OPTIMIZED,
+                    gloc_engine::Span::default(),
+                    format!(
+                        "the program is too large for `-O` ({} instructions × {} registers, \
+                         the optimizer's limit is {} bits of liveness): compiled without it",
+                        code.instrs.len(),
+                        code.register_count,
+                        optimize::MAX_LIVENESS_BITS
+                    ),
+                )
+                .with_help("split the program; a glider script is a few hundred lines"),
+            ),
+        }
     }
     if let Some(diagnostic) = too_large(&code) {
         diagnostics.push(diagnostic);
@@ -141,7 +217,7 @@ pub(crate) fn compile_checked(
             ..Compiled::default()
         };
     }
-    let mut source_map = SourceMap::build(&code, &generated.storage, &checked.symbols, text);
+    let mut source_map = SourceMap::build(&code, &generated.storage, symbols, text);
     if options.optimize {
         // Register reuse gives a scalar's register to other values wherever the
         // variable is dead, so no register can be named for it; arrays keep their

@@ -45,6 +45,23 @@ impl Language {
     }
 }
 
+/// The largest GBASIC script gloc reads, in bytes: lower than GLOC's 16 MB
+/// (`gloc_engine::gloc::MAX_SOURCE_BYTES`) because a GBASIC source byte costs more:
+/// tokens, a tree, a typed tree and the code compiled from it. The worst measured
+/// (README, limits: chains `a+a+…`) took 310 MB to check at 2 MB and 538 MB in the
+/// language server (two million semantic tokens); 1 MB is still two hundred times the
+/// largest real script.
+pub const MAX_GBASIC_BYTES: usize = 1 << 20;
+
+/// E0013 when a script of `language` is over its size limits (bytes, lines): the one
+/// check the loader, the GBASIC parser and the editor's features all make.
+pub fn source_too_large(text: &str, language: Language) -> Option<Diagnostic> {
+    match language {
+        Language::Gloc => gloc::source_too_large(text),
+        Language::Gbasic => gloc::source_over(text, MAX_GBASIC_BYTES),
+    }
+}
+
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct LoadOptions {
     /// Compile GBASIC with `-O`.

@@ -20,8 +20,24 @@ pub struct Optimized {
     pub labels: HashMap<Lbl, Lbl>,
 }
 
-/// Optimizes `code` in place.
-pub fn optimize(code: &mut Code, for_bounds: &[ForBound]) -> Optimized {
+/// The largest liveness table the optimizer builds: instructions × registers, in
+/// bits. Liveness is a bit set per instruction, so its memory and time grow with the
+/// product (32,000 `x=1` lines took 542 MB and 12 s); the largest real script is
+/// far below (a 4,000-line generated program is about 2^29: 1.3 s, 151 MB), and this
+/// keeps each table at 128 MB.
+pub const MAX_LIVENESS_BITS: usize = 1 << 30;
+
+/// Optimizes `code` in place; `None`, with `code` untouched, when it is over
+/// [`MAX_LIVENESS_BITS`].
+pub fn optimize(code: &mut Code, for_bounds: &[ForBound]) -> Option<Optimized> {
+    if code
+        .instrs
+        .len()
+        .saturating_mul(code.register_count as usize)
+        > MAX_LIVENESS_BITS
+    {
+        return None;
+    }
     let mut body: Vec<(Instr, Span)> = code.instrs.drain(..).zip(code.spans.drain(..)).collect();
     // Passes enable each other (folding a branch makes code unreachable, removing
     // code makes copies adjacent); a few rounds reach a fixed point in practice.
@@ -53,10 +69,10 @@ pub fn optimize(code: &mut Code, for_bounds: &[ForBound]) -> Optimized {
     code.spans = spans;
     code.register_count = register_count;
     code.label_count = label_count;
-    Optimized {
+    Some(Optimized {
         for_bounds: bounds,
         labels: renumbering,
-    }
+    })
 }
 
 /// A value known at compile time, with the machine's type.

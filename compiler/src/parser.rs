@@ -23,7 +23,7 @@ pub const KEYWORDS: &[&str] = &[
 ];
 
 pub fn parse(text: &str) -> Parsed {
-    if let Some(diagnostic) = gloc_engine::gloc::source_too_large(text) {
+    if let Some(diagnostic) = crate::loader::source_too_large(text, crate::Language::Gbasic) {
         return Parsed {
             diagnostics: vec![diagnostic],
             ..Parsed::default()
@@ -32,12 +32,10 @@ pub fn parse(text: &str) -> Parsed {
     let mut parser = Parser {
         text,
         // Comments are tokens for the editor; the grammar never sees them.
-        tokens: lex(text)
-            .into_iter()
-            .filter(|token| token.kind != TokenKind::Comment)
-            .collect(),
+        tokens: code_tokens(text),
         pos: 0,
         diagnostics: Vec::new(),
+        suppressed: crate::Suppressed::default(),
         open: Vec::new(),
         expression_depth: 0,
         end_name: "the end of the file",
@@ -50,7 +48,7 @@ pub fn parse(text: &str) -> Parsed {
                 // No block is open here, so the closer is stray.
                 let token = parser.peek().clone();
                 let (message, help) = stray_closer_message(closer);
-                parser.diagnostics.push(
+                parser.report(
                     Diagnostic::error(
                         codes::STRAY_CLOSER,
                         parser.line_span_from(token.span),
@@ -64,8 +62,16 @@ pub fn parse(text: &str) -> Parsed {
     }
     Parsed {
         program: Program { body },
-        diagnostics: parser.diagnostics,
+        diagnostics: parser.into_diagnostics(),
     }
+}
+
+/// The tokens the grammar reads: comments (tokens for the editor) removed in place,
+/// so the text's tokens are held once, not twice.
+fn code_tokens(text: &str) -> Vec<Token> {
+    let mut tokens = lex(text);
+    tokens.retain(|token| token.kind != TokenKind::Comment);
+    tokens
 }
 
 /// One expression alone (a debugger's condition, watch or hover), parsed by the same
@@ -100,12 +106,13 @@ pub fn parse_expression(text: &str) -> ParsedExpression {
         tokens: lex(text),
         pos: 0,
         diagnostics: Vec::new(),
+        suppressed: crate::Suppressed::default(),
         open: Vec::new(),
         expression_depth: 0,
         end_name: "the end of the expression",
     };
     if parser.peek().kind == TokenKind::Eof {
-        parser.diagnostics.push(Diagnostic::error(
+        parser.report(Diagnostic::error(
             codes::SYNTAX,
             Span::default(),
             "the expression is empty",
@@ -127,7 +134,7 @@ pub fn parse_expression(text: &str) -> ParsedExpression {
         if let Some(help) = operator_hint(parser.slice(token.span)) {
             diagnostic = diagnostic.with_help(help);
         }
-        parser.diagnostics.push(diagnostic);
+        parser.report(diagnostic);
     }
     let has_errors = parser.diagnostics.iter().any(Diagnostic::is_error);
     ParsedExpression {
@@ -209,6 +216,8 @@ struct Parser<'a> {
     tokens: Vec<Token>,
     pos: usize,
     diagnostics: Vec<Diagnostic>,
+    /// Diagnostics past [`crate::MAX_DIAGNOSTICS`], counted and summed up at the end.
+    suppressed: crate::Suppressed,
     /// Blocks open around the current position, innermost last.
     open: Vec<BlockKind>,
     /// Expression nesting (parentheses, unary operators, call arguments) under way.
@@ -249,6 +258,16 @@ fn stray_closer_message(closer: Closer) -> (String, String) {
 }
 
 impl<'a> Parser<'a> {
+    fn report(&mut self, diagnostic: Diagnostic) {
+        self.suppressed.push(&mut self.diagnostics, diagnostic);
+    }
+
+    /// The diagnostics, with one summing up those not kept.
+    fn into_diagnostics(mut self) -> Vec<Diagnostic> {
+        self.suppressed.finish(&mut self.diagnostics);
+        self.diagnostics
+    }
+
     fn peek(&self) -> &Token {
         &self.tokens[self.pos.min(self.tokens.len() - 1)]
     }
@@ -340,7 +359,7 @@ impl<'a> Parser<'a> {
                 diagnostic = diagnostic.with_help(help);
             }
         }
-        self.diagnostics.push(diagnostic);
+        self.report(diagnostic);
     }
 
     /// Ends a statement: anything left on the line is an error (reported once).
@@ -349,7 +368,7 @@ impl<'a> Parser<'a> {
             let token = self.peek().clone();
             let found = self.describe(&token);
             let span = self.line_span_from(token.span);
-            self.diagnostics.push(
+            self.report(
                 Diagnostic::error(
                     codes::SYNTAX,
                     span,
@@ -395,7 +414,7 @@ impl<'a> Parser<'a> {
                 }
                 let token = self.peek().clone();
                 let (message, help) = stray_closer_message(closer);
-                self.diagnostics.push(
+                self.report(
                     Diagnostic::error(
                         codes::STRAY_CLOSER,
                         self.line_span_from(token.span),
@@ -421,7 +440,7 @@ impl<'a> Parser<'a> {
         body: &mut Vec<Stmt>,
     ) -> Option<Closer> {
         if self.open.len() >= MAX_NESTING {
-            self.diagnostics.push(Diagnostic::error(
+            self.report(Diagnostic::error(
                 codes::TOO_DEEP,
                 open_span,
                 format!("blocks are nested more than {MAX_NESTING} levels deep here"),
@@ -447,7 +466,7 @@ impl<'a> Parser<'a> {
                         format!("{} first", self.describe(&token))
                     }
                 };
-                self.diagnostics.push(
+                self.report(
                     Diagnostic::error(
                         codes::MISSING_CLOSER,
                         open_span,
@@ -551,7 +570,7 @@ impl<'a> Parser<'a> {
                 self.parse_print()
             }
             "if" | "while" | "do" | "for" => {
-                self.diagnostics.push(
+                self.report(
                     Diagnostic::error(
                         codes::SYNTAX,
                         token.span,
@@ -562,7 +581,7 @@ impl<'a> Parser<'a> {
                 None
             }
             _ if KEYWORDS.contains(&word.as_str()) => {
-                self.diagnostics.push(Diagnostic::error(
+                self.report(Diagnostic::error(
                     codes::SYNTAX,
                     token.span,
                     format!("`{word}` cannot start a statement"),
@@ -582,7 +601,7 @@ impl<'a> Parser<'a> {
         let text = self.slice(token.span);
         let key = text.to_ascii_lowercase();
         if KEYWORDS.contains(&key.as_str()) {
-            self.diagnostics.push(
+            self.report(
                 Diagnostic::error(
                     codes::KEYWORD_AS_NAME,
                     token.span,
@@ -681,7 +700,7 @@ impl<'a> Parser<'a> {
         match self.slice(token.span).parse::<i64>() {
             Ok(value) => Some(value),
             Err(_) => {
-                self.diagnostics.push(
+                self.report(
                     Diagnostic::error(
                         codes::BAD_NUMBER,
                         token.span,
@@ -698,7 +717,7 @@ impl<'a> Parser<'a> {
         match self.slice(token.span).parse::<f64>() {
             Ok(value) if value.is_finite() => Some(value),
             _ => {
-                self.diagnostics.push(Diagnostic::error(
+                self.report(Diagnostic::error(
                     codes::BAD_NUMBER,
                     token.span,
                     "this number is not a finite float",
@@ -718,7 +737,10 @@ impl<'a> Parser<'a> {
                 return None;
             }
             self.bump();
-            Target::Element { name, index }
+            Target::Element {
+                name,
+                index: Box::new(index),
+            }
         } else {
             Target::Name(name)
         };
@@ -726,7 +748,7 @@ impl<'a> Parser<'a> {
             let token = self.peek().clone();
             if token.kind == TokenKind::Colon {
                 let name = target.name().text.clone();
-                self.diagnostics.push(
+                self.report(
                     Diagnostic::error(codes::SYNTAX, token.span, "expected `=`, found `:`")
                         .with_help(format!("a label is written `label: {name}`")),
                 );
@@ -735,11 +757,11 @@ impl<'a> Parser<'a> {
             self.error_here("`=` (an assignment)");
             // A lone word that is no statement: most likely a misspelt keyword (`yeild`).
             if let Target::Name(name) = &target {
-                let keyword = gloc_engine::suggest::closest(&name.key, KEYWORDS.iter().copied());
+                let keyword = gloc_engine::suggest::closest(&name.key(), KEYWORDS.iter().copied());
                 // Popped only when there is a keyword to suggest: the error stays.
                 if let Some(keyword) = keyword {
                     if let Some(last) = self.diagnostics.pop() {
-                        self.diagnostics.push(
+                        self.report(
                             last.with_help(format!(
                                 "`{}` is not a keyword: did you mean `{keyword}`?",
                                 name.text
@@ -769,7 +791,7 @@ impl<'a> Parser<'a> {
             let token = self.peek().clone();
             if let TokenKind::Str { terminated } = token.kind {
                 if !terminated {
-                    self.diagnostics.push(
+                    self.report(
                         Diagnostic::error(
                             codes::SYNTAX,
                             token.span,
@@ -908,7 +930,7 @@ impl<'a> Parser<'a> {
                 Closer::Else => {
                     self.bump();
                     if else_body.is_some() {
-                        self.diagnostics.push(Diagnostic::error(
+                        self.report(Diagnostic::error(
                             codes::SYNTAX,
                             token.span,
                             "a second `else` in the same `if`",
@@ -920,7 +942,7 @@ impl<'a> Parser<'a> {
                 Closer::ElseIf => {
                     self.bump();
                     if else_body.is_some() {
-                        self.diagnostics.push(
+                        self.report(
                             Diagnostic::error(codes::SYNTAX, token.span, "`elseif` after `else`")
                                 .with_help("move this arm above the `else`"),
                         );
@@ -944,7 +966,7 @@ impl<'a> Parser<'a> {
     /// `COND then` after `if`/`elseif`.
     fn parse_condition_then(&mut self, keyword: Span) -> Option<Expr> {
         if self.at_line_end() {
-            self.diagnostics.push(Diagnostic::error(
+            self.report(Diagnostic::error(
                 codes::SYNTAX,
                 keyword,
                 "expected a condition after this keyword",
@@ -955,7 +977,7 @@ impl<'a> Parser<'a> {
         if !self.eat_word("then") {
             let token = self.peek().clone();
             let found = self.describe(&token);
-            self.diagnostics.push(
+            self.report(
                 Diagnostic::error(
                     codes::SYNTAX,
                     token.span,
@@ -1046,7 +1068,7 @@ impl<'a> Parser<'a> {
             return None;
         };
         if let (Some(_), Some(post)) = (&pre, &post) {
-            self.diagnostics.push(
+            self.report(
                 Diagnostic::error(
                     codes::SYNTAX,
                     post.expr.span,
@@ -1058,9 +1080,9 @@ impl<'a> Parser<'a> {
         }
         Some(Stmt {
             kind: StmtKind::Do {
-                pre,
+                pre: pre.map(Box::new),
                 body,
-                post,
+                post: post.map(Box::new),
                 end_span,
             },
             span: header_span,
@@ -1086,8 +1108,8 @@ impl<'a> Parser<'a> {
                 if let Some(name) = self.parse_name("the loop variable after `next`") {
                     span = span.cover(name.span);
                     if let Some((variable, ..)) = &header {
-                        if name.key != variable.key {
-                            self.diagnostics.push(
+                        if name.key() != variable.key() {
+                            self.report(
                                 Diagnostic::error(
                                     codes::BAD_NEXT,
                                     name.span,
@@ -1123,9 +1145,9 @@ impl<'a> Parser<'a> {
         Some(Stmt {
             kind: StmtKind::For {
                 variable,
-                from,
-                to,
-                step,
+                from: Box::new(from),
+                to: Box::new(to),
+                step: step.map(Box::new),
                 body,
                 end_span,
             },
@@ -1177,7 +1199,7 @@ impl<'a> Parser<'a> {
     fn enter_expression(&mut self) -> bool {
         if self.expression_depth >= MAX_NESTING {
             let span = self.peek().span;
-            self.diagnostics.push(Diagnostic::error(
+            self.report(Diagnostic::error(
                 codes::TOO_DEEP,
                 span,
                 format!("this expression is nested more than {MAX_NESTING} levels deep"),
@@ -1193,7 +1215,7 @@ impl<'a> Parser<'a> {
     fn node(&mut self, expr: Expr, children: &[usize], operator: Span) -> Option<Node> {
         let depth = children.iter().copied().max().unwrap_or(0) + 1;
         if depth > MAX_EXPRESSION_DEPTH {
-            self.diagnostics.push(
+            self.report(
                 Diagnostic::error(
                     codes::EXPRESSION_TOO_DEEP,
                     operator,
@@ -1432,12 +1454,15 @@ impl<'a> Parser<'a> {
                 let close = self.bump();
                 let call = Expr {
                     span: token.span.cover(close.span),
-                    kind: ExprKind::Call { name, args },
+                    kind: ExprKind::Call {
+                        name: Box::new(name),
+                        args,
+                    },
                 };
                 self.node(call, &depths, token.span)
             }
             TokenKind::Str { .. } => {
-                self.diagnostics.push(
+                self.report(
                     Diagnostic::error(
                         codes::SYNTAX,
                         token.span,
@@ -1457,7 +1482,7 @@ impl<'a> Parser<'a> {
                 if let Some(help) = operator_hint(&text) {
                     diagnostic = diagnostic.with_help(help);
                 }
-                self.diagnostics.push(diagnostic);
+                self.report(diagnostic);
                 None
             }
             _ => {

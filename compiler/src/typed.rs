@@ -78,7 +78,7 @@ pub struct Expr {
 pub enum Place {
     Variable(VarId),
     Sensor(SensorId),
-    Element { array: VarId, index: Expr },
+    Element { array: VarId, index: Box<Expr> },
     Error,
 }
 
@@ -112,17 +112,18 @@ pub enum StmtKind {
         body: Vec<Stmt>,
     },
     Do {
-        /// `(until, condition)` after `do`.
-        pre: Option<(bool, Expr)>,
+        /// `(until, condition)` after `do`; boxed, as the rare large fields below
+        /// are: a statement is as large as its largest variant.
+        pre: Option<Box<(bool, Expr)>>,
         body: Vec<Stmt>,
         /// `(until, condition)` after `loop`.
-        post: Option<(bool, Expr)>,
+        post: Option<Box<(bool, Expr)>>,
     },
     For {
         variable: VarId,
-        from: Expr,
-        to: Expr,
-        step: Option<Expr>,
+        from: Box<Expr>,
+        to: Box<Expr>,
+        step: Option<Box<Expr>>,
         body: Vec<Stmt>,
         /// How many times the body runs, when the limits are constants and the body
         /// neither assigns the variable nor holds a label (so it can only be entered

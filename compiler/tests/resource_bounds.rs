@@ -1,6 +1,6 @@
-//! Resource bounds (hardening): a GBASIC program with 100,000 labels compiles
+//! Resource bounds (hardening): a GBASIC program with 30,000 labels (0.9 MB) compiles
 //! (each label is one GLOC label; GLOC allows 2^20), and a source over the
-//! 16 MB limit is refused with one clear error.
+//! 1 MB GBASIC limit is refused with one clear error; diagnostics are capped per pass.
 
 use gloc_compiler::{load_script, Language, LoadOptions};
 use gloc_engine::sensors::SensorList;
@@ -18,8 +18,8 @@ fn load(text: &str) -> gloc_compiler::LoadedScript {
 }
 
 #[test]
-fn a_program_with_100000_labels_compiles_and_keeps_them_all() {
-    let labels = 100_000;
+fn a_program_with_30000_labels_compiles_and_keeps_them_all() {
+    let labels = 30_000;
     let mut text = String::new();
     for label in 0..labels {
         // Each label is a state that yields and goes on to the next one.
@@ -38,12 +38,55 @@ fn a_program_with_100000_labels_compiles_and_keeps_them_all() {
 }
 
 #[test]
-fn a_gbasic_source_over_16_mb_is_refused() {
-    let text = "x = 1\n".repeat(3 << 20);
-    assert!(text.len() > 16 << 20);
+fn a_gbasic_source_over_1_mb_is_refused() {
+    // 1 MB and one byte; in GLOC's limits, over GBASIC's.
+    let text = format!("{}#", "' \n".repeat((1 << 20) / 3) + "x");
+    assert_eq!(text.len(), gloc_compiler::MAX_GBASIC_BYTES + 1);
     let loaded = load(&text);
     assert!(loaded.program.is_none());
     let codes: Vec<&str> = loaded.diagnostics.iter().map(|d| d.code).collect();
     assert_eq!(codes, ["E0013"], "{:?}", &loaded.diagnostics[..1]);
-    assert!(loaded.diagnostics[0].message.contains("at most 16 MB"));
+    assert!(
+        loaded.diagnostics[0]
+            .message
+            .contains("the script is 1.0 MB; gloc reads scripts of at most 1 MB"),
+        "{}",
+        loaded.diagnostics[0].message
+    );
+}
+
+#[test]
+fn a_thousand_diagnostics_per_pass_then_one_count() {
+    // 5,000 undeclared names: the checker keeps 1,000 and counts the rest in one E2011.
+    let text = "x = 1\n".repeat(5000);
+    let loaded = load(&text);
+    let codes: Vec<&str> = loaded.diagnostics.iter().map(|d| d.code).collect();
+    assert_eq!(codes.len(), 1001);
+    assert!(
+        codes[..1000].iter().all(|code| *code == "E2101"),
+        "{codes:?}"
+    );
+    let last = loaded.diagnostics.last().expect("the count");
+    assert_eq!(last.code, "E2011");
+    assert_eq!(
+        last.message,
+        "4000 more diagnostics not shown (the first 1000 are listed)"
+    );
+    // At the last of those not shown: line 5,000.
+    assert_eq!(last.span.start as usize, 6 * 4999);
+}
+
+#[test]
+fn dash_o_on_a_program_beyond_the_liveness_limit_compiles_without_it() {
+    // 30,000 `x = 1` lines: 60,000 instructions × 30,001 registers, over 2^30 bits.
+    let text = format!("dim x as integer\n{}yield\n", "x = 1\n".repeat(30_000));
+    let compiled = gloc_compiler::compile(
+        &text,
+        &gloc_engine::sensors::SensorList::embedded(),
+        &gloc_compiler::CompileOptions { optimize: true },
+    );
+    let codes: Vec<&str> = compiled.diagnostics.iter().map(|d| d.code).collect();
+    assert_eq!(codes, ["W2303"], "{:?}", compiled.diagnostics);
+    let stats = compiled.stats.expect("compiled");
+    assert_eq!(stats.registers, 30_001);
 }

@@ -120,7 +120,7 @@ fn with_registers<T: Target>(
 fn register_names(expr: &ast::Expr, out: &mut Vec<(String, usize)>) {
     let mut add = |name: &ast::Name| {
         let index = name
-            .key
+            .key()
             .strip_prefix('r')
             .filter(|digits| digits.bytes().all(|byte| byte.is_ascii_digit()))
             .and_then(|digits| digits.parse::<usize>().ok());

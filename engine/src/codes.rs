@@ -61,7 +61,7 @@ registry! {
         MISSING_HEADER = "E0010", Error, "missing header line, or an empty file";
         MISPLACED_HEADER = "E0011", Error, "header line after the body, or declared twice";
         HEADER_OVER_LIMIT = "E0012", Error, "header value above the engine's limit";
-        SOURCE_TOO_LARGE = "E0013", Error, "script larger than 16 MB (GLOC or GBASIC): not read at all";
+        SOURCE_TOO_LARGE = "E0013", Error, "script over the size limits (16 MB or 2^19 lines; GBASIC 1 MB): not read at all";
         REGISTER_OUT_OF_RANGE = "E0101", Error, "register out of range (`>= nregs`)";
         LABEL_OUT_OF_RANGE = "E0102", Error, "label out of range (`>= nblbs`)";
         LABEL_DEFINED_TWICE = "E0103", Error, "label defined twice (points at the first definition)";
@@ -104,6 +104,7 @@ registry! {
         TOO_DEEP = "E2008", Error, "blocks, parentheses or prefix operators nested more than 100 levels deep";
         EXPRESSION_TOO_DEEP = "E2009", Error, "an expression more than 256 operators deep: each term of a chain `1 + 1 + …` is a level; split it into several assignments";
         EXPRESSION_TOO_LONG = "E2010", Error, "a debugger expression (condition, watch, logpoint, `setVariable` value) longer than 64 KiB";
+        TOO_MANY_DIAGNOSTICS = "E2011", Error, "more diagnostics than are shown (1,000 per pass)";
         UNDECLARED = "E2101", Error, "a name that is neither declared nor a sensor (\"did you mean\")";
         DUPLICATE = "E2102", Error, "a name declared twice, or reusing a sensor's or built-in's name";
         UNDEFINED_LABEL = "E2103", Error, "`goto` to an undefined label";
@@ -121,6 +122,7 @@ registry! {
         UNUSED = "W2102", Warning, "a variable declared but never used";
         ZERO_STEP = "W2301", Warning, "a `for` loop with step 0";
         OVER_BUDGET = "W2302", Warning, "the worst case per cycle exceeds the cycle budget given to the loader";
+        NOT_OPTIMIZED = "W2303", Warning, "a program too large for `-O` (instructions × registers over 2^30), compiled without it";
     }
     /// Missions: `.mi` and `.ma` files, and the mission against the list and the script (S-codes).
     mission {

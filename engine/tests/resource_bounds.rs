@@ -1,7 +1,7 @@
 //! Resource bounds (hardening): inputs far beyond any real script are refused
 //! with a clear message instead of being read into gigabytes of memory.
 
-use gloc_engine::gloc::{self, CheckOptions, MAX_SOURCE_BYTES};
+use gloc_engine::gloc::{self, CheckOptions, MAX_SOURCE_BYTES, MAX_SOURCE_LINES};
 use gloc_engine::sensors::SensorList;
 
 fn check(text: &str) -> gloc::Checked {
@@ -25,6 +25,27 @@ fn a_100_mb_script_is_refused_with_one_clear_error() {
     assert!(
         message.contains("100.0 MB") && message.contains("at most 16 MB"),
         "{message}"
+    );
+}
+
+#[test]
+fn a_script_of_more_than_2_pow_19_lines_is_refused_and_one_of_2_pow_19_is_read() {
+    let header = "nregs 1\nnblbs 0\nninstr 1\nyield\n";
+    // The header's four lines and the blank lines make exactly the limit: read.
+    let text = format!("{header}{}", "\n".repeat(MAX_SOURCE_LINES - 4));
+    let checked = check(&text);
+    assert!(checked.program.is_some(), "{:?}", checked.diagnostics);
+    // One line more, even without a final line end: refused, however short.
+    let text = format!("{header}{}#", "\n".repeat(MAX_SOURCE_LINES - 4));
+    let checked = check(&text);
+    let codes: Vec<&str> = checked.diagnostics.iter().map(|d| d.code).collect();
+    assert_eq!(codes, ["E0013"], "{:?}", checked.diagnostics);
+    assert!(
+        checked.diagnostics[0]
+            .message
+            .contains("524289 lines; gloc reads scripts of at most 524288 lines"),
+        "{}",
+        checked.diagnostics[0].message
     );
 }
 

@@ -31,7 +31,12 @@ pub fn analyze_at(
     // The CLI's cap, for every language and every editor feature (tokens, symbols,
     // folding): a document over it is one E0013 error and nothing else (semantic
     // tokens of a 16.8 MB one-line document took 3.6 GB).
-    if let Some(too_large) = gloc_engine::gloc::source_too_large(text) {
+    let too_large = match language {
+        Language::Gloc => gloc_compiler::source_too_large(text, gloc_compiler::Language::Gloc),
+        Language::Gbasic => gloc_compiler::source_too_large(text, gloc_compiler::Language::Gbasic),
+        _ => gloc_engine::gloc::source_too_large(text),
+    };
+    if let Some(too_large) = too_large {
         return Analysis {
             diagnostics: vec![too_large],
             ..Analysis::default()

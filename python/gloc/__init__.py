@@ -168,11 +168,13 @@ def run(
     seed: Optional[int] = None,
     sim: Optional[dict] = None,
     profile: Optional[PathLike] = None,
+    optimize: bool = True,
 ):
     """Flies ``script`` on ``mission`` (the embedded Fig. 2 mission, or gloc.toml's,
     when None) as ``gloc run`` does: ``duration`` in seconds (or ``cycles``; default
     24 h), ``seed``, ``sim`` simulator constants (``{"fin_gain": 2.0}``, as
-    ``gloc run --sim``), ``profile`` a temperature-profile CSV.
+    ``gloc run --sim``), ``profile`` a temperature-profile CSV, ``optimize=False`` as
+    ``--no-optimize``.
 
     Returns ``(log, summary)``: the log a DataFrame of the columns ``gloc run --log``
     writes, one row per cycle, each value as the log holds it (4-byte floats but for
@@ -189,6 +191,7 @@ def run(
         seed,
         constants,
         os.fspath(profile) if profile is not None else None,
+        optimize,
     )
     log = _frame(names, rows, data)
     if "m_present_time" in names:

@@ -246,6 +246,15 @@ fn load(
     }
 }
 
+/// `optimize=True` as the compiler's option (the CLI's `-O`, or `--no-optimize` off).
+fn optimization(optimize: bool) -> Optimization {
+    if optimize {
+        Optimization::Optimized
+    } else {
+        Optimization::Plain
+    }
+}
+
 fn diagnostics(text: &str, list: &[Diagnostic]) -> Vec<PyDiagnostic> {
     let index = LineIndex::new(text);
     list.iter()
@@ -291,12 +300,7 @@ fn compile(
     text: Option<String>,
     optimize: bool,
 ) -> PyResult<(Option<String>, Vec<PyDiagnostic>)> {
-    let optimization = if optimize {
-        Optimization::Optimized
-    } else {
-        Optimization::Plain
-    };
-    let script = load(path, text, Some(true), optimization)?;
+    let script = load(path, text, Some(true), optimization(optimize))?;
     let found = diagnostics(&script.text, &script.loaded.diagnostics);
     if script.loaded.has_errors() {
         return Ok((None, found));
@@ -310,7 +314,7 @@ type RunResult = (Vec<String>, usize, Py<PyBytes>, Py<PyDict>, Vec<String>);
 /// `gloc.run`: flies a script on a mission as `gloc run` does, logging the columns
 /// `gloc run --log` writes, each value as the log holds it.
 #[pyfunction]
-#[pyo3(signature = (script, mission=None, seconds=None, cycles=None, seed=None, simulator=Vec::new(), profile=None))]
+#[pyo3(signature = (script, mission=None, seconds=None, cycles=None, seed=None, simulator=Vec::new(), profile=None, optimize=true))]
 #[allow(clippy::too_many_arguments)]
 fn run(
     py: Python<'_>,
@@ -321,6 +325,7 @@ fn run(
     seed: Option<u64>,
     simulator: Vec<(String, f64)>,
     profile: Option<PathBuf>,
+    optimize: bool,
 ) -> PyResult<RunResult> {
     let flown = py.allow_threads(|| {
         fly(&Request {
@@ -331,6 +336,7 @@ fn run(
             seed,
             simulator,
             profile,
+            optimization: optimization(optimize),
         })
     })?;
     let data = f64_bytes(py, &flown.columns)?;
@@ -362,6 +368,7 @@ struct Request {
     seed: Option<u64>,
     simulator: Vec<(String, f64)>,
     profile: Option<PathBuf>,
+    optimization: Optimization,
 }
 
 struct Flown {
@@ -393,7 +400,7 @@ fn fly(request: &Request) -> PyResult<Flown> {
         &request.script,
         &sensors,
         &settings,
-        Optimization::Plain,
+        request.optimization,
     )
     .map_err(project_error)?;
     let Some(program) = script.loaded.program.clone() else {

@@ -178,11 +178,12 @@ def run(
 
     Returns ``(log, summary)``: the log a DataFrame of the columns ``gloc run --log``
     writes, one row per cycle, each value as the log holds it (4-byte floats but for
-    timestamps and positions), indexed by ``m_present_time``; the summary a dict
+    timestamps and positions; ``log.attrs["bytes"]`` says which), indexed by
+    ``m_present_time``; the summary a dict
     (cycles, seconds, end, end_cycle, energy_joules by consumer, warnings,
     printed: the lines the script printed)."""
     constants = [(str(name), float(value)) for name, value in (sim or {}).items()]
-    names, rows, data, summary, printed = _call(
+    names, sizes, rows, data, summary, printed = _call(
         _native.run,
         os.fspath(script),
         os.fspath(mission) if mission is not None else None,
@@ -194,6 +195,7 @@ def run(
         optimize,
     )
     log = _frame(names, rows, data)
+    log.attrs["bytes"] = dict(zip(names, sizes))
     if "m_present_time" in names:
         log.index = log["m_present_time"].to_numpy()
         log.index.name = "time"

@@ -308,8 +308,16 @@ fn compile(
     Ok((script.loaded.gloc_text.clone(), found))
 }
 
-/// What a run gave: `(names, rows, data, summary, printed)`.
-type RunResult = (Vec<String>, usize, Py<PyBytes>, Py<PyDict>, Vec<String>);
+/// What a run gave: `(names, bytes, rows, data, summary, printed)`, `bytes` per
+/// column 8 (logged as a double) or 4.
+type RunResult = (
+    Vec<String>,
+    Vec<u8>,
+    usize,
+    Py<PyBytes>,
+    Py<PyDict>,
+    Vec<String>,
+);
 
 /// `gloc.run`: flies a script on a mission as `gloc run` does, logging the columns
 /// `gloc run --log` writes, each value as the log holds it.
@@ -353,6 +361,7 @@ fn run(
     summary.set_item("warnings", flown.warnings)?;
     Ok((
         flown.names,
+        flown.bytes,
         flown.rows,
         data,
         summary.unbind(),
@@ -373,6 +382,7 @@ struct Request {
 
 struct Flown {
     names: Vec<String>,
+    bytes: Vec<u8>,
     rows: usize,
     columns: Vec<Vec<f64>>,
     seconds: f64,
@@ -515,6 +525,10 @@ fn fly(request: &Request) -> PyResult<Flown> {
         names: ids
             .iter()
             .map(|id| sensors.name(*id).unwrap_or("unknown").to_string())
+            .collect(),
+        bytes: doubles
+            .iter()
+            .map(|&double| if double { 8 } else { 4 })
             .collect(),
         rows,
         columns,

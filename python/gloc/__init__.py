@@ -120,8 +120,10 @@ def read(
     names, units, sizes, rows, data, times, time_name, warnings = _call(
         _native.read, _paths(paths), wanted, cache
     )
-    frame = _frame(names, rows, data)
-    frame.index = pandas.Index(numpy.frombuffer(times, dtype=numpy.float64), name="time")
+    # Row-major values: one 2-D block, which pandas takes without a copy.
+    values = data.reshape(rows, len(names))
+    frame = pandas.DataFrame(values, columns=names, copy=False)
+    frame.index = pandas.Index(times, name="time")
     frame.attrs["time_sensor"] = time_name
     frame.attrs["units"] = dict(zip(names, units))
     frame.attrs["bytes"] = dict(zip(names, sizes))

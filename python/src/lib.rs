@@ -17,6 +17,7 @@ use gloc_project::error::ProjectError;
 use gloc_project::script::Script;
 use gloc_project::settings::Settings;
 use gloc_project::{Overrides, Surface};
+use numpy::PyArray1;
 use pyo3::create_exception;
 use pyo3::exceptions::{PyException, PyValueError};
 use pyo3::prelude::*;
@@ -36,15 +37,15 @@ create_exception!(
 );
 
 /// Read logs: `(names, units, bytes, rows, data, times, time_name, warnings)`,
-/// `data` the f64 values column after column (NaN where a cycle did not update the
+/// `data` the f64 values row after row (NaN where a cycle did not update the
 /// sensor), `times` each cycle's time (`Cycle::time`, NaN when not updated).
 type ReadResult = (
     Vec<String>,
     Vec<String>,
     Vec<u8>,
     usize,
-    Py<PyBytes>,
-    Py<PyBytes>,
+    Py<PyArray1<f64>>,
+    Py<PyArray1<f64>>,
     Option<String>,
     Vec<String>,
 );
@@ -72,8 +73,9 @@ fn read(
     sensor_cache: Option<PathBuf>,
 ) -> PyResult<ReadResult> {
     let read = py.allow_threads(|| read_columns(&paths, sensors.as_deref(), sensor_cache))?;
-    let data = f64_bytes(py, &read.columns)?;
-    let times = f64_bytes(py, std::slice::from_ref(&read.times))?;
+    // numpy takes the buffers over: no copy of the values.
+    let data = PyArray1::from_vec(py, read.values).unbind();
+    let times = PyArray1::from_vec(py, read.times).unbind();
     Ok((
         read.names,
         read.units,
@@ -104,7 +106,8 @@ struct Columns {
     units: Vec<String>,
     bytes: Vec<u8>,
     rows: usize,
-    columns: Vec<Vec<f64>>,
+    /// Row-major: `rows` rows of the selected sensors.
+    values: Vec<f64>,
     times: Vec<f64>,
     time_name: Option<String>,
     warnings: Vec<String>,
@@ -126,18 +129,33 @@ fn read_columns(
                     .position(|sensor| sensor.name.eq_ignore_ascii_case(name))
                     .ok_or_else(|| {
                         PyValueError::new_err(format!(
-                            "`{name}` is not a sensor of these files ({} sensors; gloc.sensors(paths) lists them)",
+                            "`{name}` is not a sensor of these files ({} sensors; `gloc data info --sensors` lists them)",
                             all.len()
                         ))
                     })
             })
             .collect::<PyResult<_>>()?,
     };
-    let mut columns: Vec<Vec<f64>> = vec![Vec::new(); selected.len()];
+    // Row after row, as the cycles come: one growing buffer, written in order.
+    let mut values: Vec<f64> = Vec::new();
     let mut times = Vec::new();
+    let every = sensors.is_none();
     while let Some(cycle) = source.next_cycle().map_err(log_error)? {
-        for (column, &index) in columns.iter_mut().zip(&selected) {
-            column.push(cycle.value(index).unwrap_or(f64::NAN));
+        if every {
+            // Every column in file order: one pass over states and values together.
+            values.extend(
+                cycle
+                    .states
+                    .iter()
+                    .zip(&cycle.values)
+                    .map(|(state, &value)| if state.is_updated() { value } else { f64::NAN }),
+            );
+        } else {
+            values.extend(
+                selected
+                    .iter()
+                    .map(|&index| cycle.value(index).unwrap_or(f64::NAN)),
+            );
         }
         times.push(cycle.time);
     }
@@ -155,7 +173,7 @@ fn read_columns(
         units: pick(&|sensor| sensor.units.clone()),
         bytes: selected.iter().map(|&index| all[index].bytes).collect(),
         rows: times.len(),
-        columns,
+        values,
         times,
         time_name,
         warnings,

@@ -485,7 +485,7 @@ fn fly(request: &Request) -> PyResult<Flown> {
     .map_err(project_error)?;
     let mut sim = prepared.simulation;
     let max_cycles = match (request.seconds, request.cycles) {
-        (Some(seconds), _) if !(seconds >= 0.0) => {
+        (Some(seconds), _) if !seconds.is_finite() || seconds < 0.0 => {
             return Err(PyValueError::new_err(
                 "duration: give a number of seconds, 0 or more",
             ))
@@ -527,18 +527,7 @@ fn fly(request: &Request) -> PyResult<Flown> {
     }
     let energy = sim.energy_use();
     let end = sim.end();
-    let mut warnings: Vec<String> = Vec::new();
-    for warning in prepared.warnings {
-        warnings.push(match warning {
-            gloc_project::simulation::Warning::Simulator(text) => text,
-            gloc_project::simulation::Warning::Mission(entry) => {
-                format!("{} {}", entry.diagnostic.code, entry.diagnostic.message)
-            }
-            gloc_project::simulation::Warning::Script(diagnostic) => {
-                format!("{} {}", diagnostic.code, diagnostic.message)
-            }
-        });
-    }
+    let warnings = prepared.warnings.into_iter().map(warning_text).collect();
     Ok(Flown {
         names: ids
             .iter()
@@ -565,6 +554,23 @@ fn fly(request: &Request) -> PyResult<Flown> {
     })
 }
 
+/// A warning of `prepare` as one line (its code first where it has one).
+fn warning_text(warning: gloc_project::simulation::Warning) -> String {
+    match warning {
+        gloc_project::simulation::Warning::Simulator(text) => text,
+        gloc_project::simulation::Warning::Mission(entry) => {
+            format!("{} {}", entry.diagnostic.code, entry.diagnostic.message)
+        }
+        gloc_project::simulation::Warning::Script(diagnostic) => {
+            format!("{} {}", diagnostic.code, diagnostic.message)
+        }
+    }
+}
+
+/// A fit: `(fitted, not_fitted)`, each fitted constant `(name, value, from)`, each
+/// one not fitted `(name, why)`.
+type Calibration = (Vec<(String, f64, String)>, Vec<(String, String)>);
+
 /// `gloc.calibrate`: the constants `gloc calibrate` fits, `(fitted, not_fitted)`.
 #[pyfunction]
 #[pyo3(signature = (paths, sensor_cache=None, climb_target=3.0))]
@@ -573,7 +579,7 @@ fn calibrate(
     paths: Vec<PathBuf>,
     sensor_cache: Option<PathBuf>,
     climb_target: f64,
-) -> PyResult<(Vec<(String, f64, String)>, Vec<(String, String)>)> {
+) -> PyResult<Calibration> {
     py.allow_threads(|| {
         let mut source = open_logs(&paths, sensor_cache)?;
         let track = gloc_project::logs::read_track(&mut source).map_err(log_error)?;

@@ -238,6 +238,16 @@ fn load(
     };
     match (path, text) {
         (Some(path), None) => {
+            let extension = path
+                .extension()
+                .map(|extension| extension.to_string_lossy().to_ascii_lowercase());
+            if matches!(extension.as_deref(), Some("mi" | "ma" | "cac" | "ccc")) {
+                return Err(PyValueError::new_err(format!(
+                    "{}: gloc.check and gloc.compile read scripts (.gloc, .gbas); check a mission or a sensor list with `gloc check {}`",
+                    path.display(),
+                    path.display()
+                )));
+            }
             let text = gloc_project::script::read_script(&path).map_err(project_error)?;
             Ok(gloc_project::script::load_text(
                 Some(&path),

@@ -73,3 +73,8 @@ def test_compile_of_a_bad_script_raises_with_its_diagnostics():
         gloc.compile("x = \n", optimize=False)
     assert caught.value.diagnostics
     assert all(d.line == 1 for d in caught.value.diagnostics if d.severity == "error")
+
+
+def test_a_mission_is_not_taken_for_a_script():
+    with pytest.raises(ValueError, match="gloc check"):
+        gloc.check(os.path.join(ROOT, "examples/fig2.mi"))

@@ -699,7 +699,7 @@ fn run_outputs(args: &crate::RunArgs) -> Vec<Output<'_>> {
 /// The control cycles that fly `seconds` of simulated time: by the mean cycle period
 /// (`u_cycle_time` plus the mean overrun), for `gloc run` and `gloc batch` alike.
 pub(crate) fn cycles_for(seconds: f64, sim: &Simulation) -> u64 {
-    (seconds / sim.mean_cycle_period()).ceil() as u64
+    gloc_project::simulation::cycles_for(seconds, sim)
 }
 
 /// Parses `90s`, `45m`, `6h`, `30d`, or combinations such as `1h30m`.

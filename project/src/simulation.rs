@@ -181,6 +181,12 @@ pub fn prepare(plan: &Plan<'_>, flight: Flight) -> Result<Prepared, ProjectError
     })
 }
 
+/// The control cycles that fly `seconds` of mission time: `u_cycle_time` plus the
+/// mean overrun, for `gloc run`, `gloc batch` and the Python package alike.
+pub fn cycles_for(seconds: f64, simulation: &Simulation) -> u64 {
+    (seconds / simulation.mean_cycle_period()).ceil() as u64
+}
+
 /// The mission's path as the settings give it (for messages), `None` when embedded.
 pub fn mission_path(settings: &Settings) -> Option<&PathBuf> {
     settings.mission.as_ref().map(|sourced| &sourced.value)

@@ -1,0 +1,92 @@
+"""gloc.read against dbdreader on comet's deployment (data/comet/from-glider: the
+.dbd/.ebd pair and the .sbd/.tbd pairs, 6 files), every sensor, every cycle.
+
+dbdreader (its C extension) reads each file with DBD(..., skip_initial_line=False)
+.get(*every sensor), as dbd/benches/read_dbdreader.py does; gloc reads the same
+files one by one into DataFrames (the like-for-like figure) and, in one call, as the
+merged deployment DataFrame. dbdreader's own way to read a deployment, MultiDBD over
+the 6 files with every sensor of any of them, is timed too (the figure issue 29 quotes,
+1.20 s). Prints the median wall time of RUNS runs (default 5)
+of each and the ratio. Usage: python python/bench/read.py [RUNS]
+"""
+
+import contextlib
+import io
+import logging
+import os
+import sys
+import time
+
+import dbdreader
+
+import gloc
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+FOLDER = os.path.join(ROOT, "data", "comet", "from-glider")
+CACHE = os.path.join(ROOT, "data", "cac")
+FILES = sorted(os.path.join(FOLDER, name) for name in os.listdir(FOLDER))
+
+
+def with_dbdreader():
+    samples = 0
+    for path in FILES:
+        dbd = dbdreader.DBD(path, cacheDir=CACHE, skip_initial_line=False)
+        pairs = dbd.get(*dbd.parameterNames, decimalLatLon=False, discardBadLatLon=False)
+        samples += sum(len(values) for _, values in pairs)
+        dbd.close()
+    return samples
+
+
+def with_multidbd():
+    """dbdreader's deployment reader: every flight and science sensor of any file.
+    It logs each sensor a file lacks; those lines are silenced."""
+    logging.disable(logging.CRITICAL)
+    try:
+        multi = dbdreader.MultiDBD(filenames=FILES, cacheDir=CACHE, skip_initial_line=False)
+        names = multi.parameterNames["eng"] + multi.parameterNames["sci"]
+        pairs = multi.get(*names, decimalLatLon=False, discardBadLatLon=False, return_nans=False)
+        multi.close()
+    finally:
+        logging.disable(logging.NOTSET)
+    return sum(len(values) for _, values in pairs)
+
+
+def with_gloc_per_file():
+    samples = 0
+    for path in FILES:
+        frame = gloc.read(path, sensor_cache=CACHE)
+        samples += int(frame.notna().to_numpy().sum())
+    return samples
+
+
+def with_gloc_merged():
+    frame = gloc.read(FILES, sensor_cache=CACHE)
+    return frame.shape
+
+
+def median(function, runs):
+    times = []
+    for _ in range(runs):
+        start = time.perf_counter()
+        result = function()
+        times.append(time.perf_counter() - start)
+    times.sort()
+    return times[len(times) // 2], result
+
+
+def main():
+    runs = int(sys.argv[1]) if len(sys.argv) > 1 else 5
+    size = sum(os.path.getsize(path) for path in FILES)
+    print(f"comet's deployment: {len(FILES)} files, {size / 1e6:.2f} MB; median of {runs} runs")
+    theirs, their_samples = median(with_dbdreader, runs)
+    ours, our_samples = median(with_gloc_per_file, runs)
+    merged, shape = median(with_gloc_merged, runs)
+    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+        multi, multi_samples = median(with_multidbd, runs)
+    print(f"dbdreader 0.6.3, every sensor of each file: {theirs * 1e3:.1f} ms ({their_samples} samples)")
+    print(f"gloc.read, each file a DataFrame:          {ours * 1e3:.1f} ms ({our_samples} non-NaN cells); {theirs / ours:.1f}x faster")
+    print(f"gloc.read, the merged deployment:           {merged * 1e3:.1f} ms ({shape[0]} rows x {shape[1]} sensors); {theirs / merged:.1f}x faster")
+    print(f"dbdreader 0.6.3 MultiDBD, the deployment:   {multi * 1e3:.1f} ms ({multi_samples} samples); gloc.read merged {multi / merged:.1f}x faster")
+
+
+main()

@@ -70,7 +70,7 @@ impl Start {
             lat: segment.start.lat,
             lon: segment.start.lon,
             believed: segment.prior,
-            avg_speed: history.last_avg_speed,
+            avg_speed: segment.avg_speed.or(history.last_avg_speed),
             waypoint: segment.waypoint,
             timers_elapsed: segment.timers_elapsed,
             amp_hours: None,

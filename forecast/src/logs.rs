@@ -88,6 +88,9 @@ pub struct Segment {
     pub underwater: f64,
     /// The waypoint steered to during the segment (NMEA lat, lon), if logged.
     pub waypoint: Option<(f64, f64)>,
+    /// `m_avg_speed` the glider steered the segment with (its last value at or
+    /// before the dive's fix, else the first during the segment), if logged.
+    pub avg_speed: Option<f64>,
     /// Seconds from the start of the surfacing before the dive (when the
     /// glider left its last bottom for the surface) to the start fix: how far
     /// the mission's surface timers had run when the segment began.
@@ -107,6 +110,8 @@ pub struct LogHistory {
     pub initial_estimates: Vec<Estimate>,
     /// Each change of the waypoint (`c_wpt_lat/lon`, NMEA), in time order.
     pub waypoints: Vec<(f64, (f64, f64))>,
+    /// Each change of `m_avg_speed` (m/s), in time order.
+    pub avg_speeds: Vec<(f64, f64)>,
     pub segments: Vec<Segment>,
     /// The latest values at the end of the logs.
     pub last_water: Option<Xy>,
@@ -252,6 +257,9 @@ pub fn read_history(source: &mut dyn CycleSource) -> Result<LogHistory, LogError
         }
         let finite = |value: Option<f64>| value.filter(|value| value.is_finite());
         if let Some(speed) = finite(get(Column::AvgSpeed)).filter(|speed| *speed > 0.0) {
+            if history.last_avg_speed != Some(speed) {
+                history.avg_speeds.push((time, speed));
+            }
             history.last_avg_speed = Some(speed);
         }
         if let Some(amp_hours) = finite(get(Column::AmpHours)) {
@@ -316,6 +324,20 @@ fn segments(history: &LogHistory, samples: &[Sample]) -> Vec<Segment> {
             .find(|(time, _)| *time <= start.time)
             .or_else(|| history.waypoints.iter().find(|(time, _)| *time <= end.time))
             .map(|(_, at)| *at);
+        // The speed it steered with (the current correction divides by it), as
+        // the waypoint: the last before the dive, else the first during it.
+        let avg_speed = history
+            .avg_speeds
+            .iter()
+            .rev()
+            .find(|(time, _)| *time <= start.time)
+            .or_else(|| {
+                history
+                    .avg_speeds
+                    .iter()
+                    .find(|(time, _)| *time <= end.time)
+            })
+            .map(|(_, speed)| *speed);
         segments.push(Segment {
             start,
             end,
@@ -323,6 +345,7 @@ fn segments(history: &LogHistory, samples: &[Sample]) -> Vec<Segment> {
             found,
             underwater: last - first,
             waypoint,
+            avg_speed,
             timers_elapsed: timers_elapsed(&history.fixes, samples, start.time),
             surfacing_began: end.time - timers_elapsed(&history.fixes, samples, end.time),
         });

@@ -39,6 +39,15 @@ fn hindcast_of_comets_segments_lands_within_the_bound() {
     let history = history(&deployment());
     // Two segments: 152 (10:52–13:41 UTC, from the .sbd) and 154 (13:56–16:41).
     assert_eq!(history.segments.len(), 2, "{:?}", history.segments);
+    // Each segment steers with the m_avg_speed it dove with. As `gloc data convert
+    // --sensors m_present_time,m_avg_speed` lists 154's .dbd: 0.26162285 at 13:54:06, the
+    // last before the dive's fix (13:56:38), and 0.26583 the last of the logs; the .sbd
+    // files log none, so 152 falls back to the last.
+    assert_eq!(history.segments[0].avg_speed, None);
+    let speed = history.segments[1].avg_speed.expect("154 logs m_avg_speed");
+    assert!((speed - 0.261_622_85).abs() < 1e-7, "{speed}");
+    let last = history.last_avg_speed.expect("logged");
+    assert!((last - 0.265_83).abs() < 1e-6, "{last}");
     let results = hindcast(
         &history,
         &mission(),

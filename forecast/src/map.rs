@@ -40,26 +40,38 @@ impl MapFormat {
     }
 }
 
+/// Draws with `$draw` (given the drawing area) on the backend `$path`'s extension names
+/// (PNG or SVG), and words a failure with the path: one body for every map. A macro,
+/// because the drawing functions are generic over the backend.
+macro_rules! render {
+    ($path:expr, |$root:ident| $draw:expr) => {{
+        let path: &Path = $path;
+        let result = match MapFormat::from_path(path) {
+            Some(MapFormat::Png) => {
+                let area = BitMapBackend::new(path, (WIDTH, HEIGHT)).into_drawing_area();
+                let $root = &area;
+                $draw
+                    .and_then(|()| area.present())
+                    .map_err(|error| error.to_string())
+            }
+            Some(MapFormat::Svg) => {
+                let area = SVGBackend::new(path, (WIDTH, HEIGHT)).into_drawing_area();
+                let $root = &area;
+                $draw
+                    .and_then(|()| area.present())
+                    .map_err(|error| error.to_string())
+            }
+            None => Err("a map is .png or .svg".to_string()),
+        };
+        result.map_err(|error| format!("cannot draw the map `{}`: {error}", path.display()))
+    }};
+}
+
 /// Draws the map to `path` (PNG or SVG by the extension). `fixes` are the
 /// logged GPS fixes to show where the glider has been.
 pub fn write_map(forecast: &Forecast, fixes: &[Fix], path: &Path) -> Result<(), String> {
     gloc_sim::plot::register_font();
-    let result = match MapFormat::from_path(path) {
-        Some(MapFormat::Png) => {
-            let root = BitMapBackend::new(path, (WIDTH, HEIGHT)).into_drawing_area();
-            draw(&root, forecast, fixes)
-                .and_then(|()| root.present())
-                .map_err(|error| error.to_string())
-        }
-        Some(MapFormat::Svg) => {
-            let root = SVGBackend::new(path, (WIDTH, HEIGHT)).into_drawing_area();
-            draw(&root, forecast, fixes)
-                .and_then(|()| root.present())
-                .map_err(|error| error.to_string())
-        }
-        None => Err("a map is .png or .svg".to_string()),
-    };
-    result.map_err(|error| format!("cannot draw the map `{}`: {error}", path.display()))
+    render!(path, |root| draw(root, forecast, fixes))
 }
 
 /// Every (lat, lon) the map shows.
@@ -253,22 +265,7 @@ pub fn write_hindcast_map(
     path: &Path,
 ) -> Result<(), String> {
     gloc_sim::plot::register_font();
-    let result = match MapFormat::from_path(path) {
-        Some(MapFormat::Png) => {
-            let root = BitMapBackend::new(path, (WIDTH, HEIGHT)).into_drawing_area();
-            draw_hindcast(&root, segments, fixes)
-                .and_then(|()| root.present())
-                .map_err(|error| error.to_string())
-        }
-        Some(MapFormat::Svg) => {
-            let root = SVGBackend::new(path, (WIDTH, HEIGHT)).into_drawing_area();
-            draw_hindcast(&root, segments, fixes)
-                .and_then(|()| root.present())
-                .map_err(|error| error.to_string())
-        }
-        None => Err("a map is .png or .svg".to_string()),
-    };
-    result.map_err(|error| format!("cannot draw the map `{}`: {error}", path.display()))
+    render!(path, |root| draw_hindcast(root, segments, fixes))
 }
 
 fn draw_hindcast<DB: DrawingBackend>(

@@ -195,14 +195,52 @@ pub fn load_script_written_for(
 }
 
 fn load_gbasic(text: &str, sensors: &SensorList, options: &LoadOptions) -> LoadedScript {
-    let compiled = compile(
-        text,
-        sensors,
-        &CompileOptions {
-            optimize: options.optimize,
-        },
-    );
-    load_compiled(text, compiled, sensors, options)
+    let load = |optimize| {
+        load_compiled(
+            text,
+            compile(text, sensors, &CompileOptions { optimize }),
+            sensors,
+            options,
+        )
+    };
+    let loaded = load(options.optimize);
+    if !options.optimize {
+        return loaded;
+    }
+    // Constant folding can turn a loop's exit test into a jump: `n = 10` then `loop
+    // while n < 25` folds to a loop without a way out, which the GLOC checker refuses
+    // (E0111) although the plain code only warns (W0111) and traps at run time when
+    // the cycle budget runs out. `-O` must not change whether a program compiles, so
+    // such a program keeps its plain code and the proof becomes a warning.
+    let endless: Vec<Span> = loaded
+        .diagnostics
+        .iter()
+        .filter(|diagnostic| diagnostic.code == gloc_engine::codes::gloc::LOOP_WITHOUT_YIELD)
+        .map(|diagnostic| diagnostic.span)
+        .collect();
+    if endless.is_empty() {
+        return loaded;
+    }
+    let mut plain = load(false);
+    if plain.has_errors() {
+        return loaded;
+    }
+    for span in endless {
+        plain.diagnostics.push(
+            Diagnostic::warning(
+                crate::codes::ENDLESS_AFTER_FOLDING,
+                span,
+                "`-O` proved this loop never ends and never yields: its exit condition is \
+                 always the same, so it would hang the control cycle (the vehicle's script \
+                 traps when the cycle budget runs out); the program is compiled without `-O`",
+            )
+            .with_help("add a `yield` inside the loop, or change what the exit condition tests"),
+        );
+    }
+    plain
+        .diagnostics
+        .sort_by_key(|diagnostic| (diagnostic.span.start, diagnostic.span.end));
+    plain
 }
 
 /// The GLOC half of loading a GBASIC script: check the compiled code (with the

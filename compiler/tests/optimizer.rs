@@ -200,3 +200,63 @@ fn a_branch_on_a_known_condition_folds_away_and_the_last_label_becomes_0() {
         "nregs 0\nnblbs 1\nninstr 3\nlabel 0\nyield\njumpi 0\n"
     );
 }
+
+/// Found by the CI-sized fuzz run (gbasic_compile, 2026-11-27): `n = 10` then `loop
+/// while n < 25` folds to a loop with no way out. The plain code compiles (W0111, it
+/// traps when the cycle budget runs out); `-O` refused it with E0111, so the flag
+/// changed whether the program compiles. Now `-O` keeps the plain code and says why.
+#[test]
+fn a_loop_folding_proves_endless_keeps_the_plain_code_with_a_warning() {
+    let source = "dim n as integer\ndo\n  n = 10\nloop while n < 25\nprint n\nend\n";
+    let sensors = SensorList::embedded();
+    let load = |optimize| {
+        load_script(
+            source,
+            Language::Gbasic,
+            &sensors,
+            &LoadOptions {
+                optimize,
+                cycle_budget: None,
+            },
+        )
+    };
+    let (plain, optimized) = (load(false), load(true));
+    assert!(plain.program.is_some(), "{:?}", plain.diagnostics);
+    assert!(optimized.program.is_some(), "{:?}", optimized.diagnostics);
+    assert_eq!(
+        optimized.gloc_text, plain.gloc_text,
+        "the plain code is kept"
+    );
+    let codes = |loaded: &gloc_compiler::LoadedScript| -> Vec<&str> {
+        loaded.diagnostics.iter().map(|d| d.code).collect()
+    };
+    assert_eq!(codes(&plain), ["W0111"]);
+    // The proof is on the `loop while` line (line 4), where the loop jumps back.
+    let warning = optimized
+        .diagnostics
+        .iter()
+        .find(|d| d.code == "W2304")
+        .expect("W2304 explains why -O was not used");
+    let line_start = source.match_indices('\n').nth(2).unwrap().0 + 1;
+    assert_eq!(warning.span.start as usize, line_start, "{warning:?}");
+    assert!(codes(&optimized).contains(&"W0111"));
+    // A loop -O cannot prove endless is still optimized.
+    let bounded = "dim n as integer\ndo\n  n = n + 10\nloop while n < 25\nprint n\nend\n";
+    assert_ne!(
+        optimized_text(bounded, true),
+        optimized_text(bounded, false)
+    );
+}
+
+fn optimized_text(source: &str, optimize: bool) -> Option<String> {
+    load_script(
+        source,
+        Language::Gbasic,
+        &SensorList::embedded(),
+        &LoadOptions {
+            optimize,
+            cycle_budget: None,
+        },
+    )
+    .gloc_text
+}

@@ -123,6 +123,7 @@ registry! {
         ZERO_STEP = "W2301", Warning, "a `for` loop with step 0";
         OVER_BUDGET = "W2302", Warning, "the worst case per cycle exceeds the cycle budget given to the loader";
         NOT_OPTIMIZED = "W2303", Warning, "a program too large for `-O` (instructions × registers over 2^30), compiled without it";
+        ENDLESS_AFTER_FOLDING = "W2304", Warning, "`-O` proved a loop never ends and never yields (its condition is constant): it would hang the control cycle; the program is compiled without `-O`";
     }
     /// Missions: `.mi` and `.ma` files, and the mission against the list and the script (S-codes).
     mission {

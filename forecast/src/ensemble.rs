@@ -136,6 +136,16 @@ pub fn run_ensemble(
     options: &EnsembleOptions,
 ) -> Result<Ensemble, ForecastError> {
     let tracks = fly_members(input, options)?;
+    Ok(summarize(input, options, &tracks))
+}
+
+/// The members' tracks (by number, as [`fly_members`] or [`fly_member`] gave
+/// them) reduced to the regions per hour and the surfacing spreads.
+pub fn summarize(
+    input: &EnsembleInput<'_>,
+    options: &EnsembleOptions,
+    tracks: &[Track],
+) -> Ensemble {
     let lmc = input.start.lmc();
     let offsets = (0..options.members)
         .map(|number| member_draw(options, number).0)
@@ -180,7 +190,7 @@ pub fn run_ensemble(
         .enumerate()
         .filter_map(|(number, track)| track.left_grid.clone().map(|message| (number, message)))
         .collect();
-    Ok(Ensemble {
+    Ensemble {
         left_grid,
         members: options.members,
         seed: options.seed,
@@ -188,7 +198,7 @@ pub fn run_ensemble(
         offsets,
         regions,
         surfacings,
-    })
+    }
 }
 
 /// Each member's track (a point every hour, and its surfacings), by number.
@@ -199,12 +209,6 @@ pub fn fly_members(
     let count = options.members.min(MAX_MEMBERS);
     let next = AtomicUsize::new(0);
     let threads = options.threads.clamp(1, count.max(1));
-    let plan = FlightPlan {
-        seconds: input.hours * 3600.0,
-        record_every: 3600.0,
-        stop_at_first_fix: StopAt::Horizon,
-        outside: Outside::Stop,
-    };
     let results: Vec<Vec<(usize, Result<Track, ForecastError>)>> = std::thread::scope(|scope| {
         let workers: Vec<_> = (0..threads)
             .map(|_| {
@@ -215,27 +219,7 @@ pub fn fly_members(
                         if number >= count {
                             break;
                         }
-                        let (offset, seed) = member_draw(options, number);
-                        let truth = match input.truth {
-                            Truth::Uniform(water) => Truth::Uniform(*water + offset),
-                            Truth::Field(field, base) => {
-                                Truth::Field(field.clone(), *base + offset)
-                            }
-                        };
-                        let config = SimConfig {
-                            seed,
-                            ..input.config.clone()
-                        };
-                        let track = fly(
-                            input.mission,
-                            input.sensors,
-                            &config,
-                            input.start,
-                            &truth,
-                            input.bathymetry,
-                            &plan,
-                        );
-                        done.push((number, track));
+                        done.push((number, fly_member(input, options, number)));
                     }
                     done
                 })
@@ -257,6 +241,41 @@ pub fn fly_members(
             track.ok_or_else(|| ForecastError::Mission(format!("member {number} did not fly")))
         })
         .collect()
+}
+
+/// Member `number`'s track (a point every hour, and its surfacings): the
+/// forecast's current plus the member's offset, the simulator seeded with the
+/// member's draw. It depends on the ensemble's seed and spread and on `number`
+/// only, so members flown apart (threads, processes, machines) are the same.
+pub fn fly_member(
+    input: &EnsembleInput<'_>,
+    options: &EnsembleOptions,
+    number: usize,
+) -> Result<Track, ForecastError> {
+    let plan = FlightPlan {
+        seconds: input.hours * 3600.0,
+        record_every: 3600.0,
+        stop_at_first_fix: StopAt::Horizon,
+        outside: Outside::Stop,
+    };
+    let (offset, seed) = member_draw(options, number);
+    let truth = match input.truth {
+        Truth::Uniform(water) => Truth::Uniform(*water + offset),
+        Truth::Field(field, base) => Truth::Field(field.clone(), *base + offset),
+    };
+    let config = SimConfig {
+        seed,
+        ..input.config.clone()
+    };
+    fly(
+        input.mission,
+        input.sensors,
+        &config,
+        input.start,
+        &truth,
+        input.bathymetry,
+        &plan,
+    )
 }
 
 fn spread_of(number: usize, found: &[(f64, Xy)], lmc: &Lmc) -> SurfacingSpread {

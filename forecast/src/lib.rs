@@ -94,6 +94,21 @@ pub struct Request {
 /// The largest horizon (h).
 pub const MAX_HOURS: f64 = 24.0 * 30.0;
 
+/// The true current every track of the forecast flies in, and what it is in
+/// words: the request's field, else the glider's own estimate at `start`.
+pub fn truth(request: &Request, start: &Start) -> (Truth, String) {
+    match &request.currents {
+        Some((field, name)) => (Truth::Field(field.clone(), Xy::ZERO), name.clone()),
+        None => (
+            Truth::Uniform(start.believed),
+            format!(
+                "the glider's own estimate ({:+.3}, {:+.3}) m/s east, north",
+                start.believed.x, start.believed.y
+            ),
+        ),
+    }
+}
+
 /// Flies the forecast from the end of `history`.
 pub fn forecast(
     history: &LogHistory,
@@ -104,16 +119,7 @@ pub fn forecast(
 ) -> Result<Forecast, ForecastError> {
     let start = Start::from_history(history)?;
     let prepared = fly::prepare_mission(mission, &start);
-    let (truth, current) = match &request.currents {
-        Some((field, name)) => (Truth::Field(field.clone(), Xy::ZERO), name.clone()),
-        None => (
-            Truth::Uniform(start.believed),
-            format!(
-                "the glider's own estimate ({:+.3}, {:+.3}) m/s east, north",
-                start.believed.x, start.believed.y
-            ),
-        ),
-    };
+    let (truth, current) = truth(request, &start);
     let plan = fly::FlightPlan {
         seconds: request.hours * 3600.0,
         record_every: 60.0,

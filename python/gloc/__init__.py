@@ -9,8 +9,8 @@ what it returns into DataFrames, dataclasses and exceptions.
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
-from typing import Iterable, Optional, Sequence, Union
+from dataclasses import dataclass, field
+from typing import Any, Iterable, Optional, Sequence, Tuple, Union
 
 import numpy
 import pandas
@@ -27,6 +27,8 @@ __all__ = [
     "compile",
     "run",
     "calibrate",
+    "forecast",
+    "Forecast",
 ]
 
 PathLike = Union[str, "os.PathLike[str]"]
@@ -229,3 +231,225 @@ class Calibration(dict):
 
     sources: dict
     not_fitted: dict
+
+
+_SURFACING_COLUMNS = [
+    "time",
+    "lat",
+    "lon",
+    "waypoint_lat",
+    "waypoint_lon",
+    "distance_to_waypoint",
+    "underwater",
+    "estimate_u",
+    "estimate_v",
+]
+
+
+@dataclass
+class Forecast:
+    """A forecast from the end of a glider's logs, as ``gloc forecast`` makes it.
+    Times are Unix seconds, positions decimal degrees.
+
+    - ``start``: the last fix and the state there (``time``, ``lat``, ``lon``,
+      ``believed`` current, ``waypoint``, ``avg_speed``, ``amp_hours``, ``battery``).
+    - ``track``: the forecast track (a point a minute), index ``time``; columns
+      ``lat``, ``lon``, ``depth``. ``surfacings``: the predicted first fixes after
+      each dive (index ``number`` from 1). ``fixes``: the GPS fixes in the logs.
+    - With ``members``: ``members`` each member's track (a point an hour), columns
+      ``member, time, lat, lon, depth``; ``member_surfacings`` likewise
+      (``member, number, time, lat, lon, ...``); ``offsets`` each member's current
+      offset (m/s, ``u`` east, ``v`` north); ``regions`` per hour the convex hull of
+      the members (``lat``, ``lon`` arrays, counter-clockwise) and how many members;
+      ``surfacing_spread`` per surfacing the members' spread (``radius_95``,
+      ``radius_max`` in m from the mean); ``left_grid`` ``{member: message}`` for
+      members that left the current or bathymetry grid.
+    """
+
+    start: dict
+    mission: str
+    current: str
+    hours: float
+    track: pandas.DataFrame
+    surfacings: pandas.DataFrame
+    ended: Optional[str]
+    amp_hours_used: float
+    fixes: pandas.DataFrame
+    spread: Tuple[float, float]
+    seed: int
+    members: Optional[pandas.DataFrame] = None
+    member_surfacings: Optional[pandas.DataFrame] = None
+    offsets: Optional[pandas.DataFrame] = None
+    regions: Optional[pandas.DataFrame] = None
+    surfacing_spread: Optional[pandas.DataFrame] = None
+    left_grid: dict = field(default_factory=dict)
+
+
+def _track_frames(track) -> Tuple[pandas.DataFrame, pandas.DataFrame]:
+    points, surfacings, _, _, _ = track
+    frame = pandas.DataFrame(
+        numpy.asarray(points, dtype=numpy.float64).reshape(-1, 4),
+        columns=["time", "lat", "lon", "depth"],
+    ).set_index("time")
+    up = pandas.DataFrame(
+        numpy.asarray(surfacings, dtype=numpy.float64).reshape(-1, len(_SURFACING_COLUMNS)),
+        columns=_SURFACING_COLUMNS,
+    )
+    up.index = pandas.RangeIndex(1, len(up) + 1, name="number")
+    return frame, up
+
+
+def _members_frames(tracks: list) -> Tuple[pandas.DataFrame, pandas.DataFrame]:
+    """Every member's points and surfacings, long form (a ``member`` column)."""
+    points, surfacings, point_of, surfacing_of = [], [], [], []
+    for number, (track_points, track_surfacings, _, _, _) in enumerate(tracks):
+        points.extend(track_points)
+        surfacings.extend(track_surfacings)
+        point_of.extend([number] * len(track_points))
+        surfacing_of.extend((number, index) for index in range(1, len(track_surfacings) + 1))
+    members = pandas.DataFrame(
+        numpy.asarray(points, dtype=numpy.float64).reshape(-1, 4),
+        columns=["time", "lat", "lon", "depth"],
+    )
+    members.insert(0, "member", numpy.asarray(point_of, dtype=numpy.int64))
+    up = pandas.DataFrame(
+        numpy.asarray(surfacings, dtype=numpy.float64).reshape(-1, len(_SURFACING_COLUMNS)),
+        columns=_SURFACING_COLUMNS,
+    )
+    up.insert(0, "member", numpy.asarray([m for m, _ in surfacing_of], dtype=numpy.int64))
+    up.insert(1, "number", numpy.asarray([n for _, n in surfacing_of], dtype=numpy.int64))
+    return members, up
+
+
+def _summary_frames(summary: dict) -> dict:
+    offsets = pandas.DataFrame(
+        numpy.asarray(summary["offsets"], dtype=numpy.float64).reshape(-1, 2), columns=["u", "v"]
+    )
+    offsets.index.name = "member"
+    regions = pandas.DataFrame(
+        {
+            "time": [time for _, time, _, _ in summary["regions"]],
+            "members": [count for _, _, count, _ in summary["regions"]],
+            "lat": [numpy.array([p[0] for p in hull]) for _, _, _, hull in summary["regions"]],
+            "lon": [numpy.array([p[1] for p in hull]) for _, _, _, hull in summary["regions"]],
+        },
+        index=pandas.Index([hour for hour, _, _, _ in summary["regions"]], name="hour"),
+    )
+    names = ["members", "earliest", "latest", "mean_time", "mean_lat", "mean_lon",
+             "radius_95", "radius_max"]
+    spread = pandas.DataFrame(
+        [entry[1:9] for entry in summary["surfacings"]],
+        columns=names,
+        index=pandas.Index([entry[0] for entry in summary["surfacings"]], name="number"),
+    )
+    spread["hull_lat"] = [numpy.array([p[0] for p in entry[9]]) for entry in summary["surfacings"]]
+    spread["hull_lon"] = [numpy.array([p[1] for p in entry[9]]) for entry in summary["surfacings"]]
+    return {
+        "offsets": offsets,
+        "regions": regions,
+        "surfacing_spread": spread,
+        "left_grid": dict(summary["left_grid"]),
+    }
+
+
+def _fly_chunk(asked: dict, first: int, last: int) -> list:
+    """A Dask task: members ``first..last`` flown by the native code in the worker."""
+    return _call(_native.forecast_members, asked, first, last)
+
+
+def _chunks(members: int, count: int) -> list:
+    """``0..members`` in ``count`` consecutive ranges of nearly equal size."""
+    count = max(1, min(count, members))
+    edges = [members * index // count for index in range(count + 1)]
+    return [(edges[i], edges[i + 1]) for i in range(count) if edges[i] < edges[i + 1]]
+
+
+def forecast(
+    logs: Union[PathLike, Iterable[PathLike]],
+    mission: PathLike,
+    hours: float = 12.0,
+    currents: Optional[PathLike] = None,
+    members: int = 0,
+    seed: int = 1,
+    spread: Optional[Union[float, Tuple[float, float]]] = None,
+    client: Any = None,
+    chunks: Optional[int] = None,
+    threads: Optional[int] = None,
+    bathymetry: Optional[PathLike] = None,
+    sensor_cache: Optional[PathLike] = None,
+    sim: Optional[dict] = None,
+) -> Forecast:
+    """Where will the glider be? ``gloc forecast``: from the last fix of ``logs``
+    (one deployment, as :func:`read` takes it), ``mission`` (``.mi``) flown ahead
+    ``hours`` (up to 720) in the simulator, in ``currents`` (an ocean model's
+    NetCDF ``.nc`` or a CSV ``time,u,v``; default: the glider's own latest
+    estimate). ``members`` > 0 flies a seeded ensemble over the current's
+    uncertainty (σ ``spread`` m/s, one value or ``(east, north)``; default: the
+    spread of the logs' own estimates, at least 0.02), with the hourly regions.
+
+    Without ``client`` the members fly on this machine's threads (``threads``,
+    default every core), in the native code. With ``client`` (a
+    ``dask.distributed.Client``) they are split into ``chunks`` consecutive ranges
+    (default four per worker thread), each flown by the native code in a worker;
+    a member depends only on ``seed`` and its number, so any split (threads,
+    workers, chunks) gives the same members. The workers read ``logs``,
+    ``mission`` and ``currents`` by their paths: on a cluster, a shared file
+    system. ``sim``, ``sensor_cache``, ``bathymetry`` as for ``gloc forecast``.
+    Returns a :class:`Forecast`."""
+    if spread is not None and not isinstance(spread, (tuple, list)):
+        spread = (float(spread), float(spread))
+    asked = {
+        "logs": [os.path.abspath(path) for path in _paths(logs)],
+        "mission": os.path.abspath(os.fspath(mission)),
+        "hours": float(hours),
+        "currents": os.path.abspath(os.fspath(currents)) if currents is not None else None,
+        "bathymetry": os.path.abspath(os.fspath(bathymetry)) if bathymetry is not None else None,
+        "sensor_cache": os.path.abspath(os.fspath(sensor_cache)) if sensor_cache is not None else None,
+        "simulator": [(str(name), float(value)) for name, value in (sim or {}).items()],
+        "members": int(members),
+        "seed": int(seed),
+        "spread": (float(spread[0]), float(spread[1])) if spread is not None else None,
+    }
+    if asked["members"] < 0:
+        raise ValueError(f"members={members}: give 0 (no ensemble) or more")
+    here = 0 if client is not None else (threads or os.cpu_count() or 1)
+    made = _call(_native.forecast, asked, here)
+    tracks = made.get("members")
+    summary = made.get("ensemble")
+    if client is not None and asked["members"] > 0:
+        # The spread the first call settled on, so every chunk flies the same members.
+        asked["spread"] = made["spread"]
+        if chunks is None:
+            chunks = 4 * max(1, sum(client.nthreads().values()))
+        futures = [
+            client.submit(_fly_chunk, asked, first, last, pure=False)
+            for first, last in _chunks(asked["members"], int(chunks))
+        ]
+        tracks = [track for chunk in client.gather(futures) for track in chunk]
+        summary = _call(_native.forecast_summary, asked, tracks)
+    track, surfacings = _track_frames(made["track"])
+    fixes = pandas.DataFrame(
+        numpy.asarray(made["fixes"], dtype=numpy.float64).reshape(-1, 3),
+        columns=["time", "lat", "lon"],
+    )
+    result = Forecast(
+        start=made["start"],
+        mission=made["mission"],
+        current=made["current"],
+        hours=made["hours"],
+        track=track,
+        surfacings=surfacings,
+        ended=made["track"][2],
+        amp_hours_used=made["track"][3],
+        fixes=fixes,
+        spread=tuple(made["spread"]),
+        seed=asked["seed"],
+    )
+    if tracks is not None:
+        result.members, result.member_surfacings = _members_frames(tracks)
+        frames = _summary_frames(summary)
+        result.offsets = frames["offsets"]
+        result.regions = frames["regions"]
+        result.surfacing_spread = frames["surfacing_spread"]
+        result.left_grid = frames["left_grid"]
+    return result

@@ -6,6 +6,8 @@
 
 #![forbid(unsafe_code)]
 
+mod forecast;
+
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -456,16 +458,8 @@ fn fly(request: &Request) -> PyResult<Flown> {
     };
     let mission =
         gloc_project::simulation::load_mission(&settings, &sensors).map_err(project_error)?;
-    if mission.has_errors() {
-        return Err(ProjectError_::new_err(format!(
-            "the mission has errors; nothing was simulated: {}",
-            mission
-                .diagnostics
-                .iter()
-                .map(|entry| format!("{} {}", entry.diagnostic.code, entry.diagnostic.message))
-                .collect::<Vec<_>>()
-                .join("; ")
-        )));
+    if let Some(error) = mission_errors(&mission, "simulated") {
+        return Err(error);
     }
     let profile = match &request.profile {
         Some(path) => Some(
@@ -564,6 +558,21 @@ fn fly(request: &Request) -> PyResult<Flown> {
     })
 }
 
+/// A mission with errors as a `ProjectError` naming each (nothing was `done`).
+fn mission_errors(mission: &gloc_sim::Mission, done: &str) -> Option<PyErr> {
+    mission.has_errors().then(|| {
+        ProjectError_::new_err(format!(
+            "the mission has errors; nothing was {done}: {}",
+            mission
+                .diagnostics
+                .iter()
+                .map(|entry| format!("{} {}", entry.diagnostic.code, entry.diagnostic.message))
+                .collect::<Vec<_>>()
+                .join("; ")
+        ))
+    })
+}
+
 /// A warning of `prepare` as one line (its code first where it has one).
 fn warning_text(warning: gloc_project::simulation::Warning) -> String {
     match warning {
@@ -620,5 +629,8 @@ fn _native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(compile, module)?)?;
     module.add_function(wrap_pyfunction!(run, module)?)?;
     module.add_function(wrap_pyfunction!(calibrate, module)?)?;
+    module.add_function(wrap_pyfunction!(forecast::forecast, module)?)?;
+    module.add_function(wrap_pyfunction!(forecast::forecast_members, module)?)?;
+    module.add_function(wrap_pyfunction!(forecast::forecast_summary, module)?)?;
     Ok(())
 }

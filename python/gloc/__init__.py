@@ -23,6 +23,7 @@ __all__ = [
     "ProjectError",
     "CompileError",
     "read",
+    "to_xarray",
     "check",
     "compile",
     "run",
@@ -131,6 +132,38 @@ def read(
     frame.attrs["bytes"] = dict(zip(names, sizes))
     frame.attrs["warnings"] = list(warnings)
     return frame
+
+
+def to_xarray(frame: pandas.DataFrame):
+    """A DataFrame of :func:`read` (or :func:`run`'s log) as an ``xarray.Dataset``
+    along ``time``: each sensor a variable with its ``units`` and ``bytes`` (what
+    the value takes in the file) as attributes, the time coordinate in Unix
+    seconds (``units = "seconds since 1970-01-01T00:00:00Z"``, CF), and the
+    frame's ``time_sensor`` and ``warnings`` as the Dataset's attributes. The
+    values are not copied where numpy can share them. Needs xarray."""
+    import xarray
+
+    units = frame.attrs.get("units", {})
+    sizes = frame.attrs.get("bytes", {})
+    variables = {}
+    for name in frame.columns:
+        attrs = {}
+        if units.get(name):
+            attrs["units"] = units[name]
+        if name in sizes:
+            attrs["bytes"] = int(sizes[name])
+        variables[name] = xarray.Variable("time", frame[name].to_numpy(), attrs)
+    time = xarray.Variable(
+        "time",
+        numpy.asarray(frame.index, dtype=numpy.float64),
+        {"units": "seconds since 1970-01-01T00:00:00Z", "standard_name": "time"},
+    )
+    attrs = {}
+    if frame.attrs.get("time_sensor"):
+        attrs["time_sensor"] = frame.attrs["time_sensor"]
+    if frame.attrs.get("warnings"):
+        attrs["warnings"] = "\n".join(frame.attrs["warnings"])
+    return xarray.Dataset(variables, coords={"time": time}, attrs=attrs)
 
 
 def _script_arguments(path_or_text: Union[PathLike, str]) -> dict:

@@ -345,25 +345,37 @@ impl DbdReader {
             return Ok(self.truncated(start));
         }
         let sensors = Arc::clone(&self.sensors);
+        self.cycle.clear_updates();
+        // Four sensors a state byte; a zero byte (four not updated, most of a wide
+        // log's) is skipped whole, so a cycle costs its updates, not its columns.
         let mut length = 0usize;
-        for (column, sensor) in sensors.iter().enumerate() {
-            let bits = (self.states[column >> 2] >> (6 - 2 * (column & 3))) & 3;
-            let state = match bits {
-                0 => State::NotUpdated,
-                1 => State::Same,
-                2 => {
-                    length += sensor.bytes as usize;
-                    State::New
-                }
-                _ => {
-                    self.done = true;
-                    return Err(self.error(
-                        start + 1 + (column >> 2) as u64,
-                        format!("state bits 11 (not a state) for `{}`", sensor.name),
-                    ));
-                }
-            };
-            self.cycle.states[column] = state;
+        for (index, &byte) in self.states.iter().enumerate() {
+            if byte == 0 {
+                continue;
+            }
+            for slot in 0..4 {
+                let column = 4 * index + slot;
+                let Some(sensor) = sensors.get(column) else {
+                    break;
+                };
+                let state = match (byte >> (6 - 2 * slot)) & 3 {
+                    0 => continue,
+                    1 => State::Same,
+                    2 => {
+                        length += sensor.bytes as usize;
+                        State::New
+                    }
+                    _ => {
+                        self.done = true;
+                        return Err(self.error(
+                            start + 1 + index as u64,
+                            format!("state bits 11 (not a state) for `{}`", sensor.name),
+                        ));
+                    }
+                };
+                self.cycle.states[column] = state;
+                self.cycle.updated.push(column);
+            }
         }
         self.data.resize(length, 0);
         let got = match read_full(&mut self.input, &mut self.data) {
@@ -374,10 +386,11 @@ impl DbdReader {
         if got < length {
             return Ok(self.truncated(start));
         }
+        // The new values follow in column order, as `updated` lists the columns.
         let mut at = 0usize;
-        for (column, sensor) in sensors.iter().enumerate() {
+        for &column in &self.cycle.updated {
             if self.cycle.states[column] == State::New {
-                let size = sensor.bytes as usize;
+                let size = sensors[column].bytes as usize;
                 self.cycle.values[column] = decode(&self.data[at..at + size], self.order);
                 at += size;
             }

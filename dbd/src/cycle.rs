@@ -48,6 +48,11 @@ pub struct Cycle {
     /// The time sensor's value (`m_present_time`, or `sci_m_present_time` in a
     /// science log) when this cycle updated it; NaN otherwise.
     pub time: f64,
+    /// The columns this cycle updated (those whose state is not `NotUpdated`),
+    /// each once, in no set order: a reader of a wide log (a `.dbd` lists
+    /// 2,000 sensors and a cycle updates a few hundred) visits these instead of
+    /// every column, and so does every merge on the way.
+    pub updated: Vec<usize>,
 }
 
 impl Cycle {
@@ -67,6 +72,26 @@ impl Cycle {
         self.time = f64::NAN;
         self.number = 0;
         self.offset = 0;
+        self.updated.clear();
+    }
+
+    /// The start of the next cycle: the columns the last one updated are not
+    /// updated any more (the values stay, the latest ones).
+    pub(crate) fn clear_updates(&mut self) {
+        for &column in &self.updated {
+            self.states[column] = State::NotUpdated;
+        }
+        self.updated.clear();
+    }
+
+    /// Column `column` updated in this cycle with `state` (not `NotUpdated`) and
+    /// its latest `value`.
+    pub(crate) fn update(&mut self, column: usize, state: State, value: f64) {
+        if self.states[column] == State::NotUpdated {
+            self.updated.push(column);
+        }
+        self.states[column] = state;
+        self.values[column] = value;
     }
 }
 

@@ -142,6 +142,8 @@ impl DbaReader {
                 continue;
             }
             let complete = self.offset > start + line.len() as u64;
+            // Every line sets every column's state; `updated` lists the numbers.
+            self.cycle.updated.clear();
             let mut column = 0usize;
             let mut position = 0usize;
             for token in line.split(' ') {
@@ -172,6 +174,7 @@ impl DbaReader {
                         Ok(value) => {
                             self.cycle.states[column] = State::New;
                             self.cycle.values[column] = value;
+                            self.cycle.updated.push(column);
                         }
                         Err(_) => {
                             self.done = true;

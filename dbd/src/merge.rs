@@ -21,6 +21,9 @@ use crate::fs::{open_path, LogKind};
 use crate::header::Header;
 use crate::CycleSource;
 
+/// A science cycle's update: its column, state and value.
+type Update = (usize, State, f64);
+
 /// A flight log and its science log, on the flight log's cycles.
 pub struct Merged {
     flight: Box<dyn CycleSource>,
@@ -31,8 +34,9 @@ pub struct Merged {
     /// Per flight column: `false` when the science log owns the name.
     flight_owns: Vec<bool>,
     science_time: Option<usize>,
-    /// The next science cycle not yet applied (states, values, time).
-    pending: Option<(Vec<State>, Vec<f64>, f64)>,
+    /// The next science cycle not yet applied: its updates (science column,
+    /// state, value) and time.
+    pending: Option<(Vec<Update>, f64)>,
     last_science_time: f64,
     science_done: bool,
     last_flight_time: f64,
@@ -98,7 +102,12 @@ impl Merged {
                     _ => self.last_science_time,
                 };
                 self.last_science_time = time;
-                self.pending = Some((cycle.states.clone(), cycle.values.clone(), time));
+                let updates = cycle
+                    .updated
+                    .iter()
+                    .map(|&column| (column, cycle.states[column], cycle.values[column]))
+                    .collect();
+                self.pending = Some((updates, time));
             }
             None => self.science_done = true,
         }
@@ -109,17 +118,14 @@ impl Merged {
         let Some(flight) = self.flight.next_cycle()? else {
             return Ok(false);
         };
-        let flight_columns = flight.states.len();
-        for column in 0..flight_columns {
+        // Only what changed: the last cycle's updates cleared, this one's set (a
+        // flight-owned value changes only when the flight log updates it).
+        self.cycle.clear_updates();
+        for &column in &flight.updated {
             if self.flight_owns[column] {
-                self.cycle.states[column] = flight.states[column];
-                self.cycle.values[column] = flight.values[column];
-            } else {
-                self.cycle.states[column] = State::NotUpdated;
+                self.cycle
+                    .update(column, flight.states[column], flight.values[column]);
             }
-        }
-        for state in &mut self.cycle.states[flight_columns..] {
-            *state = State::NotUpdated;
         }
         self.cycle.offset = flight.offset;
         self.cycle.number = flight.number;
@@ -130,7 +136,7 @@ impl Merged {
         let until = self.last_flight_time;
         loop {
             self.fetch_science()?;
-            let Some((states, values, time)) = &self.pending else {
+            let Some((updates, time)) = &self.pending else {
                 break;
             };
             // Before any flight time is known nothing can be placed; NaN science
@@ -138,12 +144,9 @@ impl Merged {
             if until.is_nan() || *time > until {
                 break;
             }
-            for (science_column, state) in states.iter().enumerate() {
-                if state.is_updated() {
-                    let column = self.science_columns[science_column];
-                    self.cycle.states[column] = *state;
-                    self.cycle.values[column] = values[science_column];
-                }
+            for &(science_column, state, value) in updates {
+                self.cycle
+                    .update(self.science_columns[science_column], state, value);
             }
             self.pending = None;
         }
@@ -263,6 +266,9 @@ pub fn plan(paths: &[PathBuf]) -> Result<Vec<Segment>, DbdError> {
     Ok(segments)
 }
 
+/// The most segments a [`Deployment`] keeps open from the start.
+pub const KEEP_OPEN: usize = 16;
+
 /// A deployment: its files in time order as one stream of cycles. The columns
 /// are every file's sensors by name, in order of first appearance; a sensor's
 /// latest value carries over from one file to the next.
@@ -275,6 +281,11 @@ pub struct Deployment {
     time: Option<usize>,
     next: usize,
     current: Option<(Box<dyn CycleSource>, Vec<usize>)>,
+    /// The sources opened to learn the sensors, kept for the stream when the
+    /// deployment has at most [`KEEP_OPEN`] segments (each file then opened and
+    /// its sensor list parsed once); a longer one opens each file again in its
+    /// turn, so it never holds more than that many open.
+    opened: Vec<Option<Box<dyn CycleSource>>>,
     empty_header: Header,
     cycle: Cycle,
     started: bool,
@@ -288,6 +299,7 @@ impl Deployment {
         let segments = plan(paths)?;
         let mut sensors: Vec<FileSensor> = Vec::new();
         let mut names = std::collections::HashMap::new();
+        let mut opened = Vec::new();
         for segment in &segments {
             let source = segment.open(sensor_cache)?;
             for sensor in source.sensors().iter() {
@@ -295,6 +307,9 @@ impl Deployment {
                     names.insert(sensor.name.clone(), sensors.len());
                     sensors.push(sensor.clone());
                 }
+            }
+            if segments.len() <= KEEP_OPEN {
+                opened.push(Some(source));
             }
         }
         let mut cycle = Cycle::default();
@@ -307,6 +322,7 @@ impl Deployment {
             columns: names,
             next: 0,
             current: None,
+            opened,
             empty_header: Header::default(),
             cycle,
             started: false,
@@ -325,8 +341,12 @@ impl Deployment {
                 let Some(segment) = self.segments.get(self.next) else {
                     return Ok(false);
                 };
+                let kept = self.opened.get_mut(self.next).and_then(Option::take);
                 self.next += 1;
-                let source = segment.open(self.sensor_cache.as_deref())?;
+                let source = match kept {
+                    Some(source) => source,
+                    None => segment.open(self.sensor_cache.as_deref())?,
+                };
                 let mut map = Vec::with_capacity(source.sensors().len());
                 for sensor in source.sensors().iter() {
                     match self.columns.get(&sensor.name) {
@@ -350,15 +370,10 @@ impl Deployment {
             };
             match source.next_cycle()? {
                 Some(cycle) => {
-                    for state in &mut self.cycle.states {
-                        *state = State::NotUpdated;
-                    }
-                    for (column, &to) in map.iter().enumerate() {
-                        let state = cycle.states[column];
-                        self.cycle.states[to] = state;
-                        if state.is_updated() {
-                            self.cycle.values[to] = cycle.values[column];
-                        }
+                    self.cycle.clear_updates();
+                    for &column in &cycle.updated {
+                        self.cycle
+                            .update(map[column], cycle.states[column], cycle.values[column]);
                     }
                     self.cycle.offset = cycle.offset;
                     self.cycle.time = cycle.time;

@@ -178,3 +178,74 @@ fn a_deployment_streams_in_time_order_across_sensor_lists() {
     // 304 + 8 + 2,244 flight cycles (the .sbd and .dbd counts read alone).
     assert_eq!(cycles, 304 + 8 + 2244);
 }
+
+/// `Cycle::updated` lists exactly the columns whose state says updated, each
+/// once, in every cycle of every real log, of comet's flight log merged with its
+/// science log, and of comet's whole deployment (6 files, 3 segments).
+#[test]
+fn updated_lists_exactly_the_updated_columns() {
+    let data = data();
+    let comet = data.join("comet/from-glider");
+    let cac = data.join("cac");
+    let check = |mut source: Box<dyn CycleSource>, what: &str| -> (u64, Vec<u64>) {
+        let mut cycles = 0u64;
+        let mut counts = vec![0u64; source.sensors().len()];
+        while let Some(cycle) = source.next_cycle().expect("reads") {
+            let mut listed = cycle.updated.clone();
+            listed.sort_unstable();
+            let dense: Vec<usize> = (0..cycle.states.len())
+                .filter(|&column| cycle.states[column].is_updated())
+                .collect();
+            assert_eq!(listed, dense, "{what}, cycle {cycles}");
+            for column in dense {
+                counts[column] += 1;
+            }
+            cycles += 1;
+        }
+        (cycles, counts)
+    };
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&comet)
+        .expect("comet")
+        .map(|entry| entry.expect("entry").path())
+        .collect();
+    files.sort();
+    for file in &files {
+        check(
+            open_path(file, Some(&cac)).expect("opens"),
+            &file.display().to_string(),
+        );
+    }
+    let compressed = data.join("compressed");
+    for name in ["01600000.dcd", "01600000.ecd"] {
+        check(
+            open_path(&compressed.join(name), Some(&compressed)).expect("opens"),
+            name,
+        );
+    }
+    // The merge: a flight-owned sensor is updated in as many merged cycles as in
+    // the flight log read alone (the merge keeps every flight cycle).
+    let dbd = comet.join("comet-2019-222-02-154.dbd");
+    let ebd = comet.join("comet-2019-222-02-154.ebd");
+    let alone = check(open_path(&dbd, Some(&cac)).expect("dbd"), "154.dbd");
+    let merged = gloc_dbd::Merged::new(
+        open_path(&dbd, Some(&cac)).expect("dbd"),
+        open_path(&ebd, Some(&cac)).expect("ebd"),
+    );
+    let science: std::collections::HashSet<String> = open_path(&ebd, Some(&cac))
+        .expect("ebd")
+        .sensors()
+        .iter()
+        .map(|sensor| sensor.name.clone())
+        .collect();
+    let names: Vec<String> = merged.sensors().iter().map(|s| s.name.clone()).collect();
+    let together = check(Box::new(merged), "154 merged");
+    assert_eq!(together.0, alone.0);
+    for (column, name) in names.iter().enumerate().take(alone.1.len()) {
+        if !science.contains(name) {
+            assert_eq!(together.1[column], alone.1[column], "{name}");
+        }
+    }
+    let deployment = gloc_dbd::Deployment::open(&files, Some(&cac)).expect("opens");
+    let (cycles, _) = check(Box::new(deployment), "comet's deployment");
+    assert!(cycles > alone.0, "{cycles}");
+}

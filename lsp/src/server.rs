@@ -12,9 +12,9 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 
-use gloc_engine::config::{Config, ConfigError};
 use gloc_engine::sensors::{SensorList, SensorOrder};
 use gloc_engine::Diagnostic;
+use gloc_project::config::{Config, ConfigError};
 use gloc_project::settings::{config_path_for, read_config, Settings as ProjectSettings, Sourced};
 use gloc_project::{Overrides, Surface};
 use serde_json::Value;

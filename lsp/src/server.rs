@@ -698,13 +698,7 @@ impl LanguageServer for Backend {
         let publishes = {
             let mut state = lock(&self.state);
             let document = Document::new(item.uri.clone(), language, item.version, &item.text);
-            let context = Context {
-                sensors: state.embedded(),
-                cycle_budget: None,
-                cycle_budget_from: None,
-                list_folders: Vec::new(),
-                mafiles: None,
-            };
+            let context = Context::new(state.embedded());
             state.documents.insert(
                 item.uri.clone(),
                 Open {

@@ -51,13 +51,7 @@ pub fn parse_fixture(fixture: &str) -> (String, Vec<usize>) {
 
 /// The embedded sensor list, no cycle budget.
 pub fn context() -> Context {
-    Context {
-        sensors: Arc::new(SensorList::embedded()),
-        cycle_budget: None,
-        cycle_budget_from: None,
-        list_folders: Vec::new(),
-        mafiles: None,
-    }
+    Context::new(Arc::new(SensorList::embedded()))
 }
 
 pub struct Fixture {

@@ -249,6 +249,13 @@ pub const SIMULATOR_SETTINGS: &[SimulatorSetting] = &[
         about: "the battery relation's T3 (the trim)",
     },
     SimulatorSetting {
+        name: "buoyancy_delay",
+        units: "s",
+        min: 0.0,
+        max: 30.0,
+        about: "seconds after the pumped volume changes that the buoyancy follows (the pitch follows at once)",
+    },
+    SimulatorSetting {
         name: "cycle_overrun",
         units: "s",
         min: 0.0,

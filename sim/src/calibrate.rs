@@ -590,6 +590,7 @@ pub fn fit(track: &Track, climb_target: f64, defaults: &SimConfig) -> Result<Fit
     fit_battery_relation(&mut fit, &mut flight, &steady);
     fit_drag_and_volume(&mut fit, &mut flight, &steady);
     fit_pitch_swing(&mut fit, &flight, rows, &turn_rows);
+    fit_buoyancy_delay(&mut fit, &flight, rows, &turn_rows);
     fit_heading_bias(&mut fit, (&dive_rows, &climb_rows));
     fit_timing(&mut fit, rows, &figures);
     fit_battery(&mut fit, rows);
@@ -987,6 +988,105 @@ fn fit_pitch_swing(fit: &mut Fit, flight: &FlightParams, rows: &[Row], turn_rows
     fit.put("pitch_period", best.map(|b| b.1), from.clone(), why);
     fit.put("pitch_damping", best.map(|b| b.2), from, why);
 }
+
+/// The buoyancy delay: the one at which the force balance, fed the log's
+/// m_pitch and m_ballast_pumped through each turn (linear between rows, the
+/// volume `delay` seconds late), gives the log's m_depth best: least squares
+/// of the depth travelled from the turn's row over the next
+/// [`DELAY_FIT_AFTER`] seconds, a grid search over one unknown. Each turn
+/// starts [`DELAY_FIT_BEFORE`] seconds earlier in the steady glide of that
+/// row; a turn with no steady glide there (the glider floating) is left out.
+fn fit_buoyancy_delay(fit: &mut Fit, flight: &FlightParams, rows: &[Row], turn_rows: &[usize]) {
+    let windows: Vec<(&[Row], usize)> = turn_rows
+        .iter()
+        .filter_map(|&turn| {
+            let at = rows[turn].time;
+            let first = rows[..turn]
+                .iter()
+                .rposition(|row| row.time <= at - DELAY_FIT_BEFORE)?;
+            let last = turn
+                + rows[turn..]
+                    .iter()
+                    .take_while(|row| row.time <= at + DELAY_FIT_AFTER)
+                    .count();
+            let window = &rows[first..last];
+            let complete = window.iter().all(|row| {
+                row.depth.is_finite() && row.pitch.is_finite() && row.ballast.is_finite()
+            });
+            let start = window[0];
+            let steady = flight.steady_glide(start.ballast, start.pitch, start.depth);
+            (complete && steady != (0.0, 0.0) && last > turn + 1).then_some((window, turn - first))
+        })
+        .collect();
+    let error = |delay: f64| -> f64 {
+        windows
+            .iter()
+            .map(|&(window, turn)| fed_turn_error(flight, window, turn, delay))
+            .sum()
+    };
+    let best = (0..=DELAY_FIT_STEPS)
+        .map(|step| step as f64 * DELAY_FIT_STEP)
+        .map(|delay| (error(delay), delay))
+        .filter(|(miss, _)| miss.is_finite())
+        .min_by(|a, b| a.0.total_cmp(&b.0));
+    fit.put(
+        "buoyancy_delay",
+        best.filter(|_| !windows.is_empty()).map(|(_, delay)| delay),
+        format!(
+            "the delay with which the force balance, fed m_ballast_pumped and m_pitch, follows m_depth best through {} turns",
+            windows.len()
+        ),
+        "no turn below the surface with m_depth, m_pitch and m_ballast_pumped in the log",
+    );
+}
+
+/// The squared misses (m²) of the force balance fed a `window` of rows (its
+/// row `turn` the turn) with the pumped volume `delay` seconds late: the
+/// depth travelled from the turn's row, at each later row.
+fn fed_turn_error(flight: &FlightParams, window: &[Row], turn: usize, delay: f64) -> f64 {
+    let at = |time: f64, field: fn(&Row) -> f64| -> f64 {
+        let later = window.partition_point(|row| row.time <= time);
+        match (later.checked_sub(1).map(|i| window[i]), window.get(later)) {
+            (Some(a), Some(b)) if b.time > a.time => {
+                field(&a) + (field(&b) - field(&a)) * (time - a.time) / (b.time - a.time)
+            }
+            (Some(a), _) => field(&a),
+            (None, _) => field(&window[0]),
+        }
+    };
+    let start = window[0];
+    let (speed, sink) = flight.steady_glide(start.ballast, start.pitch, start.depth);
+    let mut vehicle = crate::flight::Vehicle::default();
+    (vehicle.depth, vehicle.depth_rate) = (start.depth, sink);
+    (vehicle.speed, vehicle.pitch) = (speed, start.pitch);
+    let mut time = start.time;
+    let mut total = 0.0;
+    let mut turn_depth = None;
+    for (index, row) in window.iter().enumerate().skip(1) {
+        while time < row.time {
+            let dt = DELAY_FIT_DT.min(row.time - time);
+            vehicle.pitch = at(time + 0.5 * dt, |r| r.pitch);
+            let volume = at(time + 0.5 * dt - delay, |r| r.ballast);
+            vehicle.glide(dt, volume, f64::INFINITY, flight);
+            time += dt;
+        }
+        if index == turn {
+            turn_depth = Some((vehicle.depth, row.depth));
+        } else if let Some((model, logged)) = turn_depth {
+            let miss = (vehicle.depth - model) - (row.depth - logged);
+            total += miss * miss;
+        }
+    }
+    total
+}
+
+/// The buoyancy delays searched (s), the part of a turn compared and the lead-in
+/// (s), and the force balance's step there (s).
+const DELAY_FIT_STEP: f64 = 0.25;
+const DELAY_FIT_STEPS: u32 = 60;
+const DELAY_FIT_AFTER: f64 = 40.0;
+const DELAY_FIT_BEFORE: f64 = 30.0;
+const DELAY_FIT_DT: f64 = 0.1;
 
 /// The natural periods searched (s, log-spaced), the damping ratios (steps of
 /// 0.05 to 2), and the part of a turn compared (s).

@@ -13,6 +13,9 @@
 //! The pump and the pitch set how long a turn takes, not inertia (domain
 //! notes §7: comet's turns take 20.7 and 21.1 s).
 
+/// comet 154's buoyancy delay (s), as `gloc calibrate` fits it.
+pub const BUOYANCY_DELAY_COMET: f64 = 4.5;
+
 /// Standard gravity (m/s²).
 pub const GRAVITY: f64 = 9.81;
 /// Metres of battery travel per inch (`m_battpos` is in inches, T2 per metre).
@@ -67,6 +70,10 @@ pub struct FlightParams {
     pub pitch_t2: f64,
     /// … and T3, the trim.
     pub pitch_t3: f64,
+    /// Seconds after the pump's volume (`m_ballast_pumped`) changes that the
+    /// buoyancy changes with it ([`Vehicle`]); the pitch follows the pump at
+    /// once. comet: `gloc calibrate` fits it from the turns (docs/simulator.md).
+    pub buoyancy_delay: f64,
 }
 
 impl Default for FlightParams {
@@ -108,6 +115,9 @@ impl Default for FlightParams {
             // separate it from T3); T3 from `gloc calibrate` with it.
             pitch_t2: -39.0,
             pitch_t3: 0.4096,
+            // `gloc calibrate` on comet 154: the force balance fed the log's
+            // pump and pitch follows its depth through 34 turns best so.
+            buoyancy_delay: BUOYANCY_DELAY_COMET,
         }
     }
 }
@@ -314,6 +324,74 @@ pub struct Vehicle {
     solved_pitch: f64,
     /// The hull's axes at the last pitch flown (`frame.inverse` all 0 before).
     frame: Frame,
+    /// Seconds flown (the clock of the pump's history).
+    clock: f64,
+    /// The pump's recent motion, for the buoyancy delay.
+    pump_history: PumpHistory,
+}
+
+/// Knots kept of the pump's motion: a swing makes two or three, so this
+/// covers several swings; a delay reaching past the oldest knot sees the
+/// volume the oldest knot had.
+const PUMP_KNOTS: usize = 16;
+
+/// The pumped volume's recent course: the (time, volume) knots where its rate
+/// changed, in a ring, and the rate since the newest. Between knots the
+/// volume moves linearly, so the volume at any time the ring covers is exact.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct PumpHistory {
+    knots: [(f64, f64); PUMP_KNOTS],
+    /// Knots held (at most `PUMP_KNOTS`) and the slot the next one goes to.
+    count: usize,
+    next: usize,
+    /// cc/s since the newest knot.
+    rate: f64,
+}
+
+impl PumpHistory {
+    /// The pump moves at `rate` from `time`, where the volume is `volume`.
+    fn record(&mut self, time: f64, volume: f64, rate: f64) {
+        // A sub-step's rate is its step over its length: equal rates may
+        // differ in the last bits between cycles of different periods.
+        if self.count > 0 && (rate - self.rate).abs() <= 1e-9 * rate.abs().max(1.0) {
+            return;
+        }
+        self.knots[self.next] = (time, volume);
+        self.next = (self.next + 1) % PUMP_KNOTS;
+        self.count = (self.count + 1).min(PUMP_KNOTS);
+        self.rate = rate;
+    }
+
+    /// The i-th knot from the newest (0 is the newest).
+    fn back(&self, i: usize) -> (f64, f64) {
+        self.knots[(self.next + PUMP_KNOTS - 1 - i) % PUMP_KNOTS]
+    }
+
+    /// The volume at `time` (no later than the present), `now` the present
+    /// volume.
+    fn volume_at(&self, time: f64, now: f64) -> f64 {
+        if self.count == 0 {
+            return now;
+        }
+        let newest = self.back(0);
+        if time >= newest.0 {
+            return newest.1 + self.rate * (time - newest.0);
+        }
+        let mut later = newest;
+        for i in 1..self.count {
+            let knot = self.back(i);
+            if time >= knot.0 {
+                let span = later.0 - knot.0;
+                return if span > 0.0 {
+                    knot.1 + (later.1 - knot.1) * (time - knot.0) / span
+                } else {
+                    later.1
+                };
+            }
+            later = knot;
+        }
+        later.1
+    }
 }
 
 /// What a sub-step's forces need that does not change within it.
@@ -503,7 +581,10 @@ impl Vehicle {
         } else {
             -pump_step * energy.pump_in_j_per_cc
         };
+        self.pump_history
+            .record(self.clock, self.ballast, pump_step / dt.max(1e-9));
         self.ballast += pump_step;
+        self.clock += dt;
         if self.ballast != 0.0 {
             let sign = if self.ballast > 0.0 { 1 } else { -1 };
             if self.ballast_sign != 0 && sign != self.ballast_sign {
@@ -535,16 +616,44 @@ impl Vehicle {
             }
         };
 
+        // The buoyancy follows the pump `buoyancy_delay` later.
+        let acting = self.acting_volume(flight.buoyancy_delay);
+        self.glide(dt, acting, water_depth, flight);
+
+        // Hotel load.
+        let hotel = if self.depth_rate > 0.0 {
+            energy.dive_power
+        } else {
+            energy.climb_power
+        };
+        let hotel_joules = hotel * dt;
+        self.energy_use.hotel += hotel_joules;
+        self.energy_use.pump += pump_joules;
+        self.energy_use.pitch += pitch_joules;
+        self.energy_joules += hotel_joules + pump_joules + pitch_joules;
+    }
+
+    /// The pumped volume (cc) whose buoyancy acts now: the volume `delay`
+    /// seconds ago ([`FlightParams::buoyancy_delay`]).
+    pub fn acting_volume(&self, delay: f64) -> f64 {
+        if delay <= 0.0 {
+            return self.ballast;
+        }
+        self.pump_history
+            .volume_at(self.clock - delay, self.ballast)
+    }
+
+    /// Flies `dt` seconds at the present pitch with the buoyancy of `volume`
+    /// (cc) pumped: the force balance alone (no pump, pitch or energy), in
+    /// water `water_depth` deep. [`Vehicle::fly`]'s sub-steps use it; so does
+    /// `gloc calibrate`, feeding it a log's pitch and pumped volume.
+    pub fn glide(&mut self, dt: f64, volume: f64, water_depth: f64, flight: &FlightParams) {
         // The force balance, second-order Runge–Kutta (Heun; one evaluation
         // when the glider is in steady flight).
         if self.frame.pitch != self.pitch || self.frame.inverse[0] == 0.0 {
             self.frame = Frame::new(flight, self.pitch);
         }
-        let forces = Forces::new(
-            flight,
-            flight.net_buoyancy(self.ballast, self.depth),
-            &self.frame,
-        );
+        let forces = Forces::new(flight, flight.net_buoyancy(volume, self.depth), &self.frame);
         let (u, w) = (self.speed, -self.depth_rate);
         let (a1, b1) = forces.acceleration(u, w);
         let (du, dw) = if a1.abs() + b1.abs() < STEADY_ACCELERATION {
@@ -574,18 +683,6 @@ impl Vehicle {
             }
         }
         self.distance += (0.5 * (u + self.speed) * dt).abs();
-
-        // Hotel load.
-        let hotel = if self.depth_rate > 0.0 {
-            energy.dive_power
-        } else {
-            energy.climb_power
-        };
-        let hotel_joules = hotel * dt;
-        self.energy_use.hotel += hotel_joules;
-        self.energy_use.pump += pump_joules;
-        self.energy_use.pitch += pitch_joules;
-        self.energy_joules += hotel_joules + pump_joules + pitch_joules;
     }
 }
 

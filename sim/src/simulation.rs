@@ -144,6 +144,7 @@ impl SimConfig {
             "pitch_t1" => &mut flight.pitch_t1,
             "pitch_t2" => &mut flight.pitch_t2,
             "pitch_t3" => &mut flight.pitch_t3,
+            "buoyancy_delay" => &mut flight.buoyancy_delay,
             "battery_ohms" => &mut energy.battery_ohms,
             "science_on_power" => &mut energy.science_on_power,
             "science_sleep_power" => &mut energy.science_sleep_power,

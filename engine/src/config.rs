@@ -256,6 +256,13 @@ pub const SIMULATOR_SETTINGS: &[SimulatorSetting] = &[
         about: "seconds after the pumped volume changes that the buoyancy follows (the pitch follows at once)",
     },
     SimulatorSetting {
+        name: "pump_lead",
+        units: "s",
+        min: 0.0,
+        max: 60.0,
+        about: "seconds before the cycle in which a held turn shows in c_ballast_pumped that the pump starts",
+    },
+    SimulatorSetting {
         name: "cycle_overrun",
         units: "s",
         min: 0.0,

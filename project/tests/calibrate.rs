@@ -60,13 +60,15 @@ fn figures(track: &Track) -> Vec<Figure> {
         ("power (W)", f.power, 0.10),
         ("bottom turn time (s)", f.bottom_turn_time, 0.15),
         ("top turn time (s)", f.top_turn_time, 0.15),
-        // The issue asks for 15%; the force balance carries on 1.28 m past a
-        // bottom turn and 0.91 m past a top one, 21% and 25% short: comet keeps
-        // sinking at 0.17 m/s for the first 6 s after the command (its CTD's
-        // pressure too), faster than before it, which no passive force balance
-        // does. Held here at 30% so that it cannot get worse unseen.
-        ("bottom overshoot (m)", f.bottom_overshoot, 0.30),
-        ("top overshoot (m)", f.top_overshoot, 0.30),
+        // The issue asks for 15%. The fitted pump lead (the swing's run by the
+        // row where c_ballast_pumped turns) and buoyancy delay (the force
+        // balance fed the log's pump and pitch follows its depth best with
+        // the buoyancy 4.75 s late) bring the overshoot from 1.28 / 0.91 m
+        // (−21% / −25%) to about −18% at both turns; the hull's pitch swing
+        // (a damped pendulum) still leads comet's in the turn's first 10 s
+        // (docs/simulator.md §Turns). Held at 20% so it cannot get worse unseen.
+        ("bottom overshoot (m)", f.bottom_overshoot, 0.20),
+        ("top overshoot (m)", f.top_overshoot, 0.20),
     ]
 }
 

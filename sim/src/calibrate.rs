@@ -452,6 +452,20 @@ impl Fit {
         text
     }
 
+    /// The pump's rates out and in (cc/s): as fitted, else `flight`'s.
+    fn pump_rates(&self, flight: &FlightParams) -> (f64, f64) {
+        let value = |name: &str, default: f64| {
+            self.values
+                .iter()
+                .find(|fitted| fitted.name == name)
+                .map_or(default, |fitted| fitted.value)
+        };
+        (
+            value("pump_rate", flight.pump_rate),
+            value("pump_in_rate", flight.pump_in_rate),
+        )
+    }
+
     fn put(&mut self, name: &'static str, value: Option<f64>, from: String, why_not: &str) {
         match value.filter(|value| value.is_finite()) {
             Some(value) => self.values.push(Fitted { name, value, from }),
@@ -590,6 +604,7 @@ pub fn fit(track: &Track, climb_target: f64, defaults: &SimConfig) -> Result<Fit
     fit_battery_relation(&mut fit, &mut flight, &steady);
     fit_drag_and_volume(&mut fit, &mut flight, &steady);
     fit_pitch_swing(&mut fit, &flight, rows, &turn_rows);
+    fit_pump_lead(&mut fit, &flight, rows, &turn_rows);
     fit_buoyancy_delay(&mut fit, &flight, rows, &turn_rows);
     fit_heading_bias(&mut fit, (&dive_rows, &climb_rows));
     fit_timing(&mut fit, rows, &figures);
@@ -732,7 +747,7 @@ fn fit_battery(fit: &mut Fit, rows: &[Row]) {
         ("drag_cd1", "gliderflight holds it (10.5) and fits the zero-lift drag only"),
         ("lift_slope", "gliderflight holds it (aw from the wing's shape, ah 3.8)"),
         ("wing_area", "a reference area: it scales the coefficients, not the flight"),
-        ("added_mass_along", "the turns are set by the pump and pitch, not inertia: the log cannot resolve it"),
+        ("added_mass_along", "held at gliderflight's: comet's turns would call for several times the glider's own mass, not a slender hull's 0.2; buoyancy_delay fits them instead"),
         ("added_mass_across", "as added_mass_along"),
         ("altimeter_range", "the glider's altimeter use is set by its own u_alt_* settings, not the water"),
         ("altimeter_fraction", "as altimeter_range"),
@@ -940,6 +955,36 @@ fn fit_drag_and_volume(fit: &mut Fit, flight: &mut FlightParams, steady: &[Stead
     }
 }
 
+/// The log's pumped volume at `time` (cc), between its rows as the pump
+/// moved: at its rate `rates` (out, in; cc/s), from the earlier row if it was
+/// already moving there, else so as to arrive at the later row's reading (a
+/// swing starts between two rows; averaging across them would start it up to
+/// a cycle early). Outside the rows, the nearest row's reading.
+fn logged_volume(rows: &[Row], time: f64, (out_rate, in_rate): (f64, f64)) -> f64 {
+    let later = rows.partition_point(|row| row.time <= time);
+    let (Some(a), Some(b)) = (later.checked_sub(1).map(|i| rows[i]), rows.get(later)) else {
+        return rows[later.min(rows.len() - 1)].ballast;
+    };
+    let change = b.ballast - a.ballast;
+    let rate = if change > 0.0 { out_rate } else { in_rate };
+    if change.abs() <= PUMP_STILL || rate.is_nan() || rate <= 0.0 || b.time <= a.time {
+        let span = (b.time - a.time).max(1e-9);
+        return a.ballast + change * ((time - a.time) / span).clamp(0.0, 1.0);
+    }
+    let moving_before = later >= 2 && (a.ballast - rows[later - 2].ballast).abs() > PUMP_STILL;
+    let travel = (change.abs() / rate).min(b.time - a.time);
+    let start = if moving_before {
+        a.time
+    } else {
+        b.time - travel
+    };
+    a.ballast + change * ((time - start) / travel).clamp(0.0, 1.0)
+}
+
+/// Change of m_ballast_pumped between rows (cc) below which the pump counts as
+/// still (its readings step by 0.3 cc).
+const PUMP_STILL: f64 = 2.0;
+
 /// The hull's swing toward the battery relation: the natural period and
 /// damping at which the relation, fed the log's pumped volume through each
 /// turn ([`crate::flight::swing_pitch`]), gives the log's pitch best (least
@@ -989,6 +1034,40 @@ fn fit_pitch_swing(fit: &mut Fit, flight: &FlightParams, rows: &[Row], turn_rows
     fit.put("pitch_damping", best.map(|b| b.2), from, why);
 }
 
+/// The pump's lead: how far its swing has run by the row where
+/// c_ballast_pumped turns, m_ballast_pumped's change since the row before
+/// over the pump's rate; the median over the turns below the surface.
+fn fit_pump_lead(fit: &mut Fit, flight: &FlightParams, rows: &[Row], turn_rows: &[usize]) {
+    let (out_rate, in_rate) = fit.pump_rates(flight);
+    let leads: Vec<f64> = turn_rows
+        .iter()
+        .filter(|&&turn| turn > 0 && rows[turn].depth > PUMP_LEAD_MIN_DEPTH)
+        .map(|&turn| {
+            let change = rows[turn].ballast - rows[turn - 1].ballast;
+            let rate = if rows[turn].c_ballast > 0.0 {
+                out_rate
+            } else {
+                -in_rate
+            };
+            change / rate
+        })
+        .filter(|lead| lead.is_finite() && *lead >= 0.0)
+        .collect();
+    fit.put(
+        "pump_lead",
+        median(leads.clone()),
+        format!(
+            "median m_ballast_pumped run at the row where c_ballast_pumped turns, over the pump's rate, {} turns",
+            leads.len()
+        ),
+        "no turn below the surface with m_ballast_pumped in the log",
+    );
+}
+
+/// Turns shallower than this (m) are the dive's start at the surface, left
+/// out of the pump's lead.
+const PUMP_LEAD_MIN_DEPTH: f64 = 0.5;
+
 /// The buoyancy delay: the one at which the force balance, fed the log's
 /// m_pitch and m_ballast_pumped through each turn (linear between rows, the
 /// volume `delay` seconds late), gives the log's m_depth best: least squares
@@ -997,6 +1076,7 @@ fn fit_pitch_swing(fit: &mut Fit, flight: &FlightParams, rows: &[Row], turn_rows
 /// starts [`DELAY_FIT_BEFORE`] seconds earlier in the steady glide of that
 /// row; a turn with no steady glide there (the glider floating) is left out.
 fn fit_buoyancy_delay(fit: &mut Fit, flight: &FlightParams, rows: &[Row], turn_rows: &[usize]) {
+    let rates = fit.pump_rates(flight);
     let windows: Vec<(&[Row], usize)> = turn_rows
         .iter()
         .filter_map(|&turn| {
@@ -1021,7 +1101,7 @@ fn fit_buoyancy_delay(fit: &mut Fit, flight: &FlightParams, rows: &[Row], turn_r
     let error = |delay: f64| -> f64 {
         windows
             .iter()
-            .map(|&(window, turn)| fed_turn_error(flight, window, turn, delay))
+            .map(|&(window, turn)| fed_turn_error(flight, window, turn, delay, rates))
             .sum()
     };
     let best = (0..=DELAY_FIT_STEPS)
@@ -1043,12 +1123,18 @@ fn fit_buoyancy_delay(fit: &mut Fit, flight: &FlightParams, rows: &[Row], turn_r
 /// The squared misses (m²) of the force balance fed a `window` of rows (its
 /// row `turn` the turn) with the pumped volume `delay` seconds late: the
 /// depth travelled from the turn's row, at each later row.
-fn fed_turn_error(flight: &FlightParams, window: &[Row], turn: usize, delay: f64) -> f64 {
+fn fed_turn_error(
+    flight: &FlightParams,
+    window: &[Row],
+    turn: usize,
+    delay: f64,
+    rates: (f64, f64),
+) -> f64 {
     let at = |time: f64, field: fn(&Row) -> f64| -> f64 {
         let later = window.partition_point(|row| row.time <= time);
         match (later.checked_sub(1).map(|i| window[i]), window.get(later)) {
             (Some(a), Some(b)) if b.time > a.time => {
-                field(&a) + (field(&b) - field(&a)) * (time - a.time) / (b.time - a.time)
+                field(&a) + (field(b) - field(&a)) * (time - a.time) / (b.time - a.time)
             }
             (Some(a), _) => field(&a),
             (None, _) => field(&window[0]),
@@ -1066,7 +1152,7 @@ fn fed_turn_error(flight: &FlightParams, window: &[Row], turn: usize, delay: f64
         while time < row.time {
             let dt = DELAY_FIT_DT.min(row.time - time);
             vehicle.pitch = at(time + 0.5 * dt, |r| r.pitch);
-            let volume = at(time + 0.5 * dt - delay, |r| r.ballast);
+            let volume = logged_volume(window, time + 0.5 * dt - delay, rates);
             vehicle.glide(dt, volume, f64::INFINITY, flight);
             time += dt;
         }

@@ -14,7 +14,7 @@
 //! notes §7: comet's turns take 20.7 and 21.1 s).
 
 /// comet 154's buoyancy delay (s), as `gloc calibrate` fits it.
-pub const BUOYANCY_DELAY_COMET: f64 = 4.5;
+pub const BUOYANCY_DELAY_COMET: f64 = 4.75;
 
 /// Standard gravity (m/s²).
 pub const GRAVITY: f64 = 9.81;
@@ -115,9 +115,10 @@ impl Default for FlightParams {
             // separate it from T3); T3 from `gloc calibrate` with it.
             pitch_t2: -39.0,
             pitch_t3: 0.4096,
-            // `gloc calibrate` on comet 154: the force balance fed the log's
-            // pump and pitch follows its depth through 34 turns best so.
-            buoyancy_delay: BUOYANCY_DELAY_COMET,
+            // 0: the glider of before. comet's is `BUOYANCY_DELAY_COMET` (`gloc
+            // calibrate`), not the default while its turn timing is open
+            // (docs/simulator.md §Turns).
+            buoyancy_delay: 0.0,
         }
     }
 }
@@ -837,6 +838,54 @@ mod tests {
         assert!((0.70..1.87).contains(&bottom), "bottom {bottom}");
         let top = servoed_overshoot(260.0);
         assert!((0.24..0.86).contains(&top), "top {top}");
+    }
+
+    #[test]
+    fn the_buoyancy_follows_the_pump_after_its_delay() {
+        // Servoed pitch held still, so only the buoyancy tells the two apart:
+        // with a 3 s delay the glider whose pump starts at t = 0 flies exactly
+        // as one whose pump never moves for 3 s, and differently after.
+        let flight = FlightParams {
+            buoyancy_delay: 3.0,
+            ..FlightParams::default()
+        };
+        let energy = EnergyParams::default();
+        let start = Vehicle {
+            depth: 20.0,
+            ballast: -230.0,
+            pitch: -0.4538,
+            ..Vehicle::default()
+        };
+        let fly = |vehicle: &mut Vehicle, seconds: f64, buoyancy: f64| {
+            vehicle.fly(
+                seconds,
+                buoyancy,
+                -0.4538,
+                PitchControl::Servo,
+                1000.0,
+                &flight,
+                &energy,
+                0.0,
+            )
+        };
+        let (mut turning, mut holding) = (start, start);
+        fly(&mut turning, 60.0, -230.0);
+        fly(&mut holding, 60.0, -230.0);
+        fly(&mut turning, 3.0, 230.0);
+        fly(&mut holding, 3.0, -230.0);
+        assert_eq!(turning.depth, holding.depth);
+        assert!((turning.acting_volume(3.0) + 230.0).abs() < 1e-9);
+        // The pump ran 3 s at 34.6 cc/s; its volume 1 s ago was 2 s in.
+        assert!((turning.ballast - (-230.0 + 3.0 * 34.6)).abs() < 1e-9);
+        assert!((turning.acting_volume(1.0) - (-230.0 + 2.0 * 34.6)).abs() < 1e-9);
+        fly(&mut turning, 3.0, 230.0);
+        fly(&mut holding, 3.0, -230.0);
+        assert!(
+            turning.depth < holding.depth,
+            "{} {}",
+            turning.depth,
+            holding.depth
+        );
     }
 
     #[test]

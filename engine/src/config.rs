@@ -249,11 +249,11 @@ pub const SIMULATOR_SETTINGS: &[SimulatorSetting] = &[
         about: "the battery relation's T3 (the trim)",
     },
     SimulatorSetting {
-        name: "buoyancy_delay",
+        name: "ballast_delay",
         units: "s",
         min: 0.0,
         max: 30.0,
-        about: "seconds after the pumped volume changes that the buoyancy follows (the pitch follows at once)",
+        about: "seconds after m_ballast_pumped changes that the pumped volume acts on the buoyancy and the battery relation's pitch",
     },
     SimulatorSetting {
         name: "pump_lead",

@@ -603,9 +603,9 @@ pub fn fit(track: &Track, climb_target: f64, defaults: &SimConfig) -> Result<Fit
     let steady = steady_legs(rows, &legs);
     fit_battery_relation(&mut fit, &mut flight, &steady);
     fit_drag_and_volume(&mut fit, &mut flight, &steady);
-    fit_pitch_swing(&mut fit, &flight, rows, &turn_rows);
     fit_pump_lead(&mut fit, &flight, rows, &turn_rows);
-    fit_buoyancy_delay(&mut fit, &flight, rows, &turn_rows);
+    fit_ballast_delay(&mut fit, &mut flight, rows, &turn_rows);
+    fit_pitch_swing(&mut fit, &flight, rows, &turn_rows);
     fit_heading_bias(&mut fit, (&dive_rows, &climb_rows));
     fit_timing(&mut fit, rows, &figures);
     fit_battery(&mut fit, rows);
@@ -747,7 +747,7 @@ fn fit_battery(fit: &mut Fit, rows: &[Row]) {
         ("drag_cd1", "gliderflight holds it (10.5) and fits the zero-lift drag only"),
         ("lift_slope", "gliderflight holds it (aw from the wing's shape, ah 3.8)"),
         ("wing_area", "a reference area: it scales the coefficients, not the flight"),
-        ("added_mass_along", "held at gliderflight's: comet's turns would call for several times the glider's own mass, not a slender hull's 0.2; buoyancy_delay fits them instead"),
+        ("added_mass_along", "held at gliderflight's: comet's turns would call for several times the glider's own mass, not a slender hull's 0.2; ballast_delay fits them instead"),
         ("added_mass_across", "as added_mass_along"),
         ("altimeter_range", "the glider's altimeter use is set by its own u_alt_* settings, not the water"),
         ("altimeter_fraction", "as altimeter_range"),
@@ -990,6 +990,7 @@ const PUMP_STILL: f64 = 2.0;
 /// turn ([`crate::flight::swing_pitch`]), gives the log's pitch best (least
 /// squares over the turns' first minute; a grid search, two unknowns).
 fn fit_pitch_swing(fit: &mut Fit, flight: &FlightParams, rows: &[Row], turn_rows: &[usize]) {
+    let rates = fit.pump_rates(flight);
     let battpos = median(rows.iter().map(|row| row.battpos).collect()).unwrap_or(f64::NAN);
     let error = |period: f64, damping: f64| -> f64 {
         let mut total = 0.0;
@@ -1000,10 +1001,15 @@ fn fit_pitch_swing(fit: &mut Fit, flight: &FlightParams, rows: &[Row], turn_rows
                 if pair[1].time - rows[turn].time > PITCH_SWING_WINDOW {
                     break;
                 }
-                let dt = pair[1].time - pair[0].time;
-                let target =
-                    flight.battpos_pitch(0.5 * (pair[0].ballast + pair[1].ballast), battpos);
-                state = crate::flight::swing_pitch(state, target, dt, period, damping);
+                let span = pair[1].time - pair[0].time;
+                let pieces = (span / PITCH_SWING_DT).ceil().max(1.0);
+                let dt = span / pieces;
+                for piece in 0..pieces as u32 {
+                    let time = pair[0].time + (f64::from(piece) + 0.5) * dt;
+                    let volume = logged_volume(rows, time - flight.ballast_delay, rates);
+                    let target = flight.battpos_pitch(volume, battpos);
+                    state = crate::flight::swing_pitch(state, target, dt, period, damping);
+                }
                 let miss = state.0 - pair[1].pitch;
                 if miss.is_finite() {
                     total += miss * miss;
@@ -1075,7 +1081,7 @@ const PUMP_LEAD_MIN_DEPTH: f64 = 0.5;
 /// [`DELAY_FIT_AFTER`] seconds, a grid search over one unknown. Each turn
 /// starts [`DELAY_FIT_BEFORE`] seconds earlier in the steady glide of that
 /// row; a turn with no steady glide there (the glider floating) is left out.
-fn fit_buoyancy_delay(fit: &mut Fit, flight: &FlightParams, rows: &[Row], turn_rows: &[usize]) {
+fn fit_ballast_delay(fit: &mut Fit, flight: &mut FlightParams, rows: &[Row], turn_rows: &[usize]) {
     let rates = fit.pump_rates(flight);
     let windows: Vec<(&[Row], usize)> = turn_rows
         .iter()
@@ -1109,9 +1115,13 @@ fn fit_buoyancy_delay(fit: &mut Fit, flight: &FlightParams, rows: &[Row], turn_r
         .map(|delay| (error(delay), delay))
         .filter(|(miss, _)| miss.is_finite())
         .min_by(|a, b| a.0.total_cmp(&b.0));
+    let best = best.filter(|_| !windows.is_empty()).map(|(_, delay)| delay);
+    if let Some(delay) = best {
+        flight.ballast_delay = delay;
+    }
     fit.put(
-        "buoyancy_delay",
-        best.filter(|_| !windows.is_empty()).map(|(_, delay)| delay),
+        "ballast_delay",
+        best,
         format!(
             "the delay with which the force balance, fed m_ballast_pumped and m_pitch, follows m_depth best through {} turns",
             windows.len()
@@ -1182,6 +1192,8 @@ const PITCH_PERIOD_STEPS: u32 = 60;
 const PITCH_DAMPING_STEP: f64 = 0.05;
 const PITCH_DAMPING_STEPS: u32 = 40;
 const PITCH_SWING_WINDOW: f64 = 60.0;
+/// The swing's step through a row interval (s), the pump's course resolved.
+const PITCH_SWING_DT: f64 = 0.5;
 
 /// The roll bias's heading error: the median of m_heading − c_heading in the
 /// middle of the dives and of the climbs.

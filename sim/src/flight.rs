@@ -13,8 +13,9 @@
 //! The pump and the pitch set how long a turn takes, not inertia (domain
 //! notes §7: comet's turns take 20.7 and 21.1 s).
 
-/// comet 154's buoyancy delay (s), as `gloc calibrate` fits it.
-pub const BUOYANCY_DELAY_COMET: f64 = 4.75;
+/// comet 154's ballast delay (s), as `gloc calibrate` fits it: the force
+/// balance fed the log's pump and pitch follows its depth best through 33 turns.
+pub const BALLAST_DELAY_COMET: f64 = 4.75;
 
 /// Standard gravity (m/s²).
 pub const GRAVITY: f64 = 9.81;
@@ -70,10 +71,11 @@ pub struct FlightParams {
     pub pitch_t2: f64,
     /// … and T3, the trim.
     pub pitch_t3: f64,
-    /// Seconds after the pump's volume (`m_ballast_pumped`) changes that the
-    /// buoyancy changes with it ([`Vehicle`]); the pitch follows the pump at
-    /// once. comet: `gloc calibrate` fits it from the turns (docs/simulator.md).
-    pub buoyancy_delay: f64,
+    /// Seconds after the pump's volume (`m_ballast_pumped`) changes that it
+    /// acts on the glider, on its buoyancy and (battery held) on the battery
+    /// relation's pitch ([`Vehicle::acting_volume`]). comet: `gloc calibrate`
+    /// fits it from the turns (docs/simulator.md §Turns).
+    pub ballast_delay: f64,
 }
 
 impl Default for FlightParams {
@@ -91,8 +93,8 @@ impl Default for FlightParams {
             // The hull's swing, the drag, the volume and the battery relation:
             // `gloc calibrate` on comet 154 (gliderflight's glidertrim gives
             // Cd0 0.209, Vg 71.549 L, T1 2053 on the same log).
-            pitch_period: 32.8,
-            pitch_damping: 0.45,
+            pitch_period: 16.6,
+            pitch_damping: 0.35,
             // glidersim's comet (examples/gs_example.py).
             mass: 73.3,
             hull_volume: 71.547,
@@ -115,10 +117,7 @@ impl Default for FlightParams {
             // separate it from T3); T3 from `gloc calibrate` with it.
             pitch_t2: -39.0,
             pitch_t3: 0.4096,
-            // 0: the glider of before. comet's is `BUOYANCY_DELAY_COMET` (`gloc
-            // calibrate`), not the default while its turn timing is open
-            // (docs/simulator.md §Turns).
-            buoyancy_delay: 0.0,
+            ballast_delay: BALLAST_DELAY_COMET,
         }
     }
 }
@@ -605,7 +604,8 @@ impl Vehicle {
                 step.abs() * energy.pitch_j_per_rad
             }
             PitchControl::Battpos => {
-                let target = flight.battpos_pitch(self.ballast, command);
+                let acting = self.acting_volume(flight.ballast_delay);
+                let target = flight.battpos_pitch(acting, command);
                 (self.pitch, self.pitch_velocity) = swing_pitch(
                     (self.pitch, self.pitch_velocity),
                     target,
@@ -617,8 +617,8 @@ impl Vehicle {
             }
         };
 
-        // The buoyancy follows the pump `buoyancy_delay` later.
-        let acting = self.acting_volume(flight.buoyancy_delay);
+        // The pumped volume acts `ballast_delay` after the pump moves it.
+        let acting = self.acting_volume(flight.ballast_delay);
         self.glide(dt, acting, water_depth, flight);
 
         // Hotel load.
@@ -634,8 +634,9 @@ impl Vehicle {
         self.energy_joules += hotel_joules + pump_joules + pitch_joules;
     }
 
-    /// The pumped volume (cc) whose buoyancy acts now: the volume `delay`
-    /// seconds ago ([`FlightParams::buoyancy_delay`]).
+    /// The pumped volume (cc) that acts on the glider now, on its buoyancy and
+    /// its battery relation: the volume `delay` seconds ago
+    /// ([`FlightParams::ballast_delay`]).
     pub fn acting_volume(&self, delay: f64) -> f64 {
         if delay <= 0.0 {
             return self.ballast;
@@ -846,7 +847,7 @@ mod tests {
         // with a 3 s delay the glider whose pump starts at t = 0 flies exactly
         // as one whose pump never moves for 3 s, and differently after.
         let flight = FlightParams {
-            buoyancy_delay: 3.0,
+            ballast_delay: 3.0,
             ..FlightParams::default()
         };
         let energy = EnergyParams::default();

@@ -116,9 +116,7 @@ impl Default for TimingParams {
             cycle_overrun: 0.51,
             cycle_jitter: 0.13,
             turn_cycles: 2.0,
-            // 0: the glider of before; comet's is `PUMP_LEAD_COMET` (`gloc
-            // calibrate`), not the default while its turn timing is open.
-            pump_lead: 0.0,
+            pump_lead: PUMP_LEAD_COMET,
             altimeter_range: 33.0,
             altimeter_fraction: 0.4,
             altimeter_min_depth: 2.0,
@@ -156,7 +154,7 @@ impl SimConfig {
             "pitch_t1" => &mut flight.pitch_t1,
             "pitch_t2" => &mut flight.pitch_t2,
             "pitch_t3" => &mut flight.pitch_t3,
-            "buoyancy_delay" => &mut flight.buoyancy_delay,
+            "ballast_delay" => &mut flight.ballast_delay,
             "battery_ohms" => &mut energy.battery_ohms,
             "science_on_power" => &mut energy.science_on_power,
             "science_sleep_power" => &mut energy.science_sleep_power,

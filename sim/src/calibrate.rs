@@ -987,8 +987,10 @@ const PUMP_STILL: f64 = 2.0;
 
 /// The hull's swing toward the battery relation: the natural period and
 /// damping at which the relation, fed the log's pumped volume through each
-/// turn ([`crate::flight::swing_pitch`]), gives the log's pitch best (least
-/// squares over the turns' first minute; a grid search, two unknowns).
+/// turn ([`crate::flight::swing_pitch`]) `flight.ballast_delay` late (as the
+/// simulator feeds it) and between rows as the pump moves ([`logged_volume`]),
+/// gives the log's pitch best (least squares over the turns' first minute; a
+/// grid search, two unknowns).
 fn fit_pitch_swing(fit: &mut Fit, flight: &FlightParams, rows: &[Row], turn_rows: &[usize]) {
     let rates = fit.pump_rates(flight);
     let battpos = median(rows.iter().map(|row| row.battpos).collect()).unwrap_or(f64::NAN);
@@ -1033,7 +1035,7 @@ fn fit_pitch_swing(fit: &mut Fit, flight: &FlightParams, rows: &[Row], turn_rows
     let best = best.filter(|_| battpos.is_finite());
     let why = "no turn with m_pitch, m_ballast_pumped and m_battpos in the log";
     let from = format!(
-        "the swing with which the battery relation, fed m_ballast_pumped, follows m_pitch best through {} turns",
+        "the swing with which the battery relation, fed m_ballast_pumped ballast_delay late, follows m_pitch best through {} turns",
         turn_rows.len()
     );
     fit.put("pitch_period", best.map(|b| b.1), from.clone(), why);
@@ -1074,7 +1076,7 @@ fn fit_pump_lead(fit: &mut Fit, flight: &FlightParams, rows: &[Row], turn_rows: 
 /// out of the pump's lead.
 const PUMP_LEAD_MIN_DEPTH: f64 = 0.5;
 
-/// The buoyancy delay: the one at which the force balance, fed the log's
+/// The ballast delay: the one at which the force balance, fed the log's
 /// m_pitch and m_ballast_pumped through each turn (linear between rows, the
 /// volume `delay` seconds late), gives the log's m_depth best: least squares
 /// of the depth travelled from the turn's row over the next
@@ -1176,7 +1178,7 @@ fn fed_turn_error(
     total
 }
 
-/// The buoyancy delays searched (s), the part of a turn compared and the lead-in
+/// The ballast delays searched (s), the part of a turn compared and the lead-in
 /// (s), and the force balance's step there (s).
 const DELAY_FIT_STEP: f64 = 0.25;
 const DELAY_FIT_STEPS: u32 = 60;

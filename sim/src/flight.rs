@@ -326,7 +326,7 @@ pub struct Vehicle {
     frame: Frame,
     /// Seconds flown (the clock of the pump's history).
     clock: f64,
-    /// The pump's recent motion, for the buoyancy delay.
+    /// The pump's recent motion, for the ballast delay.
     pump_history: PumpHistory,
 }
 

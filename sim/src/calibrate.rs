@@ -1238,6 +1238,124 @@ mod tests {
         assert_eq!(least_squares(&[([1.0, 1.0], 1.0)]), None);
     }
 
+    fn row(time: f64, ballast: f64, c_ballast: f64) -> Row {
+        Row {
+            time,
+            ballast,
+            c_ballast,
+            ..EMPTY
+        }
+    }
+
+    #[test]
+    fn the_logged_volume_moves_between_rows_as_the_pump_does() {
+        // Rows 4.5 s apart; the pump (34.6 cc/s out) has run 36 cc by the second.
+        let rows = [
+            row(0.0, -230.0, -230.0),
+            row(4.5, -194.0, 230.0),
+            row(9.0, -38.3, 230.0),
+        ];
+        let rates = (34.6, 43.7);
+        // By hand: the swing started 36 / 34.6 = 1.0405 s before the second row,
+        // at 3.4595 s; still at 3 s, 19.3 cc run by 4 s (34.6 × 0.5405 = 18.70).
+        assert_eq!(logged_volume(&rows, 3.0, rates), -230.0);
+        let at_four = logged_volume(&rows, 4.0, rates);
+        assert!((at_four - (-230.0 + 34.6 * (4.0 - (4.5 - 36.0 / 34.6)))).abs() < 1e-9);
+        assert!((at_four + 211.30).abs() < 0.01, "{at_four}");
+        // Moving at the second row: from there at the rate, 1.5 s × 34.6 = 51.9 cc.
+        assert!((logged_volume(&rows, 6.0, rates) + 142.1).abs() < 1e-9);
+        // Outside the rows, the nearest reading.
+        assert_eq!(logged_volume(&rows, 20.0, rates), -38.3);
+    }
+
+    #[test]
+    fn the_pump_lead_is_the_swing_run_by_the_turns_row() {
+        // Two turns below the surface: 36 cc out at 34.6 cc/s (1.0405 s) and 26 cc
+        // in at 43.7 cc/s (0.5950 s): the median of two is their mean, 0.8177 s.
+        let mut rows = vec![
+            row(0.0, -230.0, -230.0),
+            row(4.5, -194.0, 230.0),
+            row(9.0, 230.0, 230.0),
+            row(13.5, 204.0, -230.0),
+        ];
+        for row in &mut rows {
+            row.depth = 20.0;
+        }
+        let mut fit = Fit::default();
+        fit.put("pump_rate", Some(34.6), String::new(), "");
+        fit.put("pump_in_rate", Some(43.7), String::new(), "");
+        fit_pump_lead(&mut fit, &FlightParams::default(), &rows, &[1, 3]);
+        let lead = fit
+            .values
+            .iter()
+            .find(|f| f.name == "pump_lead")
+            .expect("fitted");
+        let by_hand = 0.5 * (36.0 / 34.6 + 26.0 / 43.7);
+        assert!(
+            (lead.value - by_hand).abs() < 1e-9,
+            "{} {by_hand}",
+            lead.value
+        );
+    }
+
+    #[test]
+    fn the_ballast_delay_fit_finds_the_delay_a_glider_flew_with() {
+        // A glider flown by the flight model with the volume acting 3 s late, a row
+        // a second, turning at 30 m and 5 m: the fit, fed its rows, finds 3 s. Fine
+        // steps: a sub-step flies the pitch and volume of its end, so the default
+        // 0.6 s steps fly about 0.3 s early, which the fit would see.
+        let truth = FlightParams {
+            ballast_delay: 3.0,
+            step: 0.05,
+            ..FlightParams::default()
+        };
+        let energy = crate::flight::EnergyParams::default();
+        let mut vehicle = crate::flight::Vehicle::default();
+        vehicle.depth = 5.0;
+        let (mut rows, mut command, mut time) = (Vec::new(), -260.0, 0.0);
+        while time < 2400.0 {
+            if vehicle.depth > 30.0 && command < 0.0
+                || vehicle.depth < 5.0 && command > 0.0 && time > 60.0
+            {
+                command = -command;
+            }
+            vehicle.fly(
+                1.0,
+                command,
+                0.405,
+                crate::flight::PitchControl::Battpos,
+                1000.0,
+                &truth,
+                &energy,
+                0.0,
+            );
+            time += 1.0;
+            rows.push(Row {
+                time,
+                depth: vehicle.depth,
+                pitch: vehicle.pitch,
+                ballast: vehicle.ballast,
+                c_ballast: command,
+                ..EMPTY
+            });
+        }
+        let turn_rows = turns(&rows);
+        assert!(turn_rows.len() >= 8, "{}", turn_rows.len());
+        let mut fit = Fit::default();
+        fit.put("pump_rate", Some(truth.pump_rate), String::new(), "");
+        fit.put("pump_in_rate", Some(truth.pump_in_rate), String::new(), "");
+        let mut flight = FlightParams {
+            ballast_delay: 0.0,
+            ..truth.clone()
+        };
+        fit_ballast_delay(&mut fit, &mut flight, &rows, &turn_rows);
+        assert!(
+            (flight.ballast_delay - 3.0).abs() <= 0.25,
+            "{}",
+            flight.ballast_delay
+        );
+    }
+
     #[test]
     fn the_drag_and_volume_fit_inverts_the_steady_glide() {
         // Legs flown by a glider with other constants than the defaults the fit

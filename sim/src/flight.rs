@@ -11,7 +11,9 @@
 //! gliderflight's trim relation tan θ = T1·ΔV + T2·battpos + T3 with a lag
 //! (the hull rotating), servoed (`use_pitch` 3) it slews to the command.
 //! The pump and the pitch set how long a turn takes, not inertia (domain
-//! notes §7: comet's turns take 20.7 and 21.1 s).
+//! notes §7: comet's turns take 20.7 and 21.1 s). The pumped volume acts on
+//! the buoyancy and the battery relation `ballast_delay` after the pump moves
+//! it, as comet's turns show (docs/simulator.md §Turns).
 
 /// comet 154's ballast delay (s), as `gloc calibrate` fits it: the force
 /// balance fed the log's pump and pitch follows its depth best through 33 turns.

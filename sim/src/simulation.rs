@@ -912,13 +912,14 @@ impl Simulation {
             Some(_) => self.timing.pump_lead.clamp(0.0, period),
             None => 0.0,
         };
-        let mut legs = [
+        let legs = [
             (period - lead, buoyancy),
             (lead, self.turn_starting.unwrap_or(buoyancy)),
         ];
-        if lead == 0.0 {
-            legs[1].0 = 0.0;
-        }
+        let (joules_before, volts) = (
+            self.vehicle.energy_joules,
+            self.vehicle.battery_volts(&self.energy).max(1e-3),
+        );
         for (seconds, volume) in legs {
             if seconds > 0.0 {
                 self.vehicle.fly(
@@ -932,6 +933,10 @@ impl Simulation {
                     science_watts,
                 );
             }
+        }
+        if lead > 0.0 && period > 0.0 {
+            // m_coulomb_current is the cycle's mean, not its last part's.
+            self.vehicle.current = (self.vehicle.energy_joules - joules_before) / period / volts;
         }
         self.turn_starting = None;
         self.next_time = self.time + period;

@@ -1004,6 +1004,10 @@ fn fit_pitch_swing(fit: &mut Fit, flight: &FlightParams, rows: &[Row], turn_rows
                     break;
                 }
                 let span = pair[1].time - pair[0].time;
+                if !(span > 0.0 && span <= PITCH_SWING_WINDOW) {
+                    // A gap, not a turn (and no endless sub-steps over it).
+                    break;
+                }
                 let pieces = (span / PITCH_SWING_DT).ceil().max(1.0);
                 let dt = span / pieces;
                 for piece in 0..pieces as u32 {
@@ -1098,9 +1102,13 @@ fn fit_ballast_delay(fit: &mut Fit, flight: &mut FlightParams, rows: &[Row], tur
                     .take_while(|row| row.time <= at + DELAY_FIT_AFTER)
                     .count();
             let window = &rows[first..last];
-            let complete = window.iter().all(|row| {
-                row.depth.is_finite() && row.pitch.is_finite() && row.ballast.is_finite()
-            });
+            // A gap before the lead-in (the glider at the surface, a missing
+            // stretch) is no turn to fly through.
+            let close = at - window[0].time <= 2.0 * DELAY_FIT_BEFORE;
+            let complete = close
+                && window.iter().all(|row| {
+                    row.depth.is_finite() && row.pitch.is_finite() && row.ballast.is_finite()
+                });
             let start = window[0];
             let steady = flight.steady_glide(start.ballast, start.pitch, start.depth);
             (complete && steady != (0.0, 0.0) && last > turn + 1).then_some((window, turn - first))
@@ -1157,17 +1165,21 @@ fn fed_turn_error(
     let mut vehicle = crate::flight::Vehicle::default();
     (vehicle.depth, vehicle.depth_rate) = (start.depth, sink);
     (vehicle.speed, vehicle.pitch) = (speed, start.pitch);
-    let mut time = start.time;
     let mut total = 0.0;
     let mut turn_depth = None;
-    for (index, row) in window.iter().enumerate().skip(1) {
-        while time < row.time {
-            let dt = DELAY_FIT_DT.min(row.time - time);
-            vehicle.pitch = at(time + 0.5 * dt, |r| r.pitch);
-            let volume = logged_volume(window, time + 0.5 * dt - delay, rates);
+    for (index, pair) in window.windows(2).enumerate() {
+        let (from, row) = (pair[0].time, &pair[1]);
+        // Equal steps of at most DELAY_FIT_DT (the window spans at most
+        // 2 × DELAY_FIT_BEFORE + DELAY_FIT_AFTER seconds).
+        let steps = ((row.time - from) / DELAY_FIT_DT).ceil().clamp(0.0, 1e4);
+        let dt = (row.time - from) / steps.max(1.0);
+        for step in 0..steps as u32 {
+            let middle = from + (f64::from(step) + 0.5) * dt;
+            vehicle.pitch = at(middle, |r| r.pitch);
+            let volume = logged_volume(window, middle - delay, rates);
             vehicle.glide(dt, volume, f64::INFINITY, flight);
-            time += dt;
         }
+        let index = index + 1;
         if index == turn {
             turn_depth = Some((vehicle.depth, row.depth));
         } else if let Some((model, logged)) = turn_depth {
@@ -1354,6 +1366,35 @@ mod tests {
             "{}",
             flight.ballast_delay
         );
+    }
+
+    #[test]
+    fn the_turn_fits_step_over_a_gap_instead_of_through_it() {
+        // A turn whose row before lies 1e12 s back (and times where adding a tenth
+        // of a second is lost): the fits must return, leaving that turn out.
+        let mut rows = Vec::new();
+        for (time, ballast, c_ballast) in [
+            (0.0, -230.0, -230.0),
+            (1e12, -194.0, 230.0),
+            (1e12 + 4.5, -38.0, 230.0),
+            (1e12 + 9.0, 118.0, 230.0),
+            (1e12 + 13.5, 230.0, 230.0),
+        ] {
+            rows.push(Row {
+                depth: 30.0,
+                pitch: -0.4,
+                battpos: 0.405,
+                ..row(time, ballast, c_ballast)
+            });
+        }
+        let mut fit = Fit::default();
+        let mut flight = FlightParams::default();
+        fit_ballast_delay(&mut fit, &mut flight, &rows, &[1]);
+        fit_pitch_swing(&mut fit, &flight, &rows, &[1]);
+        assert!(fit
+            .not_fitted
+            .iter()
+            .any(|(name, _)| *name == "ballast_delay"));
     }
 
     #[test]

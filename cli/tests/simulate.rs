@@ -164,10 +164,12 @@ fn simulator_settings_from_flags_and_gloc_toml() {
     // 62 s and 36 s, the pump and pitch time being the same: 26 s is 5.8 cycles of
     // 4.5 s, so the heavier glider is there at least 4 cycles earlier. With all 230 cc
     // pumped out it is still 0.36 kg heavy (1024 kg/m³ × 71.23 L < 73.3 kg): it cannot
-    // climb, and abend aborts it at fig2's 30 m overdepth (exit 5) within the 80 cycles.
+    // climb: it sinks on at about 0.045 m/s (0.2 m a cycle), from its turn at about 18 m
+    // (cycle 20) to fig2's 30 m overdepth in some 60 cycles more, where abend aborts
+    // it (exit 5): 100 cycles hold that with room.
     let folder = temp_folder("sim-settings");
     let run = |extra: &[&str], folder: &PathBuf, log: &str| {
-        let mut args = vec!["run", "--cycles", "80", "--log", log];
+        let mut args = vec!["run", "--cycles", "100", "--log", log];
         args.extend_from_slice(extra);
         let output = gloc(&args, folder);
         let heavy = extra.contains(&"hull_volume=71")

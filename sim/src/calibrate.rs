@@ -452,6 +452,20 @@ impl Fit {
         text
     }
 
+    /// The pump's rates out and in (cc/s): as fitted, else `flight`'s.
+    fn pump_rates(&self, flight: &FlightParams) -> (f64, f64) {
+        let value = |name: &str, default: f64| {
+            self.values
+                .iter()
+                .find(|fitted| fitted.name == name)
+                .map_or(default, |fitted| fitted.value)
+        };
+        (
+            value("pump_rate", flight.pump_rate),
+            value("pump_in_rate", flight.pump_in_rate),
+        )
+    }
+
     fn put(&mut self, name: &'static str, value: Option<f64>, from: String, why_not: &str) {
         match value.filter(|value| value.is_finite()) {
             Some(value) => self.values.push(Fitted { name, value, from }),
@@ -589,6 +603,8 @@ pub fn fit(track: &Track, climb_target: f64, defaults: &SimConfig) -> Result<Fit
     let steady = steady_legs(rows, &legs);
     fit_battery_relation(&mut fit, &mut flight, &steady);
     fit_drag_and_volume(&mut fit, &mut flight, &steady);
+    fit_pump_lead(&mut fit, &flight, rows, &turn_rows);
+    fit_ballast_delay(&mut fit, &mut flight, rows, &turn_rows);
     fit_pitch_swing(&mut fit, &flight, rows, &turn_rows);
     fit_heading_bias(&mut fit, (&dive_rows, &climb_rows));
     fit_timing(&mut fit, rows, &figures);
@@ -731,7 +747,7 @@ fn fit_battery(fit: &mut Fit, rows: &[Row]) {
         ("drag_cd1", "gliderflight holds it (10.5) and fits the zero-lift drag only"),
         ("lift_slope", "gliderflight holds it (aw from the wing's shape, ah 3.8)"),
         ("wing_area", "a reference area: it scales the coefficients, not the flight"),
-        ("added_mass_along", "the turns are set by the pump and pitch, not inertia: the log cannot resolve it"),
+        ("added_mass_along", "held at gliderflight's: comet's turns would call for several times the glider's own mass, not a slender hull's 0.2; ballast_delay fits them instead"),
         ("added_mass_across", "as added_mass_along"),
         ("altimeter_range", "the glider's altimeter use is set by its own u_alt_* settings, not the water"),
         ("altimeter_fraction", "as altimeter_range"),
@@ -939,11 +955,44 @@ fn fit_drag_and_volume(fit: &mut Fit, flight: &mut FlightParams, steady: &[Stead
     }
 }
 
+/// The log's pumped volume at `time` (cc), between its rows as the pump
+/// moved: at its rate `rates` (out, in; cc/s), from the earlier row if it was
+/// already moving there, else so as to arrive at the later row's reading (a
+/// swing starts between two rows; averaging across them would start it up to
+/// a cycle early). Outside the rows, the nearest row's reading.
+fn logged_volume(rows: &[Row], time: f64, (out_rate, in_rate): (f64, f64)) -> f64 {
+    let later = rows.partition_point(|row| row.time <= time);
+    let (Some(a), Some(b)) = (later.checked_sub(1).map(|i| rows[i]), rows.get(later)) else {
+        return rows[later.min(rows.len() - 1)].ballast;
+    };
+    let change = b.ballast - a.ballast;
+    let rate = if change > 0.0 { out_rate } else { in_rate };
+    if change.abs() <= PUMP_STILL || rate.is_nan() || rate <= 0.0 || b.time <= a.time {
+        let span = (b.time - a.time).max(1e-9);
+        return a.ballast + change * ((time - a.time) / span).clamp(0.0, 1.0);
+    }
+    let moving_before = later >= 2 && (a.ballast - rows[later - 2].ballast).abs() > PUMP_STILL;
+    let travel = (change.abs() / rate).min(b.time - a.time);
+    let start = if moving_before {
+        a.time
+    } else {
+        b.time - travel
+    };
+    a.ballast + change * ((time - start) / travel).clamp(0.0, 1.0)
+}
+
+/// Change of m_ballast_pumped between rows (cc) below which the pump counts as
+/// still (its readings step by 0.3 cc).
+const PUMP_STILL: f64 = 2.0;
+
 /// The hull's swing toward the battery relation: the natural period and
 /// damping at which the relation, fed the log's pumped volume through each
-/// turn ([`crate::flight::swing_pitch`]), gives the log's pitch best (least
-/// squares over the turns' first minute; a grid search, two unknowns).
+/// turn ([`crate::flight::swing_pitch`]) `flight.ballast_delay` late (as the
+/// simulator feeds it) and between rows as the pump moves ([`logged_volume`]),
+/// gives the log's pitch best (least squares over the turns' first minute; a
+/// grid search, two unknowns).
 fn fit_pitch_swing(fit: &mut Fit, flight: &FlightParams, rows: &[Row], turn_rows: &[usize]) {
+    let rates = fit.pump_rates(flight);
     let battpos = median(rows.iter().map(|row| row.battpos).collect()).unwrap_or(f64::NAN);
     let error = |period: f64, damping: f64| -> f64 {
         let mut total = 0.0;
@@ -954,10 +1003,19 @@ fn fit_pitch_swing(fit: &mut Fit, flight: &FlightParams, rows: &[Row], turn_rows
                 if pair[1].time - rows[turn].time > PITCH_SWING_WINDOW {
                     break;
                 }
-                let dt = pair[1].time - pair[0].time;
-                let target =
-                    flight.battpos_pitch(0.5 * (pair[0].ballast + pair[1].ballast), battpos);
-                state = crate::flight::swing_pitch(state, target, dt, period, damping);
+                let span = pair[1].time - pair[0].time;
+                if !(span > 0.0 && span <= PITCH_SWING_WINDOW) {
+                    // A gap, not a turn (and no endless sub-steps over it).
+                    break;
+                }
+                let pieces = (span / PITCH_SWING_DT).ceil().max(1.0);
+                let dt = span / pieces;
+                for piece in 0..pieces as u32 {
+                    let time = pair[0].time + (f64::from(piece) + 0.5) * dt;
+                    let volume = logged_volume(rows, time - flight.ballast_delay, rates);
+                    let target = flight.battpos_pitch(volume, battpos);
+                    state = crate::flight::swing_pitch(state, target, dt, period, damping);
+                }
                 let miss = state.0 - pair[1].pitch;
                 if miss.is_finite() {
                     total += miss * miss;
@@ -981,12 +1039,164 @@ fn fit_pitch_swing(fit: &mut Fit, flight: &FlightParams, rows: &[Row], turn_rows
     let best = best.filter(|_| battpos.is_finite());
     let why = "no turn with m_pitch, m_ballast_pumped and m_battpos in the log";
     let from = format!(
-        "the swing with which the battery relation, fed m_ballast_pumped, follows m_pitch best through {} turns",
+        "the swing with which the battery relation, fed m_ballast_pumped ballast_delay late, follows m_pitch best through {} turns",
         turn_rows.len()
     );
     fit.put("pitch_period", best.map(|b| b.1), from.clone(), why);
     fit.put("pitch_damping", best.map(|b| b.2), from, why);
 }
+
+/// The pump's lead: how far its swing has run by the row where
+/// c_ballast_pumped turns, m_ballast_pumped's change since the row before
+/// over the pump's rate; the median over the turns below the surface.
+fn fit_pump_lead(fit: &mut Fit, flight: &FlightParams, rows: &[Row], turn_rows: &[usize]) {
+    let (out_rate, in_rate) = fit.pump_rates(flight);
+    let leads: Vec<f64> = turn_rows
+        .iter()
+        .filter(|&&turn| turn > 0 && rows[turn].depth > PUMP_LEAD_MIN_DEPTH)
+        .map(|&turn| {
+            let change = rows[turn].ballast - rows[turn - 1].ballast;
+            let rate = if rows[turn].c_ballast > 0.0 {
+                out_rate
+            } else {
+                -in_rate
+            };
+            change / rate
+        })
+        .filter(|lead| lead.is_finite() && *lead >= 0.0)
+        .collect();
+    fit.put(
+        "pump_lead",
+        median(leads.clone()),
+        format!(
+            "median m_ballast_pumped run at the row where c_ballast_pumped turns, over the pump's rate, {} turns",
+            leads.len()
+        ),
+        "no turn below the surface with m_ballast_pumped in the log",
+    );
+}
+
+/// Turns shallower than this (m) are the dive's start at the surface, left
+/// out of the pump's lead.
+const PUMP_LEAD_MIN_DEPTH: f64 = 0.5;
+
+/// The ballast delay: the one at which the force balance, fed the log's
+/// m_pitch and m_ballast_pumped through each turn (linear between rows, the
+/// volume `delay` seconds late), gives the log's m_depth best: least squares
+/// of the depth travelled from the turn's row over the next
+/// [`DELAY_FIT_AFTER`] seconds, a grid search over one unknown. Each turn
+/// starts [`DELAY_FIT_BEFORE`] seconds earlier in the steady glide of that
+/// row; a turn with no steady glide there (the glider floating) is left out.
+fn fit_ballast_delay(fit: &mut Fit, flight: &mut FlightParams, rows: &[Row], turn_rows: &[usize]) {
+    let rates = fit.pump_rates(flight);
+    let windows: Vec<(&[Row], usize)> = turn_rows
+        .iter()
+        .filter_map(|&turn| {
+            let at = rows[turn].time;
+            let first = rows[..turn]
+                .iter()
+                .rposition(|row| row.time <= at - DELAY_FIT_BEFORE)?;
+            let last = turn
+                + rows[turn..]
+                    .iter()
+                    .take_while(|row| row.time <= at + DELAY_FIT_AFTER)
+                    .count();
+            let window = &rows[first..last];
+            // A gap before the lead-in (the glider at the surface, a missing
+            // stretch) is no turn to fly through.
+            let close = at - window[0].time <= 2.0 * DELAY_FIT_BEFORE;
+            let complete = close
+                && window.iter().all(|row| {
+                    row.depth.is_finite() && row.pitch.is_finite() && row.ballast.is_finite()
+                });
+            let start = window[0];
+            let steady = flight.steady_glide(start.ballast, start.pitch, start.depth);
+            (complete && steady != (0.0, 0.0) && last > turn + 1).then_some((window, turn - first))
+        })
+        .collect();
+    let error = |delay: f64| -> f64 {
+        windows
+            .iter()
+            .map(|&(window, turn)| fed_turn_error(flight, window, turn, delay, rates))
+            .sum()
+    };
+    let best = (0..=DELAY_FIT_STEPS)
+        .map(|step| step as f64 * DELAY_FIT_STEP)
+        .map(|delay| (error(delay), delay))
+        .filter(|(miss, _)| miss.is_finite())
+        .min_by(|a, b| a.0.total_cmp(&b.0));
+    let best = best.filter(|_| !windows.is_empty()).map(|(_, delay)| delay);
+    if let Some(delay) = best {
+        flight.ballast_delay = delay;
+    }
+    fit.put(
+        "ballast_delay",
+        best,
+        format!(
+            "the delay with which the force balance, fed m_ballast_pumped and m_pitch, follows m_depth best through {} turns",
+            windows.len()
+        ),
+        "no turn below the surface with m_depth, m_pitch and m_ballast_pumped in the log",
+    );
+}
+
+/// The squared misses (m²) of the force balance fed a `window` of rows (its
+/// row `turn` the turn) with the pumped volume `delay` seconds late: the
+/// depth travelled from the turn's row, at each later row.
+fn fed_turn_error(
+    flight: &FlightParams,
+    window: &[Row],
+    turn: usize,
+    delay: f64,
+    rates: (f64, f64),
+) -> f64 {
+    let at = |time: f64, field: fn(&Row) -> f64| -> f64 {
+        let later = window.partition_point(|row| row.time <= time);
+        match (later.checked_sub(1).map(|i| window[i]), window.get(later)) {
+            (Some(a), Some(b)) if b.time > a.time => {
+                field(&a) + (field(b) - field(&a)) * (time - a.time) / (b.time - a.time)
+            }
+            (Some(a), _) => field(&a),
+            (None, _) => field(&window[0]),
+        }
+    };
+    let start = window[0];
+    let (speed, sink) = flight.steady_glide(start.ballast, start.pitch, start.depth);
+    let mut vehicle = crate::flight::Vehicle::default();
+    (vehicle.depth, vehicle.depth_rate) = (start.depth, sink);
+    (vehicle.speed, vehicle.pitch) = (speed, start.pitch);
+    let mut total = 0.0;
+    let mut turn_depth = None;
+    for (index, pair) in window.windows(2).enumerate() {
+        let (from, row) = (pair[0].time, &pair[1]);
+        // Equal steps of at most DELAY_FIT_DT (the window spans at most
+        // 2 × DELAY_FIT_BEFORE + DELAY_FIT_AFTER seconds).
+        let steps = ((row.time - from) / DELAY_FIT_DT).ceil().clamp(0.0, 1e4);
+        let dt = (row.time - from) / steps.max(1.0);
+        for step in 0..steps as u32 {
+            let middle = from + (f64::from(step) + 0.5) * dt;
+            vehicle.pitch = at(middle, |r| r.pitch);
+            let volume = logged_volume(window, middle - delay, rates);
+            vehicle.glide(dt, volume, f64::INFINITY, flight);
+        }
+        let index = index + 1;
+        if index == turn {
+            turn_depth = Some((vehicle.depth, row.depth));
+        } else if let Some((model, logged)) = turn_depth {
+            let miss = (vehicle.depth - model) - (row.depth - logged);
+            total += miss * miss;
+        }
+    }
+    total
+}
+
+/// The ballast delays searched (s), the part of a turn compared and the lead-in
+/// (s), and the force balance's step there (s).
+const DELAY_FIT_STEP: f64 = 0.25;
+const DELAY_FIT_STEPS: u32 = 60;
+const DELAY_FIT_AFTER: f64 = 40.0;
+const DELAY_FIT_BEFORE: f64 = 30.0;
+const DELAY_FIT_DT: f64 = 0.1;
 
 /// The natural periods searched (s, log-spaced), the damping ratios (steps of
 /// 0.05 to 2), and the part of a turn compared (s).
@@ -996,6 +1206,8 @@ const PITCH_PERIOD_STEPS: u32 = 60;
 const PITCH_DAMPING_STEP: f64 = 0.05;
 const PITCH_DAMPING_STEPS: u32 = 40;
 const PITCH_SWING_WINDOW: f64 = 60.0;
+/// The swing's step through a row interval (s), the pump's course resolved.
+const PITCH_SWING_DT: f64 = 0.5;
 
 /// The roll bias's heading error: the median of m_heading − c_heading in the
 /// middle of the dives and of the climbs.
@@ -1036,6 +1248,153 @@ mod tests {
         assert!((b - 3.05 / 3.0).abs() < 1e-12, "{b}");
         // One point cannot fix two unknowns.
         assert_eq!(least_squares(&[([1.0, 1.0], 1.0)]), None);
+    }
+
+    fn row(time: f64, ballast: f64, c_ballast: f64) -> Row {
+        Row {
+            time,
+            ballast,
+            c_ballast,
+            ..EMPTY
+        }
+    }
+
+    #[test]
+    fn the_logged_volume_moves_between_rows_as_the_pump_does() {
+        // Rows 4.5 s apart; the pump (34.6 cc/s out) has run 36 cc by the second.
+        let rows = [
+            row(0.0, -230.0, -230.0),
+            row(4.5, -194.0, 230.0),
+            row(9.0, -38.3, 230.0),
+        ];
+        let rates = (34.6, 43.7);
+        // By hand: the swing started 36 / 34.6 = 1.0405 s before the second row,
+        // at 3.4595 s; still at 3 s, 19.3 cc run by 4 s (34.6 × 0.5405 = 18.70).
+        assert_eq!(logged_volume(&rows, 3.0, rates), -230.0);
+        let at_four = logged_volume(&rows, 4.0, rates);
+        assert!((at_four - (-230.0 + 34.6 * (4.0 - (4.5 - 36.0 / 34.6)))).abs() < 1e-9);
+        assert!((at_four + 211.30).abs() < 0.01, "{at_four}");
+        // Moving at the second row: from there at the rate, 1.5 s × 34.6 = 51.9 cc.
+        assert!((logged_volume(&rows, 6.0, rates) + 142.1).abs() < 1e-9);
+        // Outside the rows, the nearest reading.
+        assert_eq!(logged_volume(&rows, 20.0, rates), -38.3);
+    }
+
+    #[test]
+    fn the_pump_lead_is_the_swing_run_by_the_turns_row() {
+        // Two turns below the surface: 36 cc out at 34.6 cc/s (1.0405 s) and 26 cc
+        // in at 43.7 cc/s (0.5950 s): the median of two is their mean, 0.8177 s.
+        let mut rows = vec![
+            row(0.0, -230.0, -230.0),
+            row(4.5, -194.0, 230.0),
+            row(9.0, 230.0, 230.0),
+            row(13.5, 204.0, -230.0),
+        ];
+        for row in &mut rows {
+            row.depth = 20.0;
+        }
+        let mut fit = Fit::default();
+        fit.put("pump_rate", Some(34.6), String::new(), "");
+        fit.put("pump_in_rate", Some(43.7), String::new(), "");
+        fit_pump_lead(&mut fit, &FlightParams::default(), &rows, &[1, 3]);
+        let lead = fit
+            .values
+            .iter()
+            .find(|f| f.name == "pump_lead")
+            .expect("fitted");
+        let by_hand = 0.5 * (36.0 / 34.6 + 26.0 / 43.7);
+        assert!(
+            (lead.value - by_hand).abs() < 1e-9,
+            "{} {by_hand}",
+            lead.value
+        );
+    }
+
+    #[test]
+    fn the_ballast_delay_fit_finds_the_delay_a_glider_flew_with() {
+        // A glider flown by the flight model with the volume acting 3 s late, a row
+        // a second, turning at 30 m and 5 m: the fit, fed its rows, finds 3 s. Fine
+        // steps: a sub-step flies the pitch and volume of its end, so the default
+        // 0.6 s steps fly about 0.3 s early, which the fit would see.
+        let truth = FlightParams {
+            ballast_delay: 3.0,
+            step: 0.05,
+            ..FlightParams::default()
+        };
+        let energy = crate::flight::EnergyParams::default();
+        let mut vehicle = crate::flight::Vehicle::default();
+        vehicle.depth = 5.0;
+        let (mut rows, mut command, mut time) = (Vec::new(), -260.0, 0.0);
+        while time < 2400.0 {
+            if vehicle.depth > 30.0 && command < 0.0
+                || vehicle.depth < 5.0 && command > 0.0 && time > 60.0
+            {
+                command = -command;
+            }
+            vehicle.fly(
+                1.0,
+                command,
+                0.405,
+                crate::flight::PitchControl::Battpos,
+                1000.0,
+                &truth,
+                &energy,
+                0.0,
+            );
+            time += 1.0;
+            rows.push(Row {
+                time,
+                depth: vehicle.depth,
+                pitch: vehicle.pitch,
+                ballast: vehicle.ballast,
+                c_ballast: command,
+                ..EMPTY
+            });
+        }
+        let turn_rows = turns(&rows);
+        assert!(turn_rows.len() >= 8, "{}", turn_rows.len());
+        let mut fit = Fit::default();
+        fit.put("pump_rate", Some(truth.pump_rate), String::new(), "");
+        fit.put("pump_in_rate", Some(truth.pump_in_rate), String::new(), "");
+        let mut flight = FlightParams {
+            ballast_delay: 0.0,
+            ..truth.clone()
+        };
+        fit_ballast_delay(&mut fit, &mut flight, &rows, &turn_rows);
+        assert!(
+            (flight.ballast_delay - 3.0).abs() <= 0.25,
+            "{}",
+            flight.ballast_delay
+        );
+    }
+
+    #[test]
+    fn the_turn_fits_step_over_a_gap_instead_of_through_it() {
+        // A turn whose row before lies 1e12 s back (and times where adding a tenth
+        // of a second is lost): the fits must return, leaving that turn out.
+        let mut rows = Vec::new();
+        for (time, ballast, c_ballast) in [
+            (0.0, -230.0, -230.0),
+            (1e12, -194.0, 230.0),
+            (1e12 + 4.5, -38.0, 230.0),
+            (1e12 + 9.0, 118.0, 230.0),
+            (1e12 + 13.5, 230.0, 230.0),
+        ] {
+            rows.push(Row {
+                depth: 30.0,
+                pitch: -0.4,
+                battpos: 0.405,
+                ..row(time, ballast, c_ballast)
+            });
+        }
+        let mut fit = Fit::default();
+        let mut flight = FlightParams::default();
+        fit_ballast_delay(&mut fit, &mut flight, &rows, &[1]);
+        fit_pitch_swing(&mut fit, &flight, &rows, &[1]);
+        assert!(fit
+            .not_fitted
+            .iter()
+            .any(|(name, _)| *name == "ballast_delay"));
     }
 
     #[test]

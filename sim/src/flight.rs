@@ -11,7 +11,13 @@
 //! gliderflight's trim relation tan θ = T1·ΔV + T2·battpos + T3 with a lag
 //! (the hull rotating), servoed (`use_pitch` 3) it slews to the command.
 //! The pump and the pitch set how long a turn takes, not inertia (domain
-//! notes §7: comet's turns take 20.7 and 21.1 s).
+//! notes §7: comet's turns take 20.7 and 21.1 s). The pumped volume acts on
+//! the buoyancy and the battery relation `ballast_delay` after the pump moves
+//! it, as comet's turns show (docs/simulator.md §Turns).
+
+/// comet 154's ballast delay (s), as `gloc calibrate` fits it: the force
+/// balance fed the log's pump and pitch follows its depth best through 33 turns.
+pub const BALLAST_DELAY_COMET: f64 = 4.75;
 
 /// Standard gravity (m/s²).
 pub const GRAVITY: f64 = 9.81;
@@ -67,6 +73,11 @@ pub struct FlightParams {
     pub pitch_t2: f64,
     /// … and T3, the trim.
     pub pitch_t3: f64,
+    /// Seconds after the pump's volume (`m_ballast_pumped`) changes that it
+    /// acts on the glider, on its buoyancy and (battery held) on the battery
+    /// relation's pitch ([`Vehicle::acting_volume`]). comet: `gloc calibrate`
+    /// fits it from the turns (docs/simulator.md §Turns).
+    pub ballast_delay: f64,
 }
 
 impl Default for FlightParams {
@@ -84,8 +95,8 @@ impl Default for FlightParams {
             // The hull's swing, the drag, the volume and the battery relation:
             // `gloc calibrate` on comet 154 (gliderflight's glidertrim gives
             // Cd0 0.209, Vg 71.549 L, T1 2053 on the same log).
-            pitch_period: 32.8,
-            pitch_damping: 0.45,
+            pitch_period: 16.6,
+            pitch_damping: 0.35,
             // glidersim's comet (examples/gs_example.py).
             mass: 73.3,
             hull_volume: 71.547,
@@ -108,6 +119,7 @@ impl Default for FlightParams {
             // separate it from T3); T3 from `gloc calibrate` with it.
             pitch_t2: -39.0,
             pitch_t3: 0.4096,
+            ballast_delay: BALLAST_DELAY_COMET,
         }
     }
 }
@@ -314,6 +326,74 @@ pub struct Vehicle {
     solved_pitch: f64,
     /// The hull's axes at the last pitch flown (`frame.inverse` all 0 before).
     frame: Frame,
+    /// Seconds flown (the clock of the pump's history).
+    clock: f64,
+    /// The pump's recent motion, for the ballast delay.
+    pump_history: PumpHistory,
+}
+
+/// Knots kept of the pump's motion: a swing makes two or three, so this
+/// covers several swings; a delay reaching past the oldest knot sees the
+/// volume the oldest knot had.
+const PUMP_KNOTS: usize = 16;
+
+/// The pumped volume's recent course: the (time, volume) knots where its rate
+/// changed, in a ring, and the rate since the newest. Between knots the
+/// volume moves linearly, so the volume at any time the ring covers is exact.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct PumpHistory {
+    knots: [(f64, f64); PUMP_KNOTS],
+    /// Knots held (at most `PUMP_KNOTS`) and the slot the next one goes to.
+    count: usize,
+    next: usize,
+    /// cc/s since the newest knot.
+    rate: f64,
+}
+
+impl PumpHistory {
+    /// The pump moves at `rate` from `time`, where the volume is `volume`.
+    fn record(&mut self, time: f64, volume: f64, rate: f64) {
+        // A sub-step's rate is its step over its length: equal rates may
+        // differ in the last bits between cycles of different periods.
+        if self.count > 0 && (rate - self.rate).abs() <= 1e-9 * rate.abs().max(1.0) {
+            return;
+        }
+        self.knots[self.next] = (time, volume);
+        self.next = (self.next + 1) % PUMP_KNOTS;
+        self.count = (self.count + 1).min(PUMP_KNOTS);
+        self.rate = rate;
+    }
+
+    /// The i-th knot from the newest (0 is the newest).
+    fn back(&self, i: usize) -> (f64, f64) {
+        self.knots[(self.next + PUMP_KNOTS - 1 - i) % PUMP_KNOTS]
+    }
+
+    /// The volume at `time` (no later than the present), `now` the present
+    /// volume.
+    fn volume_at(&self, time: f64, now: f64) -> f64 {
+        if self.count == 0 {
+            return now;
+        }
+        let newest = self.back(0);
+        if time >= newest.0 {
+            return newest.1 + self.rate * (time - newest.0);
+        }
+        let mut later = newest;
+        for i in 1..self.count {
+            let knot = self.back(i);
+            if time >= knot.0 {
+                let span = later.0 - knot.0;
+                return if span > 0.0 {
+                    knot.1 + (later.1 - knot.1) * (time - knot.0) / span
+                } else {
+                    later.1
+                };
+            }
+            later = knot;
+        }
+        later.1
+    }
 }
 
 /// What a sub-step's forces need that does not change within it.
@@ -503,7 +583,10 @@ impl Vehicle {
         } else {
             -pump_step * energy.pump_in_j_per_cc
         };
+        self.pump_history
+            .record(self.clock, self.ballast, pump_step / dt.max(1e-9));
         self.ballast += pump_step;
+        self.clock += dt;
         if self.ballast != 0.0 {
             let sign = if self.ballast > 0.0 { 1 } else { -1 };
             if self.ballast_sign != 0 && sign != self.ballast_sign {
@@ -523,7 +606,8 @@ impl Vehicle {
                 step.abs() * energy.pitch_j_per_rad
             }
             PitchControl::Battpos => {
-                let target = flight.battpos_pitch(self.ballast, command);
+                let acting = self.acting_volume(flight.ballast_delay);
+                let target = flight.battpos_pitch(acting, command);
                 (self.pitch, self.pitch_velocity) = swing_pitch(
                     (self.pitch, self.pitch_velocity),
                     target,
@@ -535,16 +619,45 @@ impl Vehicle {
             }
         };
 
+        // The pumped volume acts `ballast_delay` after the pump moves it.
+        let acting = self.acting_volume(flight.ballast_delay);
+        self.glide(dt, acting, water_depth, flight);
+
+        // Hotel load.
+        let hotel = if self.depth_rate > 0.0 {
+            energy.dive_power
+        } else {
+            energy.climb_power
+        };
+        let hotel_joules = hotel * dt;
+        self.energy_use.hotel += hotel_joules;
+        self.energy_use.pump += pump_joules;
+        self.energy_use.pitch += pitch_joules;
+        self.energy_joules += hotel_joules + pump_joules + pitch_joules;
+    }
+
+    /// The pumped volume (cc) that acts on the glider now, on its buoyancy and
+    /// its battery relation: the volume `delay` seconds ago
+    /// ([`FlightParams::ballast_delay`]).
+    pub fn acting_volume(&self, delay: f64) -> f64 {
+        if delay <= 0.0 {
+            return self.ballast;
+        }
+        self.pump_history
+            .volume_at(self.clock - delay, self.ballast)
+    }
+
+    /// Flies `dt` seconds at the present pitch with the buoyancy of `volume`
+    /// (cc) pumped: the force balance alone (no pump, pitch or energy), in
+    /// water `water_depth` deep. [`Vehicle::fly`]'s sub-steps use it; so does
+    /// `gloc calibrate`, feeding it a log's pitch and pumped volume.
+    pub fn glide(&mut self, dt: f64, volume: f64, water_depth: f64, flight: &FlightParams) {
         // The force balance, second-order Runge–Kutta (Heun; one evaluation
         // when the glider is in steady flight).
         if self.frame.pitch != self.pitch || self.frame.inverse[0] == 0.0 {
             self.frame = Frame::new(flight, self.pitch);
         }
-        let forces = Forces::new(
-            flight,
-            flight.net_buoyancy(self.ballast, self.depth),
-            &self.frame,
-        );
+        let forces = Forces::new(flight, flight.net_buoyancy(volume, self.depth), &self.frame);
         let (u, w) = (self.speed, -self.depth_rate);
         let (a1, b1) = forces.acceleration(u, w);
         let (du, dw) = if a1.abs() + b1.abs() < STEADY_ACCELERATION {
@@ -574,18 +687,6 @@ impl Vehicle {
             }
         }
         self.distance += (0.5 * (u + self.speed) * dt).abs();
-
-        // Hotel load.
-        let hotel = if self.depth_rate > 0.0 {
-            energy.dive_power
-        } else {
-            energy.climb_power
-        };
-        let hotel_joules = hotel * dt;
-        self.energy_use.hotel += hotel_joules;
-        self.energy_use.pump += pump_joules;
-        self.energy_use.pitch += pitch_joules;
-        self.energy_joules += hotel_joules + pump_joules + pitch_joules;
     }
 }
 
@@ -740,6 +841,54 @@ mod tests {
         assert!((0.70..1.87).contains(&bottom), "bottom {bottom}");
         let top = servoed_overshoot(260.0);
         assert!((0.24..0.86).contains(&top), "top {top}");
+    }
+
+    #[test]
+    fn the_buoyancy_follows_the_pump_after_its_delay() {
+        // Servoed pitch held still, so only the buoyancy tells the two apart:
+        // with a 3 s delay the glider whose pump starts at t = 0 flies exactly
+        // as one whose pump never moves for 3 s, and differently after.
+        let flight = FlightParams {
+            ballast_delay: 3.0,
+            ..FlightParams::default()
+        };
+        let energy = EnergyParams::default();
+        let start = Vehicle {
+            depth: 20.0,
+            ballast: -230.0,
+            pitch: -0.4538,
+            ..Vehicle::default()
+        };
+        let fly = |vehicle: &mut Vehicle, seconds: f64, buoyancy: f64| {
+            vehicle.fly(
+                seconds,
+                buoyancy,
+                -0.4538,
+                PitchControl::Servo,
+                1000.0,
+                &flight,
+                &energy,
+                0.0,
+            )
+        };
+        let (mut turning, mut holding) = (start, start);
+        fly(&mut turning, 60.0, -230.0);
+        fly(&mut holding, 60.0, -230.0);
+        fly(&mut turning, 3.0, 230.0);
+        fly(&mut holding, 3.0, -230.0);
+        assert_eq!(turning.depth, holding.depth);
+        assert!((turning.acting_volume(3.0) + 230.0).abs() < 1e-9);
+        // The pump ran 3 s at 34.6 cc/s; its volume 1 s ago was 2 s in.
+        assert!((turning.ballast - (-230.0 + 3.0 * 34.6)).abs() < 1e-9);
+        assert!((turning.acting_volume(1.0) - (-230.0 + 2.0 * 34.6)).abs() < 1e-9);
+        fly(&mut turning, 3.0, 230.0);
+        fly(&mut holding, 3.0, -230.0);
+        assert!(
+            turning.depth < holding.depth,
+            "{} {}",
+            turning.depth,
+            holding.depth
+        );
     }
 
     #[test]

@@ -160,6 +160,20 @@ pub const SIMULATOR_SETTINGS: &[SimulatorSetting] = &[
         about: "the battery relation's T3 (the trim)",
     },
     SimulatorSetting {
+        name: "ballast_delay",
+        units: "s",
+        min: 0.0,
+        max: 30.0,
+        about: "seconds after m_ballast_pumped changes that the pumped volume acts on the buoyancy and the battery relation's pitch",
+    },
+    SimulatorSetting {
+        name: "pump_lead",
+        units: "s",
+        min: 0.0,
+        max: 60.0,
+        about: "seconds before the cycle in which a held turn shows in c_ballast_pumped that the pump starts",
+    },
+    SimulatorSetting {
         name: "cycle_overrun",
         units: "s",
         min: 0.0,

@@ -71,6 +71,11 @@ pub struct TimingParams {
     pub cycle_jitter: f64,
     /// Cycles from a behavior's turn to the pump moving (1: the same cycle).
     pub turn_cycles: f64,
+    /// Seconds before the cycle in which a held turn shows in
+    /// `c_ballast_pumped` that the pump starts (comet: its `m_ballast_pumped`
+    /// has run 0.5–1.2 s of the swing by that row). Only with `turn_cycles` 2
+    /// or more; at most the cycle.
+    pub pump_lead: f64,
     /// Largest altitude the altimeter measures (m).
     pub altimeter_range: f64,
     /// The next altimeter fix is due this fraction of the time to the bottom
@@ -82,6 +87,9 @@ pub struct TimingParams {
     pub ctd_period: f64,
 }
 
+/// comet 154's pump lead (s), as `gloc calibrate` fits it.
+pub const PUMP_LEAD_COMET: f64 = 0.91;
+
 impl TimingParams {
     /// An ideal clock: cycles of exactly `u_cycle_time`, the pump turning in
     /// the cycle a behavior turns, the altimeter read every cycle. For tests
@@ -91,6 +99,7 @@ impl TimingParams {
             cycle_overrun: 0.0,
             cycle_jitter: 0.0,
             turn_cycles: 1.0,
+            pump_lead: 0.0,
             altimeter_range: f64::INFINITY,
             altimeter_fraction: 0.0,
             altimeter_min_depth: 0.0,
@@ -107,6 +116,7 @@ impl Default for TimingParams {
             cycle_overrun: 0.51,
             cycle_jitter: 0.13,
             turn_cycles: 2.0,
+            pump_lead: PUMP_LEAD_COMET,
             altimeter_range: 33.0,
             altimeter_fraction: 0.4,
             altimeter_min_depth: 2.0,
@@ -144,6 +154,7 @@ impl SimConfig {
             "pitch_t1" => &mut flight.pitch_t1,
             "pitch_t2" => &mut flight.pitch_t2,
             "pitch_t3" => &mut flight.pitch_t3,
+            "ballast_delay" => &mut flight.ballast_delay,
             "battery_ohms" => &mut energy.battery_ohms,
             "science_on_power" => &mut energy.science_on_power,
             "science_sleep_power" => &mut energy.science_sleep_power,
@@ -152,6 +163,7 @@ impl SimConfig {
             "cycle_overrun" => &mut timing.cycle_overrun,
             "cycle_jitter" => &mut timing.cycle_jitter,
             "turn_cycles" => &mut timing.turn_cycles,
+            "pump_lead" => &mut timing.pump_lead,
             "altimeter_range" => &mut timing.altimeter_range,
             "altimeter_fraction" => &mut timing.altimeter_fraction,
             "altimeter_min_depth" => &mut timing.altimeter_min_depth,
@@ -472,6 +484,9 @@ pub struct Simulation {
     /// The buoyancy command the pump follows, and cycles a turn is still held.
     applied_buoyancy: Option<f64>,
     turn_hold: u32,
+    /// The command a held turn takes next cycle, set in its last held cycle
+    /// (the pump starts `pump_lead` before that cycle ends).
+    turn_starting: Option<f64>,
     /// The science computer: awake, or waking until the given mission second.
     science: Science,
     /// Wakes so far.
@@ -706,6 +721,7 @@ impl Simulation {
             next_time: 0.0,
             applied_buoyancy: None,
             turn_hold: 0,
+            turn_starting: None,
             science: Science::Asleep,
             science_wakes: 0,
             altimeter_due: 0.0,
@@ -891,16 +907,38 @@ impl Simulation {
         let period = self.cycle_period();
         let science_watts = self.science_power();
         let distance_before = self.vehicle.distance;
-        self.vehicle.fly(
-            period,
-            buoyancy,
-            pitch,
-            control,
-            self.water_depth,
-            &self.flight,
-            &self.energy,
-            science_watts,
+        // The last held cycle of a turn: the pump starts `pump_lead` before its end.
+        let lead = match self.turn_starting {
+            Some(_) => self.timing.pump_lead.clamp(0.0, period),
+            None => 0.0,
+        };
+        let legs = [
+            (period - lead, buoyancy),
+            (lead, self.turn_starting.unwrap_or(buoyancy)),
+        ];
+        let (joules_before, volts) = (
+            self.vehicle.energy_joules,
+            self.vehicle.battery_volts(&self.energy).max(1e-3),
         );
+        for (seconds, volume) in legs {
+            if seconds > 0.0 {
+                self.vehicle.fly(
+                    seconds,
+                    volume,
+                    pitch,
+                    control,
+                    self.water_depth,
+                    &self.flight,
+                    &self.energy,
+                    science_watts,
+                );
+            }
+        }
+        if lead > 0.0 && period > 0.0 {
+            // m_coulomb_current is the cycle's mean, not its last part's.
+            self.vehicle.current = (self.vehicle.energy_joules - joules_before) / period / volts;
+        }
+        self.turn_starting = None;
         self.next_time = self.time + period;
         self.navigation.advance(&CycleMotion {
             time: self.next_time,
@@ -973,6 +1011,9 @@ impl Simulation {
         let hold = (self.timing.turn_cycles.round() as u32).saturating_sub(1);
         if self.turn_hold < hold {
             self.turn_hold += 1;
+            if self.turn_hold == hold {
+                self.turn_starting = Some(wanted);
+            }
             return applied;
         }
         self.turn_hold = 0;

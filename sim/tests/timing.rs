@@ -90,3 +90,33 @@ fn the_ctd_samples_on_its_own_clock() {
     }
     assert!(cycles > 200, "{cycles} cycles");
 }
+
+#[test]
+fn the_pump_has_run_its_lead_by_the_row_where_the_turn_shows() {
+    // comet's m_ballast_pumped has run 0.91 s of a swing by the row where
+    // c_ballast_pumped turns (pump_lead): 0.91 × 34.6 = 31.49 cc out from −230 and
+    // 0.91 × 43.7 = 39.77 cc in from +230, by hand.
+    let mut sim = sim();
+    let list = SensorList::embedded();
+    let slot = |name: &str| list.lookup(name).expect(name).index();
+    let (command, pumped) = (slot("c_ballast_pumped"), slot("m_ballast_pumped"));
+    let mut previous: Option<f64> = None;
+    let mut turns = 0;
+    while sim.step_cycle() {
+        let (c, m) = (sim.sensors()[command], sim.sensors()[pumped]);
+        if let Some(before) = previous.filter(|before| before * c < 0.0) {
+            let expected = if c > 0.0 {
+                -230.0 + 0.91 * 34.6
+            } else {
+                230.0 - 0.91 * 43.7
+            };
+            assert!(
+                (m - expected).abs() < 1e-6,
+                "turn to {c} from {before}: {m}"
+            );
+            turns += 1;
+        }
+        previous = Some(c).filter(|c| *c != 0.0).or(previous);
+    }
+    assert!(turns >= 4, "{turns}");
+}

@@ -314,6 +314,9 @@ fn print_forecast(forecast: &Forecast, history: &gloc_forecast::LogHistory) {
         "battery  {battery}; the forecast uses {:.2} Ah more",
         forecast.track.amp_hours_used
     );
+    if let Some(outlook) = &forecast.battery {
+        print_battery(outlook, forecast.hours);
+    }
     if history.end_time > start.time + 600.0 {
         eprintln!(
             "warning: the logs go on {:.0} s after the last fix: the forecast starts at the fix",
@@ -374,6 +377,43 @@ fn print_forecast(forecast: &Forecast, history: &gloc_forecast::LogHistory) {
                 spread.radius_max
             );
         }
+    }
+}
+
+/// The charge left against the mission's low-battery abort, and when the
+/// forecast reaches it.
+fn print_battery(outlook: &gloc_forecast::battery::BatteryOutlook, hours: f64) {
+    let capacity = if outlook.capacity_from_logs {
+        format!("{:.0} Ah (f_coulomb_battery_capacity)", outlook.capacity)
+    } else {
+        format!(
+            "{:.0} Ah (the simulator's battery_wh / volts_full: the logs hold no f_coulomb_battery_capacity)",
+            outlook.capacity
+        )
+    };
+    let limit = match outlook.remaining_charge_min {
+        Some(percent) => format!(
+            "abend's remaining_charge_min {percent}% aborts at {:.1} Ah used",
+            outlook.limit
+        ),
+        None => format!(
+            "no abend: the battery runs out at {:.1} Ah used",
+            outlook.limit
+        ),
+    };
+    let when = match outlook.reached_at {
+        Some(time) => format!("reached at {}", iso_time(time)),
+        None if outlook.margin() <= 0.0 => "already past it".to_string(),
+        None => format!("not within {hours} h ({:.1} Ah to go)", outlook.margin()),
+    };
+    outln!(
+        "         {:.1}% left of {capacity}; {limit}: {when}",
+        outlook.remaining_percent()
+    );
+    if outlook.reached_at.is_some() || outlook.margin() <= 0.0 {
+        eprintln!(
+            "warning: the battery reaches the mission's low-battery abort within the forecast"
+        );
     }
 }
 

@@ -33,9 +33,12 @@ pub struct Start {
     pub waypoint: Option<(f64, f64)>,
     /// How far the mission's surface timers had run (s).
     pub timers_elapsed: f64,
-    /// `m_coulomb_amphr_total` and `m_battery` at the end of the logs.
+    /// `m_coulomb_amphr_total` and `m_battery` at the end of the logs, and
+    /// the capacity the count runs down from (`f_coulomb_battery_capacity`,
+    /// Ah): the simulator's energy model starts from them ([`crate::battery`]).
     pub amp_hours: Option<f64>,
     pub battery: Option<f64>,
+    pub battery_capacity: Option<f64>,
     pub heading: Option<f64>,
 }
 
@@ -59,6 +62,7 @@ impl Start {
             timers_elapsed: history.last_timers_elapsed,
             amp_hours: history.last_amp_hours,
             battery: history.last_battery,
+            battery_capacity: history.battery_capacity,
             heading: history.last_heading,
         })
     }
@@ -75,6 +79,7 @@ impl Start {
             timers_elapsed: segment.timers_elapsed,
             amp_hours: None,
             battery: None,
+            battery_capacity: None,
             heading: None,
         }
     }
@@ -322,6 +327,9 @@ pub(crate) fn fly_with(
     let mut sim = Simulation::new(flight.mission, flight.sensors.clone(), None, &config)
         .map_err(|error| ForecastError::Mission(error.to_string()))?;
     sim.start_timers_before(start.timers_elapsed);
+    if let Some(fraction) = crate::battery::used_fraction(start, &config) {
+        sim.start_battery(fraction, start.amp_hours.unwrap_or(0.0));
+    }
     let lmc = sim.navigation().lmc;
     let mut flown = Flown::default();
     let mut track = Track::default();

@@ -111,37 +111,9 @@ pub fn main(args: ForecastArgs) -> anyhow::Result<ExitCode> {
         other => other,
     };
 
-    let settings = Settings::resolve(
-        args.mission
-            .as_deref()
-            .or(args.source.files.first().map(PathBuf::as_path)),
-        Overrides {
-            masterdata: args.masterdata.clone(),
-            mission: args.mission.clone(),
-            mafiles: args.mafiles.clone(),
-            sensor_cache: args.source.sensor_cache.clone(),
-            simulator: args.simulator.clone(),
-            ..Overrides::new(Surface::Cli)
-        },
-    )?;
-    if settings.mission.is_none() {
-        bail!("--mission: name the mission the glider flies (or `mission` in gloc.toml)");
-    }
-    let mut tally = Tally::default();
-    let Some(sensor_list) = crate::loading::active_sensors(&settings, &mut tally)? else {
+    let Some((sensors, mission, config)) = set_up(&args)? else {
         return Ok(crate::exit::code(crate::exit::ERRORS));
     };
-    let sensors = Arc::new(sensor_list);
-    let mission = gloc_project::simulation::load_mission(&settings, &sensors)?;
-    if mission.has_errors() {
-        eprint!("{}", mission.render_plain());
-        eprintln!("error: the mission has errors; nothing was forecast");
-        return Ok(crate::exit::code(crate::exit::ERRORS));
-    }
-    let config = gloc_project::simulation::sim_config(
-        &settings,
-        gloc_project::simulation::Flight::default(),
-    )?;
 
     let mut source = crate::data::open(&args.source)?;
     let history = gloc_forecast::logs::read_history(&mut source).map_err(|error| match error {
@@ -219,6 +191,61 @@ pub fn main(args: ForecastArgs) -> anyhow::Result<ExitCode> {
         eprintln!("wrote {}", path.display());
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The project the forecast flies in: the settings resolved, the sensor list, the
+/// mission, and the simulator set up where `gloc run` sets its flights up (the
+/// mission built and checked against the list, its warnings printed). `None` after
+/// errors that were printed.
+fn set_up(
+    args: &ForecastArgs,
+) -> anyhow::Result<
+    Option<(
+        Arc<gloc_engine::sensors::SensorList>,
+        gloc_sim::Mission,
+        gloc_sim::SimConfig,
+    )>,
+> {
+    let settings = Settings::resolve(
+        args.mission
+            .as_deref()
+            .or(args.source.files.first().map(PathBuf::as_path)),
+        Overrides {
+            masterdata: args.masterdata.clone(),
+            mission: args.mission.clone(),
+            mafiles: args.mafiles.clone(),
+            sensor_cache: args.source.sensor_cache.clone(),
+            simulator: args.simulator.clone(),
+            ..Overrides::new(Surface::Cli)
+        },
+    )?;
+    if settings.mission.is_none() {
+        bail!("--mission: name the mission the glider flies (or `mission` in gloc.toml)");
+    }
+    let mut tally = Tally::default();
+    let Some(sensor_list) = crate::loading::active_sensors(&settings, &mut tally)? else {
+        return Ok(None);
+    };
+    let sensors = Arc::new(sensor_list);
+    let mission = gloc_project::simulation::load_mission(&settings, &sensors)?;
+    if mission.has_errors() {
+        eprint!("{}", mission.render_plain());
+        eprintln!("error: the mission has errors; nothing was forecast");
+        return Ok(None);
+    }
+    // Set up where `gloc run` sets its flights up: the simulator configured from the
+    // settings, the mission built and checked against the sensor list. Each track of
+    // the forecast is then flown from this configuration and the logs' state.
+    let prepared = gloc_project::simulation::prepare_unscripted(
+        &gloc_project::simulation::MissionPlan {
+            settings: &settings,
+            sensors: &sensors,
+            mission: &mission,
+        },
+        gloc_project::simulation::Flight::default(),
+    )?;
+    crate::simulate::print_warnings(&prepared.warnings, &mission, "", "");
+    Ok(Some((sensors, mission, prepared.config)))
 }
 
 fn load_currents(

@@ -85,6 +85,13 @@ fn the_hindcast_of_comets_segments_reports_each_against_the_bound() {
     );
     let png = std::fs::read(&map).expect("the map");
     assert!(png.starts_with(b"\x89PNG"));
+    // Set up where `gloc run` sets its flights up: the mission checked against the
+    // sensor list (the embedded list lacks nsb3's u_sci_dbd_sensor_list_xmit_control).
+    assert!(
+        text(&output.stderr).contains("warning[S0106]"),
+        "{}",
+        text(&output.stderr)
+    );
     // A hindcast writes maps only.
     let output = forecast(&["--hindcast", "-o", "/tmp/hindcast.geojson"]);
     assert_eq!(output.status.code(), Some(2));

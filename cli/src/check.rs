@@ -10,9 +10,9 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use gloc_compiler::Optimization;
-use gloc_engine::config::Config;
 use gloc_engine::gloc::{Bound, Stats};
 use gloc_engine::sensors::SensorList;
+use gloc_project::config::Config;
 use gloc_project::sensors::load_sensor_list_file;
 use gloc_project::settings::{Origin, Settings, Sourced};
 use gloc_project::{Overrides, Surface};

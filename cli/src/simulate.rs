@@ -344,20 +344,9 @@ fn finish(run: Run, flown: Flown, args: &crate::RunArgs) -> anyhow::Result<ExitC
         limit_given,
         ..
     } = run;
-    let Flown {
-        cycles_run,
-        wall,
-        printed_lines,
-        last_printed,
-        stopped,
-        hook_ignored,
-        trace,
-        log_error,
-        signal,
-    } = flown;
     let script_name = &script.name;
     let mut plot_error = None;
-    if let (Some(trace), Some(path)) = (&trace, &args.plot) {
+    if let (Some(trace), Some(path)) = (&flown.trace, &args.plot) {
         // File names, not paths, in the title.
         let file_name = |name: &str| {
             Path::new(name)
@@ -389,25 +378,25 @@ fn finish(run: Run, flown: Flown, args: &crate::RunArgs) -> anyhow::Result<ExitC
         sim: &sim,
         loaded: &script.loaded,
         script_name,
-        cycles_run,
-        wall,
+        cycles_run: flown.cycles_run,
+        wall: flown.wall,
         limit_given,
-        printed_lines,
-        last_printed: &last_printed,
+        printed_lines: flown.printed_lines,
+        last_printed: &flown.last_printed,
         log: args.log.as_deref(),
         plot: args.plot.as_deref(),
         faults: &fault_plan,
         fault_texts: &args.faults,
-        stopped: stopped.as_deref(),
-        hook_ignored,
-        log_written: log_error.is_none(),
+        stopped: flown.stopped.as_deref(),
+        hook_ignored: flown.hook_ignored,
+        log_written: flown.log_error.is_none(),
         plot_written: plot_error.is_none(),
         format: args.summary,
     });
-    if let Some(error) = log_error.or(plot_error) {
+    if let Some(error) = flown.log_error.or(plot_error) {
         return Err(error);
     }
-    let received = signal.load(Ordering::Relaxed);
+    let received = flown.signal.load(Ordering::Relaxed);
     if received != 0 {
         // The shell's convention for a process ended by a signal.
         return Ok(ExitCode::from(128 + received as u8));

@@ -34,11 +34,11 @@ fn check_renders_rustc_style_and_fails() {
     let output = gloc(&["check", &path]);
     assert_eq!(output.status.code(), Some(1));
     let expected = format!(
-        "{path}:6:9: error[E0101]: register r8 is out of range: `nregs 8` allows r0 to r7
+        "{path}:5:9: error[E0101]: register r8 is out of range: `nregs 8` allows r0 to r7
   |
-6 | loadi 1,r8
+5 | loadi 1,r8
   |         ^^
-2 | nregs 8
+1 | nregs 8
   |       - register count declared here
   = help: raise `nregs` to 9 or use a lower register
 1 error, 0 warnings
@@ -52,7 +52,7 @@ fn warnings_alone_exit_zero() {
     let path = repo("tests/fixtures/gloc/err/unreachable.gloc");
     let output = gloc(&["check", &path]);
     assert_eq!(output.status.code(), Some(0));
-    assert!(stdout(&output).starts_with(&format!("{path}:8:1: warning[W0112]: ")));
+    assert!(stdout(&output).starts_with(&format!("{path}:7:1: warning[W0112]: ")));
 }
 
 #[test]

@@ -1,7 +1,8 @@
 //! Fixture tests: `tests/fixtures/gbasic/ok/*.gbas` compile to the `.gloc` beside
 //! them (written by hand), and `err/*.gbas` give exactly the diagnostics in the
-//! `.err` beside them (`LINE:COL CODE message`, then `  help: …`). Set
-//! `GLOC_BLESS=1` to print what the compiler produced instead of comparing.
+//! `.err` beside them, drawn under the lines in the one format of every test
+//! (`gloc_testsupport::annotate`). Set `GLOC_BLESS=1` to print the GLOC and write
+//! the `.err` files instead of comparing (then review them).
 
 use std::path::{Path, PathBuf};
 
@@ -96,14 +97,7 @@ fn err_fixtures_give_their_diagnostics_and_no_gloc() {
             "{} compiled despite errors",
             path.display()
         );
-        let rendered = render(&text, &compiled.diagnostics);
-        if std::env::var_os("GLOC_BLESS").is_some() {
-            println!("== {}\n{rendered}", path.display());
-            continue;
-        }
-        let expected = std::fs::read_to_string(path.with_extension("err"))
-            .expect("expected .err beside the fixture");
-        assert_eq!(rendered, expected, "{}", path.display());
+        gloc_testsupport::expect_diagnostics(&path, &text, &compiled.diagnostics);
         for diagnostic in &compiled.diagnostics {
             assert!(
                 diagnostic.span.end as usize <= text.len(),

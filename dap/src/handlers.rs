@@ -177,11 +177,8 @@ fn set_breakpoints(
     session: &mut Session,
     arguments: SetBreakpointsArguments,
 ) -> Answer<BreakpointsBody> {
-    let debugger = session
-        .launched
-        .as_mut()
-        .map(|launched| &mut launched.debugger);
-    let breakpoints = session.breakpoints.set_source(arguments, debugger)?;
+    let (breakpoints, debugger) = session.breakpoints_and_debugger();
+    let breakpoints = breakpoints.set_source(arguments, debugger)?;
     Ok(BreakpointsBody { breakpoints })
 }
 
@@ -189,14 +186,9 @@ fn set_function_breakpoints(
     session: &mut Session,
     arguments: SetFunctionBreakpointsArguments,
 ) -> Answer<BreakpointsBody> {
-    let debugger = session
-        .launched
-        .as_mut()
-        .map(|launched| &mut launched.debugger);
+    let (breakpoints, debugger) = session.breakpoints_and_debugger();
     Ok(BreakpointsBody {
-        breakpoints: session
-            .breakpoints
-            .set_functions(arguments.breakpoints, debugger),
+        breakpoints: breakpoints.set_functions(arguments.breakpoints, debugger),
     })
 }
 
@@ -206,11 +198,8 @@ fn set_exception_breakpoints(
     session: &mut Session,
     arguments: SetExceptionBreakpointsArguments,
 ) -> Answer<BreakpointsBody> {
-    let debugger = session
-        .launched
-        .as_mut()
-        .map(|launched| &mut launched.debugger);
-    let breakpoints = session.breakpoints.set_filters(arguments, debugger)?;
+    let (breakpoints, debugger) = session.breakpoints_and_debugger();
+    let breakpoints = breakpoints.set_filters(arguments, debugger)?;
     Ok(BreakpointsBody { breakpoints })
 }
 
@@ -218,14 +207,9 @@ fn set_instruction_breakpoints(
     session: &mut Session,
     arguments: SetInstructionBreakpointsArguments,
 ) -> Answer<BreakpointsBody> {
-    let debugger = session
-        .launched
-        .as_mut()
-        .map(|launched| &mut launched.debugger);
+    let (breakpoints, debugger) = session.breakpoints_and_debugger();
     Ok(BreakpointsBody {
-        breakpoints: session
-            .breakpoints
-            .set_instructions(arguments.breakpoints, debugger),
+        breakpoints: breakpoints.set_instructions(arguments.breakpoints, debugger),
     })
 }
 
@@ -269,14 +253,9 @@ fn set_data_breakpoints(
     session: &mut Session,
     arguments: SetDataBreakpointsArguments,
 ) -> Answer<BreakpointsBody> {
-    let debugger = session
-        .launched
-        .as_mut()
-        .map(|launched| &mut launched.debugger);
+    let (breakpoints, debugger) = session.breakpoints_and_debugger();
     Ok(BreakpointsBody {
-        breakpoints: session
-            .breakpoints
-            .set_data(arguments.breakpoints, debugger),
+        breakpoints: breakpoints.set_data(arguments.breakpoints, debugger),
     })
 }
 

@@ -287,6 +287,18 @@ impl Session {
         self.launched.as_mut().ok_or(DebugError::NotLaunched)
     }
 
+    /// The client's breakpoints with the debugger they apply to, if launched (a
+    /// `set*Breakpoints` before `launch` is kept and applied at the launch).
+    pub(crate) fn breakpoints_and_debugger(
+        &mut self,
+    ) -> (&mut Breakpoints, Option<&mut Debugger<World>>) {
+        let debugger = self
+            .launched
+            .as_mut()
+            .map(|launched| &mut launched.debugger);
+        (&mut self.breakpoints, debugger)
+    }
+
     /// Loads what `arguments` name (see `launch::launch`) in place of any program
     /// before, and applies the breakpoints the client set. Over TCP no error may
     /// quote what a file holds: diagnostics quote tokens of the line at fault, so

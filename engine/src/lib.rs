@@ -4,7 +4,6 @@
 //! Nothing here does network IO, starts threads or knows about LSP or DAP.
 
 pub mod codes;
-pub mod config;
 pub mod diagnostic;
 pub mod files;
 pub mod gloc;

@@ -747,25 +747,22 @@ fn rem(left: Value, right: Value) -> Value {
 #[inline(always)]
 fn compare(cmp: Cmp, left: Value, right: Value) -> bool {
     match (left, right) {
-        (Value::Int(x), Value::Int(y)) => match cmp {
-            Cmp::Eq => x == y,
-            Cmp::Ne => x != y,
-            Cmp::Lt => x < y,
-            Cmp::Le => x <= y,
-            Cmp::Gt => x > y,
-            Cmp::Ge => x >= y,
-        },
-        (left, right) => {
-            let (x, y) = (left.as_f64(), right.as_f64());
-            match cmp {
-                Cmp::Eq => x == y,
-                Cmp::Ne => x != y,
-                Cmp::Lt => x < y,
-                Cmp::Le => x <= y,
-                Cmp::Gt => x > y,
-                Cmp::Ge => x >= y,
-            }
-        }
+        (Value::Int(x), Value::Int(y)) => holds(cmp, x, y),
+        (left, right) => holds(cmp, left.as_f64(), right.as_f64()),
+    }
+}
+
+/// Whether `x cmp y` holds, for integers and floats alike (through `PartialOrd`, so a
+/// NaN makes every comparison but `Ne` false).
+#[inline(always)]
+fn holds<T: PartialOrd>(cmp: Cmp, x: T, y: T) -> bool {
+    match cmp {
+        Cmp::Eq => x == y,
+        Cmp::Ne => x != y,
+        Cmp::Lt => x < y,
+        Cmp::Le => x <= y,
+        Cmp::Gt => x > y,
+        Cmp::Ge => x >= y,
     }
 }
 

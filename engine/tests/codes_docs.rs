@@ -91,3 +91,18 @@ fn the_page_and_the_registry_list_the_same_codes_with_the_same_meaning() {
         documented.len()
     );
 }
+
+/// The README's count of codes (`gloc explain` lists all N) is the registry's: it
+/// said 92 while the registry held 108.
+#[test]
+fn the_readme_counts_the_codes_the_registry_has() {
+    let readme = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../README.md"))
+        .expect("README.md");
+    let said: usize = readme
+        .split("`gloc explain` lists all ")
+        .nth(1)
+        .and_then(|rest| rest.split(';').next())
+        .and_then(|number| number.trim().parse().ok())
+        .expect("the README says how many codes `gloc explain` lists");
+    assert_eq!(said, codes::ALL.len());
+}

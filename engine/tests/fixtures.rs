@@ -1,7 +1,7 @@
 //! The GLOC fixture folders: `tests/fixtures/gloc/ok` must check clean and
-//! print back byte for byte; each file in `tests/fixtures/gloc/err` lists
-//! its expected diagnostics in `# expect: CODE LINE:COLUMN` comments (written
-//! by hand). Plus generated inputs: an empty file, binary garbage, a 10 MB
+//! print back byte for byte; each file in `tests/fixtures/gloc/err` has its
+//! expected diagnostics beside it in `NAME.err`, drawn under the lines in the one
+//! format of every test (`gloc_testsupport::annotate`; written by hand, reviewed). Plus generated inputs: an empty file, binary garbage, a 10 MB
 //! file and CRLF line ends. Nothing may panic.
 
 use std::path::{Path, PathBuf};
@@ -56,21 +56,6 @@ fn located(text: &str, checked: &Checked) -> Vec<(String, usize, usize)> {
         .collect()
 }
 
-fn expectations(text: &str) -> Vec<(String, usize, usize)> {
-    text.lines()
-        .filter_map(|line| line.strip_prefix("# expect: "))
-        .map(|expect| {
-            let (code, place) = expect.split_once(' ').expect("`CODE LINE:COL`");
-            let (line, column) = place.trim().split_once(':').expect("`LINE:COL`");
-            (
-                code.to_string(),
-                line.parse().expect("line number"),
-                column.parse().expect("column number"),
-            )
-        })
-        .collect()
-}
-
 #[test]
 fn ok_fixtures_check_clean_and_round_trip() {
     let files = gloc_files("ok");
@@ -102,15 +87,11 @@ fn err_fixtures_give_their_expected_diagnostics() {
     );
     for path in files {
         let text = std::fs::read_to_string(&path).expect("fixture is UTF-8");
-        let expected = expectations(&text);
-        assert!(
-            !expected.is_empty(),
-            "{} has no `# expect:` line",
-            path.display()
-        );
         let checked = check_text(&text);
-        assert_eq!(located(&text, &checked), expected, "{}", path.display());
-        let has_error = expected.iter().any(|(code, _, _)| code.starts_with('E'));
+        let found = located(&text, &checked);
+        assert!(!found.is_empty(), "{} checks clean", path.display());
+        gloc_testsupport::expect_diagnostics(&path, &text, &checked.diagnostics);
+        let has_error = found.iter().any(|(code, _, _)| code.starts_with('E'));
         assert_eq!(checked.program.is_none(), has_error, "{}", path.display());
         // Printing is idempotent even for broken files, and loses no line.
         let printed = gloc::print(&gloc::parse(&text).file);
@@ -127,10 +108,10 @@ fn duplicate_label_points_at_the_first_definition() {
     let diagnostic = &checked.diagnostics[0];
     assert_eq!(diagnostic.labels.len(), 1);
     let index = LineIndex::new(&text);
-    // `label 0` first appears on line 5; its number is at column 7.
+    // `label 0` first appears on line 4; its number is at column 7.
     assert_eq!(
         index.line_col(&text, diagnostic.labels[0].span.start as usize),
-        (5, 7)
+        (4, 7)
     );
     assert_eq!(diagnostic.labels[0].message, "first defined here");
 }

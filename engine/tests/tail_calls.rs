@@ -8,7 +8,7 @@
 //! build running this test), disassembles the library with `objdump` (GNU
 //! binutils; the test fails, it does not skip, when `objdump` is missing) and
 //! checks every handler (every function named `vm::threaded::op_*`; each one
-//! that `Slot::new` names must be among them): no indirect call through a
+//! that the op table or `fused_handler` names must be among them): no indirect call through a
 //! register (how a call to the next handler looks), and an indirect jump
 //! through a register (the tail call) in every handler that goes on to a next op.
 #![cfg(all(
@@ -26,19 +26,23 @@ const PREFIX: &str = "gloc_engine::vm::threaded::";
 /// Handlers that stop the threaded code instead of going on: they return.
 const STOPPING: [&str; 3] = ["op_yield", "op_halt", "op_output"];
 
-/// The handler names `Slot::new` chooses from, read from the source.
+/// The handler names `Slot::new` chooses from, read from the source: the plain ops'
+/// in the op table (`src/vm/code.rs`), the fused ops' in `fused_handler`.
 fn handler_names() -> BTreeSet<String> {
-    let source =
-        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("src/vm/threaded.rs"))
-            .expect("src/vm/threaded.rs is readable");
-    // Slot::new's match, then the fused ops' (`fused_handler`).
-    let start = source
-        .find("let handler: Handler = match op {")
-        .expect("Slot::new chooses the handler by a match");
+    let read = |file: &str| {
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join(file))
+            .unwrap_or_else(|error| panic!("{file} is readable: {error}"))
+    };
+    let table = read("src/vm/code.rs");
+    let start = table
+        .find("macro_rules! op_table {")
+        .and_then(|at| table[at..].find("plain {").map(|plain| at + plain))
+        .expect("the op table names each plain op's handler");
     let end = start
-        + source[start..]
-            .find("\n        };")
-            .expect("the match ends");
+        + table[start..]
+            .find("pub(super) use op_table;")
+            .expect("the op table ends");
+    let source = read("src/vm/threaded.rs");
     let fused_start = source
         .find("fn fused_handler(")
         .expect("the fused ops' handlers are chosen in fused_handler");
@@ -48,7 +52,7 @@ fn handler_names() -> BTreeSet<String> {
             .expect("fused_handler ends");
     let body = format!(
         "{}\n{}",
-        &source[start..end],
+        &table[start..end],
         &source[fused_start..fused_end]
     );
     let mut names = BTreeSet::new();

@@ -26,6 +26,20 @@ pub struct Context {
     pub mafiles: Option<std::path::PathBuf>,
 }
 
+impl Context {
+    /// The context of a document outside any project: `sensors`, no cycle budget, no
+    /// folders to find a `# sensors:` list or `.ma` files in.
+    pub fn new(sensors: Arc<SensorList>) -> Context {
+        Context {
+            sensors,
+            cycle_budget: None,
+            cycle_budget_from: None,
+            list_folders: Vec::new(),
+            mafiles: None,
+        }
+    }
+}
+
 #[derive(Clone, Debug, Default)]
 pub struct Analysis {
     pub diagnostics: Vec<Diagnostic>,

@@ -74,13 +74,7 @@ mod tests {
     use crate::analysis::Context;
 
     fn analyze(language: crate::Language, text: &str) -> Analysis {
-        let context = Context {
-            sensors: Arc::new(SensorList::embedded()),
-            cycle_budget: None,
-            cycle_budget_from: None,
-            list_folders: Vec::new(),
-            mafiles: None,
-        };
+        let context = Context::new(Arc::new(SensorList::embedded()));
         crate::lang::analyze(language, text, &context)
     }
 

@@ -1,5 +1,5 @@
 //! Document links: the paths written in a `gloc.toml` (`masterdata`, `mission`,
-//! `sensor_cache`), resolved against the file's folder as `gloc_engine::config`
+//! `sensor_cache`), resolved against the file's folder as `gloc_project::config`
 //! resolves them, and in a mission each `args_from_file` line to the `.ma` file
 //! the simulator's parser loads for it, so a click opens the file the tools read.
 
@@ -18,7 +18,7 @@ pub struct Link {
     pub key: &'static str,
 }
 
-/// The keys of `gloc.toml` that hold paths (see `gloc_engine::config::Config`).
+/// The keys of `gloc.toml` that hold paths (see `gloc_project::config::Config`).
 #[derive(Deserialize)]
 struct PathKeys {
     masterdata: Option<Spanned<String>>,

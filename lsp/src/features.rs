@@ -1106,13 +1106,7 @@ mod tests {
 
     #[test]
     fn one_pass_tokens_equal_per_token_look_ups_on_every_fixture() {
-        let context = Context {
-            sensors: Arc::new(SensorList::embedded()),
-            cycle_budget: None,
-            cycle_budget_from: None,
-            list_folders: Vec::new(),
-            mafiles: None,
-        };
+        let context = Context::new(Arc::new(SensorList::embedded()));
         let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
         let folders = [
             "examples",

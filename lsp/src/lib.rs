@@ -35,13 +35,7 @@ pub use server::{settings_from, Settings, COMPILED_GLOC_COMMAND};
 /// analysis once, before): the token count and each run's time. For the benchmark.
 #[doc(hidden)]
 pub fn time_semantic_tokens(text: &str, runs: usize) -> (usize, Vec<std::time::Duration>) {
-    let context = analysis::Context {
-        sensors: Arc::new(gloc_engine::sensors::SensorList::embedded()),
-        cycle_budget: None,
-        cycle_budget_from: None,
-        list_folders: Vec::new(),
-        mafiles: None,
-    };
+    let context = analysis::Context::new(Arc::new(gloc_engine::sensors::SensorList::embedded()));
     let language = document::Language::Gbasic;
     let uri = "file:///bench.gbas".parse().expect("a constant, valid URI");
     let document = document::Document::new(uri, language, 1, text);

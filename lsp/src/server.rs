@@ -12,9 +12,9 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 
-use gloc_engine::config::{Config, ConfigError};
 use gloc_engine::sensors::{SensorList, SensorOrder};
 use gloc_engine::Diagnostic;
+use gloc_project::config::{Config, ConfigError};
 use gloc_project::settings::{config_path_for, read_config, Settings as ProjectSettings, Sourced};
 use gloc_project::{Overrides, Surface};
 use serde_json::Value;
@@ -698,13 +698,7 @@ impl LanguageServer for Backend {
         let publishes = {
             let mut state = lock(&self.state);
             let document = Document::new(item.uri.clone(), language, item.version, &item.text);
-            let context = Context {
-                sensors: state.embedded(),
-                cycle_budget: None,
-                cycle_budget_from: None,
-                list_folders: Vec::new(),
-                mafiles: None,
-            };
+            let context = Context::new(state.embedded());
             state.documents.insert(
                 item.uri.clone(),
                 Open {

@@ -20,6 +20,7 @@
 // Only the engine's interpreter may use `unsafe` (ARCHITECTURE.md, invariants).
 #![forbid(unsafe_code)]
 
+pub mod config;
 pub mod error;
 pub mod logs;
 pub mod script;

@@ -118,7 +118,7 @@ mod tests {
     #[test]
     fn an_unreadable_list_names_where_its_path_came_from() {
         let mut config =
-            gloc_engine::config::Config::parse("\nmasterdata = \"nosuch.mi\"\n", Path::new("/p"))
+            crate::config::Config::parse("\nmasterdata = \"nosuch.mi\"\n", Path::new("/p"))
                 .expect("valid");
         config.path = Some(PathBuf::from("/p/gloc.toml"));
         let settings = Settings::from_config(config, Overrides::default()).expect("valid");
@@ -134,7 +134,7 @@ mod tests {
         let mut overrides = Overrides::new(Surface::Editor);
         overrides.masterdata = Some(PathBuf::from("/nowhere/md"));
         let settings =
-            Settings::from_config(gloc_engine::config::Config::default(), overrides).expect("ok");
+            Settings::from_config(crate::config::Config::default(), overrides).expect("ok");
         let error = load_sensor_list(&settings).expect_err("no such file");
         assert_eq!(error.origin, Some(Origin::EditorSetting("gloc.masterdata")));
     }

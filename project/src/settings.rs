@@ -8,9 +8,10 @@ use std::fmt;
 use std::num::NonZeroU64;
 use std::path::{Path, PathBuf};
 
-use gloc_engine::config::{
-    check_cycle_budget, check_simulator_setting, Config, ConfigError, CODE_UNREADABLE_CONFIG,
-    MAX_CYCLE_BUDGET,
+use gloc_sim::settings::check_simulator_setting;
+
+use crate::config::{
+    check_cycle_budget, Config, ConfigError, CODE_UNREADABLE_CONFIG, MAX_CYCLE_BUDGET,
 };
 use gloc_engine::sensors::SensorOrder;
 use gloc_engine::vm::DEFAULT_CYCLE_BUDGET;
@@ -132,7 +133,7 @@ impl CycleBudget {
     /// The largest budget allowed.
     pub const MAX: u64 = MAX_CYCLE_BUDGET;
 
-    /// Checks a budget from any source (the rule is `gloc_engine::config::check_cycle_budget`).
+    /// Checks a budget from any source (the rule is `crate::config::check_cycle_budget`).
     pub fn new(budget: u64) -> Result<CycleBudget, String> {
         let budget = check_cycle_budget(budget)?;
         NonZeroU64::new(budget).map(CycleBudget).ok_or_else(|| {

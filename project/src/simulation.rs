@@ -240,9 +240,8 @@ mod tests {
 
     #[test]
     fn a_missing_mission_from_gloc_toml_names_gloc_toml_and_says_it_cannot_be_read() {
-        let mut config =
-            gloc_engine::config::Config::parse("mission = \"nosuch.mi\"\n", Path::new("/p"))
-                .expect("valid");
+        let mut config = crate::config::Config::parse("mission = \"nosuch.mi\"\n", Path::new("/p"))
+            .expect("valid");
         config.path = Some(PathBuf::from("/p/gloc.toml"));
         let settings = Settings::from_config(config, Overrides::default()).expect("valid");
         let error = load_mission(&settings, &SensorList::embedded()).expect_err("missing");
@@ -258,7 +257,7 @@ mod tests {
 
     #[test]
     fn the_budget_and_constants_of_the_settings_reach_the_simulator() {
-        let mut config = gloc_engine::config::Config::parse(
+        let mut config = crate::config::Config::parse(
             "cycle_budget = 77\n[simulator]\ndrag_cd0 = 0.3\n",
             Path::new("/p"),
         )

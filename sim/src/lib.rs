@@ -28,6 +28,7 @@ pub mod flight;
 pub mod log;
 pub mod navigation;
 pub mod plot;
+pub mod settings;
 pub mod simulation;
 
 pub use environment::TemperatureProfile;

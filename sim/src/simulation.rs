@@ -117,7 +117,7 @@ impl Default for TimingParams {
 
 impl SimConfig {
     /// Sets one flight or energy constant by the name `gloc.toml`'s `[simulator]`
-    /// table and `gloc run --sim` use ([`gloc_engine::config::SIMULATOR_SETTINGS`]).
+    /// table and `gloc run --sim` use ([`crate::settings::SIMULATOR_SETTINGS`]).
     /// The caller has checked the value's range; `false`: no such setting.
     pub fn set(&mut self, name: &str, value: f64) -> bool {
         let (flight, energy, timing) = (&mut self.flight, &mut self.energy, &mut self.timing);

@@ -3,8 +3,8 @@
 
 use std::sync::Arc;
 
-use gloc_engine::config::SIMULATOR_SETTINGS;
 use gloc_engine::sensors::SensorList;
+use gloc_sim::settings::SIMULATOR_SETTINGS;
 use gloc_sim::{default_mission, SimConfig, Simulation};
 
 #[test]

@@ -51,8 +51,8 @@ def test_check_gives_the_codes_gloc_check_prints(gloc_bin, path):
 
 
 def test_check_of_text_finds_the_error_on_its_line():
-    # tests/fixtures/gloc/err/duplicate_label.gloc as text, its header line dropped:
-    # `# expect: E0103 8:7` there is line 7 here.
+    # tests/fixtures/gloc/err/duplicate_label.gloc as text: the second `label 0` is on
+    # line 7, its number at column 7.
     text = "nregs 1\nnblbs 2\nninstr 5\nlabel 0\nyield\njumpi 0\nlabel 0\njumpi 0\n"
     found = gloc.check(text)
     assert [(d.code, d.line, d.column) for d in found] == [("E0103", 7, 7)]

@@ -1,6 +1,7 @@
 //! What the tests of every crate share: the real glider files kept in the repository's
 //! `data/` folder (found by one locator that fails loudly), paths in the repository, and
-//! the one seeded random-number generator (re-exported from the engine).
+//! the one seeded random-number generator (re-exported from the engine), and the one format
+//! for expected diagnostics ([`annotate`]).
 //!
 //! A test that needs a real file calls [`data`]; a missing file is a failure that names
 //! the path, never a silent skip.
@@ -40,6 +41,9 @@ pub fn data_arg(relative: &str) -> String {
 
 /// The one seeded generator (SplitMix64, `gloc_engine::rng`), for property tests.
 pub use gloc_engine::rng::Rng;
+
+mod annotate;
+pub use annotate::{annotate, diagnostic_notes, expect_diagnostics};
 
 #[cfg(test)]
 mod tests {

@@ -9,7 +9,9 @@
 //! - no function outside tests is longer than [`MAX_FUNCTION_LINES`], except the few
 //!   listed in [`LONG_FUNCTIONS`], which may not grow (a ratchet);
 //! - no two modules of `cli` or `dap` import each other, directly or round a circle,
-//!   except the circles listed in [`KNOWN_CIRCLES`] (a ratchet too).
+//!   except the circles listed in [`KNOWN_CIRCLES`] (a ratchet too);
+//! - each crate depends on exactly the workspace crates the picture of the layers in
+//!   ARCHITECTURE.md gives it (`name ──► a, b, c`), so the picture is the truth.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -504,6 +506,122 @@ pub fn all(root: &Path) -> Vec<String> {
     problems.extend(unregistered_codes(root).0);
     problems.extend(long_functions(root));
     problems.extend(import_circles(root));
+    problems.extend(layers(root));
+    problems
+}
+
+/// The layers as ARCHITECTURE.md draws them: each ` folder ──► a, b, c   what it is`
+/// line of its crate picture (a crate with no arrow depends on no workspace crate).
+pub fn drawn_layers(architecture: &str) -> BTreeMap<String, BTreeSet<String>> {
+    let mut layers = BTreeMap::new();
+    let Some(start) = architecture.find("The crates and what each depends on") else {
+        return layers;
+    };
+    let Some(block) = architecture[start..].split("```").nth(1) else {
+        return layers;
+    };
+    for line in block.lines() {
+        let Some(name) = line.split_whitespace().next() else {
+            continue;
+        };
+        let depends = match line.split_once("──►") {
+            Some((_, rest)) => {
+                // The list ends at the first run of two spaces (the description).
+                let list = rest.trim_start().split("  ").next().unwrap_or("");
+                list.split(',')
+                    .map(|name| name.trim().to_string())
+                    .filter(|name| !name.is_empty())
+                    .collect()
+            }
+            None => BTreeSet::new(),
+        };
+        layers.insert(name.to_string(), depends);
+    }
+    layers
+}
+
+/// The workspace crates a member's manifest lists under `[dependencies]` (not dev or
+/// build dependencies), by folder name.
+fn manifest_dependencies(manifest: &str, folders: &BTreeMap<String, String>) -> BTreeSet<String> {
+    let mut section = "";
+    let mut found = BTreeSet::new();
+    for line in manifest.lines() {
+        let line = line.trim();
+        if line.starts_with('[') {
+            section = line;
+            continue;
+        }
+        if section != "[dependencies]" {
+            continue;
+        }
+        let key = line.split(['.', '=', ' ']).next().unwrap_or("");
+        if let Some(folder) = folders.get(key) {
+            found.insert(folder.clone());
+        }
+    }
+    found
+}
+
+/// Each member's workspace dependencies against the picture in ARCHITECTURE.md.
+pub fn layers(root: &Path) -> Vec<String> {
+    let architecture = std::fs::read_to_string(root.join("ARCHITECTURE.md")).unwrap_or_default();
+    let drawn = drawn_layers(&architecture);
+    let members = members(root);
+    let manifest = |member: &str| {
+        std::fs::read_to_string(root.join(member).join("Cargo.toml")).unwrap_or_default()
+    };
+    // Package name → folder.
+    let folders: BTreeMap<String, String> = members
+        .iter()
+        .filter_map(|member| {
+            let text = manifest(member);
+            let name = text
+                .lines()
+                .find_map(|line| line.trim().strip_prefix("name = "))?
+                .trim_matches('"')
+                .to_string();
+            Some((name, member.clone()))
+        })
+        .collect();
+    let mut problems = Vec::new();
+    // The picture lists front ends first: a crate may depend only on crates drawn
+    // below it, so no dependency runs back up the layers.
+    let order: Vec<&str> = architecture
+        .split("The crates and what each depends on")
+        .nth(1)
+        .and_then(|rest| rest.split("```").nth(1))
+        .unwrap_or("")
+        .lines()
+        .filter_map(|line| line.split_whitespace().next())
+        .collect();
+    let position = |name: &str| order.iter().position(|drawn| *drawn == name);
+    for (member, depends) in &drawn {
+        for dependency in depends {
+            if position(dependency) <= position(member) {
+                problems.push(format!(
+                    "ARCHITECTURE.md: {member} depends on {dependency}, which is not drawn below it"
+                ));
+            }
+        }
+    }
+    for member in &members {
+        let Some(expected) = drawn.get(member) else {
+            problems.push(format!(
+                "{member}: not in ARCHITECTURE.md's picture of the crates and their dependencies"
+            ));
+            continue;
+        };
+        let actual = manifest_dependencies(&manifest(member), &folders);
+        if &actual != expected {
+            let extra: Vec<&String> = actual.difference(expected).collect();
+            let missing: Vec<&String> = expected.difference(&actual).collect();
+            problems.push(format!(
+                "{member}/Cargo.toml depends on {actual:?}, ARCHITECTURE.md draws {expected:?} \
+                 (not drawn: {extra:?}; drawn but not a dependency: {missing:?}): change the \
+                 dependency or the picture, and keep no dependency running back up the layers"
+            ));
+        }
+    }
     problems
 }
 
@@ -517,6 +635,24 @@ mod tests {
         assert_eq!(
             function_lengths(text),
             vec![("a".to_string(), 1, 5), ("b".to_string(), 8, 3)]
+        );
+    }
+
+    #[test]
+    fn the_picture_of_the_layers_is_read_line_by_line() {
+        let text = "The crates and what each depends on (…):\n\n```\n cli      ──► lsp, engine   (clap)\n engine                    the core\n```\n";
+        let layers = drawn_layers(text);
+        assert_eq!(
+            layers.get("cli"),
+            Some(&BTreeSet::from(["lsp".to_string(), "engine".to_string()]))
+        );
+        assert_eq!(layers.get("engine"), Some(&BTreeSet::new()));
+        let folders = BTreeMap::from([("gloc-engine".to_string(), "engine".to_string())]);
+        let manifest =
+            "[dependencies]\ngloc-engine.workspace = true\n[dev-dependencies]\ngloc-lsp = 1\n";
+        assert_eq!(
+            manifest_dependencies(manifest, &folders),
+            BTreeSet::from(["engine".to_string()])
         );
     }
 

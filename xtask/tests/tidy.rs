@@ -52,3 +52,15 @@ fn no_new_import_circle_in_cli_or_dap() {
         tidy::import_circles(&tidy::workspace_root()),
     );
 }
+
+#[test]
+fn each_crate_depends_on_what_architecture_md_draws() {
+    let root = tidy::workspace_root();
+    let architecture = std::fs::read_to_string(root.join("ARCHITECTURE.md")).expect("readable");
+    // The picture names every member (a broken picture would make the check vacuous).
+    assert_eq!(
+        tidy::drawn_layers(&architecture).len(),
+        tidy::members(&root).len()
+    );
+    assert_clean("layers", tidy::layers(&root));
+}

@@ -25,7 +25,7 @@ pub(super) const MAX_FUSED: u64 = 6;
 /// plus the fused variants, and the one-to-one translation.
 macro_rules! ops {
     (
-        plain { $($name:ident { $($field:ident : $ty:ty),* }),* $(,)? }
+        plain { $($name:ident { $($field:ident : $ty:ty),* } => $kind:ident ( $($how:tt)* )),* $(,)? }
         fused { $($fused:ident { $($ffield:ident : $fty:ty),* }),* $(,)? }
     ) => {
         /// One dispatch of the interpreter. Plain variants mean what the
@@ -70,67 +70,81 @@ macro_rules! ops {
     };
 }
 
-ops! {
-    plain {
-        LoadSensor { sensor: SensorId, dst: Reg },
-        StoreSensor { src: Reg, sensor: SensorId },
-        LoadInt { value: i64, dst: Reg },
-        LoadFloat { value: f64, dst: Reg },
-        Move { src: Reg, dst: Reg },
-        Add { a: Reg, b: Reg, dst: Reg },
-        Sub { a: Reg, b: Reg, dst: Reg },
-        Mul { a: Reg, b: Reg, dst: Reg },
-        Div { a: Reg, b: Reg, dst: Reg },
-        Mod { a: Reg, b: Reg, dst: Reg },
-        Min { a: Reg, b: Reg, dst: Reg },
-        Max { a: Reg, b: Reg, dst: Reg },
-        And { a: Reg, b: Reg, dst: Reg },
-        Or { a: Reg, b: Reg, dst: Reg },
-        Xor { a: Reg, b: Reg, dst: Reg },
-        CmpEq { a: Reg, b: Reg, dst: Reg },
-        CmpNe { a: Reg, b: Reg, dst: Reg },
-        CmpLt { a: Reg, b: Reg, dst: Reg },
-        CmpLe { a: Reg, b: Reg, dst: Reg },
-        CmpGt { a: Reg, b: Reg, dst: Reg },
-        CmpGe { a: Reg, b: Reg, dst: Reg },
-        Neg { src: Reg, dst: Reg },
-        Abs { src: Reg, dst: Reg },
-        Sqrt { src: Reg, dst: Reg },
-        IntToFloat { src: Reg, dst: Reg },
-        FloatToInt { src: Reg, dst: Reg },
-        Not { src: Reg, dst: Reg },
-        LoadMem { addr: Reg, dst: Reg },
-        LoadMemAt { addr: u32, dst: Reg },
-        StoreMem { src: Reg, addr: Reg },
-        StoreMemAt { src: Reg, addr: u32 },
-        Branch { cond: Reg, if_true: Pc, if_false: Pc },
-        Jump { target: Pc },
-        JumpIndirect { register: Reg },
-        Yield {},
-        Halt {},
-        Nop {},
-        Write { src: Reg },
-        WriteText { text: u32 },
-        Print { src: Reg },
-        PrintText { text: u32 },
-    }
-    fused {
-        AddK { a: Reg, k: Value, t: Reg, dst: Reg },
-        SubK { a: Reg, k: Value, t: Reg, dst: Reg },
-        MulK { a: Reg, k: Value, t: Reg, dst: Reg },
-        DivK { a: Reg, k: Value, t: Reg, dst: Reg },
-        ModK { a: Reg, k: Value, t: Reg, dst: Reg },
-        IntToFloatAdd { src: Reg, t: Reg, a: Reg, dst: Reg },
-        CmpBr { cmp: Cmp, a: Reg, b: Reg, c: Reg, if_true: Pc, if_false: Pc },
-        CmpKBr { cmp: Cmp, a: Reg, k: Value, t: Reg, c: Reg, if_true: Pc, if_false: Pc },
-        JumpCmpBr { cmp: Cmp, a: Reg, b: Reg, c: Reg, if_true: Pc, if_false: Pc },
-        JumpCmpKBr { cmp: Cmp, a: Reg, k: Value, t: Reg, c: Reg, if_true: Pc, if_false: Pc },
-        AddJumpCmpBr { p: Reg, q: Reg, sum: Reg, cmp: Cmp, a: Reg, b: Reg, c: Reg, if_true: Pc, if_false: Pc },
-        JumpAddJumpCmpBr { p: Reg, q: Reg, sum: Reg, cmp: Cmp, a: Reg, b: Reg, c: Reg, if_true: Pc, if_false: Pc },
-        AddJumpCmpKBr { p: Reg, q: Reg, sum: Reg, cmp: Cmp, a: Reg, k: Value, t: Reg, c: Reg, if_true: Pc, if_false: Pc },
-        RangeBr { x: Reg, lo: Value, t_lo: Reg, c_lo: Reg, hi: Value, t_hi: Reg, c_hi: Reg, d: Reg, if_out: Pc, if_in: Pc },
-    }
+/// The op table, handed to `$then!`: every op with its fields, and for each plain op
+/// the handler the threaded code runs it with (`threaded.rs` builds `Slot::new`'s
+/// selection from it): `fixed(h)` one handler; `typed(h; regs)` `h` instantiated for
+/// the one type the registers hold (or ANY); `int_fast(general, int; regs)` the float
+/// handler when both are floats, else the integer fast path typed; `int_or_any(h; reg)`
+/// `h` for an integer register or any. Fused ops all go to `fused_handler`. An op added
+/// here is a compile error in every place that matches on ops until it is handled.
+macro_rules! op_table {
+    ($then:ident) => {
+        $then! {
+            plain {
+                LoadSensor { sensor: SensorId, dst: Reg } => fixed(op_load_sensor),
+                StoreSensor { src: Reg, sensor: SensorId } => fixed(op_store_sensor),
+                LoadInt { value: i64, dst: Reg } => fixed(op_load_int),
+                LoadFloat { value: f64, dst: Reg } => fixed(op_load_float),
+                Move { src: Reg, dst: Reg } => typed(op_move; src),
+                Add { a: Reg, b: Reg, dst: Reg } => int_fast(op_add, op_add_int; a, b),
+                Sub { a: Reg, b: Reg, dst: Reg } => int_fast(op_sub, op_sub_int; a, b),
+                Mul { a: Reg, b: Reg, dst: Reg } => int_fast(op_mul, op_mul_int; a, b),
+                Div { a: Reg, b: Reg, dst: Reg } => int_fast(op_div, op_div_int; a, b),
+                Mod { a: Reg, b: Reg, dst: Reg } => int_fast(op_mod, op_mod_int; a, b),
+                Min { a: Reg, b: Reg, dst: Reg } => typed(op_min; a, b),
+                Max { a: Reg, b: Reg, dst: Reg } => typed(op_max; a, b),
+                And { a: Reg, b: Reg, dst: Reg } => typed(op_and; a, b),
+                Or { a: Reg, b: Reg, dst: Reg } => typed(op_or; a, b),
+                Xor { a: Reg, b: Reg, dst: Reg } => typed(op_xor; a, b),
+                CmpEq { a: Reg, b: Reg, dst: Reg } => typed(op_cmp_eq; a, b),
+                CmpNe { a: Reg, b: Reg, dst: Reg } => typed(op_cmp_ne; a, b),
+                CmpLt { a: Reg, b: Reg, dst: Reg } => typed(op_cmp_lt; a, b),
+                CmpLe { a: Reg, b: Reg, dst: Reg } => typed(op_cmp_le; a, b),
+                CmpGt { a: Reg, b: Reg, dst: Reg } => typed(op_cmp_gt; a, b),
+                CmpGe { a: Reg, b: Reg, dst: Reg } => typed(op_cmp_ge; a, b),
+                Neg { src: Reg, dst: Reg } => typed(op_neg; src),
+                Abs { src: Reg, dst: Reg } => typed(op_abs; src),
+                Sqrt { src: Reg, dst: Reg } => typed(op_sqrt; src),
+                IntToFloat { src: Reg, dst: Reg } => typed(op_int_to_float; src),
+                FloatToInt { src: Reg, dst: Reg } => typed(op_float_to_int; src),
+                Not { src: Reg, dst: Reg } => typed(op_not; src),
+                LoadMem { addr: Reg, dst: Reg } => int_or_any(op_load_mem_int; addr),
+                LoadMemAt { addr: u32, dst: Reg } => fixed(op_load_mem_at),
+                StoreMem { src: Reg, addr: Reg } => int_or_any(op_store_mem_int; addr),
+                StoreMemAt { src: Reg, addr: u32 } => fixed(op_store_mem_at),
+                Branch { cond: Reg, if_true: Pc, if_false: Pc } => typed(op_branch; cond),
+                Jump { target: Pc } => fixed(op_jump),
+                JumpIndirect { register: Reg } => fixed(op_jump_indirect),
+                Yield {} => fixed(op_yield),
+                Halt {} => fixed(op_halt),
+                Nop {} => fixed(op_nop),
+                Write { src: Reg } => fixed(op_output),
+                WriteText { text: u32 } => fixed(op_output),
+                Print { src: Reg } => fixed(op_output),
+                PrintText { text: u32 } => fixed(op_output),
+            }
+            fused {
+                AddK { a: Reg, k: Value, t: Reg, dst: Reg },
+                SubK { a: Reg, k: Value, t: Reg, dst: Reg },
+                MulK { a: Reg, k: Value, t: Reg, dst: Reg },
+                DivK { a: Reg, k: Value, t: Reg, dst: Reg },
+                ModK { a: Reg, k: Value, t: Reg, dst: Reg },
+                IntToFloatAdd { src: Reg, t: Reg, a: Reg, dst: Reg },
+                CmpBr { cmp: Cmp, a: Reg, b: Reg, c: Reg, if_true: Pc, if_false: Pc },
+                CmpKBr { cmp: Cmp, a: Reg, k: Value, t: Reg, c: Reg, if_true: Pc, if_false: Pc },
+                JumpCmpBr { cmp: Cmp, a: Reg, b: Reg, c: Reg, if_true: Pc, if_false: Pc },
+                JumpCmpKBr { cmp: Cmp, a: Reg, k: Value, t: Reg, c: Reg, if_true: Pc, if_false: Pc },
+                AddJumpCmpBr { p: Reg, q: Reg, sum: Reg, cmp: Cmp, a: Reg, b: Reg, c: Reg, if_true: Pc, if_false: Pc },
+                JumpAddJumpCmpBr { p: Reg, q: Reg, sum: Reg, cmp: Cmp, a: Reg, b: Reg, c: Reg, if_true: Pc, if_false: Pc },
+                AddJumpCmpKBr { p: Reg, q: Reg, sum: Reg, cmp: Cmp, a: Reg, k: Value, t: Reg, c: Reg, if_true: Pc, if_false: Pc },
+                RangeBr { x: Reg, lo: Value, t_lo: Reg, c_lo: Reg, hi: Value, t_hi: Reg, c_hi: Reg, d: Reg, if_out: Pc, if_in: Pc },
+            }
+        }
+    };
 }
+pub(super) use op_table;
+
+op_table!(ops);
 
 /// An operand type: registers report themselves, everything else nothing.
 trait Operand {

@@ -43,7 +43,7 @@
 
 use std::hint::unreachable_unchecked;
 
-use super::code::{Cmp, Op, TypeSet, ANY, FLOAT, INT, MAX_FUSED};
+use super::code::{op_table, Cmp, Op, TypeSet, ANY, FLOAT, INT, MAX_FUSED};
 use super::{
     absolute, add, compare, div, indirect_target, integer_division_by_zero, memory_index, mul,
     negate, rem, sub, truth, Exit, Host, TrapKind,
@@ -192,6 +192,51 @@ macro_rules! by_cmp_type {
     };
 }
 
+// The handler of one plain op, by its kind in the op table (`code.rs`, `op_table!`).
+macro_rules! handler_of {
+    ($operands:ident, $pc:ident, fixed($handler:ident)) => {
+        $handler as Handler
+    };
+    ($operands:ident, $pc:ident, typed($handler:ident; $($reg:ident),+)) => {
+        by_type!($operands.all(&[$(($pc, $reg)),+]), $handler)
+    };
+    ($operands:ident, $pc:ident, int_fast($general:ident, $int:ident; $($reg:ident),+)) => {
+        match $operands.all(&[$(($pc, $reg)),+]) {
+            FLOAT => $general::<FLOAT> as Handler,
+            t => by_type!(t, $int),
+        }
+    };
+    ($operands:ident, $pc:ident, int_or_any($handler:ident; $reg:ident)) => {
+        match $operands.all(&[($pc, $reg)]) {
+            INT => $handler::<INT> as Handler,
+            _ => $handler::<ANY>,
+        }
+    };
+}
+
+// `select_handler`, generated from the op table: each plain op's handler by its kind,
+// every fused op's by `fused_handler` (its operands are read at several pcs).
+macro_rules! handler_selection {
+    (
+        plain { $($name:ident { $($field:ident : $ty:ty),* } => $kind:ident ( $($how:tt)* )),* $(,)? }
+        fused { $($fused:ident { $($ffield:ident : $fty:ty),* }),* $(,)? }
+    ) => {
+        /// The handler made for `op`'s variant (and its comparison, constant type and
+        /// operand types) at `pc`.
+        fn select_handler(op: Op, pc: usize, operands: &Operands<'_>) -> Handler {
+            match op {
+                $(
+                    #[allow(unused_variables)]
+                    Op::$name { $($field),* } => handler_of!(operands, pc, $kind($($how)*)),
+                )*
+                $(Op::$fused { .. })|* => fused_handler(op, pc, operands),
+            }
+        }
+    };
+}
+
+op_table!(handler_selection);
+
 impl Slot {
     /// The slot for `op` at `pc`: the handler made for its variant (and its
     /// comparison, constant type and operand types) and its branch targets.
@@ -199,85 +244,7 @@ impl Slot {
     /// code (`plain`); [`ANY`] everywhere gives the untyped handlers.
     pub fn new(op: Op, pc: usize, plain: &[Op], types: &dyn Fn(usize, Reg) -> TypeSet) -> Slot {
         let operands = Operands { plain, types };
-        let all = |reads: &[(usize, Reg)]| operands.all(reads);
-        let handler: Handler = match op {
-            Op::LoadSensor { .. } => op_load_sensor,
-            Op::StoreSensor { .. } => op_store_sensor,
-            Op::LoadInt { .. } => op_load_int,
-            Op::LoadFloat { .. } => op_load_float,
-            Op::Move { src, .. } => by_type!(all(&[(pc, src)]), op_move),
-            Op::Add { a, b, .. } => match all(&[(pc, a), (pc, b)]) {
-                FLOAT => op_add::<FLOAT>,
-                t => by_type!(t, op_add_int),
-            },
-            Op::Sub { a, b, .. } => match all(&[(pc, a), (pc, b)]) {
-                FLOAT => op_sub::<FLOAT>,
-                t => by_type!(t, op_sub_int),
-            },
-            Op::Mul { a, b, .. } => match all(&[(pc, a), (pc, b)]) {
-                FLOAT => op_mul::<FLOAT>,
-                t => by_type!(t, op_mul_int),
-            },
-            Op::Div { a, b, .. } => match all(&[(pc, a), (pc, b)]) {
-                FLOAT => op_div::<FLOAT>,
-                t => by_type!(t, op_div_int),
-            },
-            Op::Mod { a, b, .. } => match all(&[(pc, a), (pc, b)]) {
-                FLOAT => op_mod::<FLOAT>,
-                t => by_type!(t, op_mod_int),
-            },
-            Op::Min { a, b, .. } => by_type!(all(&[(pc, a), (pc, b)]), op_min),
-            Op::Max { a, b, .. } => by_type!(all(&[(pc, a), (pc, b)]), op_max),
-            Op::And { a, b, .. } => by_type!(all(&[(pc, a), (pc, b)]), op_and),
-            Op::Or { a, b, .. } => by_type!(all(&[(pc, a), (pc, b)]), op_or),
-            Op::Xor { a, b, .. } => by_type!(all(&[(pc, a), (pc, b)]), op_xor),
-            Op::CmpEq { a, b, .. } => by_type!(all(&[(pc, a), (pc, b)]), op_cmp_eq),
-            Op::CmpNe { a, b, .. } => by_type!(all(&[(pc, a), (pc, b)]), op_cmp_ne),
-            Op::CmpLt { a, b, .. } => by_type!(all(&[(pc, a), (pc, b)]), op_cmp_lt),
-            Op::CmpLe { a, b, .. } => by_type!(all(&[(pc, a), (pc, b)]), op_cmp_le),
-            Op::CmpGt { a, b, .. } => by_type!(all(&[(pc, a), (pc, b)]), op_cmp_gt),
-            Op::CmpGe { a, b, .. } => by_type!(all(&[(pc, a), (pc, b)]), op_cmp_ge),
-            Op::Neg { src, .. } => by_type!(all(&[(pc, src)]), op_neg),
-            Op::Abs { src, .. } => by_type!(all(&[(pc, src)]), op_abs),
-            Op::Sqrt { src, .. } => by_type!(all(&[(pc, src)]), op_sqrt),
-            Op::IntToFloat { src, .. } => by_type!(all(&[(pc, src)]), op_int_to_float),
-            Op::FloatToInt { src, .. } => by_type!(all(&[(pc, src)]), op_float_to_int),
-            Op::Not { src, .. } => by_type!(all(&[(pc, src)]), op_not),
-            Op::LoadMem { addr, .. } => match all(&[(pc, addr)]) {
-                INT => op_load_mem_int::<INT>,
-                _ => op_load_mem_int::<ANY>,
-            },
-            Op::LoadMemAt { .. } => op_load_mem_at,
-            Op::StoreMem { addr, .. } => match all(&[(pc, addr)]) {
-                INT => op_store_mem_int::<INT>,
-                _ => op_store_mem_int::<ANY>,
-            },
-            Op::StoreMemAt { .. } => op_store_mem_at,
-            Op::Branch { cond, .. } => by_type!(all(&[(pc, cond)]), op_branch),
-            Op::Jump { .. } => op_jump,
-            Op::JumpIndirect { .. } => op_jump_indirect,
-            Op::Yield {} => op_yield,
-            Op::Halt {} => op_halt,
-            Op::Nop {} => op_nop,
-            Op::Write { .. } | Op::WriteText { .. } | Op::Print { .. } | Op::PrintText { .. } => {
-                op_output
-            }
-            // The fused ops: their handlers read operands at several pcs.
-            Op::AddK { .. }
-            | Op::SubK { .. }
-            | Op::MulK { .. }
-            | Op::DivK { .. }
-            | Op::ModK { .. }
-            | Op::IntToFloatAdd { .. }
-            | Op::CmpBr { .. }
-            | Op::JumpCmpBr { .. }
-            | Op::CmpKBr { .. }
-            | Op::JumpCmpKBr { .. }
-            | Op::AddJumpCmpBr { .. }
-            | Op::JumpAddJumpCmpBr { .. }
-            | Op::AddJumpCmpKBr { .. }
-            | Op::RangeBr { .. } => fused_handler(op, pc, &operands),
-        };
+        let handler = select_handler(op, pc, &operands);
         Slot {
             handler,
             jumps: branch_offsets(op, pc),

@@ -1,8 +1,6 @@
 //! Diagnostics: what `gloc check` reports, on the same spans, with the notes
 //! that point elsewhere (drawn as `note`).
 
-use gloc_engine::Severity;
-
 use super::*;
 
 fn check_diagnostics(language: Language, fixture: &str, expect: Expect) {
@@ -10,25 +8,7 @@ fn check_diagnostics(language: Language, fixture: &str, expect: Expect) {
 }
 
 fn check_diagnostics_in(fixture: Fixture, expect: Expect) {
-    let mut notes = Vec::new();
-    for diagnostic in &fixture.analysis.diagnostics {
-        let severity = match diagnostic.severity {
-            Severity::Error => "error",
-            Severity::Warning => "warning",
-            Severity::Note => "note",
-        };
-        let mut note = format!("{} {severity}: {}", diagnostic.code, diagnostic.message);
-        if let Some(help) = &diagnostic.help {
-            note.push_str(&format!(" (help: {help})"));
-        }
-        notes.push((diagnostic.span, note));
-        for label in &diagnostic.labels {
-            notes.push((
-                label.span,
-                format!("{} note: {}", diagnostic.code, label.message),
-            ));
-        }
-    }
+    let notes = gloc_testsupport::diagnostic_notes(&fixture.analysis.diagnostics);
     expect.assert_eq(&annotate(&fixture.text, &notes));
 }
 

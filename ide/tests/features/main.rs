@@ -51,13 +51,7 @@ pub fn parse_fixture(fixture: &str) -> (String, Vec<usize>) {
 
 /// The embedded sensor list, no cycle budget.
 pub fn context() -> Context {
-    Context {
-        sensors: Arc::new(SensorList::embedded()),
-        cycle_budget: None,
-        cycle_budget_from: None,
-        list_folders: Vec::new(),
-        mafiles: None,
-    }
+    Context::new(Arc::new(SensorList::embedded()))
 }
 
 pub struct Fixture {
@@ -113,48 +107,7 @@ impl Fixture {
     }
 }
 
-/// The text with each span drawn under its first line: `^` under every character
-/// (to the line's end when the span goes on), `|` for an empty span, then the note.
-pub fn annotate(text: &str, notes: &[(Span, String)]) -> String {
-    let mut out = String::new();
-    let mut line_start = 0;
-    for line in text.split_inclusive('\n') {
-        let content = line.trim_end_matches(['\n', '\r']);
-        out.push_str(content);
-        out.push('\n');
-        let line_end = line_start + content.len();
-        let mut here: Vec<&(Span, String)> = notes
-            .iter()
-            .filter(|(span, _)| {
-                let start = span.start as usize;
-                start >= line_start && (start < line_start + line.len() || start == line_end)
-            })
-            .collect();
-        here.sort_by_key(|(span, _)| (span.start, span.end));
-        for (span, note) in here {
-            let start = span.start as usize;
-            let end = (span.end as usize).min(line_end);
-            let column = content[..start - line_start].chars().count();
-            let width = content[start - line_start..end.max(start) - line_start]
-                .chars()
-                .count();
-            let marks = if span.is_empty() {
-                "|".to_string()
-            } else {
-                "^".repeat(width.max(1))
-            };
-            out.push_str(&format!("{}{marks} {note}\n", " ".repeat(column)));
-        }
-        line_start += line.len();
-    }
-    // Spans at the very end of a text that ends with a line break.
-    for (span, note) in notes {
-        if text.ends_with('\n') && span.start as usize == text.len() {
-            out.push_str(&format!("| {note}\n"));
-        }
-    }
-    out
-}
+pub use gloc_testsupport::annotate;
 
 /// `text` with the edits applied (they must not overlap).
 pub fn apply(text: &str, edits: &[TextEdit]) -> String {

@@ -1,6 +1,9 @@
 //! `gloc.toml`: per-project settings (masterdata path, cycle budget, mission),
-//! found by walking up from a script. Shared by the CLI, the language server
-//! and the debug adapter so that all three see the same project.
+//! found by walking up from a script. The file's format lives here, in the project
+//! layer that owns settings ([`crate::settings`] resolves it with the front ends'
+//! overrides), so the CLI, the language server and the debug adapter see the same
+//! project; the `[simulator]` names and ranges are the simulator's own
+//! (`gloc_sim::settings`).
 //!
 //! The file is small and flat:
 //!
@@ -13,7 +16,7 @@
 //! mafiles = "shared/mafiles"              # folder searched first for a mission's .ma files
 //!
 //! [simulator]                            # the flight and energy models' constants
-//! drag_cd0 = 0.15                       # see SIMULATOR_SETTINGS for every name
+//! drag_cd0 = 0.15                       # see gloc_sim::settings for every name
 //! ```
 //!
 //! Parsing is pure ([`Config::parse`] takes text and returns a [`Diagnostic`]
@@ -24,16 +27,17 @@ use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
-use crate::diagnostic::{Diagnostic, Span};
-use crate::sensors::SensorOrder;
+use gloc_engine::diagnostic::{Diagnostic, Span};
+use gloc_engine::sensors::SensorOrder;
+use gloc_sim::settings::check_simulator_setting;
 
 /// The file name looked for in a script's folder and every folder above it.
 pub const FILE_NAME: &str = "gloc.toml";
 
 /// Code of every problem in a `gloc.toml` (syntax, unknown key, wrong type).
-pub const CODE_BAD_CONFIG: &str = crate::codes::settings::BAD_CONFIG;
+pub const CODE_BAD_CONFIG: &str = gloc_engine::codes::settings::BAD_CONFIG;
 /// Code of a `gloc.toml` that cannot be read at all.
-pub const CODE_UNREADABLE_CONFIG: &str = crate::codes::settings::UNREADABLE_CONFIG;
+pub const CODE_UNREADABLE_CONFIG: &str = gloc_engine::codes::settings::UNREADABLE_CONFIG;
 
 /// Settings from a `gloc.toml`. Every field is optional; a missing file is the
 /// same as an empty one. Paths are absolute (resolved against the folder that
@@ -57,7 +61,7 @@ pub struct Config {
     /// beside `missions/`).
     pub mafiles: Option<PathBuf>,
     /// `[simulator]`: flight and energy constants, sorted by name, each
-    /// checked against [`SIMULATOR_SETTINGS`].
+    /// checked against [`gloc_sim::settings::SIMULATOR_SETTINGS`].
     pub simulator: Vec<(String, f64)>,
     /// Where each value stands in the file, so that an error about a value (a
     /// masterdata file that cannot be read) names `gloc.toml:LINE:COLUMN`.
@@ -93,374 +97,6 @@ pub fn check_cycle_budget(budget: u64) -> Result<u64, String> {
     }
 }
 
-/// A constant of the simulator's flight or energy model that `gloc.toml`'s
-/// `[simulator]` table and `gloc run --sim NAME=VALUE` may set. The simulator
-/// (`gloc-sim`) maps each name to its field; the ranges keep a run finite and
-/// meaningful (a 1e-9 s integration step would never finish a cycle).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SimulatorSetting {
-    pub name: &'static str,
-    pub units: &'static str,
-    pub min: f64,
-    pub max: f64,
-    pub about: &'static str,
-}
-
-/// Every simulator setting: the flight model first, then the energy model.
-pub const SIMULATOR_SETTINGS: &[SimulatorSetting] = &[
-    SimulatorSetting {
-        name: "step",
-        units: "s",
-        min: 0.05,
-        max: 1.5,
-        about: "integration step of the flight model within a 4 s cycle",
-    },
-    SimulatorSetting {
-        name: "pump_max",
-        units: "cc",
-        min: 1.0,
-        max: 2000.0,
-        about: "pumped volume the pump reaches either way",
-    },
-    SimulatorSetting {
-        name: "pump_rate",
-        units: "cc/s",
-        min: 0.1,
-        max: 1000.0,
-        about: "pump speed (an inflection takes 2 pump_max / pump_rate)",
-    },
-    SimulatorSetting {
-        name: "pump_in_rate",
-        units: "cc/s",
-        min: 0.1,
-        max: 1000.0,
-        about: "speed of letting oil in (going down)",
-    },
-    SimulatorSetting {
-        name: "pitch_rate",
-        units: "rad/s",
-        min: 0.001,
-        max: 1.0,
-        about: "pitch slew rate of the battery",
-    },
-    SimulatorSetting {
-        name: "pitch_period",
-        units: "s",
-        min: 0.5,
-        max: 600.0,
-        about: "natural period of the hull's pitch swinging toward the battery relation with the battery held (use_pitch 1)",
-    },
-    SimulatorSetting {
-        name: "pitch_damping",
-        units: "",
-        min: 0.01,
-        max: 10.0,
-        about: "damping ratio of that swing (1: critical, less overshoots)",
-    },
-    SimulatorSetting {
-        name: "mass",
-        units: "kg",
-        min: 1.0,
-        max: 10000.0,
-        about: "the glider's mass",
-    },
-    SimulatorSetting {
-        name: "hull_volume",
-        units: "L",
-        min: 1.0,
-        max: 10000.0,
-        about: "hull volume at the surface with nothing pumped",
-    },
-    SimulatorSetting {
-        name: "hull_compressibility",
-        units: "1/Pa",
-        min: 0.0,
-        max: 1.0e-8,
-        about: "relative loss of hull volume per pascal",
-    },
-    SimulatorSetting {
-        name: "water_density",
-        units: "kg/m³",
-        min: 900.0,
-        max: 1100.0,
-        about: "sea-water density",
-    },
-    SimulatorSetting {
-        name: "drag_cd0",
-        units: "",
-        min: 0.001,
-        max: 10.0,
-        about: "zero-lift drag coefficient",
-    },
-    SimulatorSetting {
-        name: "drag_cd1",
-        units: "1/rad²",
-        min: 0.0,
-        max: 100.0,
-        about: "induced drag coefficient (drag_cd0 + drag_cd1·α²)",
-    },
-    SimulatorSetting {
-        name: "lift_slope",
-        units: "1/rad",
-        min: 0.01,
-        max: 100.0,
-        about: "lift coefficient per radian of angle of attack (wings and hull)",
-    },
-    SimulatorSetting {
-        name: "wing_area",
-        units: "m²",
-        min: 0.001,
-        max: 100.0,
-        about: "reference area of the lift and drag coefficients",
-    },
-    SimulatorSetting {
-        name: "added_mass_along",
-        units: "",
-        min: 0.0,
-        max: 10.0,
-        about: "added mass along the hull, a fraction of mass",
-    },
-    SimulatorSetting {
-        name: "added_mass_across",
-        units: "",
-        min: 0.0,
-        max: 10.0,
-        about: "added mass across the hull, a fraction of mass",
-    },
-    SimulatorSetting {
-        name: "pitch_t1",
-        units: "1/m³",
-        min: -1.0e6,
-        max: 1.0e6,
-        about: "battery relation tan(pitch) = T1·pumped volume + T2·battpos + T3: T1",
-    },
-    SimulatorSetting {
-        name: "pitch_t2",
-        units: "1/m",
-        min: -1.0e4,
-        max: 1.0e4,
-        about: "the battery relation's T2 (battery position in metres, > 0 nose down)",
-    },
-    SimulatorSetting {
-        name: "pitch_t3",
-        units: "",
-        min: -10.0,
-        max: 10.0,
-        about: "the battery relation's T3 (the trim)",
-    },
-    SimulatorSetting {
-        name: "cycle_overrun",
-        units: "s",
-        min: 0.0,
-        max: 60.0,
-        about: "mean time a control cycle runs past u_cycle_time",
-    },
-    SimulatorSetting {
-        name: "cycle_jitter",
-        units: "s",
-        min: 0.0,
-        max: 10.0,
-        about: "standard deviation of the control cycle's period (seeded)",
-    },
-    SimulatorSetting {
-        name: "turn_cycles",
-        units: "cycles",
-        min: 1.0,
-        max: 10.0,
-        about: "cycles from a behavior's turn to the pump reversing (1: the same cycle)",
-    },
-    SimulatorSetting {
-        name: "altimeter_range",
-        units: "m",
-        min: 0.0,
-        max: 1.0e7,
-        about: "largest altitude the altimeter reads (m_altitude holds its last fix beyond)",
-    },
-    SimulatorSetting {
-        name: "altimeter_fraction",
-        units: "",
-        min: 0.0,
-        max: 10.0,
-        about: "next altimeter ping after this fraction of altitude / dive rate (0: every cycle)",
-    },
-    SimulatorSetting {
-        name: "altimeter_min_depth",
-        units: "m",
-        min: 0.0,
-        max: 1000.0,
-        about: "depth above which the altimeter does not ping (u_alt_min_depth)",
-    },
-    SimulatorSetting {
-        name: "ctd_period",
-        units: "s",
-        min: 0.0,
-        max: 3600.0,
-        about:
-            "seconds between CTD samples; the cycle sees the latest (0: one at each cycle's start)",
-    },
-    SimulatorSetting {
-        name: "gps_fix_time",
-        units: "s",
-        min: 0.0,
-        max: 3600.0,
-        about: "seconds at the surface until the first GPS fix",
-    },
-    SimulatorSetting {
-        name: "turn_time",
-        units: "s",
-        min: 0.0,
-        max: 600.0,
-        about: "time constant of the heading's turn toward its command",
-    },
-    SimulatorSetting {
-        name: "max_turn_rate",
-        units: "rad/s",
-        min: 0.001,
-        max: 1.0,
-        about: "fastest turn",
-    },
-    SimulatorSetting {
-        name: "heading_bias_dive",
-        units: "rad",
-        min: -1.0,
-        max: 1.0,
-        about: "heading error the roll bias holds on dives (the zig-zag)",
-    },
-    SimulatorSetting {
-        name: "heading_bias_climb",
-        units: "rad",
-        min: -1.0,
-        max: 1.0,
-        about: "heading error the roll bias holds on climbs",
-    },
-    SimulatorSetting {
-        name: "dive_power",
-        units: "W",
-        min: 0.0,
-        max: 100.0,
-        about: "hotel power while diving",
-    },
-    SimulatorSetting {
-        name: "climb_power",
-        units: "W",
-        min: 0.0,
-        max: 100.0,
-        about: "hotel power while climbing or at the surface",
-    },
-    SimulatorSetting {
-        name: "pump_out_j_per_cc",
-        units: "J/cc",
-        min: 0.0,
-        max: 100.0,
-        about: "energy to pump oil out (going up), at the surface",
-    },
-    SimulatorSetting {
-        name: "pump_out_j_per_cc_m",
-        units: "J/cc/m",
-        min: 0.0,
-        max: 10.0,
-        about: "extra energy to pump oil out per metre of depth",
-    },
-    SimulatorSetting {
-        name: "pump_in_j_per_cc",
-        units: "J/cc",
-        min: 0.0,
-        max: 100.0,
-        about: "energy to let oil in (going down)",
-    },
-    SimulatorSetting {
-        name: "pitch_j_per_rad",
-        units: "J/rad",
-        min: 0.0,
-        max: 100000.0,
-        about: "energy to move the pitch battery",
-    },
-    SimulatorSetting {
-        name: "battery_wh",
-        units: "Wh",
-        min: 1.0,
-        max: 100000.0,
-        about: "battery capacity",
-    },
-    SimulatorSetting {
-        name: "volts_full",
-        units: "V",
-        min: 1.0,
-        max: 100.0,
-        about: "battery voltage when full",
-    },
-    SimulatorSetting {
-        name: "volts_empty",
-        units: "V",
-        min: 0.0,
-        max: 100.0,
-        about: "battery voltage when empty",
-    },
-    SimulatorSetting {
-        name: "science_on_power",
-        units: "W",
-        min: 0.0,
-        max: 100.0,
-        about: "science computer and sensors awake (c_science_on 1); 0: in the hotel load",
-    },
-    SimulatorSetting {
-        name: "science_sleep_power",
-        units: "W",
-        min: 0.0,
-        max: 100.0,
-        about: "science computer and sensors asleep (c_science_on 0)",
-    },
-    SimulatorSetting {
-        name: "science_wake_time",
-        units: "s",
-        min: 0.0,
-        max: 3600.0,
-        about: "time from c_science_on 1 to m_science_on 1, at science_on_power",
-    },
-    SimulatorSetting {
-        name: "science_wake_joules",
-        units: "J",
-        min: 0.0,
-        max: 100000.0,
-        about: "energy of one wake on top of science_on_power",
-    },
-    SimulatorSetting {
-        name: "battery_ohms",
-        units: "ohm",
-        min: 0.0,
-        max: 100.0,
-        about: "internal resistance: the voltage sags by ohms x current under load",
-    },
-];
-
-/// Checks one simulator setting: a known name and a value in its range. The
-/// error says what is wrong and what is allowed.
-pub fn check_simulator_setting(name: &str, value: f64) -> Result<(), String> {
-    let Some(setting) = SIMULATOR_SETTINGS
-        .iter()
-        .find(|setting| setting.name == name)
-    else {
-        let known: Vec<&str> = SIMULATOR_SETTINGS
-            .iter()
-            .map(|setting| setting.name)
-            .collect();
-        let hint = crate::suggest::closest(name, known.iter().copied())
-            .map(|close| format!("did you mean `{close}`? "))
-            .unwrap_or_default();
-        return Err(format!(
-            "`{name}` is not a simulator setting; {hint}the settings are {}",
-            known.join(", ")
-        ));
-    };
-    if !(value.is_finite() && value >= setting.min && value <= setting.max) {
-        return Err(format!(
-            "`{name}` is {value}; it must be from {} to {} {} ({})",
-            setting.min, setting.max, setting.units, setting.about
-        ));
-    }
-    Ok(())
-}
-
 /// A `gloc.toml` that could not be used: where it is, and what is wrong.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ConfigError {
@@ -474,7 +110,7 @@ impl std::fmt::Display for ConfigError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match &self.text {
             Some(text) => {
-                let index = crate::diagnostic::LineIndex::new(text);
+                let index = gloc_engine::diagnostic::LineIndex::new(text);
                 let (line, column) = index.line_col(text, self.diagnostic.span.start as usize);
                 write!(
                     f,
@@ -604,7 +240,7 @@ impl Config {
                 }
             }
         }
-        let index = crate::diagnostic::LineIndex::new(text);
+        let index = gloc_engine::diagnostic::LineIndex::new(text);
         let position = |span: std::ops::Range<usize>| Some(index.line_col(text, span.start));
         let positions = ValuePositions {
             masterdata: raw
@@ -651,14 +287,16 @@ impl Config {
     /// Reads and parses one `gloc.toml`.
     pub fn load(path: &Path) -> Result<Config, ConfigError> {
         let text =
-            crate::files::read_text(path, crate::files::CONFIG).map_err(|error| ConfigError {
-                path: path.to_path_buf(),
-                text: None,
-                diagnostic: Box::new(Diagnostic::error(
-                    CODE_UNREADABLE_CONFIG,
-                    Span::default(),
-                    format!("cannot read gloc.toml: {error}"),
-                )),
+            gloc_engine::files::read_text(path, gloc_engine::files::CONFIG).map_err(|error| {
+                ConfigError {
+                    path: path.to_path_buf(),
+                    text: None,
+                    diagnostic: Box::new(Diagnostic::error(
+                        CODE_UNREADABLE_CONFIG,
+                        Span::default(),
+                        format!("cannot read gloc.toml: {error}"),
+                    )),
+                }
             })?;
         let folder = path.parent().unwrap_or(Path::new("."));
         match Config::parse(&text, folder) {

@@ -221,6 +221,14 @@ fn the_forecast_says_when_the_battery_reaches_the_abort() {
     let after = outlook.reached_at.expect("reached within 3 h") - forecast.start.time;
     // Within a control cycle (about 4.5 s) of 7,200 s.
     assert!((after - 7200.0).abs() < 10.0, "{after}");
+    // The GeoJSON's start says so too.
+    let geojson = gloc_forecast::export::to_geojson(&forecast);
+    let expected = format!(
+        "\"battery_limit_reached\":\"{}\"",
+        gloc_forecast::export::iso_time(outlook.reached_at.expect("reached"))
+    );
+    assert!(geojson.contains(&expected), "{geojson}");
+    assert!(geojson.contains("\"battery_limit_ah\":90.0"), "{geojson}");
     // And 1 Ah an hour over the 3 hours.
     assert!(
         (forecast.track.amp_hours_used - 3.0).abs() < 0.01,

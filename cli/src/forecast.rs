@@ -111,37 +111,9 @@ pub fn main(args: ForecastArgs) -> anyhow::Result<ExitCode> {
         other => other,
     };
 
-    let settings = Settings::resolve(
-        args.mission
-            .as_deref()
-            .or(args.source.files.first().map(PathBuf::as_path)),
-        Overrides {
-            masterdata: args.masterdata.clone(),
-            mission: args.mission.clone(),
-            mafiles: args.mafiles.clone(),
-            sensor_cache: args.source.sensor_cache.clone(),
-            simulator: args.simulator.clone(),
-            ..Overrides::new(Surface::Cli)
-        },
-    )?;
-    if settings.mission.is_none() {
-        bail!("--mission: name the mission the glider flies (or `mission` in gloc.toml)");
-    }
-    let mut tally = Tally::default();
-    let Some(sensor_list) = crate::loading::active_sensors(&settings, &mut tally)? else {
+    let Some((sensors, mission, config)) = set_up(&args)? else {
         return Ok(crate::exit::code(crate::exit::ERRORS));
     };
-    let sensors = Arc::new(sensor_list);
-    let mission = gloc_project::simulation::load_mission(&settings, &sensors)?;
-    if mission.has_errors() {
-        eprint!("{}", mission.render_plain());
-        eprintln!("error: the mission has errors; nothing was forecast");
-        return Ok(crate::exit::code(crate::exit::ERRORS));
-    }
-    let config = gloc_project::simulation::sim_config(
-        &settings,
-        gloc_project::simulation::Flight::default(),
-    )?;
 
     let mut source = crate::data::open(&args.source)?;
     let history = gloc_forecast::logs::read_history(&mut source).map_err(|error| match error {
@@ -219,6 +191,61 @@ pub fn main(args: ForecastArgs) -> anyhow::Result<ExitCode> {
         eprintln!("wrote {}", path.display());
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The project the forecast flies in: the settings resolved, the sensor list, the
+/// mission, and the simulator set up where `gloc run` sets its flights up (the
+/// mission built and checked against the list, its warnings printed). `None` after
+/// errors that were printed.
+fn set_up(
+    args: &ForecastArgs,
+) -> anyhow::Result<
+    Option<(
+        Arc<gloc_engine::sensors::SensorList>,
+        gloc_sim::Mission,
+        gloc_sim::SimConfig,
+    )>,
+> {
+    let settings = Settings::resolve(
+        args.mission
+            .as_deref()
+            .or(args.source.files.first().map(PathBuf::as_path)),
+        Overrides {
+            masterdata: args.masterdata.clone(),
+            mission: args.mission.clone(),
+            mafiles: args.mafiles.clone(),
+            sensor_cache: args.source.sensor_cache.clone(),
+            simulator: args.simulator.clone(),
+            ..Overrides::new(Surface::Cli)
+        },
+    )?;
+    if settings.mission.is_none() {
+        bail!("--mission: name the mission the glider flies (or `mission` in gloc.toml)");
+    }
+    let mut tally = Tally::default();
+    let Some(sensor_list) = crate::loading::active_sensors(&settings, &mut tally)? else {
+        return Ok(None);
+    };
+    let sensors = Arc::new(sensor_list);
+    let mission = gloc_project::simulation::load_mission(&settings, &sensors)?;
+    if mission.has_errors() {
+        eprint!("{}", mission.render_plain());
+        eprintln!("error: the mission has errors; nothing was forecast");
+        return Ok(None);
+    }
+    // Set up where `gloc run` sets its flights up: the simulator configured from the
+    // settings, the mission built and checked against the sensor list. Each track of
+    // the forecast is then flown from this configuration and the logs' state.
+    let prepared = gloc_project::simulation::prepare_unscripted(
+        &gloc_project::simulation::MissionPlan {
+            settings: &settings,
+            sensors: &sensors,
+            mission: &mission,
+        },
+        gloc_project::simulation::Flight::default(),
+    )?;
+    crate::simulate::print_warnings(&prepared.warnings, &mission, "", "");
+    Ok(Some((sensors, mission, prepared.config)))
 }
 
 fn load_currents(
@@ -314,6 +341,9 @@ fn print_forecast(forecast: &Forecast, history: &gloc_forecast::LogHistory) {
         "battery  {battery}; the forecast uses {:.2} Ah more",
         forecast.track.amp_hours_used
     );
+    if let Some(outlook) = &forecast.battery {
+        print_battery(outlook, forecast.hours);
+    }
     if history.end_time > start.time + 600.0 {
         eprintln!(
             "warning: the logs go on {:.0} s after the last fix: the forecast starts at the fix",
@@ -374,6 +404,43 @@ fn print_forecast(forecast: &Forecast, history: &gloc_forecast::LogHistory) {
                 spread.radius_max
             );
         }
+    }
+}
+
+/// The charge left against the mission's low-battery abort, and when the
+/// forecast reaches it.
+fn print_battery(outlook: &gloc_forecast::battery::BatteryOutlook, hours: f64) {
+    let capacity = if outlook.capacity_from_logs {
+        format!("{:.0} Ah (f_coulomb_battery_capacity)", outlook.capacity)
+    } else {
+        format!(
+            "{:.0} Ah (the simulator's battery_wh / volts_full: the logs hold no f_coulomb_battery_capacity)",
+            outlook.capacity
+        )
+    };
+    let limit = match outlook.remaining_charge_min {
+        Some(percent) => format!(
+            "abend's remaining_charge_min {percent}% aborts at {:.1} Ah used",
+            outlook.limit
+        ),
+        None => format!(
+            "no abend: the battery runs out at {:.1} Ah used",
+            outlook.limit
+        ),
+    };
+    let when = match outlook.reached_at {
+        Some(time) => format!("reached at {}", iso_time(time)),
+        None if outlook.margin() <= 0.0 => "already past it".to_string(),
+        None => format!("not within {hours} h ({:.1} Ah to go)", outlook.margin()),
+    };
+    outln!(
+        "         {:.1}% left of {capacity}; {limit}: {when}",
+        outlook.remaining_percent()
+    );
+    if outlook.reached_at.is_some() || outlook.margin() <= 0.0 {
+        eprintln!(
+            "warning: the battery reaches the mission's low-battery abort within the forecast"
+        );
     }
 }
 

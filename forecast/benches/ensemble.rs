@@ -1,7 +1,9 @@
 //! The ensemble's speed: N members × H hours of comet's mission (nsb3.mi)
-//! from the end of comet's deployment, on 1 thread and on every core, wall
-//! time. `cargo bench -p gloc-forecast --bench ensemble [-- MEMBERS HOURS]`
-//! (default 1,000 × 12). Speed is printed, never asserted.
+//! from the end of comet's deployment, on 1 thread, 2 threads and (with more)
+//! every core, side by side: wall and CPU time, the load average before and
+//! after, and a check that every thread count gives the same members.
+//! `cargo bench -p gloc-forecast --bench ensemble [-- MEMBERS HOURS]` (default
+//! 1,000 × 12). Speed is printed, never asserted.
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -64,11 +66,17 @@ fn main() {
         hours,
     };
     let cores = std::thread::available_parallelism().map_or(1, std::num::NonZero::get);
-    let mut counts = vec![1];
-    if cores > 1 {
+    // 1 and 2 threads side by side, and every core when there are more.
+    let mut counts = vec![1, 2];
+    if cores > 2 {
         counts.push(cores);
     }
+    println!(
+        "{cores} core(s); load average before: {}",
+        load_average().unwrap_or_else(|| "?".to_string())
+    );
     let mut first = None;
+    let mut reference = None;
     for threads in counts {
         let options = EnsembleOptions {
             members,
@@ -92,5 +100,26 @@ fn main() {
             single / seconds,
             ensemble.regions.len()
         );
+        // The same seed gives the same members on any number of threads.
+        match &reference {
+            None => reference = Some(ensemble),
+            Some(reference) => assert_eq!(reference, &ensemble, "{threads} threads differ"),
+        }
     }
+    println!(
+        "load average after: {}",
+        load_average().unwrap_or_else(|| "?".to_string())
+    );
+}
+
+/// The 1, 5 and 15 minute load averages (Linux); `None` elsewhere. Other
+/// processes on the machine take cores from the threads.
+fn load_average() -> Option<String> {
+    let text = std::fs::read_to_string("/proc/loadavg").ok()?;
+    Some(
+        text.split_whitespace()
+            .take(3)
+            .collect::<Vec<_>>()
+            .join(" "),
+    )
 }

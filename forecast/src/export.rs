@@ -147,14 +147,24 @@ pub fn to_geojson(forecast: &Forecast) -> String {
         ));
     }
     let (lat, lon) = crate::fly::degrees(forecast.start.lat, forecast.start.lon);
+    let mut start = vec![
+        ("kind", "start".into()),
+        ("time", iso_time(forecast.start.time).into()),
+        ("lat_nmea", nmea_text(lat).into()),
+        ("lon_nmea", nmea_text(lon).into()),
+    ];
+    if let Some(battery) = &forecast.battery {
+        // The charge left and the mission's low-battery abort (crate::battery).
+        start.push(("battery_used_ah", number(battery.used_at_start)));
+        start.push(("battery_capacity_ah", number(battery.capacity)));
+        start.push(("battery_limit_ah", number(battery.limit)));
+        if let Some(time) = battery.reached_at {
+            start.push(("battery_limit_reached", iso_time(time).into()));
+        }
+    }
     features.push(feature(
         GeometryValue::new_point(position(lat, lon)),
-        properties(vec![
-            ("kind", "start".into()),
-            ("time", iso_time(forecast.start.time).into()),
-            ("lat_nmea", nmea_text(lat).into()),
-            ("lon_nmea", nmea_text(lon).into()),
-        ]),
+        properties(start),
     ));
     for (number_of, surfacing) in track.surfacings.iter().enumerate() {
         let mut pairs = vec![

@@ -33,9 +33,12 @@ pub struct Start {
     pub waypoint: Option<(f64, f64)>,
     /// How far the mission's surface timers had run (s).
     pub timers_elapsed: f64,
-    /// `m_coulomb_amphr_total` and `m_battery` at the end of the logs.
+    /// `m_coulomb_amphr_total` and `m_battery` at the end of the logs, and
+    /// the capacity the count runs down from (`f_coulomb_battery_capacity`,
+    /// Ah): the simulator's energy model starts from them ([`crate::battery`]).
     pub amp_hours: Option<f64>,
     pub battery: Option<f64>,
+    pub battery_capacity: Option<f64>,
     pub heading: Option<f64>,
 }
 
@@ -59,6 +62,7 @@ impl Start {
             timers_elapsed: history.last_timers_elapsed,
             amp_hours: history.last_amp_hours,
             battery: history.last_battery,
+            battery_capacity: history.battery_capacity,
             heading: history.last_heading,
         })
     }
@@ -75,6 +79,7 @@ impl Start {
             timers_elapsed: segment.timers_elapsed,
             amp_hours: None,
             battery: None,
+            battery_capacity: None,
             heading: None,
         }
     }
@@ -259,22 +264,84 @@ pub fn fly(
     bathymetry: Option<&Arc<dyn DepthField>>,
     plan: &FlightPlan,
 ) -> Result<Track, ForecastError> {
-    let mut config = config.clone();
+    let flight = Flight {
+        mission,
+        sensors,
+        config,
+        start,
+        truth,
+        bathymetry,
+    };
+    fly_with(&flight, plan, &Extras::default()).map(|flown| flown.track)
+}
+
+/// One flight's inputs, as [`fly`] takes them.
+#[derive(Clone, Copy)]
+pub(crate) struct Flight<'a> {
+    pub mission: &'a Mission,
+    pub sensors: &'a Arc<SensorList>,
+    pub config: &'a SimConfig,
+    pub start: &'a Start,
+    pub truth: &'a Truth,
+    pub bathymetry: Option<&'a Arc<dyn DepthField>>,
+}
+
+/// What a flight can do beyond a forecast member's.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct Extras {
+    /// The drift at the surface, from a surfacing to the next dive (m/s east,
+    /// north); `None`: the truth's current there too. A hindcast flies the
+    /// current the glider found underwater and the drift it measured at the
+    /// surface apart, as the firmware separates them.
+    pub surface_drift: Option<Xy>,
+    /// The charge (Ah, as `m_coulomb_amphr_total` counts it) at which the
+    /// flight notes when the battery reaches the mission's limit.
+    pub battery_limit: Option<BatteryLimit>,
+}
+
+/// The charge at which the battery reaches a limit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct BatteryLimit {
+    /// `m_coulomb_amphr_total` at the start (Ah).
+    pub used_at_start: f64,
+    /// `m_coulomb_amphr_total` at the limit (Ah).
+    pub used_at_limit: f64,
+}
+
+/// A flight's track and what [`Extras`] asked to watch.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct Flown {
+    pub track: Track,
+    /// Unix seconds when the charge used reached [`BatteryLimit::used_at_limit`].
+    pub battery_limit_at: Option<f64>,
+}
+
+pub(crate) fn fly_with(
+    flight: &Flight<'_>,
+    plan: &FlightPlan,
+    extras: &Extras,
+) -> Result<Flown, ForecastError> {
+    let (start, truth, bathymetry) = (flight.start, flight.truth, flight.bathymetry);
+    let mut config = flight.config.clone();
     config.start_time = start.time;
-    let mut sim = Simulation::new(mission, sensors.clone(), None, &config)
+    let mut sim = Simulation::new(flight.mission, flight.sensors.clone(), None, &config)
         .map_err(|error| ForecastError::Mission(error.to_string()))?;
     sim.start_timers_before(start.timers_elapsed);
+    if let Some(fraction) = crate::battery::used_fraction(start, &config) {
+        sim.start_battery(fraction, start.amp_hours.unwrap_or(0.0));
+    }
     let lmc = sim.navigation().lmc;
+    let mut flown = Flown::default();
     let mut track = Track::default();
     let mut dove = false;
     let mut state = sim.navigation().dr_state;
     let mut next_record = 0.0;
     let amp_hours_before = sim.amp_hours();
-    if let Truth::Uniform(water) = truth {
-        sim.set_true_water(*water);
-    }
     loop {
         let now = sim.time();
+        if let Truth::Uniform(water) = truth {
+            sim.set_true_water(*water);
+        }
         if let Err(message) = set_surroundings(&mut sim, &lmc, start.time + now, truth, bathymetry)
         {
             match plan.outside {
@@ -283,6 +350,19 @@ pub fn fly(
                     track.left_grid = Some(message);
                     break;
                 }
+            }
+        }
+        let at_surface = matches!(
+            sim.navigation().dr_state,
+            DrState::Surfaced | DrState::FirstFix
+        );
+        if let (Some(drift), true) = (extras.surface_drift, at_surface) {
+            sim.set_true_water(drift);
+        }
+        if let Some(limit) = extras.battery_limit {
+            let used = limit.used_at_start + sim.amp_hours() - amp_hours_before;
+            if flown.battery_limit_at.is_none() && used >= limit.used_at_limit {
+                flown.battery_limit_at = Some(start.time + now);
             }
         }
         if now >= next_record || now >= plan.seconds {
@@ -340,7 +420,8 @@ pub fn fly(
         }
     }
     track.amp_hours_used = sim.amp_hours() - amp_hours_before;
-    Ok(track)
+    flown.track = track;
+    Ok(flown)
 }
 
 /// The true current and the water depth at the glider's true position now.

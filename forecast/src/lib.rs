@@ -8,6 +8,8 @@
 //! - [`hindcast`]: each logged segment flown again, the miss at the first fix.
 //! - [`ensemble`]: members over the current's uncertainty on every core, the
 //!   region per hour and the surfacing spread.
+//! - [`battery`]: the logs' coulomb count, the simulator's energy model
+//!   started from it, and when the mission's low-battery abort comes.
 //! - [`currents`]: current fields in time and space (CSV time series);
 //!   [`netcdf`]: ocean-model currents and bathymetry from NetCDF;
 //!   [`export`]: GeoJSON, KML and CSV; [`map`]: the map (PNG, SVG).
@@ -26,6 +28,7 @@ use gloc_engine::sensors::SensorList;
 use gloc_sim::navigation::Xy;
 use gloc_sim::{Mission, SimConfig};
 
+pub mod battery;
 pub mod currents;
 pub mod ensemble;
 pub mod export;
@@ -64,6 +67,9 @@ pub struct Forecast {
     pub current: String,
     pub track: Track,
     pub ensemble: Option<Ensemble>,
+    /// The battery against the mission's low-battery abort, when the logs
+    /// hold a coulomb count.
+    pub battery: Option<battery::BatteryOutlook>,
 }
 
 impl Forecast {
@@ -126,15 +132,29 @@ pub fn forecast(
         stop_at_first_fix: fly::StopAt::Horizon,
         outside: fly::Outside::Fail,
     };
-    let track = fly::fly(
-        &prepared,
-        sensors,
-        config,
-        &start,
-        &truth,
-        request.bathymetry.as_ref(),
+    let mut battery = battery::outlook(&start, mission, config);
+    let flown = fly::fly_with(
+        &fly::Flight {
+            mission: &prepared,
+            sensors,
+            config,
+            start: &start,
+            truth: &truth,
+            bathymetry: request.bathymetry.as_ref(),
+        },
         &plan,
+        &fly::Extras {
+            surface_drift: None,
+            battery_limit: battery.map(|outlook| fly::BatteryLimit {
+                used_at_start: outlook.used_at_start,
+                used_at_limit: outlook.limit,
+            }),
+        },
     )?;
+    if let Some(outlook) = &mut battery {
+        outlook.reached_at = flown.battery_limit_at;
+    }
+    let track = flown.track;
     let ensemble = match &request.ensemble {
         Some(options) => Some(ensemble::run_ensemble(
             &ensemble::EnsembleInput {
@@ -157,5 +177,6 @@ pub fn forecast(
         current,
         track,
         ensemble,
+        battery,
     })
 }

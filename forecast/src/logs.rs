@@ -8,7 +8,7 @@ use gloc_dbd::{CycleSource, DbdError};
 use gloc_sim::navigation::{nmea_is_set, Xy};
 
 /// The sensors read, in this order (any may be missing from a log).
-const SENSORS: [&str; 14] = [
+const SENSORS: [&str; 17] = [
     "m_present_time",
     "m_gps_lat",
     "m_gps_lon",
@@ -23,6 +23,9 @@ const SENSORS: [&str; 14] = [
     "m_heading",
     "m_initial_water_vx",
     "m_initial_water_vy",
+    "m_dr_time",
+    "m_dr_fix_time",
+    "f_coulomb_battery_capacity",
 ];
 
 #[derive(Clone, Copy)]
@@ -41,6 +44,9 @@ enum Column {
     Heading,
     InitialVx,
     InitialVy,
+    DrTime,
+    DrFixTime,
+    Capacity,
 }
 
 /// Two fixes further apart than this (s), with the glider deeper than
@@ -98,7 +104,22 @@ pub struct Segment {
     /// Unix seconds when the surfacing that ended the segment began (the
     /// glider left its last bottom for the surface).
     pub surfacing_began: f64,
+    /// The glider's own account of the surfacing that ended the segment, when
+    /// the logs hold it (a full `.dbd`, or the next file's first cycle, which
+    /// repeats every value): `m_dr_time`, seconds from its dive to when its dead
+    /// reckoning stopped at the surface, and `m_dr_fix_time`, seconds from then
+    /// to the first fix.
+    pub dr_time: Option<f64>,
+    pub fix_time: Option<f64>,
+    /// The drift at the surface after the segment (m/s east, north): the last
+    /// fix of the surface interval less the first, over the time between them
+    /// (the firmware's `m_dr_x/y_postfix_drift` over `m_dr_postfix_time`).
+    /// `None` with less than [`MIN_DRIFT_SECONDS`] of fixes.
+    pub surface_drift: Option<Xy>,
 }
+
+/// The shortest run of fixes (s) a surface drift is measured over.
+pub const MIN_DRIFT_SECONDS: f64 = 30.0;
 
 /// Everything read from the logs.
 #[derive(Clone, Debug, Default)]
@@ -112,6 +133,9 @@ pub struct LogHistory {
     pub waypoints: Vec<(f64, (f64, f64))>,
     /// Each change of `m_avg_speed` (m/s), in time order.
     pub avg_speeds: Vec<(f64, f64)>,
+    /// Each positive `m_dr_time` and `m_dr_fix_time` (s) logged, with its time.
+    pub dr_times: Vec<(f64, f64)>,
+    pub dr_fix_times: Vec<(f64, f64)>,
     pub segments: Vec<Segment>,
     /// The latest values at the end of the logs.
     pub last_water: Option<Xy>,
@@ -120,6 +144,8 @@ pub struct LogHistory {
     pub last_amp_hours: Option<f64>,
     pub last_battery: Option<f64>,
     pub last_heading: Option<f64>,
+    /// `f_coulomb_battery_capacity` (Ah), the charge the coulomb counter counts down from.
+    pub battery_capacity: Option<f64>,
     /// Unix seconds of the last cycle.
     pub end_time: f64,
     /// How far the surface timers had run at the last fix (s), as [`Segment::timers_elapsed`].
@@ -271,6 +297,15 @@ pub fn read_history(source: &mut dyn CycleSource) -> Result<LogHistory, LogError
         if let Some(heading) = finite(get(Column::Heading)) {
             history.last_heading = Some(heading);
         }
+        if let Some(seconds) = finite(get(Column::DrTime)).filter(|s| *s > 0.0) {
+            history.dr_times.push((time, seconds));
+        }
+        if let Some(seconds) = finite(get(Column::DrFixTime)).filter(|s| *s > 0.0) {
+            history.dr_fix_times.push((time, seconds));
+        }
+        if let Some(amp_hours) = finite(get(Column::Capacity)).filter(|ah| *ah > 0.0) {
+            history.battery_capacity = Some(amp_hours);
+        }
     }
     if low <= high {
         history.depth_range = Some((low, high));
@@ -338,6 +373,18 @@ fn segments(history: &LogHistory, samples: &[Sample]) -> Vec<Segment> {
                     .find(|(time, _)| *time <= end.time)
             })
             .map(|(_, speed)| *speed);
+        // The surface interval after the segment: from its last underwater
+        // cycle to the next dive (or the end of the logs).
+        let next_dive = samples[samples.partition_point(|sample| sample.time <= end.time)..]
+            .iter()
+            .find(|sample| sample.depth.is_some_and(|depth| depth > UNDERWATER_DEPTH))
+            .map_or(f64::INFINITY, |sample| sample.time);
+        let surfaced = |logged: &[(f64, f64)]| {
+            logged
+                .iter()
+                .find(|(time, _)| *time >= *last && *time < next_dive)
+                .map(|(_, seconds)| *seconds)
+        };
         segments.push(Segment {
             start,
             end,
@@ -348,9 +395,31 @@ fn segments(history: &LogHistory, samples: &[Sample]) -> Vec<Segment> {
             avg_speed,
             timers_elapsed: timers_elapsed(&history.fixes, samples, start.time),
             surfacing_began: end.time - timers_elapsed(&history.fixes, samples, end.time),
+            dr_time: surfaced(&history.dr_times),
+            fix_time: surfaced(&history.dr_fix_times),
+            surface_drift: surface_drift(&history.fixes, end, next_dive),
         });
     }
     segments
+}
+
+/// The drift (m/s east, north) from the fix `first` to the last fix before
+/// `until` of the same surface interval (no gap over [`FIX_GAP`]).
+fn surface_drift(fixes: &[Fix], first: Fix, until: f64) -> Option<Xy> {
+    let begin = fixes.partition_point(|fix| fix.time < first.time);
+    let mut last = first;
+    for fix in fixes[begin..].iter().take_while(|fix| fix.time < until) {
+        if fix.time - last.time >= FIX_GAP {
+            break;
+        }
+        last = *fix;
+    }
+    let seconds = last.time - first.time;
+    if seconds < MIN_DRIFT_SECONDS {
+        return None;
+    }
+    let lmc = gloc_sim::navigation::Lmc::from_nmea(first.lat, first.lon);
+    Some(lmc.nmea_to_xy(last.lat, last.lon) * (1.0 / seconds))
 }
 
 fn samples_between(samples: &[Sample], from: f64, to: f64) -> &[Sample] {

@@ -116,6 +116,7 @@ fn start_at(lat: f64, lon: f64) -> Start {
         timers_elapsed: 0.0,
         amp_hours: None,
         battery: None,
+        battery_capacity: None,
         heading: None,
     }
 }

@@ -1,8 +1,9 @@
 //! The simulation of a project: its mission (the settings' `.mi`, or the embedded
 //! Fig. 2 mission), a temperature profile, and the simulator configured from the
 //! settings (seed, cycle budget, `[simulator]` constants). The CLI's `run` and `batch`
-//! and the debugger build their simulations here, through [`prepare`]: the one place a
-//! flight is assembled and the mission checked against the list and the script.
+//! and the debugger build their simulations here, through [`prepare`], and `forecast`
+//! through [`prepare_unscripted`] (no script): the one place a flight is assembled and the
+//! mission checked against the list and the script.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -80,7 +81,10 @@ pub struct Flight {
 }
 
 /// The simulator's configuration: the defaults, then the settings' budget and
-/// constants, then the flight's.
+/// constants, then the flight's. Front ends set a flight up through [`prepare`] or
+/// [`prepare_unscripted`], which call this and return the configuration with the
+/// simulation; it stays public for the Python package's forecast binding, which
+/// calls it directly.
 pub fn sim_config(settings: &Settings, flight: Flight) -> Result<SimConfig, ProjectError> {
     let defaults = SimConfig::default();
     let mut config = SimConfig {
@@ -106,10 +110,10 @@ pub fn sim_config(settings: &Settings, flight: Flight) -> Result<SimConfig, Proj
 fn build_simulation(
     mission: &Mission,
     sensors: Arc<SensorList>,
-    program: Arc<Program>,
+    program: Option<Arc<Program>>,
     config: &SimConfig,
 ) -> Result<Simulation, ProjectError> {
-    Simulation::new(mission, sensors, Some(program), config)
+    Simulation::new(mission, sensors, program, config)
         .map_err(|error| ProjectError::new(ErrorKind::Invalid, None, error.to_string()))
 }
 
@@ -140,6 +144,29 @@ pub enum Warning {
 pub struct Prepared {
     pub simulation: Simulation,
     pub warnings: Vec<Warning>,
+    /// The configuration it was built with: a caller that flies more like it
+    /// (a forecast's members, each from the glider's logged state) builds them
+    /// from this.
+    pub config: SimConfig,
+}
+
+/// What the flights of a mission flown without a script share (a forecast
+/// flies the glider's own mission from its logs).
+#[derive(Clone, Copy)]
+pub struct MissionPlan<'a> {
+    pub settings: &'a Settings,
+    pub sensors: &'a Arc<SensorList>,
+    pub mission: &'a Mission,
+}
+
+/// As [`prepare`], for a mission flown without a script (`gloc forecast`): the
+/// simulator configured from the settings and the flight, the simulation built,
+/// and the mission checked against the sensor list, in the same place.
+pub fn prepare_unscripted(
+    plan: &MissionPlan<'_>,
+    flight: Flight,
+) -> Result<Prepared, ProjectError> {
+    prepare_flight(plan.settings, plan.sensors, plan.mission, None, flight)
 }
 
 /// Prepares one flight of `plan`: the simulator configured from the settings and the
@@ -147,11 +174,28 @@ pub struct Prepared {
 /// the script (S0106, S0107, S0120–S0127). `gloc run`, `gloc batch` and the debugger
 /// all start here, so they warn alike.
 pub fn prepare(plan: &Plan<'_>, flight: Flight) -> Result<Prepared, ProjectError> {
-    let config = sim_config(plan.settings, flight)?;
-    let simulation = build_simulation(
+    prepare_flight(
+        plan.settings,
+        plan.sensors,
         plan.mission,
-        plan.sensors.clone(),
-        plan.program.clone(),
+        Some((plan.script, plan.program)),
+        flight,
+    )
+}
+
+/// [`prepare`] and [`prepare_unscripted`]: one flight, with or without a script.
+fn prepare_flight(
+    settings: &Settings,
+    sensors: &Arc<SensorList>,
+    mission: &Mission,
+    script: Option<(&LoadedScript, &Arc<Program>)>,
+    flight: Flight,
+) -> Result<Prepared, ProjectError> {
+    let config = sim_config(settings, flight)?;
+    let simulation = build_simulation(
+        mission,
+        sensors.clone(),
+        script.map(|(_, program)| program.clone()),
         &config,
     )?;
     let mut warnings: Vec<Warning> = simulation
@@ -160,24 +204,21 @@ pub fn prepare(plan: &Plan<'_>, flight: Flight) -> Result<Prepared, ProjectError
         .cloned()
         .map(Warning::Simulator)
         .collect();
-    warnings.extend(
-        plan.mission
-            .check(plan.sensors)
+    warnings.extend(mission.check(sensors).into_iter().map(Warning::Mission));
+    if let Some((script, program)) = script {
+        let unhooked: Vec<_> = mission
+            .unhooked_stores(sensors, program)
             .into_iter()
-            .map(Warning::Mission),
-    );
-    let unhooked: Vec<_> = plan
-        .mission
-        .unhooked_stores(plan.sensors, plan.program)
-        .into_iter()
-        .filter_map(|pc| plan.script.span_of_pc(pc))
-        .collect();
-    if let Some(warning) = plan.mission.unhooked_store_warning(&unhooked) {
-        warnings.push(Warning::Script(warning));
+            .filter_map(|pc| script.span_of_pc(pc))
+            .collect();
+        if let Some(warning) = mission.unhooked_store_warning(&unhooked) {
+            warnings.push(Warning::Script(warning));
+        }
     }
     Ok(Prepared {
         simulation,
         warnings,
+        config,
     })
 }
 

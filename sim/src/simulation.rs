@@ -1439,6 +1439,23 @@ impl Simulation {
         }
     }
 
+    /// Starts the battery part used: `used_fraction` of the energy model's
+    /// capacity (`battery_wh`) spent, and `m_coulomb_amphr_total` at
+    /// `amp_hours`, as a forecast from a glider's logs finds them. Call before
+    /// the first cycle; a value that is not finite, or a fraction outside 0…1,
+    /// is ignored.
+    pub fn start_battery(&mut self, used_fraction: f64, amp_hours: f64) {
+        if self.cycle > 0 {
+            return;
+        }
+        if used_fraction.is_finite() && (0.0..=1.0).contains(&used_fraction) {
+            self.vehicle.energy_joules = used_fraction * self.energy.battery_wh * 3600.0;
+        }
+        if amp_hours.is_finite() {
+            self.vehicle.amp_hours = amp_hours;
+        }
+    }
+
     /// The waypoint a goto behavior steers to (LMC), if one does.
     pub fn waypoint(&self) -> Option<Xy> {
         self.nav_view.waypoint

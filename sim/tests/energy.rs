@@ -102,3 +102,23 @@ fn the_science_computer_draws_by_its_power_state() {
     assert_eq!(sim.sensor(state), Some(0.0));
     assert_eq!(sim.science_wakes(), 1);
 }
+
+#[test]
+fn a_battery_started_part_used_sags_and_counts_on() {
+    // Half the capacity used: the open-circuit voltage halfway from 13.74 V
+    // to 10 V, 11.87 V by hand; the coulomb count continues from 100 Ah.
+    let mut sim = sim(&SimConfig::default());
+    sim.start_battery(0.5, 100.0);
+    assert!(
+        (sim.battery_volts() - 11.87).abs() < 1e-9,
+        "{}",
+        sim.battery_volts()
+    );
+    assert_eq!(sim.amp_hours(), 100.0);
+    // Out of range or after the first cycle: ignored.
+    sim.start_battery(1.5, f64::NAN);
+    assert!((sim.battery_volts() - 11.87).abs() < 1e-9);
+    assert!(sim.step_cycle());
+    sim.start_battery(0.0, 0.0);
+    assert!(sim.amp_hours() > 100.0);
+}

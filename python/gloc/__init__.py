@@ -421,7 +421,9 @@ def forecast(
     spread of the logs' own estimates, at least 0.02), with the hourly regions.
 
     Without ``client`` the members fly on this machine's threads (``threads``,
-    default every core), in the native code. With ``client`` (a
+    default every core), in the native code. ``client="local"`` starts a Dask
+    ``LocalCluster`` of one worker process per core (``threads``, default every
+    core), flies on it and closes it. With ``client`` (a
     ``dask.distributed.Client``) they are split into ``chunks`` consecutive ranges
     (default four per worker thread), each flown by the native code in a worker;
     a member depends only on ``seed`` and its number, so any split (threads,
@@ -429,6 +431,22 @@ def forecast(
     ``mission`` and ``currents`` by their paths: on a cluster, a shared file
     system. ``sim``, ``sensor_cache``, ``bathymetry`` as for ``gloc forecast``.
     Returns a :class:`Forecast`."""
+    if isinstance(client, str):
+        if client != "local":
+            raise ValueError(
+                f"client={client!r}: give a dask.distributed.Client, \"local\" (a LocalCluster "
+                "on this machine) or None (this machine's threads)"
+            )
+        import distributed
+
+        workers = threads or os.cpu_count() or 1
+        with distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                      dashboard_address=None) as cluster, \
+                distributed.Client(cluster) as local:
+            return forecast(logs, mission, hours=hours, currents=currents, members=members,
+                            seed=seed, spread=spread, client=local, chunks=chunks,
+                            threads=threads, bathymetry=bathymetry,
+                            sensor_cache=sensor_cache, sim=sim)
     if spread is not None and not isinstance(spread, (tuple, list)):
         spread = (float(spread), float(spread))
     asked = {

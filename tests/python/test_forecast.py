@@ -62,7 +62,7 @@ def test_the_track_and_surfacings_are_the_command_lines(gloc_bin, tmp_path):
 
 
 def test_an_ensemble_on_two_dask_workers_is_the_one_on_one_process(gloc_bin, tmp_path):
-    distributed = pytest.importorskip("distributed")
+    import distributed  # pinned in requirements.txt: missing is a failure, not a skip
     members, hours = 8, 4
     here = gloc.forecast(LOGS, MISSION, hours=hours, members=members, seed=5,
                          sensor_cache=CACHE, threads=1)
@@ -100,6 +100,19 @@ def test_an_ensemble_on_two_dask_workers_is_the_one_on_one_process(gloc_bin, tmp
         assert row["members"] == int(count)
         assert abs(row["radius_95"] - float(r95)) <= 0.5 and abs(row["radius_max"] - float(rmax)) <= 0.5
         assert abs(row["mean_lat"] - float(lat)) <= 5.1e-6 and abs(row["mean_lon"] - float(lon)) <= 5.1e-6
+
+
+def test_client_local_starts_a_local_cluster_and_flies_the_same_members():
+    members, hours = 4, 2
+    here = gloc.forecast(LOGS, MISSION, hours=hours, members=members, seed=3,
+                         sensor_cache=CACHE, threads=1)
+    local = gloc.forecast(LOGS, MISSION, hours=hours, members=members, seed=3,
+                          sensor_cache=CACHE, client="local", threads=2)
+    assert here.members["member"].nunique() == members
+    pandas.testing.assert_frame_equal(here.members, local.members, check_exact=True)
+    pandas.testing.assert_frame_equal(here.offsets, local.offsets, check_exact=True)
+    with pytest.raises(ValueError, match="client='cluster'"):
+        gloc.forecast(LOGS, MISSION, members=2, sensor_cache=CACHE, client="cluster")
 
 
 def test_bad_requests_are_clear_errors(tmp_path):

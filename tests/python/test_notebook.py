@@ -8,8 +8,8 @@ import pytest
 
 from conftest import ROOT
 
-nbformat = pytest.importorskip("nbformat")
-nbclient = pytest.importorskip("nbclient")
+import nbformat  # pinned: missing is a failure, not a skip
+import nbclient
 
 NOTEBOOK = os.path.join(ROOT, "examples", "python", "comet.ipynb")
 FIGURES = [

@@ -16,7 +16,7 @@ fn stderr(output: &Output) -> String {
 }
 
 fn temp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("gloc-cli-{}", std::process::id()));
+    let dir = gloc_testsupport::scratch_dir("cli");
     std::fs::create_dir_all(&dir).expect("temp dir");
     dir.join(name)
 }

@@ -12,7 +12,7 @@ fn root() -> PathBuf {
 }
 
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("gloc-compile-cli-{}-{name}", std::process::id()));
+    let dir = gloc_testsupport::scratch_dir(&format!("compile-cli-{name}"));
     std::fs::create_dir_all(&dir).expect("temp dir");
     dir
 }

@@ -8,7 +8,7 @@ use support::gloc;
 
 /// A fresh project folder with `gloc.toml` and a `scripts/` folder below it.
 fn project(name: &str, config: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("gloc-config-{}-{name}", std::process::id()));
+    let dir = gloc_testsupport::scratch_dir(&format!("config-{name}"));
     std::fs::create_dir_all(dir.join("scripts")).expect("temp dir");
     std::fs::write(dir.join("gloc.toml"), config).expect("write gloc.toml");
     dir

@@ -38,7 +38,7 @@ fn failing_script(failure: impl Fn(u32) -> Vec<String>) -> String {
 }
 
 fn scratch(name: &str) -> PathBuf {
-    let folder = std::env::temp_dir().join(format!("gloc-fault-summary-{}", std::process::id()));
+    let folder = gloc_testsupport::scratch_dir("fault-summary");
     std::fs::create_dir_all(&folder).expect("a scratch folder");
     folder.join(name)
 }

@@ -368,7 +368,7 @@ fn the_language_server_holds_a_huge_header_in_bounded_memory() {
 
 /// A private folder with a file of secret lines under several names.
 fn secrets() -> (PathBuf, Vec<String>) {
-    let folder = std::env::temp_dir().join(format!("gloc-hardening-{}", std::process::id()));
+    let folder = gloc_testsupport::scratch_dir("hardening-protocol");
     std::fs::create_dir_all(&folder).expect("folder");
     let text: String = (1..=40)
         .map(|line| format!("SECRET{line} = `hunter{line}` \"pass word\" {line}\n"))

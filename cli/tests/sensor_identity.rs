@@ -15,7 +15,7 @@ fn comet_cac() -> String {
 }
 
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("gloc-identity-{}", std::process::id()));
+    let dir = gloc_testsupport::scratch_dir("identity");
     std::fs::create_dir_all(&dir).expect("temp dir");
     dir.join(name)
 }

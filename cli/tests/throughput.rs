@@ -311,7 +311,7 @@ fn a_batch_keeps_the_run_limits_and_never_writes_over_an_input() {
         stderr.contains("the cycle budget must be 1 to 1000000000"),
         "{stderr}"
     );
-    let folder = std::env::temp_dir().join(format!("gloc-batch-csv-{}", std::process::id()));
+    let folder = gloc_testsupport::scratch_dir("batch-csv");
     std::fs::create_dir_all(&folder).expect("a folder");
     let script = folder.join("tracker.gbas");
     let original = std::fs::read(root().join("examples/thermocline.gbas")).expect("example");

@@ -403,7 +403,7 @@ fn cancel_stops_a_long_forward_run_through_its_progress() {
     // machine flies in under the second a progress update waits for: a gloc.toml
     // beside the script gives it the largest battery allowed (100,000 Wh, about
     // 14 million cycles), so the run lasts until it is cancelled.
-    let folder = std::env::temp_dir().join(format!("gloc-dap-cancel-{}", std::process::id()));
+    let folder = gloc_testsupport::scratch_dir("dap-cancel");
     std::fs::create_dir_all(&folder).expect("temporary folder");
     std::fs::copy(fixture("fig3.gbas"), folder.join("fig3.gbas")).expect("copy the script");
     std::fs::write(

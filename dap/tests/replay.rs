@@ -224,7 +224,7 @@ fn replay_errors_say_what_is_wrong() {
 fn a_gloc_script_for_another_glider_is_refused_at_launch_with_each_index() {
     // Fig. 2 stated for comet's list (found through sensorCache), debugged with the
     // embedded list: 444 is `m_certainly_at_surface` there, `m_depth` here.
-    let folder = std::env::temp_dir().join(format!("gloc-dap-identity-{}", std::process::id()));
+    let folder = gloc_testsupport::scratch_dir("dap-identity");
     std::fs::create_dir_all(&folder).expect("dir");
     let script = folder.join("fig2.gloc");
     let fig2 = std::fs::read_to_string(format!(

@@ -287,7 +287,7 @@ fn invalid_state_bits_are_an_error_at_their_byte() {
 
 #[test]
 fn missing_sensor_list_names_the_crc_and_every_folder() {
-    let folder = std::env::temp_dir().join(format!("gloc-dbd-missing-{}", std::process::id()));
+    let folder = gloc_testsupport::scratch_dir("dbd-missing");
     std::fs::create_dir_all(&folder).expect("temp folder");
     let path = folder.join("x.dbd");
     let mut bytes = header("abcdef01", true).into_bytes();

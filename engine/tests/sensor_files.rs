@@ -259,7 +259,7 @@ fn a_compressed_sensor_list_loads_with_the_count_its_glider_states() {
     assert_eq!(loaded.list.len() - loaded.added_hook_sensors.len(), 2709);
     assert_eq!(loaded.list.crc(), Some("06a36d4e"));
     assert!(loaded.list.lookup("m_depth").is_some());
-    let folder = std::env::temp_dir().join(format!("gloc-ccc-{}", std::process::id()));
+    let folder = gloc_testsupport::scratch_dir("ccc");
     std::fs::create_dir_all(&folder).expect("a folder");
     let bomb = folder.join("00000000.ccc");
     // One block whose header claims a literal run it does not hold: a clear error.

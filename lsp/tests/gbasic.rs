@@ -494,7 +494,7 @@ async fn symbol_kinds_of_variables_constants_arrays_and_labels() {
 
 #[tokio::test]
 async fn a_broken_gloc_toml_that_is_not_open_is_a_diagnostic() {
-    let root = std::env::temp_dir().join(format!("gloc-lsp-closed-config-{}", std::process::id()));
+    let root = gloc_testsupport::scratch_dir("lsp-closed-config");
     let scripts = root.join("scripts");
     std::fs::create_dir_all(&scripts).expect("dirs");
     // An unknown key (a typo of cycle_budget): E0901 at the key, characters 0 to 12.

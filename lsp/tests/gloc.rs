@@ -439,7 +439,7 @@ async fn formatting_and_signature_help() {
 
 #[tokio::test]
 async fn gloc_toml_sets_the_cycle_budget_and_bad_files_are_diagnostics() {
-    let root = std::env::temp_dir().join(format!("gloc-lsp-config-{}", std::process::id()));
+    let root = gloc_testsupport::scratch_dir("lsp-config");
     let scripts = root.join("scripts");
     std::fs::create_dir_all(&scripts).expect("dirs");
     std::fs::write(root.join("gloc.toml"), "cycle_budget = 10\n").expect("write");
@@ -542,7 +542,7 @@ async fn client_settings_override_gloc_toml() {
 
 #[tokio::test]
 async fn masterdata_from_gloc_toml_changes_sensor_indices_and_bad_files_are_reported() {
-    let root = std::env::temp_dir().join(format!("gloc-lsp-masterdata-{}", std::process::id()));
+    let root = gloc_testsupport::scratch_dir("lsp-masterdata");
     std::fs::create_dir_all(&root).expect("dir");
     std::fs::write(
         root.join("masterdata.mi"),

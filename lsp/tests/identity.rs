@@ -82,7 +82,7 @@ async fn a_stated_list_checked_against_comets_list_reports_each_index() {
 
 #[tokio::test]
 async fn a_third_list_beside_the_document_is_found() {
-    let folder = std::env::temp_dir().join(format!("gloc-lsp-identity-{}", std::process::id()));
+    let folder = gloc_testsupport::scratch_dir("lsp-identity");
     std::fs::create_dir_all(&folder).expect("dir");
     let mut client = TestClient::initialized().await;
     let uri = format!("file://{}/comet.gloc", folder.display());

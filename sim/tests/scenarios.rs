@@ -285,7 +285,7 @@ fn nsb3_loads_without_errors_and_flies() {
 
 #[test]
 fn malformed_mission_file_gives_line_and_column() {
-    let folder = std::env::temp_dir().join(format!("gloc-sim-test-{}", std::process::id()));
+    let folder = gloc_testsupport::scratch_dir("sim-test");
     std::fs::create_dir_all(&folder).expect("temp dir");
     let path = folder.join("bad.mi");
     std::fs::write(

@@ -39,6 +39,27 @@ pub fn data_arg(relative: &str) -> String {
     data(relative).display().to_string()
 }
 
+/// A scratch folder for a test's files: `$TMPDIR/gloc-NAME-PID`, emptied the first time
+/// this process asks for it, then shared by the process's tests (each names its own
+/// files). A folder left by an earlier run whose process had the same id must not leak
+/// its files into this one: a `.cac` list left beside a script changed what `gloc check`
+/// found, and failed a clean-clone CI run.
+pub fn scratch_dir(name: &str) -> PathBuf {
+    static FRESH: std::sync::Mutex<Vec<String>> = std::sync::Mutex::new(Vec::new());
+    let dir = std::env::temp_dir().join(format!("gloc-{name}-{}", std::process::id()));
+    let mut fresh = FRESH
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    if !fresh.iter().any(|seen| seen == name) {
+        fresh.push(name.to_string());
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+    if let Err(error) = std::fs::create_dir_all(&dir) {
+        panic!("cannot make the scratch folder {}: {error}", dir.display());
+    }
+    dir
+}
+
 /// The one seeded generator (SplitMix64, `gloc_engine::rng`), for property tests.
 pub use gloc_engine::rng::Rng;
 
@@ -48,6 +69,20 @@ pub use annotate::{annotate, diagnostic_notes, expect_diagnostics};
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_scratch_folder_starts_empty_once_per_process() {
+        let dir = scratch_dir("testsupport-self");
+        std::fs::write(dir.join("left.txt"), "x").expect("write");
+        // Asked again by the same process: shared, not emptied.
+        assert!(scratch_dir("testsupport-self").join("left.txt").exists());
+        // What an earlier process left: emptied on first use.
+        let stale =
+            std::env::temp_dir().join(format!("gloc-testsupport-stale-{}", std::process::id()));
+        std::fs::create_dir_all(&stale).expect("dir");
+        std::fs::write(stale.join("old.cac"), "x").expect("write");
+        assert!(!scratch_dir("testsupport-stale").join("old.cac").exists());
+    }
 
     #[test]
     fn the_data_folder_is_found_and_a_missing_file_fails_loudly() {

@@ -289,9 +289,11 @@ terminate("session 3")
 
 -- Session 3b: the journey. examples/goto.mi with the `surfacing` and `waypoint` filters turned on
 -- through nvim-dap's own function; the stops' reasons are the adapter's own words. The cycles are
--- those of `gloc run dap/tests/fixtures/journey.gbas --mission examples/goto.mi --no-optimize --log`
--- (seed 1): x_dr_state reads 2 from the boundary of cycle 2398, x_hit_a_waypoint 1 at 4275
--- (re-read from that log after the force-balance flight model; before it, 2410 and 4249).
+-- those of `gloc run dap/tests/fixtures/journey.gbas --mission examples/goto.mi --no-optimize --log F
+-- --log-sensors x_hit_a_waypoint,x_dr_state` (seed 1, row N = cycle N): x_dr_state reads 2
+-- from the boundary of cycle 2447, x_hit_a_waypoint 1 at 4495 (re-read from that log after
+-- the turns' pump lead and ballast delay; before them 2398 and 4275, before the force
+-- balance 2410 and 4249).
 local journey_path = workspace .. "/journey.gbas"
 H.write_file(journey_path, vim.fn.readfile(H.repo .. "/dap/tests/fixtures/journey.gbas"))
 _, before = launch(journey_path, { stopOnEntry = true, mission = H.repo .. "/examples/goto.mi" })
@@ -299,7 +301,7 @@ frame = next_stop("the stop on entry of the journey", before)
 H.equal(frame.cycle, 0, "the journey stops on entry")
 dap.set_exception_breakpoints({ "surfacing", "waypoint" })
 frame = stop_after("the first surfacing", dap.continue)
-H.equal({ frame.cycle, frame.reason }, { 2398, "surfacing" }, "the surfacing filter stops where the glider came up")
+H.equal({ frame.cycle, frame.reason }, { 2447, "surfacing" }, "the surfacing filter stops where the glider came up")
 scopes = request("scopes", { frameId = dap.session().current_frame.id }) or { scopes = {} }
 local navigation = {}
 for _, variable in ipairs(children(scopes.scopes[5].variablesReference)) do
@@ -307,7 +309,7 @@ for _, variable in ipairs(children(scopes.scopes[5].variablesReference)) do
 end
 H.equal(navigation.x_dr_state, "2.0", "the Navigation scope shows x_dr_state 2 (surfaced)")
 frame = stop_after("the first waypoint", dap.continue)
-H.equal({ frame.cycle, frame.reason }, { 4275, "waypoint" }, "the waypoint filter stops after the waypoint is reached")
+H.equal({ frame.cycle, frame.reason }, { 4495, "waypoint" }, "the waypoint filter stops after the waypoint is reached")
 terminate("the journey")
 
 -- Session 4: over TCP. dap_transport = "tcp" starts one `gloc dap --port 0`; the plugin reads

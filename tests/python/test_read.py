@@ -3,16 +3,18 @@ samples of every real log in data/, equal exactly, as tests/e2e/dbd/compare.py
 compares `gloc data convert`; and errors as exceptions naming the file and offset."""
 
 import os
-import shutil
+import sys
 
 import numpy
 import pytest
 
 import dbdreader
-import dbdreader.decompress
 import gloc
 
-from conftest import DATA
+from conftest import DATA, ROOT
+
+sys.path.insert(0, os.path.join(ROOT, "tests", "e2e", "dbd"))
+from compare import dbdreader_cache  # noqa: E402  (the e2e suite's one copy of the rule)
 
 FILES = [
     ("comet/from-glider/comet-2019-222-02-154.dbd", "cac"),
@@ -40,24 +42,11 @@ def test_every_real_log_is_listed():
 @pytest.fixture(scope="module")
 def reference_caches(tmp_path_factory):
     """dbdreader 0.6.3 reads only `.cac`: each `.ccc` decompressed with its own
-    decompressor, each `.cac` copied (compare.py's rule)."""
+    decompressor, each `.cac` copied (compare.py's `dbdreader_cache`, called here)."""
     caches = {}
     for cache_name in {cache for _, cache in FILES}:
-        source = os.path.join(DATA, cache_name)
         target = tmp_path_factory.mktemp("cache-" + cache_name)
-        for name in os.listdir(source):
-            base, extension = os.path.splitext(name)
-            path = os.path.join(source, name)
-            if extension == ".ccc":
-                with dbdreader.decompress.Decompressor(path) as d:
-                    data = d.decompress()
-            elif extension == ".cac":
-                with open(path, "rb") as f:
-                    data = f.read()
-            else:
-                continue
-            with open(os.path.join(target, base.lower() + ".cac"), "wb") as f:
-                f.write(data)
+        dbdreader_cache(os.path.join(DATA, cache_name), str(target))
         caches[cache_name] = str(target)
     return caches
 

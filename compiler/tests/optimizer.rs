@@ -6,8 +6,21 @@
 //! Sensor indices come from `engine/data/sensors-2008.txt`: `c_pitch` 96,
 //! `m_pitch` 437, `m_depth` 444.
 
-use gloc_compiler::{compile, load_script, CompileOptions, Language, LoadOptions};
+use gloc_compiler::{compile, load_script, CompileOptions, Language, LoadOptions, LoadedScript};
 use gloc_engine::sensors::SensorList;
+
+/// `source` loaded as `gloc check` and `gloc run` load it (compiled, checked as GLOC).
+fn load(source: &str, optimize: bool) -> LoadedScript {
+    load_script(
+        source,
+        Language::Gbasic,
+        &SensorList::embedded(),
+        &LoadOptions {
+            optimize,
+            cycle_budget: None,
+        },
+    )
+}
 
 fn build(source: &str, optimize: bool) -> String {
     let sensors = SensorList::embedded();
@@ -18,15 +31,7 @@ fn build(source: &str, optimize: bool) -> String {
         compiled.diagnostics
     );
     // The result must also pass the GLOC checker and load.
-    let loaded = load_script(
-        source,
-        Language::Gbasic,
-        &sensors,
-        &LoadOptions {
-            optimize,
-            cycle_budget: None,
-        },
-    );
+    let loaded = load(source, optimize);
     assert!(
         loaded.program.is_some(),
         "{source} (optimize {optimize}): {:?}",
@@ -208,26 +213,14 @@ fn a_branch_on_a_known_condition_folds_away_and_the_last_label_becomes_0() {
 #[test]
 fn a_loop_folding_proves_endless_keeps_the_plain_code_with_a_warning() {
     let source = "dim n as integer\ndo\n  n = 10\nloop while n < 25\nprint n\nend\n";
-    let sensors = SensorList::embedded();
-    let load = |optimize| {
-        load_script(
-            source,
-            Language::Gbasic,
-            &sensors,
-            &LoadOptions {
-                optimize,
-                cycle_budget: None,
-            },
-        )
-    };
-    let (plain, optimized) = (load(false), load(true));
+    let (plain, optimized) = (load(source, false), load(source, true));
     assert!(plain.program.is_some(), "{:?}", plain.diagnostics);
     assert!(optimized.program.is_some(), "{:?}", optimized.diagnostics);
     assert_eq!(
         optimized.gloc_text, plain.gloc_text,
         "the plain code is kept"
     );
-    let codes = |loaded: &gloc_compiler::LoadedScript| -> Vec<&str> {
+    let codes = |loaded: &LoadedScript| -> Vec<&str> {
         loaded.diagnostics.iter().map(|d| d.code).collect()
     };
     assert_eq!(codes(&plain), ["W0111"]);
@@ -243,20 +236,7 @@ fn a_loop_folding_proves_endless_keeps_the_plain_code_with_a_warning() {
     // A loop -O cannot prove endless is still optimized.
     let bounded = "dim n as integer\ndo\n  n = n + 10\nloop while n < 25\nprint n\nend\n";
     assert_ne!(
-        optimized_text(bounded, true),
-        optimized_text(bounded, false)
+        load(bounded, true).gloc_text,
+        load(bounded, false).gloc_text
     );
-}
-
-fn optimized_text(source: &str, optimize: bool) -> Option<String> {
-    load_script(
-        source,
-        Language::Gbasic,
-        &SensorList::embedded(),
-        &LoadOptions {
-            optimize,
-            cycle_budget: None,
-        },
-    )
-    .gloc_text
 }

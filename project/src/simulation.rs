@@ -83,9 +83,8 @@ pub struct Flight {
 /// The simulator's configuration: the defaults, then the settings' budget and
 /// constants, then the flight's. Front ends set a flight up through [`prepare`] or
 /// [`prepare_unscripted`], which call this and return the configuration with the
-/// simulation; it stays public for the Python package's forecast binding, which
-/// calls it directly.
-pub fn sim_config(settings: &Settings, flight: Flight) -> Result<SimConfig, ProjectError> {
+/// simulation.
+fn sim_config(settings: &Settings, flight: Flight) -> Result<SimConfig, ProjectError> {
     let defaults = SimConfig::default();
     let mut config = SimConfig {
         seed: flight.seed.unwrap_or(defaults.seed),

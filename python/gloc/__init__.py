@@ -297,6 +297,8 @@ class Forecast:
       ``surfacing_spread`` per surfacing the members' spread (``radius_95``,
       ``radius_max`` in m from the mean); ``left_grid`` ``{member: message}`` for
       members that left the current or bathymetry grid.
+    - ``warnings``: what setting the flight up warned of, as ``gloc forecast``
+      prints it on stderr (a mission setting the sensor list lacks, …).
     """
 
     start: dict
@@ -310,6 +312,7 @@ class Forecast:
     fixes: pandas.DataFrame
     spread: Tuple[float, float]
     seed: int
+    warnings: list = field(default_factory=list)
     members: Optional[pandas.DataFrame] = None
     member_surfacings: Optional[pandas.DataFrame] = None
     offsets: Optional[pandas.DataFrame] = None
@@ -495,6 +498,7 @@ def forecast(
         fixes=fixes,
         spread=tuple(made["spread"]),
         seed=asked["seed"],
+        warnings=list(made["warnings"]),
     )
     if tracks is not None:
         result.members, result.member_surfacings = _members_frames(tracks)

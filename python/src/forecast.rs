@@ -71,6 +71,8 @@ struct Setup {
     history: LogHistory,
     sensors: Arc<SensorList>,
     config: SimConfig,
+    /// What setting the flight up warned of (as `gloc.run`'s summary gives them).
+    warnings: Vec<String>,
     request: Request,
     mission: Mission,
     start: Start,
@@ -111,11 +113,23 @@ impl Setup {
         if let Some(error) = mission_errors(&mission, "forecast") {
             return Err(error);
         }
-        let config = gloc_project::simulation::sim_config(
-            &settings,
+        // Set up where `gloc forecast` and `gloc run` set their flights up: the simulator
+        // configured from the settings, the mission checked against the sensor list.
+        let prepared = gloc_project::simulation::prepare_unscripted(
+            &gloc_project::simulation::MissionPlan {
+                settings: &settings,
+                sensors: &sensors,
+                mission: &mission,
+            },
             gloc_project::simulation::Flight::default(),
         )
         .map_err(project_error)?;
+        let warnings: Vec<String> = prepared
+            .warnings
+            .into_iter()
+            .map(crate::warning_text)
+            .collect();
+        let config = prepared.config;
         let mut source =
             Deployment::open(&asked.logs, settings.sensor_cache.as_deref()).map_err(log_error)?;
         let history =
@@ -166,6 +180,7 @@ impl Setup {
             history,
             sensors,
             config,
+            warnings,
             start,
             prepared,
             mission,
@@ -332,6 +347,7 @@ pub fn forecast(py: Python<'_>, asked: Asked, threads: usize) -> PyResult<Bound<
     out.set_item("current", &made.current)?;
     out.set_item("hours", made.hours)?;
     out.set_item("spread", (setup.options.spread.x, setup.options.spread.y))?;
+    out.set_item("warnings", &setup.warnings)?;
     out.set_item("end_time", setup.history.end_time)?;
     out.set_item(
         "fixes",

@@ -592,7 +592,7 @@ fn mission_errors(mission: &gloc_sim::Mission, done: &str) -> Option<PyErr> {
 }
 
 /// A warning of `prepare` as one line (its code first where it has one).
-fn warning_text(warning: gloc_project::simulation::Warning) -> String {
+pub(crate) fn warning_text(warning: gloc_project::simulation::Warning) -> String {
     match warning {
         gloc_project::simulation::Warning::Simulator(text) => text,
         gloc_project::simulation::Warning::Mission(entry) => {

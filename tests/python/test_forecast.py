@@ -59,6 +59,17 @@ def test_the_track_and_surfacings_are_the_command_lines(gloc_bin, tmp_path):
     assert int(made.start["time"]) == 1566405768
     assert made.start["lat"] == pytest.approx(54 + 19.6355 / 60, abs=1e-6)
     assert made.ended is None and made.members is None
+    # Set up as `gloc forecast` sets it up, it warns alike: nsb3.mi's line 12 names
+    # `u_sci_dbd_sensor_list_xmit_control`, which the embedded list lacks (S0106, on
+    # the command line's stderr too).
+    done = subprocess.run(
+        [gloc_bin, "forecast", *LOGS, "--sensor-cache", CACHE, "--mission", MISSION, "--hours", "1"],
+        capture_output=True, text=True, check=True,
+    )
+    assert "warning[S0106]: sensor `u_sci_dbd_sensor_list_xmit_control`" in done.stderr
+    assert [w for w in made.warnings if w.startswith("S0106 ")] == [
+        w for w in made.warnings if "u_sci_dbd_sensor_list_xmit_control" in w
+    ] != []
 
 
 def test_an_ensemble_on_two_dask_workers_is_the_one_on_one_process(gloc_bin, tmp_path):

@@ -9,7 +9,7 @@ use std::sync::Arc;
 
 use anyhow::{bail, Context as _};
 use clap::Args;
-use gloc_forecast::currents::{CurrentField, CurrentSeries};
+use gloc_forecast::currents::{CurrentField, LoadError};
 use gloc_forecast::export::{iso_time, nmea_text, Format};
 use gloc_forecast::map::{write_map, MapFormat};
 use gloc_forecast::{ensemble, hindcast, EnsembleOptions, Forecast, Request};
@@ -252,47 +252,14 @@ fn load_currents(
     path: &Path,
     depth_range: Option<(f64, f64)>,
 ) -> anyhow::Result<(Arc<dyn CurrentField>, String)> {
-    let extension = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    let invalid = |message: String| anyhow::Error::new(crate::exit::Invalid(message));
-    match extension.as_deref() {
-        Some("nc" | "nc3" | "cdf" | "netcdf") => {
-            readable(path, "the currents")?;
-            let grid = gloc_forecast::netcdf::read_currents(path, depth_range)
-                .map_err(invalid)
-                .context("--currents")?;
-            let levels = if grid.levels.is_empty() {
-                String::new()
-            } else {
-                format!(", levels {:?} m averaged", grid.levels)
-            };
-            let name = format!("currents from {}{levels}", path.display());
-            Ok((Arc::new(grid), name))
+    gloc_forecast::currents::load(path, depth_range).map_err(|error| match error {
+        LoadError::Unreadable(message) => anyhow::Error::new(crate::exit::Unreadable(message)),
+        LoadError::Invalid(message) => {
+            anyhow::Error::new(crate::exit::Invalid(message)).context("--currents")
         }
-        Some("csv") => {
-            let text = gloc_engine::files::read_text(path, gloc_engine::files::PROFILE).map_err(
-                |error| {
-                    crate::exit::Unreadable(format!(
-                        "cannot read the currents `{}`: {error}",
-                        path.display()
-                    ))
-                },
-            )?;
-            let series = CurrentSeries::from_csv(&path.display().to_string(), &text)
-                .map_err(invalid)
-                .context("--currents")?;
-            Ok((Arc::new(series), format!("currents from {}", path.display())))
-        }
-        _ => bail!(
-            "--currents `{}`: give an ocean model's NetCDF (.nc) or a CSV time series `time,u,v` (.csv)",
-            path.display()
-        ),
-    }
+    })
 }
 
-/// An input file that cannot be opened is exit code 3; what is wrong inside it, 1.
 fn readable(path: &Path, what: &str) -> anyhow::Result<()> {
     gloc_engine::files::open_regular(path)
         .map(drop)

@@ -3,7 +3,73 @@
 //! model's NetCDF in [`crate::netcdf`]). Asking a field outside its time span
 //! or grid is an error that says where and when.
 
+use std::path::Path;
+use std::sync::Arc;
+
 use gloc_sim::navigation::Xy;
+
+/// Why a currents file could not be used: it cannot be read (the CLI's exit code 3), its
+/// content is wrong, or its kind is not one gloc reads (both exit code 1).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum LoadError {
+    Unreadable(String),
+    Invalid(String),
+}
+
+impl std::fmt::Display for LoadError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            LoadError::Unreadable(message) | LoadError::Invalid(message) => f.write_str(message),
+        }
+    }
+}
+
+/// A currents file by its extension, for `gloc forecast --currents` and
+/// `gloc.forecast(currents=…)` alike: an ocean model's CF NetCDF (`.nc`, `.nc3`, `.cdf`,
+/// `.netcdf`; averaged over `depth_range` where it has levels) or a CSV time series
+/// (`.csv`, `time,u,v`); with the field, its description for the forecast's output.
+pub fn load(
+    path: &Path,
+    depth_range: Option<(f64, f64)>,
+) -> Result<(Arc<dyn CurrentField>, String), LoadError> {
+    let extension = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    let unreadable = |error: std::io::Error| {
+        LoadError::Unreadable(format!(
+            "cannot read the currents `{}`: {error}",
+            path.display()
+        ))
+    };
+    let invalid = |message: String| LoadError::Invalid(format!("`{}`: {message}", path.display()));
+    match extension.as_deref() {
+        Some("nc" | "nc3" | "cdf" | "netcdf") => {
+            gloc_engine::files::open_regular(path).map_err(unreadable)?;
+            let grid = crate::netcdf::read_currents(path, depth_range).map_err(invalid)?;
+            let levels = if grid.levels.is_empty() {
+                String::new()
+            } else {
+                format!(", levels {:?} m averaged", grid.levels)
+            };
+            let name = format!("currents from {}{levels}", path.display());
+            Ok((Arc::new(grid), name))
+        }
+        Some("csv") => {
+            let text = gloc_engine::files::read_text(path, gloc_engine::files::PROFILE)
+                .map_err(unreadable)?;
+            let series = CurrentSeries::from_csv(&path.display().to_string(), &text)
+                .map_err(LoadError::Invalid)?;
+            Ok((
+                Arc::new(series),
+                format!("currents from {}", path.display()),
+            ))
+        }
+        _ => Err(invalid(
+            "give an ocean model's NetCDF (.nc) or a CSV time series `time,u,v` (.csv)".to_string(),
+        )),
+    }
+}
 
 /// A current that varies in time and space.
 pub trait CurrentField: Send + Sync {
@@ -152,6 +218,29 @@ pub fn days_from_civil(year: i64, month: i64, day: i64) -> i64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_currents_file_is_read_by_its_extension() {
+        let dir = gloc_testsupport::scratch_dir("currents-load");
+        // A CSV series: 0.2 m/s east at t = 0 and 0.4 at t = 100, so 0.3 at t = 50.
+        let csv = dir.join("c.CSV");
+        std::fs::write(&csv, "time,u,v\n0,0.2,0\n100,0.4,0\n").expect("write");
+        let (field, name) = load(&csv, None).expect("a CSV series");
+        assert_eq!(name, format!("currents from {}", csv.display()));
+        let at = field.at(50.0, 54.0, 7.0).expect("inside");
+        assert!((at.x - 0.3).abs() < 1e-12 && at.y == 0.0, "{at:?}");
+        // Missing: unreadable; another kind: invalid, saying what to give.
+        let missing = dir.join("none.nc");
+        assert!(
+            matches!(load(&missing, None), Err(LoadError::Unreadable(m)) if m.contains("none.nc"))
+        );
+        let other = dir.join("c.txt");
+        std::fs::write(&other, "x").expect("write");
+        assert!(
+            matches!(load(&other, None), Err(LoadError::Invalid(m)) if m.contains("NetCDF (.nc) or a CSV"))
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 
     #[test]
     fn times_parse_as_unix_seconds_or_utc() {

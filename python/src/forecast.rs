@@ -13,7 +13,7 @@ use std::sync::Arc;
 
 use gloc_dbd::Deployment;
 use gloc_engine::sensors::SensorList;
-use gloc_forecast::currents::{CurrentField, CurrentSeries};
+use gloc_forecast::currents::CurrentField;
 use gloc_forecast::ensemble::{self, EnsembleInput, EnsembleOptions};
 use gloc_forecast::fly::{Surfacing, Track, TrackPoint, Truth};
 use gloc_forecast::{LogHistory, Request, Start};
@@ -216,30 +216,8 @@ fn load_currents(
     path: &Path,
     depth_range: Option<(f64, f64)>,
 ) -> PyResult<(Arc<dyn CurrentField>, String)> {
-    let extension = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    let invalid = |message: String| {
-        PyValueError::new_err(format!("currents `{}`: {message}", path.display()))
-    };
-    let name = format!("currents from {}", path.display());
-    match extension.as_deref() {
-        Some("nc" | "nc3" | "cdf" | "netcdf") => {
-            let grid = gloc_forecast::netcdf::read_currents(path, depth_range).map_err(invalid)?;
-            Ok((Arc::new(grid), name))
-        }
-        Some("csv") => {
-            let text = gloc_engine::files::read_text(path, gloc_engine::files::PROFILE)
-                .map_err(|error| invalid(error.to_string()))?;
-            let series =
-                CurrentSeries::from_csv(&path.display().to_string(), &text).map_err(invalid)?;
-            Ok((Arc::new(series), name))
-        }
-        _ => Err(invalid(
-            "give an ocean model's NetCDF (.nc) or a CSV time series `time,u,v` (.csv)".to_string(),
-        )),
-    }
+    gloc_forecast::currents::load(path, depth_range)
+        .map_err(|error| PyValueError::new_err(format!("currents: {error}")))
 }
 
 fn track_out(track: &Track) -> PyTrack {

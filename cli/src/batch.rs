@@ -89,13 +89,7 @@ pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
             .chain(settings.input_paths())
             .chain(args.profiles.iter().map(Path::new))
             .collect();
-        crate::output::check_outputs(
-            &inputs,
-            &[crate::output::Output {
-                flag: "--csv",
-                path: csv,
-            }],
-        )?;
+        crate::output::check_output(&inputs, "--csv", csv)?;
     }
     let variants = sweep(&axes.seeds, profiles, axes.fault_sets, &axes.settings);
 

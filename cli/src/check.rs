@@ -21,13 +21,11 @@ use crate::render::{SourceFile, Tally};
 
 pub fn main(args: crate::CheckArgs) -> anyhow::Result<ExitCode> {
     let mut tally = Tally::default();
-    let overrides = Overrides {
-        masterdata: args.masterdata.clone(),
+    let overrides = args.sensors.overrides(Overrides {
         cycle_budget: args.cycle_budget,
-        sensor_order: args.sensor_order,
         mafiles: args.mafiles.clone(),
         ..Overrides::new(Surface::Cli)
-    };
+    });
     // The exit code of files that could not be checked (unreadable, or not a script).
     let mut not_checked = None;
     let mut shown = std::collections::HashSet::new();

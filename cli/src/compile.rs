@@ -14,11 +14,7 @@ pub fn main(args: crate::CompileArgs) -> anyhow::Result<ExitCode> {
     let mut tally = Tally::default();
     let settings = Settings::resolve(
         Some(&args.file),
-        Overrides {
-            masterdata: args.masterdata.clone(),
-            sensor_order: args.sensor_order,
-            ..Overrides::new(Surface::Cli)
-        },
+        args.sensors.overrides(Overrides::new(Surface::Cli)),
     )?;
     let Some(sensors) = crate::loading::active_sensors(&settings, &mut tally)? else {
         return Ok(crate::exit::code(crate::exit::ERRORS));

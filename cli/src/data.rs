@@ -192,13 +192,7 @@ fn info(args: InfoArgs) -> anyhow::Result<ExitCode> {
 /// inode).
 pub(crate) fn check_output(output: &Path, inputs: &[PathBuf]) -> anyhow::Result<()> {
     let inputs: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
-    crate::output::check_outputs(
-        &inputs,
-        &[crate::output::Output {
-            flag: "-o",
-            path: output,
-        }],
-    )
+    crate::output::check_output(&inputs, "-o", output)
 }
 
 /// The columns to write: every sensor, or the `--sensors` names in that order.

@@ -17,14 +17,8 @@ pub struct FlightArgs {
     /// Mission file (`.mi`); default: gloc.toml's, else the embedded Fig. 2 mission.
     #[arg(long, value_name = "M.mi")]
     pub mission: Option<PathBuf>,
-    /// The sensor list (masterdata or `.cac`/`.ccc`); default: gloc.toml's, else the
-    /// embedded 2008 list.
-    #[arg(long, value_name = "FILE")]
-    pub masterdata: Option<PathBuf>,
-    /// How a masterdata file's sensors are numbered: `file` or `sorted` (firmware 2014+);
-    /// default: gloc.toml's, else `file`.
-    #[arg(long, value_name = "ORDER", value_parser = gloc_project::settings::parse_sensor_order)]
-    pub sensor_order: Option<gloc_engine::sensors::SensorOrder>,
+    #[command(flatten)]
+    pub sensors: SensorListArgs,
     /// A folder searched first for the mission's `.ma` files, before `mafiles/` beside
     /// `missions/` and the mission's own folder; default: gloc.toml's `mafiles`.
     #[arg(long, value_name = "DIR")]
@@ -34,13 +28,36 @@ pub struct FlightArgs {
 impl FlightArgs {
     /// The settings these flags override (the rest from gloc.toml or the defaults).
     pub fn overrides(&self) -> Overrides {
-        Overrides {
-            masterdata: self.masterdata.clone(),
+        self.sensors.overrides(Overrides {
             cycle_budget: self.cycle_budget,
             mission: self.mission.clone(),
-            sensor_order: self.sensor_order,
             mafiles: self.mafiles.clone(),
             ..Overrides::new(Surface::Cli)
+        })
+    }
+}
+
+/// The sensor list flags `check`, `compile`, `run`, `batch` and `forecast` share: which
+/// list, and how a masterdata file's sensors are numbered.
+#[derive(Args, Debug)]
+pub struct SensorListArgs {
+    /// The sensor list (masterdata or `.cac`/`.ccc`); default: gloc.toml's, else the
+    /// embedded 2008 list.
+    #[arg(long, value_name = "FILE")]
+    pub masterdata: Option<PathBuf>,
+    /// How a masterdata file's sensors are numbered: `file` or `sorted` (firmware 2014+);
+    /// default: gloc.toml's, else `file`.
+    #[arg(long, value_name = "ORDER", value_parser = gloc_project::settings::parse_sensor_order)]
+    pub sensor_order: Option<gloc_engine::sensors::SensorOrder>,
+}
+
+impl SensorListArgs {
+    /// `overrides` with the sensor list these flags give.
+    pub fn overrides(&self, overrides: Overrides) -> Overrides {
+        Overrides {
+            masterdata: self.masterdata.clone(),
+            sensor_order: self.sensor_order,
+            ..overrides
         }
     }
 }

@@ -63,10 +63,8 @@ pub struct ForecastArgs {
     /// Threads for the ensemble; default: the number of cores.
     #[arg(long, short = 'j', value_name = "N")]
     pub jobs: Option<usize>,
-    /// The sensor list (masterdata or `.cac`/`.ccc`); default: gloc.toml's, else the
-    /// embedded 2008 list.
-    #[arg(long, value_name = "FILE")]
-    pub masterdata: Option<PathBuf>,
+    #[command(flatten)]
+    pub sensors: crate::flags::SensorListArgs,
     /// A folder searched first for the mission's `.ma` files; default: gloc.toml's `mafiles`.
     #[arg(long, value_name = "DIR")]
     pub mafiles: Option<PathBuf>,
@@ -210,14 +208,13 @@ fn set_up(
         args.mission
             .as_deref()
             .or(args.source.files.first().map(PathBuf::as_path)),
-        Overrides {
-            masterdata: args.masterdata.clone(),
+        args.sensors.overrides(Overrides {
             mission: args.mission.clone(),
             mafiles: args.mafiles.clone(),
             sensor_cache: args.source.sensor_cache.clone(),
             simulator: args.simulator.clone(),
             ..Overrides::new(Surface::Cli)
-        },
+        }),
     )?;
     if settings.mission.is_none() {
         bail!("--mission: name the mission the glider flies (or `mission` in gloc.toml)");

@@ -93,14 +93,8 @@ pub struct CheckArgs {
     /// Print registers, labels, instructions and the worst-case instructions per cycle.
     #[arg(long)]
     pub stats: bool,
-    /// The sensor list (masterdata or `.cac`/`.ccc`); default: gloc.toml's, else the
-    /// embedded 2008 list.
-    #[arg(long, value_name = "FILE")]
-    pub masterdata: Option<PathBuf>,
-    /// How a masterdata file's sensors are numbered: `file` or `sorted` (firmware 2014+);
-    /// default: gloc.toml's, else `file`.
-    #[arg(long, value_name = "ORDER", value_parser = gloc_project::settings::parse_sensor_order)]
-    pub sensor_order: Option<gloc_engine::sensors::SensorOrder>,
+    #[command(flatten)]
+    pub sensors: crate::flags::SensorListArgs,
     /// Per-cycle instruction budget the worst case is held against (warning W2302), 1 to
     /// 1,000,000,000; default: gloc.toml's, else 10,000.
     #[arg(long, value_name = "N", value_parser = gloc_project::settings::parse_cycle_budget)]
@@ -124,14 +118,8 @@ pub struct CompileArgs {
     /// Also write the source map (`OUT.map.json`).
     #[arg(long)]
     pub emit_map: bool,
-    /// The sensor list (masterdata or `.cac`/`.ccc`); default: gloc.toml's, else the
-    /// embedded 2008 list.
-    #[arg(long, value_name = "FILE")]
-    pub masterdata: Option<PathBuf>,
-    /// How a masterdata file's sensors are numbered: `file` or `sorted` (firmware 2014+);
-    /// default: gloc.toml's, else `file`.
-    #[arg(long, value_name = "ORDER", value_parser = gloc_project::settings::parse_sensor_order)]
-    pub sensor_order: Option<gloc_engine::sensors::SensorOrder>,
+    #[command(flatten)]
+    pub sensors: crate::flags::SensorListArgs,
 }
 
 #[derive(Args, Debug)]

@@ -42,6 +42,11 @@ pub struct Output<'a> {
     pub path: &'a Path,
 }
 
+/// [`check_outputs`] for a command that writes one file.
+pub fn check_output(inputs: &[&Path], flag: &str, path: &Path) -> anyhow::Result<()> {
+    check_outputs(inputs, &[Output { flag, path }])
+}
+
 /// Refuses an output that is an input or another output. `inputs` are files already
 /// read (or about to be); paths that do not exist are skipped.
 pub fn check_outputs(inputs: &[&Path], outputs: &[Output<'_>]) -> anyhow::Result<()> {
@@ -276,10 +281,7 @@ mod tests {
     use super::*;
 
     fn folder(name: &str) -> PathBuf {
-        let dir = std::env::temp_dir().join(format!("gloc-output-{}-{name}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).expect("a folder");
-        dir
+        gloc_testsupport::scratch_dir(&format!("output-{name}"))
     }
 
     fn names(dir: &Path) -> Vec<String> {

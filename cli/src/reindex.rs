@@ -21,13 +21,7 @@ pub fn main(args: crate::ReindexArgs) -> anyhow::Result<ExitCode> {
     .into_iter()
     .flatten()
     .collect();
-    crate::output::check_outputs(
-        &inputs,
-        &[crate::output::Output {
-            flag: "-o",
-            path: &args.output,
-        }],
-    )?;
+    crate::output::check_output(&inputs, "-o", &args.output)?;
     let text = gloc_engine::files::read_text(&args.file, gloc_engine::files::SCRIPT)
         .with_context(|| format!("cannot read the GLOC file `{}`", args.file.display()))?;
     let display = args.file.display().to_string();

@@ -78,13 +78,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
             .chain(args.replay.iter().map(PathBuf::as_path))
             .chain(settings.input_paths())
             .collect();
-        crate::output::check_outputs(
-            &inputs,
-            &[crate::output::Output {
-                flag: "--out",
-                path: out,
-            }],
-        )?;
+        crate::output::check_output(&inputs, "--out", out)?;
     }
     // A recording that is not there is an input that cannot be read (exit code 3).
     for path in &args.replay {

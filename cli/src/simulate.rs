@@ -133,13 +133,11 @@ fn prepare_run(args: &crate::RunArgs) -> anyhow::Result<Option<Run>> {
         return Ok(None);
     };
 
-    let profile = match &args.profile {
-        Some(path) => Some(gloc_project::simulation::load_profile(
-            path,
-            Origin::Flag("--profile"),
-        )?),
-        None => None,
-    };
+    let flight = gloc_project::simulation::Flight::read(
+        args.seed,
+        args.profile.as_deref(),
+        Origin::Flag("--profile"),
+    )?;
     let plan = gloc_project::simulation::Plan {
         settings: &settings,
         sensors: &sensor_list,
@@ -147,14 +145,7 @@ fn prepare_run(args: &crate::RunArgs) -> anyhow::Result<Option<Run>> {
         script: &script.loaded,
         program: &script.program,
     };
-    let prepared = gloc_project::simulation::prepare(
-        &plan,
-        gloc_project::simulation::Flight {
-            seed: args.seed,
-            profile,
-            simulator: Vec::new(),
-        },
-    )?;
+    let prepared = gloc_project::simulation::prepare(&plan, flight)?;
     print_warnings(&prepared.warnings, &mission, &script.name, &script.text);
     let sim = prepared.simulation;
 
@@ -195,16 +186,15 @@ fn prepare_run(args: &crate::RunArgs) -> anyhow::Result<Option<Run>> {
 /// Flies the run to its limit or its end, writing what the script prints to stdout and
 /// the log as it goes; a signal or a log that cannot be written stops it between cycles.
 fn fly(run: &mut Run, args: &crate::RunArgs) -> anyhow::Result<Flown> {
+    let max_cycles = run.max_cycles;
     let Run {
         sim,
         sensor_list,
         mission,
         script,
         fault_plan,
-        max_cycles,
         ..
     } = run;
-    let max_cycles = *max_cycles;
     let mut log = match &args.log {
         Some(path) => Some(open_log(
             path,

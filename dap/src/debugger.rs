@@ -204,39 +204,66 @@ impl HitCondition {
 }
 
 /// Which runtime failures and points of the journey stop the run (DAP exception
-/// filters).
+/// filters). The default: failures stop it, the journey's points do not.
 #[derive(Clone, Debug)]
 pub struct ExceptionFilters {
-    pub overrun: bool,
-    pub trap: bool,
-    pub abend: bool,
+    pub overrun: Filter,
+    pub trap: Filter,
+    pub abend: Filter,
     /// A waypoint reached; off unless asked for.
-    pub waypoint: bool,
+    pub waypoint: Filter,
     /// A surfacing; off unless asked for.
-    pub surfacing: bool,
-    /// GBASIC conditions (DAP `exceptionFilterOptions`): an enabled filter with one
-    /// stops only where it holds, evaluated on the state at the failure.
-    pub conditions: ExceptionConditions,
+    pub surfacing: Filter,
 }
 
-#[derive(Clone, Debug, Default)]
-pub struct ExceptionConditions {
-    pub overrun: Option<String>,
-    pub trap: Option<String>,
-    pub abend: Option<String>,
-    pub waypoint: Option<String>,
-    pub surfacing: Option<String>,
+/// One exception filter: whether it is on, and its GBASIC condition (DAP
+/// `exceptionFilterOptions`): an enabled filter with one stops only where it holds,
+/// evaluated on the state at the failure.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Filter {
+    pub enabled: bool,
+    pub condition: Option<String>,
+}
+
+impl ExceptionFilters {
+    /// The filters' ids, as `initialize` offers them and `setExceptionBreakpoints` names them.
+    pub const IDS: [&'static str; 5] = ["trap", "overrun", "abend", "waypoint", "surfacing"];
+
+    /// Every filter off.
+    pub fn off() -> ExceptionFilters {
+        ExceptionFilters {
+            overrun: Filter::default(),
+            trap: Filter::default(),
+            abend: Filter::default(),
+            waypoint: Filter::default(),
+            surfacing: Filter::default(),
+        }
+    }
+
+    /// The filter with DAP id `id` (one of [`ExceptionFilters::IDS`]).
+    pub fn by_id(&mut self, id: &str) -> Option<&mut Filter> {
+        match id {
+            "trap" => Some(&mut self.trap),
+            "overrun" => Some(&mut self.overrun),
+            "abend" => Some(&mut self.abend),
+            "waypoint" => Some(&mut self.waypoint),
+            "surfacing" => Some(&mut self.surfacing),
+            _ => None,
+        }
+    }
 }
 
 impl Default for ExceptionFilters {
     fn default() -> Self {
+        let on = Filter {
+            enabled: true,
+            condition: None,
+        };
         ExceptionFilters {
-            overrun: true,
-            trap: true,
-            abend: true,
-            waypoint: false,
-            surfacing: false,
-            conditions: ExceptionConditions::default(),
+            overrun: on.clone(),
+            trap: on.clone(),
+            abend: on,
+            ..ExceptionFilters::off()
         }
     }
 }
@@ -647,30 +674,29 @@ impl<T: Target> Debugger<T> {
     /// holds, as a stop.
     fn filtered_stop(&mut self, happenings: Vec<Happening>) -> Option<Stop> {
         for happening in happenings {
-            let (wanted, condition, reason, description, text) = match happening {
+            let (filter, reason, description, text) = match happening {
                 Happening::Abend(text) => (
-                    self.filters.abend,
-                    self.filters.conditions.abend.clone(),
+                    self.filters.abend.clone(),
                     StopReason::Exception,
                     "Paused on abend".to_string(),
                     text,
                 ),
                 Happening::Milestone(Milestone::WaypointReached, text) => (
-                    self.filters.waypoint,
-                    self.filters.conditions.waypoint.clone(),
+                    self.filters.waypoint.clone(),
                     StopReason::Waypoint,
                     format!("Paused: {text}"),
                     text,
                 ),
                 Happening::Milestone(Milestone::Surfaced, text) => (
-                    self.filters.surfacing,
-                    self.filters.conditions.surfacing.clone(),
+                    self.filters.surfacing.clone(),
                     StopReason::Surfacing,
                     format!("Paused: {text}"),
                     text,
                 ),
             };
-            if wanted && self.exception_condition_holds(condition.as_deref(), &Check::Live) {
+            if filter.enabled
+                && self.exception_condition_holds(filter.condition.as_deref(), &Check::Live)
+            {
                 return Some(Stop {
                     reason,
                     description,
@@ -754,24 +780,16 @@ impl<T: Target> Debugger<T> {
                 line,
             });
         }
-        let (wanted, condition, filter) = match kind {
-            TrapKind::CycleOverrun => (
-                self.filters.overrun,
-                self.filters.conditions.overrun.clone(),
-                "overrun",
-            ),
-            TrapKind::Runtime => (
-                self.filters.trap,
-                self.filters.conditions.trap.clone(),
-                "trap",
-            ),
+        let (filter, name) = match kind {
+            TrapKind::CycleOverrun => (self.filters.overrun.clone(), "overrun"),
+            TrapKind::Runtime => (self.filters.trap.clone(), "trap"),
         };
-        if !(wanted && self.exception_condition_holds(condition.as_deref(), check)) {
+        if !(filter.enabled && self.exception_condition_holds(filter.condition.as_deref(), check)) {
             return None;
         }
         Some(Stop {
             reason: StopReason::Exception,
-            description: format!("Paused on {filter}: {message}"),
+            description: format!("Paused on {name}: {message}"),
             text: Some(text),
             hit_breakpoint_ids: Vec::new(),
         })

@@ -5,7 +5,7 @@
 //! 1-based as the client said in `initialize`; the core works in byte offsets.
 
 use crate::completion::{self, Kind};
-use crate::debugger::{Debugger, ExceptionConditions, ExceptionFilters};
+use crate::debugger::{Debugger, ExceptionFilters};
 use crate::edits;
 use crate::error::{DebugError, DebugResult};
 use crate::expr::{type_name, Watched};
@@ -117,28 +117,15 @@ pub fn exception_filters(
                 .iter()
                 .map(|option| (option.filter_id.as_str(), option.condition.as_deref())),
         );
-    let mut filters = ExceptionFilters {
-        overrun: false,
-        trap: false,
-        abend: false,
-        waypoint: false,
-        surfacing: false,
-        conditions: ExceptionConditions::default(),
-    };
+    let mut filters = ExceptionFilters::off();
     let mut breakpoints = Vec::new();
     for (id, condition) in ids {
         let condition = condition.filter(|text| !text.trim().is_empty());
-        let (enabled, slot) = match id {
-            "trap" => (&mut filters.trap, &mut filters.conditions.trap),
-            "overrun" => (&mut filters.overrun, &mut filters.conditions.overrun),
-            "abend" => (&mut filters.abend, &mut filters.conditions.abend),
-            "waypoint" => (&mut filters.waypoint, &mut filters.conditions.waypoint),
-            "surfacing" => (&mut filters.surfacing, &mut filters.conditions.surfacing),
-            other => {
-                return Err(DebugError::request(format!(
-                    "unknown exception filter `{other}` (known: trap, overrun, abend, waypoint, surfacing)"
-                )))
-            }
+        let Some(filter) = filters.by_id(id) else {
+            return Err(DebugError::request(format!(
+                "unknown exception filter `{id}` (known: {})",
+                ExceptionFilters::IDS.join(", ")
+            )));
         };
         match condition.and_then(&condition_error) {
             Some(message) => breakpoints.push(Breakpoint {
@@ -148,8 +135,8 @@ pub fn exception_filters(
                 ..Breakpoint::default()
             }),
             None => {
-                *enabled = true;
-                *slot = condition.map(str::to_string);
+                filter.enabled = true;
+                filter.condition = condition.map(str::to_string);
                 breakpoints.push(Breakpoint {
                     verified: true,
                     ..Breakpoint::default()
@@ -401,9 +388,9 @@ mod tests {
         };
         let invalid = |text: &str| (text == "(").then(|| "missing `)`".to_string());
         let (filters, breakpoints) = exception_filters(&arguments, invalid).expect("known filters");
-        assert!(filters.trap && filters.overrun && !filters.abend);
-        assert_eq!(filters.conditions.trap, None);
-        assert_eq!(filters.conditions.overrun.as_deref(), Some("m_depth > 10"));
+        assert!(filters.trap.enabled && filters.overrun.enabled && !filters.abend.enabled);
+        assert_eq!(filters.trap.condition, None);
+        assert_eq!(filters.overrun.condition.as_deref(), Some("m_depth > 10"));
         let verified: Vec<bool> = breakpoints.iter().map(|b| b.verified).collect();
         assert_eq!(verified, [true, true, false]);
         assert_eq!(breakpoints[2].message.as_deref(), Some("missing `)`"));

@@ -309,6 +309,16 @@ impl DebugInfo {
 mod tests {
     use super::*;
 
+    /// `text` loaded against the embedded sensor list with the default options.
+    fn embedded_load(text: &str, language: gloc_compiler::Language) -> gloc_compiler::LoadedScript {
+        gloc_compiler::load_script(
+            text,
+            language,
+            &gloc_engine::sensors::SensorList::embedded(),
+            &gloc_compiler::LoadOptions::default(),
+        )
+    }
+
     #[test]
     fn lines_move_to_the_nearest_line_with_code() {
         let info = DebugInfo::new(
@@ -328,18 +338,12 @@ mod tests {
 
     #[test]
     fn a_jump_back_into_an_earlier_line_is_not_its_entry() {
-        use gloc_compiler::{load_script, Language as ScriptLanguage, LoadOptions};
-        use gloc_engine::sensors::SensorList;
+        use gloc_compiler::Language as ScriptLanguage;
         // The jump back from `wend` to the test is attributed to the `while` line (3),
         // after line 4's code: it opens a statement but is not line 3's entry.
         let text =
             "dim i as integer\nlabel: top\nwhile i < 3\n  i = i + 1\nwend\nyield\ngoto top\n";
-        let loaded = load_script(
-            text,
-            ScriptLanguage::Gbasic,
-            &SensorList::embedded(),
-            &LoadOptions::default(),
-        );
+        let loaded = embedded_load(text, ScriptLanguage::Gbasic);
         let program = loaded
             .program
             .clone()
@@ -377,9 +381,8 @@ mod tests {
 
     #[test]
     fn source_lines_are_the_loaders_line_of_pc_for_both_languages() {
-        use gloc_compiler::{load_script, Language as ScriptLanguage, LoadOptions};
+        use gloc_compiler::Language as ScriptLanguage;
         use gloc_engine::program::Pc;
-        use gloc_engine::sensors::SensorList;
         let examples = concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/");
         for (name, language) in [
             ("thermocline.gbas", ScriptLanguage::Gbasic),
@@ -387,12 +390,7 @@ mod tests {
             ("fig2.gloc", ScriptLanguage::Gloc),
         ] {
             let text = std::fs::read_to_string(format!("{examples}{name}")).expect("example");
-            let loaded = load_script(
-                &text,
-                language,
-                &SensorList::embedded(),
-                &LoadOptions::default(),
-            );
+            let loaded = embedded_load(&text, language);
             let count = loaded.program.as_ref().expect("checks").instrs.len();
             let lines = SourceLines::of(&loaded);
             assert_eq!(lines.len(), count, "{name}");
@@ -410,16 +408,10 @@ mod tests {
 
     #[test]
     fn steps_to_a_stop_follow_jumps_branches_and_indirect_jumps_within_a_share() {
-        use gloc_compiler::{load_script, Language as ScriptLanguage, LoadOptions};
-        use gloc_engine::sensors::SensorList;
+        use gloc_compiler::Language as ScriptLanguage;
         let text = "nregs 2\nnblbs 3\nninstr 9\nlabel 0\nloadi 2,r0\njump r0\nlabel 1\n\
                     loadi 1,r1\nyield\nlabel 2\nloadi 3,r1\njumpi 1\n";
-        let loaded = load_script(
-            text,
-            ScriptLanguage::Gloc,
-            &SensorList::embedded(),
-            &LoadOptions::default(),
-        );
+        let loaded = embedded_load(text, ScriptLanguage::Gloc);
         let program = loaded
             .program
             .unwrap_or_else(|| panic!("{:?}", loaded.diagnostics));

@@ -234,16 +234,12 @@ fn launch_sim(
     let sensor_list = &script.sensor_list;
     let mission =
         gloc_project::simulation::load_mission(settings, sensor_list).map_err(launch_error)?;
-    let profile = match &config.profile {
-        None => None,
-        Some(profile_path) => Some(
-            gloc_project::simulation::load_profile(
-                profile_path,
-                Origin::LaunchAttribute("profile"),
-            )
-            .map_err(launch_error)?,
-        ),
-    };
+    let flight = gloc_project::simulation::Flight::read(
+        config.seed,
+        config.profile.as_deref(),
+        Origin::LaunchAttribute("profile"),
+    )
+    .map_err(launch_error)?;
     let plan = gloc_project::simulation::Plan {
         settings,
         sensors: sensor_list,
@@ -251,15 +247,7 @@ fn launch_sim(
         script: &script.loaded,
         program: &script.program,
     };
-    let prepared = gloc_project::simulation::prepare(
-        &plan,
-        gloc_project::simulation::Flight {
-            seed: config.seed,
-            profile,
-            simulator: Vec::new(),
-        },
-    )
-    .map_err(launch_error)?;
+    let prepared = gloc_project::simulation::prepare(&plan, flight).map_err(launch_error)?;
     let mut notices: Vec<Notice> = script
         .warnings
         .iter()

@@ -32,17 +32,7 @@ pub fn formatting(language: Language, text: &str) -> Option<Vec<TextEdit>> {
     }
     let old_lines: Vec<&str> = text.split_inclusive('\n').collect();
     let new_lines: Vec<&str> = formatted.split_inclusive('\n').collect();
-    let common_prefix = old_lines
-        .iter()
-        .zip(&new_lines)
-        .take_while(|(old, new)| old == new)
-        .count();
-    let common_suffix = old_lines[common_prefix..]
-        .iter()
-        .rev()
-        .zip(new_lines[common_prefix..].iter().rev())
-        .take_while(|(old, new)| old == new)
-        .count();
+    let (common_prefix, common_suffix) = common_ends(&old_lines, &new_lines);
     let start: usize = old_lines[..common_prefix]
         .iter()
         .map(|line| line.len())
@@ -57,6 +47,23 @@ pub fn formatting(language: Language, text: &str) -> Option<Vec<TextEdit>> {
         span: Span::new(start, end),
         new_text,
     }])
+}
+
+/// How many items `old` and `new` share at their beginning, and then (of what is
+/// left) at their end: what one replacement between the two keeps.
+pub fn common_ends<T: PartialEq>(old: &[T], new: &[T]) -> (usize, usize) {
+    let prefix = old
+        .iter()
+        .zip(new)
+        .take_while(|(old, new)| old == new)
+        .count();
+    let suffix = old[prefix..]
+        .iter()
+        .rev()
+        .zip(new[prefix..].iter().rev())
+        .take_while(|(old, new)| old == new)
+        .count();
+    (prefix, suffix)
 }
 
 /// The formatters write LF; a CRLF text keeps CRLF.
@@ -115,6 +122,17 @@ pub fn range_formatting(
 #[cfg(test)]
 mod range_tests {
     use super::*;
+
+    #[test]
+    fn common_ends_never_count_an_item_twice() {
+        // Worked by hand: "ab" begins both and "de" ends both; of "aa" → "aaa" the
+        // beginning takes both of the old items, so none is left for the end.
+        let chars = |text: &str| text.chars().collect::<Vec<_>>();
+        assert_eq!(common_ends(&chars("abcxde"), &chars("abyyde")), (2, 2));
+        assert_eq!(common_ends(&chars("aa"), &chars("aaa")), (2, 0));
+        assert_eq!(common_ends(&chars("xyz"), &chars("xyz")), (3, 0));
+        assert_eq!(common_ends::<char>(&[], &chars("q")), (0, 0));
+    }
 
     #[test]
     fn only_the_lines_in_the_range_are_reindented() {

@@ -65,38 +65,32 @@ pub fn config_links(text: &str, folder: &Path) -> Vec<Link> {
 }
 
 /// The `args_from_file` lines of a mission at `path`, each to the `.ma` file it
-/// loads (`gloc_mission::mission` decides which, as `gloc run` does; a file it could
-/// not load has a diagnostic instead of a link).
-pub fn mission_links(text: &str, path: &Path) -> Vec<Link> {
-    let mission = crate::mission::parse(
-        crate::mission::MissionFile::Mission,
-        text,
-        Some(path),
-        &gloc_engine::sensors::SensorList::embedded(),
-    );
-    let mut links: Vec<Link> = mission
-        .sources
-        .iter()
-        .filter_map(|source| {
-            Some(Link {
-                span: source.loaded_at?,
-                target: std::fs::canonicalize(&source.path).unwrap_or_else(|_| source.path.clone()),
-                key: "args_from_file",
-            })
+/// loads (`gloc_mission::mission` decides which, as `gloc run` does, with the
+/// context's `mafiles` and sensor list; a file it could not load has a diagnostic
+/// instead of a link).
+pub fn mission_links(text: &str, path: &Path, context: &crate::analysis::Context) -> Vec<Link> {
+    crate::mission::links(text, path, context)
+        .into_iter()
+        .map(|(span, target)| Link {
+            span,
+            target,
+            key: "args_from_file",
         })
-        .collect();
-    links.sort_by_key(|link| link.span.start);
-    links
+        .collect()
 }
 
 #[cfg(test)]
 mod tests {
+    use std::sync::Arc;
+
+    use gloc_engine::sensors::SensorList;
+
     use super::*;
+    use crate::analysis::Context;
 
     #[test]
     fn each_loaded_args_from_file_line_links_to_its_ma_file() {
-        let root = std::env::temp_dir().join(format!("gloc-ide-links-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&root);
+        let root = gloc_testsupport::scratch_dir("ide-links");
         std::fs::create_dir_all(root.join("missions")).expect("folder");
         std::fs::create_dir_all(root.join("mafiles")).expect("folder");
         // `surface` cut to six characters and 10 in two digits is `surfac10`;
@@ -108,12 +102,32 @@ mod tests {
         .expect("ma");
         let text = "behavior: surface\n  b_arg: args_from_file(enum) 10\nbehavior: yo\n  b_arg: args_from_file(enum) 99\n";
         let path = root.join("missions/m.mi");
-        let links = mission_links(text, &path);
+        let embedded = Context::new(Arc::new(SensorList::embedded()));
+        let links = mission_links(text, &path, &embedded);
         assert_eq!(links.len(), 1, "{links:?}");
         assert!(text[links[0].span.range()].contains("args_from_file(enum) 10"));
         assert_eq!(
             links[0].target,
             std::fs::canonicalize(root.join("mafiles/surfac10.ma")).expect("exists")
+        );
+        // With gloc.toml's `mafiles` naming a folder that holds `yo99.ma` (`yo` and
+        // 99), that line links there too, as `gloc run` would load it.
+        std::fs::create_dir_all(root.join("elsewhere")).expect("folder");
+        std::fs::write(
+            root.join("elsewhere/yo99.ma"),
+            "behavior_name=yo\n<start:b_arg>\n<end:b_arg>\n",
+        )
+        .expect("ma");
+        let project = Context {
+            mafiles: Some(root.join("elsewhere")),
+            ..embedded
+        };
+        let links = mission_links(text, &path, &project);
+        assert_eq!(links.len(), 2, "{links:?}");
+        assert!(text[links[1].span.range()].contains("args_from_file(enum) 99"));
+        assert_eq!(
+            links[1].target,
+            std::fs::canonicalize(root.join("elsewhere/yo99.ma")).expect("exists")
         );
         std::fs::remove_dir_all(&root).expect("clean up");
     }

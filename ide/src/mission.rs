@@ -16,7 +16,7 @@ use gloc_mission::behaviors::{ArgInfo, BehaviorInfo, BehaviorTable};
 use gloc_mission::mission::{ma_file_name, Mission};
 use gloc_mission::{Disk, LoadOptions};
 
-use crate::analysis::{Analysis, Completion, CompletionKind, Symbol, SymbolKind};
+use crate::analysis::{Analysis, Completion, CompletionKind, Context, Symbol, SymbolKind};
 use crate::lang::{sensor_completions, sensor_markdown};
 
 /// Which of the two mission languages a document is.
@@ -32,13 +32,9 @@ pub enum MissionFile {
 /// disk by the glider's file rules (`gloc_mission::files`: `mafiles/` beside `missions/`
 /// in any case, then beside the `.mi`), reading the document itself from `text`; its
 /// behaviors are those of `sensors`' masterdata (else the embedded release table).
-/// Without a path (an unsaved buffer) a `.mi` loads no `.ma` files.
-pub fn parse(kind: MissionFile, text: &str, path: Option<&Path>, sensors: &SensorList) -> Mission {
-    parse_with(kind, text, path, sensors, None)
-}
-
-/// As [`parse`], searching `mafiles` first for `.ma` files (gloc.toml's `mafiles`).
-pub fn parse_with(
+/// Without a path (an unsaved buffer) a `.mi` loads no `.ma` files. `mafiles`, when
+/// given, is searched first (gloc.toml's `mafiles`).
+pub fn parse(
     kind: MissionFile,
     text: &str,
     path: Option<&Path>,
@@ -82,25 +78,16 @@ impl gloc_mission::MissionFiles for NoFiles {
 
 /// Diagnostics, behaviors (symbols) and folds of a mission document. A problem in
 /// a `.ma` file the mission loads is shown on the `args_from_file` line that
-/// loaded it, its message starting with the file, line and column.
+/// loaded it, its message starting with the file, line and column. `.ma` files are
+/// found as [`parse`] finds them.
 pub fn analyze(
-    kind: MissionFile,
-    text: &str,
-    path: Option<&Path>,
-    sensors: &SensorList,
-) -> Analysis {
-    analyze_with(kind, text, path, sensors, None)
-}
-
-/// As [`analyze`], searching `mafiles` first for `.ma` files (gloc.toml's `mafiles`).
-pub fn analyze_with(
     kind: MissionFile,
     text: &str,
     path: Option<&Path>,
     sensors: &SensorList,
     mafiles: Option<&Path>,
 ) -> Analysis {
-    let mission = parse_with(kind, text, path, sensors, mafiles);
+    let mission = parse(kind, text, path, sensors, mafiles);
     let mut diagnostics: Vec<Diagnostic> = Vec::new();
     let entries = mission
         .diagnostics
@@ -280,23 +267,26 @@ pub fn hover(
 
 /// The `.ma` file that the `args_from_file` line under `offset` loads, when the
 /// mission (at `path`) loaded it.
-pub fn definition(text: &str, offset: usize, path: &Path) -> Option<PathBuf> {
-    links(text, path)
+pub fn definition(text: &str, offset: usize, path: &Path, context: &Context) -> Option<PathBuf> {
+    links(text, path, context)
         .into_iter()
         .find(|(at, _)| at.start as usize <= offset && offset <= at.end as usize)
         .map(|(_, target)| target)
 }
 
 /// Every `args_from_file` line of the mission at `path` with the `.ma` file it
-/// loaded (for document links): only files that exist, as the file system names them.
-pub fn links(text: &str, path: &Path) -> Vec<(Span, PathBuf)> {
+/// loaded (for document links and go to definition), found as `gloc run` finds it
+/// (the context's `mafiles` first, its sensor list's behaviors): only files that
+/// exist, as the file system names them.
+pub fn links(text: &str, path: &Path, context: &Context) -> Vec<(Span, PathBuf)> {
     let mission = parse(
         MissionFile::Mission,
         text,
         Some(path),
-        &SensorList::embedded(),
+        &context.sensors,
+        context.mafiles.as_deref(),
     );
-    mission
+    let mut links: Vec<(Span, PathBuf)> = mission
         .sources
         .iter()
         .filter_map(|source| {
@@ -306,7 +296,9 @@ pub fn links(text: &str, path: &Path) -> Vec<(Span, PathBuf)> {
                 std::fs::canonicalize(&source.path).unwrap_or_else(|_| source.path.clone());
             Some((at, target))
         })
-        .collect()
+        .collect();
+    links.sort_by_key(|(at, _)| at.start);
+    links
 }
 
 /// The text with the glider's layout kept (indentation, alignment, comments and
@@ -414,7 +406,7 @@ fn keywords(kind: MissionFile, typed_bracket: bool) -> Vec<Completion> {
 /// The document parsed on its own (no `.ma` files read): enough to know which
 /// behavior a line belongs to.
 fn parse_alone(kind: MissionFile, text: &str, sensors: &SensorList) -> Mission {
-    parse(kind, text, None, sensors)
+    parse(kind, text, None, sensors, None)
 }
 
 /// The behavior whose block holds `offset`: the last `behavior:` line before it
@@ -616,6 +608,10 @@ fn floor_boundary(text: &str, offset: usize) -> usize {
 mod tests {
     use super::*;
 
+    fn embedded_context() -> Context {
+        Context::new(std::sync::Arc::new(SensorList::embedded()))
+    }
+
     /// The text with its `$0` cursor marker removed, and the marker's offset.
     fn cursor(fixture: &str) -> (String, usize) {
         let offset = fixture.find("$0").expect("a $0 cursor marker");
@@ -690,6 +686,7 @@ mod tests {
             "behavior: yo\n  b_arg: d_target_depth(m) 2000\n",
             None,
             &sensors,
+            None,
         );
         let codes: Vec<&str> = analysis.diagnostics.iter().map(|d| d.code).collect();
         assert_eq!(codes, ["S0120"]);
@@ -697,7 +694,7 @@ mod tests {
 
     /// A folder `<temp>/<name>/{missions,mafiles}` with the given files.
     fn mission_folder(name: &str, files: &[(&str, &str)]) -> PathBuf {
-        let root = std::env::temp_dir().join(format!("gloc-ide-{name}-{}", std::process::id()));
+        let root = gloc_testsupport::scratch_dir(&format!("ide-{name}"));
         for (path, text) in files {
             let path = root.join(path);
             std::fs::create_dir_all(path.parent().expect("a parent")).expect("mkdir");
@@ -709,7 +706,13 @@ mod tests {
     #[test]
     fn a_bad_value_is_the_simulators_s0015_on_the_value() {
         let text = "behavior: yo\n  b_arg: d_target_depth(m) deep\n";
-        let analysis = analyze(MissionFile::Mission, text, None, &SensorList::embedded());
+        let analysis = analyze(
+            MissionFile::Mission,
+            text,
+            None,
+            &SensorList::embedded(),
+            None,
+        );
         assert_eq!(analysis.diagnostics.len(), 1, "{:?}", analysis.diagnostics);
         let diagnostic = &analysis.diagnostics[0];
         assert_eq!(diagnostic.code, "S0015");
@@ -737,6 +740,7 @@ mod tests {
             mission,
             Some(&path),
             &SensorList::embedded(),
+            None,
         );
         let found: Vec<_> = analysis
             .diagnostics
@@ -762,7 +766,7 @@ mod tests {
     #[test]
     fn an_args_file_gets_its_own_diagnostics() {
         let text = "behavior_name=surface\n<start:b_arg>\nb_arg: gps_wait_time(s) 300\nb_arg: bogus(s) 1\n";
-        let analysis = analyze(MissionFile::Args, text, None, &SensorList::embedded());
+        let analysis = analyze(MissionFile::Args, text, None, &SensorList::embedded(), None);
         let codes: Vec<_> = analysis
             .diagnostics
             .iter()
@@ -779,7 +783,13 @@ mod tests {
     #[test]
     fn behaviors_are_symbols_and_folds_without_the_comments_after_them() {
         let text = "behavior: abend\n  b_arg: overdepth(m) 30\n# next\n\nbehavior: yo\nbehavior: teleport\n";
-        let analysis = analyze(MissionFile::Mission, text, None, &SensorList::embedded());
+        let analysis = analyze(
+            MissionFile::Mission,
+            text,
+            None,
+            &SensorList::embedded(),
+            None,
+        );
         let symbols: Vec<_> = analysis
             .symbols
             .iter()
@@ -813,7 +823,7 @@ mod tests {
         );
         assert_eq!(analysis.folds, vec![Span::new(0, 40), Span::new(49, 61)]);
         let ma = "behavior_name=yo\n<start:b_arg>\nb_arg: d_target_depth(m) 5\n<end:b_arg>\n";
-        let analysis = analyze(MissionFile::Args, ma, None, &SensorList::embedded());
+        let analysis = analyze(MissionFile::Args, ma, None, &SensorList::embedded(), None);
         assert_eq!(analysis.symbols.len(), 1);
         assert_eq!(analysis.symbols[0].definition, Some(Span::new(14, 16)));
         // The section: `<start:b_arg>` at 17 to the end of `<end:b_arg>` (ma.len() - 1).
@@ -984,17 +994,17 @@ mod tests {
         );
         let path = root.join("missions/d.mi");
         let (text, offset) = cursor(&mission.replace("(enum) 10", "(enum) 1$00"));
-        let target = definition(&text, offset, &path).expect("a target");
+        let target = definition(&text, offset, &path, &embedded_context()).expect("a target");
         assert!(
             target.ends_with("mafiles/surfac10.ma"),
             "{}",
             target.display()
         );
         // Not on another line.
-        assert_eq!(definition(&text, 20, &path), None);
+        assert_eq!(definition(&text, 20, &path, &embedded_context()), None);
         // The one link: `b_arg: args_from_file(enum) 10`; its line starts at 18 + 28 = 46,
         // `b_arg:` at 48 after the indentation, and `10` ends at 48 + 7 + 20 + 3 = 78.
-        let links = links(&text, &path);
+        let links = links(&text, &path, &embedded_context());
         assert_eq!(links.len(), 1);
         assert_eq!(links[0].0, Span::new(48, 78));
         assert!(links[0].1.ends_with("mafiles/surfac10.ma"));
@@ -1008,7 +1018,7 @@ mod tests {
         let text = std::fs::read_to_string(&path).expect("comet's nsb3.mi in data/");
         let line = "b_arg: args_from_file(enum)     10   # read from mafiles/yo10.ma";
         let offset = text.find(line).expect("the yo line") + 8;
-        let target = definition(&text, offset, &path).expect("a target");
+        let target = definition(&text, offset, &path, &embedded_context()).expect("a target");
         assert!(target.ends_with("mafiles/yo10.ma"), "{}", target.display());
         // And every problem of the real mission is what `gloc run` reports: none.
         let analysis = analyze(
@@ -1016,6 +1026,7 @@ mod tests {
             &text,
             Some(&path),
             &SensorList::embedded(),
+            None,
         );
         let codes: Vec<_> = analysis.diagnostics.iter().map(|d| d.code).collect();
         let run = Mission::load(&path);
@@ -1042,11 +1053,16 @@ mod tests {
             "  #\n\t\tb_arg: d_target_depth(m)(m) 1 2 3",
         ] {
             for kind in [MissionFile::Mission, MissionFile::Args] {
-                let _ = analyze(kind, text, None, &sensors);
+                let _ = analyze(kind, text, None, &sensors, None);
                 for offset in 0..=text.len() + 2 {
                     let _ = completions(kind, text, offset, &sensors);
                     let _ = hover(kind, text, offset, &sensors);
-                    let _ = definition(text, offset, Path::new("/nonexistent/missions/m.mi"));
+                    let _ = definition(
+                        text,
+                        offset,
+                        Path::new("/nonexistent/missions/m.mi"),
+                        &embedded_context(),
+                    );
                 }
             }
             let _ = format(text);

@@ -108,8 +108,7 @@ mod tests {
 
     #[test]
     fn finds_scripts_skipping_hidden_target_and_other_files() {
-        let root = std::env::temp_dir().join(format!("gloc-ide-ws-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&root);
+        let root = gloc_testsupport::scratch_dir("ide-ws");
         for folder in ["a/b", ".git", "target/debug", "node_modules/x"] {
             std::fs::create_dir_all(root.join(folder)).expect("folder");
         }

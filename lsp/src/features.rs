@@ -537,12 +537,14 @@ pub fn signature_help(document: &Document, position: Position) -> Option<Signatu
 pub fn definition(
     document: &Document,
     analysis: &Analysis,
+    context: &Context,
     position: Position,
 ) -> Option<GotoDefinitionResponse> {
     let offset = offset_of(document.rope(), position);
     if document.language == gloc_ide::Language::Mission {
         // `args_from_file(enum) N` goes to the `.ma` file it loads.
-        let target = gloc_ide::mission::definition(document.text(), offset, &document.path()?)?;
+        let target =
+            gloc_ide::mission::definition(document.text(), offset, &document.path()?, context)?;
         return Some(GotoDefinitionResponse::Scalar(Location {
             uri: Uri::from_file_path(&target)?,
             range: Range::default(),
@@ -729,17 +731,7 @@ pub fn semantic_tokens_edits(
     previous: &[SemanticToken],
     current: &[SemanticToken],
 ) -> Vec<SemanticTokensEdit> {
-    let prefix = previous
-        .iter()
-        .zip(current)
-        .take_while(|(old, new)| old == new)
-        .count();
-    let suffix = previous[prefix..]
-        .iter()
-        .rev()
-        .zip(current[prefix..].iter().rev())
-        .take_while(|(old, new)| old == new)
-        .count();
+    let (prefix, suffix) = gloc_ide::format::common_ends(previous, current);
     let deleted = previous.len() - prefix - suffix;
     let inserted = &current[prefix..current.len() - suffix];
     if deleted == 0 && inserted.is_empty() {
@@ -968,7 +960,7 @@ pub fn selection_ranges(
 }
 
 /// Document links: the paths of a `gloc.toml`, a mission's `args_from_file` targets.
-pub fn document_links(document: &Document) -> Vec<DocumentLink> {
+pub fn document_links(document: &Document, context: &Context) -> Vec<DocumentLink> {
     let Some(path) = document.path() else {
         return Vec::new();
     };
@@ -977,7 +969,7 @@ pub fn document_links(document: &Document) -> Vec<DocumentLink> {
             let folder = path.parent().unwrap_or(std::path::Path::new("."));
             links::config_links(document.text(), folder)
         }
-        gloc_ide::Language::Mission => links::mission_links(document.text(), &path),
+        gloc_ide::Language::Mission => links::mission_links(document.text(), &path, context),
         _ => return Vec::new(),
     };
     let rope = document.rope();
@@ -1043,45 +1035,45 @@ mod tests {
     use super::*;
     use crate::document::Language;
 
-    /// The tokens as they were computed before the one-pass walk: two rope look-ups
-    /// per token through `position_of`, for comparison.
-    fn reference_tokens(document: &Document, analysis: &Analysis, context: &Context) -> Vec<u32> {
+    /// The tokens' absolute places (line, start, length, type, modifiers) found with two
+    /// rope look-ups per token through `position_of`, for comparison with the one-pass walk.
+    fn reference_tokens(
+        document: &Document,
+        analysis: &Analysis,
+        context: &Context,
+    ) -> Vec<[u32; 5]> {
         let rope = document.rope();
-        let mut data = Vec::new();
-        let (mut previous_line, mut previous_start) = (0u32, 0u32);
-        for token in gloc_ide::tokens::semantic_tokens(analysis, context) {
-            let start = position_of(rope, token.span.start as usize);
-            let end = position_of(rope, token.span.end as usize);
-            if end.line != start.line || end.character <= start.character {
-                continue;
-            }
-            let delta_line = start.line - previous_line;
-            let delta_start = if delta_line == 0 {
-                start.character - previous_start
-            } else {
-                start.character
-            };
-            data.extend([
-                delta_line,
-                delta_start,
-                end.character - start.character,
-                token.token_type as u32,
-                token.modifiers,
-            ]);
-            previous_line = start.line;
-            previous_start = start.character;
-        }
-        data
+        gloc_ide::tokens::semantic_tokens(analysis, context)
+            .filter_map(|token| {
+                let start = position_of(rope, token.span.start as usize);
+                let end = position_of(rope, token.span.end as usize);
+                (end.line == start.line && end.character > start.character).then_some([
+                    start.line,
+                    start.character,
+                    end.character - start.character,
+                    token.token_type as u32,
+                    token.modifiers,
+                ])
+            })
+            .collect()
     }
 
-    fn flat(tokens: &SemanticTokens) -> Vec<u32> {
+    /// The LSP's relative encoding decoded back to absolute places.
+    fn absolute(tokens: &SemanticTokens) -> Vec<[u32; 5]> {
+        let (mut line, mut start) = (0u32, 0u32);
         tokens
             .data
             .iter()
-            .flat_map(|token| {
+            .map(|token| {
+                line += token.delta_line;
+                start = if token.delta_line == 0 {
+                    start + token.delta_start
+                } else {
+                    token.delta_start
+                };
                 [
-                    token.delta_line,
-                    token.delta_start,
+                    line,
+                    start,
                     token.length,
                     token.token_type,
                     token.token_modifiers_bitset,
@@ -1148,7 +1140,7 @@ mod tests {
             let analysis = gloc_ide::lang::analyze(language, &text, &context);
             let tokens = semantic_tokens(&document, &analysis, &context);
             let expected = reference_tokens(&document, &analysis, &context);
-            assert_eq!(flat(&tokens), expected, "{name}");
+            assert_eq!(absolute(&tokens), expected, "{name}");
             tokens_seen += tokens.data.len();
         }
         assert!(tokens_seen > 5_000, "{tokens_seen} tokens");

@@ -900,11 +900,12 @@ impl LanguageServer for Backend {
         params: GotoDefinitionParams,
     ) -> Result<Option<GotoDefinitionResponse>> {
         let position = params.text_document_position_params;
-        Ok(
-            self.with_document(&position.text_document.uri, |document, analysis, _| {
-                features::definition(document, analysis, position.position)
-            }),
-        )
+        Ok(self.with_document(
+            &position.text_document.uri,
+            |document, analysis, context| {
+                features::definition(document, analysis, context, position.position)
+            },
+        ))
     }
 
     async fn references(&self, params: ReferenceParams) -> Result<Option<Vec<Location>>> {
@@ -1074,7 +1075,7 @@ impl LanguageServer for Backend {
         Ok(state
             .documents
             .get(&params.text_document.uri)
-            .map(|open| features::document_links(&open.document)))
+            .map(|open| features::document_links(&open.document, &open.context)))
     }
 
     async fn range_formatting(

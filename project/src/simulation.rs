@@ -80,6 +80,23 @@ pub struct Flight {
     pub simulator: Vec<(String, f64)>,
 }
 
+impl Flight {
+    /// A flight with `seed` and the profile read from `profile`, a path given by
+    /// `origin` (a flag, a launch attribute): how `gloc run`, the debugger and
+    /// `gloc.run` set a single flight up.
+    pub fn read(
+        seed: Option<u64>,
+        profile: Option<&Path>,
+        origin: Origin,
+    ) -> Result<Flight, ProjectError> {
+        Ok(Flight {
+            seed,
+            profile: profile.map(|path| load_profile(path, origin)).transpose()?,
+            simulator: Vec::new(),
+        })
+    }
+}
+
 /// The simulator's configuration: the defaults, then the settings' budget and
 /// constants, then the flight's. Front ends set a flight up through [`prepare`] or
 /// [`prepare_unscripted`], which call this and return the configuration with the

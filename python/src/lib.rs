@@ -386,12 +386,13 @@ fn run(
     let flown = py.allow_threads(|| {
         fly(&Request {
             script,
-            mission,
-            seconds,
-            cycles,
-            seed,
-            simulator,
-            profile,
+            overrides: Overrides {
+                mission,
+                simulator,
+                ..Overrides::new(Surface::Cli)
+            },
+            flight: (seed, profile),
+            limit: (seconds, cycles),
             optimization: optimization(optimize),
         })
     })?;
@@ -417,14 +418,13 @@ fn run(
     ))
 }
 
+/// What `gloc.run` was asked: the script, the settings it overrides (as `gloc run`'s
+/// flags do), the flight's seed and profile, and its limit in seconds or cycles.
 struct Request {
     script: PathBuf,
-    mission: Option<PathBuf>,
-    seconds: Option<f64>,
-    cycles: Option<u64>,
-    seed: Option<u64>,
-    simulator: Vec<(String, f64)>,
-    profile: Option<PathBuf>,
+    overrides: Overrides,
+    flight: (Option<u64>, Option<PathBuf>),
+    limit: (Option<f64>, Option<u64>),
     optimization: Optimization,
 }
 
@@ -445,14 +445,7 @@ struct Flown {
 const MAX_CYCLES: u64 = 100_000_000;
 
 fn fly(request: &Request) -> PyResult<Flown> {
-    let (settings, sensors) = project(
-        Some(&request.script),
-        Overrides {
-            mission: request.mission.clone(),
-            simulator: request.simulator.clone(),
-            ..Overrides::new(Surface::Cli)
-        },
-    )?;
+    let (settings, sensors) = project(Some(&request.script), request.overrides.clone())?;
     let sensors = Arc::new(sensors);
     let script = gloc_project::script::load_script(
         &request.script,
@@ -479,16 +472,13 @@ fn fly(request: &Request) -> PyResult<Flown> {
     if let Some(error) = mission_errors(&mission, "simulated") {
         return Err(error);
     }
-    let profile = match &request.profile {
-        Some(path) => Some(
-            gloc_project::simulation::load_profile(
-                path,
-                gloc_project::settings::Origin::Flag("profile"),
-            )
-            .map_err(project_error)?,
-        ),
-        None => None,
-    };
+    let (seed, profile) = &request.flight;
+    let flight = gloc_project::simulation::Flight::read(
+        *seed,
+        profile.as_deref(),
+        gloc_project::settings::Origin::Flag("profile"),
+    )
+    .map_err(project_error)?;
     let plan = gloc_project::simulation::Plan {
         settings: &settings,
         sensors: &sensors,
@@ -496,17 +486,9 @@ fn fly(request: &Request) -> PyResult<Flown> {
         script: &script.loaded,
         program: &program,
     };
-    let prepared = gloc_project::simulation::prepare(
-        &plan,
-        gloc_project::simulation::Flight {
-            seed: request.seed,
-            profile,
-            simulator: Vec::new(),
-        },
-    )
-    .map_err(project_error)?;
+    let prepared = gloc_project::simulation::prepare(&plan, flight).map_err(project_error)?;
     let mut sim = prepared.simulation;
-    let max_cycles = match (request.seconds, request.cycles) {
+    let max_cycles = match request.limit {
         (Some(seconds), _) if !seconds.is_finite() || seconds < 0.0 => {
             return Err(PyValueError::new_err(
                 "duration: give a number of seconds, 0 or more",

@@ -3,7 +3,7 @@
 //! independent, on all cores, and print one summary table (readable on stdout,
 //! CSV with `--csv`). A progress bar shows on a terminal.
 
-use std::io::{IsTerminal, Write};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -148,17 +148,7 @@ pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
         .jobs
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
         .clamp(1, variants.len().max(1));
-    let progress = std::io::stderr().is_terminal().then(|| {
-        let bar = indicatif::ProgressBar::new(variants.len() as u64);
-        bar.set_style(
-            indicatif::ProgressStyle::with_template(
-                "{spinner} flying [{bar:40}] {pos}/{len} missions ({eta} left)",
-            )
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
-            .progress_chars("=> "),
-        );
-        bar
-    });
+    let progress = crate::render::progress_bar(variants.len() as u64, "flying", "missions");
     let started = Instant::now();
     let rows = fly_all(&shared, &variants, jobs, progress.as_ref());
     let wall = started.elapsed().as_secs_f64();

@@ -5,7 +5,7 @@
 //! stdout as it happens; warnings, the progress bar and the summary go to
 //! stderr.
 
-use std::io::{IsTerminal, Write};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::atomic::Ordering;
@@ -221,20 +221,9 @@ fn fly(run: &mut Run, args: &crate::RunArgs) -> anyhow::Result<Flown> {
         .as_ref()
         .map(|_| Trace::with_sensors(&panel_sensors));
 
-    let progress = (std::io::stderr().is_terminal()
-        && max_cycles >= PROGRESS_MIN_CYCLES
-        && !sim.is_finished())
-    .then(|| {
-        let bar = indicatif::ProgressBar::new(max_cycles);
-        bar.set_style(
-            indicatif::ProgressStyle::with_template(
-                "{spinner} simulating [{bar:40}] {pos}/{len} cycles ({eta} left)",
-            )
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
-            .progress_chars("=> "),
-        );
-        bar
-    });
+    let progress = (max_cycles >= PROGRESS_MIN_CYCLES && !sim.is_finished())
+        .then(|| crate::render::progress_bar(max_cycles, "simulating", "cycles"))
+        .flatten();
 
     let signal = crate::signals::interrupt_signals()?;
     let stdout = std::io::stdout();

@@ -23,7 +23,7 @@ pub mod merge;
 pub mod writer;
 
 pub use binary::{ByteOrder, DbdReader};
-pub use cycle::{time_column, Cycle, FileSensor, SensorColumns, State};
+pub use cycle::{columns_of, time_column, Cycle, FileSensor, SensorColumns, State};
 pub use dba::DbaReader;
 pub use error::{DbdError, DbdErrorKind, Location, Warning};
 pub use fs::{open_path, CacheFolders, LogKind};

@@ -556,7 +556,7 @@ mod tests {
         assert_eq!(iso_time(18_321.0 * 86_400.0), "2020-02-29T00:00:00Z");
         for days in [-1000, 0, 18_321, 20_000, 60_000] {
             let (y, m, d) = civil_from_days(days);
-            assert_eq!(crate::currents::days_from_civil(y, m, d), days);
+            assert_eq!(gloc_dbd::header::days_from_civil(y, m, d), days);
         }
     }
 

@@ -277,7 +277,7 @@ pub fn fly(
 
 /// One flight's inputs, as [`fly`] takes them.
 #[derive(Clone, Copy)]
-pub(crate) struct Flight<'a> {
+pub struct Flight<'a> {
     pub mission: &'a Mission,
     pub sensors: &'a Arc<SensorList>,
     pub config: &'a SimConfig,

@@ -18,11 +18,12 @@
 use std::io::Cursor;
 use std::path::Path;
 
+use gloc_dbd::header::days_from_civil;
 use gloc_engine::files::Limit;
 use gloc_sim::navigation::Xy;
 use netcdf3::{DataSet, DataType, FileReader};
 
-use crate::currents::{days_from_civil, CurrentField};
+use crate::currents::CurrentField;
 use crate::export::iso_time;
 
 /// The largest NetCDF file read (it is read whole).

@@ -353,36 +353,44 @@ fn kml_region(writer: &mut XmlWriter, hull: &[(f64, f64)]) -> std::io::Result<()
     }
 }
 
+/// A KML sub-style's (tag, value) children.
+type KmlValues = &'static [(&'static str, &'static str)];
+
+/// The document's styles: each `Style` id and its sub-styles (`LineStyle`, …).
+const KML_STYLES: &[(&str, &[(&str, KmlValues)])] = &[
+    (
+        "track",
+        &[("LineStyle", &[("color", TRACK_COLOUR), ("width", "2")])],
+    ),
+    (
+        "surfacing",
+        &[("IconStyle", &[("color", TRACK_COLOUR), ("scale", "0.8")])],
+    ),
+    (
+        "region",
+        &[
+            ("LineStyle", &[("color", REGION_LINE), ("width", "1")]),
+            ("PolyStyle", &[("color", REGION_FILL)]),
+        ],
+    ),
+];
+
 fn kml_styles(w: &mut XmlWriter) -> std::io::Result<()> {
-    w.create_element("Style")
-        .with_attribute(("id", "track"))
-        .write_inner_content(|w| {
-            w.create_element("LineStyle").write_inner_content(|w| {
-                text_element(w, "color", TRACK_COLOUR)?;
-                text_element(w, "width", "2")
+    for &(id, styles) in KML_STYLES {
+        w.create_element("Style")
+            .with_attribute(("id", id))
+            .write_inner_content(|w| {
+                for &(style, children) in styles {
+                    w.create_element(style).write_inner_content(|w| {
+                        for &(tag, value) in children {
+                            text_element(w, tag, value)?;
+                        }
+                        Ok(())
+                    })?;
+                }
+                Ok(())
             })?;
-            Ok(())
-        })?;
-    w.create_element("Style")
-        .with_attribute(("id", "surfacing"))
-        .write_inner_content(|w| {
-            w.create_element("IconStyle").write_inner_content(|w| {
-                text_element(w, "color", TRACK_COLOUR)?;
-                text_element(w, "scale", "0.8")
-            })?;
-            Ok(())
-        })?;
-    w.create_element("Style")
-        .with_attribute(("id", "region"))
-        .write_inner_content(|w| {
-            w.create_element("LineStyle").write_inner_content(|w| {
-                text_element(w, "color", REGION_LINE)?;
-                text_element(w, "width", "1")
-            })?;
-            w.create_element("PolyStyle")
-                .write_inner_content(|w| text_element(w, "color", REGION_FILL))?;
-            Ok(())
-        })?;
+    }
     Ok(())
 }
 

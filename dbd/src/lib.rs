@@ -71,11 +71,7 @@ macro_rules! one_file_source {
             }
 
             fn next_cycle(&mut self) -> Result<Option<&$crate::Cycle>, $crate::DbdError> {
-                if self.$read()? {
-                    Ok(Some(&self.cycle))
-                } else {
-                    Ok(None)
-                }
+                Ok(self.$read()?.then_some(&self.cycle))
             }
 
             fn take_warnings(&mut self) -> Vec<$crate::Warning> {

@@ -469,7 +469,7 @@ mod tests {
 
     #[test]
     fn discover_walks_up_and_reports_bad_files_with_line_and_column() {
-        let root = std::env::temp_dir().join(format!("gloc-config-test-{}", std::process::id()));
+        let root = gloc_testsupport::scratch_dir("config-test");
         let nested = root.join("a").join("b");
         std::fs::create_dir_all(&nested).expect("temp dir");
         std::fs::write(root.join(FILE_NAME), "cycle_budget = 77\n").expect("write");

@@ -302,31 +302,15 @@ impl Settings {
                 },
             }
         };
-        let cycle_budget = match overrides.cycle_budget {
-            Some(budget) => Sourced {
-                value: CycleBudget::new(budget).map_err(|message| {
-                    ProjectError::new(
-                        ErrorKind::Setting,
-                        Some(Setting::CycleBudget.origin(surface)),
-                        message,
-                    )
-                })?,
-                origin: Setting::CycleBudget.origin(surface),
-            },
-            None => match config.cycle_budget {
-                // gloc.toml's budget was checked when it was parsed (E0901).
-                Some(budget) => Sourced {
-                    value: CycleBudget::new(budget).map_err(|message| {
-                        ProjectError::new(
-                            ErrorKind::Setting,
-                            Some(from_file(config.positions.cycle_budget)),
-                            message,
-                        )
-                    })?,
-                    origin: from_file(config.positions.cycle_budget),
-                },
-                None => Sourced::default(),
-            },
+        let budget = |budget: u64, origin: Origin| match CycleBudget::new(budget) {
+            Ok(value) => Ok(Sourced { value, origin }),
+            Err(message) => Err(ProjectError::new(ErrorKind::Setting, Some(origin), message)),
+        };
+        let cycle_budget = match (overrides.cycle_budget, config.cycle_budget) {
+            (Some(given), _) => budget(given, Setting::CycleBudget.origin(surface))?,
+            // gloc.toml's budget was checked when it was parsed (E0901).
+            (None, Some(file)) => budget(file, from_file(config.positions.cycle_budget))?,
+            (None, None) => Sourced::default(),
         };
         for (name, value) in &overrides.simulator {
             check_simulator_setting(name, *value).map_err(|message| {

@@ -341,6 +341,11 @@ mod tests {
         assert_eq!(config.positions.mafiles, Some((5, 11)));
     }
 
+    /// `text` as a `gloc.toml` in `/p`, which must be valid.
+    fn parsed(text: &str) -> Config {
+        Config::parse(text, Path::new("/p")).unwrap_or_else(|error| panic!("{text}: {error:?}"))
+    }
+
     /// Asserts that `text` is refused, the error pointing at `at` (the text it
     /// underlines) and its message saying `says`; returns the error.
     fn refused(text: &str, at: &str, says: &str) -> Box<Diagnostic> {
@@ -353,9 +358,9 @@ mod tests {
 
     #[test]
     fn sensor_order_is_file_or_sorted_and_anything_else_points_at_the_value() {
-        let sorted = Config::parse("sensor_order = \"sorted\"\n", Path::new("/p")).expect("valid");
+        let sorted = parsed("sensor_order = \"sorted\"\n");
         assert_eq!(sorted.sensor_order, Some(SensorOrder::SortedByName));
-        let file = Config::parse("sensor_order = \"file\"\n", Path::new("/p")).expect("valid");
+        let file = parsed("sensor_order = \"file\"\n");
         assert_eq!(file.sensor_order, Some(SensorOrder::FileOrder));
         let error = refused(
             "masterdata = \"m.mi\"\nsensor_order = \"alphabetical\"\n",
@@ -371,7 +376,7 @@ mod tests {
     #[test]
     fn simulator_settings_are_checked_by_name_and_range() {
         let text = "[simulator]\ndrag_cd0 = 0.2\nbattery_wh = 800\n";
-        let config = Config::parse(text, Path::new("/p")).expect("valid");
+        let config = parsed(text);
         assert_eq!(
             config.simulator,
             vec![
@@ -406,7 +411,7 @@ mod tests {
 
     #[test]
     fn an_empty_file_is_the_default() {
-        let config = Config::parse("", Path::new("/p")).expect("empty is valid");
+        let config = parsed("");
         assert_eq!(config.masterdata, None);
         assert_eq!(config.cycle_budget, None);
     }
@@ -434,7 +439,7 @@ mod tests {
             "9223372036854775807",
             "1 to 1000000000 ",
         );
-        assert!(Config::parse("cycle_budget = 1000000000", Path::new("/p")).is_ok());
+        parsed("cycle_budget = 1000000000");
     }
 
     #[test]

@@ -117,7 +117,7 @@ fn utc(seconds: f64) -> String {
     let whole = seconds.floor() as i64;
     let days = whole.div_euclid(86_400);
     let rest = whole.rem_euclid(86_400);
-    let (year, month, day) = crate::render::civil_from_days(days);
+    let (year, month, day) = gloc_dbd::header::civil_from_days(days);
     let fraction = seconds - whole as f64;
     format!(
         "{year:04}-{month:02}-{day:02}T{:02}:{:02}:{:02}{}Z",

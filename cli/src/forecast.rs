@@ -11,10 +11,11 @@ use anyhow::{bail, Context as _};
 use clap::Args;
 use gloc_forecast::currents::{CurrentField, LoadError};
 use gloc_forecast::export::{iso_time, nmea_text, Format};
-use gloc_forecast::map::{write_map, MapFormat};
+use gloc_forecast::map::write_map;
 use gloc_forecast::{ensemble, hindcast, EnsembleOptions, Forecast, Request};
 use gloc_project::{Overrides, Settings, Surface};
 use gloc_sim::navigation::Xy;
+use gloc_sim::plot::PlotFormat;
 
 use crate::data::SourceArgs;
 use crate::render::Tally;
@@ -85,9 +86,9 @@ pub fn main(args: ForecastArgs) -> anyhow::Result<ExitCode> {
     let formats = args
         .outputs
         .iter()
-        .map(|path| match MapFormat::from_path(path) {
-            Some(_) => Ok(None),
-            None => Format::from_path(path)
+        .map(|path| match PlotFormat::from_path(path) {
+            Ok(_) => Ok(None),
+            Err(_) => Format::from_path(path)
                 .map(Some)
                 .map_err(|message| anyhow::anyhow!("{message}, or a map .png or .svg")),
         })
@@ -128,7 +129,7 @@ pub fn main(args: ForecastArgs) -> anyhow::Result<ExitCode> {
         if let Some(path) = args
             .outputs
             .iter()
-            .find(|path| MapFormat::from_path(path).is_none())
+            .find(|path| PlotFormat::from_path(path).is_err())
         {
             bail!(
                 "-o `{}`: a hindcast writes a map (.png or .svg)",

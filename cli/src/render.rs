@@ -75,21 +75,6 @@ pub fn location_of_pc(script: &Script, pc: gloc_engine::program::Pc) -> String {
     }
 }
 
-/// Days since 1970-01-01 → (year, month, day) (Howard Hinnant's algorithm).
-pub fn civil_from_days(days: i64) -> (i64, i64, i64) {
-    let z = days + 719_468;
-    let era = z.div_euclid(146_097);
-    let day_of_era = z - era * 146_097;
-    let year_of_era =
-        (day_of_era - day_of_era / 1460 + day_of_era / 36524 - day_of_era / 146_096) / 365;
-    let day_of_year = day_of_era - (365 * year_of_era + year_of_era / 4 - year_of_era / 100);
-    let mp = (5 * day_of_year + 2) / 153;
-    let day = day_of_year - (153 * mp + 2) / 5 + 1;
-    let month = if mp < 10 { mp + 3 } else { mp - 9 };
-    let year = year_of_era + era * 400 + i64::from(month <= 2);
-    (year, month, day)
-}
-
 /// The progress bar of a long command on a terminal's stderr (`None` elsewhere, so a
 /// pipe or a log gets no control characters): `doing` what, `len` `units` in all.
 pub fn progress_bar(len: u64, doing: &str, units: &str) -> Option<indicatif::ProgressBar> {

@@ -711,7 +711,7 @@ fn glider_time(unix_seconds: f64) -> String {
     let seconds = unix_seconds.max(0.0) as i64;
     let days = seconds.div_euclid(86400);
     let of_day = seconds.rem_euclid(86400);
-    let (year, month, day) = crate::render::civil_from_days(days);
+    let (year, month, day) = gloc_dbd::header::civil_from_days(days);
     let weekday = ["Thu", "Fri", "Sat", "Sun", "Mon", "Tue", "Wed"][days.rem_euclid(7) as usize];
     let month_name = [
         "Jan", "Feb", "Mar", "Apr", "May", "Jun", "Jul", "Aug", "Sep", "Oct", "Nov", "Dec",

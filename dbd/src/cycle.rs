@@ -95,6 +95,15 @@ impl Cycle {
     }
 }
 
+/// The column of each of `names` among `sensors` (exact names, in the order of
+/// `names`); `None` for a name the log does not have.
+pub fn columns_of(sensors: &[FileSensor], names: &[&str]) -> Vec<Option<usize>> {
+    names
+        .iter()
+        .map(|name| sensors.iter().position(|sensor| sensor.name == *name))
+        .collect()
+}
+
 /// The time sensor among `sensors`: `m_present_time`, else `sci_m_present_time`
 /// (dbdreader's rule).
 pub fn time_column(sensors: &[FileSensor]) -> Option<usize> {

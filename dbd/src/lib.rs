@@ -23,7 +23,7 @@ pub mod merge;
 pub mod writer;
 
 pub use binary::{ByteOrder, DbdReader};
-pub use cycle::{time_column, Cycle, FileSensor, SensorColumns, State};
+pub use cycle::{columns_of, time_column, Cycle, FileSensor, SensorColumns, State};
 pub use dba::DbaReader;
 pub use error::{DbdError, DbdErrorKind, Location, Warning};
 pub use fs::{open_path, CacheFolders, LogKind};
@@ -71,11 +71,7 @@ macro_rules! one_file_source {
             }
 
             fn next_cycle(&mut self) -> Result<Option<&$crate::Cycle>, $crate::DbdError> {
-                if self.$read()? {
-                    Ok(Some(&self.cycle))
-                } else {
-                    Ok(None)
-                }
+                Ok(self.$read()?.then_some(&self.cycle))
             }
 
             fn take_warnings(&mut self) -> Vec<$crate::Warning> {

@@ -172,11 +172,7 @@ impl CycleSource for Merged {
     }
 
     fn next_cycle(&mut self) -> Result<Option<&Cycle>, DbdError> {
-        if self.merge_next()? {
-            Ok(Some(&self.cycle))
-        } else {
-            Ok(None)
-        }
+        Ok(self.merge_next()?.then_some(&self.cycle))
     }
 
     fn take_warnings(&mut self) -> Vec<Warning> {
@@ -416,11 +412,7 @@ impl CycleSource for Deployment {
     }
 
     fn next_cycle(&mut self) -> Result<Option<&Cycle>, DbdError> {
-        if self.advance()? {
-            Ok(Some(&self.cycle))
-        } else {
-            Ok(None)
-        }
+        Ok(self.advance()?.then_some(&self.cycle))
     }
 
     fn take_warnings(&mut self) -> Vec<Warning> {

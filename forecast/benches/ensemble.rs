@@ -10,7 +10,7 @@ use std::time::Instant;
 
 use gloc_engine::sensors::SensorList;
 use gloc_forecast::ensemble::{run_ensemble, spread_from_history, EnsembleInput, EnsembleOptions};
-use gloc_forecast::fly::{prepare_mission, Start, Truth};
+use gloc_forecast::fly::{prepare_mission, Flight, Start, Truth};
 use gloc_forecast::logs::read_history;
 use gloc_sim::{Mission, SimConfig};
 
@@ -57,12 +57,14 @@ fn main() {
     let config = SimConfig::default();
     let truth = Truth::Uniform(start.believed);
     let input = EnsembleInput {
-        mission: &prepared,
-        sensors: &sensors,
-        config: &config,
-        start: &start,
-        truth: &truth,
-        bathymetry: None,
+        flight: Flight {
+            mission: &prepared,
+            sensors: &sensors,
+            config: &config,
+            start: &start,
+            truth: &truth,
+            bathymetry: None,
+        },
         hours,
     };
     let cores = std::thread::available_parallelism().map_or(1, std::num::NonZero::get);

@@ -6,6 +6,7 @@
 use std::path::Path;
 use std::sync::Arc;
 
+use gloc_dbd::header::days_from_civil;
 use gloc_sim::navigation::Xy;
 
 /// Why a currents file could not be used: it cannot be read (the CLI's exit code 3), its
@@ -202,17 +203,6 @@ pub fn parse_time(text: &str) -> Option<f64> {
     }
     let days = days_from_civil(year, month, day);
     Some(days as f64 * 86_400.0 + (hour * 3600 + minute * 60) as f64 + second)
-}
-
-/// Days since 1970-01-01 of a proleptic Gregorian date (Howard Hinnant's algorithm).
-pub fn days_from_civil(year: i64, month: i64, day: i64) -> i64 {
-    let year = if month <= 2 { year - 1 } else { year };
-    let era = year.div_euclid(400);
-    let year_of_era = year - era * 400;
-    let month_index = (month + 9) % 12;
-    let day_of_year = (153 * month_index + 2) / 5 + day - 1;
-    let day_of_era = year_of_era * 365 + year_of_era / 4 - year_of_era / 100 + day_of_year;
-    era * 146_097 + day_of_era - 719_468
 }
 
 #[cfg(test)]

@@ -9,14 +9,12 @@
 //! n-th surfacings.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::Arc;
 
 use gloc_engine::rng::Rng;
-use gloc_engine::sensors::SensorList;
 use gloc_sim::navigation::{Lmc, Xy};
-use gloc_sim::{Mission, SimConfig};
+use gloc_sim::SimConfig;
 
-use crate::fly::{fly, FlightPlan, Outside, Start, StopAt, Track, Truth};
+use crate::fly::{fly_with, Extras, Flight, FlightPlan, Outside, StopAt, Track, Truth};
 use crate::logs::LogHistory;
 use crate::ForecastError;
 
@@ -120,13 +118,9 @@ pub fn member_draw(options: &EnsembleOptions, number: usize) -> (Xy, u64) {
 
 /// Everything a member needs, shared by the threads.
 pub struct EnsembleInput<'a> {
-    pub mission: &'a Mission,
-    pub sensors: &'a Arc<SensorList>,
-    pub config: &'a SimConfig,
-    pub start: &'a Start,
-    /// The forecast's current (each member adds its offset).
-    pub truth: &'a Truth,
-    pub bathymetry: Option<&'a Arc<dyn crate::netcdf::DepthField>>,
+    /// The forecast's own flight: each member adds its offset to the current and
+    /// flies with its own seed.
+    pub flight: Flight<'a>,
     pub hours: f64,
 }
 
@@ -146,14 +140,14 @@ pub fn summarize(
     options: &EnsembleOptions,
     tracks: &[Track],
 ) -> Ensemble {
-    let lmc = input.start.lmc();
+    let lmc = input.flight.start.lmc();
     let offsets = (0..options.members)
         .map(|number| member_draw(options, number).0)
         .collect();
     let hours = input.hours.max(0.0).floor() as usize;
     let mut regions = Vec::with_capacity(hours);
     for hour in 1..=hours {
-        let time = input.start.time + hour as f64 * 3600.0;
+        let time = input.flight.start.time + hour as f64 * 3600.0;
         let positions: Vec<Xy> = tracks
             .iter()
             .filter_map(|track| {
@@ -259,23 +253,20 @@ pub fn fly_member(
         outside: Outside::Stop,
     };
     let (offset, seed) = member_draw(options, number);
-    let truth = match input.truth {
+    let truth = match input.flight.truth {
         Truth::Uniform(water) => Truth::Uniform(*water + offset),
         Truth::Field(field, base) => Truth::Field(field.clone(), *base + offset),
     };
     let config = SimConfig {
         seed,
-        ..input.config.clone()
+        ..input.flight.config.clone()
     };
-    fly(
-        input.mission,
-        input.sensors,
-        &config,
-        input.start,
-        &truth,
-        input.bathymetry,
-        &plan,
-    )
+    let flight = Flight {
+        config: &config,
+        truth: &truth,
+        ..input.flight
+    };
+    fly_with(&flight, &plan, &Extras::default()).map(|flown| flown.track)
 }
 
 fn spread_of(number: usize, found: &[(f64, Xy)], lmc: &Lmc) -> SurfacingSpread {

@@ -277,12 +277,15 @@ pub fn fly(
 
 /// One flight's inputs, as [`fly`] takes them.
 #[derive(Clone, Copy)]
-pub(crate) struct Flight<'a> {
+pub struct Flight<'a> {
+    /// The mission, already [`prepare_mission`]ed for `start`.
     pub mission: &'a Mission,
     pub sensors: &'a Arc<SensorList>,
     pub config: &'a SimConfig,
     pub start: &'a Start,
+    /// The current the glider flies in.
     pub truth: &'a Truth,
+    /// The water depth; `None`: the mission's or the configuration's.
     pub bathymetry: Option<&'a Arc<dyn DepthField>>,
 }
 

@@ -133,15 +133,16 @@ pub fn forecast(
         outside: fly::Outside::Fail,
     };
     let mut battery = battery::outlook(&start, mission, config);
+    let flight = fly::Flight {
+        mission: &prepared,
+        sensors,
+        config,
+        start: &start,
+        truth: &truth,
+        bathymetry: request.bathymetry.as_ref(),
+    };
     let flown = fly::fly_with(
-        &fly::Flight {
-            mission: &prepared,
-            sensors,
-            config,
-            start: &start,
-            truth: &truth,
-            bathymetry: request.bathymetry.as_ref(),
-        },
+        &flight,
         &plan,
         &fly::Extras {
             surface_drift: None,
@@ -158,12 +159,7 @@ pub fn forecast(
     let ensemble = match &request.ensemble {
         Some(options) => Some(ensemble::run_ensemble(
             &ensemble::EnsembleInput {
-                mission: &prepared,
-                sensors,
-                config,
-                start: &start,
-                truth: &truth,
-                bathymetry: request.bathymetry.as_ref(),
+                flight,
                 hours: request.hours,
             },
             options,

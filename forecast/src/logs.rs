@@ -172,15 +172,7 @@ struct Sample {
 
 /// Reads logs to their end (at most [`MAX_CYCLES`] timed cycles).
 pub fn read_history(source: &mut dyn CycleSource) -> Result<LogHistory, LogError> {
-    let columns: Vec<Option<usize>> = SENSORS
-        .iter()
-        .map(|name| {
-            source
-                .sensors()
-                .iter()
-                .position(|sensor| sensor.name == *name)
-        })
-        .collect();
+    let columns = gloc_dbd::columns_of(source.sensors(), &SENSORS);
     if columns[Column::Time as usize].is_none() {
         return Err(LogError::Content(format!(
             "{}: no m_present_time: a forecast needs a flight log (.dbd, .sbd, …), not a science log",

@@ -6,6 +6,7 @@
 
 use std::path::Path;
 
+use gloc_sim::plot::PlotFormat;
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -17,51 +18,31 @@ use crate::Forecast;
 const WIDTH: u32 = 1100;
 const HEIGHT: u32 = 930;
 
-/// A map's format, by the extension.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum MapFormat {
-    Png,
-    Svg,
-}
-
-impl MapFormat {
-    /// `.png` or `.svg`; `None` for another extension.
-    pub fn from_path(path: &Path) -> Option<MapFormat> {
-        match path
-            .extension()
-            .and_then(|e| e.to_str())
-            .map(str::to_ascii_lowercase)
-            .as_deref()
-        {
-            Some("png") => Some(MapFormat::Png),
-            Some("svg") => Some(MapFormat::Svg),
-            _ => None,
-        }
-    }
+/// Draws with `$draw` (given the drawing area) on `$backend` and presents the area
+/// (writes the file); a failure as text.
+macro_rules! present {
+    ($backend:expr, |$root:ident| $draw:expr) => {{
+        let area = $backend.into_drawing_area();
+        let $root = &area;
+        $draw
+            .and_then(|()| area.present())
+            .map_err(|error| error.to_string())
+    }};
 }
 
 /// Draws with `$draw` (given the drawing area) on the backend `$path`'s extension names
-/// (PNG or SVG), and words a failure with the path: one body for every map. A macro,
-/// because the drawing functions are generic over the backend.
+/// (PNG or SVG, as [`PlotFormat::from_path`] tells the simulator's plots), and words a
+/// failure with the path: one body for every map. Macros, because the drawing
+/// functions are generic over the backend.
 macro_rules! render {
     ($path:expr, |$root:ident| $draw:expr) => {{
         let path: &Path = $path;
-        let result = match MapFormat::from_path(path) {
-            Some(MapFormat::Png) => {
-                let area = BitMapBackend::new(path, (WIDTH, HEIGHT)).into_drawing_area();
-                let $root = &area;
-                $draw
-                    .and_then(|()| area.present())
-                    .map_err(|error| error.to_string())
+        let result = match PlotFormat::from_path(path) {
+            Ok(PlotFormat::Png) => {
+                present!(BitMapBackend::new(path, (WIDTH, HEIGHT)), |$root| $draw)
             }
-            Some(MapFormat::Svg) => {
-                let area = SVGBackend::new(path, (WIDTH, HEIGHT)).into_drawing_area();
-                let $root = &area;
-                $draw
-                    .and_then(|()| area.present())
-                    .map_err(|error| error.to_string())
-            }
-            None => Err("a map is .png or .svg".to_string()),
+            Ok(PlotFormat::Svg) => present!(SVGBackend::new(path, (WIDTH, HEIGHT)), |$root| $draw),
+            Err(_) => Err("a map is .png or .svg".to_string()),
         };
         result.map_err(|error| format!("cannot draw the map `{}`: {error}", path.display()))
     }};
@@ -99,6 +80,19 @@ type Frame<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoor
 /// A frame and its window, or the backend's error.
 type Framed<'a, DB> =
     Result<(Frame<'a, DB>, [f64; 4]), DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;
+
+/// The logged GPS fixes as grey dots: where the glider has been.
+fn draw_fixes<DB: DrawingBackend>(
+    chart: &mut Frame<'_, DB>,
+    fixes: &[Fix],
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let grey = RGBColor(120, 120, 120);
+    chart.draw_series(fixes.iter().map(|fix| {
+        let (lat, lon) = crate::fly::degrees(fix.lat, fix.lon);
+        Circle::new((lon, lat), 2, grey.filled())
+    }))?;
+    Ok(())
+}
 
 fn frame<'a, DB: DrawingBackend>(
     root: &'a DrawingArea<DB, Shift>,
@@ -191,11 +185,7 @@ fn draw<DB: DrawingBackend>(
             }
         }
     }
-    let grey = RGBColor(120, 120, 120);
-    chart.draw_series(fixes.iter().map(|fix| {
-        let (lat, lon) = crate::fly::degrees(fix.lat, fix.lon);
-        Circle::new((lon, lat), 2, grey.filled())
-    }))?;
+    draw_fixes(&mut chart, fixes)?;
     let red = RGBColor(200, 30, 30);
     chart.draw_series(LineSeries::new(
         forecast.track.points.iter().map(|p| (p.lon, p.lat)),
@@ -283,11 +273,7 @@ fn draw_hindcast<DB: DrawingBackend>(
     }
     let title = format!("gloc hindcast: {} segment(s) flown again", segments.len());
     let (mut chart, _) = frame(root, &points, title)?;
-    let grey = RGBColor(120, 120, 120);
-    chart.draw_series(fixes.iter().map(|fix| {
-        let (lat, lon) = crate::fly::degrees(fix.lat, fix.lon);
-        Circle::new((lon, lat), 2, grey.filled())
-    }))?;
+    draw_fixes(&mut chart, fixes)?;
     let red = RGBColor(200, 30, 30);
     let orange = RGBColor(235, 140, 20);
     let green = RGBColor(20, 130, 60);

@@ -18,11 +18,12 @@
 use std::io::Cursor;
 use std::path::Path;
 
+use gloc_dbd::header::days_from_civil;
 use gloc_engine::files::Limit;
 use gloc_sim::navigation::Xy;
 use netcdf3::{DataSet, DataType, FileReader};
 
-use crate::currents::{days_from_civil, CurrentField};
+use crate::currents::CurrentField;
 use crate::export::iso_time;
 
 /// The largest NetCDF file read (it is read whole).
@@ -251,6 +252,16 @@ fn type_size(code: u32) -> Result<usize, String> {
     }
 }
 
+/// The first of a NetCDF attribute's numbers, as f64.
+fn first<T: Copy + Into<f64>>(values: Option<&[T]>) -> Option<f64> {
+    values?.first().map(|&value| value.into())
+}
+
+/// A NetCDF variable's numbers, as f64.
+fn widen<T: Copy + Into<f64>>(values: Option<&[T]>) -> Option<Vec<f64>> {
+    values.map(|values| values.iter().map(|&value| value.into()).collect())
+}
+
 /// A variable's values as f64, unpacked, fill values as NaN. Refuses a
 /// variable larger than the file (a corrupt header must not allocate more).
 fn read_values(
@@ -278,21 +289,11 @@ fn read_values(
     }
     let number = |attribute: &str| -> Option<f64> {
         let attr = variable.get_attr(attribute)?;
-        attr.get_f64()
-            .and_then(|v| v.first().copied())
-            .or_else(|| {
-                attr.get_f32()
-                    .and_then(|v| v.first().map(|x| f64::from(*x)))
-            })
-            .or_else(|| {
-                attr.get_i32()
-                    .and_then(|v| v.first().map(|x| f64::from(*x)))
-            })
-            .or_else(|| {
-                attr.get_i16()
-                    .and_then(|v| v.first().map(|x| f64::from(*x)))
-            })
-            .or_else(|| attr.get_i8().and_then(|v| v.first().map(|x| f64::from(*x))))
+        first(attr.get_f64())
+            .or_else(|| first(attr.get_f32()))
+            .or_else(|| first(attr.get_i32()))
+            .or_else(|| first(attr.get_i16()))
+            .or_else(|| first(attr.get_i8()))
     };
     let fill = number("_FillValue");
     let missing = number("missing_value");
@@ -303,22 +304,12 @@ fn read_values(
         .read_var(name)
         .map_err(|error| format!("`{}`: cannot read `{name}`: {error:?}", path.display()))?;
     let raw: Vec<f64> = match data_type {
-        DataType::I8 => data
-            .get_i8()
-            .map(|v| v.iter().map(|x| f64::from(*x)).collect()),
-        DataType::U8 => data
-            .get_u8()
-            .map(|v| v.iter().map(|x| f64::from(*x)).collect()),
-        DataType::I16 => data
-            .get_i16()
-            .map(|v| v.iter().map(|x| f64::from(*x)).collect()),
-        DataType::I32 => data
-            .get_i32()
-            .map(|v| v.iter().map(|x| f64::from(*x)).collect()),
-        DataType::F32 => data
-            .get_f32()
-            .map(|v| v.iter().map(|x| f64::from(*x)).collect()),
-        DataType::F64 => data.get_f64().map(<[f64]>::to_vec),
+        DataType::I8 => widen(data.get_i8()),
+        DataType::U8 => widen(data.get_u8()),
+        DataType::I16 => widen(data.get_i16()),
+        DataType::I32 => widen(data.get_i32()),
+        DataType::F32 => widen(data.get_f32()),
+        DataType::F64 => widen(data.get_f64()),
     }
     .unwrap_or_default();
     Ok(raw

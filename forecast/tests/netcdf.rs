@@ -10,7 +10,7 @@ use std::sync::Arc;
 
 use gloc_engine::sensors::SensorList;
 use gloc_forecast::currents::CurrentField;
-use gloc_forecast::fly::{fly, prepare_mission, FlightPlan, Outside, Start, StopAt, Truth};
+use gloc_forecast::fly::{fly, prepare_mission, Flight, FlightPlan, Outside, Start, StopAt, Truth};
 use gloc_forecast::netcdf::{read_bathymetry, read_currents, DepthField};
 use gloc_forecast::ForecastError;
 use gloc_sim::navigation::{degrees_to_nmea, Lmc, Xy};
@@ -458,12 +458,14 @@ fn ensemble_members_that_leave_the_grid_stop_there_and_are_reported() {
     let sensors = Arc::new(SensorList::embedded());
     let config = SimConfig::default();
     let input = EnsembleInput {
-        mission: &prepared,
-        sensors: &sensors,
-        config: &config,
-        start: &start,
-        truth: &truth,
-        bathymetry: None,
+        flight: Flight {
+            mission: &prepared,
+            sensors: &sensors,
+            config: &config,
+            start: &start,
+            truth: &truth,
+            bathymetry: None,
+        },
         hours: 3.0,
     };
     let options = EnsembleOptions {

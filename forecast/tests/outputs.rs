@@ -10,7 +10,7 @@ use std::sync::Arc;
 
 use gloc_engine::sensors::SensorList;
 use gloc_forecast::ensemble::{run_ensemble, EnsembleInput, EnsembleOptions};
-use gloc_forecast::fly::{prepare_mission, Start, Truth};
+use gloc_forecast::fly::{prepare_mission, Flight, Start, Truth};
 use gloc_forecast::logs::{read_history, LogHistory};
 use gloc_forecast::{export, forecast, Request};
 use gloc_sim::navigation::Xy;
@@ -214,12 +214,14 @@ fn the_same_seed_gives_the_same_members_on_any_number_of_threads() {
     let config = SimConfig::default();
     let truth = Truth::Uniform(start.believed);
     let input = EnsembleInput {
-        mission: &prepared,
-        sensors: &sensors,
-        config: &config,
-        start: &start,
-        truth: &truth,
-        bathymetry: None,
+        flight: Flight {
+            mission: &prepared,
+            sensors: &sensors,
+            config: &config,
+            start: &start,
+            truth: &truth,
+            bathymetry: None,
+        },
         hours: 2.0,
     };
     let options = |threads| EnsembleOptions {

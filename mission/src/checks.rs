@@ -329,38 +329,49 @@ fn depths(mission: &Mission, found: &mut Vec<MissionDiagnostic>) {
         let Some(target) = value(spec, dive) else {
             continue;
         };
-        if let Some(limit) = overdepth.filter(|limit| target.value > limit.value) {
-            let here = target.at.file;
+        // Each limit the dive target passes: what it is (after "deeper than"), what
+        // to do, and where the limit was set.
+        let here = target.at.file;
+        let limits = [
+            overdepth
+                .filter(|limit| target.value > limit.value)
+                .map(|limit| {
+                    (
+                        format!(
+                            "abend's {}: the mission aborts on the dive",
+                            describe(mission, "overdepth", limit, here)
+                        ),
+                        "make the dive target shallower than overdepth, or overdepth deeper",
+                        (limit.at, "abend's overdepth"),
+                    )
+                }),
+            water
+                .filter(|water| target.value > water.value)
+                .map(|water| {
+                    (
+                        format!(
+                            "the water, `s_water_depth_avg` {} ({}): the glider turns on the \
+                             altimeter or the bottom",
+                            water.value,
+                            place(mission, water.at, here)
+                        ),
+                        "set the dive target above the bottom, or rely on d_target_altitude",
+                        (water.at, "the water depth"),
+                    )
+                }),
+        ];
+        for (limit, help, other) in limits.into_iter().flatten() {
             warn(
                 found,
                 gloc_engine::codes::mission::TARGET_TOO_DEEP,
                 target.at,
                 format!(
-                    "{}'s {} is deeper than abend's {}: the mission aborts on the dive",
+                    "{}'s {} is deeper than {limit}",
                     spec.name,
-                    describe(mission, dive, target, here),
-                    describe(mission, "overdepth", limit, here)
+                    describe(mission, dive, target, here)
                 ),
-                "make the dive target shallower than overdepth, or overdepth deeper",
-                &[(limit.at, "abend's overdepth")],
-            );
-        }
-        if let Some(water) = water.filter(|water| target.value > water.value) {
-            let here = target.at.file;
-            warn(
-                found,
-                gloc_engine::codes::mission::TARGET_TOO_DEEP,
-                target.at,
-                format!(
-                    "{}'s {} is deeper than the water, `s_water_depth_avg` {} ({}): the \
-                     glider turns on the altimeter or the bottom",
-                    spec.name,
-                    describe(mission, dive, target, here),
-                    water.value,
-                    place(mission, water.at, here)
-                ),
-                "set the dive target above the bottom, or rely on d_target_altitude",
-                &[(water.at, "the water depth")],
+                help,
+                &[other],
             );
         }
         let Some(climb) = climb.and_then(|name| Some((name, value(spec, name)?))) else {

@@ -297,24 +297,19 @@ mod tests {
     #[test]
     fn folders_are_named_as_a_user_writes_them() {
         // `mafiles` beside `missions`, then the mission's folder.
-        assert_eq!(
-            searched("missions/x.mi"),
-            ["mafiles", "missions"].map(PathBuf::from)
-        );
-        assert_eq!(
-            searched("./missions/x.mi"),
-            ["mafiles", "missions"].map(PathBuf::from)
-        );
-        assert_eq!(searched("x.mi"), ["../mafiles", "."].map(PathBuf::from));
-        assert_eq!(searched("./x.mi"), ["../mafiles", "."].map(PathBuf::from));
-        assert_eq!(
-            searched("/g/comet/missions/x.mi"),
-            ["/g/comet/mafiles", "/g/comet/missions"].map(PathBuf::from)
-        );
-        assert_eq!(
-            searched("../x.mi"),
-            ["../../mafiles", ".."].map(PathBuf::from)
-        );
+        for (mission, folders) in [
+            ("missions/x.mi", ["mafiles", "missions"]),
+            ("./missions/x.mi", ["mafiles", "missions"]),
+            ("x.mi", ["../mafiles", "."]),
+            ("./x.mi", ["../mafiles", "."]),
+            (
+                "/g/comet/missions/x.mi",
+                ["/g/comet/mafiles", "/g/comet/missions"],
+            ),
+            ("../x.mi", ["../../mafiles", ".."]),
+        ] {
+            assert_eq!(searched(mission), folders.map(PathBuf::from), "{mission}");
+        }
     }
 
     #[test]

@@ -971,78 +971,14 @@ impl Parser<'_> {
     fn load_ma(&mut self, behavior: &str, value: f64, at: Location) {
         let number = value as i64;
         let file_name = ma_file_name(behavior, number);
-        let Some(lookup) = self.lookup.as_mut() else {
-            self.error(
-                at.file,
-                Diagnostic::error(
-                    gloc_engine::codes::mission::CANNOT_READ_MA,
-                    at.span,
-                    format!(
-                        "`args_from_file` needs `{file_name}`, but this mission has no mafiles folder"
-                    ),
-                )
-                .with_help("save the mission in a `missions` folder beside `mafiles`"),
-            );
-            return;
+        let found = match self.lookup.as_mut() {
+            Some(lookup) => lookup.find(&file_name).map_err(Some),
+            None => Err(None),
         };
-        let found = match lookup.find(&file_name) {
+        let found = match found {
             Ok(found) => found,
-            Err(NotLoaded::Missing { .. }) if number == 99 => {
-                self.error(
-                    at.file,
-                    Diagnostic::warning(
-                        gloc_engine::codes::mission::GENERATED_MA_MISSING,
-                        at.span,
-                        format!(
-                            "`{file_name}` is not there: number 99 is the file the glider \
-                             writes itself during a mission (breadcrumb, ice); gloc flies \
-                             the behavior's defaults"
-                        ),
-                    )
-                    .with_help(format!(
-                        "to fly it in gloc, put a `{file_name}` of your own in `mafiles/`"
-                    )),
-                );
-                return;
-            }
-            Err(NotLoaded::Missing { searched }) => {
-                let folders = searched
-                    .iter()
-                    .map(|folder| format!("`{}`", folder.display()))
-                    .collect::<Vec<_>>()
-                    .join(", ");
-                self.error(
-                    at.file,
-                    Diagnostic::error(
-                        gloc_engine::codes::mission::CANNOT_READ_MA,
-                        at.span,
-                        format!(
-                            "cannot find mission argument file `{file_name}` (in any case) in {folders}"
-                        ),
-                    )
-                    .with_help(format!(
-                        "the glider reads `mafiles/{file_name}` beside the `missions` folder; \
-                         name another folder with `--mafiles DIR` or `mafiles` in gloc.toml"
-                    )),
-                );
-                return;
-            }
-            Err(NotLoaded::Unreadable { path, reason }) => {
-                self.error(
-                    at.file,
-                    Diagnostic::error(
-                        gloc_engine::codes::mission::CANNOT_READ_MA,
-                        at.span,
-                        format!(
-                            "cannot read mission argument file `{}`: {reason}",
-                            path.display()
-                        ),
-                    )
-                    .with_help(
-                        "put a regular file in the mission's `mafiles` folder, or name a \
-                         folder of your own with `--mafiles DIR`",
-                    ),
-                );
+            Err(why) => {
+                self.error(at.file, ma_not_loaded(why, &file_name, number, at.span));
                 return;
             }
         };
@@ -1268,6 +1204,58 @@ impl Parser<'_> {
     }
 }
 
+/// Why the `.ma` file `file_name` that `args_from_file` names cannot be flown, as the
+/// diagnostic to show at that line (`None`: the mission has no mafiles folder to look in).
+fn ma_not_loaded(why: Option<NotLoaded>, file_name: &str, number: i64, span: Span) -> Diagnostic {
+    use gloc_engine::codes::mission::{CANNOT_READ_MA, GENERATED_MA_MISSING};
+    let (message, help) = match why {
+        None => (
+            format!("`args_from_file` needs `{file_name}`, but this mission has no mafiles folder"),
+            "save the mission in a `missions` folder beside `mafiles`".to_string(),
+        ),
+        Some(NotLoaded::Missing { .. }) if number == 99 => {
+            return Diagnostic::warning(
+                GENERATED_MA_MISSING,
+                span,
+                format!(
+                    "`{file_name}` is not there: number 99 is the file the glider \
+                     writes itself during a mission (breadcrumb, ice); gloc flies \
+                     the behavior's defaults"
+                ),
+            )
+            .with_help(format!(
+                "to fly it in gloc, put a `{file_name}` of your own in `mafiles/`"
+            ));
+        }
+        Some(NotLoaded::Missing { searched }) => {
+            let folders = searched
+                .iter()
+                .map(|folder| format!("`{}`", folder.display()))
+                .collect::<Vec<_>>()
+                .join(", ");
+            (
+                format!(
+                    "cannot find mission argument file `{file_name}` (in any case) in {folders}"
+                ),
+                format!(
+                    "the glider reads `mafiles/{file_name}` beside the `missions` folder; \
+                     name another folder with `--mafiles DIR` or `mafiles` in gloc.toml"
+                ),
+            )
+        }
+        Some(NotLoaded::Unreadable { path, reason }) => (
+            format!(
+                "cannot read mission argument file `{}`: {reason}",
+                path.display()
+            ),
+            "put a regular file in the mission's `mafiles` folder, or name a \
+             folder of your own with `--mafiles DIR`"
+                .to_string(),
+        ),
+    };
+    Diagnostic::error(CANNOT_READ_MA, span, message).with_help(help)
+}
+
 fn unknown_spec(keyword: Word<'_>) -> BehaviorSpec {
     BehaviorSpec::for_behavior(
         None,
@@ -1317,19 +1305,46 @@ mod tests {
         assert_eq!(mission.behaviors[1].arg("d_target_depth"), Some(25.0));
     }
 
+    /// Asserts that the mission's diagnostics, rendered, are as many as `starts` and
+    /// begin with them in order; returns them for further checks.
+    fn assert_messages(mission: &Mission, starts: &[&str]) -> Vec<String> {
+        let messages = errors(mission);
+        assert_eq!(messages.len(), starts.len(), "{messages:?}");
+        for (message, start) in messages.iter().zip(starts) {
+            assert!(
+                message.starts_with(start),
+                "{message}\nshould start with {start}"
+            );
+        }
+        messages
+    }
+
+    /// Loads `/m/missions/x.mi` holding `mi`; every other file read (the `.ma` files)
+    /// holds `ma`, or is not found when `ma` is `None`.
+    fn load_x_mi(mi: &str, ma: Option<&str>) -> Mission {
+        Mission::load_with(Path::new("/m/missions/x.mi"), &mut |path: &Path| match (
+            path.ends_with("x.mi"),
+            ma,
+        ) {
+            (true, _) => Ok(mi.to_string()),
+            (false, Some(ma)) => Ok(ma.to_string()),
+            (false, None) => Err(std::io::Error::new(
+                std::io::ErrorKind::NotFound,
+                "not found",
+            )),
+        })
+    }
+
     #[test]
     fn malformed_value_gives_line_and_column() {
         let mission = Mission::parse(
             "bad.mi",
             "behavior: abend\n    b_arg: overdepth(m) thirty\n",
         );
-        let messages = errors(&mission);
-        assert_eq!(messages.len(), 1, "{messages:?}");
         // `thirty` starts at column 25 of line 2 (4 spaces + `b_arg: ` + `overdepth(m) `).
-        assert!(
-            messages[0].starts_with("bad.mi:2:25: error[S0015]: `thirty` is not a number"),
-            "{}",
-            messages[0]
+        assert_messages(
+            &mission,
+            &["bad.mi:2:25: error[S0015]: `thirty` is not a number"],
         );
         assert!(mission.has_errors());
     }
@@ -1340,17 +1355,9 @@ mod tests {
             "bad.mi",
             "behavior: yo\nb_arg: d_target_depth 25\nfly fast\n",
         );
-        let messages = errors(&mission);
-        assert_eq!(messages.len(), 2, "{messages:?}");
-        assert!(
-            messages[0].starts_with("bad.mi:2:8: error[S0011]"),
-            "{}",
-            messages[0]
-        );
-        assert!(
-            messages[1].starts_with("bad.mi:3:1: error[S0003]"),
-            "{}",
-            messages[1]
+        assert_messages(
+            &mission,
+            &["bad.mi:2:8: error[S0011]", "bad.mi:3:1: error[S0003]"],
         );
     }
 
@@ -1360,10 +1367,13 @@ mod tests {
             "w.mi",
             "behavior: yo\n  b_arg: bogus(m) 1\nbehavior: teleport\n  b_arg: where(m) 3\nbehavior: abend\n  b_arg: overdepth(m) 30\n",
         );
-        let messages = errors(&mission);
-        assert_eq!(messages.len(), 2, "{messages:?}");
-        assert!(messages[0].starts_with("w.mi:2:3: warning[S0103]: unknown argument `bogus`"));
-        assert!(messages[1].starts_with("w.mi:3:11: warning[S0101]: unknown behavior `teleport`"));
+        assert_messages(
+            &mission,
+            &[
+                "w.mi:2:3: warning[S0103]: unknown argument `bogus`",
+                "w.mi:3:11: warning[S0101]: unknown behavior `teleport`",
+            ],
+        );
         assert!(!mission.has_errors());
         let kinds: Vec<_> = mission.known_behaviors().map(|spec| spec.kind).collect();
         assert_eq!(kinds, vec![BehaviorKind::Yo, BehaviorKind::Abend]);
@@ -1373,18 +1383,8 @@ mod tests {
 
     #[test]
     fn missing_ma_file_is_an_error_naming_it() {
-        let mission = Mission::load_with(Path::new("/m/missions/x.mi"), &mut |path: &Path| {
-            if path.ends_with("x.mi") {
-                Ok("behavior: yo\n  b_arg: args_from_file(enum) 12\n".to_string())
-            } else {
-                Err(std::io::Error::new(
-                    std::io::ErrorKind::NotFound,
-                    "not found",
-                ))
-            }
-        });
-        let messages = errors(&mission);
-        assert_eq!(messages.len(), 1, "{messages:?}");
+        let mission = load_x_mi("behavior: yo\n  b_arg: args_from_file(enum) 12\n", None);
+        let messages = assert_messages(&mission, &["/m/missions/x.mi:2:3"]);
         assert!(messages[0].contains("error[S0004]"), "{}", messages[0]);
         // `args_from_file 12` asks for `yo12.ma`; a reader that cannot list folders
         // tries `mafiles/` beside `missions/`, then the mission's own folder.
@@ -1396,29 +1396,15 @@ mod tests {
             "{}",
             messages[0]
         );
-        assert!(
-            messages[0].starts_with("/m/missions/x.mi:2:3"),
-            "{}",
-            messages[0]
-        );
     }
 
     #[test]
     fn ma_args_merge_and_bad_ma_lines_name_the_ma_file() {
-        let mission = Mission::load_with(Path::new("/m/missions/x.mi"), &mut |path: &Path| {
-            if path.ends_with("x.mi") {
-                Ok("behavior: yo\n  b_arg: args_from_file(enum) 3\n".to_string())
-            } else {
-                Ok("behavior_name=Yo\n<start:b_arg>\n b_arg: d_target_depth(m) 17\n b_arg: c_target_depth(m) x\n<end:b_arg>\n".to_string())
-            }
-        });
-        let messages = errors(&mission);
-        assert_eq!(messages.len(), 1, "{messages:?}");
-        assert!(
-            messages[0].starts_with("/m/mafiles/yo03.ma:4:27: error[S0015]"),
-            "{}",
-            messages[0]
+        let mission = load_x_mi(
+            "behavior: yo\n  b_arg: args_from_file(enum) 3\n",
+            Some("behavior_name=Yo\n<start:b_arg>\n b_arg: d_target_depth(m) 17\n b_arg: c_target_depth(m) x\n<end:b_arg>\n"),
         );
+        assert_messages(&mission, &["/m/mafiles/yo03.ma:4:27: error[S0015]"]);
         assert_eq!(mission.behaviors[0].arg("d_target_depth"), Some(17.0));
     }
 
@@ -1426,14 +1412,8 @@ mod tests {
     fn an_args_file_alone_is_parsed_as_its_behavior_loads_it() {
         let text = "behavior_name=Yo\n<start:b_arg>\n\tb_arg: d_target_depth(m) 50\n\tb_arg: args_from_file(enum) 3\n<end:b_arg>\n";
         let mission = Mission::parse_args_file("yo10.ma", text);
-        let messages = errors(&mission);
         // The nested args_from_file is the one problem, on line 4 (a tab, then `b_arg:`).
-        assert_eq!(messages.len(), 1, "{messages:?}");
-        assert!(
-            messages[0].starts_with("yo10.ma:4:2: warning[S0102]"),
-            "{}",
-            messages[0]
-        );
+        assert_messages(&mission, &["yo10.ma:4:2: warning[S0102]"]);
         assert_eq!(mission.behaviors.len(), 1);
         assert_eq!(mission.behaviors[0].kind, BehaviorKind::Yo);
         assert_eq!(mission.behaviors[0].arg("d_target_depth"), Some(50.0));
@@ -1453,12 +1433,13 @@ mod tests {
             "x.ma",
             "behavior_name=drift_at_dept\n<start:b_arg>\nb_arg: foo(m) 1\n<end:b_arg>\n",
         );
-        let messages = errors(&mission);
-        assert_eq!(messages.len(), 1, "{messages:?}");
         // `drift_at_dept` starts after `behavior_name=` (14 characters): column 15.
+        let messages = assert_messages(
+            &mission,
+            &["x.ma:1:15: warning[S0101]: unknown behavior `drift_at_dept`"],
+        );
         assert!(
-            messages[0].starts_with("x.ma:1:15: warning[S0101]: unknown behavior `drift_at_dept`")
-                && messages[0].ends_with("(help: did you mean `drift_at_depth`?)"),
+            messages[0].ends_with("(help: did you mean `drift_at_depth`?)"),
             "{}",
             messages[0]
         );
@@ -1474,14 +1455,11 @@ mod tests {
 
     #[test]
     fn a_loaded_args_file_knows_the_line_that_loaded_it() {
-        let mission = Mission::load_with(Path::new("/m/missions/x.mi"), &mut |path: &Path| {
-            if path.ends_with("x.mi") {
-                Ok("behavior: yo\n  b_arg: args_from_file(enum) 3\n".to_string())
-            } else {
-                Ok("behavior_name=yo\n<start:b_arg>\n<end:b_arg>\n".to_string())
-            }
-        });
-        assert!(mission.diagnostics.is_empty(), "{:?}", errors(&mission));
+        let mission = load_x_mi(
+            "behavior: yo\n  b_arg: args_from_file(enum) 3\n",
+            Some("behavior_name=yo\n<start:b_arg>\n<end:b_arg>\n"),
+        );
+        assert_messages(&mission, &[]);
         assert_eq!(mission.sources[0].loaded_at, None);
         // `b_arg: args_from_file(enum) 3` is bytes 15..44 of the mission.
         assert_eq!(mission.sources[1].loaded_at, Some(Span::new(15, 44)));

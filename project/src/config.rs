@@ -97,6 +97,17 @@ pub fn check_cycle_budget(budget: u64) -> Result<u64, String> {
     }
 }
 
+/// `(line, column)`, from 1, of a value of the `gloc.toml` `text`, if it is there.
+fn position<T>(
+    index: &gloc_engine::diagnostic::LineIndex,
+    text: &str,
+    value: &Option<toml::Spanned<T>>,
+) -> Option<(usize, usize)> {
+    value
+        .as_ref()
+        .map(|value| index.line_col(text, value.span().start))
+}
+
 /// A `gloc.toml` that could not be used: where it is, and what is wrong.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ConfigError {
@@ -241,32 +252,13 @@ impl Config {
             }
         }
         let index = gloc_engine::diagnostic::LineIndex::new(text);
-        let position = |span: std::ops::Range<usize>| Some(index.line_col(text, span.start));
         let positions = ValuePositions {
-            masterdata: raw
-                .masterdata
-                .as_ref()
-                .and_then(|value| position(value.span())),
-            cycle_budget: raw
-                .cycle_budget
-                .as_ref()
-                .and_then(|value| position(value.span())),
-            mission: raw
-                .mission
-                .as_ref()
-                .and_then(|value| position(value.span())),
-            sensor_order: raw
-                .sensor_order
-                .as_ref()
-                .and_then(|value| position(value.span())),
-            sensor_cache: raw
-                .sensor_cache
-                .as_ref()
-                .and_then(|value| position(value.span())),
-            mafiles: raw
-                .mafiles
-                .as_ref()
-                .and_then(|value| position(value.span())),
+            masterdata: position(&index, text, &raw.masterdata),
+            cycle_budget: position(&index, text, &raw.cycle_budget),
+            mission: position(&index, text, &raw.mission),
+            sensor_order: position(&index, text, &raw.sensor_order),
+            sensor_cache: position(&index, text, &raw.sensor_cache),
+            mafiles: position(&index, text, &raw.mafiles),
         };
         let resolve = |value: Option<toml::Spanned<String>>| {
             value.map(|relative| folder.join(relative.into_inner()))
@@ -349,16 +341,32 @@ mod tests {
         assert_eq!(config.positions.mafiles, Some((5, 11)));
     }
 
+    /// `text` as a `gloc.toml` in `/p`, which must be valid.
+    fn parsed(text: &str) -> Config {
+        Config::parse(text, Path::new("/p")).unwrap_or_else(|error| panic!("{text}: {error:?}"))
+    }
+
+    /// Asserts that `text` is refused, the error pointing at `at` (the text it
+    /// underlines) and its message saying `says`; returns the error.
+    fn refused(text: &str, at: &str, says: &str) -> Box<Diagnostic> {
+        let error = Config::parse(text, Path::new("/p")).expect_err(text);
+        assert_eq!(error.code, CODE_BAD_CONFIG);
+        assert_eq!(&text[error.span.range()], at, "{}", error.message);
+        assert!(error.message.contains(says), "{}", error.message);
+        error
+    }
+
     #[test]
     fn sensor_order_is_file_or_sorted_and_anything_else_points_at_the_value() {
-        let sorted = Config::parse("sensor_order = \"sorted\"\n", Path::new("/p")).expect("valid");
+        let sorted = parsed("sensor_order = \"sorted\"\n");
         assert_eq!(sorted.sensor_order, Some(SensorOrder::SortedByName));
-        let file = Config::parse("sensor_order = \"file\"\n", Path::new("/p")).expect("valid");
+        let file = parsed("sensor_order = \"file\"\n");
         assert_eq!(file.sensor_order, Some(SensorOrder::FileOrder));
-        let text = "masterdata = \"m.mi\"\nsensor_order = \"alphabetical\"\n";
-        let error = Config::parse(text, Path::new("/p")).expect_err("not an order");
-        assert_eq!(error.code, CODE_BAD_CONFIG);
-        assert_eq!(&text[error.span.range()], "\"alphabetical\"");
+        let error = refused(
+            "masterdata = \"m.mi\"\nsensor_order = \"alphabetical\"\n",
+            "\"alphabetical\"",
+            "`sensor_order` is `alphabetical`",
+        );
         assert!(error
             .help
             .as_deref()
@@ -368,7 +376,7 @@ mod tests {
     #[test]
     fn simulator_settings_are_checked_by_name_and_range() {
         let text = "[simulator]\ndrag_cd0 = 0.2\nbattery_wh = 800\n";
-        let config = Config::parse(text, Path::new("/p")).expect("valid");
+        let config = parsed(text);
         assert_eq!(
             config.simulator,
             vec![
@@ -376,30 +384,14 @@ mod tests {
                 ("drag_cd0".to_string(), 0.2)
             ]
         );
-        let text = "cycle_budget = 5\n[simulator]\ndrag_c0 = 0.2\n";
-        let error = Config::parse(text, Path::new("/p")).expect_err("unknown name");
-        assert_eq!(&text[error.span.range()], "drag_c0");
-        assert!(
-            error.message.contains("did you mean `drag_cd0`?"),
-            "{}",
-            error.message
+        refused(
+            "cycle_budget = 5\n[simulator]\ndrag_c0 = 0.2\n",
+            "drag_c0",
+            "did you mean `drag_cd0`?",
         );
         // A 1e-9 s step would never finish a cycle.
-        let text = "[simulator]\nstep = 1e-9\n";
-        let error = Config::parse(text, Path::new("/p")).expect_err("out of range");
-        assert_eq!(&text[error.span.range()], "step");
-        assert!(
-            error.message.contains("from 0.05 to 1.5 s"),
-            "{}",
-            error.message
-        );
-        let text = "[simulator]\nstep = \"fast\"\n";
-        let error = Config::parse(text, Path::new("/p")).expect_err("not a number");
-        assert!(
-            error.message.contains("must be a number"),
-            "{}",
-            error.message
-        );
+        refused("[simulator]\nstep = 1e-9\n", "step", "from 0.05 to 1.5 s");
+        refused("[simulator]\nstep = \"fast\"\n", "step", "must be a number");
     }
 
     #[test]
@@ -419,18 +411,18 @@ mod tests {
 
     #[test]
     fn an_empty_file_is_the_default() {
-        let config = Config::parse("", Path::new("/p")).expect("empty is valid");
+        let config = parsed("");
         assert_eq!(config.masterdata, None);
         assert_eq!(config.cycle_budget, None);
     }
 
     #[test]
     fn an_unknown_key_points_at_the_key() {
-        let text = "cycle_budget = 5\nmasterdta = \"x\"\n";
-        let error = Config::parse(text, Path::new("/p")).expect_err("unknown key");
-        assert_eq!(error.code, CODE_BAD_CONFIG);
-        assert_eq!(&text[error.span.range()], "masterdta");
-        assert!(error.message.contains("masterdta"), "{}", error.message);
+        refused(
+            "cycle_budget = 5\nmasterdta = \"x\"\n",
+            "masterdta",
+            "masterdta",
+        );
     }
 
     #[test]
@@ -442,15 +434,12 @@ mod tests {
         let error = Config::parse("cycle_budget = 0", Path::new("/p")).expect_err("zero");
         assert_eq!(error.span, Span::new(15, 16));
         // Above the maximum: a run with it might never finish a cycle.
-        let text = "cycle_budget = 9223372036854775807";
-        let error = Config::parse(text, Path::new("/p")).expect_err("too large");
-        assert_eq!(&text[error.span.range()], "9223372036854775807");
-        assert!(
-            error.message.contains("1 to 1000000000 "),
-            "{}",
-            error.message
+        refused(
+            "cycle_budget = 9223372036854775807",
+            "9223372036854775807",
+            "1 to 1000000000 ",
         );
-        assert!(Config::parse("cycle_budget = 1000000000", Path::new("/p")).is_ok());
+        parsed("cycle_budget = 1000000000");
     }
 
     #[test]
@@ -469,7 +458,7 @@ mod tests {
 
     #[test]
     fn discover_walks_up_and_reports_bad_files_with_line_and_column() {
-        let root = std::env::temp_dir().join(format!("gloc-config-test-{}", std::process::id()));
+        let root = gloc_testsupport::scratch_dir("config-test");
         let nested = root.join("a").join("b");
         std::fs::create_dir_all(&nested).expect("temp dir");
         std::fs::write(root.join(FILE_NAME), "cycle_budget = 77\n").expect("write");

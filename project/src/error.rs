@@ -36,6 +36,14 @@ impl ProjectError {
     }
 }
 
+/// Test support: asserts that `error` is a file that cannot be read, its message
+/// starting with `start`.
+#[cfg(test)]
+pub(crate) fn assert_unreadable(error: &ProjectError, start: &str) {
+    assert_eq!(error.kind, ErrorKind::Unreadable, "{error}");
+    assert!(error.to_string().starts_with(start), "{error}");
+}
+
 impl fmt::Display for ProjectError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match &self.origin {

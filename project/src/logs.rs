@@ -7,15 +7,7 @@ use gloc_sim::calibrate::{Track, MAX_TRACK_ROWS, TRACK_SENSORS};
 /// Reads a log (a `.dbd`, a merge, a deployment) to its end into a [`Track`], at most
 /// [`MAX_TRACK_ROWS`] timed cycles (refused at the byte where the limit is passed).
 pub fn read_track(source: &mut dyn CycleSource) -> Result<Track, DbdError> {
-    let columns: Vec<Option<usize>> = TRACK_SENSORS
-        .iter()
-        .map(|name| {
-            source
-                .sensors()
-                .iter()
-                .position(|sensor| sensor.name == *name)
-        })
-        .collect();
+    let columns = gloc_dbd::columns_of(source.sensors(), &TRACK_SENSORS);
     let mut track = Track::default();
     while let Some(cycle) = source.next_cycle()? {
         track.push(|field| columns[field].and_then(|column| cycle.value(column)));

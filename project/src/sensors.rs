@@ -117,19 +117,12 @@ mod tests {
 
     #[test]
     fn an_unreadable_list_names_where_its_path_came_from() {
-        let mut config =
-            crate::config::Config::parse("\nmasterdata = \"nosuch.mi\"\n", Path::new("/p"))
-                .expect("valid");
-        config.path = Some(PathBuf::from("/p/gloc.toml"));
-        let settings = Settings::from_config(config, Overrides::default()).expect("valid");
+        let settings = crate::settings::test_settings("\nmasterdata = \"nosuch.mi\"\n");
         let error = load_sensor_list(&settings).expect_err("no such file");
-        assert_eq!(error.kind, ErrorKind::Unreadable);
         // Line 2, column 14 (`masterdata = ` is 13 characters).
-        assert!(
-            error
-                .to_string()
-                .starts_with("/p/gloc.toml:2:14: cannot read the sensor list `/p/nosuch.mi`: "),
-            "{error}"
+        crate::error::assert_unreadable(
+            &error,
+            "/p/gloc.toml:2:14: cannot read the sensor list `/p/nosuch.mi`: ",
         );
         let mut overrides = Overrides::new(Surface::Editor);
         overrides.masterdata = Some(PathBuf::from("/nowhere/md"));
@@ -141,8 +134,7 @@ mod tests {
 
     #[test]
     fn a_list_with_errors_is_one_error_with_a_line_per_problem() {
-        let folder = std::env::temp_dir().join(format!("gloc-project-md-{}", std::process::id()));
-        std::fs::create_dir_all(&folder).expect("temp folder");
+        let folder = gloc_testsupport::scratch_dir("project-md");
         let path = folder.join("bad.cac");
         // A `.cac` line needs `s:` and five fields; this one has too few.
         std::fs::write(&path, "s: T 0 0 4 m_depth\ns: T\n").expect("write");

@@ -302,31 +302,15 @@ impl Settings {
                 },
             }
         };
-        let cycle_budget = match overrides.cycle_budget {
-            Some(budget) => Sourced {
-                value: CycleBudget::new(budget).map_err(|message| {
-                    ProjectError::new(
-                        ErrorKind::Setting,
-                        Some(Setting::CycleBudget.origin(surface)),
-                        message,
-                    )
-                })?,
-                origin: Setting::CycleBudget.origin(surface),
-            },
-            None => match config.cycle_budget {
-                // gloc.toml's budget was checked when it was parsed (E0901).
-                Some(budget) => Sourced {
-                    value: CycleBudget::new(budget).map_err(|message| {
-                        ProjectError::new(
-                            ErrorKind::Setting,
-                            Some(from_file(config.positions.cycle_budget)),
-                            message,
-                        )
-                    })?,
-                    origin: from_file(config.positions.cycle_budget),
-                },
-                None => Sourced::default(),
-            },
+        let budget = |budget: u64, origin: Origin| match CycleBudget::new(budget) {
+            Ok(value) => Ok(Sourced { value, origin }),
+            Err(message) => Err(ProjectError::new(ErrorKind::Setting, Some(origin), message)),
+        };
+        let cycle_budget = match (overrides.cycle_budget, config.cycle_budget) {
+            (Some(given), _) => budget(given, Setting::CycleBudget.origin(surface))?,
+            // gloc.toml's budget was checked when it was parsed (E0901).
+            (None, Some(file)) => budget(file, from_file(config.positions.cycle_budget))?,
+            (None, None) => Sourced::default(),
         };
         for (name, value) in &overrides.simulator {
             check_simulator_setting(name, *value).map_err(|message| {
@@ -473,19 +457,27 @@ pub fn parse_sensor_order(name: &str) -> Result<SensorOrder, String> {
     SensorOrder::from_name(name).ok_or_else(|| format!("expected {}", SensorOrder::NAMES))
 }
 
+/// Test support: `/p/gloc.toml` holding `text` (a valid one), parsed.
+#[cfg(test)]
+pub(crate) fn test_config(text: &str) -> Config {
+    let mut config = Config::parse(text, Path::new("/p")).expect("valid gloc.toml");
+    config.path = Some(PathBuf::from("/p/gloc.toml"));
+    config
+}
+
+/// Test support: the settings of `/p/gloc.toml` holding `text`, without overrides.
+#[cfg(test)]
+pub(crate) fn test_settings(text: &str) -> Settings {
+    Settings::from_config(test_config(text), Overrides::default()).expect("valid settings")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn config(text: &str) -> Config {
-        let mut config = Config::parse(text, Path::new("/p")).expect("valid gloc.toml");
-        config.path = Some(PathBuf::from("/p/gloc.toml"));
-        config
-    }
-
     #[test]
     fn an_override_wins_over_gloc_toml_which_wins_over_the_default() {
-        let file = config("cycle_budget = 500\nmasterdata = \"md.mi\"\n");
+        let file = test_config("cycle_budget = 500\nmasterdata = \"md.mi\"\n");
         let mut overrides = Overrides::new(Surface::Launch);
         overrides.masterdata = Some(PathBuf::from("/q/other.cac"));
         let settings = Settings::from_config(file.clone(), overrides).expect("valid");
@@ -526,8 +518,7 @@ mod tests {
 
     #[test]
     fn a_bad_gloc_toml_names_its_line_and_column() {
-        let folder = std::env::temp_dir().join(format!("gloc-project-{}", std::process::id()));
-        std::fs::create_dir_all(&folder).expect("temp folder");
+        let folder = gloc_testsupport::scratch_dir("project");
         let toml = folder.join("gloc.toml");
         std::fs::write(&toml, "# budget\ncycle_budget = 0\n").expect("write");
         let error = Settings::resolve(Some(&folder.join("a.gbas")), Overrides::default())
@@ -547,7 +538,7 @@ mod tests {
 
     #[test]
     fn simulator_overrides_are_checked_and_come_after_gloc_toml() {
-        let file = config("[simulator]\ndrag_cd0 = 0.1\n");
+        let file = test_config("[simulator]\ndrag_cd0 = 0.1\n");
         let mut overrides = Overrides::new(Surface::Cli);
         overrides.simulator = vec![("drag_cd0".into(), 0.3)];
         let settings = Settings::from_config(file.clone(), overrides).expect("valid");

@@ -30,20 +30,30 @@ pub fn load_mission(settings: &Settings, sensors: &SensorList) -> Result<Mission
     else {
         return Ok(default_mission());
     };
-    let text =
-        gloc_engine::files::read_text(path, gloc_engine::files::MISSION).map_err(|error| {
-            ProjectError::new(
-                ErrorKind::Unreadable,
-                Some(origin.clone()),
-                format!("cannot read the mission `{}`: {error}", path.display()),
-            )
-        })?;
+    let text = read_text(path, gloc_engine::files::MISSION, "the mission", origin)?;
     Ok(Mission::load_text(
         path,
         text,
         &mission_options(settings, sensors),
         &mut gloc_mission::Disk,
     ))
+}
+
+/// Reads `what` (`the mission`) at `path`, at most `limit`; one that cannot be read is
+/// an error naming where its path came from.
+fn read_text(
+    path: &Path,
+    limit: gloc_engine::files::Limit,
+    what: &str,
+    origin: &Origin,
+) -> Result<String, ProjectError> {
+    gloc_engine::files::read_text(path, limit).map_err(|error| {
+        ProjectError::new(
+            ErrorKind::Unreadable,
+            Some(origin.clone()),
+            format!("cannot read {what} `{}`: {error}", path.display()),
+        )
+    })
 }
 
 /// How the settings' missions are read, for every front end: their `.ma` files found
@@ -59,14 +69,7 @@ pub fn mission_options(settings: &Settings, sensors: &SensorList) -> gloc_missio
 /// Reads a temperature profile CSV (`depth_m,temp_degC`); `origin` names the flag or
 /// attribute that gave it.
 pub fn load_profile(path: &Path, origin: Origin) -> Result<TemperatureProfile, ProjectError> {
-    let text =
-        gloc_engine::files::read_text(path, gloc_engine::files::PROFILE).map_err(|error| {
-            ProjectError::new(
-                ErrorKind::Unreadable,
-                Some(origin.clone()),
-                format!("cannot read the profile `{}`: {error}", path.display()),
-            )
-        })?;
+    let text = read_text(path, gloc_engine::files::PROFILE, "the profile", &origin)?;
     TemperatureProfile::from_csv(path, &text)
         .map_err(|error| ProjectError::new(ErrorKind::Invalid, None, error.to_string()))
 }
@@ -252,34 +255,22 @@ pub fn mission_path(settings: &Settings) -> Option<&PathBuf> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::settings::Overrides;
 
     #[test]
     fn a_missing_mission_from_gloc_toml_names_gloc_toml_and_says_it_cannot_be_read() {
-        let mut config = crate::config::Config::parse("mission = \"nosuch.mi\"\n", Path::new("/p"))
-            .expect("valid");
-        config.path = Some(PathBuf::from("/p/gloc.toml"));
-        let settings = Settings::from_config(config, Overrides::default()).expect("valid");
+        let settings = crate::settings::test_settings("mission = \"nosuch.mi\"\n");
         let error = load_mission(&settings, &SensorList::embedded()).expect_err("missing");
-        assert_eq!(error.kind, ErrorKind::Unreadable);
         // `mission = ` is 10 characters: the value starts in column 11.
-        assert!(
-            error
-                .to_string()
-                .starts_with("/p/gloc.toml:1:11: cannot read the mission `/p/nosuch.mi`: "),
-            "{error}"
+        crate::error::assert_unreadable(
+            &error,
+            "/p/gloc.toml:1:11: cannot read the mission `/p/nosuch.mi`: ",
         );
     }
 
     #[test]
     fn the_budget_and_constants_of_the_settings_reach_the_simulator() {
-        let mut config = crate::config::Config::parse(
-            "cycle_budget = 77\n[simulator]\ndrag_cd0 = 0.3\n",
-            Path::new("/p"),
-        )
-        .expect("valid");
-        config.path = Some(PathBuf::from("/p/gloc.toml"));
-        let settings = Settings::from_config(config, Overrides::default()).expect("valid");
+        let settings =
+            crate::settings::test_settings("cycle_budget = 77\n[simulator]\ndrag_cd0 = 0.3\n");
         let sim = sim_config(
             &settings,
             Flight {

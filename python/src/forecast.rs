@@ -15,6 +15,7 @@ use gloc_dbd::Deployment;
 use gloc_engine::sensors::SensorList;
 use gloc_forecast::currents::CurrentField;
 use gloc_forecast::ensemble::{self, EnsembleInput, EnsembleOptions};
+use gloc_forecast::fly::Flight;
 use gloc_forecast::fly::{Surfacing, Track, TrackPoint, Truth};
 use gloc_forecast::{LogHistory, Request, Start};
 use gloc_project::{Overrides, Surface};
@@ -192,12 +193,14 @@ impl Setup {
 
     fn input(&self) -> EnsembleInput<'_> {
         EnsembleInput {
-            mission: &self.prepared,
-            sensors: &self.sensors,
-            config: &self.config,
-            start: &self.start,
-            truth: &self.truth,
-            bathymetry: self.request.bathymetry.as_ref(),
+            flight: Flight {
+                mission: &self.prepared,
+                sensors: &self.sensors,
+                config: &self.config,
+                start: &self.start,
+                truth: &self.truth,
+                bathymetry: self.request.bathymetry.as_ref(),
+            },
             hours: self.request.hours,
         }
     }

@@ -410,19 +410,24 @@ mod tests {
         }
     }
 
-    #[test]
-    fn csv_has_a_header_and_one_row_per_call() {
+    /// The log `format` writes of `rows`, with the test list's default columns.
+    fn written(format: LogFormat, rows: &[[f64; 3]]) -> String {
         let list = list();
         let columns = default_columns(&list, &[]);
         let mut writer =
-            LogWriter::new(Vec::new(), LogFormat::Csv, columns, &list, &header()).expect("header");
-        writer
-            .write_row(&[1274659200.0, 15.25, 128.0])
-            .expect("row");
-        writer
-            .write_row(&[1274659204.0, f64::NAN, 0.0])
-            .expect("row");
-        let text = String::from_utf8(writer.finish().expect("flush")).expect("utf8");
+            LogWriter::new(Vec::new(), format, columns, &list, &header()).expect("header");
+        for row in rows {
+            writer.write_row(row).expect("row");
+        }
+        String::from_utf8(writer.finish().expect("flush")).expect("utf8")
+    }
+
+    #[test]
+    fn csv_has_a_header_and_one_row_per_call() {
+        let text = written(
+            LogFormat::Csv,
+            &[[1274659200.0, 15.25, 128.0], [1274659204.0, f64::NAN, 0.0]],
+        );
         assert_eq!(
             text,
             "m_present_time,m_depth,sci_ruhp_behs\n1274659200,15.25,128\n1274659204,NaN,0\n"
@@ -431,16 +436,14 @@ mod tests {
 
     #[test]
     fn dba_has_the_dinkum_header_and_label_lines() {
-        let list = list();
-        let columns = default_columns(&list, &[]);
-        let mut writer =
-            LogWriter::new(Vec::new(), LogFormat::Dba, columns, &list, &header()).expect("header");
-        writer.write_row(&[1274659200.5, 0.0, 0.0]).expect("row");
-        // 4-byte columns are logged at float precision, as the glider does.
-        writer
-            .write_row(&[1274659204.25, 22.995130100020784, 0.1])
-            .expect("row");
-        let text = String::from_utf8(writer.finish().expect("flush")).expect("utf8");
+        // 4-byte columns are logged at float precision, as the glider does (row 2).
+        let text = written(
+            LogFormat::Dba,
+            &[
+                [1274659200.5, 0.0, 0.0],
+                [1274659204.25, 22.995130100020784, 0.1],
+            ],
+        );
         let lines: Vec<&str> = text.lines().collect();
         assert_eq!(lines[0], "dbd_label: DBD_ASC(dinkum_binary_data_ascii)file");
         assert_eq!(lines[2], "num_ascii_tags: 14");
@@ -502,14 +505,10 @@ mod tests {
         }
         // And through the writer: the same row twice (the second from the kept texts),
         // then a changed one.
-        let list = list();
-        let columns = default_columns(&list, &[]);
-        let mut writer =
-            LogWriter::new(Vec::new(), LogFormat::Csv, columns, &list, &header()).expect("header");
-        for row in [[1.5, 0.1, 64.0], [1.5, 0.1, 64.0], [2.5, 0.1, f64::NAN]] {
-            writer.write_row(&row).expect("row");
-        }
-        let text = String::from_utf8(writer.finish().expect("flush")).expect("utf8");
+        let text = written(
+            LogFormat::Csv,
+            &[[1.5, 0.1, 64.0], [1.5, 0.1, 64.0], [2.5, 0.1, f64::NAN]],
+        );
         assert_eq!(
             text,
             "m_present_time,m_depth,sci_ruhp_behs\n1.5,0.1,64\n1.5,0.1,64\n2.5,0.1,NaN\n"

@@ -556,7 +556,7 @@ fn open_log(
     let header = DbaHeader {
         filename: stem,
         mission_name: mission.name.clone(),
-        fileopen_time: glider_time(sim.present_time()),
+        fileopen_time: gloc_dbd::header::fileopen_time_text(sim.present_time()),
     };
     let writer = LogWriter::new(
         file,
@@ -636,7 +636,7 @@ fn open_binary_log(
             the8x3_filename: "00000000".to_string(),
             filename_extension: extension.to_string(),
             mission_name: mission.name.clone(),
-            fileopen_time: glider_time(sim.present_time()),
+            fileopen_time: gloc_dbd::header::fileopen_time_text(sim.present_time()),
         };
         let file = AtomicFile::create(&file_path)
             .map_err(|error| crate::output::write_error(error, "the log", &file_path))?;
@@ -704,24 +704,6 @@ pub fn parse_duration(text: &str) -> anyhow::Result<f64> {
         bail!("`{text}` is not a positive duration");
     }
     Ok(total)
-}
-
-/// `Mon_May_24_00:00:00_2010`, the glider's `fileopen_time:` format.
-fn glider_time(unix_seconds: f64) -> String {
-    let seconds = unix_seconds.max(0.0) as i64;
-    let days = seconds.div_euclid(86400);
-    let of_day = seconds.rem_euclid(86400);
-    let (year, month, day) = gloc_dbd::header::civil_from_days(days);
-    let weekday = ["Thu", "Fri", "Sat", "Sun", "Mon", "Tue", "Wed"][days.rem_euclid(7) as usize];
-    let month_name = [
-        "Jan", "Feb", "Mar", "Apr", "May", "Jun", "Jul", "Aug", "Sep", "Oct", "Nov", "Dec",
-    ][(month - 1) as usize];
-    format!(
-        "{weekday}_{month_name}_{day:02}_{:02}:{:02}:{:02}_{year}",
-        of_day / 3600,
-        of_day % 3600 / 60,
-        of_day % 60
-    )
 }
 
 /// `3h 05m 12s`.
@@ -1029,13 +1011,6 @@ mod tests {
         assert!(parse_duration("h").is_err());
         assert!(parse_duration("0s").is_err());
         assert!(parse_duration("").is_err());
-    }
-
-    #[test]
-    fn glider_time_format() {
-        // 2010-05-24 00:00:00 UTC was a Monday.
-        assert_eq!(glider_time(1_274_659_200.0), "Mon_May_24_00:00:00_2010");
-        assert_eq!(glider_time(0.0), "Thu_Jan_01_00:00:00_1970");
     }
 
     #[test]

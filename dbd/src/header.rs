@@ -50,6 +50,11 @@ impl Header {
     }
 }
 
+/// The months as `fileopen_time` names them.
+const MONTHS: [&str; 12] = [
+    "Jan", "Feb", "Mar", "Apr", "May", "Jun", "Jul", "Aug", "Sep", "Oct", "Nov", "Dec",
+];
+
 /// `Wed_Aug_21_13:54:25_2019` → Unix seconds (UTC).
 pub fn parse_fileopen_time(text: &str) -> Option<i64> {
     let parts: Vec<&str> = text
@@ -59,15 +64,30 @@ pub fn parse_fileopen_time(text: &str) -> Option<i64> {
     let [_, month, day, time, year] = parts.as_slice() else {
         return None;
     };
-    const MONTHS: [&str; 12] = [
-        "Jan", "Feb", "Mar", "Apr", "May", "Jun", "Jul", "Aug", "Sep", "Oct", "Nov", "Dec",
-    ];
     let month = MONTHS.iter().position(|name| name == month)? as i64 + 1;
     let day: i64 = day.parse().ok()?;
     let year: i64 = year.parse().ok()?;
     let mut clock = time.split(':').map(|part| part.parse::<i64>().ok());
     let (hour, minute, second) = (clock.next()??, clock.next()??, clock.next()??);
     Some(days_from_civil(year, month, day) * 86_400 + hour * 3600 + minute * 60 + second)
+}
+
+/// Unix seconds (UTC, whole seconds, none before 1970) as the glider writes
+/// `fileopen_time`: `Mon_May_24_00:00:00_2010`. The inverse of [`parse_fileopen_time`].
+pub fn fileopen_time_text(unix_seconds: f64) -> String {
+    let seconds = unix_seconds.max(0.0) as i64;
+    let days = seconds.div_euclid(86_400);
+    let of_day = seconds.rem_euclid(86_400);
+    let (year, month, day) = civil_from_days(days);
+    // 1970-01-01 was a Thursday.
+    let weekday = ["Thu", "Fri", "Sat", "Sun", "Mon", "Tue", "Wed"][days.rem_euclid(7) as usize];
+    let month_name = MONTHS[(month - 1) as usize];
+    format!(
+        "{weekday}_{month_name}_{day:02}_{:02}:{:02}:{:02}_{year}",
+        of_day / 3600,
+        of_day % 3600 / 60,
+        of_day % 60
+    )
 }
 
 /// Days since 1970-01-01 of a proleptic Gregorian date (Howard Hinnant's algorithm):
@@ -233,5 +253,23 @@ mod tests {
         );
         assert_eq!(parse_fileopen_time("Thu_Jan__1_00:00:00_1970"), Some(0));
         assert_eq!(parse_fileopen_time("garbage"), None);
+    }
+
+    #[test]
+    fn fileopen_time_text_is_the_gliders_and_reads_back() {
+        // 2010-05-24 00:00:00 UTC was a Monday; 2019-08-21 13:54:25 UTC (above) a Wednesday.
+        assert_eq!(
+            fileopen_time_text(1_274_659_200.0),
+            "Mon_May_24_00:00:00_2010"
+        );
+        assert_eq!(fileopen_time_text(0.0), "Thu_Jan_01_00:00:00_1970");
+        assert_eq!(
+            fileopen_time_text(1_566_395_665.0),
+            "Wed_Aug_21_13:54:25_2019"
+        );
+        for seconds in [0, 1_274_659_200, 1_566_395_665, 4_102_444_799] {
+            let text = fileopen_time_text(seconds as f64);
+            assert_eq!(parse_fileopen_time(&text), Some(seconds), "{text}");
+        }
     }
 }

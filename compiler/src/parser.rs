@@ -230,6 +230,41 @@ struct Parser<'a> {
 /// of the parser or of the later passes, which follow the tree.
 const MAX_NESTING: usize = 100;
 
+/// How a binary operator is written: a keyword (any case) or a symbol token.
+enum Operator {
+    Word(&'static str),
+    Token(TokenKind),
+}
+
+/// GBASIC's binary operators by precedence level, loosest first; each level chains
+/// from the left. The prefix `not` binds between `and` and the comparisons, the
+/// prefix minus tighter than `*` and `/`.
+const PRECEDENCE: [&[(Operator, BinaryOp)]; 7] = [
+    &[(Operator::Word("or"), BinaryOp::Or)],
+    &[(Operator::Word("and"), BinaryOp::And)],
+    &[
+        (Operator::Token(TokenKind::Eq), BinaryOp::Eq),
+        (Operator::Token(TokenKind::Ne), BinaryOp::Ne),
+        (Operator::Token(TokenKind::Lt), BinaryOp::Lt),
+        (Operator::Token(TokenKind::Le), BinaryOp::Le),
+        (Operator::Token(TokenKind::Gt), BinaryOp::Gt),
+        (Operator::Token(TokenKind::Ge), BinaryOp::Ge),
+    ],
+    &[
+        (Operator::Token(TokenKind::Plus), BinaryOp::Add),
+        (Operator::Token(TokenKind::Minus), BinaryOp::Sub),
+    ],
+    &[(Operator::Word("mod"), BinaryOp::Mod)],
+    &[(Operator::Token(TokenKind::Backslash), BinaryOp::IntDiv)],
+    &[
+        (Operator::Token(TokenKind::Star), BinaryOp::Mul),
+        (Operator::Token(TokenKind::Slash), BinaryOp::Div),
+    ],
+];
+
+/// The level of the comparisons in [`PRECEDENCE`].
+const COMPARISON: usize = 2;
+
 /// The deepest expression tree accepted (an operator, call or unary minus is a level;
 /// parentheses are not). 256 levels keep every recursive pass far inside a 2 MB thread
 /// stack, even in a debug build; real expressions are a few levels deep.
@@ -1190,7 +1225,7 @@ impl<'a> Parser<'a> {
         if !self.enter_expression() {
             return None;
         }
-        let expr = self.parse_or();
+        let expr = self.parse_binary(0);
         self.expression_depth -= 1;
         expr
     }
@@ -1256,24 +1291,39 @@ impl<'a> Parser<'a> {
         self.node(expr, &children, operator)
     }
 
-    fn parse_or(&mut self) -> Option<Node> {
-        let mut left = self.parse_and()?;
-        while self.at_word("or") {
+    /// The operators of precedence level `level` and tighter (see [`PRECEDENCE`]),
+    /// each level's chain from the left.
+    fn parse_binary(&mut self, level: usize) -> Option<Node> {
+        let mut left = self.parse_operand(level)?;
+        while let Some(op) = self.operator_at(level) {
             let operator = self.bump().span;
-            let right = self.parse_and()?;
-            left = self.binary(BinaryOp::Or, operator, left, right)?;
+            let right = self.parse_operand(level)?;
+            left = self.binary(op, operator, left, right)?;
         }
         Some(left)
     }
 
-    fn parse_and(&mut self) -> Option<Node> {
-        let mut left = self.parse_not()?;
-        while self.at_word("and") {
-            let operator = self.bump().span;
-            let right = self.parse_not()?;
-            left = self.binary(BinaryOp::And, operator, left, right)?;
+    /// An operand of the operators of `level`: the next tighter level, with the
+    /// prefix `not` above the comparisons and the prefix minus below all.
+    fn parse_operand(&mut self, level: usize) -> Option<Node> {
+        match level + 1 {
+            COMPARISON => self.parse_not(),
+            tighter if tighter < PRECEDENCE.len() => self.parse_binary(tighter),
+            _ => self.parse_unary(),
         }
-        Some(left)
+    }
+
+    /// The binary operator of precedence level `level` the next token is, if any.
+    fn operator_at(&self, level: usize) -> Option<BinaryOp> {
+        let kind = &self.peek().kind;
+        let word = self.word_at(0);
+        PRECEDENCE[level]
+            .iter()
+            .find(|(operator, _)| match operator {
+                Operator::Word(text) => word.as_deref() == Some(*text),
+                Operator::Token(token) => token == kind,
+            })
+            .map(|&(_, op)| op)
     }
 
     fn parse_not(&mut self) -> Option<Node> {
@@ -1286,73 +1336,7 @@ impl<'a> Parser<'a> {
             self.expression_depth -= 1;
             return self.unary(UnaryOp::Not, keyword.span, operand?);
         }
-        self.parse_comparison()
-    }
-
-    fn parse_comparison(&mut self) -> Option<Node> {
-        let mut left = self.parse_additive()?;
-        loop {
-            let op = match self.peek().kind {
-                TokenKind::Eq => BinaryOp::Eq,
-                TokenKind::Ne => BinaryOp::Ne,
-                TokenKind::Lt => BinaryOp::Lt,
-                TokenKind::Le => BinaryOp::Le,
-                TokenKind::Gt => BinaryOp::Gt,
-                TokenKind::Ge => BinaryOp::Ge,
-                _ => return Some(left),
-            };
-            let operator = self.bump().span;
-            let right = self.parse_additive()?;
-            left = self.binary(op, operator, left, right)?;
-        }
-    }
-
-    fn parse_additive(&mut self) -> Option<Node> {
-        let mut left = self.parse_mod()?;
-        loop {
-            let op = match self.peek().kind {
-                TokenKind::Plus => BinaryOp::Add,
-                TokenKind::Minus => BinaryOp::Sub,
-                _ => return Some(left),
-            };
-            let operator = self.bump().span;
-            let right = self.parse_mod()?;
-            left = self.binary(op, operator, left, right)?;
-        }
-    }
-
-    fn parse_mod(&mut self) -> Option<Node> {
-        let mut left = self.parse_int_div()?;
-        while self.at_word("mod") {
-            let operator = self.bump().span;
-            let right = self.parse_int_div()?;
-            left = self.binary(BinaryOp::Mod, operator, left, right)?;
-        }
-        Some(left)
-    }
-
-    fn parse_int_div(&mut self) -> Option<Node> {
-        let mut left = self.parse_multiplicative()?;
-        while self.peek().kind == TokenKind::Backslash {
-            let operator = self.bump().span;
-            let right = self.parse_multiplicative()?;
-            left = self.binary(BinaryOp::IntDiv, operator, left, right)?;
-        }
-        Some(left)
-    }
-
-    fn parse_multiplicative(&mut self) -> Option<Node> {
-        let mut left = self.parse_unary()?;
-        loop {
-            let op = match self.peek().kind {
-                TokenKind::Star => BinaryOp::Mul,
-                TokenKind::Slash => BinaryOp::Div,
-                _ => return Some(left),
-            };
-            let operator = self.bump().span;
-            let right = self.parse_unary()?;
-            left = self.binary(op, operator, left, right)?;
-        }
+        self.parse_binary(COMPARISON)
     }
 
     fn parse_unary(&mut self) -> Option<Node> {
@@ -1530,5 +1514,41 @@ mod tests {
         assert_eq!(found.len(), 1, "{found:?}");
         assert_eq!(found[0].0, codes::SYNTAX);
         assert_eq!(found[0].2, None);
+    }
+
+    /// `text` parsed as an expression, fully parenthesized.
+    fn grouped(text: &str) -> String {
+        fn show(expr: &Expr) -> String {
+            match &expr.kind {
+                ExprKind::Literal(Literal::Int(value)) => value.to_string(),
+                ExprKind::Name(name) => name.text.clone(),
+                ExprKind::Unary { op, operand } => {
+                    let symbol = if *op == UnaryOp::Not { "not " } else { "-" };
+                    format!("({symbol}{})", show(operand))
+                }
+                ExprKind::Binary { op, left, right } => {
+                    format!("({} {} {})", show(left), op.symbol(), show(right))
+                }
+                other => panic!("not in these tests: {other:?}"),
+            }
+        }
+        let parsed = parse_expression(text);
+        assert!(parsed.diagnostics.is_empty(), "{:?}", parsed.diagnostics);
+        show(&parsed.expr.expect(text))
+    }
+
+    // Grouped by hand from docs/gbasic.md's precedence table, loosest first: `or`,
+    // `and`, `not`, comparisons, `+ -`, `mod`, `\`, `* /`, prefix minus.
+    #[test]
+    fn operators_group_by_precedence_and_from_the_left() {
+        assert_eq!(
+            grouped("a or b and not c = 1 + 2 mod 3 \\ 4 * -5"),
+            "(a or (b and (not (c = (1 + (2 mod (3 \\ (4 * (-5)))))))))"
+        );
+        assert_eq!(grouped("a - b - c"), "((a - b) - c)");
+        assert_eq!(grouped("a * b / c mod d"), "(((a * b) / c) mod d)");
+        assert_eq!(grouped("a < b <> c"), "((a < b) <> c)");
+        assert_eq!(grouped("not not a and b"), "((not (not a)) and b)");
+        assert_eq!(grouped("a \\ b * c - d"), "((a \\ (b * c)) - d)");
     }
 }

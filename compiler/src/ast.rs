@@ -107,6 +107,29 @@ impl BinaryOp {
         }
     }
 
+    /// How tightly it binds: 0 for `or`, the loosest, up to [`BinaryOp::LEVELS`]` - 1`
+    /// for `*` and `/`. The prefix `not` binds between `and` and the comparisons, the
+    /// prefix minus tighter than all; operators of one level group from the left.
+    pub fn precedence(self) -> usize {
+        match self {
+            BinaryOp::Or => 0,
+            BinaryOp::And => 1,
+            BinaryOp::Eq
+            | BinaryOp::Ne
+            | BinaryOp::Lt
+            | BinaryOp::Le
+            | BinaryOp::Gt
+            | BinaryOp::Ge => 2,
+            BinaryOp::Add | BinaryOp::Sub => 3,
+            BinaryOp::Mod => 4,
+            BinaryOp::IntDiv => 5,
+            BinaryOp::Mul | BinaryOp::Div => 6,
+        }
+    }
+
+    /// The number of precedence levels.
+    pub const LEVELS: usize = 7;
+
     pub fn is_comparison(self) -> bool {
         matches!(
             self,

@@ -46,17 +46,7 @@ pub fn parse(text: &str) -> Parsed {
             BlockEnd::Eof => break,
             BlockEnd::Closer(closer) => {
                 // No block is open here, so the closer is stray.
-                let token = parser.peek().clone();
-                let (message, help) = stray_closer_message(closer);
-                parser.report(
-                    Diagnostic::error(
-                        codes::STRAY_CLOSER,
-                        parser.line_span_from(token.span),
-                        message,
-                    )
-                    .with_help(help),
-                );
-                parser.skip_line();
+                parser.stray_closer(closer);
             }
         }
     }
@@ -124,16 +114,9 @@ pub fn parse_expression(text: &str) -> ParsedExpression {
     }
     let expr = parser.parse_expr();
     if expr.is_some() && parser.peek().kind != TokenKind::Eof {
-        let token = parser.peek().clone();
-        let found = parser.describe(&token);
-        let mut diagnostic = Diagnostic::error(
-            codes::SYNTAX,
-            token.span,
-            format!("unexpected {found} after the expression"),
-        );
-        if let Some(help) = operator_hint(parser.slice(token.span)) {
-            diagnostic = diagnostic.with_help(help);
-        }
+        let diagnostic = parser.syntax_error_here(true, |found| {
+            format!("unexpected {found} after the expression")
+        });
         parser.report(diagnostic);
     }
     let has_errors = parser.diagnostics.iter().any(Diagnostic::is_error);
@@ -229,41 +212,6 @@ struct Parser<'a> {
 /// Deeper nesting is refused with a diagnostic, so no input can exhaust the stack
 /// of the parser or of the later passes, which follow the tree.
 const MAX_NESTING: usize = 100;
-
-/// How a binary operator is written: a keyword (any case) or a symbol token.
-enum Operator {
-    Word(&'static str),
-    Token(TokenKind),
-}
-
-/// GBASIC's binary operators by precedence level, loosest first; each level chains
-/// from the left. The prefix `not` binds between `and` and the comparisons, the
-/// prefix minus tighter than `*` and `/`.
-const PRECEDENCE: [&[(Operator, BinaryOp)]; 7] = [
-    &[(Operator::Word("or"), BinaryOp::Or)],
-    &[(Operator::Word("and"), BinaryOp::And)],
-    &[
-        (Operator::Token(TokenKind::Eq), BinaryOp::Eq),
-        (Operator::Token(TokenKind::Ne), BinaryOp::Ne),
-        (Operator::Token(TokenKind::Lt), BinaryOp::Lt),
-        (Operator::Token(TokenKind::Le), BinaryOp::Le),
-        (Operator::Token(TokenKind::Gt), BinaryOp::Gt),
-        (Operator::Token(TokenKind::Ge), BinaryOp::Ge),
-    ],
-    &[
-        (Operator::Token(TokenKind::Plus), BinaryOp::Add),
-        (Operator::Token(TokenKind::Minus), BinaryOp::Sub),
-    ],
-    &[(Operator::Word("mod"), BinaryOp::Mod)],
-    &[(Operator::Token(TokenKind::Backslash), BinaryOp::IntDiv)],
-    &[
-        (Operator::Token(TokenKind::Star), BinaryOp::Mul),
-        (Operator::Token(TokenKind::Slash), BinaryOp::Div),
-    ],
-];
-
-/// The level of the comparisons in [`PRECEDENCE`].
-const COMPARISON: usize = 2;
 
 /// The deepest expression tree accepted (an operator, call or unary minus is a level;
 /// parentheses are not). 256 levels keep every recursive pass far inside a 2 MB thread
@@ -381,20 +329,24 @@ impl<'a> Parser<'a> {
     }
 
     fn error_here(&mut self, expected: &str) {
-        let token = self.peek().clone();
-        let found = self.describe(&token);
-        let mut diagnostic = Diagnostic::error(
-            codes::SYNTAX,
-            token.span,
-            format!("expected {expected}, found {found}"),
-        );
         // Where an operand was due, a C operator (`==`'s second `=`, `!`) gets GBASIC's.
-        if expected == "an expression" {
-            if let Some(help) = operator_hint(self.slice(token.span)) {
-                diagnostic = diagnostic.with_help(help);
-            }
-        }
+        let diagnostic = self.syntax_error_here(expected == "an expression", |found| {
+            format!("expected {expected}, found {found}")
+        });
         self.report(diagnostic);
+    }
+
+    /// A syntax error at the next token, its message made from how that token reads
+    /// (see [`Parser::describe`]); with `hint`, a C operator there gets GBASIC's
+    /// spelling as the help.
+    fn syntax_error_here(&self, hint: bool, message: impl FnOnce(&str) -> String) -> Diagnostic {
+        let token = self.peek();
+        let diagnostic =
+            Diagnostic::error(codes::SYNTAX, token.span, message(&self.describe(token)));
+        match operator_hint(self.slice(token.span)).filter(|_| hint) {
+            Some(help) => diagnostic.with_help(help),
+            None => diagnostic,
+        }
     }
 
     /// Ends a statement: anything left on the line is an error (reported once).
@@ -415,6 +367,15 @@ impl<'a> Parser<'a> {
                 ),
             );
         }
+        self.skip_line();
+    }
+
+    /// Reports the closer that starts the current line as closing no open block, and
+    /// skips the line.
+    fn stray_closer(&mut self, closer: Closer) {
+        let span = self.line_span_from(self.peek().span);
+        let (message, help) = stray_closer_message(closer);
+        self.report(Diagnostic::error(codes::STRAY_CLOSER, span, message).with_help(help));
         self.skip_line();
     }
 
@@ -447,17 +408,7 @@ impl<'a> Parser<'a> {
                 if self.open.contains(&closer.owner()) || self.open.is_empty() {
                     return BlockEnd::Closer(closer);
                 }
-                let token = self.peek().clone();
-                let (message, help) = stray_closer_message(closer);
-                self.report(
-                    Diagnostic::error(
-                        codes::STRAY_CLOSER,
-                        self.line_span_from(token.span),
-                        message,
-                    )
-                    .with_help(help),
-                );
-                self.skip_line();
+                self.stray_closer(closer);
                 continue;
             }
             if let Some(stmt) = self.parse_statement() {
@@ -524,17 +475,24 @@ impl<'a> Parser<'a> {
             Some("for") => return self.parse_for(),
             _ => self.parse_simple(),
         };
-        match result {
-            Some(kind) => {
-                let span = self.statement_span(start);
-                self.finish_line();
-                Some(Stmt { kind, span })
-            }
-            None => {
-                self.skip_line();
-                None
-            }
+        let span = self.end_line(start, result.is_some());
+        Some(Stmt {
+            kind: result?,
+            span,
+        })
+    }
+
+    /// Ends the line of a statement that starts at `start` and returns its span: the
+    /// rest of the line must be empty when the statement `parsed`, and is skipped
+    /// when it did not (its error is already reported).
+    fn end_line(&mut self, start: Span, parsed: bool) -> Span {
+        let span = self.statement_span(start);
+        if parsed {
+            self.finish_line();
+        } else {
+            self.skip_line();
         }
+        span
     }
 
     /// From `start` to the end of the last consumed token.
@@ -712,21 +670,15 @@ impl<'a> Parser<'a> {
             false
         };
         let token = self.peek().clone();
-        let value = match token.kind {
-            TokenKind::Int => {
-                self.bump();
-                let value = self.int_value(&token)?;
-                Literal::Int(if negative { -value } else { value })
-            }
-            TokenKind::Float => {
-                self.bump();
-                let value = self.float_value(&token)?;
-                Literal::Float(if negative { -value } else { value })
-            }
-            _ => {
-                self.error_here("a number (a constant's value is a literal)");
-                return None;
-            }
+        if !matches!(token.kind, TokenKind::Int | TokenKind::Float) {
+            self.error_here("a number (a constant's value is a literal)");
+            return None;
+        }
+        self.bump();
+        let value = match (self.number_value(&token)?, negative) {
+            (Literal::Int(value), true) => Literal::Int(-value),
+            (Literal::Float(value), true) => Literal::Float(-value),
+            (value, false) => value,
         };
         Some(StmtKind::Const { name, value })
     }
@@ -745,6 +697,15 @@ impl<'a> Parser<'a> {
                 );
                 None
             }
+        }
+    }
+
+    /// The value of an `Int` or `Float` token (reported when it does not fit).
+    fn number_value(&mut self, token: &Token) -> Option<Literal> {
+        if token.kind == TokenKind::Int {
+            self.int_value(token).map(Literal::Int)
+        } else {
+            self.float_value(token).map(Literal::Float)
         }
     }
 
@@ -1033,14 +994,8 @@ impl<'a> Parser<'a> {
         } else {
             self.parse_expr()
         };
-        let header_span = self.statement_span(keyword.span);
-        if condition.is_some() {
-            self.finish_line();
-        } else {
-            self.skip_line();
-        }
-        let mut body = Vec::new();
-        let closer = self.parse_nested(BlockKind::While, header_span, &mut body);
+        let (header_span, body, closer) =
+            self.parse_loop_body(BlockKind::While, keyword.span, condition.is_some());
         let end_span = match closer {
             Some(_) => {
                 let token = self.bump();
@@ -1057,6 +1012,21 @@ impl<'a> Parser<'a> {
             },
             span: header_span,
         })
+    }
+
+    /// A loop's body after its header line (from `keyword`; `parsed`: the header
+    /// parsed): the header's span, the body, and the closer found (not consumed;
+    /// `None` after reporting it missing).
+    fn parse_loop_body(
+        &mut self,
+        kind: BlockKind,
+        keyword: Span,
+        parsed: bool,
+    ) -> (Span, Vec<Stmt>, Option<Closer>) {
+        let header_span = self.end_line(keyword, parsed);
+        let mut body = Vec::new();
+        let closer = self.parse_nested(kind, header_span, &mut body);
+        (header_span, body, closer)
     }
 
     fn parse_do_condition(&mut self) -> Result<Option<DoCondition>, ()> {
@@ -1076,26 +1046,14 @@ impl<'a> Parser<'a> {
     fn parse_do(&mut self) -> Option<Stmt> {
         let keyword = self.bump();
         let pre = self.parse_do_condition();
-        let header_span = self.statement_span(keyword.span);
-        if pre.is_ok() {
-            self.finish_line();
-        } else {
-            self.skip_line();
-        }
-        let mut body = Vec::new();
-        let closer = self.parse_nested(BlockKind::Do, header_span, &mut body);
+        let (header_span, body, closer) =
+            self.parse_loop_body(BlockKind::Do, keyword.span, pre.is_ok());
         let mut post = Ok(None);
         let end_span = match closer {
             Some(_) => {
                 let token = self.bump();
                 post = self.parse_do_condition();
-                let span = self.statement_span(token.span);
-                if post.is_ok() {
-                    self.finish_line();
-                } else {
-                    self.skip_line();
-                }
-                Some(span)
+                Some(self.end_line(token.span, post.is_ok()))
             }
             None => None,
         };
@@ -1127,14 +1085,8 @@ impl<'a> Parser<'a> {
     fn parse_for(&mut self) -> Option<Stmt> {
         let keyword = self.bump();
         let header = self.parse_for_header();
-        let header_span = self.statement_span(keyword.span);
-        if header.is_some() {
-            self.finish_line();
-        } else {
-            self.skip_line();
-        }
-        let mut body = Vec::new();
-        let closer = self.parse_nested(BlockKind::For, header_span, &mut body);
+        let (header_span, body, closer) =
+            self.parse_loop_body(BlockKind::For, keyword.span, header.is_some());
         let mut end_span = None;
         if closer.is_some() {
             let token = self.bump();
@@ -1291,8 +1243,8 @@ impl<'a> Parser<'a> {
         self.node(expr, &children, operator)
     }
 
-    /// The operators of precedence level `level` and tighter (see [`PRECEDENCE`]),
-    /// each level's chain from the left.
+    /// The operators of precedence level `level` and tighter (see
+    /// [`BinaryOp::precedence`]), each level's chain from the left.
     fn parse_binary(&mut self, level: usize) -> Option<Node> {
         let mut left = self.parse_operand(level)?;
         while let Some(op) = self.operator_at(level) {
@@ -1306,24 +1258,39 @@ impl<'a> Parser<'a> {
     /// An operand of the operators of `level`: the next tighter level, with the
     /// prefix `not` above the comparisons and the prefix minus below all.
     fn parse_operand(&mut self, level: usize) -> Option<Node> {
-        match level + 1 {
-            COMPARISON => self.parse_not(),
-            tighter if tighter < PRECEDENCE.len() => self.parse_binary(tighter),
-            _ => self.parse_unary(),
+        let tighter = level + 1;
+        if tighter == BinaryOp::Eq.precedence() {
+            self.parse_not()
+        } else if tighter < BinaryOp::LEVELS {
+            self.parse_binary(tighter)
+        } else {
+            self.parse_unary()
         }
     }
 
     /// The binary operator of precedence level `level` the next token is, if any.
     fn operator_at(&self, level: usize) -> Option<BinaryOp> {
-        let kind = &self.peek().kind;
-        let word = self.word_at(0);
-        PRECEDENCE[level]
-            .iter()
-            .find(|(operator, _)| match operator {
-                Operator::Word(text) => word.as_deref() == Some(*text),
-                Operator::Token(token) => token == kind,
-            })
-            .map(|&(_, op)| op)
+        let op = match self.peek().kind {
+            TokenKind::Eq => BinaryOp::Eq,
+            TokenKind::Ne => BinaryOp::Ne,
+            TokenKind::Lt => BinaryOp::Lt,
+            TokenKind::Le => BinaryOp::Le,
+            TokenKind::Gt => BinaryOp::Gt,
+            TokenKind::Ge => BinaryOp::Ge,
+            TokenKind::Plus => BinaryOp::Add,
+            TokenKind::Minus => BinaryOp::Sub,
+            TokenKind::Backslash => BinaryOp::IntDiv,
+            TokenKind::Star => BinaryOp::Mul,
+            TokenKind::Slash => BinaryOp::Div,
+            TokenKind::Ident => match self.word_at(0)?.as_str() {
+                "or" => BinaryOp::Or,
+                "and" => BinaryOp::And,
+                "mod" => BinaryOp::Mod,
+                _ => return None,
+            },
+            _ => return None,
+        };
+        (op.precedence() == level).then_some(op)
     }
 
     fn parse_not(&mut self) -> Option<Node> {
@@ -1336,7 +1303,7 @@ impl<'a> Parser<'a> {
             self.expression_depth -= 1;
             return self.unary(UnaryOp::Not, keyword.span, operand?);
         }
-        self.parse_binary(COMPARISON)
+        self.parse_binary(BinaryOp::Eq.precedence())
     }
 
     fn parse_unary(&mut self) -> Option<Node> {
@@ -1367,19 +1334,10 @@ impl<'a> Parser<'a> {
         let token = self.peek().clone();
         let leaf = |expr| Some(Node { expr, depth: 0 });
         match token.kind {
-            TokenKind::Int => {
+            TokenKind::Int | TokenKind::Float => {
                 self.bump();
-                let value = self.int_value(&token)?;
                 leaf(Expr {
-                    kind: ExprKind::Literal(Literal::Int(value)),
-                    span: token.span,
-                })
-            }
-            TokenKind::Float => {
-                self.bump();
-                let value = self.float_value(&token)?;
-                leaf(Expr {
-                    kind: ExprKind::Literal(Literal::Float(value)),
+                    kind: ExprKind::Literal(self.number_value(&token)?),
                     span: token.span,
                 })
             }
@@ -1537,7 +1495,7 @@ mod tests {
         show(&parsed.expr.expect(text))
     }
 
-    // Grouped by hand from docs/gbasic.md's precedence table, loosest first: `or`,
+    // Grouped by hand from the precedence in docs/gbasic.md, loosest first: `or`,
     // `and`, `not`, comparisons, `+ -`, `mod`, `\`, `* /`, prefix minus.
     #[test]
     fn operators_group_by_precedence_and_from_the_left() {

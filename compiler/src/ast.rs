@@ -219,13 +219,17 @@ pub struct DoCondition {
     pub expr: Expr,
 }
 
+/// One `if`/`elseif` arm: of the parsed tree ([`IfArm`]) or of the checked one
+/// ([`crate::typed::IfArm`]).
 #[derive(Clone, Debug, PartialEq)]
-pub struct IfArm {
-    pub condition: Expr,
-    pub body: Vec<Stmt>,
+pub struct Arm<E, S> {
+    pub condition: E,
+    pub body: Vec<S>,
     /// The span of the `if`/`elseif` keyword through `then`.
     pub span: Span,
 }
+
+pub type IfArm = Arm<Expr, Stmt>;
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum StmtKind {

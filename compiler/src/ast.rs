@@ -1,5 +1,8 @@
 //! The untyped GBASIC syntax tree, as written (names keep their spelling and span).
 
+/// GBASIC's comparisons are the machine's, one type for the lexer, the tree and the
+/// code.
+pub use gloc_engine::vm::Cmp;
 use gloc_engine::Span;
 
 /// A name as written. Its lookup key, the lower-cased spelling, is made when asked
@@ -53,12 +56,8 @@ pub enum BinaryOp {
     /// `\`: integer division.
     IntDiv,
     Mod,
-    Eq,
-    Ne,
-    Lt,
-    Le,
-    Gt,
-    Ge,
+    /// `= <> < <= > >=`.
+    Compare(Cmp),
     And,
     Or,
 }
@@ -72,12 +71,14 @@ impl BinaryOp {
             BinaryOp::Div => "/",
             BinaryOp::IntDiv => "\\",
             BinaryOp::Mod => "mod",
-            BinaryOp::Eq => "=",
-            BinaryOp::Ne => "<>",
-            BinaryOp::Lt => "<",
-            BinaryOp::Le => "<=",
-            BinaryOp::Gt => ">",
-            BinaryOp::Ge => ">=",
+            BinaryOp::Compare(cmp) => match cmp {
+                Cmp::Eq => "=",
+                Cmp::Ne => "<>",
+                Cmp::Lt => "<",
+                Cmp::Le => "<=",
+                Cmp::Gt => ">",
+                Cmp::Ge => ">=",
+            },
             BinaryOp::And => "and",
             BinaryOp::Or => "or",
         }
@@ -96,12 +97,7 @@ impl BinaryOp {
             // `/` has float operands by then, `\` integer ones: one `div` for both.
             BinaryOp::Div | BinaryOp::IntDiv => M::Div,
             BinaryOp::Mod => M::Mod,
-            BinaryOp::Eq => M::CmpEq,
-            BinaryOp::Ne => M::CmpNe,
-            BinaryOp::Lt => M::CmpLt,
-            BinaryOp::Le => M::CmpLe,
-            BinaryOp::Gt => M::CmpGt,
-            BinaryOp::Ge => M::CmpGe,
+            BinaryOp::Compare(cmp) => M::compare(cmp),
             BinaryOp::And => M::And,
             BinaryOp::Or => M::Or,
         }
@@ -110,16 +106,11 @@ impl BinaryOp {
     /// How tightly it binds: 0 for `or`, the loosest, up to [`BinaryOp::LEVELS`]` - 1`
     /// for `*` and `/`. The prefix `not` binds between `and` and the comparisons, the
     /// prefix minus tighter than all; operators of one level group from the left.
-    pub fn precedence(self) -> usize {
+    pub const fn precedence(self) -> usize {
         match self {
             BinaryOp::Or => 0,
             BinaryOp::And => 1,
-            BinaryOp::Eq
-            | BinaryOp::Ne
-            | BinaryOp::Lt
-            | BinaryOp::Le
-            | BinaryOp::Gt
-            | BinaryOp::Ge => 2,
+            BinaryOp::Compare(_) => 2,
             BinaryOp::Add | BinaryOp::Sub => 3,
             BinaryOp::Mod => 4,
             BinaryOp::IntDiv => 5,
@@ -131,10 +122,7 @@ impl BinaryOp {
     pub const LEVELS: usize = 7;
 
     pub fn is_comparison(self) -> bool {
-        matches!(
-            self,
-            BinaryOp::Eq | BinaryOp::Ne | BinaryOp::Lt | BinaryOp::Le | BinaryOp::Gt | BinaryOp::Ge
-        )
+        matches!(self, BinaryOp::Compare(_))
     }
 }
 

@@ -1007,12 +1007,7 @@ impl<'a> Checker<'a> {
                 let right = self.require_integer(right, what);
                 (left, right, Ty::Integer)
             }
-            BinaryOp::Eq
-            | BinaryOp::Ne
-            | BinaryOp::Lt
-            | BinaryOp::Le
-            | BinaryOp::Gt
-            | BinaryOp::Ge => (
+            BinaryOp::Compare(_) => (
                 widen(left, operand_ty),
                 widen(right, operand_ty),
                 Ty::Integer,

@@ -213,6 +213,9 @@ struct Parser<'a> {
 /// of the parser or of the later passes, which follow the tree.
 const MAX_NESTING: usize = 100;
 
+/// The precedence of the comparisons: the prefix `not` binds just looser.
+const COMPARISONS: usize = BinaryOp::Compare(Cmp::Eq).precedence();
+
 /// The deepest expression tree accepted (an operator, call or unary minus is a level;
 /// parentheses are not). 256 levels keep every recursive pass far inside a 2 MB thread
 /// stack, even in a debug build; real expressions are a few levels deep.
@@ -658,7 +661,7 @@ impl<'a> Parser<'a> {
     fn parse_const(&mut self) -> Option<StmtKind> {
         self.bump();
         let name = self.parse_name("a constant name after `const`")?;
-        if self.peek().kind != TokenKind::Eq {
+        if self.peek().kind != TokenKind::EQUALS {
             self.error_here("`=` after the constant's name");
             return None;
         }
@@ -740,7 +743,7 @@ impl<'a> Parser<'a> {
         } else {
             Target::Name(name)
         };
-        if self.peek().kind != TokenKind::Eq {
+        if self.peek().kind != TokenKind::EQUALS {
             let token = self.peek().clone();
             if token.kind == TokenKind::Colon {
                 let name = target.name().text.clone();
@@ -1144,7 +1147,7 @@ impl<'a> Parser<'a> {
 
     fn parse_for_header(&mut self) -> Option<(Name, Expr, Expr, Option<Expr>)> {
         let variable = self.parse_name("the loop variable after `for`")?;
-        if self.peek().kind != TokenKind::Eq {
+        if self.peek().kind != TokenKind::EQUALS {
             self.error_here("`=` after the loop variable");
             return None;
         }
@@ -1259,7 +1262,7 @@ impl<'a> Parser<'a> {
     /// prefix `not` above the comparisons and the prefix minus below all.
     fn parse_operand(&mut self, level: usize) -> Option<Node> {
         let tighter = level + 1;
-        if tighter == BinaryOp::Eq.precedence() {
+        if tighter == COMPARISONS {
             self.parse_not()
         } else if tighter < BinaryOp::LEVELS {
             self.parse_binary(tighter)
@@ -1271,12 +1274,7 @@ impl<'a> Parser<'a> {
     /// The binary operator of precedence level `level` the next token is, if any.
     fn operator_at(&self, level: usize) -> Option<BinaryOp> {
         let op = match self.peek().kind {
-            TokenKind::Eq => BinaryOp::Eq,
-            TokenKind::Ne => BinaryOp::Ne,
-            TokenKind::Lt => BinaryOp::Lt,
-            TokenKind::Le => BinaryOp::Le,
-            TokenKind::Gt => BinaryOp::Gt,
-            TokenKind::Ge => BinaryOp::Ge,
+            TokenKind::Compare(cmp) => BinaryOp::Compare(cmp),
             TokenKind::Plus => BinaryOp::Add,
             TokenKind::Minus => BinaryOp::Sub,
             TokenKind::Backslash => BinaryOp::IntDiv,
@@ -1303,7 +1301,7 @@ impl<'a> Parser<'a> {
             self.expression_depth -= 1;
             return self.unary(UnaryOp::Not, keyword.span, operand?);
         }
-        self.parse_binary(BinaryOp::Eq.precedence())
+        self.parse_binary(COMPARISONS)
     }
 
     fn parse_unary(&mut self) -> Option<Node> {

@@ -178,12 +178,16 @@ impl Parser {
             return Err(diagnostic);
         };
         let signature = opcode.signature();
+        // Operands that do not fit the instruction: the error, and how to write it.
+        let misused = |code, span, message: String| {
+            Diagnostic::error(code, span, message).with_help(format!("write `{}`", opcode.usage()))
+        };
         if operands.len() != signature.len() {
             let span = match operands.get(signature.len()) {
                 Some((_, extra)) => *extra,
                 None => word_span.cover(operands.last().map_or(word_span, |(_, span)| *span)),
             };
-            return Err(Diagnostic::error(
+            return Err(misused(
                 crate::codes::gloc::OPERAND_COUNT,
                 span,
                 format!(
@@ -193,13 +197,12 @@ impl Parser {
                     if signature.len() == 1 { "" } else { "s" },
                     operands.len()
                 ),
-            )
-            .with_help(format!("write `{}`", opcode.usage())));
+            ));
         }
         for ((kind, span), shape) in operands.iter().zip(signature) {
             let span = *span;
             if !fits(kind, *shape) {
-                return Err(Diagnostic::error(
+                return Err(misused(
                     crate::codes::gloc::OPERAND_KIND,
                     span,
                     format!(
@@ -208,8 +211,7 @@ impl Parser {
                         shape.describe(),
                         describe_operand(kind)
                     ),
-                )
-                .with_help(format!("write `{}`", opcode.usage())));
+                ));
             }
         }
         // Same layout: the collect reuses the allocation.

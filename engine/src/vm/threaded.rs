@@ -43,10 +43,10 @@
 
 use std::hint::unreachable_unchecked;
 
-use super::code::{op_table, Cmp, Op, TypeSet, ANY, FLOAT, INT, MAX_FUSED};
+use super::code::{op_table, Op, TypeSet, ANY, FLOAT, INT, MAX_FUSED};
 use super::{
     absolute, add, compare, div, indirect_target, integer_division_by_zero, memory_index, mul,
-    negate, rem, sub, truth, Exit, Host, TrapKind,
+    negate, rem, sub, truth, Cmp, Exit, Host, TrapKind,
 };
 use crate::program::{Pc, Program, Reg, Value};
 use crate::sensors::SensorId;

@@ -1,5 +1,8 @@
 //! The untyped GBASIC syntax tree, as written (names keep their spelling and span).
 
+/// GBASIC's comparisons are the machine's, one type for the lexer, the tree and the
+/// code.
+pub use gloc_engine::vm::Cmp;
 use gloc_engine::Span;
 
 /// A name as written. Its lookup key, the lower-cased spelling, is made when asked
@@ -53,12 +56,8 @@ pub enum BinaryOp {
     /// `\`: integer division.
     IntDiv,
     Mod,
-    Eq,
-    Ne,
-    Lt,
-    Le,
-    Gt,
-    Ge,
+    /// `= <> < <= > >=`.
+    Compare(Cmp),
     And,
     Or,
 }
@@ -72,12 +71,14 @@ impl BinaryOp {
             BinaryOp::Div => "/",
             BinaryOp::IntDiv => "\\",
             BinaryOp::Mod => "mod",
-            BinaryOp::Eq => "=",
-            BinaryOp::Ne => "<>",
-            BinaryOp::Lt => "<",
-            BinaryOp::Le => "<=",
-            BinaryOp::Gt => ">",
-            BinaryOp::Ge => ">=",
+            BinaryOp::Compare(cmp) => match cmp {
+                Cmp::Eq => "=",
+                Cmp::Ne => "<>",
+                Cmp::Lt => "<",
+                Cmp::Le => "<=",
+                Cmp::Gt => ">",
+                Cmp::Ge => ">=",
+            },
             BinaryOp::And => "and",
             BinaryOp::Or => "or",
         }
@@ -96,22 +97,32 @@ impl BinaryOp {
             // `/` has float operands by then, `\` integer ones: one `div` for both.
             BinaryOp::Div | BinaryOp::IntDiv => M::Div,
             BinaryOp::Mod => M::Mod,
-            BinaryOp::Eq => M::CmpEq,
-            BinaryOp::Ne => M::CmpNe,
-            BinaryOp::Lt => M::CmpLt,
-            BinaryOp::Le => M::CmpLe,
-            BinaryOp::Gt => M::CmpGt,
-            BinaryOp::Ge => M::CmpGe,
+            BinaryOp::Compare(cmp) => M::compare(cmp),
             BinaryOp::And => M::And,
             BinaryOp::Or => M::Or,
         }
     }
 
+    /// How tightly it binds: 0 for `or`, the loosest, up to [`BinaryOp::LEVELS`]` - 1`
+    /// for `*` and `/`. The prefix `not` binds between `and` and the comparisons, the
+    /// prefix minus tighter than all; operators of one level group from the left.
+    pub const fn precedence(self) -> usize {
+        match self {
+            BinaryOp::Or => 0,
+            BinaryOp::And => 1,
+            BinaryOp::Compare(_) => 2,
+            BinaryOp::Add | BinaryOp::Sub => 3,
+            BinaryOp::Mod => 4,
+            BinaryOp::IntDiv => 5,
+            BinaryOp::Mul | BinaryOp::Div => 6,
+        }
+    }
+
+    /// The number of precedence levels.
+    pub const LEVELS: usize = 7;
+
     pub fn is_comparison(self) -> bool {
-        matches!(
-            self,
-            BinaryOp::Eq | BinaryOp::Ne | BinaryOp::Lt | BinaryOp::Le | BinaryOp::Gt | BinaryOp::Ge
-        )
+        matches!(self, BinaryOp::Compare(_))
     }
 }
 
@@ -196,13 +207,17 @@ pub struct DoCondition {
     pub expr: Expr,
 }
 
+/// One `if`/`elseif` arm: of the parsed tree ([`IfArm`]) or of the checked one
+/// ([`crate::typed::IfArm`]).
 #[derive(Clone, Debug, PartialEq)]
-pub struct IfArm {
-    pub condition: Expr,
-    pub body: Vec<Stmt>,
+pub struct Arm<E, S> {
+    pub condition: E,
+    pub body: Vec<S>,
     /// The span of the `if`/`elseif` keyword through `then`.
     pub span: Span,
 }
+
+pub type IfArm = Arm<Expr, Stmt>;
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum StmtKind {

@@ -197,48 +197,57 @@ impl<'a> Checker<'a> {
         self.suppressed.push(&mut self.diagnostics, diagnostic);
     }
 
+    /// Reports an error with a hint at what to do.
+    fn error_with_help(
+        &mut self,
+        code: &'static str,
+        span: Span,
+        message: impl Into<String>,
+        help: impl Into<String>,
+    ) {
+        self.error(Diagnostic::error(code, span, message).with_help(help));
+    }
+
     /// Reports a declaration whose name is taken; returns true when it is free.
     fn name_is_free(&mut self, name: &ast::Name) -> bool {
-        if let Some(existing) = self.names.get(&*name.key()).copied() {
+        let key = name.key();
+        let (taken_by, first, help) = if let Some(existing) = self.names.get(&*key).copied() {
             let first = match existing {
                 Symbol::Variable(id) => self.symbols.variables[id.0].definition,
                 Symbol::Constant(index) => self.symbols.constants[index].definition,
             };
-            self.error(
-                Diagnostic::error(
-                    codes::DUPLICATE,
-                    name.span,
-                    format!("`{}` is declared twice", name.text),
-                )
-                .with_label(first, "first declared here")
-                .with_help("rename one of them"),
-            );
-            return false;
+            (
+                "is declared twice".to_string(),
+                Some(first),
+                "rename one of them",
+            )
+        } else if Builtin::of_name(&key).is_some() || KEYWORDS.contains(&&*key) {
+            (
+                "is the name of a built-in function".to_string(),
+                None,
+                "choose another name",
+            )
+        } else if let Some(sensor) = self.sensors.lookup(&key) {
+            let sensor_name = self.sensors.name(sensor).unwrap_or("");
+            (
+                format!("is the name of the sensor `{sensor_name}`"),
+                None,
+                "sensors are used by name without a declaration; choose another name",
+            )
+        } else {
+            return true;
+        };
+        let mut diagnostic = Diagnostic::error(
+            codes::DUPLICATE,
+            name.span,
+            format!("`{}` {taken_by}", name.text),
+        )
+        .with_help(help);
+        if let Some(first) = first {
+            diagnostic = diagnostic.with_label(first, "first declared here");
         }
-        if Builtin::of_name(&name.key()).is_some() || KEYWORDS.contains(&&*name.key()) {
-            self.error(
-                Diagnostic::error(
-                    codes::DUPLICATE,
-                    name.span,
-                    format!("`{}` is the name of a built-in function", name.text),
-                )
-                .with_help("choose another name"),
-            );
-            return false;
-        }
-        if let Some(sensor) = self.sensors.lookup(&name.key()) {
-            let sensor_name = self.sensors.name(sensor).unwrap_or("").to_string();
-            self.error(
-                Diagnostic::error(
-                    codes::DUPLICATE,
-                    name.span,
-                    format!("`{}` is the name of the sensor `{sensor_name}`", name.text),
-                )
-                .with_help("sensors are used by name without a declaration; choose another name"),
-            );
-            return false;
-        }
-        true
+        self.error(diagnostic);
+        false
     }
 
     fn declare_constants(&mut self, body: &[ast::Stmt]) {
@@ -556,13 +565,11 @@ impl<'a> Checker<'a> {
             ast::StmtKind::Exit(kind) => {
                 if !self.loops.contains(kind) {
                     let word = kind.keyword();
-                    self.error(
-                        Diagnostic::error(
-                            codes::EXIT_OUTSIDE_LOOP,
-                            stmt.span,
-                            format!("`exit {word}` is not inside a `{word}` loop"),
-                        )
-                        .with_help("use `goto` to leave other blocks"),
+                    self.error_with_help(
+                        codes::EXIT_OUTSIDE_LOOP,
+                        stmt.span,
+                        format!("`exit {word}` is not inside a `{word}` loop"),
+                        "use `goto` to leave other blocks",
                     );
                     return None;
                 }
@@ -603,28 +610,24 @@ impl<'a> Checker<'a> {
                 Some(id)
             }
             Some(_) => {
-                self.error(
-                    Diagnostic::error(
-                        codes::WRONG_KIND,
-                        variable.span,
-                        format!(
-                            "the loop variable `{}` must be a scalar variable",
-                            variable.text
-                        ),
-                    )
-                    .with_help("declare a variable with `dim NAME as integer`"),
+                self.error_with_help(
+                    codes::WRONG_KIND,
+                    variable.span,
+                    format!(
+                        "the loop variable `{}` must be a scalar variable",
+                        variable.text
+                    ),
+                    "declare a variable with `dim NAME as integer`",
                 );
                 None
             }
             None => {
                 if self.sensors.lookup(&variable.key()).is_some() {
-                    self.error(
-                        Diagnostic::error(
-                            codes::WRONG_KIND,
-                            variable.span,
-                            format!("the sensor `{}` cannot count a `for` loop", variable.text),
-                        )
-                        .with_help("count with a variable and assign the sensor in the body"),
+                    self.error_with_help(
+                        codes::WRONG_KIND,
+                        variable.span,
+                        format!("the sensor `{}` cannot count a `for` loop", variable.text),
+                        "count with a variable and assign the sensor in the body",
                     );
                 } else {
                     self.undeclared(variable);
@@ -719,13 +722,11 @@ impl<'a> Checker<'a> {
                         }
                     }
                     (ast::Target::Name(_), Some(_)) => {
-                        self.error(
-                            Diagnostic::error(
-                                codes::WRONG_KIND,
-                                name.span,
-                                format!("`{}` is an array; assign one element", name.text),
-                            )
-                            .with_help(format!("write `{}(INDEX) = …`", name.text)),
+                        self.error_with_help(
+                            codes::WRONG_KIND,
+                            name.span,
+                            format!("`{}` is an array; assign one element", name.text),
+                            format!("write `{}(INDEX) = …`", name.text),
                         );
                         Place::Error
                     }
@@ -753,16 +754,7 @@ impl<'a> Checker<'a> {
                     let sensor_name = self.sensors.name(sensor).unwrap_or("").to_string();
                     match Access::of_name(&sensor_name) {
                         Access::ReadOnly => {
-                            self.error(
-                                Diagnostic::error(
-                                    codes::READ_ONLY_SENSOR,
-                                    name.span,
-                                    format!("the sensor `{sensor_name}` is read-only"),
-                                )
-                                .with_help(
-                                    "`m_` (measured) and `x_` (computed) sensors are written by the glider; write a `c_`, `u_` or `sci_` sensor instead",
-                                ),
-                            );
+                            self.error_with_help(codes::READ_ONLY_SENSOR, name.span, format!("the sensor `{sensor_name}` is read-only"), "`m_` (measured) and `x_` (computed) sensors are written by the glider; write a `c_`, `u_` or `sci_` sensor instead");
                             Place::Error
                         }
                         Access::Factory => {
@@ -816,13 +808,11 @@ impl<'a> Checker<'a> {
         match (value.ty, ty) {
             (Ty::Integer, Ty::Float) => to_float(value),
             (Ty::Float, Ty::Integer) => {
-                self.error(
-                    Diagnostic::error(
-                        codes::TYPE_MISMATCH,
-                        value.span,
-                        format!("{context} needs an integer, but this is a float"),
-                    )
-                    .with_help("convert with `int(…)`, which truncates toward zero"),
+                self.error_with_help(
+                    codes::TYPE_MISMATCH,
+                    value.span,
+                    format!("{context} needs an integer, but this is a float"),
+                    "convert with `int(…)`, which truncates toward zero",
                 );
                 typed::Expr {
                     kind: ExprKind::Error,
@@ -837,13 +827,11 @@ impl<'a> Checker<'a> {
     fn check_condition(&mut self, expr: &ast::Expr) -> typed::Expr {
         let value = self.check_expr(expr);
         if value.ty == Ty::Float {
-            self.error(
-                Diagnostic::error(
-                    codes::TYPE_MISMATCH,
-                    value.span,
-                    "a condition must be an integer, but this is a float",
-                )
-                .with_help("compare it, e.g. `… <> 0.0`"),
+            self.error_with_help(
+                codes::TYPE_MISMATCH,
+                value.span,
+                "a condition must be an integer, but this is a float",
+                "compare it, e.g. `… <> 0.0`",
             );
             return typed::Expr {
                 kind: ExprKind::Error,
@@ -859,13 +847,14 @@ impl<'a> Checker<'a> {
         let index = self.coerce(index, Ty::Integer, "an array index");
         if let Some(Literal::Int(value)) = constant_of(&index) {
             if value < 0 || value as u64 >= size as u64 {
-                self.error(
-                    Diagnostic::error(
-                        codes::INDEX_OUT_OF_BOUNDS,
-                        index.span,
-                        format!("index {value} is out of bounds: the array has {size} elements (0 to {})", size - 1),
-                    )
-                    .with_help(format!("use an index from 0 to {}", size - 1)),
+                self.error_with_help(
+                    codes::INDEX_OUT_OF_BOUNDS,
+                    index.span,
+                    format!(
+                        "index {value} is out of bounds: the array has {size} elements (0 to {})",
+                        size - 1
+                    ),
+                    format!("use an index from 0 to {}", size - 1),
                 );
             }
         }
@@ -935,13 +924,11 @@ impl<'a> Checker<'a> {
                     }
                     None => {
                         if Builtin::of_name(&name.key()).is_some() {
-                            self.error(
-                                Diagnostic::error(
-                                    codes::WRONG_KIND,
-                                    span,
-                                    format!("`{}` is a built-in function", name.text),
-                                )
-                                .with_help(format!("call it: `{}(…)`", name.text)),
+                            self.error_with_help(
+                                codes::WRONG_KIND,
+                                span,
+                                format!("`{}` is a built-in function", name.text),
+                                format!("call it: `{}(…)`", name.text),
                             );
                         } else {
                             self.undeclared(name);
@@ -979,13 +966,11 @@ impl<'a> Checker<'a> {
 
     fn require_integer(&mut self, value: typed::Expr, what: &str) -> typed::Expr {
         if value.ty == Ty::Float {
-            self.error(
-                Diagnostic::error(
-                    codes::TYPE_MISMATCH,
-                    value.span,
-                    format!("{what} needs an integer, but this is a float"),
-                )
-                .with_help("convert with `int(…)` or compare the float"),
+            self.error_with_help(
+                codes::TYPE_MISMATCH,
+                value.span,
+                format!("{what} needs an integer, but this is a float"),
+                "convert with `int(…)` or compare the float",
             );
             return typed::Expr {
                 kind: ExprKind::Error,
@@ -1022,12 +1007,7 @@ impl<'a> Checker<'a> {
                 let right = self.require_integer(right, what);
                 (left, right, Ty::Integer)
             }
-            BinaryOp::Eq
-            | BinaryOp::Ne
-            | BinaryOp::Lt
-            | BinaryOp::Le
-            | BinaryOp::Gt
-            | BinaryOp::Ge => (
+            BinaryOp::Compare(_) => (
                 widen(left, operand_ty),
                 widen(right, operand_ty),
                 Ty::Integer,
@@ -1274,36 +1254,37 @@ pub fn constant_of(expr: &typed::Expr) -> Option<Literal> {
 /// How often `for v = from to to step step` runs its body, computed with the same
 /// arithmetic the machine uses; `None` past a million iterations or on overflow.
 fn trip_count(from: &Literal, to: &Literal, step: &Literal) -> Option<u64> {
-    const LIMIT: u64 = 1_000_000;
-    let mut count = 0u64;
     match (from, to, step) {
-        (Literal::Int(from), Literal::Int(to), Literal::Int(step)) => {
-            if *step == 0 {
-                return None;
-            }
-            let mut value = *from;
-            while (*step > 0 && value <= *to) || (*step < 0 && value >= *to) {
-                count += 1;
-                if count > LIMIT {
-                    return None;
-                }
-                value = value.checked_add(*step)?;
-            }
+        (Literal::Int(from), Literal::Int(to), Literal::Int(step)) if *step != 0 => {
+            count_trips(*from, *to, *step, i64::checked_add)
         }
-        (Literal::Float(from), Literal::Float(to), Literal::Float(step)) => {
-            if *step == 0.0 || !step.is_finite() {
-                return None;
-            }
-            let mut value = *from;
-            while (*step > 0.0 && value <= *to) || (*step < 0.0 && value >= *to) {
-                count += 1;
-                if count > LIMIT {
-                    return None;
-                }
-                value += *step;
-            }
+        (Literal::Float(from), Literal::Float(to), Literal::Float(step))
+            if *step != 0.0 && step.is_finite() =>
+        {
+            count_trips(*from, *to, *step, |value, step| Some(value + step))
         }
-        _ => return None,
+        _ => None,
+    }
+}
+
+/// [`trip_count`] for one type: `step` is not zero, `add` is the machine's `add`
+/// (`None` on overflow).
+fn count_trips<T: Copy + Default + PartialOrd>(
+    from: T,
+    to: T,
+    step: T,
+    add: impl Fn(T, T) -> Option<T>,
+) -> Option<u64> {
+    const LIMIT: u64 = 1_000_000;
+    let zero = T::default();
+    let mut count = 0u64;
+    let mut value = from;
+    while (step > zero && value <= to) || (step < zero && value >= to) {
+        count += 1;
+        if count > LIMIT {
+            return None;
+        }
+        value = add(value, step)?;
     }
     Some(count)
 }
@@ -1362,5 +1343,32 @@ fn for_each_child_block(stmt: &ast::Stmt, mut visit: impl FnMut(&[ast::Stmt])) {
         | ast::StmtKind::Do { body, .. }
         | ast::StmtKind::For { body, .. } => visit(body),
         _ => {}
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // Counted by hand: the values the loop variable takes before it passes `to`.
+    #[test]
+    fn trip_counts_of_constant_for_loops() {
+        let int = Literal::Int;
+        let float = Literal::Float;
+        assert_eq!(trip_count(&int(1), &int(10), &int(1)), Some(10));
+        // 10, 7, 4, 1.
+        assert_eq!(trip_count(&int(10), &int(1), &int(-3)), Some(4));
+        assert_eq!(trip_count(&int(5), &int(1), &int(1)), Some(0));
+        // 0, 0.25, 0.5, 0.75, 1 (exact in binary).
+        assert_eq!(trip_count(&float(0.0), &float(1.0), &float(0.25)), Some(5));
+        assert_eq!(trip_count(&int(1), &int(10), &int(0)), None);
+        assert_eq!(trip_count(&float(0.0), &float(1.0), &float(0.0)), None);
+        assert_eq!(trip_count(&int(1), &int(2_000_000), &int(1)), None);
+        // MAX - 1, MAX, then the next add overflows.
+        assert_eq!(
+            trip_count(&int(i64::MAX - 1), &int(i64::MAX), &int(1)),
+            None
+        );
+        assert_eq!(trip_count(&int(0), &float(1.0), &int(1)), None);
     }
 }

@@ -115,6 +115,36 @@ impl Generator {
         self.code.push(instr, self.span);
     }
 
+    /// `a op b` into a fresh register.
+    fn binary(&mut self, op: Op2, a: Reg, b: Reg) -> Reg {
+        let dst = self.fresh();
+        self.emit(Instr::Binary { op, a, b, dst });
+        dst
+    }
+
+    /// An integer constant in a fresh register.
+    fn load_int(&mut self, value: i64) -> Reg {
+        let dst = self.fresh();
+        self.emit(Instr::LoadI { value, dst });
+        dst
+    }
+
+    /// A float constant in a fresh register.
+    fn load_float(&mut self, value: f64) -> Reg {
+        let dst = self.fresh();
+        self.emit(Instr::LoadD { value, dst });
+        dst
+    }
+
+    /// `cbr cond, on_true, on_false`.
+    fn branch(&mut self, cond: Reg, on_true: Lbl, on_false: Lbl) {
+        self.emit(Instr::Cbr {
+            cond,
+            on_true,
+            on_false,
+        });
+    }
+
     fn block(&mut self, body: &[typed::Stmt]) {
         for stmt in body {
             self.stmt(stmt);
@@ -137,11 +167,7 @@ impl Generator {
                 self.emit(Instr::Label(top));
                 let condition = self.expr(condition);
                 self.span = stmt.span;
-                self.emit(Instr::Cbr {
-                    cond: condition,
-                    on_true: enter,
-                    on_false: exit,
-                });
+                self.branch(condition, enter, exit);
                 self.emit(Instr::Label(enter));
                 self.loop_body(LoopKind::While, exit, body);
                 self.span = stmt.span;
@@ -157,11 +183,7 @@ impl Generator {
                     let condition = self.expr(condition);
                     self.span = stmt.span;
                     let (on_true, on_false) = if *until { (exit, enter) } else { (enter, exit) };
-                    self.emit(Instr::Cbr {
-                        cond: condition,
-                        on_true,
-                        on_false,
-                    });
+                    self.branch(condition, on_true, on_false);
                     self.emit(Instr::Label(enter));
                 }
                 self.loop_body(LoopKind::Do, exit, body);
@@ -170,11 +192,7 @@ impl Generator {
                         self.span = condition.span;
                         let condition = self.expr(condition);
                         let (on_true, on_false) = if *until { (exit, top) } else { (top, exit) };
-                        self.emit(Instr::Cbr {
-                            cond: condition,
-                            on_true,
-                            on_false,
-                        });
+                        self.branch(condition, on_true, on_false);
                     }
                     None => {
                         self.span = stmt.span;
@@ -232,11 +250,7 @@ impl Generator {
                 end = Some(self.label());
             }
             self.span = arm.span;
-            self.emit(Instr::Cbr {
-                cond: condition,
-                on_true,
-                on_false,
-            });
+            self.branch(condition, on_true, on_false);
             self.emit(Instr::Label(on_true));
             self.block(&arm.body);
             self.span = arm.span;
@@ -317,11 +331,7 @@ impl Generator {
         let (step_register, step_sign) = match step {
             None => {
                 self.span = span;
-                let register = self.fresh();
-                self.emit(Instr::LoadI {
-                    value: 1,
-                    dst: register,
-                });
+                let register = self.load_int(1);
                 (register, Some(true))
             }
             Some(step) => {
@@ -340,87 +350,26 @@ impl Generator {
         self.emit(Instr::Label(test));
         let condition = match step_sign {
             Some(upward) => {
-                let condition = self.fresh();
                 let op = if upward { Op2::CmpLe } else { Op2::CmpGe };
-                self.emit(Instr::Binary {
-                    op,
-                    a: counter,
-                    b: limit,
-                    dst: condition,
-                });
-                condition
+                self.binary(op, counter, limit)
             }
             None => {
                 // A step of unknown sign: (step >= 0 and v <= limit) or (step < 0 and v >= limit).
-                let zero = self.fresh();
-                if step.is_some_and(|step| step.ty == Ty::Float) {
-                    self.emit(Instr::LoadD {
-                        value: 0.0,
-                        dst: zero,
-                    });
+                let zero = if step.is_some_and(|step| step.ty == Ty::Float) {
+                    self.load_float(0.0)
                 } else {
-                    self.emit(Instr::LoadI {
-                        value: 0,
-                        dst: zero,
-                    });
-                }
-                let upward = self.fresh();
-                self.emit(Instr::Binary {
-                    op: Op2::CmpGe,
-                    a: step_register,
-                    b: zero,
-                    dst: upward,
-                });
-                let below = self.fresh();
-                self.emit(Instr::Binary {
-                    op: Op2::CmpLe,
-                    a: counter,
-                    b: limit,
-                    dst: below,
-                });
-                let first = self.fresh();
-                self.emit(Instr::Binary {
-                    op: Op2::And,
-                    a: upward,
-                    b: below,
-                    dst: first,
-                });
-                let downward = self.fresh();
-                self.emit(Instr::Binary {
-                    op: Op2::CmpLt,
-                    a: step_register,
-                    b: zero,
-                    dst: downward,
-                });
-                let above = self.fresh();
-                self.emit(Instr::Binary {
-                    op: Op2::CmpGe,
-                    a: counter,
-                    b: limit,
-                    dst: above,
-                });
-                let second = self.fresh();
-                self.emit(Instr::Binary {
-                    op: Op2::And,
-                    a: downward,
-                    b: above,
-                    dst: second,
-                });
-                let condition = self.fresh();
-                self.emit(Instr::Binary {
-                    op: Op2::Or,
-                    a: first,
-                    b: second,
-                    dst: condition,
-                });
-                condition
+                    self.load_int(0)
+                };
+                let upward = self.binary(Op2::CmpGe, step_register, zero);
+                let below = self.binary(Op2::CmpLe, counter, limit);
+                let first = self.binary(Op2::And, upward, below);
+                let downward = self.binary(Op2::CmpLt, step_register, zero);
+                let above = self.binary(Op2::CmpGe, counter, limit);
+                let second = self.binary(Op2::And, downward, above);
+                self.binary(Op2::Or, first, second)
             }
         };
-        self.emit(Instr::Cbr {
-            cond: condition,
-            on_true: enter,
-            on_false: exit,
-        });
+        self.branch(condition, enter, exit);
         self.emit(Instr::Label(enter));
         self.loop_body(LoopKind::For, exit, body);
         self.span = next_span;
@@ -486,50 +435,16 @@ impl Generator {
         let span = index.span;
         let index = self.expr(index);
         self.span = span;
-        let zero = self.fresh();
-        self.emit(Instr::LoadI {
-            value: 0,
-            dst: zero,
-        });
-        let below = self.fresh();
-        self.emit(Instr::Binary {
-            op: Op2::CmpLt,
-            a: index,
-            b: zero,
-            dst: below,
-        });
-        let limit = self.fresh();
-        self.emit(Instr::LoadI {
-            value: i64::from(size),
-            dst: limit,
-        });
-        let above = self.fresh();
-        self.emit(Instr::Binary {
-            op: Op2::CmpGe,
-            a: index,
-            b: limit,
-            dst: above,
-        });
-        let outside = self.fresh();
-        self.emit(Instr::Binary {
-            op: Op2::Or,
-            a: below,
-            b: above,
-            dst: outside,
-        });
+        let zero = self.load_int(0);
+        let below = self.binary(Op2::CmpLt, index, zero);
+        let limit = self.load_int(i64::from(size));
+        let above = self.binary(Op2::CmpGe, index, limit);
+        let outside = self.binary(Op2::Or, below, above);
         let bad = self.label();
         let good = self.label();
-        self.emit(Instr::Cbr {
-            cond: outside,
-            on_true: bad,
-            on_false: good,
-        });
+        self.branch(outside, bad, good);
         self.emit(Instr::Label(bad));
-        let trap = self.fresh();
-        self.emit(Instr::LoadI {
-            value: -1,
-            dst: trap,
-        });
+        let trap = self.load_int(-1);
         self.emit(Instr::LoadM {
             addr: Addr::Reg(trap),
             dst: trap,
@@ -538,34 +453,16 @@ impl Generator {
         if base == 0 {
             return Addr::Reg(index);
         }
-        let base_register = self.fresh();
-        self.emit(Instr::LoadI {
-            value: i64::from(base),
-            dst: base_register,
-        });
-        let address = self.fresh();
-        self.emit(Instr::Binary {
-            op: Op2::Add,
-            a: index,
-            b: base_register,
-            dst: address,
-        });
+        let base_register = self.load_int(i64::from(base));
+        let address = self.binary(Op2::Add, index, base_register);
         Addr::Reg(address)
     }
 
     fn expr(&mut self, expr: &typed::Expr) -> Reg {
         self.span = expr.span;
         match &expr.kind {
-            ExprKind::Int(value) => {
-                let dst = self.fresh();
-                self.emit(Instr::LoadI { value: *value, dst });
-                dst
-            }
-            ExprKind::Float(value) => {
-                let dst = self.fresh();
-                self.emit(Instr::LoadD { value: *value, dst });
-                dst
-            }
+            ExprKind::Int(value) => self.load_int(*value),
+            ExprKind::Float(value) => self.load_float(*value),
             ExprKind::Variable(id) => match self.storage.get(id.0).copied() {
                 Some(Storage::Register { register }) => Reg(register),
                 _ => self.fresh(),
@@ -612,10 +509,7 @@ impl Generator {
                 } else {
                     (a, b)
                 };
-                let op = op.machine_operation();
-                let dst = self.fresh();
-                self.emit(Instr::Binary { op, a, b, dst });
-                dst
+                self.binary(op.machine_operation(), a, b)
             }
             ExprKind::Call { builtin, args } => {
                 let registers: Vec<Reg> = args.iter().map(|arg| self.expr(arg)).collect();
@@ -665,18 +559,7 @@ impl Generator {
             return value;
         }
         self.span = expr.span;
-        let zero = self.fresh();
-        self.emit(Instr::LoadI {
-            value: 0,
-            dst: zero,
-        });
-        let truth = self.fresh();
-        self.emit(Instr::Binary {
-            op: Op2::CmpNe,
-            a: value,
-            b: zero,
-            dst: truth,
-        });
-        truth
+        let zero = self.load_int(0);
+        self.binary(Op2::CmpNe, value, zero)
     }
 }

@@ -80,79 +80,69 @@ pub enum Instr {
     Prints(String),
 }
 
-impl Instr {
-    /// The register this instruction writes.
-    pub fn def(&self) -> Option<Reg> {
-        match self {
+/// The `dst` field of an instruction that writes a register, borrowed as the
+/// instruction is (shared or mutable), for [`Instr::def`] and [`Instr::map_def`].
+macro_rules! destination {
+    ($instr:expr) => {
+        match $instr {
             Instr::LoadS { dst, .. }
             | Instr::LoadI { dst, .. }
             | Instr::LoadD { dst, .. }
             | Instr::Mov { dst, .. }
             | Instr::Binary { dst, .. }
             | Instr::Unary { dst, .. }
-            | Instr::LoadM { dst, .. } => Some(*dst),
+            | Instr::LoadM { dst, .. } => Some(dst),
             _ => None,
         }
+    };
+}
+
+/// The registers an instruction reads (at most two), borrowed as the instruction is,
+/// for [`Instr::uses`] and [`Instr::map_uses`].
+macro_rules! sources {
+    ($instr:expr) => {
+        match $instr {
+            Instr::StoreS { src, .. } | Instr::Mov { src, .. } | Instr::Unary { src, .. } => {
+                [Some(src), None]
+            }
+            Instr::Binary { a, b, .. } => [Some(a), Some(b)],
+            Instr::Cbr { cond, .. } => [Some(cond), None],
+            Instr::LoadM {
+                addr: Addr::Reg(reg),
+                ..
+            } => [Some(reg), None],
+            Instr::StoreM { src, addr } => match addr {
+                Addr::Reg(reg) => [Some(src), Some(reg)],
+                Addr::At(_) => [Some(src), None],
+            },
+            Instr::Write(reg) | Instr::Print(reg) => [Some(reg), None],
+            _ => [None, None],
+        }
+    };
+}
+
+impl Instr {
+    /// The register this instruction writes.
+    pub fn def(&self) -> Option<Reg> {
+        destination!(self).copied()
     }
 
     /// The registers this instruction reads.
     pub fn uses(&self) -> Vec<Reg> {
-        match self {
-            Instr::StoreS { src, .. } | Instr::Mov { src, .. } | Instr::Unary { src, .. } => {
-                vec![*src]
-            }
-            Instr::Binary { a, b, .. } => vec![*a, *b],
-            Instr::Cbr { cond, .. } => vec![*cond],
-            Instr::LoadM { addr, .. } => match addr {
-                Addr::Reg(reg) => vec![*reg],
-                Addr::At(_) => Vec::new(),
-            },
-            Instr::StoreM { src, addr } => match addr {
-                Addr::Reg(reg) => vec![*src, *reg],
-                Addr::At(_) => vec![*src],
-            },
-            Instr::Write(reg) | Instr::Print(reg) => vec![*reg],
-            _ => Vec::new(),
-        }
+        sources!(self).into_iter().flatten().copied().collect()
     }
 
     /// Rewrites every register the instruction reads.
     pub fn map_uses(&mut self, mut map: impl FnMut(Reg) -> Reg) {
-        match self {
-            Instr::StoreS { src, .. } | Instr::Mov { src, .. } | Instr::Unary { src, .. } => {
-                *src = map(*src)
-            }
-            Instr::Binary { a, b, .. } => {
-                *a = map(*a);
-                *b = map(*b);
-            }
-            Instr::Cbr { cond, .. } => *cond = map(*cond),
-            Instr::LoadM {
-                addr: Addr::Reg(reg),
-                ..
-            } => *reg = map(*reg),
-            Instr::StoreM { src, addr } => {
-                *src = map(*src);
-                if let Addr::Reg(reg) = addr {
-                    *reg = map(*reg);
-                }
-            }
-            Instr::Write(reg) | Instr::Print(reg) => *reg = map(*reg),
-            _ => {}
+        for src in sources!(self).into_iter().flatten() {
+            *src = map(*src);
         }
     }
 
     /// Rewrites the register the instruction writes.
     pub fn map_def(&mut self, map: impl FnOnce(Reg) -> Reg) {
-        match self {
-            Instr::LoadS { dst, .. }
-            | Instr::LoadI { dst, .. }
-            | Instr::LoadD { dst, .. }
-            | Instr::Mov { dst, .. }
-            | Instr::Binary { dst, .. }
-            | Instr::Unary { dst, .. }
-            | Instr::LoadM { dst, .. } => *dst = map(*dst),
-            _ => {}
+        if let Some(dst) = destination!(self) {
+            *dst = map(*dst);
         }
     }
 

@@ -1,6 +1,7 @@
 //! GBASIC tokens: a line-oriented lexer that never fails (bad characters become
 //! `Unknown` tokens the parser reports once).
 
+use gloc_engine::vm::Cmp;
 use gloc_engine::Span;
 
 #[derive(Clone, Debug, PartialEq)]
@@ -22,12 +23,8 @@ pub enum TokenKind {
     Star,
     Slash,
     Backslash,
-    Eq,
-    Ne,
-    Lt,
-    Le,
-    Gt,
-    Ge,
+    /// `= <> < <= > >=`; `=` also assigns (see [`TokenKind::EQUALS`]).
+    Compare(Cmp),
     Newline,
     /// A comment, to the end of its line (without the line end): from a `'` outside
     /// a string, or from `rem` as the first word of a line (where a statement
@@ -36,6 +33,11 @@ pub enum TokenKind {
     /// A character that starts no token.
     Unknown,
     Eof,
+}
+
+impl TokenKind {
+    /// `=`: the comparison, and the sign of an assignment, a `const` and a `for`.
+    pub const EQUALS: TokenKind = TokenKind::Compare(Cmp::Eq);
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -107,15 +109,15 @@ pub fn lex(text: &str) -> Vec<Token> {
             b'*' => single(&mut at, TokenKind::Star),
             b'/' => single(&mut at, TokenKind::Slash),
             b'\\' => single(&mut at, TokenKind::Backslash),
-            b'=' => single(&mut at, TokenKind::Eq),
+            b'=' => single(&mut at, TokenKind::EQUALS),
             b'<' => match bytes.get(at + 1) {
-                Some(b'>') => double(&mut at, TokenKind::Ne),
-                Some(b'=') => double(&mut at, TokenKind::Le),
-                _ => single(&mut at, TokenKind::Lt),
+                Some(b'>') => double(&mut at, TokenKind::Compare(Cmp::Ne)),
+                Some(b'=') => double(&mut at, TokenKind::Compare(Cmp::Le)),
+                _ => single(&mut at, TokenKind::Compare(Cmp::Lt)),
             },
             b'>' => match bytes.get(at + 1) {
-                Some(b'=') => double(&mut at, TokenKind::Ge),
-                _ => single(&mut at, TokenKind::Gt),
+                Some(b'=') => double(&mut at, TokenKind::Compare(Cmp::Ge)),
+                _ => single(&mut at, TokenKind::Compare(Cmp::Gt)),
             },
             _ => {
                 // Skip one whole character so spans stay on char boundaries.
@@ -214,7 +216,16 @@ mod tests {
         use TokenKind::*;
         assert_eq!(
             kinds("x = 1.5e-3 <> .5 ' note\n"),
-            vec![Ident, Eq, Float, Ne, Float, Comment, Newline, Eof]
+            vec![
+                Ident,
+                Compare(Cmp::Eq),
+                Float,
+                Compare(Cmp::Ne),
+                Float,
+                Comment,
+                Newline,
+                Eof
+            ]
         );
         assert_eq!(
             kinds("a(1) \\ 2"),

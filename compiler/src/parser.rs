@@ -46,17 +46,7 @@ pub fn parse(text: &str) -> Parsed {
             BlockEnd::Eof => break,
             BlockEnd::Closer(closer) => {
                 // No block is open here, so the closer is stray.
-                let token = parser.peek().clone();
-                let (message, help) = stray_closer_message(closer);
-                parser.report(
-                    Diagnostic::error(
-                        codes::STRAY_CLOSER,
-                        parser.line_span_from(token.span),
-                        message,
-                    )
-                    .with_help(help),
-                );
-                parser.skip_line();
+                parser.stray_closer(closer);
             }
         }
     }
@@ -124,16 +114,9 @@ pub fn parse_expression(text: &str) -> ParsedExpression {
     }
     let expr = parser.parse_expr();
     if expr.is_some() && parser.peek().kind != TokenKind::Eof {
-        let token = parser.peek().clone();
-        let found = parser.describe(&token);
-        let mut diagnostic = Diagnostic::error(
-            codes::SYNTAX,
-            token.span,
-            format!("unexpected {found} after the expression"),
-        );
-        if let Some(help) = operator_hint(parser.slice(token.span)) {
-            diagnostic = diagnostic.with_help(help);
-        }
+        let diagnostic = parser.syntax_error_here(true, |found| {
+            format!("unexpected {found} after the expression")
+        });
         parser.report(diagnostic);
     }
     let has_errors = parser.diagnostics.iter().any(Diagnostic::is_error);
@@ -229,6 +212,9 @@ struct Parser<'a> {
 /// Deeper nesting is refused with a diagnostic, so no input can exhaust the stack
 /// of the parser or of the later passes, which follow the tree.
 const MAX_NESTING: usize = 100;
+
+/// The precedence of the comparisons: the prefix `not` binds just looser.
+const COMPARISONS: usize = BinaryOp::Compare(Cmp::Eq).precedence();
 
 /// The deepest expression tree accepted (an operator, call or unary minus is a level;
 /// parentheses are not). 256 levels keep every recursive pass far inside a 2 MB thread
@@ -346,20 +332,24 @@ impl<'a> Parser<'a> {
     }
 
     fn error_here(&mut self, expected: &str) {
-        let token = self.peek().clone();
-        let found = self.describe(&token);
-        let mut diagnostic = Diagnostic::error(
-            codes::SYNTAX,
-            token.span,
-            format!("expected {expected}, found {found}"),
-        );
         // Where an operand was due, a C operator (`==`'s second `=`, `!`) gets GBASIC's.
-        if expected == "an expression" {
-            if let Some(help) = operator_hint(self.slice(token.span)) {
-                diagnostic = diagnostic.with_help(help);
-            }
-        }
+        let diagnostic = self.syntax_error_here(expected == "an expression", |found| {
+            format!("expected {expected}, found {found}")
+        });
         self.report(diagnostic);
+    }
+
+    /// A syntax error at the next token, its message made from how that token reads
+    /// (see [`Parser::describe`]); with `hint`, a C operator there gets GBASIC's
+    /// spelling as the help.
+    fn syntax_error_here(&self, hint: bool, message: impl FnOnce(&str) -> String) -> Diagnostic {
+        let token = self.peek();
+        let diagnostic =
+            Diagnostic::error(codes::SYNTAX, token.span, message(&self.describe(token)));
+        match operator_hint(self.slice(token.span)).filter(|_| hint) {
+            Some(help) => diagnostic.with_help(help),
+            None => diagnostic,
+        }
     }
 
     /// Ends a statement: anything left on the line is an error (reported once).
@@ -380,6 +370,15 @@ impl<'a> Parser<'a> {
                 ),
             );
         }
+        self.skip_line();
+    }
+
+    /// Reports the closer that starts the current line as closing no open block, and
+    /// skips the line.
+    fn stray_closer(&mut self, closer: Closer) {
+        let span = self.line_span_from(self.peek().span);
+        let (message, help) = stray_closer_message(closer);
+        self.report(Diagnostic::error(codes::STRAY_CLOSER, span, message).with_help(help));
         self.skip_line();
     }
 
@@ -412,17 +411,7 @@ impl<'a> Parser<'a> {
                 if self.open.contains(&closer.owner()) || self.open.is_empty() {
                     return BlockEnd::Closer(closer);
                 }
-                let token = self.peek().clone();
-                let (message, help) = stray_closer_message(closer);
-                self.report(
-                    Diagnostic::error(
-                        codes::STRAY_CLOSER,
-                        self.line_span_from(token.span),
-                        message,
-                    )
-                    .with_help(help),
-                );
-                self.skip_line();
+                self.stray_closer(closer);
                 continue;
             }
             if let Some(stmt) = self.parse_statement() {
@@ -489,17 +478,24 @@ impl<'a> Parser<'a> {
             Some("for") => return self.parse_for(),
             _ => self.parse_simple(),
         };
-        match result {
-            Some(kind) => {
-                let span = self.statement_span(start);
-                self.finish_line();
-                Some(Stmt { kind, span })
-            }
-            None => {
-                self.skip_line();
-                None
-            }
+        let span = self.end_line(start, result.is_some());
+        Some(Stmt {
+            kind: result?,
+            span,
+        })
+    }
+
+    /// Ends the line of a statement that starts at `start` and returns its span: the
+    /// rest of the line must be empty when the statement `parsed`, and is skipped
+    /// when it did not (its error is already reported).
+    fn end_line(&mut self, start: Span, parsed: bool) -> Span {
+        let span = self.statement_span(start);
+        if parsed {
+            self.finish_line();
+        } else {
+            self.skip_line();
         }
+        span
     }
 
     /// From `start` to the end of the last consumed token.
@@ -665,7 +661,7 @@ impl<'a> Parser<'a> {
     fn parse_const(&mut self) -> Option<StmtKind> {
         self.bump();
         let name = self.parse_name("a constant name after `const`")?;
-        if self.peek().kind != TokenKind::Eq {
+        if self.peek().kind != TokenKind::EQUALS {
             self.error_here("`=` after the constant's name");
             return None;
         }
@@ -677,21 +673,15 @@ impl<'a> Parser<'a> {
             false
         };
         let token = self.peek().clone();
-        let value = match token.kind {
-            TokenKind::Int => {
-                self.bump();
-                let value = self.int_value(&token)?;
-                Literal::Int(if negative { -value } else { value })
-            }
-            TokenKind::Float => {
-                self.bump();
-                let value = self.float_value(&token)?;
-                Literal::Float(if negative { -value } else { value })
-            }
-            _ => {
-                self.error_here("a number (a constant's value is a literal)");
-                return None;
-            }
+        if !matches!(token.kind, TokenKind::Int | TokenKind::Float) {
+            self.error_here("a number (a constant's value is a literal)");
+            return None;
+        }
+        self.bump();
+        let value = match (self.number_value(&token)?, negative) {
+            (Literal::Int(value), true) => Literal::Int(-value),
+            (Literal::Float(value), true) => Literal::Float(-value),
+            (value, false) => value,
         };
         Some(StmtKind::Const { name, value })
     }
@@ -710,6 +700,15 @@ impl<'a> Parser<'a> {
                 );
                 None
             }
+        }
+    }
+
+    /// The value of an `Int` or `Float` token (reported when it does not fit).
+    fn number_value(&mut self, token: &Token) -> Option<Literal> {
+        if token.kind == TokenKind::Int {
+            self.int_value(token).map(Literal::Int)
+        } else {
+            self.float_value(token).map(Literal::Float)
         }
     }
 
@@ -744,7 +743,7 @@ impl<'a> Parser<'a> {
         } else {
             Target::Name(name)
         };
-        if self.peek().kind != TokenKind::Eq {
+        if self.peek().kind != TokenKind::EQUALS {
             let token = self.peek().clone();
             if token.kind == TokenKind::Colon {
                 let name = target.name().text.clone();
@@ -998,14 +997,8 @@ impl<'a> Parser<'a> {
         } else {
             self.parse_expr()
         };
-        let header_span = self.statement_span(keyword.span);
-        if condition.is_some() {
-            self.finish_line();
-        } else {
-            self.skip_line();
-        }
-        let mut body = Vec::new();
-        let closer = self.parse_nested(BlockKind::While, header_span, &mut body);
+        let (header_span, body, closer) =
+            self.parse_loop_body(BlockKind::While, keyword.span, condition.is_some());
         let end_span = match closer {
             Some(_) => {
                 let token = self.bump();
@@ -1022,6 +1015,21 @@ impl<'a> Parser<'a> {
             },
             span: header_span,
         })
+    }
+
+    /// A loop's body after its header line (from `keyword`; `parsed`: the header
+    /// parsed): the header's span, the body, and the closer found (not consumed;
+    /// `None` after reporting it missing).
+    fn parse_loop_body(
+        &mut self,
+        kind: BlockKind,
+        keyword: Span,
+        parsed: bool,
+    ) -> (Span, Vec<Stmt>, Option<Closer>) {
+        let header_span = self.end_line(keyword, parsed);
+        let mut body = Vec::new();
+        let closer = self.parse_nested(kind, header_span, &mut body);
+        (header_span, body, closer)
     }
 
     fn parse_do_condition(&mut self) -> Result<Option<DoCondition>, ()> {
@@ -1041,26 +1049,14 @@ impl<'a> Parser<'a> {
     fn parse_do(&mut self) -> Option<Stmt> {
         let keyword = self.bump();
         let pre = self.parse_do_condition();
-        let header_span = self.statement_span(keyword.span);
-        if pre.is_ok() {
-            self.finish_line();
-        } else {
-            self.skip_line();
-        }
-        let mut body = Vec::new();
-        let closer = self.parse_nested(BlockKind::Do, header_span, &mut body);
+        let (header_span, body, closer) =
+            self.parse_loop_body(BlockKind::Do, keyword.span, pre.is_ok());
         let mut post = Ok(None);
         let end_span = match closer {
             Some(_) => {
                 let token = self.bump();
                 post = self.parse_do_condition();
-                let span = self.statement_span(token.span);
-                if post.is_ok() {
-                    self.finish_line();
-                } else {
-                    self.skip_line();
-                }
-                Some(span)
+                Some(self.end_line(token.span, post.is_ok()))
             }
             None => None,
         };
@@ -1092,14 +1088,8 @@ impl<'a> Parser<'a> {
     fn parse_for(&mut self) -> Option<Stmt> {
         let keyword = self.bump();
         let header = self.parse_for_header();
-        let header_span = self.statement_span(keyword.span);
-        if header.is_some() {
-            self.finish_line();
-        } else {
-            self.skip_line();
-        }
-        let mut body = Vec::new();
-        let closer = self.parse_nested(BlockKind::For, header_span, &mut body);
+        let (header_span, body, closer) =
+            self.parse_loop_body(BlockKind::For, keyword.span, header.is_some());
         let mut end_span = None;
         if closer.is_some() {
             let token = self.bump();
@@ -1157,7 +1147,7 @@ impl<'a> Parser<'a> {
 
     fn parse_for_header(&mut self) -> Option<(Name, Expr, Expr, Option<Expr>)> {
         let variable = self.parse_name("the loop variable after `for`")?;
-        if self.peek().kind != TokenKind::Eq {
+        if self.peek().kind != TokenKind::EQUALS {
             self.error_here("`=` after the loop variable");
             return None;
         }
@@ -1190,7 +1180,7 @@ impl<'a> Parser<'a> {
         if !self.enter_expression() {
             return None;
         }
-        let expr = self.parse_or();
+        let expr = self.parse_binary(0);
         self.expression_depth -= 1;
         expr
     }
@@ -1256,24 +1246,49 @@ impl<'a> Parser<'a> {
         self.node(expr, &children, operator)
     }
 
-    fn parse_or(&mut self) -> Option<Node> {
-        let mut left = self.parse_and()?;
-        while self.at_word("or") {
+    /// The operators of precedence level `level` and tighter (see
+    /// [`BinaryOp::precedence`]), each level's chain from the left.
+    fn parse_binary(&mut self, level: usize) -> Option<Node> {
+        let mut left = self.parse_operand(level)?;
+        while let Some(op) = self.operator_at(level) {
             let operator = self.bump().span;
-            let right = self.parse_and()?;
-            left = self.binary(BinaryOp::Or, operator, left, right)?;
+            let right = self.parse_operand(level)?;
+            left = self.binary(op, operator, left, right)?;
         }
         Some(left)
     }
 
-    fn parse_and(&mut self) -> Option<Node> {
-        let mut left = self.parse_not()?;
-        while self.at_word("and") {
-            let operator = self.bump().span;
-            let right = self.parse_not()?;
-            left = self.binary(BinaryOp::And, operator, left, right)?;
+    /// An operand of the operators of `level`: the next tighter level, with the
+    /// prefix `not` above the comparisons and the prefix minus below all.
+    fn parse_operand(&mut self, level: usize) -> Option<Node> {
+        let tighter = level + 1;
+        if tighter == COMPARISONS {
+            self.parse_not()
+        } else if tighter < BinaryOp::LEVELS {
+            self.parse_binary(tighter)
+        } else {
+            self.parse_unary()
         }
-        Some(left)
+    }
+
+    /// The binary operator of precedence level `level` the next token is, if any.
+    fn operator_at(&self, level: usize) -> Option<BinaryOp> {
+        let op = match self.peek().kind {
+            TokenKind::Compare(cmp) => BinaryOp::Compare(cmp),
+            TokenKind::Plus => BinaryOp::Add,
+            TokenKind::Minus => BinaryOp::Sub,
+            TokenKind::Backslash => BinaryOp::IntDiv,
+            TokenKind::Star => BinaryOp::Mul,
+            TokenKind::Slash => BinaryOp::Div,
+            TokenKind::Ident => match self.word_at(0)?.as_str() {
+                "or" => BinaryOp::Or,
+                "and" => BinaryOp::And,
+                "mod" => BinaryOp::Mod,
+                _ => return None,
+            },
+            _ => return None,
+        };
+        (op.precedence() == level).then_some(op)
     }
 
     fn parse_not(&mut self) -> Option<Node> {
@@ -1286,73 +1301,7 @@ impl<'a> Parser<'a> {
             self.expression_depth -= 1;
             return self.unary(UnaryOp::Not, keyword.span, operand?);
         }
-        self.parse_comparison()
-    }
-
-    fn parse_comparison(&mut self) -> Option<Node> {
-        let mut left = self.parse_additive()?;
-        loop {
-            let op = match self.peek().kind {
-                TokenKind::Eq => BinaryOp::Eq,
-                TokenKind::Ne => BinaryOp::Ne,
-                TokenKind::Lt => BinaryOp::Lt,
-                TokenKind::Le => BinaryOp::Le,
-                TokenKind::Gt => BinaryOp::Gt,
-                TokenKind::Ge => BinaryOp::Ge,
-                _ => return Some(left),
-            };
-            let operator = self.bump().span;
-            let right = self.parse_additive()?;
-            left = self.binary(op, operator, left, right)?;
-        }
-    }
-
-    fn parse_additive(&mut self) -> Option<Node> {
-        let mut left = self.parse_mod()?;
-        loop {
-            let op = match self.peek().kind {
-                TokenKind::Plus => BinaryOp::Add,
-                TokenKind::Minus => BinaryOp::Sub,
-                _ => return Some(left),
-            };
-            let operator = self.bump().span;
-            let right = self.parse_mod()?;
-            left = self.binary(op, operator, left, right)?;
-        }
-    }
-
-    fn parse_mod(&mut self) -> Option<Node> {
-        let mut left = self.parse_int_div()?;
-        while self.at_word("mod") {
-            let operator = self.bump().span;
-            let right = self.parse_int_div()?;
-            left = self.binary(BinaryOp::Mod, operator, left, right)?;
-        }
-        Some(left)
-    }
-
-    fn parse_int_div(&mut self) -> Option<Node> {
-        let mut left = self.parse_multiplicative()?;
-        while self.peek().kind == TokenKind::Backslash {
-            let operator = self.bump().span;
-            let right = self.parse_multiplicative()?;
-            left = self.binary(BinaryOp::IntDiv, operator, left, right)?;
-        }
-        Some(left)
-    }
-
-    fn parse_multiplicative(&mut self) -> Option<Node> {
-        let mut left = self.parse_unary()?;
-        loop {
-            let op = match self.peek().kind {
-                TokenKind::Star => BinaryOp::Mul,
-                TokenKind::Slash => BinaryOp::Div,
-                _ => return Some(left),
-            };
-            let operator = self.bump().span;
-            let right = self.parse_unary()?;
-            left = self.binary(op, operator, left, right)?;
-        }
+        self.parse_binary(COMPARISONS)
     }
 
     fn parse_unary(&mut self) -> Option<Node> {
@@ -1383,19 +1332,10 @@ impl<'a> Parser<'a> {
         let token = self.peek().clone();
         let leaf = |expr| Some(Node { expr, depth: 0 });
         match token.kind {
-            TokenKind::Int => {
+            TokenKind::Int | TokenKind::Float => {
                 self.bump();
-                let value = self.int_value(&token)?;
                 leaf(Expr {
-                    kind: ExprKind::Literal(Literal::Int(value)),
-                    span: token.span,
-                })
-            }
-            TokenKind::Float => {
-                self.bump();
-                let value = self.float_value(&token)?;
-                leaf(Expr {
-                    kind: ExprKind::Literal(Literal::Float(value)),
+                    kind: ExprKind::Literal(self.number_value(&token)?),
                     span: token.span,
                 })
             }
@@ -1530,5 +1470,41 @@ mod tests {
         assert_eq!(found.len(), 1, "{found:?}");
         assert_eq!(found[0].0, codes::SYNTAX);
         assert_eq!(found[0].2, None);
+    }
+
+    /// `text` parsed as an expression, fully parenthesized.
+    fn grouped(text: &str) -> String {
+        fn show(expr: &Expr) -> String {
+            match &expr.kind {
+                ExprKind::Literal(Literal::Int(value)) => value.to_string(),
+                ExprKind::Name(name) => name.text.clone(),
+                ExprKind::Unary { op, operand } => {
+                    let symbol = if *op == UnaryOp::Not { "not " } else { "-" };
+                    format!("({symbol}{})", show(operand))
+                }
+                ExprKind::Binary { op, left, right } => {
+                    format!("({} {} {})", show(left), op.symbol(), show(right))
+                }
+                other => panic!("not in these tests: {other:?}"),
+            }
+        }
+        let parsed = parse_expression(text);
+        assert!(parsed.diagnostics.is_empty(), "{:?}", parsed.diagnostics);
+        show(&parsed.expr.expect(text))
+    }
+
+    // Grouped by hand from the precedence in docs/gbasic.md, loosest first: `or`,
+    // `and`, `not`, comparisons, `+ -`, `mod`, `\`, `* /`, prefix minus.
+    #[test]
+    fn operators_group_by_precedence_and_from_the_left() {
+        assert_eq!(
+            grouped("a or b and not c = 1 + 2 mod 3 \\ 4 * -5"),
+            "(a or (b and (not (c = (1 + (2 mod (3 \\ (4 * (-5)))))))))"
+        );
+        assert_eq!(grouped("a - b - c"), "((a - b) - c)");
+        assert_eq!(grouped("a * b / c mod d"), "(((a * b) / c) mod d)");
+        assert_eq!(grouped("a < b <> c"), "((a < b) <> c)");
+        assert_eq!(grouped("not not a and b"), "((not (not a)) and b)");
+        assert_eq!(grouped("a \\ b * c - d"), "((a \\ (b * c)) - d)");
     }
 }

@@ -88,12 +88,7 @@ pub enum PrintItem {
     Text(String),
 }
 
-#[derive(Clone, Debug, PartialEq)]
-pub struct IfArm {
-    pub condition: Expr,
-    pub body: Vec<Stmt>,
-    pub span: Span,
-}
+pub type IfArm = crate::ast::Arm<Expr, Stmt>;
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum StmtKind {

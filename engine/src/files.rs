@@ -14,37 +14,26 @@ pub struct Limit {
     pub bytes: u64,
 }
 
+impl Limit {
+    /// Reading as `what`, at most `bytes` bytes.
+    pub const fn new(what: &'static str, bytes: u64) -> Limit {
+        Limit { what, bytes }
+    }
+}
+
 /// A GLOC or GBASIC script: the same 16 MB as E0013 (`gloc::MAX_SOURCE_BYTES`).
-pub const SCRIPT: Limit = Limit {
-    what: "a script",
-    bytes: crate::gloc::MAX_SOURCE_BYTES as u64,
-};
+pub const SCRIPT: Limit = Limit::new("a script", crate::gloc::MAX_SOURCE_BYTES as u64);
 /// A masterdata or `.cac` sensor list (a real one is under 1 MB).
-pub const SENSOR_LIST: Limit = Limit {
-    what: "a sensor list",
-    bytes: 16 << 20,
-};
+pub const SENSOR_LIST: Limit = Limit::new("a sensor list", 16 << 20);
 /// A mission `.mi` or `.ma` file (a real one is a few KB).
-pub const MISSION: Limit = Limit {
-    what: "a mission file",
-    bytes: 16 << 20,
-};
+pub const MISSION: Limit = Limit::new("a mission file", 16 << 20);
 /// A temperature profile CSV.
-pub const PROFILE: Limit = Limit {
-    what: "a temperature profile",
-    bytes: 16 << 20,
-};
+pub const PROFILE: Limit = Limit::new("a temperature profile", 16 << 20);
 /// A recorded-sensor CSV for `gloc run --replay` (a month of 4 s rows with 20 columns
 /// is about 150 MB).
-pub const REPLAY: Limit = Limit {
-    what: "a replay CSV",
-    bytes: 256 << 20,
-};
+pub const REPLAY: Limit = Limit::new("a replay CSV", 256 << 20);
 /// `gloc.toml`.
-pub const CONFIG: Limit = Limit {
-    what: "gloc.toml",
-    bytes: 1 << 20,
-};
+pub const CONFIG: Limit = Limit::new("gloc.toml", 1 << 20);
 
 /// Reads the whole of a regular file of at most `limit.bytes` bytes. A directory, FIFO,
 /// socket or device is refused before it is opened, and the size is checked before
@@ -68,10 +57,7 @@ pub fn read(path: &Path, limit: Limit) -> io::Result<Vec<u8>> {
 /// does not grow with its length), so no size cap; a directory, FIFO, socket or device
 /// is refused as [`read`] refuses it.
 pub fn open_regular(path: &Path) -> io::Result<File> {
-    let unlimited = Limit {
-        what: "a file",
-        bytes: u64::MAX,
-    };
+    let unlimited = Limit::new("a file", u64::MAX);
     check(&std::fs::metadata(path)?, unlimited)?;
     let file = open(path)?;
     check(&file.metadata()?, unlimited)?;
@@ -176,10 +162,7 @@ mod tests {
         std::fs::create_dir_all(&folder).expect("a folder");
         let error = read(&folder, SCRIPT).expect_err("a directory");
         assert!(error.to_string().contains("a directory"), "{error}");
-        let small = Limit {
-            what: "a test file",
-            bytes: 4,
-        };
+        let small = Limit::new("a test file", 4);
         let path = folder.join("five");
         std::fs::write(&path, "12345").expect("write");
         let error = read(&path, small).expect_err("too large");

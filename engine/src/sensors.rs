@@ -61,8 +61,10 @@ impl Access {
     }
 }
 
+/// A `sensor:` or a `b_arg:` line of a masterdata file, which read alike:
+/// `NAME(UNITS) [DEFAULT] [# comment]`, a `#!` comment giving metadata.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Sensor {
+pub struct Setting {
     pub name: String,
     pub units: String,
     /// The default from the masterdata file; `None` means unset (0.0 at run time).
@@ -71,11 +73,34 @@ pub struct Sensor {
     /// `#! min = …; max = …` metadata, when the file gave it.
     pub min: Option<f64>,
     pub max: Option<f64>,
-    /// 1-based line in the file this sensor came from (0 for the embedded list).
+    /// `#! choices = start_when([0, 1, 2])`: the only values Control Center allows.
+    pub choices: Option<Vec<f64>>,
+    /// 1-based line in the file it came from (0 for the embedded list).
     pub line: u32,
 }
 
-impl Sensor {
+/// A sensor of a list.
+pub type Sensor = Setting;
+
+/// One `b_arg:` line of a masterdata `behavior:` section.
+pub type BehaviorArg = Setting;
+
+impl Setting {
+    /// A name and units alone (a `.cac` line, the embedded list): no default,
+    /// description or metadata.
+    pub fn new(name: impl Into<String>, units: impl Into<String>, line: u32) -> Setting {
+        Setting {
+            name: name.into(),
+            units: units.into(),
+            default: None,
+            description: None,
+            min: None,
+            max: None,
+            choices: None,
+            line,
+        }
+    }
+
     pub fn access(&self) -> Access {
         Access::of_name(&self.name)
     }
@@ -107,20 +132,6 @@ pub struct BehaviorDefaults {
     /// 1-based line of the `behavior:` line.
     pub line: u32,
     pub args: Vec<BehaviorArg>,
-}
-
-/// One `b_arg: NAME(UNITS) [DEFAULT] [# comment]` line.
-#[derive(Clone, Debug, PartialEq)]
-pub struct BehaviorArg {
-    pub name: String,
-    pub units: String,
-    pub default: Option<f64>,
-    pub description: Option<String>,
-    pub min: Option<f64>,
-    pub max: Option<f64>,
-    /// `#! choices = start_when([0, 1, 2])`: the only values Control Center allows.
-    pub choices: Option<Vec<f64>>,
-    pub line: u32,
 }
 
 impl SensorList {
@@ -168,17 +179,11 @@ impl SensorList {
                 continue;
             }
             let id = SensorId(self.sensors.len() as u32);
-            self.sensors.push(Sensor {
-                name: name.to_string(),
-                units: units.to_string(),
-                default: None,
-                description: embedded_descriptions()
-                    .get(name)
-                    .map(|text| text.to_string()),
-                min: None,
-                max: None,
-                line: 0,
-            });
+            let mut sensor = Sensor::new(name, units, 0);
+            sensor.description = embedded_descriptions()
+                .get(name)
+                .map(|text| text.to_string());
+            self.sensors.push(sensor);
             self.by_name.insert(name.to_string(), id);
             added.push(name);
         }
@@ -212,15 +217,9 @@ impl SensorList {
                 let _index = fields.next()?;
                 let name = fields.next()?;
                 let units = fields.next().unwrap_or("nodim");
-                Some(Sensor {
-                    name: name.to_string(),
-                    units: units.to_string(),
-                    default: None,
-                    description: descriptions.get(name).map(|text| text.to_string()),
-                    min: None,
-                    max: None,
-                    line: 0,
-                })
+                let mut sensor = Sensor::new(name, units, 0);
+                sensor.description = descriptions.get(name).map(|text| text.to_string());
+                Some(sensor)
             })
             .collect();
         SensorList::from_sensors(sensors).with_crc(EMBEDDED_CRC)

@@ -74,7 +74,7 @@ mod code;
 mod match_loop;
 mod threaded;
 
-use code::{Cmp, Code, MAX_FUSED};
+use code::{Code, MAX_FUSED};
 
 /// The default per-cycle instruction budget. The paper's engine added at most
 /// 30 ms to the 4 s cycle on a 16 MHz Persistor, where an interpreted
@@ -542,7 +542,31 @@ pub enum BinaryOperation {
     CmpGe,
 }
 
+/// A comparison: what `cmpeq` … `cmpge` compute (and the fused compare-and-branch
+/// ops), and GBASIC's `= <> < <= > >=`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Cmp {
+    Eq,
+    Ne,
+    Lt,
+    Le,
+    Gt,
+    Ge,
+}
+
 impl BinaryOperation {
+    /// The `cmpXX` operation that computes `cmp`.
+    pub fn compare(cmp: Cmp) -> BinaryOperation {
+        match cmp {
+            Cmp::Eq => BinaryOperation::CmpEq,
+            Cmp::Ne => BinaryOperation::CmpNe,
+            Cmp::Lt => BinaryOperation::CmpLt,
+            Cmp::Le => BinaryOperation::CmpLe,
+            Cmp::Gt => BinaryOperation::CmpGt,
+            Cmp::Ge => BinaryOperation::CmpGe,
+        }
+    }
+
     /// The GLOC instruction that performs it.
     pub fn mnemonic(self) -> &'static str {
         match self {

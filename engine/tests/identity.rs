@@ -153,15 +153,7 @@ fn reindex_refuses_a_name_the_target_lacks_and_names_the_place() {
     let small = SensorList::from_sensors(
         ["m_depth", "c_pitch"]
             .iter()
-            .map(|name| Sensor {
-                name: name.to_string(),
-                units: "m".into(),
-                default: None,
-                description: None,
-                min: None,
-                max: None,
-                line: 0,
-            })
+            .map(|name| Sensor::new(*name, "m", 0))
             .collect(),
     );
     let errors = identity::reindex(FIG2, &gloc::parse(FIG2), &SensorList::embedded(), &small)

@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use gloc_engine::sensors::{
-    load_sensor_file, parse_cac, parse_masterdata, SensorId, SensorList, SensorOrder,
+    load_sensor_file, parse_cac, parse_masterdata, Sensor, SensorId, SensorList, SensorOrder,
 };
 use gloc_engine::{Diagnostic, LineIndex};
 
@@ -322,6 +322,31 @@ behavior: yo\n\
     assert_eq!(args[1].choices, Some(vec![0.0, 2.0]));
     // A named list the file does not give: nothing to check against.
     assert_eq!(args[2].choices, None);
+}
+
+#[test]
+fn a_sensor_line_reads_its_comments_as_a_b_arg_line_does() {
+    // The same text after `sensor:` and after `b_arg:`: the same setting, but for
+    // the line number.
+    let entry = "c_mode(enum) 1   #! min = 0; max = 4; choices=c_mode([0, 1, 4])\n\
+                                # the mode\n";
+    let text = format!("sensor: {entry}behavior: yo\n    b_arg: {entry}");
+    let (list, diagnostics) = parse_masterdata(&text, SensorOrder::FileOrder);
+    assert!(diagnostics.is_empty(), "{diagnostics:?}");
+    let sensor = list.get(list.lookup("c_mode").unwrap()).unwrap();
+    assert_eq!((sensor.min, sensor.max), (Some(0.0), Some(4.0)));
+    assert_eq!(sensor.choices, Some(vec![0.0, 1.0, 4.0]));
+    assert_eq!(sensor.description.as_deref(), Some("the mode"));
+    assert_eq!((sensor.default, sensor.line), (Some(1.0), 1));
+    let arg = &list.behavior_defaults()[0].args[0];
+    assert_eq!(arg.line, 4);
+    assert_eq!(
+        *arg,
+        Sensor {
+            line: 4,
+            ..sensor.clone()
+        }
+    );
 }
 
 #[test]

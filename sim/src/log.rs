@@ -393,6 +393,7 @@ mod tests {
             description: None,
             min: None,
             max: None,
+            choices: None,
             line: 0,
         };
         SensorList::from_sensors(vec![

@@ -751,32 +751,25 @@ impl Resolver<'_, '_, '_> {
             );
             return SensorId(0);
         };
-        if store.is_some() {
-            match sensor.access() {
-                Access::ReadOnly => self.checker.diagnostics.push(
-                    Diagnostic::error(
-                        crate::codes::gloc::STORE_TO_READ_ONLY,
-                        span,
-                        format!(
-                            "sensor {index} `{}` is read-only: scripts may not store to `m_` and `x_` sensors",
-                            sensor.name
-                        ),
-                    )
-                    .with_help("store to a `c_`, `u_` or `sci_` sensor instead"),
-                ),
-                Access::Factory => self.checker.diagnostics.push(
-                    Diagnostic::warning(
-                        crate::codes::gloc::STORE_TO_FACTORY,
-                        span,
-                        format!(
-                            "sensor {index} `{}` is a factory setting (`f_`); changing it from a script is risky",
-                            sensor.name
-                        ),
-                    ),
-                ),
-                Access::Writable => {}
-            }
+        if store.is_none() {
+            return id;
         }
+        let name = &sensor.name;
+        let diagnostic = match sensor.access() {
+            Access::ReadOnly => Diagnostic::error(
+                crate::codes::gloc::STORE_TO_READ_ONLY,
+                span,
+                format!("sensor {index} `{name}` is read-only: scripts may not store to `m_` and `x_` sensors"),
+            )
+            .with_help("store to a `c_`, `u_` or `sci_` sensor instead"),
+            Access::Factory => Diagnostic::warning(
+                crate::codes::gloc::STORE_TO_FACTORY,
+                span,
+                format!("sensor {index} `{name}` is a factory setting (`f_`); changing it from a script is risky"),
+            ),
+            Access::Writable => return id,
+        };
+        self.checker.diagnostics.push(diagnostic);
         id
     }
 

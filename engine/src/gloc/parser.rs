@@ -178,39 +178,35 @@ impl Parser {
             return Err(diagnostic);
         };
         let signature = opcode.signature();
-        if operands.len() != signature.len() {
+        // Operands that do not fit the instruction: what is wrong, and how to write it.
+        let misfit = if operands.len() != signature.len() {
             let span = match operands.get(signature.len()) {
                 Some((_, extra)) => *extra,
                 None => word_span.cover(operands.last().map_or(word_span, |(_, span)| *span)),
             };
-            return Err(Diagnostic::error(
-                crate::codes::gloc::OPERAND_COUNT,
-                span,
-                format!(
-                    "`{}` takes {} operand{}, found {}",
-                    opcode.name(),
-                    signature.len(),
-                    if signature.len() == 1 { "" } else { "s" },
-                    operands.len()
-                ),
-            )
-            .with_help(format!("write `{}`", opcode.usage())));
-        }
-        for ((kind, span), shape) in operands.iter().zip(signature) {
-            let span = *span;
-            if !fits(kind, *shape) {
-                return Err(Diagnostic::error(
-                    crate::codes::gloc::OPERAND_KIND,
-                    span,
-                    format!(
-                        "`{}` expects {} here, found {}",
-                        opcode.name(),
-                        shape.describe(),
-                        describe_operand(kind)
-                    ),
-                )
-                .with_help(format!("write `{}`", opcode.usage())));
-            }
+            let plural = if signature.len() == 1 { "" } else { "s" };
+            let wrong = format!(
+                "takes {} operand{plural}, found {}",
+                signature.len(),
+                operands.len()
+            );
+            Some((crate::codes::gloc::OPERAND_COUNT, span, wrong))
+        } else {
+            operands
+                .iter()
+                .zip(signature)
+                .find(|((kind, _), shape)| !fits(kind, **shape))
+                .map(|((kind, span), shape)| {
+                    let found = describe_operand(kind);
+                    let wrong = format!("expects {} here, found {found}", shape.describe());
+                    (crate::codes::gloc::OPERAND_KIND, *span, wrong)
+                })
+        };
+        if let Some((code, span, wrong)) = misfit {
+            return Err(
+                Diagnostic::error(code, span, format!("`{}` {wrong}", opcode.name()))
+                    .with_help(format!("write `{}`", opcode.usage())),
+            );
         }
         // Same layout: the collect reuses the allocation.
         let operands = operands

@@ -6,7 +6,7 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use crate::diagnostic::{Diagnostic, Span};
-use crate::sensors::{BehaviorArg, BehaviorDefaults, Sensor, SensorList};
+use crate::sensors::{BehaviorDefaults, Sensor, SensorList, Setting};
 
 /// How sensor indices follow from a masterdata file.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -260,22 +260,15 @@ impl MasterdataReader {
         let Some(target) = self.continues else {
             return;
         };
-        let entry = match target {
-            Continuation::Sensor(at) => self
-                .sensors
-                .get_mut(at)
-                .map(|sensor| (&mut sensor.description, &mut sensor.min, &mut sensor.max)),
+        let setting = match target {
+            Continuation::Sensor(at) => self.sensors.get_mut(at),
             Continuation::Arg(behavior, arg) => self
                 .behaviors
                 .get_mut(behavior)
-                .and_then(|behavior| behavior.args.get_mut(arg))
-                .map(|arg| {
-                    apply_choices(comment, &mut arg.choices);
-                    (&mut arg.description, &mut arg.min, &mut arg.max)
-                }),
+                .and_then(|behavior| behavior.args.get_mut(arg)),
         };
-        if let Some((description, min, max)) = entry {
-            apply_comment(comment, description, min, max);
+        if let Some(setting) = setting {
+            apply_comment(comment, setting);
         }
     }
 
@@ -315,24 +308,7 @@ impl MasterdataReader {
         } else {
             self.first_line_of.insert(key, (at.number, span));
         }
-        let mut sensor = Sensor {
-            name: entry.name,
-            units: entry.units,
-            default: entry.default,
-            description: None,
-            min: None,
-            max: None,
-            line: at.number,
-        };
-        if let Some(comment) = entry.comment {
-            apply_comment(
-                comment,
-                &mut sensor.description,
-                &mut sensor.min,
-                &mut sensor.max,
-            );
-        }
-        self.sensors.push(sensor);
+        self.sensors.push(entry.into_setting(at.number));
         self.continues = Some(Continuation::Sensor(self.sensors.len() - 1));
         true
     }
@@ -382,22 +358,8 @@ impl MasterdataReader {
             }
         };
         self.diagnostics.extend(entry.stray.take());
-        let mut arg = BehaviorArg {
-            name: entry.name,
-            units: entry.units,
-            default: entry.default,
-            description: None,
-            min: None,
-            max: None,
-            choices: None,
-            line: at.number,
-        };
-        if let Some(comment) = entry.comment {
-            apply_comment(comment, &mut arg.description, &mut arg.min, &mut arg.max);
-            apply_choices(comment, &mut arg.choices);
-        }
         let behavior = &mut self.behaviors[behavior_index];
-        behavior.args.push(arg);
+        behavior.args.push(entry.into_setting(at.number));
         self.continues = Some(Continuation::Arg(behavior_index, behavior.args.len() - 1));
     }
 
@@ -576,15 +538,7 @@ pub fn parse_cac(text: &str) -> (SensorList, Vec<Diagnostic>) {
             first_line_of.insert(key, (entry.line, name_span));
         }
         spans[sensor_index] = entry.index_span;
-        slots[sensor_index] = Some(Sensor {
-            name,
-            units: entry.units,
-            default: None,
-            description: None,
-            min: None,
-            max: None,
-            line: entry.line,
-        });
+        slots[sensor_index] = Some(Sensor::new(name, entry.units, entry.line));
     }
     if let Some(missing) = slots.iter().position(Option::is_none) {
         diagnostics.push(Diagnostic::error(
@@ -619,6 +573,20 @@ struct Entry<'a> {
     comment: Option<&'a str>,
     /// W0209: text after the default, which the glider ignores.
     stray: Option<Diagnostic>,
+}
+
+impl Entry<'_> {
+    /// The setting the line gives on line `line`, its comment read.
+    fn into_setting(self, line: u32) -> Setting {
+        let mut setting = Setting {
+            default: self.default,
+            ..Setting::new(self.name, self.units, line)
+        };
+        if let Some(comment) = self.comment {
+            apply_comment(comment, &mut setting);
+        }
+        setting
+    }
 }
 
 fn entry_line(body: &str, base: usize) -> Result<Entry<'_>, Box<Diagnostic>> {
@@ -720,12 +688,7 @@ fn entry_line(body: &str, base: usize) -> Result<Entry<'_>, Box<Diagnostic>> {
 
 /// A comment after or below an entry: `#! key = value; …` metadata, or text
 /// that becomes (part of) the description.
-fn apply_comment(
-    comment: &str,
-    description: &mut Option<String>,
-    min: &mut Option<f64>,
-    max: &mut Option<f64>,
-) {
+fn apply_comment(comment: &str, setting: &mut Setting) {
     if let Some(metadata) = comment.strip_prefix('!') {
         for pair in metadata.split(';') {
             let Some((key, value)) = pair.split_once('=') else {
@@ -733,32 +696,30 @@ fn apply_comment(
             };
             let value = value.trim().parse::<f64>().ok();
             match key.trim() {
-                "min" => *min = value.or(*min),
-                "max" => *max = value.or(*max),
+                "min" => setting.min = value.or(setting.min),
+                "max" => setting.max = value.or(setting.max),
                 _ => {}
             }
         }
+        apply_choices(metadata, &mut setting.choices);
         return;
     }
     let text = comment.trim();
     if text.is_empty() {
         return;
     }
-    match description {
+    match &mut setting.description {
         Some(existing) => {
             existing.push(' ');
             existing.push_str(text);
         }
-        None => *description = Some(text.to_string()),
+        None => setting.description = Some(text.to_string()),
     }
 }
 
 /// `#! choices = start_when([0, 1, 2])`: the numbers in the brackets. A `choices`
 /// naming a list without giving it (`choices=use_pitch`) sets nothing.
-fn apply_choices(comment: &str, choices: &mut Option<Vec<f64>>) {
-    let Some(metadata) = comment.strip_prefix('!') else {
-        return;
-    };
+fn apply_choices(metadata: &str, choices: &mut Option<Vec<f64>>) {
     for pair in metadata.split(';') {
         let Some((key, value)) = pair.split_once('=') else {
             continue;

@@ -14,6 +14,7 @@
 //! instruction. Nothing here changes GLOC text, the checker or the debugger's
 //! view of the program: the machine stays at the same pcs with the same state.
 
+use super::Cmp;
 use crate::program::{Instr, Pc, Program, Reg, Value};
 use crate::sensors::SensorId;
 
@@ -170,17 +171,6 @@ impl Operand for f64 {}
 impl Operand for u32 {}
 impl Operand for Value {}
 impl Operand for Cmp {}
-
-/// A comparison, for the fused compare-and-branch ops.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) enum Cmp {
-    Eq,
-    Ne,
-    Lt,
-    Le,
-    Gt,
-    Ge,
-}
 
 impl Cmp {
     /// The comparison with its operands swapped: `k < a` is `a > k`.

@@ -8,11 +8,11 @@
 //! Each op function returns the next pc, or the [`Exit`] that ends the run with the pc
 //! left at the op that ended it (a trap, `yield` or `halt` keeps its own pc).
 
-use super::code::{Cmp, Op};
+use super::code::Op;
 use super::{
     absolute, add, append_item, bit_and, bit_or, bit_xor, cap_output_line, compare, div,
     indirect_target, integer_division_by_zero, logical_not, maximum, memory_index, minimum, mul,
-    negate, rem, square_root, sub, to_float, to_int, truth, write_value, Exit, Host, TrapKind,
+    negate, rem, square_root, sub, to_float, to_int, truth, write_value, Cmp, Exit, Host, TrapKind,
 };
 use crate::program::{Pc, Program, Reg, Value};
 

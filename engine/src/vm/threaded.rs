@@ -43,10 +43,10 @@
 
 use std::hint::unreachable_unchecked;
 
-use super::code::{op_table, Cmp, Op, TypeSet, ANY, FLOAT, INT, MAX_FUSED};
+use super::code::{op_table, Op, TypeSet, ANY, FLOAT, INT, MAX_FUSED};
 use super::{
     absolute, add, compare, div, indirect_target, integer_division_by_zero, memory_index, mul,
-    negate, rem, sub, truth, Exit, Host, TrapKind,
+    negate, rem, sub, truth, Cmp, Exit, Host, TrapKind,
 };
 use crate::program::{Pc, Program, Reg, Value};
 use crate::sensors::SensorId;
@@ -704,11 +704,16 @@ with_constant! {
     op_mod_k, ModK, rem;
 }
 
-/// Integer fast paths of `div` and `mod`: no call (a float remainder calls
-/// `fmod`, a zero divisor traps), so the handler saves no registers; any other
-/// case goes on in the general handler, by a tail call with the fuel as it was.
+/// Integer fast paths of `div` and `mod` and of their fused `loadi K,t; div/mod
+/// a,t,dst`: no call (a float remainder calls `fmod`, a zero divisor traps), so the
+/// handler saves no registers; any other case goes on in the general handler, by a
+/// tail call with the fuel as it was. `fuse` never fuses a zero divisor.
 macro_rules! integer_division {
-    ($($name:ident, $variant:ident, $general:ident, $f:ident;)*) => {$(
+    ($(
+        $name:ident, $variant:ident, $general:ident;
+        $name_k:ident, $variant_k:ident, $general_k:ident;
+        $f:ident;
+    )*) => {$(
         handler! {
             fn $name<const T: TypeSet>($variant { a, b, dst }, width 1) |ip, regs, fuel, context| {
                 match (read::<T>(regs, a), read::<T>(regs, b)) {
@@ -718,15 +723,9 @@ macro_rules! integer_division {
                 ip.wrapping_add(1)
             }
         }
-    )*};
-}
 
-/// Integer fast paths of the fused `loadi K,t; div/mod a,t,dst` (see
-/// [`integer_division`]); `fuse` never fuses a zero divisor.
-macro_rules! integer_division_by_constant {
-    ($($name:ident, $variant:ident, $general:ident, $f:ident;)*) => {$(
         handler! {
-            fn $name<const T: TypeSet>($variant { a, k, t, dst }, width 2) |ip, regs, fuel, context| {
+            fn $name_k<const T: TypeSet>($variant_k { a, k, t, dst }, width 2) |ip, regs, fuel, context| {
                 let Value::Int(divisor) = k else {
                     // SAFETY: `Slot::new` chose this handler for an integer constant.
                     unsafe { unreachable_unchecked() }
@@ -739,7 +738,7 @@ macro_rules! integer_division_by_constant {
                 set(regs, t, k);
                 match x {
                     Value::Int(x) => set(regs, dst, Value::Int(x.$f(divisor))),
-                    Value::Float(_) => fall_back!($general::<true, ANY>(ip, regs, fuel + 2, context)),
+                    Value::Float(_) => fall_back!($general_k::<true, ANY>(ip, regs, fuel + 2, context)),
                 }
                 ip.wrapping_add(2)
             }
@@ -748,13 +747,8 @@ macro_rules! integer_division_by_constant {
 }
 
 integer_division! {
-    op_div_int, Div, op_div, wrapping_div;
-    op_mod_int, Mod, op_mod, wrapping_rem;
-}
-
-integer_division_by_constant! {
-    op_div_k_int, DivK, op_div_k, wrapping_div;
-    op_mod_k_int, ModK, op_mod_k, wrapping_rem;
+    op_div_int, Div, op_div; op_div_k_int, DivK, op_div_k; wrapping_div;
+    op_mod_int, Mod, op_mod; op_mod_k_int, ModK, op_mod_k; wrapping_rem;
 }
 
 /// Calls the host out of line, so that the handler's only indirect call is
@@ -949,8 +943,12 @@ branch_handler! {
 /// registers; otherwise it goes on in the general handler by a tail call, with
 /// the fuel as it was and nothing written yet. Operands read after a write of
 /// the same op are integers too: the write was of an integer sum.
-macro_rules! integer_binary {
-    ($($name:ident, $variant:ident, $general:ident, $f:ident;)*) => {$(
+macro_rules! integer_arithmetic {
+    ($(
+        $name:ident, $variant:ident, $general:ident;
+        $name_k:ident, $variant_k:ident, $general_k:ident;
+        $f:ident;
+    )*) => {$(
         handler! {
             fn $name<const T: TypeSet>($variant { a, b, dst }, width 1) |ip, regs, fuel, context| {
                 let (Value::Int(x), Value::Int(y)) = (read::<T>(regs, a), read::<T>(regs, b)) else {
@@ -960,26 +958,16 @@ macro_rules! integer_binary {
                 ip.wrapping_add(1)
             }
         }
-    )*};
-}
 
-integer_binary! {
-    op_add_int, Add, op_add, wrapping_add;
-    op_sub_int, Sub, op_sub, wrapping_sub;
-    op_mul_int, Mul, op_mul, wrapping_mul;
-}
-
-/// Integer fast paths of the fused `loadi K,t; op a,t,dst` (see [`integer_binary`]).
-macro_rules! integer_with_constant {
-    ($($name:ident, $variant:ident, $general:ident, $f:ident;)*) => {$(
+        // The fused `loadi K,t; op a,t,dst`.
         handler! {
-            fn $name<const T: TypeSet>($variant { a, k, t, dst }, width 2) |ip, regs, fuel, context| {
+            fn $name_k<const T: TypeSet>($variant_k { a, k, t, dst }, width 2) |ip, regs, fuel, context| {
                 let Value::Int(y) = k else {
                     // SAFETY: `Slot::new` chose this handler for an integer constant.
                     unsafe { unreachable_unchecked() }
                 };
                 let Value::Int(x) = read::<T>(regs, a) else {
-                    fall_back!($general::<true, ANY>(ip, regs, fuel + 2, context));
+                    fall_back!($general_k::<true, ANY>(ip, regs, fuel + 2, context));
                 };
                 set(regs, t, k);
                 set(regs, dst, Value::Int(x.$f(y)));
@@ -989,10 +977,11 @@ macro_rules! integer_with_constant {
     )*};
 }
 
-integer_with_constant! {
-    op_add_k_int, AddK, op_add_k, wrapping_add;
-    op_sub_k_int, SubK, op_sub_k, wrapping_sub;
-    op_mul_k_int, MulK, op_mul_k, wrapping_mul;
+// Each operation's plain and fused fast paths, with the integer operation they make.
+integer_arithmetic! {
+    op_add_int, Add, op_add; op_add_k_int, AddK, op_add_k; wrapping_add;
+    op_sub_int, Sub, op_sub; op_sub_k_int, SubK, op_sub_k; wrapping_sub;
+    op_mul_int, Mul, op_mul; op_mul_k_int, MulK, op_mul_k; wrapping_mul;
 }
 
 /// Integer fast paths of [`add_jump_compare_and_branch`].
@@ -1154,7 +1143,7 @@ compare_constant_and_branch! {
     op_jump_cmp_k_br, JumpCmpKBr, 4;
 }
 
-/// Integer fast paths of [`compare_and_branch`] (see [`integer_binary`]).
+/// Integer fast paths of [`compare_and_branch`] (see [`integer_arithmetic`]).
 macro_rules! integer_compare_and_branch {
     ($($name:ident, $variant:ident, $general:ident, $width:expr;)*) => {$(
         branch_handler! {

@@ -162,10 +162,7 @@ impl FileKind {
             .file_name()
             .map(|name| name.to_string_lossy().to_ascii_lowercase())
             .unwrap_or_default();
-        let extension = path
-            .extension()
-            .map(|extension| extension.to_string_lossy().to_ascii_lowercase())
-            .unwrap_or_default();
+        let extension = gloc_engine::files::extension(path).unwrap_or_default();
         if name.contains("masterdata") {
             return FileKind::SensorList;
         }

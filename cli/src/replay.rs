@@ -106,13 +106,11 @@ struct ReplayHost<'a> {
 
 impl Host for ReplayHost<'_> {
     fn load_sensor(&mut self, sensor: SensorId) -> f64 {
-        self.values.get(sensor.index()).copied().unwrap_or(0.0)
+        gloc_engine::vm::sensor_value(&self.values, sensor)
     }
 
     fn store_sensor(&mut self, sensor: SensorId, value: f64) {
-        if let Some(slot) = self.values.get_mut(sensor.index()) {
-            *slot = value;
-        }
+        gloc_engine::vm::set_sensor(&mut self.values, sensor, value);
         if let Some(&column) = self.out_column.get(sensor.index()) {
             if let Some(cell) = self.stored_this_cycle.get_mut(column) {
                 *cell = Some(value);

@@ -694,9 +694,7 @@ impl<T: Target> Debugger<T> {
                     text,
                 ),
             };
-            if filter.enabled
-                && self.exception_condition_holds(filter.condition.as_deref(), &Check::Live)
-            {
+            if self.filter_stops(&filter, &Check::Live) {
                 return Some(Stop {
                     reason,
                     description,
@@ -784,7 +782,7 @@ impl<T: Target> Debugger<T> {
             TrapKind::CycleOverrun => (self.filters.overrun.clone(), "overrun"),
             TrapKind::Runtime => (self.filters.trap.clone(), "trap"),
         };
-        if !(filter.enabled && self.exception_condition_holds(filter.condition.as_deref(), check)) {
+        if !self.filter_stops(&filter, check) {
             return None;
         }
         Some(Stop {
@@ -991,22 +989,11 @@ impl<T: Target> Debugger<T> {
         check: &Check,
         hits: impl FnOnce(&mut Self) -> &mut u64,
     ) -> bool {
-        if let Some(condition) = condition.filter(|text| !text.trim().is_empty()) {
-            match self.evaluate(condition) {
-                Ok(value) if value.is_true() => {}
-                Ok(_) => return false,
-                Err(message) => {
-                    // A broken condition stops, as in other debuggers, and says why.
-                    if let Check::Live = check {
-                        self.outputs.push(Output {
-                            category: Category::Error,
-                            text: format!("breakpoint condition `{condition}`: {message}\n"),
-                            line: None,
-                        });
-                    }
-                    return true;
-                }
-            }
+        match self.condition_holds("breakpoint", condition, check) {
+            Some(true) => {}
+            Some(false) => return false,
+            // A broken condition stops, whatever the hit count.
+            None => return true,
         }
         match check {
             Check::Probe => true,
@@ -1019,23 +1006,36 @@ impl<T: Target> Debugger<T> {
         }
     }
 
-    /// Whether an exception filter's condition holds now (no condition: it does). A
-    /// condition that cannot be evaluated stops, as a breakpoint's does, and says why.
-    fn exception_condition_holds(&mut self, condition: Option<&str>, check: &Check) -> bool {
+    /// Whether an exception filter stops the run here: it is on, and its condition holds
+    /// or cannot be evaluated.
+    fn filter_stops(&mut self, filter: &Filter, check: &Check) -> bool {
+        filter.enabled
+            && self.condition_holds("exception", filter.condition.as_deref(), check) != Some(false)
+    }
+
+    /// Whether a breakpoint's or an exception filter's (`what`) condition holds now (no
+    /// condition: it does); `None` when it cannot be evaluated, which stops, as in other
+    /// debuggers, and says why on a live run.
+    fn condition_holds(
+        &mut self,
+        what: &str,
+        condition: Option<&str>,
+        check: &Check,
+    ) -> Option<bool> {
         let Some(condition) = condition.filter(|text| !text.trim().is_empty()) else {
-            return true;
+            return Some(true);
         };
         match self.evaluate(condition) {
-            Ok(value) => value.is_true(),
+            Ok(value) => Some(value.is_true()),
             Err(message) => {
                 if let Check::Live = check {
                     self.outputs.push(Output {
                         category: Category::Error,
-                        text: format!("exception condition `{condition}`: {message}\n"),
+                        text: format!("{what} condition `{condition}`: {message}\n"),
                         line: None,
                     });
                 }
-                true
+                None
             }
         }
     }

@@ -361,28 +361,38 @@ mod tests {
         assert!(matches!(frame(&framed(body)), Frame::Request(r) if r.seq == 2147483647));
     }
 
+    /// A sink that keeps each write it is given, for the writer's tests.
+    #[derive(Clone, Default)]
+    struct Writes(std::sync::Arc<std::sync::Mutex<Vec<Vec<u8>>>>);
+
+    impl Write for Writes {
+        fn write(&mut self, data: &[u8]) -> io::Result<usize> {
+            self.0
+                .lock()
+                .map_err(|_| io::Error::other("poisoned"))?
+                .push(data.to_vec());
+            Ok(data.len())
+        }
+        fn flush(&mut self) -> io::Result<()> {
+            Ok(())
+        }
+    }
+
+    impl Writes {
+        fn taken(&self) -> Vec<Vec<u8>> {
+            self.0.lock().expect("lock").clone()
+        }
+    }
+
     #[test]
     fn writer_numbers_messages_and_frames_them() {
-        let buffer = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
-        struct Shared(std::sync::Arc<std::sync::Mutex<Vec<u8>>>);
-        impl Write for Shared {
-            fn write(&mut self, data: &[u8]) -> io::Result<usize> {
-                self.0
-                    .lock()
-                    .map_err(|_| io::Error::other("poisoned"))?
-                    .extend_from_slice(data);
-                Ok(data.len())
-            }
-            fn flush(&mut self) -> io::Result<()> {
-                Ok(())
-            }
-        }
-        let mut writer = Writer::new(Box::new(Shared(buffer.clone())));
+        let writes = Writes::default();
+        let mut writer = Writer::new(Box::new(writes.clone()));
         writer.event("initialized", ()).expect("write");
         writer
             .respond_error(4, "bogus", "unknown {x}")
             .expect("write");
-        let bytes = buffer.lock().expect("lock").clone();
+        let bytes = writes.taken().concat();
         let mut reader = bytes.as_slice();
         let mut bodies = Vec::new();
         while let Some(body) = raw_body(&mut reader) {
@@ -401,28 +411,11 @@ mod tests {
 
     #[test]
     fn writer_sends_each_message_in_one_write() {
-        struct Counting(std::sync::Arc<std::sync::Mutex<Vec<usize>>>);
-        impl Write for Counting {
-            fn write(&mut self, data: &[u8]) -> io::Result<usize> {
-                self.0
-                    .lock()
-                    .map_err(|_| io::Error::other("poisoned"))?
-                    .push(data.len());
-                Ok(data.len())
-            }
-            fn flush(&mut self) -> io::Result<()> {
-                Ok(())
-            }
-        }
-        let writes = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
-        let mut writer = Writer::new(Box::new(Counting(writes.clone())));
+        let writes = Writes::default();
+        let mut writer = Writer::new(Box::new(writes.clone()));
         writer.event("initialized", ()).expect("write");
         writer.respond_error(4, "bogus", "no").expect("write");
-        assert_eq!(
-            writes.lock().expect("lock").len(),
-            2,
-            "one write per message"
-        );
+        assert_eq!(writes.taken().len(), 2, "one write per message");
     }
 
     fn raw_body(reader: &mut &[u8]) -> Option<Value> {

@@ -28,7 +28,7 @@ impl LogKind {
         ".dbd .ebd .sbd .tbd .mbd .nbd, compressed .dcd .ecd .scd .tcd .mcd .ncd, and .dba";
 
     pub fn from_path(path: &Path) -> Option<LogKind> {
-        let extension = path.extension()?.to_str()?.to_ascii_lowercase();
+        let extension = gloc_engine::files::extension(path)?;
         if extension == "dba" {
             return Some(LogKind::Ascii);
         }

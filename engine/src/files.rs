@@ -6,6 +6,13 @@ use std::fs::{File, Metadata};
 use std::io::{self, Read};
 use std::path::Path;
 
+/// A file's extension in lower case (`None` without one, or when it is not UTF-8): the
+/// one way gloc tells how to read or write a file by its name, in any case, as the
+/// glider's own names come (`01340000.DBD`, `LAYER.MI`).
+pub fn extension(path: &Path) -> Option<String> {
+    Some(path.extension()?.to_str()?.to_ascii_lowercase())
+}
+
 /// What a file is read as, and the most bytes it may have.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Limit {
@@ -152,6 +159,17 @@ fn kind_of(metadata: &Metadata) -> &'static str {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_extension_is_read_in_any_case() {
+        assert_eq!(
+            extension(Path::new("logs/01340000.DBD")).as_deref(),
+            Some("dbd")
+        );
+        assert_eq!(extension(Path::new("LAYER.Mi")).as_deref(), Some("mi"));
+        assert_eq!(extension(Path::new("folder.d/masterdata")), None);
+        assert_eq!(extension(Path::new(".hidden")), None);
+    }
 
     #[test]
     fn devices_and_fifos_are_refused_unread_and_sizes_are_capped() {

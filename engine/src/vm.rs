@@ -97,6 +97,26 @@ pub trait Host {
     }
 }
 
+/// A sensor's value in a host's sensor array (indexed by the active list): a sensor
+/// past its end reads 0, the rule every host keeps.
+#[inline]
+pub fn sensor_value(values: &[f64], sensor: SensorId) -> f64 {
+    values.get(sensor.index()).copied().unwrap_or(0.0)
+}
+
+/// Stores `value` to `sensor` in a host's sensor array; a store past its end is
+/// dropped (`false`), the rule every host keeps.
+#[inline]
+pub fn set_sensor(values: &mut [f64], sensor: SensorId, value: f64) -> bool {
+    match values.get_mut(sensor.index()) {
+        Some(slot) => {
+            *slot = value;
+            true
+        }
+        None => false,
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct MachineConfig {
     /// Instructions one cycle may execute before it traps with a cycle overrun.

@@ -33,10 +33,7 @@ pub fn load(
     path: &Path,
     depth_range: Option<(f64, f64)>,
 ) -> Result<(Arc<dyn CurrentField>, String), LoadError> {
-    let extension = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
+    let extension = gloc_engine::files::extension(path);
     let unreadable = |error: std::io::Error| {
         LoadError::Unreadable(format!(
             "cannot read the currents `{}`: {error}",

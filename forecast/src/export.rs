@@ -25,10 +25,7 @@ pub enum Format {
 impl Format {
     /// By the extension: `.geojson` or `.json`, `.kml`, `.csv`.
     pub fn from_path(path: &Path) -> Result<Format, String> {
-        let extension = path
-            .extension()
-            .and_then(|extension| extension.to_str())
-            .map(str::to_ascii_lowercase);
+        let extension = gloc_engine::files::extension(path);
         match extension.as_deref() {
             Some("geojson" | "json") => Ok(Format::GeoJson),
             Some("kml") => Ok(Format::Kml),

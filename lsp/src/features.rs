@@ -354,13 +354,7 @@ pub fn completion(
     limit: usize,
 ) -> Option<CompletionResponse> {
     let offset = offset_of(document.rope(), position);
-    let candidates = completion::completions(
-        document.language,
-        document.text(),
-        offset,
-        analysis,
-        context,
-    );
+    let candidates = candidates_at(document, analysis, context, offset);
     let (start, typed) = completion::typed_word(document.text(), offset);
     let (ranked, cut) = completion::rank(candidates, typed, limit);
     // Every item replaces the typed word through a text edit: clients that filter
@@ -450,6 +444,22 @@ pub fn resolve_origin(item: &CompletionItem) -> Option<(Uri, Position)> {
     Some((uri, Position { line, character }))
 }
 
+/// Every completion of the document at byte `offset`, unranked.
+fn candidates_at(
+    document: &Document,
+    analysis: &Analysis,
+    context: &Context,
+    offset: usize,
+) -> Vec<gloc_ide::analysis::Completion> {
+    completion::completions(
+        document.language,
+        document.text(),
+        offset,
+        analysis,
+        context,
+    )
+}
+
 /// Fills the documentation of an item offered at `position`: the candidate of
 /// the same label there now (the item is returned as it came when the text
 /// changed so that it is no longer offered).
@@ -462,15 +472,9 @@ pub fn completion_resolve(
     mut item: CompletionItem,
 ) -> CompletionItem {
     let offset = offset_of(document.rope(), position);
-    let found = completion::completions(
-        document.language,
-        document.text(),
-        offset,
-        analysis,
-        context,
-    )
-    .into_iter()
-    .find(|candidate| candidate.label == item.label);
+    let found = candidates_at(document, analysis, context, offset)
+        .into_iter()
+        .find(|candidate| candidate.label == item.label);
     if let Some(documentation) = found.and_then(|candidate| candidate.documentation) {
         item.documentation = Some(Documentation::MarkupContent(markup(
             documentation,

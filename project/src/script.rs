@@ -74,7 +74,7 @@ fn not_a_script(path: &Path) -> Option<String> {
                 .to_string(),
         );
     }
-    let extension = path.extension()?.to_str()?.to_ascii_lowercase();
+    let extension = gloc_engine::files::extension(path)?;
     let hint = match extension.as_str() {
         "mi" => {
             "a mission file, not a script: fly a script in it with \

@@ -258,9 +258,7 @@ fn load(
     };
     match (path, text) {
         (Some(path), None) => {
-            let extension = path
-                .extension()
-                .map(|extension| extension.to_string_lossy().to_ascii_lowercase());
+            let extension = gloc_engine::files::extension(&path);
             if matches!(extension.as_deref(), Some("mi" | "ma" | "cac" | "ccc")) {
                 return Err(PyValueError::new_err(format!(
                     "{}: gloc.check and gloc.compile read scripts (.gloc, .gbas); check a mission or a sensor list with `gloc check {}`",

@@ -19,7 +19,7 @@ pub enum LogFormat {
 impl LogFormat {
     /// From a file name's extension: `.csv` or `.dba` (case-insensitive).
     pub fn from_path(path: &std::path::Path) -> Option<LogFormat> {
-        let extension = path.extension()?.to_str()?.to_ascii_lowercase();
+        let extension = gloc_engine::files::extension(path)?;
         match extension.as_str() {
             "csv" => Some(LogFormat::Csv),
             "dba" => Some(LogFormat::Dba),

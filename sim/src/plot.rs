@@ -259,10 +259,7 @@ pub enum PlotFormat {
 impl PlotFormat {
     /// `.svg` or `.png` (any case); anything else is refused with what is allowed.
     pub fn from_path(path: &Path) -> Result<PlotFormat, String> {
-        let extension = path
-            .extension()
-            .and_then(|extension| extension.to_str())
-            .map(str::to_ascii_lowercase);
+        let extension = gloc_engine::files::extension(path);
         match extension.as_deref() {
             Some("svg") => Ok(PlotFormat::Svg),
             Some("png") => Ok(PlotFormat::Png),

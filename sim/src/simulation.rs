@@ -1668,15 +1668,14 @@ pub struct SimHost<'a> {
 
 impl Host for SimHost<'_> {
     fn load_sensor(&mut self, sensor: SensorId) -> f64 {
-        self.sensors.get(sensor.index()).copied().unwrap_or(0.0)
+        gloc_engine::vm::sensor_value(self.sensors, sensor)
     }
 
     fn store_sensor(&mut self, sensor: SensorId, value: f64) {
-        if let Some(slot) = self.sensors.get_mut(sensor.index()) {
-            *slot = value;
-            if !self.stored.contains(&sensor) {
-                self.stored.push(sensor);
-            }
+        if gloc_engine::vm::set_sensor(self.sensors, sensor, value)
+            && !self.stored.contains(&sensor)
+        {
+            self.stored.push(sensor);
         }
     }
 

@@ -8,7 +8,7 @@ use gloc_engine::{Diagnostic, Span};
 use crate::ast;
 use crate::parser::KEYWORDS;
 use crate::typed::Ty;
-use crate::{check, parser, CompileOptions, SourceMap};
+use crate::{check, parser, CompileOptions};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
@@ -50,9 +50,6 @@ pub struct Analysis {
     pub diagnostics: Vec<Diagnostic>,
     pub symbols: Vec<SymbolInfo>,
     pub blocks: Vec<Block>,
-    /// The compiled GLOC (unoptimized unless asked), `None` when there are errors.
-    pub gloc_text: Option<String>,
-    pub source_map: Option<SourceMap>,
 }
 
 impl Analysis {
@@ -204,8 +201,6 @@ fn analyze_compiled(
         diagnostics: compiled.diagnostics.clone(),
         symbols,
         blocks,
-        gloc_text: compiled.gloc_text.clone(),
-        source_map: compiled.source_map.clone(),
     };
     (analysis, compiled)
 }

@@ -34,8 +34,8 @@ pub fn analyze(text: &str, context: &Context) -> Analysis {
         },
     );
     let mut analysis = Analysis {
+        compiled: loaded.gloc_text.clone(),
         diagnostics: loaded.diagnostics,
-        compiled: compiler.gloc_text.clone(),
         ..Analysis::default()
     };
     add_fixes(text, &compiler.blocks, &mut analysis.diagnostics);

@@ -41,42 +41,36 @@ pub const CODE_UNREADABLE_CONFIG: &str = gloc_engine::codes::settings::UNREADABL
 
 /// Settings from a `gloc.toml`. Every field is optional; a missing file is the
 /// same as an empty one. Paths are absolute (resolved against the folder that
-/// holds the file).
+/// holds the file). Each value keeps where it stands in the file ([`Placed`]).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Config {
     /// The `gloc.toml` these settings came from, if any.
     pub path: Option<PathBuf>,
     /// A masterdata or `.cac` file replacing the embedded sensor list.
-    pub masterdata: Option<PathBuf>,
+    pub masterdata: Option<Placed<PathBuf>>,
     /// Per-control-cycle instruction budget for running scripts.
-    pub cycle_budget: Option<u64>,
+    pub cycle_budget: Option<Placed<u64>>,
     /// The mission (`.mi`) the debugger and `gloc run` fly.
-    pub mission: Option<PathBuf>,
+    pub mission: Option<Placed<PathBuf>>,
     /// How a masterdata file's sensors are numbered (file order, the default, or
     /// sorted by name as firmware 2014 and later does).
-    pub sensor_order: Option<SensorOrder>,
+    pub sensor_order: Option<Placed<SensorOrder>>,
     /// The folder searched first for a glider log's sensor list (`<crc>.cac`/`.ccc`).
-    pub sensor_cache: Option<PathBuf>,
+    pub sensor_cache: Option<Placed<PathBuf>>,
     /// The folder searched first for a mission's `.ma` files (before `mafiles/`
     /// beside `missions/`).
-    pub mafiles: Option<PathBuf>,
+    pub mafiles: Option<Placed<PathBuf>>,
     /// `[simulator]`: flight and energy constants, sorted by name, each
     /// checked against [`gloc_sim::settings::SIMULATOR_SETTINGS`].
     pub simulator: Vec<(String, f64)>,
-    /// Where each value stands in the file, so that an error about a value (a
-    /// masterdata file that cannot be read) names `gloc.toml:LINE:COLUMN`.
-    pub positions: ValuePositions,
 }
 
-/// `(line, column)`, from 1, of the values of a `gloc.toml`.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct ValuePositions {
-    pub masterdata: Option<(usize, usize)>,
-    pub cycle_budget: Option<(usize, usize)>,
-    pub mission: Option<(usize, usize)>,
-    pub sensor_order: Option<(usize, usize)>,
-    pub sensor_cache: Option<(usize, usize)>,
-    pub mafiles: Option<(usize, usize)>,
+/// A value of a `gloc.toml` and where it stands, `(line, column)` from 1, so that an
+/// error about it (a masterdata file that cannot be read) names `gloc.toml:LINE:COLUMN`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Placed<T> {
+    pub value: T,
+    pub at: (usize, usize),
 }
 
 /// The largest per-cycle instruction budget (`cycle_budget`, `--cycle-budget`, the
@@ -95,17 +89,6 @@ pub fn check_cycle_budget(budget: u64) -> Result<u64, String> {
             "the cycle budget must be 1 to {MAX_CYCLE_BUDGET} instructions per cycle, not {budget}"
         ))
     }
-}
-
-/// `(line, column)`, from 1, of a value of the `gloc.toml` `text`, if it is there.
-fn position<T>(
-    index: &gloc_engine::diagnostic::LineIndex,
-    text: &str,
-    value: &Option<toml::Spanned<T>>,
-) -> Option<(usize, usize)> {
-    value
-        .as_ref()
-        .map(|value| index.line_col(text, value.span().start))
 }
 
 /// A `gloc.toml` that could not be used: where it is, and what is wrong.
@@ -252,27 +235,30 @@ impl Config {
             }
         }
         let index = gloc_engine::diagnostic::LineIndex::new(text);
-        let positions = ValuePositions {
-            masterdata: position(&index, text, &raw.masterdata),
-            cycle_budget: position(&index, text, &raw.cycle_budget),
-            mission: position(&index, text, &raw.mission),
-            sensor_order: position(&index, text, &raw.sensor_order),
-            sensor_cache: position(&index, text, &raw.sensor_cache),
-            mafiles: position(&index, text, &raw.mafiles),
+        let place = |spanned: &toml::Spanned<String>, value: PathBuf| Placed {
+            value,
+            at: index.line_col(text, spanned.span().start),
         };
-        let resolve = |value: Option<toml::Spanned<String>>| {
-            value.map(|relative| folder.join(relative.into_inner()))
+        let path = |value: Option<toml::Spanned<String>>| {
+            value.map(|relative| place(&relative, folder.join(relative.get_ref())))
         };
         Ok(Config {
             path: Some(folder.join(FILE_NAME)),
-            masterdata: resolve(raw.masterdata),
-            cycle_budget: raw.cycle_budget.map(toml::Spanned::into_inner),
-            mission: resolve(raw.mission),
-            sensor_order,
-            sensor_cache: resolve(raw.sensor_cache),
-            mafiles: resolve(raw.mafiles),
+            masterdata: path(raw.masterdata),
+            cycle_budget: raw.cycle_budget.map(|budget| Placed {
+                value: *budget.get_ref(),
+                at: index.line_col(text, budget.span().start),
+            }),
+            mission: path(raw.mission),
+            sensor_order: sensor_order
+                .zip(raw.sensor_order)
+                .map(|(value, name)| Placed {
+                    value,
+                    at: index.line_col(text, name.span().start),
+                }),
+            sensor_cache: path(raw.sensor_cache),
+            mafiles: path(raw.mafiles),
             simulator,
-            positions,
         })
     }
 
@@ -322,23 +308,30 @@ mod tests {
     fn parses_every_key_and_resolves_paths_against_the_folder() {
         let text = "masterdata = \"md/masterdata.mi\"\ncycle_budget = 500\nmission = \"m/yo.mi\"\nsensor_cache = \"cac\"\nmafiles = \"shared/ma\"\n";
         let config = Config::parse(text, Path::new("/project")).expect("valid config");
+        let placed = |value: &str, at| {
+            Some(Placed {
+                value: PathBuf::from(value),
+                at,
+            })
+        };
+        // Counted by hand: `masterdata = ` is 13 characters, `cycle_budget = ` 15,
+        // `mission = ` 10, `sensor_cache = ` 15, `mafiles = ` 10; the value starts one
+        // further.
         assert_eq!(
             config.masterdata,
-            Some(PathBuf::from("/project/md/masterdata.mi"))
+            placed("/project/md/masterdata.mi", (1, 14))
         );
-        assert_eq!(config.cycle_budget, Some(500));
-        assert_eq!(config.mission, Some(PathBuf::from("/project/m/yo.mi")));
-        assert_eq!(config.sensor_cache, Some(PathBuf::from("/project/cac")));
-        // Counted by hand: `masterdata = ` is 13 characters, `cycle_budget = ` 15,
-        // `mission = ` 10, `sensor_cache = ` 15; the value starts one further.
-        assert_eq!(config.positions.masterdata, Some((1, 14)));
-        assert_eq!(config.positions.cycle_budget, Some((2, 16)));
-        assert_eq!(config.positions.mission, Some((3, 11)));
-        assert_eq!(config.positions.sensor_cache, Some((4, 16)));
-        assert_eq!(config.positions.sensor_order, None);
-        // `mafiles = ` is 10 characters.
-        assert_eq!(config.mafiles, Some(PathBuf::from("/project/shared/ma")));
-        assert_eq!(config.positions.mafiles, Some((5, 11)));
+        assert_eq!(
+            config.cycle_budget,
+            Some(Placed {
+                value: 500,
+                at: (2, 16)
+            })
+        );
+        assert_eq!(config.mission, placed("/project/m/yo.mi", (3, 11)));
+        assert_eq!(config.sensor_cache, placed("/project/cac", (4, 16)));
+        assert_eq!(config.sensor_order, None);
+        assert_eq!(config.mafiles, placed("/project/shared/ma", (5, 11)));
     }
 
     /// `text` as a `gloc.toml` in `/p`, which must be valid.
@@ -359,9 +352,15 @@ mod tests {
     #[test]
     fn sensor_order_is_file_or_sorted_and_anything_else_points_at_the_value() {
         let sorted = parsed("sensor_order = \"sorted\"\n");
-        assert_eq!(sorted.sensor_order, Some(SensorOrder::SortedByName));
+        assert_eq!(
+            sorted.sensor_order.map(|order| order.value),
+            Some(SensorOrder::SortedByName)
+        );
         let file = parsed("sensor_order = \"file\"\n");
-        assert_eq!(file.sensor_order, Some(SensorOrder::FileOrder));
+        assert_eq!(
+            file.sensor_order.map(|order| order.value),
+            Some(SensorOrder::FileOrder)
+        );
         let error = refused(
             "masterdata = \"m.mi\"\nsensor_order = \"alphabetical\"\n",
             "\"alphabetical\"",
@@ -464,7 +463,7 @@ mod tests {
         std::fs::write(root.join(FILE_NAME), "cycle_budget = 77\n").expect("write");
         let script = nested.join("s.gloc");
         let config = Config::discover(&script).expect("found");
-        assert_eq!(config.cycle_budget, Some(77));
+        assert_eq!(config.cycle_budget.map(|budget| budget.value), Some(77));
         assert_eq!(config.path, Some(root.join(FILE_NAME)));
 
         std::fs::write(root.join("a").join(FILE_NAME), "\nmission = 3\n").expect("write");

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use gloc_sim::settings::check_simulator_setting;
 
 use crate::config::{
-    check_cycle_budget, Config, ConfigError, CODE_UNREADABLE_CONFIG, MAX_CYCLE_BUDGET,
+    check_cycle_budget, Config, ConfigError, Placed, CODE_UNREADABLE_CONFIG, MAX_CYCLE_BUDGET,
 };
 use gloc_engine::sensors::SensorOrder;
 use gloc_engine::vm::DEFAULT_CYCLE_BUDGET;
@@ -270,27 +270,25 @@ impl Settings {
     /// default. Every override is checked here.
     pub fn from_config(config: Config, overrides: Overrides) -> Result<Settings, ProjectError> {
         let surface = overrides.surface;
-        let from_file = |position: Option<(usize, usize)>| match (&config.path, position) {
-            (Some(path), Some((line, column))) => Origin::GlocToml {
+        let from_file = |(line, column): (usize, usize)| match &config.path {
+            Some(path) => Origin::GlocToml {
                 path: path.clone(),
                 line,
                 column,
             },
-            (Some(path), None) => Origin::File(path.clone()),
-            (None, _) => Origin::Default,
+            None => Origin::Default,
         };
-        let pick = |given: Option<PathBuf>,
-                    setting: Setting,
-                    file: Option<PathBuf>,
-                    position: Option<(usize, usize)>| {
-            match given.filter(|path| !path.as_os_str().is_empty()) {
+        let pick =
+            |given: Option<PathBuf>, setting: Setting, file: Option<Placed<PathBuf>>| match given
+                .filter(|path| !path.as_os_str().is_empty())
+            {
                 Some(value) => Ok(Some(Sourced {
                     value,
                     origin: setting.origin(surface),
                 })),
                 None => match file {
-                    Some(value) => {
-                        let origin = from_file(position);
+                    Some(Placed { value, at }) => {
+                        let origin = from_file(at);
                         match within_project(&value, config.path.as_deref(), setting, surface) {
                             Ok(()) => Ok(Some(Sourced { value, origin })),
                             Err(message) => {
@@ -300,8 +298,7 @@ impl Settings {
                     }
                     None => Ok(None),
                 },
-            }
-        };
+            };
         let budget = |budget: u64, origin: Origin| match CycleBudget::new(budget) {
             Ok(value) => Ok(Sourced { value, origin }),
             Err(message) => Err(ProjectError::new(ErrorKind::Setting, Some(origin), message)),
@@ -309,7 +306,7 @@ impl Settings {
         let cycle_budget = match (overrides.cycle_budget, config.cycle_budget) {
             (Some(given), _) => budget(given, Setting::CycleBudget.origin(surface))?,
             // gloc.toml's budget was checked when it was parsed (E0901).
-            (None, Some(file)) => budget(file, from_file(config.positions.cycle_budget))?,
+            (None, Some(file)) => budget(file.value, from_file(file.at))?,
             (None, None) => Sourced::default(),
         };
         for (name, value) in &overrides.simulator {
@@ -322,31 +319,21 @@ impl Settings {
             })?;
         }
         Ok(Settings {
-            masterdata: pick(
-                overrides.masterdata,
-                Setting::Masterdata,
-                config.masterdata,
-                config.positions.masterdata,
-            )?,
-            mission: pick(
-                overrides.mission,
-                Setting::Mission,
-                config.mission,
-                config.positions.mission,
-            )?,
+            masterdata: pick(overrides.masterdata, Setting::Masterdata, config.masterdata)?,
+            mission: pick(overrides.mission, Setting::Mission, config.mission)?,
             cycle_budget,
             sensor_order: overrides
                 .sensor_order
-                .or(config.sensor_order)
+                .or(config.sensor_order.map(|order| order.value))
                 .unwrap_or_default(),
             sensor_cache: overrides
                 .sensor_cache
                 .filter(|path| !path.as_os_str().is_empty())
-                .or(config.sensor_cache),
+                .or(config.sensor_cache.map(|folder| folder.value)),
             mafiles: overrides
                 .mafiles
                 .filter(|path| !path.as_os_str().is_empty())
-                .or(config.mafiles),
+                .or(config.mafiles.map(|folder| folder.value)),
             simulator: config
                 .simulator
                 .into_iter()

@@ -15,8 +15,11 @@ use crate::target::Target;
 use crate::types::*;
 use crate::world::World;
 
-/// How the client counts lines and columns (`initialize`; both default to 1-based).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// What the adapter keeps of `initialize`'s arguments, read straight from them: how the
+/// client counts lines and columns (both 1-based unless it says otherwise) and whether
+/// it shows progress. The rest (its ids, its other capabilities) changes nothing.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
+#[serde(default, rename_all = "camelCase")]
 pub struct ClientOptions {
     pub lines_start_at1: bool,
     pub columns_start_at1: bool,
@@ -29,16 +32,6 @@ impl Default for ClientOptions {
             lines_start_at1: true,
             columns_start_at1: true,
             supports_progress_reporting: false,
-        }
-    }
-}
-
-impl ClientOptions {
-    pub fn of(arguments: &InitializeArguments) -> ClientOptions {
-        ClientOptions {
-            lines_start_at1: arguments.lines_start_at1.unwrap_or(true),
-            columns_start_at1: arguments.columns_start_at1.unwrap_or(true),
-            supports_progress_reporting: arguments.supports_progress_reporting.unwrap_or(false),
         }
     }
 }
@@ -356,6 +349,37 @@ fn utf16_len(text: &str) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn client_options_are_read_from_initialize_with_the_protocols_defaults() {
+        // The DAP specification: lines and columns start at 1 unless the client says
+        // otherwise; progress is reported only to a client that supports it.
+        let read = |json: serde_json::Value| {
+            serde_json::from_value::<ClientOptions>(json).expect("initialize arguments")
+        };
+        assert_eq!(read(serde_json::json!({})), ClientOptions::default());
+        assert_eq!(
+            read(serde_json::json!({ "adapterID": "gloc", "clientID": "vscode" })),
+            ClientOptions {
+                lines_start_at1: true,
+                columns_start_at1: true,
+                supports_progress_reporting: false,
+            }
+        );
+        assert_eq!(
+            read(serde_json::json!({
+                "linesStartAt1": false,
+                "columnsStartAt1": false,
+                "supportsProgressReporting": true,
+                "pathFormat": "path"
+            })),
+            ClientOptions {
+                lines_start_at1: false,
+                columns_start_at1: false,
+                supports_progress_reporting: true,
+            }
+        );
+    }
 
     #[test]
     fn utf16_columns_convert_to_bytes_and_back() {

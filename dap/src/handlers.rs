@@ -106,8 +106,8 @@ pub fn table() -> &'static Dispatcher<Session> {
     })
 }
 
-fn initialize(session: &mut Session, arguments: InitializeArguments) -> Answer<Capabilities> {
-    session.client = ClientOptions::of(&arguments);
+fn initialize(session: &mut Session, client: ClientOptions) -> Answer<Capabilities> {
+    session.client = client;
     session.initialized = true;
     Ok(capabilities())
 }

@@ -11,16 +11,6 @@ use serde_json::Value;
 // ---------------------------------------------------------------------------------------
 // Arguments (client → adapter)
 
-#[derive(Debug, Default, Deserialize)]
-#[serde(default, rename_all = "camelCase")]
-pub struct InitializeArguments {
-    pub client_id: Option<String>,
-    pub adapter_id: Option<String>,
-    pub lines_start_at1: Option<bool>,
-    pub columns_start_at1: Option<bool>,
-    pub supports_progress_reporting: Option<bool>,
-}
-
 #[derive(Debug, Default, Deserialize, Clone)]
 #[serde(default, rename_all = "camelCase")]
 pub struct SourceArgument {

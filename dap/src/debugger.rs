@@ -203,6 +203,38 @@ impl HitCondition {
     }
 }
 
+/// The exception filters the adapter offers (id, label, description, on by default),
+/// each with a condition (a GBASIC expression over the state where it happens): the
+/// script's failures and the mission's abort, on by default, and the points of the
+/// journey, off until the user turns them on.
+pub const EXCEPTION_FILTERS: [(&str, &str, &str, bool); 5] = [
+    (
+        "trap",
+        "Runtime traps",
+        "Stop when the script traps (division by zero, bad jump, ...)",
+        true,
+    ),
+    (
+        "overrun",
+        "Cycle overrun",
+        "Stop when the script exceeds its per-cycle instruction budget",
+        true,
+    ),
+    ("abend", "Abend", "Stop when the mission aborts", true),
+    (
+        "waypoint",
+        "Waypoint reached",
+        "Stop when a goto behavior reaches its waypoint (x_hit_a_waypoint, judged on the dead-reckoned position)",
+        false,
+    ),
+    (
+        "surfacing",
+        "Surfacing",
+        "Stop when the glider comes up (x_dr_state goes from 1, underwater, to 2, surfaced)",
+        false,
+    ),
+];
+
 /// Which runtime failures and points of the journey stop the run (DAP exception
 /// filters). The default: failures stop it, the journey's points do not.
 #[derive(Clone, Debug)]
@@ -226,9 +258,6 @@ pub struct Filter {
 }
 
 impl ExceptionFilters {
-    /// The filters' ids, as `initialize` offers them and `setExceptionBreakpoints` names them.
-    pub const IDS: [&'static str; 5] = ["trap", "overrun", "abend", "waypoint", "surfacing"];
-
     /// Every filter off.
     pub fn off() -> ExceptionFilters {
         ExceptionFilters {
@@ -240,7 +269,7 @@ impl ExceptionFilters {
         }
     }
 
-    /// The filter with DAP id `id` (one of [`ExceptionFilters::IDS`]).
+    /// The filter with DAP id `id` (one of [`EXCEPTION_FILTERS`]).
     pub fn by_id(&mut self, id: &str) -> Option<&mut Filter> {
         match id {
             "trap" => Some(&mut self.trap),
@@ -254,17 +283,15 @@ impl ExceptionFilters {
 }
 
 impl Default for ExceptionFilters {
+    /// The filters on by default in [`EXCEPTION_FILTERS`].
     fn default() -> Self {
-        let on = Filter {
-            enabled: true,
-            condition: None,
-        };
-        ExceptionFilters {
-            overrun: on.clone(),
-            trap: on.clone(),
-            abend: on,
-            ..ExceptionFilters::off()
+        let mut filters = ExceptionFilters::off();
+        for (id, _, _, on) in EXCEPTION_FILTERS {
+            if let Some(filter) = filters.by_id(id) {
+                filter.enabled = on;
+            }
         }
+        filters
     }
 }
 

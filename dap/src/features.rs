@@ -5,7 +5,7 @@
 //! 1-based as the client said in `initialize`; the core works in byte offsets.
 
 use crate::completion::{self, Kind};
-use crate::debugger::{Debugger, ExceptionFilters};
+use crate::debugger::{Debugger, ExceptionFilters, EXCEPTION_FILTERS};
 use crate::edits;
 use crate::error::{DebugError, DebugResult};
 use crate::expr::{type_name, Watched};
@@ -42,38 +42,6 @@ pub fn value_format(format: Option<ValueFormatArgument>) -> ValueFormat {
         hex: format.and_then(|format| format.hex).unwrap_or(false),
     }
 }
-
-/// The exception filters the adapter offers (id, label, description, on by default),
-/// each with a condition (a GBASIC expression over the state where it happens): the
-/// script's failures and the mission's abort, on by default, and the points of the
-/// journey, off until the user turns them on.
-pub const EXCEPTION_FILTERS: [(&str, &str, &str, bool); 5] = [
-    (
-        "trap",
-        "Runtime traps",
-        "Stop when the script traps (division by zero, bad jump, ...)",
-        true,
-    ),
-    (
-        "overrun",
-        "Cycle overrun",
-        "Stop when the script exceeds its per-cycle instruction budget",
-        true,
-    ),
-    ("abend", "Abend", "Stop when the mission aborts", true),
-    (
-        "waypoint",
-        "Waypoint reached",
-        "Stop when a goto behavior reaches its waypoint (x_hit_a_waypoint, judged on the dead-reckoned position)",
-        false,
-    ),
-    (
-        "surfacing",
-        "Surfacing",
-        "Stop when the glider comes up (x_dr_state goes from 1, underwater, to 2, surfaced)",
-        false,
-    ),
-];
 
 pub fn exception_breakpoint_filters() -> Vec<ExceptionBreakpointsFilter> {
     EXCEPTION_FILTERS
@@ -117,7 +85,7 @@ pub fn exception_filters(
         let Some(filter) = filters.by_id(id) else {
             return Err(DebugError::request(format!(
                 "unknown exception filter `{id}` (known: {})",
-                ExceptionFilters::IDS.join(", ")
+                EXCEPTION_FILTERS.map(|(id, ..)| id).join(", ")
             )));
         };
         match condition.and_then(&condition_error) {
@@ -349,6 +317,26 @@ fn utf16_len(text: &str) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn every_offered_filter_is_one_the_debugger_has_and_failures_stop_by_default() {
+        let mut defaults = ExceptionFilters::default();
+        for (id, _, _, on) in EXCEPTION_FILTERS {
+            let filter = defaults
+                .by_id(id)
+                .unwrap_or_else(|| panic!("no filter {id}"));
+            // The DAP specification's `default` of a filter, and the debugger's.
+            assert_eq!(filter.enabled, on, "{id}");
+        }
+        // Worked out from the issue: traps, overruns and abend stop; the journey's
+        // points (a waypoint, a surfacing) do not until asked for.
+        let on: Vec<&str> = EXCEPTION_FILTERS
+            .iter()
+            .filter(|(.., on)| *on)
+            .map(|(id, ..)| *id)
+            .collect();
+        assert_eq!(on, ["trap", "overrun", "abend"]);
+    }
 
     #[test]
     fn client_options_are_read_from_initialize_with_the_protocols_defaults() {

@@ -36,8 +36,8 @@ pub fn main(args: crate::CompileArgs) -> anyhow::Result<ExitCode> {
     tally.add(&loaded.diagnostics);
     // The compiled GLOC must also pass the GLOC checker (a loop with neither `yield`
     // nor a way out is refused there); its findings are shown on the GBASIC lines.
-    let (false, Some(gloc_text), Some(source_map)) =
-        (loaded.has_errors(), &loaded.gloc_text, &loaded.source_map)
+    let (false, Some(gloc_text), Some(build)) =
+        (loaded.has_errors(), &loaded.gloc_text, &loaded.gbasic)
     else {
         eprintln!(
             "{display}: {} error{}: no GLOC written",
@@ -68,33 +68,32 @@ pub fn main(args: crate::CompileArgs) -> anyhow::Result<ExitCode> {
     crate::output::write_atomically(&output, gloc_text.as_bytes())
         .map_err(|error| crate::output::write_error(error, "the GLOC", &output))?;
     if args.emit_map {
-        crate::output::write_atomically(&map_path, source_map.to_json().as_bytes())
+        crate::output::write_atomically(&map_path, build.source_map.to_json().as_bytes())
             .map_err(|error| crate::output::write_error(error, "the source map", &map_path))?;
     }
-    if let Some(stats) = loaded.compile_stats {
-        eprintln!(
-            "{display} → {}: {} lines ({} instructions), {} registers, {} labels{}",
-            output.display(),
-            stats.lines,
-            stats.instructions,
-            stats.registers,
-            stats.labels,
-            if stats.memory > 0 {
-                format!(", {} memory cells", stats.memory)
-            } else {
-                String::new()
-            }
-        );
-        if args.optimize {
-            // What -O bought: the same program built without the optimizer. Its
-            // errors, if any, were already reported by the optimized build.
-            let unoptimized = compile(&script.text, &sensors, &CompileOptions { optimize: false });
-            if let Some(before) = unoptimized.stats {
-                eprintln!(
-                    "{display}: -O: {} → {} instructions, {} → {} registers (unoptimized → optimized)",
-                    before.instructions, stats.instructions, before.registers, stats.registers
-                );
-            }
+    let stats = build.stats;
+    eprintln!(
+        "{display} → {}: {} lines ({} instructions), {} registers, {} labels{}",
+        output.display(),
+        stats.lines,
+        stats.instructions,
+        stats.registers,
+        stats.labels,
+        if stats.memory > 0 {
+            format!(", {} memory cells", stats.memory)
+        } else {
+            String::new()
+        }
+    );
+    if args.optimize {
+        // What -O bought: the same program built without the optimizer. Its
+        // errors, if any, were already reported by the optimized build.
+        let unoptimized = compile(&script.text, &sensors, &CompileOptions { optimize: false });
+        if let Some(before) = unoptimized.code.map(|code| code.stats) {
+            eprintln!(
+                "{display}: -O: {} → {} instructions, {} → {} registers (unoptimized → optimized)",
+                before.instructions, stats.instructions, before.registers, stats.registers
+            );
         }
     }
     Ok(ExitCode::SUCCESS)

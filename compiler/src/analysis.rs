@@ -3,7 +3,7 @@
 //! ranges for folding, and the compiled GLOC. Byte offsets throughout.
 
 use gloc_engine::sensors::SensorList;
-use gloc_engine::{Diagnostic, Span};
+use gloc_engine::{Diagnostic, Occurrences, Span};
 
 use crate::ast;
 use crate::parser::KEYWORDS;
@@ -28,13 +28,19 @@ pub struct SymbolInfo {
     pub ty: Option<Ty>,
     /// A one-line description for hover, e.g. `dim depths(40) as float`.
     pub detail: String,
-    /// Where it is declared (`None` for sensors and undefined labels).
-    pub definition: Option<Span>,
-    pub references: Vec<Span>,
-    /// For sensors: the spans where the program writes it (a subset of `references`).
+    /// Where it is declared (no definition for a sensor) and used.
+    pub occurrences: Occurrences,
+    /// `Some` exactly for a sensor.
+    pub sensor: Option<SensorAccess>,
+}
+
+/// A sensor symbol's place in the active list and the uses that write it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SensorAccess {
+    /// The index in the active sensor list.
+    pub index: u32,
+    /// Where the program writes it (a subset of the symbol's references).
     pub writes: Vec<Span>,
-    /// For sensors: the index in the active sensor list.
-    pub sensor_index: Option<u32>,
 }
 
 /// A foldable block: `if … endif`, `while … wend`, `do … loop`, `for … next`.
@@ -55,24 +61,29 @@ pub struct Analysis {
 impl Analysis {
     /// The symbol defined or referenced at byte `offset`.
     pub fn symbol_at(&self, offset: usize) -> Option<&SymbolInfo> {
-        self.symbols.iter().find(|symbol| {
-            symbol.definition.is_some_and(|span| span.contains(offset))
-                || symbol.references.iter().any(|span| span.contains(offset))
-        })
+        self.symbols
+            .iter()
+            .find(|symbol| symbol.occurrences.at(offset).is_some())
     }
 
     /// Sensors the program reads, with the spans of the reads.
     pub fn sensors_read(&self) -> impl Iterator<Item = &SymbolInfo> {
         self.symbols.iter().filter(|symbol| {
-            symbol.kind == SymbolKind::Sensor && symbol.references.len() > symbol.writes.len()
+            symbol
+                .sensor
+                .as_ref()
+                .is_some_and(|sensor| symbol.occurrences.references.len() > sensor.writes.len())
         })
     }
 
     /// Sensors the program writes.
     pub fn sensors_written(&self) -> impl Iterator<Item = &SymbolInfo> {
-        self.symbols
-            .iter()
-            .filter(|symbol| symbol.kind == SymbolKind::Sensor && !symbol.writes.is_empty())
+        self.symbols.iter().filter(|symbol| {
+            symbol
+                .sensor
+                .as_ref()
+                .is_some_and(|sensor| !sensor.writes.is_empty())
+        })
     }
 }
 
@@ -149,10 +160,11 @@ fn analyze_compiled(
             kind,
             ty: Some(variable.ty),
             detail,
-            definition: Some(variable.definition),
-            references: variable.references.clone(),
-            writes: Vec::new(),
-            sensor_index: None,
+            occurrences: Occurrences {
+                definition: Some(variable.definition),
+                references: variable.references.clone(),
+            },
+            sensor: None,
         });
     }
     for constant in &checked_symbols.constants {
@@ -161,10 +173,11 @@ fn analyze_compiled(
             kind: SymbolKind::Constant,
             ty: Some(constant.ty),
             detail: format!("const {} = {}", constant.name, constant.value),
-            definition: Some(constant.definition),
-            references: constant.references.clone(),
-            writes: Vec::new(),
-            sensor_index: None,
+            occurrences: Occurrences {
+                definition: Some(constant.definition),
+                references: constant.references.clone(),
+            },
+            sensor: None,
         });
     }
     for (number, label) in checked_symbols.labels.iter().enumerate() {
@@ -173,10 +186,11 @@ fn analyze_compiled(
             kind: SymbolKind::Label,
             ty: None,
             detail: format!("label: {} (GLOC label {number})", label.name),
-            definition: label.definition,
-            references: label.references.clone(),
-            writes: Vec::new(),
-            sensor_index: None,
+            occurrences: Occurrences {
+                definition: Some(label.definition),
+                references: label.references.clone(),
+            },
+            sensor: None,
         });
     }
     for sensor in &checked_symbols.sensors {
@@ -191,10 +205,14 @@ fn analyze_compiled(
             kind: SymbolKind::Sensor,
             ty: Some(Ty::Float),
             detail: format!("sensor {} ({units}), index {}", sensor.name, sensor.sensor),
-            definition: None,
-            references,
-            writes: sensor.writes.clone(),
-            sensor_index: Some(sensor.sensor),
+            occurrences: Occurrences {
+                definition: None,
+                references,
+            },
+            sensor: Some(SensorAccess {
+                index: sensor.sensor,
+                writes: sensor.writes.clone(),
+            }),
         });
     }
     let analysis = Analysis {

@@ -303,7 +303,7 @@ impl<'a> Checker<'a> {
                 }
                 ast::StmtKind::Label(name) => match self.labels.get(&*name.key()).copied() {
                     Some(id) => {
-                        let first = self.symbols.labels[id.0].definition.unwrap_or_default();
+                        let first = self.symbols.labels[id.0].definition;
                         self.error(
                             Diagnostic::error(
                                 codes::DUPLICATE_LABEL,
@@ -318,7 +318,7 @@ impl<'a> Checker<'a> {
                         let id = LabelId(self.symbols.labels.len());
                         self.symbols.labels.push(typed::Label {
                             name: name.text.clone(),
-                            definition: Some(name.span),
+                            definition: name.span,
                             references: Vec::new(),
                         });
                         self.labels.insert(name.key().into_owned(), id);
@@ -498,7 +498,7 @@ impl<'a> Checker<'a> {
             ast::StmtKind::Label(name) => {
                 let id = self.labels.get(&*name.key()).copied()?;
                 // A duplicate label was reported; only the first definition counts.
-                if self.symbols.labels[id.0].definition != Some(name.span) {
+                if self.symbols.labels[id.0].definition != name.span {
                     return None;
                 }
                 typed::StmtKind::Label(id)

@@ -26,11 +26,12 @@ pub mod typed;
 use gloc_engine::sensors::{SensorId, SensorList};
 use gloc_engine::Diagnostic;
 
-pub use analysis::{analyze, Analysis, Block, SymbolInfo, SymbolKind};
+pub use analysis::{analyze, Analysis, Block, SensorAccess, SymbolInfo, SymbolKind};
 pub use codegen::{ForBound, Storage};
 
 pub use loader::{
-    load_script, source_too_large, Language, LoadOptions, LoadedScript, MAX_GBASIC_BYTES,
+    load_script, source_too_large, GbasicBuild, Language, LoadOptions, LoadedScript,
+    MAX_GBASIC_BYTES,
 };
 pub use source_map::{ConstantValue, Origin, SourceMap};
 
@@ -111,14 +112,21 @@ pub struct CodeStats {
     pub memory: u32,
 }
 
-/// The result of compiling GBASIC. `gloc_text` and `source_map` are `None` when
-/// there is an error; diagnostics always point into the GBASIC text.
+/// The result of compiling GBASIC; diagnostics always point into the GBASIC text.
 #[derive(Clone, Debug, Default)]
 pub struct Compiled {
-    pub gloc_text: Option<String>,
-    pub source_map: Option<SourceMap>,
     pub diagnostics: Vec<Diagnostic>,
-    pub stats: Option<CodeStats>,
+    /// `None` exactly when a diagnostic is an error.
+    pub code: Option<CompiledCode>,
+}
+
+/// What a GBASIC program without errors compiles to.
+#[derive(Clone, Debug)]
+pub struct CompiledCode {
+    pub gloc_text: String,
+    /// Compiled GLOC → GBASIC.
+    pub source_map: SourceMap,
+    pub stats: CodeStats,
     /// Trip counts of `for` loops with constant limits, keyed by the GLOC label of
     /// the loop's test, for the GLOC checker.
     pub for_bounds: Vec<ForBound>,
@@ -250,12 +258,14 @@ pub(crate) fn compile_checked(
         memory: code.memory_size,
     };
     Compiled {
-        gloc_text: Some(code.to_gloc()),
-        source_map: Some(source_map),
         diagnostics,
-        stats: Some(stats),
-        for_bounds,
-        stored_sensors,
+        code: Some(CompiledCode {
+            gloc_text: code.to_gloc(),
+            source_map,
+            stats,
+            for_bounds,
+            stored_sensors,
+        }),
     }
 }
 

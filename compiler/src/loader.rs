@@ -13,7 +13,7 @@ use gloc_engine::sensors::{SensorId, SensorList};
 use gloc_engine::vm::TrapKind;
 use gloc_engine::{Diagnostic, LineIndex, Span};
 
-use crate::{compile, CodeStats, CompileOptions, Compiled, SourceMap};
+use crate::{compile, CodeStats, CompileOptions, Compiled, CompiledCode, SourceMap};
 
 /// Which of the two languages a script is in. The one such type: the CLI, the
 /// debugger and the loader use it as it is, and the editor's document kind
@@ -77,18 +77,25 @@ pub struct LoadedScript {
     pub program: Option<Arc<Program>>,
     /// The GLOC that was checked (the compiled text for GBASIC, the script for GLOC).
     pub gloc_text: Option<String>,
-    /// GBASIC only: compiled GLOC → GBASIC.
-    pub source_map: Option<SourceMap>,
     /// All point into the script's own text, sorted by position.
     pub diagnostics: Vec<Diagnostic>,
     /// The GLOC checker's figures (worst case per cycle and sizes).
     pub stats: Option<Stats>,
-    /// GBASIC only: the compiler's size figures.
-    pub compile_stats: Option<CodeStats>,
+    /// GBASIC that compiled: what the compiler adds to its GLOC.
+    pub gbasic: Option<GbasicBuild>,
     /// The sensors the script stores, in order of first `stores`: the program's for
     /// GLOC, the unoptimized code's for GBASIC, so `-O` never changes the columns of a
     /// log or a replay's `--out`.
     pub stored_sensors: Vec<SensorId>,
+}
+
+/// What compiling a GBASIC script yields beside its GLOC.
+#[derive(Clone, Debug)]
+pub struct GbasicBuild {
+    /// Compiled GLOC → GBASIC.
+    pub source_map: SourceMap,
+    /// The compiler's size figures.
+    pub stats: CodeStats,
 }
 
 impl LoadedScript {
@@ -96,10 +103,15 @@ impl LoadedScript {
         self.diagnostics.iter().any(Diagnostic::is_error)
     }
 
+    /// Compiled GLOC → GBASIC, for a GBASIC script that compiled.
+    pub fn source_map(&self) -> Option<&SourceMap> {
+        self.gbasic.as_ref().map(|build| &build.source_map)
+    }
+
     /// The span in the script's own text of the instruction at `pc` (for traps and
     /// the debugger).
     pub fn span_of_pc(&self, pc: Pc) -> Option<Span> {
-        match &self.source_map {
+        match self.source_map() {
             Some(map) => map.origin_of_pc(pc.0).map(|origin| origin.span()),
             None => self.program.as_ref().map(|program| program.span(pc)),
         }
@@ -111,7 +123,7 @@ impl LoadedScript {
     /// for what it is.
     pub fn trap_message(&self, kind: &TrapKind) -> String {
         match kind {
-            TrapKind::MemoryOutOfBounds { address: -1, .. } if self.source_map.is_some() => {
+            TrapKind::MemoryOutOfBounds { address: -1, .. } if self.gbasic.is_some() => {
                 "array index out of bounds".to_string()
             }
             _ => kind.to_string(),
@@ -120,7 +132,7 @@ impl LoadedScript {
 
     /// The 1-based line in the script's own text of the instruction at `pc`.
     pub fn line_of_pc(&self, pc: Pc) -> Option<u32> {
-        match &self.source_map {
+        match self.source_map() {
             Some(map) => map.origin_of_pc(pc.0).map(|origin| origin.line),
             None => self.program.as_ref().map(|program| program.line(pc)),
         }
@@ -132,7 +144,7 @@ impl LoadedScript {
             return Vec::new();
         };
         let count = program.instrs.len();
-        match &self.source_map {
+        match self.source_map() {
             Some(map) => {
                 let mut origins = map.pc_origins();
                 (0..count)
@@ -184,10 +196,9 @@ pub fn load_script_written_for(
                     .unwrap_or_default(),
                 program: checked.program,
                 gloc_text: Some(text.to_string()),
-                source_map: None,
                 diagnostics,
                 stats: Some(checked.stats),
-                compile_stats: None,
+                gbasic: None,
             }
         }
         Language::Gbasic => load_gbasic(text, sensors, options),
@@ -251,15 +262,21 @@ pub(crate) fn load_compiled(
     sensors: &SensorList,
     options: &LoadOptions,
 ) -> LoadedScript {
-    let (Some(gloc_text), Some(source_map)) = (compiled.gloc_text, compiled.source_map) else {
+    let Some(code) = compiled.code else {
         return LoadedScript {
             diagnostics: compiled.diagnostics,
             ..LoadedScript::default()
         };
     };
+    let CompiledCode {
+        gloc_text,
+        source_map,
+        stats: compile_stats,
+        for_bounds,
+        stored_sensors,
+    } = code;
     let check_options = CheckOptions {
-        loop_bounds: compiled
-            .for_bounds
+        loop_bounds: for_bounds
             .iter()
             .map(|bound| LoopBound {
                 label: bound.header.0,
@@ -293,11 +310,13 @@ pub(crate) fn load_compiled(
     LoadedScript {
         program: checked.program,
         gloc_text: Some(gloc_text),
-        source_map: Some(source_map),
         diagnostics,
         stats: Some(checked.stats),
-        compile_stats: compiled.stats,
-        stored_sensors: compiled.stored_sensors,
+        gbasic: Some(GbasicBuild {
+            source_map,
+            stats: compile_stats,
+        }),
+        stored_sensors,
     }
 }
 

@@ -164,8 +164,8 @@ pub struct Constant {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Label {
     pub name: String,
-    /// `None` when only `goto`s name it (an error).
-    pub definition: Option<Span>,
+    /// A `goto` to a label the program does not define is an error, not a label.
+    pub definition: Span,
     pub references: Vec<Span>,
 }
 

@@ -21,7 +21,7 @@ fn typed(expr: &str) -> (bool, String) {
     let as_integer = compile_with("n");
     (
         !as_integer.has_errors(),
-        as_float.gloc_text.unwrap_or_default(),
+        as_float.code.map(|code| code.gloc_text).unwrap_or_default(),
     )
 }
 

@@ -195,8 +195,8 @@ fn optimized_and_unoptimized_builds_behave_identically() {
             path.display()
         );
         let (before, after) = (
-            plain.compile_stats.expect("stats"),
-            optimized.compile_stats.expect("stats"),
+            plain.gbasic.as_ref().expect("stats").stats,
+            optimized.gbasic.as_ref().expect("stats").stats,
         );
         assert!(
             after.instructions <= before.instructions,

@@ -58,7 +58,7 @@ fn ok_fixtures_compile_to_their_gloc_and_pass_the_gloc_checker() {
             path.display(),
             render(&text, &compiled.diagnostics)
         );
-        let gloc = compiled.gloc_text.expect("no errors, so GLOC");
+        let gloc = compiled.code.expect("no errors, so GLOC").gloc_text;
         if std::env::var_os("GLOC_BLESS").is_some() {
             println!("== {}\n{gloc}", path.display());
             continue;
@@ -93,7 +93,7 @@ fn err_fixtures_give_their_diagnostics_and_no_gloc() {
         let text = std::fs::read_to_string(&path).expect("readable fixture");
         let compiled = compile(&text, &sensors, &CompileOptions::default());
         assert!(
-            compiled.gloc_text.is_none(),
+            compiled.code.is_none(),
             "{} compiled despite errors",
             path.display()
         );
@@ -150,7 +150,8 @@ fn the_optimized_source_map_follows_the_renumbered_labels() {
     let sensors = SensorList::embedded();
     let text = std::fs::read_to_string(fixture_dir("ok").join("fig3.gbas")).expect("fig3");
     let compiled = compile(&text, &sensors, &CompileOptions { optimize: true });
-    let map = compiled.source_map.expect("map");
+    let code = compiled.code.expect("compiles");
+    let map = code.source_map;
     let labels: Vec<(&str, u32)> = map
         .labels
         .iter()
@@ -159,7 +160,7 @@ fn the_optimized_source_map_follows_the_renumbered_labels() {
     // -O keeps every label of Fig. 2 (all are jump targets) and numbers them in order
     // of appearance: state1, the first if's two, state2, the second if's two, state3.
     assert_eq!(labels, vec![("state1", 0), ("state2", 3), ("state3", 6)]);
-    let gloc = compiled.gloc_text.expect("gloc");
+    let gloc = code.gloc_text;
     assert!(
         gloc.contains("label 3\nloads 444,r0\nloadd 5.0,r1\n"),
         "{gloc}"

@@ -37,7 +37,7 @@ fn build(source: &str, optimize: bool) -> String {
         "{source} (optimize {optimize}): {:?}",
         loaded.diagnostics
     );
-    compiled.gloc_text.expect("no errors, so GLOC")
+    compiled.code.expect("no errors, so GLOC").gloc_text
 }
 
 fn plain(source: &str) -> String {

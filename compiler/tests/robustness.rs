@@ -21,7 +21,7 @@ fn exercise(text: &str, sensors: &SensorList) {
             );
         }
         if compiled.has_errors() {
-            assert!(compiled.gloc_text.is_none());
+            assert!(compiled.code.is_none());
         }
         let loaded = load_script(
             text,
@@ -177,7 +177,7 @@ fn deep_nesting_is_an_error_not_a_stack_overflow() {
             .diagnostics
             .iter()
             .any(|diagnostic| diagnostic.code == "E2008"));
-        assert!(compiled.gloc_text.is_none());
+        assert!(compiled.code.is_none());
     }
     // 90 levels are fine.
     let fine = format!(

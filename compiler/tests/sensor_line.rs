@@ -17,7 +17,8 @@ fn comet() -> SensorList {
 #[test]
 fn fig3_for_comet_states_its_list_and_the_map_still_points_right() {
     let compiled = compile(FIG3, &comet(), &CompileOptions::default());
-    let gloc = compiled.gloc_text.expect("compiles");
+    let code = compiled.code.expect("compiles");
+    let gloc = code.gloc_text;
     let lines: Vec<&str> = gloc.lines().collect();
     // Worked by hand: the paper's Fig. 2 with comet's indices (m_depth 459, the hook
     // sensors appended at 2142–2144) under the line.
@@ -25,7 +26,7 @@ fn fig3_for_comet_states_its_list_and_the_map_still_points_right() {
     assert_eq!(&lines[1..5], ["nregs 8", "nblbs 7", "ninstr 27", "label 0"]);
     assert_eq!(lines[5], "loads 459,r0");
     assert_eq!(lines[11], "stores r3,2144");
-    let map = compiled.source_map.expect("a map");
+    let map = code.source_map;
     assert_eq!(map.header_lines, 4);
     // GLOC line 6 (`loads 459,r0`) comes from GBASIC line 2 (`if m_depth > 15.0`).
     let origin = map.origin_of_gloc_line(6).expect("mapped");
@@ -44,7 +45,11 @@ fn fig3_for_comet_states_its_list_and_the_map_still_points_right() {
 #[test]
 fn the_embedded_list_gets_no_line() {
     let compiled = compile(FIG3, &SensorList::embedded(), &CompileOptions::default());
-    let gloc = compiled.gloc_text.expect("compiles");
-    assert!(gloc.starts_with("nregs 8\n"), "{gloc}");
-    assert_eq!(compiled.source_map.expect("a map").header_lines, 3);
+    let code = compiled.code.expect("compiles");
+    assert!(
+        code.gloc_text.starts_with("nregs 8\n"),
+        "{}",
+        code.gloc_text
+    );
+    assert_eq!(code.source_map.header_lines, 3);
 }

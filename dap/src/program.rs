@@ -28,7 +28,7 @@ impl SourceLines {
     /// line, and neither has a GLOC line 0.
     pub fn of(loaded: &LoadedScript) -> SourceLines {
         let mut lines = loaded.lines_of_pcs();
-        if loaded.source_map.is_none() {
+        if loaded.gbasic.is_none() {
             for line in &mut lines {
                 *line = line.filter(|line| *line > 0);
             }

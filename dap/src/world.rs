@@ -114,7 +114,7 @@ pub fn launch_with(config: &LaunchConfig, settings: &Settings) -> DebugResult<(W
 /// The names a GBASIC script's expressions use: its symbols (from the source map) and
 /// the sensor list; a GLOC script has only the sensors (and, in the debugger, registers).
 fn expression_scope(script: &DebugScript) -> ExpressionScope {
-    match &script.loaded.source_map {
+    match script.loaded.source_map() {
         Some(map) => scope_of_source_map(map, script.sensor_list.clone()),
         None => ExpressionScope::new(script.sensor_list.clone()),
     }
@@ -155,8 +155,7 @@ fn load_debug_script(config: &LaunchConfig, settings: &Settings) -> DebugResult<
         }
     }
     let variables = loaded
-        .source_map
-        .as_ref()
+        .source_map()
         .map(|map| {
             map.variables
                 .iter()
@@ -196,7 +195,7 @@ fn debug_info(script: &DebugScript) -> DebugInfo {
     let count = program.instrs.len();
     // The line of the GLOC text each instruction was read from (none for the final
     // `halt` added after the script's end).
-    let text_lines: Vec<Option<u32>> = match &loaded.source_map {
+    let text_lines: Vec<Option<u32>> = match loaded.source_map() {
         Some(map) => {
             let mut origins = map.pc_origins();
             (0..count)
@@ -214,7 +213,7 @@ fn debug_info(script: &DebugScript) -> DebugInfo {
             None => "halt    # end of script".to_string(),
         })
         .collect();
-    let language = match loaded.source_map {
+    let language = match loaded.gbasic {
         Some(_) => Language::Gbasic,
         None => Language::Gloc,
     };

@@ -1,4 +1,5 @@
-//! The one `Span` and `Diagnostic` type shared by engine, compiler, CLI, LSP and DAP.
+//! The one `Span` and `Diagnostic` type shared by engine, compiler, CLI, LSP and DAP,
+//! and a name's [`Occurrences`] (definition and references) in a text.
 //!
 //! Spans are byte offsets into the source text. Converting them to lines and
 //! columns (or to UTF-16 positions for LSP) happens in exactly one place per
@@ -44,6 +45,39 @@ impl Span {
 
     pub fn contains(self, offset: usize) -> bool {
         (self.start as usize) <= offset && offset <= (self.end as usize)
+    }
+}
+
+/// Where a name stands in a text: where it is defined, when the text defines it, and
+/// every other place it is used. The compiler's symbols and the language server's
+/// (hover, references, rename, highlights) share it.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Occurrences {
+    /// The name where it is defined (`None` for a label only jumped to, a sensor).
+    pub definition: Option<Span>,
+    /// Every other place the name is used (not the definition).
+    pub references: Vec<Span>,
+}
+
+impl Occurrences {
+    /// A name defined at `definition`, not used yet.
+    pub fn defined_at(definition: Span) -> Occurrences {
+        Occurrences {
+            definition: Some(definition),
+            references: Vec::new(),
+        }
+    }
+
+    /// The definition, then every reference.
+    pub fn iter(&self) -> impl Iterator<Item = Span> + '_ {
+        self.definition
+            .into_iter()
+            .chain(self.references.iter().copied())
+    }
+
+    /// The occurrence covering `offset` (a cursor right after it counts).
+    pub fn at(&self, offset: usize) -> Option<Span> {
+        self.iter().find(|span| span.contains(offset))
     }
 }
 

@@ -15,4 +15,4 @@ pub mod sensors;
 pub mod suggest;
 pub mod vm;
 
-pub use diagnostic::{Diagnostic, Label, LineIndex, Severity, Span};
+pub use diagnostic::{Diagnostic, Label, LineIndex, Occurrences, Severity, Span};

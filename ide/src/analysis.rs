@@ -6,7 +6,7 @@
 use std::sync::Arc;
 
 use gloc_engine::sensors::{SensorId, SensorList};
-use gloc_engine::{Diagnostic, Span};
+use gloc_engine::{Diagnostic, Occurrences, Span};
 
 /// The project settings an analysis depends on.
 #[derive(Clone, Debug)]
@@ -73,26 +73,15 @@ pub enum SymbolKind {
 pub struct Symbol {
     pub name: String,
     pub kind: SymbolKind,
-    /// The name where it is defined (`None` for a label only jumped to).
-    pub definition: Option<Span>,
+    /// Where the name is defined (not for a label only jumped to) and used.
+    pub occurrences: Occurrences,
     /// The whole defining line or section (for document symbols).
     pub extent: Span,
-    /// Every other place the name is used (not the definition).
-    pub references: Vec<Span>,
     /// A type or a short description (`integer`, `float array(10)`, …).
     pub detail: String,
     /// Whether a rename may change it: GLOC labels are numbers and renaming
     /// one renumbers it; GBASIC names are identifiers.
     pub renamable: bool,
-}
-
-impl Symbol {
-    /// The definition and every reference.
-    pub fn occurrences(&self) -> impl Iterator<Item = Span> + '_ {
-        self.definition
-            .into_iter()
-            .chain(self.references.iter().copied())
-    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -152,14 +141,21 @@ pub struct Completion {
     pub kind: CompletionKind,
     pub detail: Option<String>,
     pub documentation: Option<String>,
-    /// A snippet (with `$1` placeholders) to insert instead of the label.
-    pub snippet: Option<String>,
-    /// Plain text to insert instead of the label (a GLOC sensor index).
-    pub insert_text: Option<String>,
+    /// What goes into the text instead of the label, when not the label.
+    pub insert: Option<Insert>,
     /// What the client matches typed text against, when not the label.
     pub filter_text: Option<String>,
     /// Sort key, when not the label (to rank in-scope names first).
     pub sort_text: Option<String>,
+}
+
+/// What a completion puts into the text instead of its label.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Insert {
+    /// A snippet, with `$1` placeholders.
+    Snippet(String),
+    /// Plain text (a mission keyword with the space after its colon).
+    Text(String),
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -196,12 +192,9 @@ impl Analysis {
 
     /// The symbol with an occurrence covering `offset`.
     pub fn symbol_at(&self, offset: usize) -> Option<(&Symbol, Span)> {
-        self.symbols.iter().find_map(|symbol| {
-            symbol
-                .occurrences()
-                .find(|span| span.contains(offset))
-                .map(|span| (symbol, span))
-        })
+        self.symbols
+            .iter()
+            .find_map(|symbol| symbol.occurrences.at(offset).map(|span| (symbol, span)))
     }
 }
 

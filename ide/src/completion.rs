@@ -149,8 +149,7 @@ mod tests {
             kind: CompletionKind::Sensor,
             detail: None,
             documentation: None,
-            snippet: None,
-            insert_text: None,
+            insert: None,
             filter_text: None,
             sort_text: sort.map(str::to_string),
         }

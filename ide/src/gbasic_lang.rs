@@ -13,8 +13,8 @@ use gloc_engine::sensors::SensorId;
 use gloc_engine::{Diagnostic, Span};
 
 use crate::analysis::{
-    Analysis, Completion, CompletionKind, Context, CycleStart, Hint, Signature, Symbol, SymbolKind,
-    Token, TokenKind,
+    Analysis, Completion, CompletionKind, Context, CycleStart, Hint, Insert, Signature, Symbol,
+    SymbolKind, Token, TokenKind,
 };
 use crate::lang;
 
@@ -47,13 +47,15 @@ pub fn analyze(text: &str, context: &Context) -> Analysis {
             CompilerKind::Label => SymbolKind::Label,
             CompilerKind::Sensor => SymbolKind::Sensor,
         };
-        let definition_line = info.definition.map(|span| line_span(text, span));
+        let definition_line = info
+            .occurrences
+            .definition
+            .map(|span| line_span(text, span));
         analysis.symbols.push(Symbol {
             name: info.name.clone(),
             kind,
-            definition: info.definition,
+            occurrences: info.occurrences.clone(),
             extent: definition_line.unwrap_or_default(),
-            references: info.references.clone(),
             detail: info.detail.clone(),
             renamable: kind != SymbolKind::Sensor,
         });
@@ -63,7 +65,10 @@ pub fn analyze(text: &str, context: &Context) -> Analysis {
         analysis.folds.push(block.span);
     }
     collect_tokens(text, &compiler, context, &mut analysis);
-    if let (Some(stats), Some(map)) = (&loaded.stats, &loaded.source_map) {
+    if let (Some(stats), Some(map)) = (
+        &loaded.stats,
+        loaded.gbasic.as_ref().map(|build| &build.source_map),
+    ) {
         if let Some(worst_case) = &stats.worst_case {
             // pc → GBASIC span: the source map lists GLOC lines, labels included.
             let origins: Vec<Span> = map
@@ -136,7 +141,7 @@ fn label_sections(text: &str, analysis: &mut Analysis) {
         .iter()
         .enumerate()
         .filter(|(_, symbol)| symbol.kind == SymbolKind::Label)
-        .filter_map(|(index, symbol)| Some((symbol.definition?.start as usize, index)))
+        .filter_map(|(index, symbol)| Some((symbol.occurrences.definition?.start as usize, index)))
         .collect();
     starts.sort();
     for (position, (start, index)) in starts.iter().enumerate() {
@@ -253,19 +258,19 @@ fn collect_tokens(
     let mut by_span: std::collections::HashMap<u32, (TokenKind, Option<SensorId>)> =
         std::collections::HashMap::new();
     for info in &compiler.symbols {
-        let spans = info.definition.iter().chain(&info.references);
-        for span in spans {
-            let entry = match info.kind {
-                CompilerKind::Variable | CompilerKind::Array => (TokenKind::Variable, None),
-                CompilerKind::Constant => (TokenKind::Constant, None),
-                CompilerKind::Label => (TokenKind::Label, None),
-                CompilerKind::Sensor => {
-                    let kind = if info.writes.contains(span) {
+        for span in info.occurrences.iter() {
+            let entry = match (info.kind, &info.sensor) {
+                (CompilerKind::Variable | CompilerKind::Array, _) => (TokenKind::Variable, None),
+                (CompilerKind::Constant, _) => (TokenKind::Constant, None),
+                (CompilerKind::Label, _) => (TokenKind::Label, None),
+                (CompilerKind::Sensor, sensor) => {
+                    let written = sensor.as_ref().is_some_and(|s| s.writes.contains(&span));
+                    let kind = if written {
                         TokenKind::SensorWrite
                     } else {
                         TokenKind::SensorRead
                     };
-                    (kind, info.sensor_index.map(SensorId))
+                    (kind, sensor.as_ref().map(|sensor| SensorId(sensor.index)))
                 }
             };
             by_span.insert(span.start, entry);
@@ -419,7 +424,9 @@ pub fn completions(
         analysis
             .symbols
             .iter()
-            .filter(|symbol| wanted.contains(&symbol.kind) && symbol.definition.is_some())
+            .filter(|symbol| {
+                wanted.contains(&symbol.kind) && symbol.occurrences.definition.is_some()
+            })
             .map(|symbol| Completion {
                 label: symbol.name.clone(),
                 kind: match symbol.kind {
@@ -429,8 +436,7 @@ pub fn completions(
                 },
                 detail: Some(symbol.detail.clone()),
                 documentation: None,
-                snippet: None,
-                insert_text: None,
+                insert: None,
                 filter_text: None,
                 // Declared names before the long sensor list.
                 sort_text: Some(format!("0{}", symbol.name.to_ascii_lowercase())),
@@ -465,8 +471,7 @@ pub fn completions(
                 kind: CompletionKind::Function,
                 detail: Some(info.summary()),
                 documentation: None,
-                snippet: Some(format!("{}($1)", info.name)),
-                insert_text: None,
+                insert: Some(Insert::Snippet(format!("{}($1)", info.name))),
                 filter_text: None,
                 sort_text: Some(format!("1{}", info.name)),
             }));
@@ -487,8 +492,7 @@ fn keyword_item(keyword: &str) -> Completion {
         kind: CompletionKind::Keyword,
         detail: None,
         documentation: keyword_doc(keyword).map(str::to_string),
-        snippet: None,
-        insert_text: None,
+        insert: None,
         filter_text: None,
         sort_text: Some(format!("2{keyword}")),
     }

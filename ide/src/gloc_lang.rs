@@ -9,11 +9,11 @@ use gloc_engine::gloc::ast::{
 };
 use gloc_engine::gloc::{self, Bound};
 use gloc_engine::sensors::{SensorId, SensorList};
-use gloc_engine::{Diagnostic, Span};
+use gloc_engine::{Diagnostic, Occurrences, Span};
 
 use crate::analysis::{
-    Analysis, Completion, CompletionKind, Context, CycleStart, Hint, Signature, Symbol, SymbolKind,
-    Token, TokenKind,
+    Analysis, Completion, CompletionKind, Context, CycleStart, Hint, Insert, Signature, Symbol,
+    SymbolKind, Token, TokenKind,
 };
 use crate::lang;
 
@@ -253,12 +253,12 @@ fn collect_labels(file: &File, analysis: &mut Analysis) {
         let symbol = labels
             .entry(label.number)
             .or_insert_with(|| new_label(label.number));
-        if symbol.definition.is_none() {
-            symbol.definition = Some(label.number_span);
+        if symbol.occurrences.definition.is_none() {
+            symbol.occurrences.definition = Some(label.number_span);
             symbol.extent = section;
         } else {
             // A duplicate definition (the checker reports it) still renames along.
-            symbol.references.push(label.number_span);
+            symbol.occurrences.references.push(label.number_span);
         }
     }
     for line in &file.lines {
@@ -275,6 +275,7 @@ fn collect_labels(file: &File, analysis: &mut Analysis) {
                     labels
                         .entry(number)
                         .or_insert_with(|| new_label(number))
+                        .occurrences
                         .references
                         .push(operand.span);
                 }
@@ -289,9 +290,8 @@ fn new_label(number: u32) -> Symbol {
     Symbol {
         name: number.to_string(),
         kind: SymbolKind::Label,
-        definition: None,
+        occurrences: Occurrences::default(),
         extent: Span::default(),
-        references: Vec::new(),
         detail: format!("label {number}"),
         renamable: true,
     }
@@ -328,7 +328,7 @@ pub fn check_new_name(
     let taken = analysis.symbols.iter().any(|other| {
         other.kind == SymbolKind::Label
             && other.name == number.to_string()
-            && other.definition.is_some()
+            && other.occurrences.definition.is_some()
     });
     if taken {
         return Err(format!("label {number} already exists"));
@@ -372,18 +372,19 @@ pub fn completions(
         OperandShape::Label => analysis
             .symbols
             .iter()
-            .filter(|symbol| symbol.kind == SymbolKind::Label && symbol.definition.is_some())
+            .filter(|symbol| {
+                symbol.kind == SymbolKind::Label && symbol.occurrences.definition.is_some()
+            })
             .map(|symbol| Completion {
                 label: symbol.name.clone(),
                 kind: CompletionKind::Label,
                 detail: Some(format!(
                     "label {} ({} jumps)",
                     symbol.name,
-                    symbol.references.len()
+                    symbol.occurrences.references.len()
                 )),
                 documentation: None,
-                snippet: None,
-                insert_text: None,
+                insert: None,
                 filter_text: None,
                 sort_text: None,
             })
@@ -400,8 +401,7 @@ fn first_word_completions() -> Vec<Completion> {
             kind: CompletionKind::Instruction,
             detail: Some(opcode.usage()),
             documentation: Some(instruction_markdown(*opcode)),
-            snippet: Some(snippet(*opcode)),
-            insert_text: None,
+            insert: Some(Insert::Snippet(snippet(*opcode))),
             filter_text: None,
             sort_text: None,
         })
@@ -423,8 +423,7 @@ fn keyword(label: &str, snippet: &str, documentation: &str) -> Completion {
         kind: CompletionKind::Keyword,
         detail: None,
         documentation: Some(documentation.to_string()),
-        snippet: Some(snippet.to_string()),
-        insert_text: None,
+        insert: Some(Insert::Snippet(snippet.to_string())),
         filter_text: None,
         sort_text: None,
     }
@@ -485,8 +484,7 @@ fn register_completions(text: &str) -> Vec<Completion> {
             kind: CompletionKind::Register,
             detail: Some("register".to_string()),
             documentation: None,
-            snippet: None,
-            insert_text: None,
+            insert: None,
             filter_text: None,
             sort_text: Some(format!("{register:05}")),
         })

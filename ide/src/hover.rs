@@ -45,7 +45,7 @@ pub fn hover(
                 SymbolKind::Sensor => "sensor",
                 SymbolKind::Behavior => "behavior",
             };
-            let uses = symbol.references.len();
+            let uses = symbol.occurrences.references.len();
             let mut text = format!("{what} `{}`", symbol.name);
             if !symbol.detail.is_empty() {
                 text.push_str(&format!(": {}", symbol.detail));
@@ -54,7 +54,7 @@ pub fn hover(
                 "\n\n{uses} use{}",
                 if uses == 1 { "" } else { "s" }
             ));
-            if symbol.definition.is_none() {
+            if symbol.occurrences.definition.is_none() {
                 text.push_str("; never defined");
             }
             text

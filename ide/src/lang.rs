@@ -131,8 +131,7 @@ pub fn sensor_completions(list: &SensorList, store: bool) -> Vec<Completion> {
                     }
                 )),
                 documentation: Some(sensor_markdown(list, id)),
-                snippet: None,
-                insert_text: None,
+                insert: None,
                 filter_text: None,
                 // After names, built-ins and keywords; demoted ones last.
                 sort_text: Some(format!("{}{}", if demoted { 9 } else { 5 }, sensor.name)),

@@ -42,7 +42,7 @@ pub fn label_cycles(analysis: &Analysis) -> Vec<LabelCycles> {
         .iter()
         .filter(|symbol| symbol.kind == SymbolKind::Label)
         .filter_map(|symbol| {
-            let definition = symbol.definition?;
+            let definition = symbol.occurrences.definition?;
             let section = symbol.extent.cover(definition);
             let inside: Vec<Bound> = analysis
                 .cycles

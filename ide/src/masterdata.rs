@@ -7,7 +7,7 @@
 use gloc_engine::sensors::{
     looks_like_cac, parse_cac, parse_cac_entries, parse_masterdata, SensorList, SensorOrder,
 };
-use gloc_engine::Span;
+use gloc_engine::{Occurrences, Span};
 
 use crate::analysis::{Analysis, Symbol, SymbolKind};
 use crate::lang::sensor_markdown;
@@ -30,9 +30,8 @@ pub fn analyze(text: &str) -> Analysis {
         .map(|entry| Symbol {
             name: entry.name,
             kind: entry.kind,
-            definition: Some(entry.name_span),
+            occurrences: Occurrences::defined_at(entry.name_span),
             extent: entry.line_span,
-            references: Vec::new(),
             detail: entry.detail,
             renamable: false,
         })
@@ -145,7 +144,7 @@ mod tests {
                 (
                     symbol.name.as_str(),
                     symbol.kind,
-                    symbol.definition,
+                    symbol.occurrences.definition,
                     symbol.detail.as_str(),
                 )
             })
@@ -206,7 +205,10 @@ mod tests {
             .collect();
         assert_eq!(names, ["m_present_time", "m_depth"]);
         // `m_depth` on line 2 (from byte 42) at 42 + 17.
-        assert_eq!(analysis.symbols[1].definition, Some(Span::new(59, 66)));
+        assert_eq!(
+            analysis.symbols[1].occurrences.definition,
+            Some(Span::new(59, 66))
+        );
         let (span, markdown) = hover(cac, 45).expect("hover");
         assert_eq!(span, Span::new(59, 66));
         assert!(

@@ -11,12 +11,12 @@
 use std::path::{Path, PathBuf};
 
 use gloc_engine::sensors::SensorList;
-use gloc_engine::{Diagnostic, Span};
+use gloc_engine::{Diagnostic, Occurrences, Span};
 use gloc_mission::behaviors::{ArgInfo, BehaviorInfo, BehaviorTable};
 use gloc_mission::mission::{ma_file_name, Mission};
 use gloc_mission::{Disk, LoadOptions};
 
-use crate::analysis::{Analysis, Completion, CompletionKind, Context, Symbol, SymbolKind};
+use crate::analysis::{Analysis, Completion, CompletionKind, Context, Insert, Symbol, SymbolKind};
 use crate::lang::{sensor_completions, sensor_markdown};
 
 /// Which of the two mission languages a document is.
@@ -119,9 +119,8 @@ pub fn analyze(
         .map(|block| Symbol {
             name: block.name.clone(),
             kind: SymbolKind::Behavior,
-            definition: Some(block.name_span),
+            occurrences: Occurrences::defined_at(block.name_span),
             extent: block.extent,
-            references: Vec::new(),
             detail: block.detail.clone(),
             renamable: false,
         })
@@ -168,8 +167,7 @@ pub fn completions(
                     kind: CompletionKind::Function,
                     detail: Some(format!("behavior, {} arguments", behavior.args.len())),
                     documentation: Some(behavior.doc.clone()),
-                    snippet: None,
-                    insert_text: None,
+                    insert: None,
                     filter_text: None,
                     sort_text: None,
                 })
@@ -192,13 +190,12 @@ pub fn completions(
                         arg.default.unwrap_or(0.0)
                     )),
                     documentation: Some(arg_markdown(&behavior, arg)),
-                    snippet: Some(format!(
+                    insert: Some(Insert::Snippet(format!(
                         "{}({}) ${{1:{}}}",
                         arg.name,
                         arg.units,
                         arg.default.unwrap_or(0.0)
-                    )),
-                    insert_text: None,
+                    ))),
                     filter_text: None,
                     sort_text: None,
                 })
@@ -389,14 +386,13 @@ fn keywords(kind: MissionFile, typed_bracket: bool) -> Vec<Completion> {
             kind: CompletionKind::Keyword,
             detail: None,
             documentation: Some(doc.to_string()),
-            snippet: None,
-            insert_text: Some(if word.ends_with(':') {
+            insert: Some(Insert::Text(if word.ends_with(':') {
                 format!("{word} ")
             } else if typed_bracket {
                 word.trim_start_matches('<').to_string()
             } else {
                 word.to_string()
-            }),
+            })),
             filter_text: None,
             sort_text: None,
         })
@@ -796,7 +792,7 @@ mod tests {
             .map(|symbol| {
                 (
                     symbol.name.as_str(),
-                    symbol.definition,
+                    symbol.occurrences.definition,
                     symbol.extent,
                     symbol.detail.as_str(),
                 )
@@ -825,7 +821,10 @@ mod tests {
         let ma = "behavior_name=yo\n<start:b_arg>\nb_arg: d_target_depth(m) 5\n<end:b_arg>\n";
         let analysis = analyze(MissionFile::Args, ma, None, &SensorList::embedded(), None);
         assert_eq!(analysis.symbols.len(), 1);
-        assert_eq!(analysis.symbols[0].definition, Some(Span::new(14, 16)));
+        assert_eq!(
+            analysis.symbols[0].occurrences.definition,
+            Some(Span::new(14, 16))
+        );
         // The section: `<start:b_arg>` at 17 to the end of `<end:b_arg>` (ma.len() - 1).
         assert!(analysis
             .folds
@@ -872,7 +871,10 @@ mod tests {
             completions(MissionFile::Args, &text, offset, &SensorList::embedded())
                 .into_iter()
                 .find(|item| item.label == "<end:b_arg>")
-                .and_then(|item| item.insert_text)
+                .and_then(|item| match item.insert {
+                    Some(Insert::Text(text)) => Some(text),
+                    _ => None,
+                })
         };
         // The client replaces `en` (the word before the cursor), so `<` must not come again.
         assert_eq!(
@@ -894,7 +896,10 @@ mod tests {
             .find(|item| item.label == "d_target_depth")
             .expect("d_target_depth");
         assert_eq!(depth.detail.as_deref(), Some("(m) default 12"));
-        assert_eq!(depth.snippet.as_deref(), Some("d_target_depth(m) ${1:12}"));
+        assert_eq!(
+            depth.insert,
+            Some(Insert::Snippet("d_target_depth(m) ${1:12}".to_string()))
+        );
         assert_eq!(
             depth.documentation.as_deref(),
             // `d_target_depth(m) 12  #! min = 3.0; max = 1000.0` in the masterdata.

@@ -8,7 +8,7 @@ use crate::analysis::Analysis;
 /// Where the symbol under the cursor is defined.
 pub fn definition(analysis: &Analysis, offset: usize) -> Option<Span> {
     let (symbol, _) = analysis.symbol_at(offset)?;
-    symbol.definition
+    symbol.occurrences.definition
 }
 
 /// Every use of the symbol under the cursor, its definition first when
@@ -20,9 +20,9 @@ pub fn references(
 ) -> Option<Vec<Span>> {
     let (symbol, _) = analysis.symbol_at(offset)?;
     Some(if include_declaration {
-        symbol.occurrences().collect()
+        symbol.occurrences.iter().collect()
     } else {
-        symbol.references.clone()
+        symbol.occurrences.references.clone()
     })
 }
 
@@ -38,10 +38,12 @@ pub enum HighlightKind {
 pub fn highlights(analysis: &Analysis, offset: usize) -> Option<Vec<(Span, HighlightKind)>> {
     let (symbol, _) = analysis.symbol_at(offset)?;
     let definition = symbol
+        .occurrences
         .definition
         .iter()
         .map(|span| (*span, HighlightKind::Write));
     let uses = symbol
+        .occurrences
         .references
         .iter()
         .map(|span| (*span, HighlightKind::Read));

@@ -42,7 +42,8 @@ pub fn rename(
     }
     Ok(Some(
         symbol
-            .occurrences()
+            .occurrences
+            .iter()
             .map(|span| TextEdit {
                 span,
                 new_text: new_name.to_string(),

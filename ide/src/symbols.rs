@@ -22,7 +22,7 @@ pub fn document_symbols(analysis: &Analysis) -> Vec<DocumentSymbol> {
         .symbols
         .iter()
         .filter_map(|symbol| {
-            let definition = symbol.definition?;
+            let definition = symbol.occurrences.definition?;
             Some(DocumentSymbol {
                 name: symbol.name.clone(),
                 kind: symbol.kind,

@@ -90,10 +90,9 @@ pub fn script_files(roots: &[PathBuf]) -> Vec<ScriptFile> {
 /// The symbols a workspace search lists: defined labels, variables, arrays and
 /// constants (sensors are not the workspace's).
 pub fn listed(analysis: &Analysis) -> impl Iterator<Item = &Symbol> {
-    analysis
-        .symbols
-        .iter()
-        .filter(|symbol| symbol.definition.is_some() && symbol.kind != SymbolKind::Sensor)
+    analysis.symbols.iter().filter(|symbol| {
+        symbol.occurrences.definition.is_some() && symbol.kind != SymbolKind::Sensor
+    })
 }
 
 /// Whether `name` answers `query`, and how well (lower is better; the completion

@@ -13,7 +13,7 @@ use tower_lsp_server::ls_types::*;
 use crate::document::Document;
 use crate::position::{offset_of, position_of, range_of, span_of, PositionWalker};
 use crate::server::COMPILED_GLOC_COMMAND;
-use gloc_ide::analysis::{Analysis, CompletionKind, Context, SymbolKind as Kind};
+use gloc_ide::analysis::{Analysis, CompletionKind, Context, Insert, SymbolKind as Kind};
 use gloc_ide::references::HighlightKind;
 use gloc_ide::tokens::TokenType;
 use gloc_ide::{completion, lens, links, selection};
@@ -396,13 +396,12 @@ fn completion_item(
     client: ClientFeatures,
     typed_range: Range,
 ) -> CompletionItem {
-    let new_text = match &completion.snippet {
-        Some(snippet) if client.snippets => snippet.clone(),
-        Some(snippet) => snippet_text(snippet),
-        None => completion
-            .insert_text
-            .clone()
-            .unwrap_or_else(|| completion.label.clone()),
+    let snippet = matches!(completion.insert, Some(Insert::Snippet(_))) && client.snippets;
+    let new_text = match &completion.insert {
+        Some(Insert::Snippet(snippet)) if client.snippets => snippet.clone(),
+        Some(Insert::Snippet(snippet)) => snippet_text(snippet),
+        Some(Insert::Text(text)) => text.clone(),
+        None => completion.label.clone(),
     };
     CompletionItem {
         label: completion.label,
@@ -420,11 +419,7 @@ fn completion_item(
         documentation: completion
             .documentation
             .map(|text| Documentation::MarkupContent(markup(text, client.completion_markdown))),
-        insert_text_format: completion
-            .snippet
-            .as_ref()
-            .filter(|_| client.snippets)
-            .map(|_| InsertTextFormat::SNIPPET),
+        insert_text_format: snippet.then_some(InsertTextFormat::SNIPPET),
         text_edit: Some(CompletionTextEdit::Edit(TextEdit {
             range: typed_range,
             new_text,
@@ -1002,7 +997,7 @@ pub fn workspace_symbols(rope: &Rope, uri: &Uri, analysis: &Analysis) -> Vec<Sym
                 deprecated: None,
                 location: Location {
                     uri: uri.clone(),
-                    range: range_of(rope, symbol.definition?),
+                    range: range_of(rope, symbol.occurrences.definition?),
                 },
                 container_name: None,
             })

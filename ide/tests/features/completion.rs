@@ -3,6 +3,7 @@
 //! what is inserted when that is not the label.
 
 use super::*;
+use gloc_ide::analysis::Insert;
 
 fn check_completion(language: Language, fixture: &str, expect: Expect) {
     let fixture = Fixture::new(language, fixture);
@@ -29,7 +30,7 @@ fn check_completion(language: Language, fixture: &str, expect: Expect) {
         if let Some(detail) = &item.detail {
             rendered.push_str(&format!(" {detail}"));
         }
-        if let Some(insert) = item.snippet.as_ref().or(item.insert_text.as_ref()) {
+        if let Some(Insert::Snippet(insert) | Insert::Text(insert)) = &item.insert {
             rendered.push_str(&format!(" => {insert}"));
         }
         rendered.push('\n');

@@ -89,7 +89,7 @@ pub fn main(args: crate::CompileArgs) -> anyhow::Result<ExitCode> {
         // What -O bought: the same program built without the optimizer. Its
         // errors, if any, were already reported by the optimized build.
         let unoptimized = compile(&script.text, &sensors, &CompileOptions { optimize: false });
-        if let Some(before) = unoptimized.code.map(|code| code.stats) {
+        if let Some(before) = unoptimized.code.map(|code| code.build.stats) {
             eprintln!(
                 "{display}: -O: {} → {} instructions, {} → {} registers (unoptimized → optimized)",
                 before.instructions, stats.instructions, before.registers, stats.registers

@@ -16,7 +16,7 @@ fn measure(name: &str, text: &str, sensors: &SensorList) {
         for _ in 0..runs {
             let compiled = compile(text, sensors, &options);
             assert!(!compiled.has_errors(), "{name}: {:?}", compiled.diagnostics);
-            stats = compiled.code.map(|code| code.stats);
+            stats = compiled.code.map(|code| code.build.stats);
         }
         let each = start.elapsed() / runs;
         let stats = stats.unwrap_or_default();

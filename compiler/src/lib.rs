@@ -30,8 +30,7 @@ pub use analysis::{analyze, Analysis, Block, SensorAccess, SymbolInfo, SymbolKin
 pub use codegen::{ForBound, Storage};
 
 pub use loader::{
-    load_script, source_too_large, GbasicBuild, Language, LoadOptions, LoadedScript,
-    MAX_GBASIC_BYTES,
+    load_script, source_too_large, Language, LoadOptions, LoadedScript, MAX_GBASIC_BYTES,
 };
 pub use source_map::{ConstantValue, Origin, SourceMap};
 
@@ -112,6 +111,15 @@ pub struct CodeStats {
     pub memory: u32,
 }
 
+/// What compiling GBASIC yields beside its GLOC.
+#[derive(Clone, Debug)]
+pub struct GbasicBuild {
+    /// Compiled GLOC → GBASIC.
+    pub source_map: SourceMap,
+    /// The compiler's size figures.
+    pub stats: CodeStats,
+}
+
 /// The result of compiling GBASIC; diagnostics always point into the GBASIC text.
 #[derive(Clone, Debug, Default)]
 pub struct Compiled {
@@ -124,9 +132,8 @@ pub struct Compiled {
 #[derive(Clone, Debug)]
 pub struct CompiledCode {
     pub gloc_text: String,
-    /// Compiled GLOC → GBASIC.
-    pub source_map: SourceMap,
-    pub stats: CodeStats,
+    /// Its source map and sizes, which the loaded script keeps.
+    pub build: GbasicBuild,
     /// Trip counts of `for` loops with constant limits, keyed by the GLOC label of
     /// the loop's test, for the GLOC checker.
     pub for_bounds: Vec<ForBound>,
@@ -261,8 +268,7 @@ pub(crate) fn compile_checked(
         diagnostics,
         code: Some(CompiledCode {
             gloc_text: code.to_gloc(),
-            source_map,
-            stats,
+            build: GbasicBuild { source_map, stats },
             for_bounds,
             stored_sensors,
         }),

@@ -13,7 +13,7 @@ use gloc_engine::sensors::{SensorId, SensorList};
 use gloc_engine::vm::TrapKind;
 use gloc_engine::{Diagnostic, LineIndex, Span};
 
-use crate::{compile, CodeStats, CompileOptions, Compiled, CompiledCode, SourceMap};
+use crate::{compile, CompileOptions, Compiled, CompiledCode, GbasicBuild, SourceMap};
 
 /// Which of the two languages a script is in. The one such type: the CLI, the
 /// debugger and the loader use it as it is, and the editor's document kind
@@ -89,15 +89,6 @@ pub struct LoadedScript {
     pub stored_sensors: Vec<SensorId>,
 }
 
-/// What compiling a GBASIC script yields beside its GLOC.
-#[derive(Clone, Debug)]
-pub struct GbasicBuild {
-    /// Compiled GLOC → GBASIC.
-    pub source_map: SourceMap,
-    /// The compiler's size figures.
-    pub stats: CodeStats,
-}
-
 impl LoadedScript {
     pub fn has_errors(&self) -> bool {
         self.diagnostics.iter().any(Diagnostic::is_error)
@@ -145,12 +136,10 @@ impl LoadedScript {
         };
         let count = program.instrs.len();
         match self.source_map() {
-            Some(map) => {
-                let mut origins = map.pc_origins();
-                (0..count)
-                    .map(|_| origins.next().map(|origin| origin.line))
-                    .collect()
-            }
+            Some(map) => map
+                .origins_of_pcs(count)
+                .map(|origin| origin.map(|origin| origin.line))
+                .collect(),
             None => (0..count)
                 .map(|pc| Some(program.line(Pc(pc as u32))))
                 .collect(),
@@ -270,8 +259,7 @@ pub(crate) fn load_compiled(
     };
     let CompiledCode {
         gloc_text,
-        source_map,
-        stats: compile_stats,
+        build,
         for_bounds,
         stored_sensors,
     } = code;
@@ -299,7 +287,7 @@ pub(crate) fn load_compiled(
             text,
             &gloc_text,
             &gloc_index,
-            &source_map,
+            &build.source_map,
         ));
     }
     let end_of_text = Span::new(text.len(), text.len());
@@ -312,10 +300,7 @@ pub(crate) fn load_compiled(
         gloc_text: Some(gloc_text),
         diagnostics,
         stats: Some(checked.stats),
-        gbasic: Some(GbasicBuild {
-            source_map,
-            stats: compile_stats,
-        }),
+        gbasic: Some(build),
         stored_sensors,
     }
 }

@@ -162,12 +162,17 @@ impl SourceMap {
         self.lines.iter().filter(|origin| !origin.is_label)
     }
 
+    /// The origin of each of a program's `count` pcs, in one pass; `None` for a pc
+    /// the map does not reach.
+    pub fn origins_of_pcs(&self, count: usize) -> impl Iterator<Item = Option<&Origin>> {
+        let mut origins = self.pc_origins();
+        (0..count).map(move |_| origins.next())
+    }
+
     /// The first pc (labels not counted) whose GBASIC line is `line` or later, for
     /// breakpoints set on GBASIC lines.
     pub fn pc_at_or_after_line(&self, line: u32) -> Option<u32> {
-        self.lines
-            .iter()
-            .filter(|origin| !origin.is_label)
+        self.pc_origins()
             .enumerate()
             .filter(|(_, origin)| origin.line >= line)
             .min_by_key(|(pc, origin)| (origin.line, *pc))
@@ -176,9 +181,7 @@ impl SourceMap {
 
     /// Every pc (labels not counted) whose GBASIC line is exactly `line`.
     pub fn pcs_of_line(&self, line: u32) -> Vec<u32> {
-        self.lines
-            .iter()
-            .filter(|origin| !origin.is_label)
+        self.pc_origins()
             .enumerate()
             .filter(|(_, origin)| origin.line == line)
             .map(|(pc, _)| pc as u32)

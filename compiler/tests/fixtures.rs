@@ -151,7 +151,7 @@ fn the_optimized_source_map_follows_the_renumbered_labels() {
     let text = std::fs::read_to_string(fixture_dir("ok").join("fig3.gbas")).expect("fig3");
     let compiled = compile(&text, &sensors, &CompileOptions { optimize: true });
     let code = compiled.code.expect("compiles");
-    let map = code.source_map;
+    let map = code.build.source_map;
     let labels: Vec<(&str, u32)> = map
         .labels
         .iter()

@@ -87,6 +87,6 @@ fn dash_o_on_a_program_beyond_the_liveness_limit_compiles_without_it() {
     );
     let codes: Vec<&str> = compiled.diagnostics.iter().map(|d| d.code).collect();
     assert_eq!(codes, ["W2303"], "{:?}", compiled.diagnostics);
-    let stats = compiled.code.expect("compiled").stats;
+    let stats = compiled.code.expect("compiled").build.stats;
     assert_eq!(stats.registers, 30_001);
 }

@@ -26,7 +26,7 @@ fn fig3_for_comet_states_its_list_and_the_map_still_points_right() {
     assert_eq!(&lines[1..5], ["nregs 8", "nblbs 7", "ninstr 27", "label 0"]);
     assert_eq!(lines[5], "loads 459,r0");
     assert_eq!(lines[11], "stores r3,2144");
-    let map = code.source_map;
+    let map = code.build.source_map;
     assert_eq!(map.header_lines, 4);
     // GLOC line 6 (`loads 459,r0`) comes from GBASIC line 2 (`if m_depth > 15.0`).
     let origin = map.origin_of_gloc_line(6).expect("mapped");
@@ -51,5 +51,5 @@ fn the_embedded_list_gets_no_line() {
         "{}",
         code.gloc_text
     );
-    assert_eq!(code.source_map.header_lines, 3);
+    assert_eq!(code.build.source_map.header_lines, 3);
 }

@@ -196,12 +196,10 @@ fn debug_info(script: &DebugScript) -> DebugInfo {
     // The line of the GLOC text each instruction was read from (none for the final
     // `halt` added after the script's end).
     let text_lines: Vec<Option<u32>> = match loaded.source_map() {
-        Some(map) => {
-            let mut origins = map.pc_origins();
-            (0..count)
-                .map(|_| origins.next().map(|origin| origin.gloc_line))
-                .collect()
-        }
+        Some(map) => map
+            .origins_of_pcs(count)
+            .map(|origin| origin.map(|origin| origin.gloc_line))
+            .collect(),
         None => (0..count)
             .map(|pc| (pc + 1 < count).then(|| program.line(Pc(pc as u32))))
             .collect(),

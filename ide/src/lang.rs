@@ -48,13 +48,7 @@ pub fn analyze_at(
         Language::Config => Analysis::default(),
         Language::Masterdata => masterdata::analyze(text),
         Language::Mission | Language::MissionArgs => match language.mission_file() {
-            Some(kind) => mission::analyze(
-                kind,
-                text,
-                path,
-                &context.sensors,
-                context.mafiles.as_deref(),
-            ),
+            Some(kind) => mission::analyze(kind, text, path, context),
             None => Analysis::default(),
         },
     }));

@@ -103,13 +103,17 @@ mod tests {
         let text = "behavior: surface\n  b_arg: args_from_file(enum) 10\nbehavior: yo\n  b_arg: args_from_file(enum) 99\n";
         let path = root.join("missions/m.mi");
         let embedded = Context::new(Arc::new(SensorList::embedded()));
+        // The `index`th link: on the line loading `number`, to `ma` under the folder.
+        let link_goes = |links: &[Link], index: usize, number: &str, ma: &str| {
+            let link = &links[index];
+            let loads = format!("args_from_file(enum) {number}");
+            assert!(text[link.span.range()].contains(&loads), "{link:?}");
+            let target = std::fs::canonicalize(root.join(ma)).expect("exists");
+            assert_eq!(link.target, target);
+        };
         let links = mission_links(text, &path, &embedded);
         assert_eq!(links.len(), 1, "{links:?}");
-        assert!(text[links[0].span.range()].contains("args_from_file(enum) 10"));
-        assert_eq!(
-            links[0].target,
-            std::fs::canonicalize(root.join("mafiles/surfac10.ma")).expect("exists")
-        );
+        link_goes(&links, 0, "10", "mafiles/surfac10.ma");
         // With gloc.toml's `mafiles` naming a folder that holds `yo99.ma` (`yo` and
         // 99), that line links there too, as `gloc run` would load it.
         std::fs::create_dir_all(root.join("elsewhere")).expect("folder");
@@ -124,11 +128,7 @@ mod tests {
         };
         let links = mission_links(text, &path, &project);
         assert_eq!(links.len(), 2, "{links:?}");
-        assert!(text[links[1].span.range()].contains("args_from_file(enum) 99"));
-        assert_eq!(
-            links[1].target,
-            std::fs::canonicalize(root.join("elsewhere/yo99.ma")).expect("exists")
-        );
+        link_goes(&links, 1, "99", "elsewhere/yo99.ma");
         std::fs::remove_dir_all(&root).expect("clean up");
     }
 

@@ -80,14 +80,9 @@ impl gloc_mission::MissionFiles for NoFiles {
 /// a `.ma` file the mission loads is shown on the `args_from_file` line that
 /// loaded it, its message starting with the file, line and column. `.ma` files are
 /// found as [`parse`] finds them.
-pub fn analyze(
-    kind: MissionFile,
-    text: &str,
-    path: Option<&Path>,
-    sensors: &SensorList,
-    mafiles: Option<&Path>,
-) -> Analysis {
-    let mission = parse(kind, text, path, sensors, mafiles);
+pub fn analyze(kind: MissionFile, text: &str, path: Option<&Path>, context: &Context) -> Analysis {
+    let sensors = &context.sensors;
+    let mission = parse(kind, text, path, sensors, context.mafiles.as_deref());
     let mut diagnostics: Vec<Diagnostic> = Vec::new();
     let entries = mission
         .diagnostics
@@ -681,34 +676,32 @@ mod tests {
             MissionFile::Mission,
             "behavior: yo\n  b_arg: d_target_depth(m) 2000\n",
             None,
-            &sensors,
-            None,
+            &Context::new(std::sync::Arc::new(sensors)),
         );
         let codes: Vec<&str> = analysis.diagnostics.iter().map(|d| d.code).collect();
         assert_eq!(codes, ["S0120"]);
     }
 
     /// A folder `<temp>/<name>/{missions,mafiles}` with the given files.
-    fn mission_folder(name: &str, files: &[(&str, &str)]) -> PathBuf {
+    /// A scratch folder `ide-<name>` with `missions/m.mi` holding `mission` and one
+    /// `mafiles/<file name>` holding its text: the folder and the mission's path.
+    fn mission_beside_ma(name: &str, mission: &str, ma: (&str, &str)) -> (PathBuf, PathBuf) {
         let root = gloc_testsupport::scratch_dir(&format!("ide-{name}"));
-        for (path, text) in files {
-            let path = root.join(path);
-            std::fs::create_dir_all(path.parent().expect("a parent")).expect("mkdir");
-            std::fs::write(&path, text).expect("write");
+        let path = root.join("missions/m.mi");
+        for (file, text) in [
+            (path.clone(), mission),
+            (root.join("mafiles").join(ma.0), ma.1),
+        ] {
+            std::fs::create_dir_all(file.parent().expect("a parent")).expect("mkdir");
+            std::fs::write(&file, text).expect("write");
         }
-        root
+        (root, path)
     }
 
     #[test]
     fn a_bad_value_is_the_simulators_s0015_on_the_value() {
         let text = "behavior: yo\n  b_arg: d_target_depth(m) deep\n";
-        let analysis = analyze(
-            MissionFile::Mission,
-            text,
-            None,
-            &SensorList::embedded(),
-            None,
-        );
+        let analysis = analyze(MissionFile::Mission, text, None, &embedded_context());
         assert_eq!(analysis.diagnostics.len(), 1, "{:?}", analysis.diagnostics);
         let diagnostic = &analysis.diagnostics[0];
         assert_eq!(diagnostic.code, "S0015");
@@ -720,23 +713,13 @@ mod tests {
     fn a_problem_in_a_loaded_ma_file_is_shown_on_its_args_from_file_line() {
         let mission =
             "behavior: yo\n  b_arg: args_from_file(enum) 3\nsensor: u_no_such_sensor(m) 1\n";
-        let root = mission_folder(
-            "ma-problem",
-            &[
-                ("missions/x.mi", mission),
-                (
-                    "mafiles/yo03.ma",
-                    "behavior_name=yo\n<start:b_arg>\n b_arg: c_target_depth(m) x\n<end:b_arg>\n",
-                ),
-            ],
-        );
-        let path = root.join("missions/x.mi");
+        let ma = "behavior_name=yo\n<start:b_arg>\n b_arg: c_target_depth(m) x\n<end:b_arg>\n";
+        let (root, path) = mission_beside_ma("ma-problem", mission, ("yo03.ma", ma));
         let analysis = analyze(
             MissionFile::Mission,
             mission,
             Some(&path),
-            &SensorList::embedded(),
-            None,
+            &embedded_context(),
         );
         let found: Vec<_> = analysis
             .diagnostics
@@ -762,7 +745,7 @@ mod tests {
     #[test]
     fn an_args_file_gets_its_own_diagnostics() {
         let text = "behavior_name=surface\n<start:b_arg>\nb_arg: gps_wait_time(s) 300\nb_arg: bogus(s) 1\n";
-        let analysis = analyze(MissionFile::Args, text, None, &SensorList::embedded(), None);
+        let analysis = analyze(MissionFile::Args, text, None, &embedded_context());
         let codes: Vec<_> = analysis
             .diagnostics
             .iter()
@@ -779,13 +762,7 @@ mod tests {
     #[test]
     fn behaviors_are_symbols_and_folds_without_the_comments_after_them() {
         let text = "behavior: abend\n  b_arg: overdepth(m) 30\n# next\n\nbehavior: yo\nbehavior: teleport\n";
-        let analysis = analyze(
-            MissionFile::Mission,
-            text,
-            None,
-            &SensorList::embedded(),
-            None,
-        );
+        let analysis = analyze(MissionFile::Mission, text, None, &embedded_context());
         let symbols: Vec<_> = analysis
             .symbols
             .iter()
@@ -819,7 +796,7 @@ mod tests {
         );
         assert_eq!(analysis.folds, vec![Span::new(0, 40), Span::new(49, 61)]);
         let ma = "behavior_name=yo\n<start:b_arg>\nb_arg: d_target_depth(m) 5\n<end:b_arg>\n";
-        let analysis = analyze(MissionFile::Args, ma, None, &SensorList::embedded(), None);
+        let analysis = analyze(MissionFile::Args, ma, None, &embedded_context());
         assert_eq!(analysis.symbols.len(), 1);
         assert_eq!(
             analysis.symbols[0].occurrences.definition,
@@ -987,17 +964,8 @@ mod tests {
     fn definition_goes_to_the_ma_file_args_from_file_loads() {
         let mission =
             "behavior: surface\n  b_arg: start_when(enum) 9\n  b_arg: args_from_file(enum) 10\n";
-        let root = mission_folder(
-            "definition",
-            &[
-                ("missions/d.mi", mission),
-                (
-                    "mafiles/surfac10.ma",
-                    "behavior_name=surface\n<start:b_arg>\n<end:b_arg>\n",
-                ),
-            ],
-        );
-        let path = root.join("missions/d.mi");
+        let ma = "behavior_name=surface\n<start:b_arg>\n<end:b_arg>\n";
+        let (root, path) = mission_beside_ma("definition", mission, ("surfac10.ma", ma));
         let (text, offset) = cursor(&mission.replace("(enum) 10", "(enum) 1$00"));
         let target = definition(&text, offset, &path, &embedded_context()).expect("a target");
         assert!(
@@ -1030,8 +998,7 @@ mod tests {
             MissionFile::Mission,
             &text,
             Some(&path),
-            &SensorList::embedded(),
-            None,
+            &embedded_context(),
         );
         let codes: Vec<_> = analysis.diagnostics.iter().map(|d| d.code).collect();
         let run = Mission::load(&path);
@@ -1047,6 +1014,7 @@ mod tests {
     #[test]
     fn no_text_and_no_cursor_makes_it_panic() {
         let sensors = SensorList::embedded();
+        let context = embedded_context();
         for text in [
             "",
             "\0",
@@ -1058,7 +1026,7 @@ mod tests {
             "  #\n\t\tb_arg: d_target_depth(m)(m) 1 2 3",
         ] {
             for kind in [MissionFile::Mission, MissionFile::Args] {
-                let _ = analyze(kind, text, None, &sensors, None);
+                let _ = analyze(kind, text, None, &context);
                 for offset in 0..=text.len() + 2 {
                     let _ = completions(kind, text, offset, &sensors);
                     let _ = hover(kind, text, offset, &sensors);
@@ -1066,7 +1034,7 @@ mod tests {
                         text,
                         offset,
                         Path::new("/nonexistent/missions/m.mi"),
-                        &embedded_context(),
+                        &context,
                     );
                 }
             }

@@ -3,7 +3,6 @@
 //! sensor writes and printed lines, cycle by cycle, for a bounded run.
 
 use gloc_compiler::{load_script, Language, LoadOptions};
-use gloc_engine::sensors::SensorList;
 
 use crate::gloc_target::{run_with, Event, Recording};
 
@@ -11,13 +10,11 @@ const CYCLES: u32 = 16;
 const BUDGET: u64 = 10_000;
 
 pub fn check_gbasic_bytes(data: &[u8]) {
-    if let Ok(text) = std::str::from_utf8(data) {
-        check_gbasic(text);
-    }
+    crate::when_text(data, check_gbasic);
 }
 
 pub fn check_gbasic(text: &str) {
-    let sensors = sensor_list();
+    let sensors = crate::embedded_sensors();
     let load = |optimize| {
         load_script(
             text,
@@ -85,7 +82,3 @@ fn comparable(first: &mut Recording, second: &mut Recording) {
     }
 }
 
-fn sensor_list() -> &'static SensorList {
-    static SENSORS: std::sync::OnceLock<SensorList> = std::sync::OnceLock::new();
-    SENSORS.get_or_init(SensorList::embedded)
-}

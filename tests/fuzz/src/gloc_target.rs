@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use gloc_engine::gloc::{self, CheckOptions, Checked};
 use gloc_engine::program::Program;
-use gloc_engine::sensors::{SensorId, SensorList};
+use gloc_engine::sensors::SensorId;
 use gloc_engine::vm::{CycleEnd, Host, Machine, MachineConfig};
 use gloc_engine::{Diagnostic, Severity};
 
@@ -14,15 +14,12 @@ use gloc_engine::{Diagnostic, Severity};
 const CYCLES: u32 = 32;
 const BUDGET: u64 = 2_000;
 
-/// One fuzz input: any bytes, taken as text when they are UTF-8.
 pub fn check_gloc_bytes(data: &[u8]) {
-    if let Ok(text) = std::str::from_utf8(data) {
-        check_gloc(text);
-    }
+    crate::when_text(data, check_gloc);
 }
 
 pub fn check_gloc(text: &str) {
-    let sensors = sensor_list();
+    let sensors = crate::embedded_sensors();
     let parsed = gloc::parse(text);
     assert_spans_in_bounds(text, &parsed.diagnostics, "parse");
     let checked = gloc::check(&parsed, sensors, &CheckOptions::default());
@@ -69,10 +66,6 @@ pub fn check_gloc(text: &str) {
     }
 }
 
-fn sensor_list() -> &'static SensorList {
-    static SENSORS: std::sync::OnceLock<SensorList> = std::sync::OnceLock::new();
-    SENSORS.get_or_init(SensorList::embedded)
-}
 
 fn is_error(diagnostic: &Diagnostic) -> bool {
     diagnostic.severity == Severity::Error

@@ -683,6 +683,15 @@ mod tests {
     }
 
     /// A folder `<temp>/<name>/{missions,mafiles}` with the given files.
+    /// Each diagnostic's code and span, in order.
+    fn findings(analysis: &Analysis) -> Vec<(&'static str, Span)> {
+        analysis
+            .diagnostics
+            .iter()
+            .map(|diagnostic| (diagnostic.code, diagnostic.span))
+            .collect()
+    }
+
     /// A scratch folder `ide-<name>` with `missions/m.mi` holding `mission` and one
     /// `mafiles/<file name>` holding its text: the folder and the mission's path.
     fn mission_beside_ma(name: &str, mission: &str, ma: (&str, &str)) -> (PathBuf, PathBuf) {
@@ -702,11 +711,8 @@ mod tests {
     fn a_bad_value_is_the_simulators_s0015_on_the_value() {
         let text = "behavior: yo\n  b_arg: d_target_depth(m) deep\n";
         let analysis = analyze(MissionFile::Mission, text, None, &embedded_context());
-        assert_eq!(analysis.diagnostics.len(), 1, "{:?}", analysis.diagnostics);
-        let diagnostic = &analysis.diagnostics[0];
-        assert_eq!(diagnostic.code, "S0015");
         // `deep` starts after "behavior: yo\n" (13) + "  b_arg: d_target_depth(m) " (27).
-        assert_eq!(diagnostic.span, Span::new(40, 44));
+        assert_eq!(findings(&analysis), [("S0015", Span::new(40, 44))]);
     }
 
     #[test]
@@ -721,24 +727,14 @@ mod tests {
             Some(&path),
             &embedded_context(),
         );
-        let found: Vec<_> = analysis
-            .diagnostics
-            .iter()
-            .map(|diagnostic| {
-                (
-                    diagnostic.code,
-                    diagnostic.span,
-                    diagnostic.message.as_str(),
-                )
-            })
-            .collect();
         // The .ma's `x` is line 3, column 27; the args_from_file line is bytes 15..44;
         // u_no_such_sensor is bytes 53..69 (S0106, as `gloc run` checks it too).
-        assert_eq!(found.len(), 2, "{found:?}");
-        assert_eq!(found[0].0, "S0015");
-        assert_eq!(found[0].1, Span::new(15, 44));
-        assert_eq!(found[0].2, "yo03.ma:3:27: `x` is not a number");
-        assert_eq!((found[1].0, found[1].1), ("S0106", Span::new(53, 69)));
+        assert_eq!(
+            findings(&analysis),
+            [("S0015", Span::new(15, 44)), ("S0106", Span::new(53, 69))]
+        );
+        let message = &analysis.diagnostics[0].message;
+        assert_eq!(message, "yo03.ma:3:27: `x` is not a number");
         let _ = std::fs::remove_dir_all(root);
     }
 
@@ -746,16 +742,11 @@ mod tests {
     fn an_args_file_gets_its_own_diagnostics() {
         let text = "behavior_name=surface\n<start:b_arg>\nb_arg: gps_wait_time(s) 300\nb_arg: bogus(s) 1\n";
         let analysis = analyze(MissionFile::Args, text, None, &embedded_context());
-        let codes: Vec<_> = analysis
-            .diagnostics
-            .iter()
-            .map(|d| (d.code, d.span))
-            .collect();
         // `b_arg: bogus(s) 1` (bytes 64..81) is unknown; the file ends inside the section
         // (an empty span at 81, the end of the last line).
         assert_eq!(
-            codes,
-            vec![("S0103", Span::new(64, 81)), ("S0025", Span::new(81, 81))]
+            findings(&analysis),
+            [("S0103", Span::new(64, 81)), ("S0025", Span::new(81, 81))]
         );
     }
 

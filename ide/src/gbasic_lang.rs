@@ -260,18 +260,18 @@ fn collect_tokens(
     for info in &compiler.symbols {
         for span in info.occurrences.iter() {
             let entry = match (info.kind, &info.sensor) {
-                (CompilerKind::Variable | CompilerKind::Array, _) => (TokenKind::Variable, None),
-                (CompilerKind::Constant, _) => (TokenKind::Constant, None),
-                (CompilerKind::Label, _) => (TokenKind::Label, None),
-                (CompilerKind::Sensor, sensor) => {
-                    let written = sensor.as_ref().is_some_and(|s| s.writes.contains(&span));
-                    let kind = if written {
+                (_, Some(sensor)) => {
+                    let kind = if sensor.writes.contains(&span) {
                         TokenKind::SensorWrite
                     } else {
                         TokenKind::SensorRead
                     };
-                    (kind, sensor.as_ref().map(|sensor| SensorId(sensor.index)))
+                    (kind, Some(SensorId(sensor.index)))
                 }
+                (CompilerKind::Variable | CompilerKind::Array, None) => (TokenKind::Variable, None),
+                (CompilerKind::Constant, None) => (TokenKind::Constant, None),
+                (CompilerKind::Label, None) => (TokenKind::Label, None),
+                (CompilerKind::Sensor, None) => (TokenKind::SensorRead, None),
             };
             by_span.insert(span.start, entry);
         }

@@ -70,13 +70,69 @@ pub struct Setting {
     /// The default from the masterdata file; `None` means unset (0.0 at run time).
     pub default: Option<f64>,
     pub description: Option<String>,
-    /// `#! min = …; max = …` metadata, when the file gave it.
-    pub min: Option<f64>,
-    pub max: Option<f64>,
-    /// `#! choices = start_when([0, 1, 2])`: the only values Control Center allows.
-    pub choices: Option<Vec<f64>>,
+    /// What the line's `#!` metadata allows.
+    pub allowed: Allowed,
     /// 1-based line in the file it came from (0 for the embedded list).
     pub line: u32,
+}
+
+/// The values Control Center allows for a sensor or a behavior argument: the
+/// `#! min = …; max = …` and `#! choices = start_when([…])` metadata of its
+/// masterdata line. Every surface that checks a value against it or describes it
+/// (the mission checks, hovers) asks here.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Allowed {
+    pub min: Option<f64>,
+    pub max: Option<f64>,
+    /// The only values allowed, when the line lists them.
+    pub choices: Option<Vec<f64>>,
+}
+
+/// Why Control Center refuses a value.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Refusal {
+    /// The line lists its choices and the value is not one of them.
+    NotAChoice,
+    /// Below `min` or above `max`.
+    OutOfRange,
+}
+
+impl Allowed {
+    /// Why `value` is refused, if it is: first whether it is one of the choices
+    /// (when the line lists them), then whether it is within the range.
+    pub fn refusal(&self, value: f64) -> Option<Refusal> {
+        if self
+            .choices
+            .as_ref()
+            .is_some_and(|choices| !choices.contains(&value))
+        {
+            return Some(Refusal::NotAChoice);
+        }
+        let below = self.min.is_some_and(|min| value < min);
+        let above = self.max.is_some_and(|max| value > max);
+        (below || above).then_some(Refusal::OutOfRange)
+    }
+
+    /// The range in words (`0 to 4`, `at least 1`, `at most 1000`), when there is one.
+    pub fn range_text(&self) -> Option<String> {
+        match (self.min, self.max) {
+            (Some(min), Some(max)) => Some(format!("{min} to {max}")),
+            (Some(min), None) => Some(format!("at least {min}")),
+            (None, Some(max)) => Some(format!("at most {max}")),
+            (None, None) => None,
+        }
+    }
+
+    /// The choices, comma-separated (`0, 1, 2, 4`), when the line lists them.
+    pub fn choices_text(&self) -> Option<String> {
+        self.choices.as_ref().map(|choices| {
+            choices
+                .iter()
+                .map(|choice| choice.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        })
+    }
 }
 
 /// A sensor of a list.
@@ -94,9 +150,7 @@ impl Setting {
             units: units.into(),
             default: None,
             description: None,
-            min: None,
-            max: None,
-            choices: None,
+            allowed: Allowed::default(),
             line,
         }
     }
@@ -288,6 +342,59 @@ fn embedded_descriptions() -> HashMap<&'static str, &'static str> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn allowed_values_refuse_by_choice_first_then_by_range() {
+        // `#! min = 0; max = 4; choices = c_mode([0, 1, 4])`: 1 is a choice inside
+        // the range; 2 is inside the range but not a choice; a range alone refuses
+        // only outside it, at both ends inclusive.
+        let mode = Allowed {
+            min: Some(0.0),
+            max: Some(4.0),
+            choices: Some(vec![0.0, 1.0, 4.0]),
+        };
+        assert_eq!(mode.refusal(1.0), None);
+        assert_eq!(mode.refusal(2.0), Some(Refusal::NotAChoice));
+        assert_eq!(mode.refusal(9.0), Some(Refusal::NotAChoice));
+        let depth = Allowed {
+            min: Some(1.0),
+            max: Some(1000.0),
+            choices: None,
+        };
+        assert_eq!(depth.refusal(1.0), None);
+        assert_eq!(depth.refusal(1000.0), None);
+        assert_eq!(depth.refusal(0.5), Some(Refusal::OutOfRange));
+        assert_eq!(depth.refusal(1000.5), Some(Refusal::OutOfRange));
+        // A choice listed outside the range is still refused by the range.
+        let odd = Allowed {
+            max: Some(2.0),
+            ..mode.clone()
+        };
+        assert_eq!(odd.refusal(4.0), Some(Refusal::OutOfRange));
+        assert_eq!(Allowed::default().refusal(-1e9), None);
+    }
+
+    #[test]
+    fn allowed_values_in_words() {
+        let range = |min, max| {
+            Allowed {
+                min,
+                max,
+                choices: None,
+            }
+            .range_text()
+        };
+        assert_eq!(range(Some(-0.5), Some(0.5)).as_deref(), Some("-0.5 to 0.5"));
+        assert_eq!(range(Some(1.0), None).as_deref(), Some("at least 1"));
+        assert_eq!(range(None, Some(1000.0)).as_deref(), Some("at most 1000"));
+        assert_eq!(range(None, None), None);
+        let choices = Allowed {
+            choices: Some(vec![0.0, 2.0, 15.5]),
+            ..Allowed::default()
+        };
+        assert_eq!(choices.choices_text().as_deref(), Some("0, 2, 15.5"));
+        assert_eq!(Allowed::default().choices_text(), None);
+    }
 
     #[test]
     fn embedded_list_has_the_paper_indices() {

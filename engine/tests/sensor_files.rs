@@ -74,11 +74,17 @@ fn masterdata_edge_cases() {
     );
     assert_eq!(sensor("m_pressure").default, None);
     let pitch = sensor("c_pitch");
-    assert_eq!((pitch.min, pitch.max), (Some(-0.5), Some(0.5)));
+    assert_eq!(
+        (pitch.allowed.min, pitch.allowed.max),
+        (Some(-0.5), Some(0.5))
+    );
     assert_eq!(pitch.description, None);
     let cycle = sensor("u_cycle_time");
     assert_eq!(cycle.default, Some(4.0));
-    assert_eq!((cycle.min, cycle.max), (Some(2.0), Some(1000.0)));
+    assert_eq!(
+        (cycle.allowed.min, cycle.allowed.max),
+        (Some(2.0), Some(1000.0))
+    );
     let odd = sensor("x_odd_units");
     assert_eq!(odd.units, "uW/cm^2/nm");
     assert_eq!(odd.default, Some(0.001));
@@ -90,7 +96,10 @@ fn masterdata_edge_cases() {
     let target = &behaviors[0].args[1];
     assert_eq!(target.name, "target_depth");
     assert_eq!(target.default, Some(10.0));
-    assert_eq!((target.min, target.max), (Some(0.0), Some(1000.0)));
+    assert_eq!(
+        (target.allowed.min, target.allowed.max),
+        (Some(0.0), Some(1000.0))
+    );
     assert_eq!(behaviors[1].args[0].default, Some(20.0));
 }
 
@@ -302,7 +311,10 @@ fn a_release_layout_masterdata_is_read_as_the_firmware_reads_it() {
         (depth.name.as_str(), depth.units.as_str(), depth.default),
         ("d_target_depth", "m", Some(42.0))
     );
-    assert_eq!((depth.min, depth.max), (Some(1.0), Some(1000.0)));
+    assert_eq!(
+        (depth.allowed.min, depth.allowed.max),
+        (Some(1.0), Some(1000.0))
+    );
     assert_eq!(depth.description.as_deref(), Some("dive to this depth"));
 }
 
@@ -317,11 +329,11 @@ behavior: yo\n\
     let (list, diagnostics) = parse_masterdata(text, SensorOrder::FileOrder);
     assert!(diagnostics.is_empty(), "{diagnostics:?}");
     let args = &list.behavior_defaults()[0].args;
-    assert_eq!(args[0].choices, Some(vec![0.0, 1.0, 2.0, 4.0]));
+    assert_eq!(args[0].allowed.choices, Some(vec![0.0, 1.0, 2.0, 4.0]));
     // On the comment line below its `b_arg:`, with other metadata after it.
-    assert_eq!(args[1].choices, Some(vec![0.0, 2.0]));
+    assert_eq!(args[1].allowed.choices, Some(vec![0.0, 2.0]));
     // A named list the file does not give: nothing to check against.
-    assert_eq!(args[2].choices, None);
+    assert_eq!(args[2].allowed.choices, None);
 }
 
 #[test]
@@ -334,8 +346,11 @@ fn a_sensor_line_reads_its_comments_as_a_b_arg_line_does() {
     let (list, diagnostics) = parse_masterdata(&text, SensorOrder::FileOrder);
     assert!(diagnostics.is_empty(), "{diagnostics:?}");
     let sensor = list.get(list.lookup("c_mode").unwrap()).unwrap();
-    assert_eq!((sensor.min, sensor.max), (Some(0.0), Some(4.0)));
-    assert_eq!(sensor.choices, Some(vec![0.0, 1.0, 4.0]));
+    assert_eq!(
+        (sensor.allowed.min, sensor.allowed.max),
+        (Some(0.0), Some(4.0))
+    );
+    assert_eq!(sensor.allowed.choices, Some(vec![0.0, 1.0, 4.0]));
     assert_eq!(sensor.description.as_deref(), Some("the mode"));
     assert_eq!((sensor.default, sensor.line), (Some(1.0), 1));
     let arg = &list.behavior_defaults()[0].args[0];

@@ -92,8 +92,11 @@ pub fn sensor_markdown(list: &SensorList, id: SensorId) -> String {
     if let Some(default) = sensor.default {
         text.push_str(&format!(" · default {default:?}"));
     }
-    if let (Some(min), Some(max)) = (sensor.min, sensor.max) {
-        text.push_str(&format!(" · range {min:?} to {max:?}"));
+    if let Some(range) = sensor.allowed.range_text() {
+        text.push_str(&format!(" · range {range}"));
+    }
+    if let Some(choices) = sensor.allowed.choices_text() {
+        text.push_str(&format!(" · one of {choices}"));
     }
     if let Some(description) = &sensor.description {
         text.push_str("\n\n");
@@ -149,6 +152,29 @@ mod tests {
         );
         assert!(text.contains("Measured depth"), "{text}");
         assert!(sensor_markdown(&list, SensorId(99_999)).contains("not in the active sensor list"));
+    }
+
+    #[test]
+    fn sensor_markdown_gives_a_range_with_one_end_and_the_choices() {
+        // Before, only a range with both ends was shown, in Rust's debug form.
+        let text = "sensor: u_min_only(m) 5 #! min = 1\n\
+                    sensor: c_mode(enum) 1 #! min = 0; max = 4; choices=c_mode([0, 1, 4])\n";
+        let (list, diagnostics) = gloc_engine::sensors::parse_masterdata(
+            text,
+            gloc_engine::sensors::SensorOrder::FileOrder,
+        );
+        assert!(diagnostics.is_empty(), "{diagnostics:?}");
+        let hover = |name| sensor_markdown(&list, list.lookup(name).expect(name));
+        assert!(
+            hover("u_min_only").ends_with("· default 5.0 · range at least 1"),
+            "{}",
+            hover("u_min_only")
+        );
+        assert!(
+            hover("c_mode").ends_with("· default 1.0 · range 0 to 4 · one of 0, 1, 4"),
+            "{}",
+            hover("c_mode")
+        );
     }
 
     #[test]

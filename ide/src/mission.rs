@@ -318,23 +318,13 @@ pub fn format(text: &str) -> Option<String> {
 
 /// Markdown for an argument: name, units, the behavior and its default, the doc.
 fn arg_markdown(behavior: &BehaviorInfo, arg: &ArgInfo) -> String {
-    let range = match (arg.min, arg.max) {
-        (Some(min), Some(max)) => format!(" · {min} to {max}"),
-        (Some(min), None) => format!(" · at least {min}"),
-        (None, Some(max)) => format!(" · at most {max}"),
-        (None, None) => String::new(),
-    };
-    let range = match &arg.choices {
-        Some(choices) => format!(
-            "{range} · one of {}",
-            choices
-                .iter()
-                .map(|choice| choice.to_string())
-                .collect::<Vec<_>>()
-                .join(", ")
-        ),
-        None => range,
-    };
+    let mut range = arg
+        .allowed
+        .range_text()
+        .map_or_else(String::new, |range| format!(" · {range}"));
+    if let Some(choices) = arg.allowed.choices_text() {
+        range.push_str(&format!(" · one of {choices}"));
+    }
     let default = arg
         .default
         .map_or_else(|| "none (0)".to_string(), |value| value.to_string());

@@ -7,7 +7,7 @@
 //! what the simulator needs of the behaviors it flies when a table leaves a default
 //! out, and gloc's own `hook` behavior.
 
-use gloc_engine::sensors::{BehaviorDefaults, SensorList};
+use gloc_engine::sensors::{Allowed, BehaviorDefaults, SensorList};
 
 /// The behaviors the simulator flies.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -861,11 +861,8 @@ pub struct ArgInfo {
     pub default: Option<f64>,
     /// The line's comment; empty when it has none.
     pub doc: String,
-    /// `#! min = …; max = …`: the range Control Center enforces.
-    pub min: Option<f64>,
-    pub max: Option<f64>,
-    /// `#! choices = start_when([…])`: the only values Control Center allows.
-    pub choices: Option<Vec<f64>>,
+    /// The line's `#!` metadata: the range and choices Control Center enforces.
+    pub allowed: Allowed,
 }
 
 /// A behavior as the active table defines it (a masterdata `behavior:` section).
@@ -954,9 +951,7 @@ impl BehaviorTable {
                 units: arg.units.clone(),
                 default: arg.default,
                 doc: arg.description.clone().unwrap_or_default(),
-                min: arg.min,
-                max: arg.max,
-                choices: arg.choices.clone(),
+                allowed: arg.allowed.clone(),
             });
             match behaviors
                 .iter_mut()
@@ -999,9 +994,7 @@ impl BehaviorTable {
                         units: arg.units.to_string(),
                         default: Some(arg.default),
                         doc: arg.doc.to_string(),
-                        min: None,
-                        max: None,
-                        choices: None,
+                        allowed: Allowed::default(),
                     })
                     .collect(),
             });

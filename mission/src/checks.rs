@@ -6,6 +6,7 @@
 //! behavior table's default. A value of 1,000,000 or more names a `u_mission_param`
 //! sensor, set at run time, and is not checked.
 
+use gloc_engine::sensors::Refusal;
 use gloc_engine::Diagnostic;
 
 use crate::behaviors::BehaviorKind;
@@ -104,7 +105,8 @@ fn warn(
     });
 }
 
-/// S0120: written values outside the table's `#!` range.
+/// S0120, S0127: written values the table's `#!` metadata refuses (outside the range,
+/// not one of the choices).
 fn limits(mission: &Mission, found: &mut Vec<MissionDiagnostic>) {
     let table = mission.table();
     for spec in mission.behaviors.iter().filter(|spec| spec.defined) {
@@ -118,56 +120,38 @@ fn limits(mission: &Mission, found: &mut Vec<MissionDiagnostic>) {
             if arg.value >= 1_000_000.0 {
                 continue;
             }
-            if let Some(choices) = def
-                .choices
-                .as_ref()
-                .filter(|choices| !choices.contains(&arg.value))
-            {
-                let listed = choices
-                    .iter()
-                    .map(|choice| choice.to_string())
-                    .collect::<Vec<_>>()
-                    .join(", ");
-                warn(
+            match def.allowed.refusal(arg.value) {
+                None => {}
+                Some(Refusal::NotAChoice) => warn(
                     found,
                     gloc_engine::codes::mission::VALUE_NOT_A_CHOICE,
                     arg.at,
                     format!(
-                        "`{}` is {}, not one of the values {} allows for `{}` here: {listed}",
+                        "`{}` is {}, not one of the values {} allows for `{}` here: {}",
                         arg.name,
                         arg.value,
                         table.source_name(),
-                        spec.name
+                        spec.name,
+                        def.allowed.choices_text().unwrap_or_default()
                     ),
                     "Control Center refuses this value; pick one of the listed codes",
                     &[],
-                );
-                continue;
-            }
-            let below = def.min.filter(|min| arg.value < *min);
-            let above = def.max.filter(|max| arg.value > *max);
-            if below.is_none() && above.is_none() {
-                continue;
-            }
-            let range = match (def.min, def.max) {
-                (Some(min), Some(max)) => format!("{min} to {max}"),
-                (Some(min), None) => format!("at least {min}"),
-                (None, Some(max)) => format!("at most {max}"),
-                (None, None) => continue,
-            };
-            warn(
-                found,
-                gloc_engine::codes::mission::VALUE_OUT_OF_RANGE,
-                arg.at,
-                format!(
-                    "`{}` is {}, outside its range in {}: {range}",
-                    arg.name,
-                    arg.value,
-                    table.source_name()
                 ),
-                "Control Center refuses this value; check the units and the number",
-                &[],
-            );
+                Some(Refusal::OutOfRange) => warn(
+                    found,
+                    gloc_engine::codes::mission::VALUE_OUT_OF_RANGE,
+                    arg.at,
+                    format!(
+                        "`{}` is {}, outside its range in {}: {}",
+                        arg.name,
+                        arg.value,
+                        table.source_name(),
+                        def.allowed.range_text().unwrap_or_default()
+                    ),
+                    "Control Center refuses this value; check the units and the number",
+                    &[],
+                ),
+            }
         }
     }
 }

@@ -391,9 +391,7 @@ mod tests {
             units: units.to_string(),
             default: None,
             description: None,
-            min: None,
-            max: None,
-            choices: None,
+            allowed: Default::default(),
             line: 0,
         };
         SensorList::from_sensors(vec![

@@ -696,12 +696,12 @@ fn apply_comment(comment: &str, setting: &mut Setting) {
             };
             let value = value.trim().parse::<f64>().ok();
             match key.trim() {
-                "min" => setting.min = value.or(setting.min),
-                "max" => setting.max = value.or(setting.max),
+                "min" => setting.allowed.min = value.or(setting.allowed.min),
+                "max" => setting.allowed.max = value.or(setting.allowed.max),
                 _ => {}
             }
         }
-        apply_choices(metadata, &mut setting.choices);
+        apply_choices(metadata, &mut setting.allowed.choices);
         return;
     }
     let text = comment.trim();

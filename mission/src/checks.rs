@@ -120,38 +120,36 @@ fn limits(mission: &Mission, found: &mut Vec<MissionDiagnostic>) {
             if arg.value >= 1_000_000.0 {
                 continue;
             }
-            match def.allowed.refusal(arg.value) {
-                None => {}
-                Some(Refusal::NotAChoice) => warn(
-                    found,
+            let (code, why, help) = match def.allowed.refusal(arg.value) {
+                None => continue,
+                Some(Refusal::NotAChoice) => (
                     gloc_engine::codes::mission::VALUE_NOT_A_CHOICE,
-                    arg.at,
                     format!(
-                        "`{}` is {}, not one of the values {} allows for `{}` here: {}",
-                        arg.name,
-                        arg.value,
+                        "not one of the values {} allows for `{}` here: {}",
                         table.source_name(),
                         spec.name,
                         def.allowed.choices_text().unwrap_or_default()
                     ),
-                    "Control Center refuses this value; pick one of the listed codes",
-                    &[],
+                    "pick one of the listed codes",
                 ),
-                Some(Refusal::OutOfRange) => warn(
-                    found,
+                Some(Refusal::OutOfRange) => (
                     gloc_engine::codes::mission::VALUE_OUT_OF_RANGE,
-                    arg.at,
                     format!(
-                        "`{}` is {}, outside its range in {}: {}",
-                        arg.name,
-                        arg.value,
+                        "outside its range in {}: {}",
                         table.source_name(),
                         def.allowed.range_text().unwrap_or_default()
                     ),
-                    "Control Center refuses this value; check the units and the number",
-                    &[],
+                    "check the units and the number",
                 ),
-            }
+            };
+            warn(
+                found,
+                code,
+                arg.at,
+                format!("`{}` is {}, {why}", arg.name, arg.value),
+                &format!("Control Center refuses this value; {help}"),
+                &[],
+            );
         }
     }
 }

@@ -24,7 +24,7 @@ use gloc_engine::vm::{CycleEnd, Host, Machine, MachineConfig, Status, Trap};
 
 use crate::behaviors::{
     build_stack, condition_is_modelled, AbortReason, Behavior, BehaviorEvent, BehaviorKind,
-    Commands, HookSensors, NavView, Outcome, ScriptPlacement, World,
+    Commands, HookSensors, NavView, Outcome, ScriptPlacement, Turn, World,
 };
 use crate::environment::{Rng, TemperatureProfile};
 use crate::flight::{EnergyParams, EnergyUse, FlightParams, Vehicle};
@@ -1121,7 +1121,11 @@ impl Simulation {
             nav: &mut self.nav_view,
         };
         for index in (from..to).rev() {
-            let outcome = self.behaviors[index].step(index, &mut world, &mut self.events);
+            let outcome = self.behaviors[index].step(&mut Turn {
+                index,
+                world: &mut world,
+                events: &mut self.events,
+            });
             let reason = match outcome {
                 Outcome::Continue => continue,
                 Outcome::Abort(reason) => EndReason::Aborted(reason),

@@ -841,13 +841,12 @@ impl<T: Target> Debugger<T> {
             },
         );
         if !hit.is_empty() {
-            return Some(Stop {
-                hit_breakpoint_ids: hit,
-                ..stopped_body(
-                    StopReason::CycleBreakpoint,
-                    format!("Paused at cycle {cycle}"),
-                )
-            });
+            let description = format!("Paused at cycle {cycle}");
+            return Some(breakpoint_stop(
+                hit,
+                StopReason::CycleBreakpoint,
+                description,
+            ));
         }
         if let Some(stop) = self.data_changes(check) {
             return Some(stop);
@@ -908,13 +907,12 @@ impl<T: Target> Debugger<T> {
             |_, at| at == Pc(pc),
         );
         if !hit.is_empty() {
-            return Some(Stop {
-                hit_breakpoint_ids: hit,
-                ..stopped_body(
-                    StopReason::InstructionBreakpoint,
-                    format!("Paused at instruction {pc}"),
-                )
-            });
+            let description = format!("Paused at instruction {pc}");
+            return Some(breakpoint_stop(
+                hit,
+                StopReason::InstructionBreakpoint,
+                description,
+            ));
         }
         if !self.info.is_line_entry(pc) {
             return None;
@@ -928,13 +926,8 @@ impl<T: Target> Debugger<T> {
         if hit.is_empty() {
             return None;
         }
-        Some(Stop {
-            hit_breakpoint_ids: hit,
-            ..stopped_body(
-                StopReason::Breakpoint,
-                format!("Paused on line {}", line.unwrap_or(0)),
-            )
-        })
+        let description = format!("Paused on line {}", line.unwrap_or(0));
+        Some(breakpoint_stop(hit, StopReason::Breakpoint, description))
     }
 
     /// Where the step mode ends: after one instruction, at the next statement or
@@ -1308,11 +1301,16 @@ impl<T: Target> Debugger<T> {
 }
 
 fn stopped_body(reason: StopReason, description: String) -> Stop {
+    breakpoint_stop(Vec::new(), reason, description)
+}
+
+/// A stop at the breakpoints `hit` (their ids, for the client to mark).
+fn breakpoint_stop(hit: Vec<i64>, reason: StopReason, description: String) -> Stop {
     Stop {
         reason,
         description,
         text: None,
-        hit_breakpoint_ids: Vec::new(),
+        hit_breakpoint_ids: hit,
     }
 }
 

@@ -840,21 +840,14 @@ impl<T: Target> Debugger<T> {
                 CycleBreakpointKind::Every(every) => every > 0 && cycle.is_multiple_of(every),
             },
         );
-        if !hit.is_empty() {
-            let description = format!("Paused at cycle {cycle}");
-            return Some(breakpoint_stop(
-                hit,
-                StopReason::CycleBreakpoint,
-                description,
-            ));
-        }
-        if let Some(stop) = self.data_changes(check) {
-            return Some(stop);
-        }
-        if mode == RunMode::Next && cycle > start.cycle {
-            return Some(stopped_body(StopReason::Step, format!("Cycle {cycle}")));
-        }
-        None
+        breakpoint_stop(hit, StopReason::CycleBreakpoint, || {
+            format!("Paused at cycle {cycle}")
+        })
+        .or_else(|| self.data_changes(check))
+        .or_else(|| {
+            (mode == RunMode::Next && cycle > start.cycle)
+                .then(|| stopped_body(StopReason::Step, format!("Cycle {cycle}")))
+        })
     }
 
     /// The data breakpoints whose sensor changed since the baseline, which then
@@ -906,14 +899,14 @@ impl<T: Target> Debugger<T> {
             |debugger| &mut debugger.instruction_breakpoints,
             |_, at| at == Pc(pc),
         );
-        if !hit.is_empty() {
-            let description = format!("Paused at instruction {pc}");
-            return Some(breakpoint_stop(
-                hit,
-                StopReason::InstructionBreakpoint,
-                description,
-            ));
-        }
+        breakpoint_stop(hit, StopReason::InstructionBreakpoint, || {
+            format!("Paused at instruction {pc}")
+        })
+        .or_else(|| self.line_breakpoint(check, pc))
+    }
+
+    /// A line breakpoint where `pc` enters its line.
+    fn line_breakpoint(&mut self, check: &Check, pc: usize) -> Option<Stop> {
         if !self.info.is_line_entry(pc) {
             return None;
         }
@@ -923,11 +916,9 @@ impl<T: Target> Debugger<T> {
             |debugger| &mut debugger.line_breakpoints,
             |_, at| Some(at) == line,
         );
-        if hit.is_empty() {
-            return None;
-        }
-        let description = format!("Paused on line {}", line.unwrap_or(0));
-        Some(breakpoint_stop(hit, StopReason::Breakpoint, description))
+        breakpoint_stop(hit, StopReason::Breakpoint, || {
+            format!("Paused on line {}", line.unwrap_or(0))
+        })
     }
 
     /// Where the step mode ends: after one instruction, at the next statement or
@@ -1301,17 +1292,25 @@ impl<T: Target> Debugger<T> {
 }
 
 fn stopped_body(reason: StopReason, description: String) -> Stop {
-    breakpoint_stop(Vec::new(), reason, description)
-}
-
-/// A stop at the breakpoints `hit` (their ids, for the client to mark).
-fn breakpoint_stop(hit: Vec<i64>, reason: StopReason, description: String) -> Stop {
     Stop {
         reason,
         description,
         text: None,
-        hit_breakpoint_ids: hit,
+        hit_breakpoint_ids: Vec::new(),
     }
+}
+
+/// A stop at the breakpoints `hit` (their ids, for the client to mark); `None` when
+/// none was hit (the description is then not written).
+fn breakpoint_stop(
+    hit: Vec<i64>,
+    reason: StopReason,
+    description: impl FnOnce() -> String,
+) -> Option<Stop> {
+    (!hit.is_empty()).then(|| Stop {
+        hit_breakpoint_ids: hit,
+        ..stopped_body(reason, description())
+    })
 }
 
 fn apply<T: Target>(target: &mut T, edit: &Edit) -> DebugResult<()> {

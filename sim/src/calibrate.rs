@@ -1197,6 +1197,16 @@ enum Grid {
 }
 
 impl Grid {
+    /// `from × step` to `to × step`.
+    const fn linear(step: f64, from: u32, to: u32) -> Grid {
+        Grid::Linear { step, from, to }
+    }
+
+    /// `steps + 1` values from `min` to `max` in equal ratios.
+    const fn log(min: f64, max: f64, steps: u32) -> Grid {
+        Grid::Log { min, max, steps }
+    }
+
     fn values(self) -> impl Iterator<Item = f64> {
         let (from, to) = match self {
             Grid::Linear { from, to, .. } => (from, to),
@@ -1212,11 +1222,7 @@ impl Grid {
 }
 
 /// The ballast delays searched (s): 0 to 15 in quarter seconds.
-const DELAY_GRID: Grid = Grid::Linear {
-    step: 0.25,
-    from: 0,
-    to: 60,
-};
+const DELAY_GRID: Grid = Grid::linear(0.25, 0, 60);
 /// The part of a turn compared and the lead-in (s), and the force balance's step
 /// there (s).
 const DELAY_FIT_AFTER: f64 = 40.0;
@@ -1225,16 +1231,8 @@ const DELAY_FIT_DT: f64 = 0.1;
 
 /// The natural periods searched (s, log-spaced) and the damping ratios (steps of
 /// 0.05 to 2).
-const PITCH_PERIODS: Grid = Grid::Log {
-    min: 2.0,
-    max: 120.0,
-    steps: 60,
-};
-const PITCH_DAMPINGS: Grid = Grid::Linear {
-    step: 0.05,
-    from: 1,
-    to: 40,
-};
+const PITCH_PERIODS: Grid = Grid::log(2.0, 120.0, 60);
+const PITCH_DAMPINGS: Grid = Grid::linear(0.05, 1, 40);
 /// The part of a turn compared (s).
 const PITCH_SWING_WINDOW: f64 = 60.0;
 /// The swing's step through a row interval (s), the pump's course resolved.

@@ -259,7 +259,7 @@ fn write_dba_header(
     columns: &[usize],
 ) -> anyhow::Result<()> {
     let first = source.segments().first();
-    let path = first.and_then(|segment| segment.flight.clone().or(segment.science.clone()));
+    let path = first.map(|segment| segment.files.first().clone());
     let header = match &path {
         Some(path) => gloc_dbd::fs::read_file_header(path)?,
         None => gloc_dbd::Header::default(),

@@ -326,12 +326,11 @@ pub fn format(text: &str) -> Option<String> {
 
 /// Markdown for an argument: name, units, the behavior and its default, the doc.
 fn arg_markdown(behavior: &BehaviorInfo, arg: &ArgInfo) -> String {
-    let range = match (arg.min, arg.max) {
-        (Some(min), Some(max)) => format!(" · {min} to {max}"),
-        (Some(min), None) => format!(" · at least {min}"),
-        (None, Some(max)) => format!(" · at most {max}"),
-        (None, None) => String::new(),
-    };
+    let range = arg
+        .range
+        .text()
+        .map(|range| format!(" · {range}"))
+        .unwrap_or_default();
     let range = match &arg.choices {
         Some(choices) => format!(
             "{range} · one of {}",

@@ -862,10 +862,34 @@ pub struct ArgInfo {
     /// The line's comment; empty when it has none.
     pub doc: String,
     /// `#! min = …; max = …`: the range Control Center enforces.
-    pub min: Option<f64>,
-    pub max: Option<f64>,
+    pub range: ArgRange,
     /// `#! choices = start_when([…])`: the only values Control Center allows.
     pub choices: Option<Vec<f64>>,
+}
+
+/// The range of an argument's values (`#! min = …; max = …`), either end open.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ArgRange {
+    pub min: Option<f64>,
+    pub max: Option<f64>,
+}
+
+impl ArgRange {
+    /// Whether `value` lies below the minimum or above the maximum.
+    pub fn excludes(self, value: f64) -> bool {
+        self.min.is_some_and(|min| value < min) || self.max.is_some_and(|max| value > max)
+    }
+
+    /// The range as the mission check and the editor write it (`2 to 5`, `at least
+    /// 2`, `at most 5`); `None` when it is open at both ends.
+    pub fn text(self) -> Option<String> {
+        match (self.min, self.max) {
+            (Some(min), Some(max)) => Some(format!("{min} to {max}")),
+            (Some(min), None) => Some(format!("at least {min}")),
+            (None, Some(max)) => Some(format!("at most {max}")),
+            (None, None) => None,
+        }
+    }
 }
 
 /// A behavior as the active table defines it (a masterdata `behavior:` section).
@@ -954,8 +978,10 @@ impl BehaviorTable {
                 units: arg.units.clone(),
                 default: arg.default,
                 doc: arg.description.clone().unwrap_or_default(),
-                min: arg.min,
-                max: arg.max,
+                range: ArgRange {
+                    min: arg.min,
+                    max: arg.max,
+                },
                 choices: arg.choices.clone(),
             });
             match behaviors
@@ -999,8 +1025,7 @@ impl BehaviorTable {
                         units: arg.units.to_string(),
                         default: Some(arg.default),
                         doc: arg.doc.to_string(),
-                        min: None,
-                        max: None,
+                        range: ArgRange::default(),
                         choices: None,
                     })
                     .collect(),
@@ -1034,5 +1059,38 @@ impl BehaviorTable {
             TableSource::Embedded => "gloc's embedded release table",
             TableSource::Masterdata => "the active masterdata",
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ranges_exclude_values_past_their_ends_and_read_as_written() {
+        let both = ArgRange {
+            min: Some(2.0),
+            max: Some(5.0),
+        };
+        assert!(!both.excludes(2.0) && !both.excludes(5.0));
+        assert!(both.excludes(1.9) && both.excludes(5.5));
+        assert_eq!(both.text().as_deref(), Some("2 to 5"));
+        let floor = ArgRange {
+            min: Some(120.0),
+            max: None,
+        };
+        assert!(floor.excludes(60.0) && !floor.excludes(1e9));
+        assert_eq!(floor.text().as_deref(), Some("at least 120"));
+        let ceiling = ArgRange {
+            min: None,
+            max: Some(0.5),
+        };
+        assert_eq!(ceiling.text().as_deref(), Some("at most 0.5"));
+        // Open at both ends: nothing is outside, and there is nothing to write.
+        let open = ArgRange::default();
+        assert!(!open.excludes(-1e300) && !open.excludes(f64::NAN));
+        assert_eq!(open.text(), None);
+        // NaN is no number past an end (the check cannot say it is out of range).
+        assert!(!both.excludes(f64::NAN));
     }
 }

@@ -144,16 +144,11 @@ fn limits(mission: &Mission, found: &mut Vec<MissionDiagnostic>) {
                 );
                 continue;
             }
-            let below = def.min.filter(|min| arg.value < *min);
-            let above = def.max.filter(|max| arg.value > *max);
-            if below.is_none() && above.is_none() {
+            if !def.range.excludes(arg.value) {
                 continue;
             }
-            let range = match (def.min, def.max) {
-                (Some(min), Some(max)) => format!("{min} to {max}"),
-                (Some(min), None) => format!("at least {min}"),
-                (None, Some(max)) => format!("at most {max}"),
-                (None, None) => continue,
+            let Some(range) = def.range.text() else {
+                continue;
             };
             warn(
                 found,

@@ -45,7 +45,7 @@ fn the_masterdata_sections_are_the_table() {
     assert_eq!(yo.doc, "dives and climbs");
     let depth = yo.arg("D_TARGET_DEPTH").expect("d_target_depth");
     assert_eq!(
-        (depth.default, depth.min, depth.max),
+        (depth.default, depth.range.min, depth.range.max),
         (Some(42.0), Some(1.0), Some(1000.0))
     );
     assert!(!table

@@ -102,36 +102,13 @@ fn number(value: f64) -> String {
     }
 }
 
-/// The Unix seconds of 0000-01-01T00:00:00Z and 9999-12-31T23:59:59Z: a time outside
-/// is not a date anyone wrote (a corrupt log), and is printed as seconds.
-const DATES: std::ops::RangeInclusive<f64> = -62_167_219_200.0..=253_402_300_799.0;
-
-/// Unix seconds as `2019-08-21T13:54:25.5Z` (`1e300 s` outside the years 0 to 9999).
+/// Unix seconds as `2019-08-21T13:54:25.500Z` (`1e300 s` outside the years 0 to
+/// 9999, `-` for NaN).
 fn utc(seconds: f64) -> String {
     if !seconds.is_finite() {
         return "-".to_string();
     }
-    if !DATES.contains(&seconds) {
-        return format!("{} s", number(seconds));
-    }
-    let whole = seconds.floor() as i64;
-    let days = whole.div_euclid(86_400);
-    let rest = whole.rem_euclid(86_400);
-    let (year, month, day) = gloc_dbd::header::civil_from_days(days);
-    let fraction = seconds - whole as f64;
-    format!(
-        "{year:04}-{month:02}-{day:02}T{:02}:{:02}:{:02}{}Z",
-        rest / 3600,
-        rest / 60 % 60,
-        rest % 60,
-        if fraction > 0.0005 {
-            format!("{:.3}", fraction)
-                .trim_start_matches('0')
-                .to_string()
-        } else {
-            String::new()
-        }
-    )
+    gloc_dbd::header::iso_time(seconds).unwrap_or_else(|| format!("{} s", number(seconds)))
 }
 
 fn info(args: InfoArgs) -> anyhow::Result<ExitCode> {
@@ -282,7 +259,7 @@ fn write_dba_header(
     columns: &[usize],
 ) -> anyhow::Result<()> {
     let first = source.segments().first();
-    let path = first.and_then(|segment| segment.flight.clone().or(segment.science.clone()));
+    let path = first.map(|segment| segment.files.first().clone());
     let header = match &path {
         Some(path) => gloc_dbd::fs::read_file_header(path)?,
         None => gloc_dbd::Header::default(),
@@ -530,12 +507,10 @@ mod tests {
     #[test]
     fn utc_prints_civil_time() {
         // date -u -d @1566395665 → 2019-08-21 13:54:25
-        assert_eq!(utc(1_566_395_665.0), "2019-08-21T13:54:25Z");
-        assert_eq!(utc(0.0), "1970-01-01T00:00:00Z");
+        assert_eq!(utc(1_566_395_665.25), "2019-08-21T13:54:25.250Z");
         assert_eq!(utc(f64::NAN), "-");
         // Outside the years 0 to 9999: seconds, not a 974-character date.
         assert_eq!(utc(1e300), "1e300 s");
         assert_eq!(utc(-1e20), "-1e20 s");
-        assert_eq!(utc(253_402_300_799.0), "9999-12-31T23:59:59Z");
     }
 }

@@ -13,6 +13,7 @@ use gloc_forecast::currents::{CurrentField, LoadError};
 use gloc_forecast::export::{iso_time, nmea_text, Format};
 use gloc_forecast::map::write_map;
 use gloc_forecast::{ensemble, hindcast, EnsembleOptions, Forecast, Request};
+use gloc_project::simulation::Unscripted;
 use gloc_project::{Overrides, Settings, Surface};
 use gloc_sim::navigation::Xy;
 use gloc_sim::plot::PlotFormat;
@@ -225,23 +226,15 @@ fn set_up(
         return Ok(None);
     };
     let sensors = Arc::new(sensor_list);
-    let mission = gloc_project::simulation::load_mission(&settings, &sensors)?;
-    if mission.has_errors() {
-        eprint!("{}", mission.render_plain());
-        eprintln!("error: the mission has errors; nothing was forecast");
-        return Ok(None);
-    }
-    // Set up where `gloc run` sets its flights up: the simulator configured from the
-    // settings, the mission built and checked against the sensor list. Each track of
-    // the forecast is then flown from this configuration and the logs' state.
-    let prepared = gloc_project::simulation::prepare_unscripted(
-        &gloc_project::simulation::MissionPlan {
-            settings: &settings,
-            sensors: &sensors,
-            mission: &mission,
-        },
-        gloc_project::simulation::Flight::default(),
-    )?;
+    let (mission, prepared) =
+        match gloc_project::simulation::prepare_unscripted(&settings, &sensors)? {
+            Unscripted::MissionErrors(mission) => {
+                eprint!("{}", mission.render_plain());
+                eprintln!("error: the mission has errors; nothing was forecast");
+                return Ok(None);
+            }
+            Unscripted::Ready { mission, prepared } => (mission, prepared),
+        };
     crate::simulate::print_warnings(&prepared.warnings, &mission, "", "");
     Ok(Some((sensors, mission, prepared.config)))
 }

@@ -41,10 +41,55 @@ impl Default for Breakpoints {
 /// The debugger of the launched program, if there is one.
 pub type Loaded<'a> = Option<&'a mut Debugger<World>>;
 
+/// A `set…Breakpoints` request: it replaces the breakpoints of its kind (kept as
+/// sent) and answers one breakpoint per request, saying where it stops or why it
+/// cannot. The adapter has one handler for all of them.
+pub trait BreakpointRequest {
+    fn set(self, breakpoints: &mut Breakpoints, debugger: Loaded) -> DebugResult<Vec<Breakpoint>>;
+}
+
+/// `setBreakpoints`: the breakpoints of one source.
+impl BreakpointRequest for SetBreakpointsArguments {
+    fn set(self, breakpoints: &mut Breakpoints, debugger: Loaded) -> DebugResult<Vec<Breakpoint>> {
+        breakpoints.set_source(self, debugger)
+    }
+}
+
+/// `setFunctionBreakpoints`: cycle breakpoints (`cycle N`, `every N`).
+impl BreakpointRequest for SetFunctionBreakpointsArguments {
+    fn set(self, breakpoints: &mut Breakpoints, debugger: Loaded) -> DebugResult<Vec<Breakpoint>> {
+        breakpoints.functions = self.breakpoints;
+        Ok(breakpoints.apply_functions(debugger))
+    }
+}
+
+/// `setDataBreakpoints`: sensors watched for a change at each cycle boundary.
+impl BreakpointRequest for SetDataBreakpointsArguments {
+    fn set(self, breakpoints: &mut Breakpoints, debugger: Loaded) -> DebugResult<Vec<Breakpoint>> {
+        breakpoints.data = self.breakpoints;
+        Ok(breakpoints.apply_data(debugger))
+    }
+}
+
+/// `setInstructionBreakpoints`.
+impl BreakpointRequest for SetInstructionBreakpointsArguments {
+    fn set(self, breakpoints: &mut Breakpoints, debugger: Loaded) -> DebugResult<Vec<Breakpoint>> {
+        breakpoints.instructions = self.breakpoints;
+        Ok(breakpoints.apply_instructions(debugger))
+    }
+}
+
+/// `setExceptionBreakpoints`.
+impl BreakpointRequest for SetExceptionBreakpointsArguments {
+    fn set(self, breakpoints: &mut Breakpoints, debugger: Loaded) -> DebugResult<Vec<Breakpoint>> {
+        breakpoints.set_filters(self, debugger)
+    }
+}
+
 impl Breakpoints {
     /// `setBreakpoints`: replaces the breakpoints of one source (the `lines` of old
     /// clients when there are no `breakpoints`).
-    pub fn set_source(
+    fn set_source(
         &mut self,
         arguments: SetBreakpointsArguments,
         debugger: Loaded,
@@ -71,40 +116,10 @@ impl Breakpoints {
         Ok(self.apply_source(&path, &breakpoints, debugger))
     }
 
-    /// `setFunctionBreakpoints`: cycle breakpoints (`cycle N`, `every N`).
-    pub fn set_functions(
-        &mut self,
-        requested: Vec<FunctionBreakpoint>,
-        debugger: Loaded,
-    ) -> Vec<Breakpoint> {
-        self.functions = requested;
-        self.apply_functions(debugger)
-    }
-
-    /// `setDataBreakpoints`: sensors watched for a change at each cycle boundary.
-    pub fn set_data(
-        &mut self,
-        requested: Vec<DataBreakpoint>,
-        debugger: Loaded,
-    ) -> Vec<Breakpoint> {
-        self.data = requested;
-        self.apply_data(debugger)
-    }
-
-    /// `setInstructionBreakpoints`.
-    pub fn set_instructions(
-        &mut self,
-        requested: Vec<InstructionBreakpoint>,
-        debugger: Loaded,
-    ) -> Vec<Breakpoint> {
-        self.instructions = requested;
-        self.apply_instructions(debugger)
-    }
-
     /// `setExceptionBreakpoints`, with conditions (`filterOptions`): one breakpoint per
     /// filter and option in the answer, unverified where the condition is not a valid
     /// expression. An unknown filter refuses the request.
-    pub fn set_filters(
+    fn set_filters(
         &mut self,
         arguments: SetExceptionBreakpointsArguments,
         debugger: Loaded,

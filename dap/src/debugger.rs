@@ -840,22 +840,14 @@ impl<T: Target> Debugger<T> {
                 CycleBreakpointKind::Every(every) => every > 0 && cycle.is_multiple_of(every),
             },
         );
-        if !hit.is_empty() {
-            return Some(Stop {
-                hit_breakpoint_ids: hit,
-                ..stopped_body(
-                    StopReason::CycleBreakpoint,
-                    format!("Paused at cycle {cycle}"),
-                )
-            });
-        }
-        if let Some(stop) = self.data_changes(check) {
-            return Some(stop);
-        }
-        if mode == RunMode::Next && cycle > start.cycle {
-            return Some(stopped_body(StopReason::Step, format!("Cycle {cycle}")));
-        }
-        None
+        breakpoint_stop(hit, StopReason::CycleBreakpoint, || {
+            format!("Paused at cycle {cycle}")
+        })
+        .or_else(|| self.data_changes(check))
+        .or_else(|| {
+            (mode == RunMode::Next && cycle > start.cycle)
+                .then(|| stopped_body(StopReason::Step, format!("Cycle {cycle}")))
+        })
     }
 
     /// The data breakpoints whose sensor changed since the baseline, which then
@@ -907,15 +899,14 @@ impl<T: Target> Debugger<T> {
             |debugger| &mut debugger.instruction_breakpoints,
             |_, at| at == Pc(pc),
         );
-        if !hit.is_empty() {
-            return Some(Stop {
-                hit_breakpoint_ids: hit,
-                ..stopped_body(
-                    StopReason::InstructionBreakpoint,
-                    format!("Paused at instruction {pc}"),
-                )
-            });
-        }
+        breakpoint_stop(hit, StopReason::InstructionBreakpoint, || {
+            format!("Paused at instruction {pc}")
+        })
+        .or_else(|| self.line_breakpoint(check, pc))
+    }
+
+    /// A line breakpoint where `pc` enters its line.
+    fn line_breakpoint(&mut self, check: &Check, pc: usize) -> Option<Stop> {
         if !self.info.is_line_entry(pc) {
             return None;
         }
@@ -925,15 +916,8 @@ impl<T: Target> Debugger<T> {
             |debugger| &mut debugger.line_breakpoints,
             |_, at| Some(at) == line,
         );
-        if hit.is_empty() {
-            return None;
-        }
-        Some(Stop {
-            hit_breakpoint_ids: hit,
-            ..stopped_body(
-                StopReason::Breakpoint,
-                format!("Paused on line {}", line.unwrap_or(0)),
-            )
+        breakpoint_stop(hit, StopReason::Breakpoint, || {
+            format!("Paused on line {}", line.unwrap_or(0))
         })
     }
 
@@ -1314,6 +1298,19 @@ fn stopped_body(reason: StopReason, description: String) -> Stop {
         text: None,
         hit_breakpoint_ids: Vec::new(),
     }
+}
+
+/// A stop at the breakpoints `hit` (their ids, for the client to mark); `None` when
+/// none was hit (the description is then not written).
+fn breakpoint_stop(
+    hit: Vec<i64>,
+    reason: StopReason,
+    description: impl FnOnce() -> String,
+) -> Option<Stop> {
+    (!hit.is_empty()).then(|| Stop {
+        hit_breakpoint_ids: hit,
+        ..stopped_body(reason, description())
+    })
 }
 
 fn apply<T: Target>(target: &mut T, edit: &Edit) -> DebugResult<()> {

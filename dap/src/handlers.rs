@@ -8,6 +8,7 @@ use std::sync::OnceLock;
 
 use serde::de::IgnoredAny;
 
+use crate::breakpoints::BreakpointRequest;
 use crate::debugger::{Debugger, Edit, RunMode, Stop, StopReason};
 use crate::dispatch::{Dispatcher, Failure};
 use crate::edits;
@@ -74,12 +75,24 @@ pub fn table() -> &'static Dispatcher<Session> {
             .on("disconnect", disconnect)
             .on("terminate", terminate)
             .on("restart", restart)
-            .on("setBreakpoints", set_breakpoints)
-            .on("setFunctionBreakpoints", set_function_breakpoints)
-            .on("setExceptionBreakpoints", set_exception_breakpoints)
-            .on("setInstructionBreakpoints", set_instruction_breakpoints)
+            .on("setBreakpoints", set_breakpoints::<SetBreakpointsArguments>)
+            .on(
+                "setFunctionBreakpoints",
+                set_breakpoints::<SetFunctionBreakpointsArguments>,
+            )
+            .on(
+                "setExceptionBreakpoints",
+                set_breakpoints::<SetExceptionBreakpointsArguments>,
+            )
+            .on(
+                "setInstructionBreakpoints",
+                set_breakpoints::<SetInstructionBreakpointsArguments>,
+            )
             .on("dataBreakpointInfo", data_breakpoint_info)
-            .on("setDataBreakpoints", set_data_breakpoints)
+            .on(
+                "setDataBreakpoints",
+                set_breakpoints::<SetDataBreakpointsArguments>,
+            )
             .on("breakpointLocations", breakpoint_locations)
             .on("configurationDone", configuration_done)
             .on("threads", threads)
@@ -173,44 +186,15 @@ fn restart(session: &mut Session, request: RestartArguments) -> Answer<()> {
     Ok(())
 }
 
-fn set_breakpoints(
+/// `setBreakpoints`, `setFunctionBreakpoints`, `setDataBreakpoints`, … : each
+/// replaces the breakpoints of its kind ([`BreakpointRequest`]).
+fn set_breakpoints<R: BreakpointRequest>(
     session: &mut Session,
-    arguments: SetBreakpointsArguments,
+    request: R,
 ) -> Answer<BreakpointsBody> {
     let (breakpoints, debugger) = session.breakpoints_and_debugger();
-    let breakpoints = breakpoints.set_source(arguments, debugger)?;
+    let breakpoints = request.set(breakpoints, debugger)?;
     Ok(BreakpointsBody { breakpoints })
-}
-
-fn set_function_breakpoints(
-    session: &mut Session,
-    arguments: SetFunctionBreakpointsArguments,
-) -> Answer<BreakpointsBody> {
-    let (breakpoints, debugger) = session.breakpoints_and_debugger();
-    Ok(BreakpointsBody {
-        breakpoints: breakpoints.set_functions(arguments.breakpoints, debugger),
-    })
-}
-
-/// Filters with conditions (`filterOptions`): one breakpoint per filter and option in
-/// the answer, unverified where the condition is not a valid expression.
-fn set_exception_breakpoints(
-    session: &mut Session,
-    arguments: SetExceptionBreakpointsArguments,
-) -> Answer<BreakpointsBody> {
-    let (breakpoints, debugger) = session.breakpoints_and_debugger();
-    let breakpoints = breakpoints.set_filters(arguments, debugger)?;
-    Ok(BreakpointsBody { breakpoints })
-}
-
-fn set_instruction_breakpoints(
-    session: &mut Session,
-    arguments: SetInstructionBreakpointsArguments,
-) -> Answer<BreakpointsBody> {
-    let (breakpoints, debugger) = session.breakpoints_and_debugger();
-    Ok(BreakpointsBody {
-        breakpoints: breakpoints.set_instructions(arguments.breakpoints, debugger),
-    })
 }
 
 fn data_breakpoint_info(
@@ -246,16 +230,6 @@ fn data_breakpoint_info(
             access_types: None,
             can_persist: None,
         },
-    })
-}
-
-fn set_data_breakpoints(
-    session: &mut Session,
-    arguments: SetDataBreakpointsArguments,
-) -> Answer<BreakpointsBody> {
-    let (breakpoints, debugger) = session.breakpoints_and_debugger();
-    Ok(BreakpointsBody {
-        breakpoints: breakpoints.set_data(arguments.breakpoints, debugger),
     })
 }
 

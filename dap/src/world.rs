@@ -194,18 +194,10 @@ fn debug_info(script: &DebugScript) -> DebugInfo {
     let gloc_lines: Vec<&str> = gloc_text.lines().collect();
     let count = program.instrs.len();
     // The line of the GLOC text each instruction was read from (none for the final
-    // `halt` added after the script's end).
-    let text_lines: Vec<Option<u32>> = match loaded.source_map() {
-        Some(map) => map
-            .origins_of_pcs(count)
-            .map(|origin| origin.map(|origin| origin.gloc_line))
-            .collect(),
-        None => (0..count)
-            .map(|pc| (pc + 1 < count).then(|| program.line(Pc(pc as u32))))
-            .collect(),
-    };
-    let texts = text_lines
-        .into_iter()
+    // `halt` added after the script's end): the program's own lines, since even a
+    // GBASIC script's program is parsed from its compiled GLOC text.
+    let texts = (0..count)
+        .map(|pc| (pc + 1 < count).then(|| program.line(Pc(pc as u32))))
         .map(|line| match line {
             Some(line) => gloc_line_text(&gloc_lines, line),
             None => "halt    # end of script".to_string(),

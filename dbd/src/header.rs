@@ -90,6 +90,38 @@ pub fn fileopen_time_text(unix_seconds: f64) -> String {
     )
 }
 
+/// The Unix seconds of 0000-01-01T00:00:00Z and 9999-12-31T23:59:59Z: the times
+/// ISO 8601 writes with four-digit years (one outside is no date anyone wrote: a
+/// corrupt log).
+pub const ISO_YEARS: std::ops::RangeInclusive<f64> = -62_167_219_200.0..=253_402_300_799.0;
+
+/// Unix seconds as ISO 8601 UTC, `2019-08-21T13:54:25Z`, to the millisecond where
+/// the time has a fraction (`2019-08-21T13:54:25.500Z`); `None` outside
+/// [`ISO_YEARS`] (and for NaN). The one civil-time format of `gloc data` and the
+/// forecast's exports.
+pub fn iso_time(unix_seconds: f64) -> Option<String> {
+    if !ISO_YEARS.contains(&unix_seconds) {
+        return None;
+    }
+    let millis = (unix_seconds * 1000.0).round() as i64;
+    let seconds = millis.div_euclid(1000);
+    let fraction = millis.rem_euclid(1000);
+    let days = seconds.div_euclid(86_400);
+    let of_day = seconds.rem_euclid(86_400);
+    let (year, month, day) = civil_from_days(days);
+    let fraction = if fraction > 0 {
+        format!(".{fraction:03}")
+    } else {
+        String::new()
+    };
+    Some(format!(
+        "{year:04}-{month:02}-{day:02}T{:02}:{:02}:{:02}{fraction}Z",
+        of_day / 3600,
+        of_day / 60 % 60,
+        of_day % 60
+    ))
+}
+
 /// Days since 1970-01-01 of a proleptic Gregorian date (Howard Hinnant's algorithm):
 /// the one calendar rule for log headers, currents files and NetCDF time units.
 pub fn days_from_civil(year: i64, month: i64, day: i64) -> i64 {
@@ -242,6 +274,44 @@ mod tests {
             let (y, m, d) = civil_from_days(days);
             assert_eq!(days_from_civil(y, m, d), days);
         }
+    }
+
+    #[test]
+    fn iso_times_by_hand() {
+        let iso = iso_time;
+        // `date -u -d @1566395665`: Wed Aug 21 13:54:25 UTC 2019.
+        assert_eq!(
+            iso(1_566_395_665.0).as_deref(),
+            Some("2019-08-21T13:54:25Z")
+        );
+        assert_eq!(
+            iso(1_566_395_665.5).as_deref(),
+            Some("2019-08-21T13:54:25.500Z")
+        );
+        // Less than half a millisecond short of the next second is that second.
+        assert_eq!(
+            iso(1_566_395_665.999_6).as_deref(),
+            Some("2019-08-21T13:54:26Z")
+        );
+        assert_eq!(iso(0.0).as_deref(), Some("1970-01-01T00:00:00Z"));
+        assert_eq!(iso(-1.0).as_deref(), Some("1969-12-31T23:59:59Z"));
+        // A leap day: 2020-02-29 is day 18321.
+        assert_eq!(
+            iso(18_321.0 * 86_400.0).as_deref(),
+            Some("2020-02-29T00:00:00Z")
+        );
+        // The ends of four-digit years, and past them.
+        assert_eq!(
+            iso(253_402_300_799.0).as_deref(),
+            Some("9999-12-31T23:59:59Z")
+        );
+        assert_eq!(
+            iso(-62_167_219_200.0).as_deref(),
+            Some("0000-01-01T00:00:00Z")
+        );
+        assert_eq!(iso(253_402_300_800.0), None);
+        assert_eq!(iso(1e300), None);
+        assert_eq!(iso(f64::NAN), None);
     }
 
     #[test]

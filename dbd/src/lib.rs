@@ -29,7 +29,7 @@ pub use error::{DbdError, DbdErrorKind, Location, Warning};
 pub use fs::{open_path, CacheFolders, LogKind};
 pub use header::Header;
 pub use lists::{sensor_list_crc, NoSensorLists, SensorListText, SensorLists};
-pub use merge::{plan, Deployment, Merged, Segment};
+pub use merge::{plan, Deployment, Merged, Segment, SegmentFiles};
 pub use writer::{DbdWriter, ListSensor, LogIdentity, WrittenList};
 
 /// A stream of cycles: one log file, a flight log merged with its science log,

@@ -182,24 +182,56 @@ impl CycleSource for Merged {
     }
 }
 
-/// One step of a deployment: a file, or a flight file with its science file.
+/// One step of a deployment: its files, and when the first was opened.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Segment {
-    pub flight: Option<PathBuf>,
-    pub science: Option<PathBuf>,
+    pub files: SegmentFiles,
     /// Unix seconds of the header's `fileopen_time` (files without one sort last).
     pub opened: Option<i64>,
 }
 
-impl Segment {
+/// A flight file, a science file, or a flight file with its science file.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum SegmentFiles {
+    Flight(PathBuf),
+    Science(PathBuf),
+    Both { flight: PathBuf, science: PathBuf },
+}
+
+impl SegmentFiles {
+    pub fn flight(&self) -> Option<&PathBuf> {
+        match self {
+            SegmentFiles::Flight(flight) | SegmentFiles::Both { flight, .. } => Some(flight),
+            SegmentFiles::Science(_) => None,
+        }
+    }
+
+    pub fn science(&self) -> Option<&PathBuf> {
+        match self {
+            SegmentFiles::Science(science) | SegmentFiles::Both { science, .. } => Some(science),
+            SegmentFiles::Flight(_) => None,
+        }
+    }
+
+    /// The flight file, else the science file: the one whose header dates the
+    /// segment and names it.
+    pub fn first(&self) -> &PathBuf {
+        match self {
+            SegmentFiles::Flight(first)
+            | SegmentFiles::Science(first)
+            | SegmentFiles::Both { flight: first, .. } => first,
+        }
+    }
+
     fn open(&self, sensor_cache: Option<&Path>) -> Result<Box<dyn CycleSource>, DbdError> {
-        match (&self.flight, &self.science) {
-            (Some(flight), Some(science)) => Ok(Box::new(Merged::new(
+        match self {
+            SegmentFiles::Both { flight, science } => Ok(Box::new(Merged::new(
                 open_path(flight, sensor_cache)?,
                 open_path(science, sensor_cache)?,
             ))),
-            (Some(only), None) | (None, Some(only)) => open_path(only, sensor_cache),
-            (None, None) => Err(DbdError::new("", Location::default(), "an empty segment")),
+            SegmentFiles::Flight(only) | SegmentFiles::Science(only) => {
+                open_path(only, sensor_cache)
+            }
         }
     }
 }
@@ -222,42 +254,49 @@ pub fn plan(paths: &[PathBuf]) -> Result<Vec<Segment>, DbdError> {
         let stem = path.with_extension("").display().to_string();
         let key = format!("{stem}\u{0}{pair}");
         let science = kind.is_some_and(LogKind::is_science);
-        let position = segments.iter().position(|(known, segment)| {
-            *known == key
-                && if science {
-                    segment.science.is_none()
+        // The first segment of the same name that lacks this kind of file takes it.
+        let joined = segments
+            .iter()
+            .enumerate()
+            .find_map(|(index, (known, segment))| {
+                let files = match (&segment.files, science) {
+                    (SegmentFiles::Flight(flight), true) => SegmentFiles::Both {
+                        flight: flight.clone(),
+                        science: path.clone(),
+                    },
+                    (SegmentFiles::Science(science), false) => SegmentFiles::Both {
+                        flight: path.clone(),
+                        science: science.clone(),
+                    },
+                    _ => return None,
+                };
+                (*known == key).then_some((index, files))
+            });
+        match joined {
+            Some((index, files)) => segments[index].1.files = files,
+            None => {
+                let files = if science {
+                    SegmentFiles::Science(path.clone())
                 } else {
-                    segment.flight.is_none()
-                }
-        });
-        let index = position.unwrap_or_else(|| {
-            segments.push((
-                key.clone(),
-                Segment {
-                    flight: None,
-                    science: None,
-                    opened: None,
-                },
-            ));
-            segments.len() - 1
-        });
-        let segment = &mut segments[index].1;
-        if science {
-            segment.science = Some(path.clone());
-        } else {
-            segment.flight = Some(path.clone());
+                    SegmentFiles::Flight(path.clone())
+                };
+                segments.push((
+                    key,
+                    Segment {
+                        files,
+                        opened: None,
+                    },
+                ));
+            }
         }
     }
     let mut segments: Vec<Segment> = segments.into_iter().map(|(_, segment)| segment).collect();
     for segment in &mut segments {
-        let path = segment.flight.as_ref().or(segment.science.as_ref());
-        if let Some(path) = path {
-            segment.opened = crate::fs::read_file_header(path)?.fileopen_seconds();
-        }
+        segment.opened = crate::fs::read_file_header(segment.files.first())?.fileopen_seconds();
     }
     segments.sort_by(|a, b| {
-        let name = |segment: &Segment| segment.flight.clone().or(segment.science.clone());
-        (a.opened.is_none(), a.opened, name(a)).cmp(&(b.opened.is_none(), b.opened, name(b)))
+        let key = |segment: &Segment| (segment.opened.is_none(), segment.opened);
+        (key(a), a.files.first()).cmp(&(key(b), b.files.first()))
     });
     Ok(segments)
 }
@@ -297,7 +336,7 @@ impl Deployment {
         let mut names = std::collections::HashMap::new();
         let mut opened = Vec::new();
         for segment in &segments {
-            let source = segment.open(sensor_cache)?;
+            let source = segment.files.open(sensor_cache)?;
             for sensor in source.sensors().iter() {
                 if !names.contains_key(&sensor.name) {
                     names.insert(sensor.name.clone(), sensors.len());
@@ -341,7 +380,7 @@ impl Deployment {
                 self.next += 1;
                 let source = match kept {
                     Some(source) => source,
-                    None => segment.open(self.sensor_cache.as_deref())?,
+                    None => segment.files.open(self.sensor_cache.as_deref())?,
                 };
                 let mut map = Vec::with_capacity(source.sensors().len());
                 for sensor in source.sensors().iter() {

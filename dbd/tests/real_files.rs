@@ -138,13 +138,16 @@ fn a_deployment_streams_in_time_order_across_sensor_lists() {
         .segments()
         .iter()
         .map(|segment| {
-            let name = |path: &Option<PathBuf>| {
-                path.as_ref()
-                    .and_then(|p| p.file_name())
+            let name = |path: Option<&PathBuf>| {
+                path.and_then(|p| p.file_name())
                     .map(|n| n.to_string_lossy().into_owned())
                     .unwrap_or_default()
             };
-            format!("{}+{}", name(&segment.flight), name(&segment.science))
+            format!(
+                "{}+{}",
+                name(segment.files.flight()),
+                name(segment.files.science())
+            )
         })
         .collect();
     assert_eq!(

@@ -372,6 +372,8 @@ mod tests {
         };
         assert_eq!(odd.refusal(4.0), Some(Refusal::OutOfRange));
         assert_eq!(Allowed::default().refusal(-1e9), None);
+        // NaN is no number past an end: the range cannot say it is outside.
+        assert_eq!(depth.refusal(f64::NAN), None);
     }
 
     #[test]

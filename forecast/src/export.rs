@@ -47,21 +47,10 @@ impl Format {
     }
 }
 
-/// Unix seconds as ISO 8601 UTC (`2019-08-21T13:54:06Z`, whole seconds).
+/// Unix seconds as ISO 8601 UTC (`2019-08-21T13:54:06Z`, whole seconds); the
+/// number itself outside the years 0 to 9999.
 pub fn iso_time(unix: f64) -> String {
-    if !unix.is_finite() || unix.abs() > 1e13 {
-        return format!("{unix}");
-    }
-    let seconds = unix.round() as i64;
-    let days = seconds.div_euclid(86_400);
-    let of_day = seconds.rem_euclid(86_400);
-    let (year, month, day) = gloc_dbd::header::civil_from_days(days);
-    format!(
-        "{year:04}-{month:02}-{day:02}T{:02}:{:02}:{:02}Z",
-        of_day / 3600,
-        of_day / 60 % 60,
-        of_day % 60
-    )
+    gloc_dbd::header::iso_time(unix.round()).unwrap_or_else(|| format!("{unix}"))
 }
 
 /// NMEA `ddmm.mmm` of decimal degrees, as the glider writes it.
@@ -534,12 +523,12 @@ mod tests {
     use super::*;
 
     #[test]
-    fn iso_times_by_hand() {
-        assert_eq!(iso_time(0.0), "1970-01-01T00:00:00Z");
+    fn iso_times_are_whole_seconds() {
         // `date -u -d @1566395646`: Wed Aug 21 13:54:06 UTC 2019.
-        assert_eq!(iso_time(1_566_395_646.0), "2019-08-21T13:54:06Z");
-        // A leap day: 2020-02-29 is day 18321.
-        assert_eq!(iso_time(18_321.0 * 86_400.0), "2020-02-29T00:00:00Z");
+        assert_eq!(iso_time(1_566_395_646.4), "2019-08-21T13:54:06Z");
+        assert_eq!(iso_time(1_566_395_645.5), "2019-08-21T13:54:06Z");
+        // Past the year 9999: the number.
+        assert_eq!(iso_time(3e11), "300000000000");
     }
 
     #[test]

@@ -169,23 +169,38 @@ pub struct Prepared {
     pub config: SimConfig,
 }
 
-/// What the flights of a mission flown without a script share (a forecast
-/// flies the glider's own mission from its logs).
-#[derive(Clone, Copy)]
-pub struct MissionPlan<'a> {
-    pub settings: &'a Settings,
-    pub sensors: &'a Arc<SensorList>,
-    pub mission: &'a Mission,
+/// A mission flown without a script (`gloc forecast` and the Python package's
+/// forecast fly the glider's own mission from its logs), as [`prepare_unscripted`]
+/// found it. Each front end reports a mission with errors its own way.
+pub enum Unscripted {
+    /// The mission has errors (its diagnostics say which); nothing was prepared.
+    MissionErrors(Mission),
+    /// The mission, and its flight prepared from the settings alone (boxed: a
+    /// simulation is large).
+    Ready {
+        mission: Mission,
+        prepared: Box<Prepared>,
+    },
 }
 
-/// As [`prepare`], for a mission flown without a script (`gloc forecast`): the
-/// simulator configured from the settings and the flight, the simulation built,
-/// and the mission checked against the sensor list, in the same place.
+/// The set-up of a mission flown without a script: the settings' mission loaded
+/// (as [`load_mission`]) and, when it has no errors, the simulator configured from
+/// the settings, the simulation built and the mission checked against the sensor
+/// list, as [`prepare`] does for `gloc run`. Each track of a forecast is then flown
+/// from this configuration and the logs' state.
 pub fn prepare_unscripted(
-    plan: &MissionPlan<'_>,
-    flight: Flight,
-) -> Result<Prepared, ProjectError> {
-    prepare_flight(plan.settings, plan.sensors, plan.mission, None, flight)
+    settings: &Settings,
+    sensors: &Arc<SensorList>,
+) -> Result<Unscripted, ProjectError> {
+    let mission = load_mission(settings, sensors)?;
+    if mission.has_errors() {
+        return Ok(Unscripted::MissionErrors(mission));
+    }
+    let prepared = prepare_flight(settings, sensors, &mission, None, Flight::default())?;
+    Ok(Unscripted::Ready {
+        mission,
+        prepared: Box::new(prepared),
+    })
 }
 
 /// Prepares one flight of `plan`: the simulator configured from the settings and the

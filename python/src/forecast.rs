@@ -18,6 +18,7 @@ use gloc_forecast::ensemble::{self, EnsembleInput, EnsembleOptions};
 use gloc_forecast::fly::Flight;
 use gloc_forecast::fly::{Surfacing, Track, TrackPoint, Truth};
 use gloc_forecast::{LogHistory, Request, Start};
+use gloc_project::simulation::Unscripted;
 use gloc_project::{Overrides, Surface};
 use gloc_sim::navigation::Xy;
 use gloc_sim::{Mission, SimConfig};
@@ -25,7 +26,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::{log_error, mission_errors, project, project_error};
+use crate::{log_error, mission_error, project, project_error};
 
 /// What a forecast is asked for, as Python passes it to each of the three calls.
 #[derive(FromPyObject)]
@@ -109,22 +110,15 @@ impl Setup {
             },
         )?;
         let sensors = Arc::new(sensors);
-        let mission =
-            gloc_project::simulation::load_mission(&settings, &sensors).map_err(project_error)?;
-        if let Some(error) = mission_errors(&mission, "forecast") {
-            return Err(error);
-        }
-        // Set up where `gloc forecast` and `gloc run` set their flights up: the simulator
-        // configured from the settings, the mission checked against the sensor list.
-        let prepared = gloc_project::simulation::prepare_unscripted(
-            &gloc_project::simulation::MissionPlan {
-                settings: &settings,
-                sensors: &sensors,
-                mission: &mission,
-            },
-            gloc_project::simulation::Flight::default(),
-        )
-        .map_err(project_error)?;
+        let (mission, prepared) =
+            match gloc_project::simulation::prepare_unscripted(&settings, &sensors)
+                .map_err(project_error)?
+            {
+                Unscripted::MissionErrors(mission) => {
+                    return Err(mission_error(&mission, "forecast"));
+                }
+                Unscripted::Ready { mission, prepared } => (mission, prepared),
+            };
         let warnings: Vec<String> = prepared
             .warnings
             .into_iter()

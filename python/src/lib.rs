@@ -558,17 +558,20 @@ fn fly(request: &Request) -> PyResult<Flown> {
 
 /// A mission with errors as a `ProjectError` naming each (nothing was `done`).
 fn mission_errors(mission: &gloc_sim::Mission, done: &str) -> Option<PyErr> {
-    mission.has_errors().then(|| {
-        ProjectError_::new_err(format!(
-            "the mission has errors; nothing was {done}: {}",
-            mission
-                .diagnostics
-                .iter()
-                .map(|entry| format!("{} {}", entry.diagnostic.code, entry.diagnostic.message))
-                .collect::<Vec<_>>()
-                .join("; ")
-        ))
-    })
+    mission.has_errors().then(|| mission_error(mission, done))
+}
+
+/// The error a mission with errors raises, its diagnostics in one line.
+pub(crate) fn mission_error(mission: &gloc_sim::Mission, done: &str) -> PyErr {
+    ProjectError_::new_err(format!(
+        "the mission has errors; nothing was {done}: {}",
+        mission
+            .diagnostics
+            .iter()
+            .map(|entry| format!("{} {}", entry.diagnostic.code, entry.diagnostic.message))
+            .collect::<Vec<_>>()
+            .join("; ")
+    ))
 }
 
 /// A warning of `prepare` as one line (its code first where it has one).

@@ -180,6 +180,25 @@ pub struct BehaviorEvent {
     pub kind: EventKind,
 }
 
+/// One behavior's turn in a cycle: its place in the stack (which the commands it
+/// gives and the events it reports carry), the world it reads and commands, and
+/// where its events go.
+pub struct Turn<'t, 'a> {
+    pub index: usize,
+    pub world: &'t mut World<'a>,
+    pub events: &'t mut Vec<BehaviorEvent>,
+}
+
+impl Turn<'_, '_> {
+    /// Reports `kind` as this behavior's event.
+    fn report(&mut self, kind: EventKind) {
+        self.events.push(BehaviorEvent {
+            behavior: self.index,
+            kind,
+        });
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum EventKind {
     Started,
@@ -411,53 +430,37 @@ impl Behavior {
     /// Steps the behavior's state machine and, when active, its logic.
     /// For the script behavior this only manages activation; the simulation
     /// runs the script itself when `is_active()`.
-    pub fn step(
-        &mut self,
-        index: usize,
-        world: &mut World<'_>,
-        events: &mut Vec<BehaviorEvent>,
-    ) -> Outcome {
+    pub fn step(&mut self, turn: &mut Turn<'_, '_>) -> Outcome {
         if let Logic::Abend(abend) = &mut self.logic {
             // abend is always on: it has no start/stop state machine.
             self.state = BehaviorState::Active;
-            return abend.check(world);
+            return abend.check(turn.world);
         }
         match self.state {
             BehaviorState::Complete => return Outcome::Continue,
             BehaviorState::WaitingForActivation => {
-                if !self.condition(self.start_when, world, Edge::Start) {
+                if !self.condition(self.start_when, turn.world, Edge::Start) {
                     return Outcome::Continue;
                 }
                 self.state = BehaviorState::Active;
-                self.last_start = world.time;
-                self.logic.activate(world);
-                events.push(BehaviorEvent {
-                    behavior: index,
-                    kind: EventKind::Started,
-                });
+                self.last_start = turn.world.time;
+                self.logic.activate(turn.world);
+                turn.report(EventKind::Started);
             }
             BehaviorState::Active => {}
         }
-        if self.stop_when != 0 && self.condition(self.stop_when, world, Edge::Stop) {
-            return self.complete(index, world, events);
+        if self.stop_when != 0 && self.condition(self.stop_when, turn.world, Edge::Stop) {
+            return self.complete(turn);
         }
-        match self.logic.step(index, world, events) {
+        match self.logic.step(turn) {
             Step::Running => Outcome::Continue,
-            Step::Done => self.complete(index, world, events),
+            Step::Done => self.complete(turn),
         }
     }
 
-    fn complete(
-        &mut self,
-        index: usize,
-        world: &World<'_>,
-        events: &mut Vec<BehaviorEvent>,
-    ) -> Outcome {
-        self.last_end = world.time;
-        events.push(BehaviorEvent {
-            behavior: index,
-            kind: EventKind::Completed,
-        });
+    fn complete(&mut self, turn: &mut Turn<'_, '_>) -> Outcome {
+        self.last_end = turn.world.time;
+        turn.report(EventKind::Completed);
         // end_action: 0 quit, 1 (wait for ^C, none comes in a simulation) and 2 resume.
         if self.end_action == 0 {
             self.state = BehaviorState::Complete;
@@ -527,14 +530,10 @@ impl Logic {
         }
     }
 
-    fn step(
-        &mut self,
-        index: usize,
-        world: &mut World<'_>,
-        events: &mut Vec<BehaviorEvent>,
-    ) -> Step {
+    fn step(&mut self, turn: &mut Turn<'_, '_>) -> Step {
+        let (index, world) = (turn.index, &mut *turn.world);
         match self {
-            Logic::Yo(yo) => yo.step(index, world, events),
+            Logic::Yo(yo) => yo.step(turn),
             Logic::Single(single) => {
                 if single.step(index, world) {
                     Step::Done
@@ -564,7 +563,7 @@ impl Logic {
                 Step::Running
             }
             Logic::Hook(hook) => {
-                hook.step(index, world, events);
+                hook.step(turn);
                 Step::Running
             }
             Logic::Goto(goto) => goto.step(index, world),
@@ -790,12 +789,7 @@ struct Yo {
 }
 
 impl Yo {
-    fn step(
-        &mut self,
-        index: usize,
-        world: &mut World<'_>,
-        events: &mut Vec<BehaviorEvent>,
-    ) -> Step {
+    fn step(&mut self, turn: &mut Turn<'_, '_>) -> Step {
         // At most one turn per cycle: a half-cycle that is done at once (the
         // glider is already past the next target) waits for the next cycle.
         let leg = if self.diving {
@@ -803,13 +797,12 @@ impl Yo {
         } else {
             &mut self.climb
         };
-        if !leg.step(index, world) {
+        if !leg.step(turn.index, turn.world) {
             return Step::Running;
         }
         self.half_cycles_done += 1;
-        events.push(BehaviorEvent {
-            behavior: index,
-            kind: EventKind::Inflection { depth: world.depth },
+        turn.report(EventKind::Inflection {
+            depth: turn.world.depth,
         });
         if self.half_cycles_to_do > 0 && self.half_cycles_done >= self.half_cycles_to_do {
             return Step::Done;
@@ -821,7 +814,7 @@ impl Yo {
             &mut self.climb
         };
         next.hover_since = None;
-        next.step(index, world);
+        next.step(turn.index, turn.world);
         Step::Running
     }
 }
@@ -969,21 +962,19 @@ impl Hook {
     /// for as long as it is set. Bit 128 wins over bit 64 (climbing is
     /// the safe side). When the sub-behavior reaches its depth the hook clears
     /// its bit, so a script can see that it is done, and commands nothing.
-    fn step(&mut self, index: usize, world: &mut World<'_>, events: &mut Vec<BehaviorEvent>) {
-        let value = world.read(world.hook_sensors.behs);
+    fn step(&mut self, turn: &mut Turn<'_, '_>) {
+        let value = turn.world.read(turn.world.hook_sensors.behs);
         let flags = match hook_flags(value) {
             Some(flags) => flags,
             None => {
                 if !self.reported_ignored {
                     self.reported_ignored = true;
-                    events.push(BehaviorEvent {
-                        behavior: index,
-                        kind: EventKind::IgnoredRequest { value },
-                    });
+                    turn.report(EventKind::IgnoredRequest { value });
                 }
                 0
             }
         };
+        let (index, world) = (turn.index, &mut *turn.world);
         if flags & HOOK_HEADING_BIT != 0 {
             // A heading that is no number commands nothing (the fin holds), as
             // set_heading without a usable heading_value does.
@@ -1032,10 +1023,8 @@ impl Hook {
                 world.sensors[behs] = (flags & !bit) as f64;
             }
             self.running = None;
-            events.push(BehaviorEvent {
-                behavior: index,
-                kind: EventKind::Inflection { depth: world.depth },
-            });
+            let depth = world.depth;
+            turn.report(EventKind::Inflection { depth });
             return;
         }
         let (buoyancy, pitch) = match direction {

@@ -1025,11 +1025,8 @@ fn fit_pitch_swing(fit: &mut Fit, flight: &FlightParams, rows: &[Row], turn_rows
         total
     };
     let mut best: Option<(f64, f64, f64)> = None;
-    for step in 0..=PITCH_PERIOD_STEPS {
-        let period = PITCH_PERIOD_MIN
-            * (PITCH_PERIOD_MAX / PITCH_PERIOD_MIN).powf(step as f64 / PITCH_PERIOD_STEPS as f64);
-        for tenth in 1..=PITCH_DAMPING_STEPS {
-            let damping = tenth as f64 * PITCH_DAMPING_STEP;
+    for period in PITCH_PERIODS.values() {
+        for damping in PITCH_DAMPINGS.values() {
             let miss = error(period, damping);
             if miss > 0.0 && best.is_none_or(|(least, _, _)| miss < least) {
                 best = Some((miss, period, damping));
@@ -1120,8 +1117,8 @@ fn fit_ballast_delay(fit: &mut Fit, flight: &mut FlightParams, rows: &[Row], tur
             .map(|&(window, turn)| fed_turn_error(flight, window, turn, delay, rates))
             .sum()
     };
-    let best = (0..=DELAY_FIT_STEPS)
-        .map(|step| step as f64 * DELAY_FIT_STEP)
+    let best = DELAY_GRID
+        .values()
         .map(|delay| (error(delay), delay))
         .filter(|(miss, _)| miss.is_finite())
         .min_by(|a, b| a.0.total_cmp(&b.0));
@@ -1190,21 +1187,53 @@ fn fed_turn_error(
     total
 }
 
-/// The ballast delays searched (s), the part of a turn compared and the lead-in
-/// (s), and the force balance's step there (s).
-const DELAY_FIT_STEP: f64 = 0.25;
-const DELAY_FIT_STEPS: u32 = 60;
+/// The values a grid search tries.
+#[derive(Clone, Copy, Debug)]
+enum Grid {
+    /// `from × step`, `(from + 1) × step`, … `to × step`.
+    Linear { step: f64, from: u32, to: u32 },
+    /// `steps + 1` values from `min` to `max` in equal ratios.
+    Log { min: f64, max: f64, steps: u32 },
+}
+
+impl Grid {
+    /// `from × step` to `to × step`.
+    const fn linear(step: f64, from: u32, to: u32) -> Grid {
+        Grid::Linear { step, from, to }
+    }
+
+    /// `steps + 1` values from `min` to `max` in equal ratios.
+    const fn log(min: f64, max: f64, steps: u32) -> Grid {
+        Grid::Log { min, max, steps }
+    }
+
+    fn values(self) -> impl Iterator<Item = f64> {
+        let (from, to) = match self {
+            Grid::Linear { from, to, .. } => (from, to),
+            Grid::Log { steps, .. } => (0, steps),
+        };
+        (from..=to).map(move |index| match self {
+            Grid::Linear { step, .. } => f64::from(index) * step,
+            Grid::Log { min, max, steps } => {
+                min * (max / min).powf(f64::from(index) / f64::from(steps))
+            }
+        })
+    }
+}
+
+/// The ballast delays searched (s): 0 to 15 in quarter seconds.
+const DELAY_GRID: Grid = Grid::linear(0.25, 0, 60);
+/// The part of a turn compared and the lead-in (s), and the force balance's step
+/// there (s).
 const DELAY_FIT_AFTER: f64 = 40.0;
 const DELAY_FIT_BEFORE: f64 = 30.0;
 const DELAY_FIT_DT: f64 = 0.1;
 
-/// The natural periods searched (s, log-spaced), the damping ratios (steps of
-/// 0.05 to 2), and the part of a turn compared (s).
-const PITCH_PERIOD_MIN: f64 = 2.0;
-const PITCH_PERIOD_MAX: f64 = 120.0;
-const PITCH_PERIOD_STEPS: u32 = 60;
-const PITCH_DAMPING_STEP: f64 = 0.05;
-const PITCH_DAMPING_STEPS: u32 = 40;
+/// The natural periods searched (s, log-spaced) and the damping ratios (steps of
+/// 0.05 to 2).
+const PITCH_PERIODS: Grid = Grid::log(2.0, 120.0, 60);
+const PITCH_DAMPINGS: Grid = Grid::linear(0.05, 1, 40);
+/// The part of a turn compared (s).
 const PITCH_SWING_WINDOW: f64 = 60.0;
 /// The swing's step through a row interval (s), the pump's course resolved.
 const PITCH_SWING_DT: f64 = 0.5;
@@ -1237,6 +1266,21 @@ fn fit_heading_bias(fit: &mut Fit, (dive_rows, climb_rows): (&[Row], &[Row])) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn grids_are_the_values_searched() {
+        let delays: Vec<f64> = DELAY_GRID.values().collect();
+        assert_eq!(delays.len(), 61);
+        assert_eq!((delays[0], delays[1], delays[60]), (0.0, 0.25, 15.0));
+        let dampings: Vec<f64> = PITCH_DAMPINGS.values().collect();
+        assert_eq!(dampings.len(), 40);
+        assert!((dampings[0] - 0.05).abs() < 1e-12 && (dampings[39] - 2.0).abs() < 1e-12);
+        // 2 s to 120 s in 60 equal ratios: the 30th is √(2 × 120) = 15.49 s.
+        let periods: Vec<f64> = PITCH_PERIODS.values().collect();
+        assert_eq!(periods.len(), 61);
+        assert!((periods[30] - 240f64.sqrt()).abs() < 1e-9);
+        assert!((periods[0] - 2.0).abs() < 1e-12 && (periods[60] - 120.0).abs() < 1e-9);
+    }
 
     #[test]
     fn least_squares_solves_an_overdetermined_line() {

@@ -24,13 +24,13 @@ use gloc_engine::vm::{CycleEnd, Host, Machine, MachineConfig, Status, Trap};
 
 use crate::behaviors::{
     build_stack, condition_is_modelled, AbortReason, Behavior, BehaviorEvent, BehaviorKind,
-    Commands, HookSensors, NavView, Outcome, ScriptPlacement, World,
+    Commands, HookSensors, NavView, Outcome, ScriptPlacement, Turn, World,
 };
 use crate::environment::{Rng, TemperatureProfile};
 use crate::flight::{EnergyParams, EnergyUse, FlightParams, Vehicle};
 use crate::mission::Mission;
 use crate::navigation::{
-    nmea_is_set, CycleMotion, NavParams, NavSetup, Navigation, Xy, DEFAULT_START_NMEA,
+    nmea_is_set, CycleMotion, Lmc, NavParams, NavSetup, Navigation, Xy, DEFAULT_START_NMEA,
 };
 
 /// Settings of a run that are not in the mission.
@@ -311,89 +311,112 @@ struct SensorSlots {
 /// The navigation's sensors (`docs/simulator.md`, "Navigation").
 #[derive(Clone, Copy, Debug, Default)]
 struct NavSlots {
-    x_lmc: Option<usize>,
-    y_lmc: Option<usize>,
-    lat: Option<usize>,
-    lon: Option<usize>,
+    /// `m_x_lmc`, `m_y_lmc` and `m_lat`, `m_lon`: the dead-reckoned position.
+    position: XySlots,
+    position_nmea: NmeaSlots,
     heading: Option<usize>,
     c_heading: Option<usize>,
     speed_estimated: Option<usize>,
     avg_speed: Option<usize>,
-    water_vx: Option<usize>,
-    water_vy: Option<usize>,
-    initial_water_vx: Option<usize>,
-    initial_water_vy: Option<usize>,
-    final_water_vx: Option<usize>,
-    final_water_vy: Option<usize>,
-    prior_water_vx: Option<usize>,
-    prior_water_vy: Option<usize>,
+    water: XySlots,
+    initial_water: XySlots,
+    final_water: XySlots,
+    prior_water: XySlots,
     dr_state: Option<usize>,
     dr_time: Option<usize>,
     dr_fix_time: Option<usize>,
     dr_postfix_time: Option<usize>,
-    dr_surf_x: Option<usize>,
-    dr_surf_y: Option<usize>,
-    dr_x_ini_err: Option<usize>,
-    dr_y_ini_err: Option<usize>,
-    dr_x_ta_drift: Option<usize>,
-    dr_y_ta_drift: Option<usize>,
+    dr_surface: XySlots,
+    initial_error: XySlots,
+    adjusted_drift: XySlots,
     gps_dist_from_dr: Option<usize>,
-    gps_lat: Option<usize>,
-    gps_lon: Option<usize>,
-    gps_x_lmc: Option<usize>,
-    gps_y_lmc: Option<usize>,
+    gps: XySlots,
+    gps_nmea: NmeaSlots,
     gps_status: Option<usize>,
     gps_mag_var: Option<usize>,
-    wpt_x_lmc: Option<usize>,
-    wpt_y_lmc: Option<usize>,
-    wpt_lat: Option<usize>,
-    wpt_lon: Option<usize>,
+    waypoint: XySlots,
+    waypoint_nmea: NmeaSlots,
     dist_to_wpt: Option<usize>,
     hit_waypoint: Option<usize>,
 }
 
 impl NavSlots {
     fn resolve(find: &dyn Fn(&str) -> Option<usize>) -> NavSlots {
+        let xy = |x: &str, y: &str| XySlots {
+            x: find(x),
+            y: find(y),
+        };
+        let nmea = |lat: &str, lon: &str| NmeaSlots {
+            lat: find(lat),
+            lon: find(lon),
+        };
         NavSlots {
-            x_lmc: find("m_x_lmc"),
-            y_lmc: find("m_y_lmc"),
-            lat: find("m_lat"),
-            lon: find("m_lon"),
+            position: xy("m_x_lmc", "m_y_lmc"),
+            position_nmea: nmea("m_lat", "m_lon"),
             heading: find("m_heading"),
             c_heading: find("c_heading"),
             speed_estimated: find("m_is_speed_estimated"),
             avg_speed: find("m_avg_speed"),
-            water_vx: find("m_water_vx"),
-            water_vy: find("m_water_vy"),
-            initial_water_vx: find("m_initial_water_vx"),
-            initial_water_vy: find("m_initial_water_vy"),
-            final_water_vx: find("m_final_water_vx"),
-            final_water_vy: find("m_final_water_vy"),
-            prior_water_vx: find("x_prior_seg_water_vx"),
-            prior_water_vy: find("x_prior_seg_water_vy"),
+            water: xy("m_water_vx", "m_water_vy"),
+            initial_water: xy("m_initial_water_vx", "m_initial_water_vy"),
+            final_water: xy("m_final_water_vx", "m_final_water_vy"),
+            prior_water: xy("x_prior_seg_water_vx", "x_prior_seg_water_vy"),
             dr_state: find("x_dr_state"),
             dr_time: find("m_dr_time"),
             dr_fix_time: find("m_dr_fix_time"),
             dr_postfix_time: find("m_dr_postfix_time"),
-            dr_surf_x: find("m_dr_surf_x_lmc"),
-            dr_surf_y: find("m_dr_surf_y_lmc"),
-            dr_x_ini_err: find("m_dr_x_ini_err"),
-            dr_y_ini_err: find("m_dr_y_ini_err"),
-            dr_x_ta_drift: find("m_dr_x_ta_postfix_drift"),
-            dr_y_ta_drift: find("m_dr_y_ta_postfix_drift"),
+            dr_surface: xy("m_dr_surf_x_lmc", "m_dr_surf_y_lmc"),
+            initial_error: xy("m_dr_x_ini_err", "m_dr_y_ini_err"),
+            adjusted_drift: xy("m_dr_x_ta_postfix_drift", "m_dr_y_ta_postfix_drift"),
             gps_dist_from_dr: find("m_gps_dist_from_dr"),
-            gps_lat: find("m_gps_lat"),
-            gps_lon: find("m_gps_lon"),
-            gps_x_lmc: find("m_gps_x_lmc"),
-            gps_y_lmc: find("m_gps_y_lmc"),
+            gps: xy("m_gps_x_lmc", "m_gps_y_lmc"),
+            gps_nmea: nmea("m_gps_lat", "m_gps_lon"),
             gps_status: find("m_gps_status"),
             gps_mag_var: find("m_gps_mag_var"),
-            wpt_x_lmc: find("c_wpt_x_lmc"),
-            wpt_y_lmc: find("c_wpt_y_lmc"),
-            wpt_lat: find("c_wpt_lat"),
-            wpt_lon: find("c_wpt_lon"),
+            waypoint: xy("c_wpt_x_lmc", "c_wpt_y_lmc"),
+            waypoint_nmea: nmea("c_wpt_lat", "c_wpt_lon"),
             dist_to_wpt: find("m_dist_to_wpt"),
             hit_waypoint: find("x_hit_a_waypoint"),
+        }
+    }
+}
+
+/// The slots of a vector's two sensors (east, north), each `None` when the
+/// active list lacks it.
+#[derive(Clone, Copy, Debug, Default)]
+struct XySlots {
+    x: Option<usize>,
+    y: Option<usize>,
+}
+
+/// The slots of a position's NMEA latitude and longitude sensors.
+#[derive(Clone, Copy, Debug, Default)]
+struct NmeaSlots {
+    lat: Option<usize>,
+    lon: Option<usize>,
+}
+
+/// The sensor array written through slots the active list may lack.
+struct SensorWrites<'s>(&'s mut [f64]);
+
+impl SensorWrites<'_> {
+    fn put(&mut self, slot: Option<usize>, value: f64) {
+        if let Some(index) = slot {
+            self.0[index] = value;
+        }
+    }
+
+    fn put_xy(&mut self, slots: XySlots, value: Xy) {
+        self.put(slots.x, value.x);
+        self.put(slots.y, value.y);
+    }
+
+    /// `position` as NMEA, converted only when the list has either sensor.
+    fn put_nmea(&mut self, slots: NmeaSlots, lmc: &Lmc, position: Xy) {
+        if slots.lat.is_some() || slots.lon.is_some() {
+            let (lat, lon) = lmc.xy_to_nmea(position);
+            self.put(slots.lat, lat);
+            self.put(slots.lon, lon);
         }
     }
 }
@@ -1121,7 +1144,11 @@ impl Simulation {
             nav: &mut self.nav_view,
         };
         for index in (from..to).rev() {
-            let outcome = self.behaviors[index].step(index, &mut world, &mut self.events);
+            let outcome = self.behaviors[index].step(&mut Turn {
+                index,
+                world: &mut world,
+                events: &mut self.events,
+            });
             let reason = match outcome {
                 Outcome::Continue => continue,
                 Outcome::Abort(reason) => EndReason::Aborted(reason),
@@ -1171,37 +1198,32 @@ impl Simulation {
         let pressure = sample_depth / 10.0 + self.pressure_noise * self.rng.normal();
         let sample_present = self.start_time + sample_time;
         let volts = vehicle.battery_volts(&self.energy);
-        let sensors = &mut self.sensors;
-        let mut put = |slot: Option<usize>, value: f64| {
-            if let Some(index) = slot {
-                sensors[index] = value;
-            }
-        };
-        put(slots.present_time, present);
-        put(slots.sci_present_time, sample_present);
-        put(slots.cycle_number, self.cycle as f64);
-        put(slots.depth, vehicle.depth);
-        put(slots.pressure, vehicle.depth / 10.0);
-        put(slots.depth_rate, vehicle.depth_rate);
-        put(slots.pitch, vehicle.pitch);
-        put(slots.altitude, altitude);
-        put(slots.water_depth, self.water_depth);
-        put(slots.battery, volts);
-        put(slots.coulomb, vehicle.amp_hours);
-        put(slots.current, vehicle.current);
+        let mut sensors = SensorWrites(&mut self.sensors);
+        sensors.put(slots.present_time, present);
+        sensors.put(slots.sci_present_time, sample_present);
+        sensors.put(slots.cycle_number, self.cycle as f64);
+        sensors.put(slots.depth, vehicle.depth);
+        sensors.put(slots.pressure, vehicle.depth / 10.0);
+        sensors.put(slots.depth_rate, vehicle.depth_rate);
+        sensors.put(slots.pitch, vehicle.pitch);
+        sensors.put(slots.altitude, altitude);
+        sensors.put(slots.water_depth, self.water_depth);
+        sensors.put(slots.battery, volts);
+        sensors.put(slots.coulomb, vehicle.amp_hours);
+        sensors.put(slots.current, vehicle.current);
         // The firmware's m_speed: the dead reckoning's (the glide angle's, or the
         // mean speed below 11.3° of pitch; 0 at the surface).
-        put(slots.speed, self.navigation.speed);
-        put(slots.ballast, vehicle.ballast);
-        put(slots.inflections, vehicle.inflections as f64);
-        put(slots.water_temp, temperature);
-        put(slots.water_pressure, pressure.max(0.0));
+        sensors.put(slots.speed, self.navigation.speed);
+        sensors.put(slots.ballast, vehicle.ballast);
+        sensors.put(slots.inflections, vehicle.inflections as f64);
+        sensors.put(slots.water_temp, temperature);
+        sensors.put(slots.water_pressure, pressure.max(0.0));
         publish_navigation(
             &slots.nav,
             &self.navigation,
             &self.nav_view,
             self.mag_var,
-            sensors,
+            &mut sensors,
         );
     }
 
@@ -1551,61 +1573,39 @@ fn publish_navigation(
     navigation: &Navigation,
     view: &NavView,
     mag_var: f64,
-    sensors: &mut [f64],
+    sensors: &mut SensorWrites<'_>,
 ) {
-    let mut put = |slot: Option<usize>, value: f64| {
-        if let Some(index) = slot {
-            sensors[index] = value;
-        }
-    };
     let lmc = &navigation.lmc;
     let position = navigation.dead_reckoned;
-    put(slots.x_lmc, position.x);
-    put(slots.y_lmc, position.y);
-    if slots.lat.is_some() || slots.lon.is_some() {
-        let (lat, lon) = lmc.xy_to_nmea(position);
-        put(slots.lat, lat);
-        put(slots.lon, lon);
-    }
-    put(slots.heading, navigation.heading);
+    sensors.put_xy(slots.position, position);
+    sensors.put_nmea(slots.position_nmea, lmc, position);
+    sensors.put(slots.heading, navigation.heading);
     if let Some(heading) = navigation.commanded_heading {
-        put(slots.c_heading, heading);
+        sensors.put(slots.c_heading, heading);
     }
-    put(
+    sensors.put(
         slots.speed_estimated,
         f64::from(u8::from(navigation.speed_estimated)),
     );
-    put(slots.avg_speed, navigation.avg_speed);
-    put(slots.water_vx, navigation.water.x);
-    put(slots.water_vy, navigation.water.y);
-    put(slots.initial_water_vx, navigation.initial_water.x);
-    put(slots.initial_water_vy, navigation.initial_water.y);
-    put(slots.final_water_vx, navigation.final_water.x);
-    put(slots.final_water_vy, navigation.final_water.y);
-    put(slots.prior_water_vx, navigation.prior_segment_water.x);
-    put(slots.prior_water_vy, navigation.prior_segment_water.y);
-    put(slots.dr_state, navigation.dr_state as u8 as f64);
-    put(slots.dr_time, navigation.dr_time);
-    put(slots.dr_fix_time, navigation.fix_time);
-    put(slots.dr_postfix_time, navigation.postfix_time);
-    put(slots.dr_surf_x, navigation.dr_surface.x);
-    put(slots.dr_surf_y, navigation.dr_surface.y);
-    put(slots.dr_x_ini_err, navigation.initial_error.x);
-    put(slots.dr_y_ini_err, navigation.initial_error.y);
-    put(slots.dr_x_ta_drift, navigation.adjusted_drift.x);
-    put(slots.dr_y_ta_drift, navigation.adjusted_drift.y);
-    put(slots.gps_dist_from_dr, navigation.gps_dist_from_dr);
+    sensors.put(slots.avg_speed, navigation.avg_speed);
+    sensors.put_xy(slots.water, navigation.water);
+    sensors.put_xy(slots.initial_water, navigation.initial_water);
+    sensors.put_xy(slots.final_water, navigation.final_water);
+    sensors.put_xy(slots.prior_water, navigation.prior_segment_water);
+    sensors.put(slots.dr_state, navigation.dr_state as u8 as f64);
+    sensors.put(slots.dr_time, navigation.dr_time);
+    sensors.put(slots.dr_fix_time, navigation.fix_time);
+    sensors.put(slots.dr_postfix_time, navigation.postfix_time);
+    sensors.put_xy(slots.dr_surface, navigation.dr_surface);
+    sensors.put_xy(slots.initial_error, navigation.initial_error);
+    sensors.put_xy(slots.adjusted_drift, navigation.adjusted_drift);
+    sensors.put(slots.gps_dist_from_dr, navigation.gps_dist_from_dr);
     if let Some(fix) = navigation.last_gps {
-        if slots.gps_lat.is_some() || slots.gps_lon.is_some() {
-            let (lat, lon) = lmc.xy_to_nmea(fix);
-            put(slots.gps_lat, lat);
-            put(slots.gps_lon, lon);
-        }
-        put(slots.gps_x_lmc, fix.x);
-        put(slots.gps_y_lmc, fix.y);
+        sensors.put_nmea(slots.gps_nmea, lmc, fix);
+        sensors.put_xy(slots.gps, fix);
     }
     // 0: a valid fix this cycle; 1: none (the glider's "no fix").
-    put(
+    sensors.put(
         slots.gps_status,
         if navigation.gps_fix.is_some() {
             0.0
@@ -1613,18 +1613,13 @@ fn publish_navigation(
             1.0
         },
     );
-    put(slots.gps_mag_var, mag_var);
+    sensors.put(slots.gps_mag_var, mag_var);
     if let Some(waypoint) = view.waypoint {
-        put(slots.wpt_x_lmc, waypoint.x);
-        put(slots.wpt_y_lmc, waypoint.y);
-        if slots.wpt_lat.is_some() || slots.wpt_lon.is_some() {
-            let (lat, lon) = lmc.xy_to_nmea(waypoint);
-            put(slots.wpt_lat, lat);
-            put(slots.wpt_lon, lon);
-        }
+        sensors.put_xy(slots.waypoint, waypoint);
+        sensors.put_nmea(slots.waypoint_nmea, lmc, waypoint);
     }
-    put(slots.dist_to_wpt, view.dist_to_wpt);
-    put(slots.hit_waypoint, f64::from(u8::from(view.hit_waypoint)));
+    sensors.put(slots.dist_to_wpt, view.dist_to_wpt);
+    sensors.put(slots.hit_waypoint, f64::from(u8::from(view.hit_waypoint)));
 }
 
 fn shelf_profile(mission_set: &mut dyn FnMut(&str) -> Option<f64>) -> TemperatureProfile {

@@ -79,9 +79,7 @@ impl ReplayWorld {
             )));
         }
         let mut notices: Vec<Notice> = script
-            .warnings
-            .iter()
-            .cloned()
+            .warnings()
             .map(Notice::Warning)
             .chain(
                 recording

@@ -4,13 +4,14 @@
 //! and the pc that the live world and the replay share (so neither world imports the
 //! other, and the debugger's `Target` is implemented once, by `world::World`).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use gloc_compiler::{LoadedScript, Storage};
 use gloc_engine::program::{Pc, Program, Reg, Value};
 use gloc_engine::sensors::{SensorId, SensorList};
 use gloc_engine::vm::{CycleEnd, Machine, TrapKind as VmTrapKind};
+use gloc_engine::Diagnostic;
 use gloc_project::settings::Settings;
 use gloc_project::{Overrides, Surface};
 
@@ -90,9 +91,30 @@ pub(crate) struct DebugScript {
     /// The sensors the script loads or stores, in first-use order.
     pub touched: Vec<usize>,
     pub sensor_list: Arc<SensorList>,
+}
+
+impl DebugScript {
     /// The script's warnings (W2302 over the budget, …), one line each, shown at
     /// launch as `gloc check` shows them.
-    pub warnings: Vec<String>,
+    pub fn warnings(&self) -> impl Iterator<Item = String> + '_ {
+        self.loaded
+            .diagnostics
+            .iter()
+            .filter(|diagnostic| !diagnostic.is_error())
+            .map(|diagnostic| self.render(diagnostic))
+    }
+
+    /// `file:line:column: severity[CODE]: message` for a diagnostic of the script.
+    pub fn render(&self, diagnostic: &Diagnostic) -> String {
+        render(&self.path, &self.text, diagnostic)
+    }
+}
+
+/// `file:line:column: severity[CODE]: message`: the headline of the one renderer
+/// (`gloc_engine::render`), as the CLI prints it.
+pub(crate) fn render(path: &Path, text: &str, diagnostic: &Diagnostic) -> String {
+    let display = path.display().to_string();
+    gloc_engine::render::SourceFile::new(&display, text).headline(diagnostic)
 }
 
 /// The script as both worlds run it, fixed for the run and shared by every snapshot:

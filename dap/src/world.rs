@@ -2,14 +2,12 @@
 //! simulator, advanced through the simulator's phases (boundary, script share, rest of
 //! the cycle) one instruction or one cycle remainder at a time.
 
-use std::path::Path;
 use std::sync::Arc;
 
 use gloc_compiler::expression::{scope_of_source_map, ExpressionScope};
 use gloc_compiler::Optimization;
 use gloc_engine::program::Pc;
 use gloc_engine::vm::{CycleEnd, Machine};
-use gloc_engine::Diagnostic;
 use gloc_project::settings::{Origin, Settings};
 use gloc_project::simulation::Warning;
 use gloc_sim::behaviors::EventKind;
@@ -21,7 +19,7 @@ use crate::expr::Number;
 use crate::journey;
 use crate::program::{DebugInfo, Language, SourceLines};
 use crate::replay_world::ReplayWorld;
-use crate::script::{float_text, DebugScript, ScriptState, VariableSlot};
+use crate::script::{float_text, render, DebugScript, ScriptState, VariableSlot};
 pub use crate::script::{resolve, LaunchConfig};
 use crate::target::{Milestone, Named, Notice, Phase, StepEvent, Target};
 
@@ -167,12 +165,6 @@ fn load_debug_script(config: &LaunchConfig, settings: &Settings) -> DebugResult<
                 .collect()
         })
         .unwrap_or_default();
-    let warnings = loaded
-        .diagnostics
-        .iter()
-        .filter(|diagnostic| !diagnostic.is_error())
-        .map(|diagnostic| render(path, &text, diagnostic))
-        .collect();
     Ok(DebugScript {
         path: path.clone(),
         text,
@@ -182,7 +174,6 @@ fn load_debug_script(config: &LaunchConfig, settings: &Settings) -> DebugResult<
         variables,
         touched,
         sensor_list: Arc::new(sensor_list),
-        warnings,
     })
 }
 
@@ -237,19 +228,14 @@ fn launch_sim(
         program: &script.program,
     };
     let prepared = gloc_project::simulation::prepare(&plan, flight).map_err(launch_error)?;
-    let mut notices: Vec<Notice> = script
-        .warnings
-        .iter()
-        .cloned()
-        .map(Notice::Warning)
-        .collect();
+    let mut notices: Vec<Notice> = script.warnings().map(Notice::Warning).collect();
     // The mission against the list and the script (S0106, S0107, S012x), as `gloc run`
     // shows them, one line each.
     notices.extend(prepared.warnings.iter().map(|warning| {
         Notice::Warning(match warning {
             Warning::Simulator(line) => line.clone(),
             Warning::Mission(entry) => mission.render_one(entry),
-            Warning::Script(diagnostic) => render(&script.path, &script.text, diagnostic),
+            Warning::Script(diagnostic) => script.render(diagnostic),
         })
     }));
     let mut sim = prepared.simulation;
@@ -275,13 +261,6 @@ fn gloc_line_text(lines: &[&str], line: u32) -> String {
         .copied()
         .unwrap_or("");
     text.split('#').next().unwrap_or("").trim().to_string()
-}
-
-/// `file:line:column: severity[CODE]: message`: the headline of the one renderer
-/// (`gloc_engine::render`), as the CLI prints it.
-pub(crate) fn render(path: &Path, text: &str, diagnostic: &Diagnostic) -> String {
-    let display = path.display().to_string();
-    gloc_engine::render::SourceFile::new(&display, text).headline(diagnostic)
 }
 
 impl SimWorld {

@@ -1001,16 +1001,20 @@ mod tests {
 
     #[test]
     fn durations() {
-        assert_eq!(parse_duration("90m").expect("ok"), 5400.0);
-        assert_eq!(parse_duration("6h").expect("ok"), 21600.0);
-        assert_eq!(parse_duration("30d").expect("ok"), 2_592_000.0);
-        assert_eq!(parse_duration("1h30m").expect("ok"), 5400.0);
-        assert_eq!(parse_duration("0.5h").expect("ok"), 1800.0);
-        assert!(parse_duration("6").is_err());
-        assert!(parse_duration("6x").is_err());
-        assert!(parse_duration("h").is_err());
-        assert!(parse_duration("0s").is_err());
-        assert!(parse_duration("").is_err());
+        // Worked by hand: 90 × 60, 6 × 3600, 30 × 86400, 3600 + 30 × 60, 3600 / 2.
+        for (text, seconds) in [
+            ("90m", 5400.0),
+            ("6h", 21600.0),
+            ("30d", 2_592_000.0),
+            ("1h30m", 5400.0),
+            ("0.5h", 1800.0),
+        ] {
+            assert_eq!(parse_duration(text).expect(text), seconds, "{text}");
+        }
+        // No unit, an unknown unit, no number, a zero length, nothing.
+        for bad in ["6", "6x", "h", "0s", ""] {
+            assert!(parse_duration(bad).is_err(), "`{bad}` was taken");
+        }
     }
 
     #[test]

@@ -488,6 +488,17 @@ impl Backend {
         .unwrap_or(None)
     }
 
+    /// The answer to a request about one document, as [`Self::with_document`] gives
+    /// it: a request never fails (an unknown or configuration document, or a bug in
+    /// one answer, is no answer).
+    fn answer<T>(
+        &self,
+        uri: &Uri,
+        answer: impl FnOnce(&Document, &Analysis, &Context) -> Option<T>,
+    ) -> Result<Option<T>> {
+        Ok(self.with_document(uri, answer))
+    }
+
     /// Gives `tokens` a new result id and keeps them for the next delta request.
     fn remember_tokens(&self, uri: Uri, mut tokens: SemanticTokens) -> SemanticTokens {
         let mut state = lock(&self.state);
@@ -845,7 +856,7 @@ impl LanguageServer for Backend {
                 .unwrap_or(gloc_ide::completion::DEFAULT_LIMIT);
             (state.client_features, limit)
         };
-        Ok(self.with_document(
+        self.answer(
             &position.text_document.uri,
             |document, analysis, context| {
                 features::completion(
@@ -857,7 +868,7 @@ impl LanguageServer for Backend {
                     limit,
                 )
             },
-        ))
+        )
     }
 
     async fn completion_resolve(&self, item: CompletionItem) -> Result<CompletionItem> {
@@ -878,21 +889,19 @@ impl LanguageServer for Backend {
     async fn hover(&self, params: HoverParams) -> Result<Option<Hover>> {
         let position = params.text_document_position_params;
         let client = lock(&self.state).client_features;
-        Ok(self.with_document(
+        self.answer(
             &position.text_document.uri,
             |document, analysis, context| {
                 features::hover(document, analysis, context, position.position, client)
             },
-        ))
+        )
     }
 
     async fn signature_help(&self, params: SignatureHelpParams) -> Result<Option<SignatureHelp>> {
         let position = params.text_document_position_params;
-        Ok(
-            self.with_document(&position.text_document.uri, |document, _, _| {
-                features::signature_help(document, position.position)
-            }),
-        )
+        self.answer(&position.text_document.uri, |document, _, _| {
+            features::signature_help(document, position.position)
+        })
     }
 
     async fn goto_definition(
@@ -900,22 +909,20 @@ impl LanguageServer for Backend {
         params: GotoDefinitionParams,
     ) -> Result<Option<GotoDefinitionResponse>> {
         let position = params.text_document_position_params;
-        Ok(self.with_document(
+        self.answer(
             &position.text_document.uri,
             |document, analysis, context| {
                 features::definition(document, analysis, context, position.position)
             },
-        ))
+        )
     }
 
     async fn references(&self, params: ReferenceParams) -> Result<Option<Vec<Location>>> {
         let position = params.text_document_position;
         let include_declaration = params.context.include_declaration;
-        Ok(
-            self.with_document(&position.text_document.uri, |document, analysis, _| {
-                features::references(document, analysis, position.position, include_declaration)
-            }),
-        )
+        self.answer(&position.text_document.uri, |document, analysis, _| {
+            features::references(document, analysis, position.position, include_declaration)
+        })
     }
 
     async fn document_highlight(
@@ -923,22 +930,18 @@ impl LanguageServer for Backend {
         params: DocumentHighlightParams,
     ) -> Result<Option<Vec<DocumentHighlight>>> {
         let position = params.text_document_position_params;
-        Ok(
-            self.with_document(&position.text_document.uri, |document, analysis, _| {
-                features::highlights(document, analysis, position.position)
-            }),
-        )
+        self.answer(&position.text_document.uri, |document, analysis, _| {
+            features::highlights(document, analysis, position.position)
+        })
     }
 
     async fn prepare_rename(
         &self,
         params: TextDocumentPositionParams,
     ) -> Result<Option<PrepareRenameResponse>> {
-        Ok(
-            self.with_document(&params.text_document.uri, |document, analysis, _| {
-                features::prepare_rename(document, analysis, params.position)
-            }),
-        )
+        self.answer(&params.text_document.uri, |document, analysis, _| {
+            features::prepare_rename(document, analysis, params.position)
+        })
     }
 
     async fn rename(&self, params: RenameParams) -> Result<Option<WorkspaceEdit>> {
@@ -967,19 +970,15 @@ impl LanguageServer for Backend {
         params: DocumentSymbolParams,
     ) -> Result<Option<DocumentSymbolResponse>> {
         let client = lock(&self.state).client_features;
-        Ok(
-            self.with_document(&params.text_document.uri, |document, analysis, _| {
-                Some(features::document_symbols(document, analysis, client))
-            }),
-        )
+        self.answer(&params.text_document.uri, |document, analysis, _| {
+            Some(features::document_symbols(document, analysis, client))
+        })
     }
 
     async fn folding_range(&self, params: FoldingRangeParams) -> Result<Option<Vec<FoldingRange>>> {
-        Ok(
-            self.with_document(&params.text_document.uri, |document, analysis, _| {
-                Some(features::folding_ranges(document, analysis))
-            }),
-        )
+        self.answer(&params.text_document.uri, |document, analysis, _| {
+            Some(features::folding_ranges(document, analysis))
+        })
     }
 
     async fn semantic_tokens_full(
@@ -1023,13 +1022,11 @@ impl LanguageServer for Backend {
         &self,
         params: SemanticTokensRangeParams,
     ) -> Result<Option<SemanticTokensRangeResult>> {
-        Ok(
-            self.with_document(&params.text_document.uri, |document, analysis, context| {
-                Some(SemanticTokensRangeResult::Tokens(
-                    features::semantic_tokens_range(document, analysis, context, params.range),
-                ))
-            }),
-        )
+        self.answer(&params.text_document.uri, |document, analysis, context| {
+            Some(SemanticTokensRangeResult::Tokens(
+                features::semantic_tokens_range(document, analysis, context, params.range),
+            ))
+        })
     }
 
     async fn diagnostic(
@@ -1047,26 +1044,22 @@ impl LanguageServer for Backend {
 
     async fn code_lens(&self, params: CodeLensParams) -> Result<Option<Vec<CodeLens>>> {
         let client = lock(&self.state).client_features;
-        Ok(
-            self.with_document(&params.text_document.uri, |document, analysis, _| {
-                Some(features::code_lenses(document, analysis, client))
-            }),
-        )
+        self.answer(&params.text_document.uri, |document, analysis, _| {
+            Some(features::code_lenses(document, analysis, client))
+        })
     }
 
     async fn selection_range(
         &self,
         params: SelectionRangeParams,
     ) -> Result<Option<Vec<SelectionRange>>> {
-        Ok(
-            self.with_document(&params.text_document.uri, |document, analysis, _| {
-                Some(features::selection_ranges(
-                    document,
-                    analysis,
-                    &params.positions,
-                ))
-            }),
-        )
+        self.answer(&params.text_document.uri, |document, analysis, _| {
+            Some(features::selection_ranges(
+                document,
+                analysis,
+                &params.positions,
+            ))
+        })
     }
 
     async fn document_link(&self, params: DocumentLinkParams) -> Result<Option<Vec<DocumentLink>>> {
@@ -1082,11 +1075,9 @@ impl LanguageServer for Backend {
         &self,
         params: DocumentRangeFormattingParams,
     ) -> Result<Option<Vec<TextEdit>>> {
-        Ok(
-            self.with_document(&params.text_document.uri, |document, _, _| {
-                features::range_formatting(document, params.range)
-            }),
-        )
+        self.answer(&params.text_document.uri, |document, _, _| {
+            features::range_formatting(document, params.range)
+        })
     }
 
     async fn symbol(
@@ -1098,33 +1089,27 @@ impl LanguageServer for Backend {
     }
 
     async fn inlay_hint(&self, params: InlayHintParams) -> Result<Option<Vec<InlayHint>>> {
-        Ok(
-            self.with_document(&params.text_document.uri, |document, analysis, _| {
-                Some(features::inlay_hints(document, analysis, params.range))
-            }),
-        )
+        self.answer(&params.text_document.uri, |document, analysis, _| {
+            Some(features::inlay_hints(document, analysis, params.range))
+        })
     }
 
     async fn code_action(&self, params: CodeActionParams) -> Result<Option<CodeActionResponse>> {
         let client = lock(&self.state).client_features;
-        Ok(
-            self.with_document(&params.text_document.uri, |document, analysis, _| {
-                Some(features::code_actions(
-                    document,
-                    analysis,
-                    params.range,
-                    client,
-                ))
-            }),
-        )
+        self.answer(&params.text_document.uri, |document, analysis, _| {
+            Some(features::code_actions(
+                document,
+                analysis,
+                params.range,
+                client,
+            ))
+        })
     }
 
     async fn formatting(&self, params: DocumentFormattingParams) -> Result<Option<Vec<TextEdit>>> {
-        Ok(
-            self.with_document(&params.text_document.uri, |document, _, _| {
-                features::formatting(document)
-            }),
-        )
+        self.answer(&params.text_document.uri, |document, _, _| {
+            features::formatting(document)
+        })
     }
 
     async fn execute_command(&self, params: ExecuteCommandParams) -> Result<Option<LSPAny>> {

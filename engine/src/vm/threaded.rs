@@ -449,6 +449,25 @@ fn set(regs: Registers, register: Reg, value: Value) {
     unsafe { *regs.0.add(register.0 as usize) = value }
 }
 
+/// What GBASIC's index check (`RangeBr`) writes, in the order of the `loadi;
+/// cmplt; loadi; cmpge; or` it fuses (`c_lo` may be `t_lo`, `c_hi` may be
+/// `t_hi`): each bound, each comparison's truth, and whether the index is
+/// outside, which it gives.
+#[inline(always)]
+fn range_outcome(
+    regs: Registers,
+    [t_lo, c_lo, t_hi, c_hi, d]: [Reg; 5],
+    (lo, hi): (Value, Value),
+    (below, above): (bool, bool),
+) -> bool {
+    set(regs, t_lo, lo);
+    set(regs, c_lo, truth(below));
+    set(regs, t_hi, hi);
+    set(regs, c_hi, truth(above));
+    set(regs, d, truth(below | above));
+    below | above
+}
+
 /// Reads a register whose type the loader proved to be `T` ([`INT`] or
 /// [`FLOAT`]; [`ANY`]: not known): the optimiser then sees the variant and
 /// drops the tag tests. Both arms read the same 8 bytes, so a wrong `T` could
@@ -495,13 +514,14 @@ fn stop(at: *const Slot, fuel: u64, context: &mut Context<'_>, why: Stop) {
 /// The shape every handler shares: the one signature, never inlined (a fast
 /// path reaches its general handler by a tail call), the op's fields bound
 /// (the handler is only ever paired with its variant), `$width` units of fuel
-/// charged, then `$then`.
+/// charged, then `$body` and the way on that `$way` names ([`go_on!`]).
 macro_rules! handler_fn {
     (
+        $way:ident
         $(#[$doc:meta])*
         fn $name:ident $(<$(const $generic:ident: $gty:ty),*>)?
         ($variant:ident { $($field:ident),* }, width $width:expr)
-        |$ip:ident, $regs:ident, $fuel:ident, $context:ident| $then:block
+        |$ip:ident, $regs:ident, $fuel:ident, $context:ident| $body:block
     ) => {
         $(#[$doc])*
         #[inline(never)]
@@ -519,7 +539,7 @@ macro_rules! handler_fn {
                 unsafe { unreachable_unchecked() }
             };
             let $fuel = $fuel - $width;
-            $then
+            go_on!($way, $ip, $regs, $fuel, $context, $body)
         }
     };
 }
@@ -528,21 +548,41 @@ macro_rules! handler_fn {
 /// after [`stop`]), then calls that slot's handler in tail position, unless
 /// the fuel no longer covers the widest op.
 macro_rules! handler {
-    (
-        $(#[$doc:meta])*
-        fn $name:ident $(<$(const $generic:ident: $gty:ty),*>)?
-        ($variant:ident { $($field:ident),* }, width $width:expr)
-        |$ip:ident, $regs:ident, $fuel:ident, $context:ident| $body:block
-    ) => {
-        handler_fn! {
-            $(#[$doc])*
-            fn $name $(<$(const $generic: $gty),*>)? ($variant { $($field),* }, width $width)
-            |$ip, $regs, $fuel, $context| {
-                let next: *const Slot = $body;
-                dispatch!(next, $regs, $fuel, $context)
-            }
-        }
+    ($($handler:tt)*) => {
+        handler_fn! { next $($handler)* }
     };
+}
+
+/// Defines a handler that branches: like [`handler!`], but `$body` evaluates to
+/// whether the branch is taken, and each way has its own tail call. The
+/// condition is then a conditional branch that the predictor sees before the
+/// indirect jump, and each indirect jump has its own history.
+macro_rules! branch_handler {
+    ($($handler:tt)*) => {
+        handler_fn! { branch $($handler)* }
+    };
+}
+
+/// How a handler goes on after its `$body`: `next`, at the slot the body gives;
+/// `branch`, at the op's first target when the body gives `true`, else at its
+/// second.
+macro_rules! go_on {
+    (next, $ip:ident, $regs:ident, $fuel:ident, $context:ident, $body:block) => {{
+        let next: *const Slot = $body;
+        dispatch!(next, $regs, $fuel, $context)
+    }};
+    (branch, $ip:ident, $regs:ident, $fuel:ident, $context:ident, $body:block) => {{
+        let taken: bool = $body;
+        // SAFETY: `$ip` is this handler's own slot (see `handler_fn`).
+        let jumps = unsafe { (*$ip).jumps };
+        // `Slot::new` made the offsets from the op's targets, which `Code::new`
+        // clamped into the code.
+        if taken {
+            dispatch!($ip.wrapping_byte_offset(jumps[0]), $regs, $fuel, $context)
+        } else {
+            dispatch!($ip.wrapping_byte_offset(jumps[1]), $regs, $fuel, $context)
+        }
+    }};
 }
 
 /// Goes on at `next`: stops when the fuel no longer covers the widest op,
@@ -558,36 +598,6 @@ macro_rules! dispatch {
         // ends with `halt`), a target `Code::new` clamped, or a checked indirect target.
         return unsafe { ((*next).handler)(next, $regs, $fuel, $context) };
     }};
-}
-
-/// Defines a handler that branches: like [`handler!`], but `$body` evaluates to
-/// whether the branch is taken, and each way has its own tail call. The
-/// condition is then a conditional branch that the predictor sees before the
-/// indirect jump, and each indirect jump has its own history.
-macro_rules! branch_handler {
-    (
-        $(#[$doc:meta])*
-        fn $name:ident $(<$(const $generic:ident: $gty:ty),*>)?
-        ($variant:ident { $($field:ident),* }, width $width:expr)
-        |$ip:ident, $regs:ident, $fuel:ident, $context:ident| $body:block
-    ) => {
-        handler_fn! {
-            $(#[$doc])*
-            fn $name $(<$(const $generic: $gty),*>)? ($variant { $($field),* }, width $width)
-            |$ip, $regs, $fuel, $context| {
-                let taken: bool = $body;
-                // SAFETY: `$ip` is this handler's own slot (see `handler_fn`).
-                let jumps = unsafe { (*$ip).jumps };
-                // `Slot::new` made the offsets from the op's targets, which `Code::new`
-                // clamped into the code.
-                if taken {
-                    dispatch!($ip.wrapping_byte_offset(jumps[0]), $regs, $fuel, $context)
-                } else {
-                    dispatch!($ip.wrapping_byte_offset(jumps[1]), $regs, $fuel, $context)
-                }
-            }
-        }
-    };
 }
 
 /// Stops the handlers at the current op with `why` (from inside a handler body).
@@ -702,53 +712,6 @@ with_constant! {
     op_mul_k, MulK, mul;
     op_div_k, DivK, div;
     op_mod_k, ModK, rem;
-}
-
-/// Integer fast paths of `div` and `mod` and of their fused `loadi K,t; div/mod
-/// a,t,dst`: no call (a float remainder calls `fmod`, a zero divisor traps), so the
-/// handler saves no registers; any other case goes on in the general handler, by a
-/// tail call with the fuel as it was. `fuse` never fuses a zero divisor.
-macro_rules! integer_division {
-    ($(
-        $name:ident, $variant:ident, $general:ident;
-        $name_k:ident, $variant_k:ident, $general_k:ident;
-        $f:ident;
-    )*) => {$(
-        handler! {
-            fn $name<const T: TypeSet>($variant { a, b, dst }, width 1) |ip, regs, fuel, context| {
-                match (read::<T>(regs, a), read::<T>(regs, b)) {
-                    (Value::Int(x), Value::Int(y)) if y != 0 => set(regs, dst, Value::Int(x.$f(y))),
-                    _ => fall_back!($general::<ANY>(ip, regs, fuel + 1, context)),
-                }
-                ip.wrapping_add(1)
-            }
-        }
-
-        handler! {
-            fn $name_k<const T: TypeSet>($variant_k { a, k, t, dst }, width 2) |ip, regs, fuel, context| {
-                let Value::Int(divisor) = k else {
-                    // SAFETY: `Slot::new` chose this handler for an integer constant.
-                    unsafe { unreachable_unchecked() }
-                };
-                if divisor == 0 {
-                    // SAFETY: `fuse` leaves a division by the constant 0 plain.
-                    unsafe { unreachable_unchecked() }
-                }
-                let x = read::<T>(regs, a);
-                set(regs, t, k);
-                match x {
-                    Value::Int(x) => set(regs, dst, Value::Int(x.$f(divisor))),
-                    Value::Float(_) => fall_back!($general_k::<true, ANY>(ip, regs, fuel + 2, context)),
-                }
-                ip.wrapping_add(2)
-            }
-        }
-    )*};
-}
-
-integer_division! {
-    op_div_int, Div, op_div; op_div_k_int, DivK, op_div_k; wrapping_div;
-    op_mod_int, Mod, op_mod; op_mod_k_int, ModK, op_mod_k; wrapping_rem;
 }
 
 /// Calls the host out of line, so that the handler's only indirect call is
@@ -928,12 +891,7 @@ branch_handler! {
         let index = get(regs, x);
         let below = compare(Cmp::Lt, index, lo);
         let above = compare(Cmp::Ge, index, hi);
-        set(regs, t_lo, lo);
-        set(regs, c_lo, truth(below));
-        set(regs, t_hi, hi);
-        set(regs, c_hi, truth(above));
-        set(regs, d, truth(below | above));
-        below | above
+        range_outcome(regs, [t_lo, c_lo, t_hi, c_hi, d], (lo, hi), (below, above))
     }
 }
 
@@ -942,19 +900,24 @@ branch_handler! {
 /// computes with the tags known, so the optimiser drops the float code and its
 /// registers; otherwise it goes on in the general handler by a tail call, with
 /// the fuel as it was and nothing written yet. Operands read after a write of
-/// the same op are integers too: the write was of an integer sum.
+/// the same op are integers too: the write was of an integer sum. A division
+/// (`divides true`: `div`, `mod`) leaves a zero divisor to the general handler,
+/// which traps; `fuse` never fuses a constant zero divisor. None of them calls
+/// out (a float remainder calls `fmod`), so the handlers save no registers.
 macro_rules! integer_arithmetic {
     ($(
         $name:ident, $variant:ident, $general:ident;
         $name_k:ident, $variant_k:ident, $general_k:ident;
-        $f:ident;
+        $f:ident, divides $divides:literal;
     )*) => {$(
         handler! {
             fn $name<const T: TypeSet>($variant { a, b, dst }, width 1) |ip, regs, fuel, context| {
-                let (Value::Int(x), Value::Int(y)) = (read::<T>(regs, a), read::<T>(regs, b)) else {
-                    fall_back!($general::<ANY>(ip, regs, fuel + 1, context));
-                };
-                set(regs, dst, Value::Int(x.$f(y)));
+                match (read::<T>(regs, a), read::<T>(regs, b)) {
+                    (Value::Int(x), Value::Int(y)) if !($divides && y == 0) => {
+                        set(regs, dst, Value::Int(x.$f(y)))
+                    }
+                    _ => fall_back!($general::<ANY>(ip, regs, fuel + 1, context)),
+                }
                 ip.wrapping_add(1)
             }
         }
@@ -966,6 +929,10 @@ macro_rules! integer_arithmetic {
                     // SAFETY: `Slot::new` chose this handler for an integer constant.
                     unsafe { unreachable_unchecked() }
                 };
+                if $divides && y == 0 {
+                    // SAFETY: `fuse` leaves a division by the constant 0 plain.
+                    unsafe { unreachable_unchecked() }
+                }
                 let Value::Int(x) = read::<T>(regs, a) else {
                     fall_back!($general_k::<true, ANY>(ip, regs, fuel + 2, context));
                 };
@@ -979,9 +946,11 @@ macro_rules! integer_arithmetic {
 
 // Each operation's plain and fused fast paths, with the integer operation they make.
 integer_arithmetic! {
-    op_add_int, Add, op_add; op_add_k_int, AddK, op_add_k; wrapping_add;
-    op_sub_int, Sub, op_sub; op_sub_k_int, SubK, op_sub_k; wrapping_sub;
-    op_mul_int, Mul, op_mul; op_mul_k_int, MulK, op_mul_k; wrapping_mul;
+    op_add_int, Add, op_add; op_add_k_int, AddK, op_add_k; wrapping_add, divides false;
+    op_sub_int, Sub, op_sub; op_sub_k_int, SubK, op_sub_k; wrapping_sub, divides false;
+    op_mul_int, Mul, op_mul; op_mul_k_int, MulK, op_mul_k; wrapping_mul, divides false;
+    op_div_int, Div, op_div; op_div_k_int, DivK, op_div_k; wrapping_div, divides true;
+    op_mod_int, Mod, op_mod; op_mod_k_int, ModK, op_mod_k; wrapping_rem, divides true;
 }
 
 /// Integer fast paths of [`add_jump_compare_and_branch`].
@@ -1088,12 +1057,7 @@ branch_handler! {
             fall_back!(op_range_br::<true>(ip, regs, fuel + 6, context));
         };
         let (below, above) = (index < low, index >= high);
-        set(regs, t_lo, lo);
-        set(regs, c_lo, truth(below));
-        set(regs, t_hi, hi);
-        set(regs, c_hi, truth(above));
-        set(regs, d, truth(below | above));
-        below | above
+        range_outcome(regs, [t_lo, c_lo, t_hi, c_hi, d], (lo, hi), (below, above))
     }
 }
 

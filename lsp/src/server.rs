@@ -12,8 +12,9 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 
+use gloc_engine::codes::settings::{BAD_EDITOR_SETTING, SENSOR_LIST_UNLOADABLE};
 use gloc_engine::sensors::{SensorList, SensorOrder};
-use gloc_engine::Diagnostic;
+use gloc_engine::{Diagnostic, Span};
 use gloc_project::config::{Config, ConfigError};
 use gloc_project::settings::{config_path_for, read_config, Settings as ProjectSettings, Sourced};
 use gloc_project::{Overrides, Surface};
@@ -177,38 +178,34 @@ impl State {
             ..Overrides::new(Surface::Editor)
         };
         let mut problems = Vec::new();
-        let settings = match ProjectSettings::from_config(config.clone(), overrides) {
-            Ok(settings) => settings,
-            Err(error) => {
+        let settings =
+            ProjectSettings::from_config(config.clone(), overrides).unwrap_or_else(|error| {
                 problems.push(
                     Diagnostic::error(
-                        gloc_engine::codes::settings::BAD_EDITOR_SETTING,
-                        gloc_engine::Span::default(),
+                        BAD_EDITOR_SETTING,
+                        Span::default(),
                         format!("{error}; the editor's gloc settings are not used"),
                     )
                     .with_help("fix the setting in the editor's gloc settings"),
                 );
                 ProjectSettings::from_config(config, Overrides::new(Surface::Editor))
                     .unwrap_or_default()
-            }
-        };
+            });
         let list_folders = settings.list_folders(path.as_deref());
         let sensors = match &settings.masterdata {
             None => self.embedded(),
-            Some(masterdata) => match self.sensor_list(masterdata, settings.sensor_order) {
-                Ok(list) => list,
-                Err(message) => {
+            Some(masterdata) => self
+                .sensor_list(masterdata, settings.sensor_order)
+                .unwrap_or_else(|message| {
+                    let unloadable = format!("{message}; using the embedded 2008 list");
                     problems.push(
-                        Diagnostic::error(
-                            gloc_engine::codes::settings::SENSOR_LIST_UNLOADABLE,
-                            gloc_engine::Span::default(),
-                            format!("{message}; using the embedded 2008 list"),
-                        )
-                        .with_help("fix `masterdata` in gloc.toml or the editor's gloc settings"),
+                        Diagnostic::error(SENSOR_LIST_UNLOADABLE, Span::default(), unloadable)
+                            .with_help(
+                                "fix `masterdata` in gloc.toml or the editor's gloc settings",
+                            ),
                     );
                     self.embedded()
-                }
-            },
+                }),
         };
         (
             Context {
@@ -497,6 +494,17 @@ impl Backend {
         answer: impl FnOnce(&Document, &Analysis, &Context) -> Option<T>,
     ) -> Result<Option<T>> {
         Ok(self.with_document(uri, answer))
+    }
+
+    /// [`Self::answer`] for a request at a position in a document.
+    fn answer_at<T>(
+        &self,
+        at: TextDocumentPositionParams,
+        answer: impl FnOnce(&Document, &Analysis, &Context, Position) -> Option<T>,
+    ) -> Result<Option<T>> {
+        self.answer(&at.text_document.uri, |document, analysis, context| {
+            answer(document, analysis, context, at.position)
+        })
     }
 
     /// Gives `tokens` a new result id and keeps them for the next delta request.
@@ -856,19 +864,9 @@ impl LanguageServer for Backend {
                 .unwrap_or(gloc_ide::completion::DEFAULT_LIMIT);
             (state.client_features, limit)
         };
-        self.answer(
-            &position.text_document.uri,
-            |document, analysis, context| {
-                features::completion(
-                    document,
-                    analysis,
-                    context,
-                    position.position,
-                    client,
-                    limit,
-                )
-            },
-        )
+        self.answer_at(position, |document, analysis, context, at| {
+            features::completion(document, analysis, context, at, client, limit)
+        })
     }
 
     async fn completion_resolve(&self, item: CompletionItem) -> Result<CompletionItem> {
@@ -889,58 +887,51 @@ impl LanguageServer for Backend {
     async fn hover(&self, params: HoverParams) -> Result<Option<Hover>> {
         let position = params.text_document_position_params;
         let client = lock(&self.state).client_features;
-        self.answer(
-            &position.text_document.uri,
-            |document, analysis, context| {
-                features::hover(document, analysis, context, position.position, client)
-            },
-        )
+        self.answer_at(position, |document, analysis, context, at| {
+            features::hover(document, analysis, context, at, client)
+        })
     }
 
     async fn signature_help(&self, params: SignatureHelpParams) -> Result<Option<SignatureHelp>> {
-        let position = params.text_document_position_params;
-        self.answer(&position.text_document.uri, |document, _, _| {
-            features::signature_help(document, position.position)
-        })
+        self.answer_at(
+            params.text_document_position_params,
+            |document, _, _, at| features::signature_help(document, at),
+        )
     }
 
     async fn goto_definition(
         &self,
         params: GotoDefinitionParams,
     ) -> Result<Option<GotoDefinitionResponse>> {
-        let position = params.text_document_position_params;
-        self.answer(
-            &position.text_document.uri,
-            |document, analysis, context| {
-                features::definition(document, analysis, context, position.position)
-            },
-        )
+        self.answer_at(params.text_document_position_params, features::definition)
     }
 
     async fn references(&self, params: ReferenceParams) -> Result<Option<Vec<Location>>> {
-        let position = params.text_document_position;
         let include_declaration = params.context.include_declaration;
-        self.answer(&position.text_document.uri, |document, analysis, _| {
-            features::references(document, analysis, position.position, include_declaration)
-        })
+        self.answer_at(
+            params.text_document_position,
+            |document, analysis, _, at| {
+                features::references(document, analysis, at, include_declaration)
+            },
+        )
     }
 
     async fn document_highlight(
         &self,
         params: DocumentHighlightParams,
     ) -> Result<Option<Vec<DocumentHighlight>>> {
-        let position = params.text_document_position_params;
-        self.answer(&position.text_document.uri, |document, analysis, _| {
-            features::highlights(document, analysis, position.position)
-        })
+        self.answer_at(
+            params.text_document_position_params,
+            |document, analysis, _, at| features::highlights(document, analysis, at),
+        )
     }
 
     async fn prepare_rename(
         &self,
         params: TextDocumentPositionParams,
     ) -> Result<Option<PrepareRenameResponse>> {
-        self.answer(&params.text_document.uri, |document, analysis, _| {
-            features::prepare_rename(document, analysis, params.position)
+        self.answer_at(params, |document, analysis, _, at| {
+            features::prepare_rename(document, analysis, at)
         })
     }
 

@@ -9,10 +9,6 @@ use crate::gloc_target::{run_with, Event, Recording};
 const CYCLES: u32 = 16;
 const BUDGET: u64 = 10_000;
 
-pub fn check_gbasic_bytes(data: &[u8]) {
-    crate::when_text(data, check_gbasic);
-}
-
 pub fn check_gbasic(text: &str) {
     let sensors = crate::embedded_sensors();
     let load = |optimize| {
@@ -81,4 +77,3 @@ fn comparable(first: &mut Recording, second: &mut Recording) {
         }
     }
 }
-

@@ -14,10 +14,6 @@ use gloc_engine::{Diagnostic, Severity};
 const CYCLES: u32 = 32;
 const BUDGET: u64 = 2_000;
 
-pub fn check_gloc_bytes(data: &[u8]) {
-    crate::when_text(data, check_gloc);
-}
-
 pub fn check_gloc(text: &str) {
     let sensors = crate::embedded_sensors();
     let parsed = gloc::parse(text);
@@ -65,7 +61,6 @@ pub fn check_gloc(text: &str) {
         _ => panic!("the round trip changed whether the file checks"),
     }
 }
-
 
 fn is_error(diagnostic: &Diagnostic) -> bool {
     diagnostic.severity == Severity::Error

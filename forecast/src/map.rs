@@ -6,8 +6,7 @@
 
 use std::path::Path;
 
-use gloc_sim::plot::PlotFormat;
-use plotters::coord::types::RangedCoordf64;
+use gloc_sim::plot::{bounds, map_chart, MapBox, MapChart, PlotFormat};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -73,17 +72,9 @@ fn extent(forecast: &Forecast, fixes: &[Fix]) -> Vec<(f64, f64)> {
     points
 }
 
-/// The map's frame around `points` (lat, lon): equal metric scales, axes in
-/// degrees; also the visible window (centre lat, lon; half spans).
-type Frame<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
-
-/// A frame and its window, or the backend's error.
-type Framed<'a, DB> =
-    Result<(Frame<'a, DB>, [f64; 4]), DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;
-
 /// The logged GPS fixes as grey dots: where the glider has been.
 fn draw_fixes<DB: DrawingBackend>(
-    chart: &mut Frame<'_, DB>,
+    chart: &mut MapChart<'_, DB>,
     fixes: &[Fix],
 ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
     let grey = RGBColor(120, 120, 120);
@@ -94,46 +85,28 @@ fn draw_fixes<DB: DrawingBackend>(
     Ok(())
 }
 
+/// Room below the chart for the legend (px).
+const LEGEND: u32 = 28;
+
+/// The map's chart around `points` (lat, lon): longitude and latitude in
+/// degrees at equal metric scales ([`map_chart`]'s rule), a grid every few
+/// hundredths of a degree.
 fn frame<'a, DB: DrawingBackend>(
     root: &'a DrawingArea<DB, Shift>,
     points: &[(f64, f64)],
     title: String,
-) -> Framed<'a, DB> {
+) -> Result<MapChart<'a, DB>, DrawingAreaErrorKind<DB::ErrorType>> {
     root.fill(&WHITE)?;
-    let mut low = (f64::INFINITY, f64::INFINITY);
-    let mut high = (f64::NEG_INFINITY, f64::NEG_INFINITY);
-    for &(lat, lon) in points
-        .iter()
-        .filter(|(a, b)| a.is_finite() && b.is_finite())
-    {
-        low = (low.0.min(lat), low.1.min(lon));
-        high = (high.0.max(lat), high.1.max(lon));
-    }
-    if !low.0.is_finite() {
-        (low, high) = ((0.0, 0.0), (0.0, 0.0));
-    }
-    let ((lat0, lon0), (lat1, lon1)) = (low, high);
-    // Equal metric scales: a degree of longitude is cos(latitude) of one of latitude.
-    let middle = (lat0 + lat1) / 2.0;
-    let squeeze = middle.to_radians().cos().max(0.05);
-    let plot_w = f64::from(WIDTH - 90 - 30);
-    let plot_h = f64::from(HEIGHT - 60 - 80);
-    let span_lat = ((lat1 - lat0) * 1.15).max(0.01);
-    let span_lon = ((lon1 - lon0) * 1.15).max(0.01);
-    let per_px = (span_lat / plot_h).max(span_lon * squeeze / plot_w);
-    let half_lat = per_px * plot_h / 2.0;
-    let half_lon = per_px * plot_w / 2.0 / squeeze;
-    let (clat, clon) = (middle, (lon0 + lon1) / 2.0);
-    let mut chart = ChartBuilder::on(root)
-        .caption(title, ("sans-serif", 20))
-        .margin(14)
-        .margin_bottom(44)
-        .x_label_area_size(45)
-        .y_label_area_size(75)
-        .build_cartesian_2d(
-            (clon - half_lon)..(clon + half_lon),
-            (clat - half_lat)..(clat + half_lat),
-        )?;
+    let (low, high) = bounds(points.iter().map(|&(lat, lon)| (lon, lat)));
+    // A degree of longitude is cos(latitude) of one of latitude.
+    let middle = (low.1 + high.1) / 2.0;
+    let map = MapBox {
+        low,
+        high,
+        x_unit: middle.to_radians().cos().max(0.05),
+        min_span: 0.01,
+    };
+    let mut chart = map_chart(root, (&title, 20), LEGEND, map)?;
     chart
         .configure_mesh()
         .x_desc("longitude (°E)")
@@ -142,7 +115,7 @@ fn frame<'a, DB: DrawingBackend>(
         .y_label_formatter(&|v| format!("{v:.2}"))
         .light_line_style(RGBColor(238, 238, 238))
         .draw()?;
-    Ok((chart, [clat, clon, half_lat, half_lon]))
+    Ok(chart)
 }
 
 fn draw<DB: DrawingBackend>(
@@ -156,8 +129,7 @@ fn draw<DB: DrawingBackend>(
         iso_time(forecast.start.time),
         forecast.hours
     );
-    let (mut chart, [clat, clon, half_lat, half_lon]) =
-        frame(root, &extent(forecast, fixes), title)?;
+    let mut chart = frame(root, &extent(forecast, fixes), title)?;
     let blue = RGBColor(40, 110, 220);
     if let Some(ensemble) = &forecast.ensemble {
         for region in &ensemble.regions {
@@ -222,8 +194,7 @@ fn draw<DB: DrawingBackend>(
         .waypoint
         .map(|(lat, lon)| crate::fly::degrees(lat, lon))
     {
-        let inside = (wlat - clat).abs() < half_lat && (wlon - clon).abs() < half_lon;
-        if inside {
+        if chart.x_range().contains(&wlon) && chart.y_range().contains(&wlat) {
             chart.draw_series(std::iter::once(Cross::new(
                 (wlon, wlat),
                 9,
@@ -272,7 +243,7 @@ fn draw_hindcast<DB: DrawingBackend>(
         points.extend(result.null_track.iter().copied());
     }
     let title = format!("gloc hindcast: {} segment(s) flown again", segments.len());
-    let (mut chart, _) = frame(root, &points, title)?;
+    let mut chart = frame(root, &points, title)?;
     draw_fixes(&mut chart, fixes)?;
     let red = RGBColor(200, 30, 30);
     let orange = RGBColor(235, 140, 20);

@@ -10,8 +10,11 @@
 //! When the glider moved horizontally, a map panel closes the plot: the true
 //! track, the dead-reckoned one, the waypoints, the surfacings and the current.
 
+use std::ops::Range;
 use std::path::Path;
 
+use plotters::coord::types::RangedCoordf64;
+use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use crate::simulation::Simulation;
@@ -314,24 +317,104 @@ fn has_map(trace: &Trace) -> bool {
 
 /// The map's extent: tracks, waypoints and surfacings (m).
 fn map_bounds(trace: &Trace) -> ((f64, f64), (f64, f64)) {
-    let mut low = (f64::INFINITY, f64::INFINITY);
-    let mut high = (f64::NEG_INFINITY, f64::NEG_INFINITY);
     let all = trace
         .track
         .iter()
         .chain(&trace.dead_reckoned)
         .chain(&trace.waypoints)
         .chain(&trace.surfacings);
-    for &(x, y) in all {
+    bounds(all.map(|&(x, y)| (f64::from(x), f64::from(y))))
+}
+
+/// The least box around the finite points, as its (low, high) corners; (0, 0)
+/// twice when none is finite.
+pub fn bounds(points: impl IntoIterator<Item = (f64, f64)>) -> ((f64, f64), (f64, f64)) {
+    let mut low = (f64::INFINITY, f64::INFINITY);
+    let mut high = (f64::NEG_INFINITY, f64::NEG_INFINITY);
+    for (x, y) in points {
         if x.is_finite() && y.is_finite() {
-            low = (low.0.min(x as f64), low.1.min(y as f64));
-            high = (high.0.max(x as f64), high.1.max(y as f64));
+            low = (low.0.min(x), low.1.min(y));
+            high = (high.0.max(x), high.1.max(y));
         }
     }
     if !low.0.is_finite() {
         return ((0.0, 0.0), (0.0, 0.0));
     }
     (low, high)
+}
+
+/// The chart of a map: x across, y up, both `f64`.
+pub type MapChart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+/// What a map shows: a box of data and how its two units compare.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MapBox {
+    /// The box's corners (x, y), as [`bounds`] gives them.
+    pub low: (f64, f64),
+    pub high: (f64, f64),
+    /// How long one x unit is in y units: 1 for km east and north; cos(latitude)
+    /// for degrees of longitude against degrees of latitude.
+    pub x_unit: f64,
+    /// The least span shown on either axis, in its own units (a single point is
+    /// still a map).
+    pub min_span: f64,
+}
+
+/// Each span shown, as a share of the data's: 7.5% of room on each side.
+const MAP_ROOM: f64 = 1.15;
+/// A map chart's margin on every side, and the room for its axes' labels (px).
+const MAP_MARGIN: u32 = 16;
+const MAP_X_LABELS: u32 = 45;
+const MAP_Y_LABELS: u32 = 75;
+
+/// A map chart on `area`, by one rule for every map gloc draws (the simulator's
+/// map panel, the forecast's and the hindcast's maps): `caption` on top in
+/// `caption_size` px, `footer` px left free below (for a legend), and `map`'s box
+/// at equal scales (one length per pixel across and up), centred.
+pub fn map_chart<'a, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, Shift>,
+    (caption, caption_size): (&str, u32),
+    footer: u32,
+    map: MapBox,
+) -> Result<MapChart<'a, DB>, DrawingAreaErrorKind<DB::ErrorType>> {
+    let style = ("sans-serif", caption_size).into_text_style(area);
+    // As plotters lays a chart out: the margins, the caption (its height and up to
+    // 5 px above and below it), the label areas; the rest is the plot.
+    let (_, text_height) = area.estimate_text_size(caption, &style)?;
+    let caption_height = text_height + 2 * (text_height / 2).min(5);
+    let (width, height) = area.dim_in_pixel();
+    let plot = (
+        f64::from(width.saturating_sub(2 * MAP_MARGIN + MAP_Y_LABELS).max(1)),
+        f64::from(
+            height
+                .saturating_sub(2 * MAP_MARGIN + footer + caption_height + MAP_X_LABELS)
+                .max(1),
+        ),
+    );
+    let (x_range, y_range) = equal_scales(map, plot);
+    ChartBuilder::on(area)
+        .caption(caption, style)
+        .margin(MAP_MARGIN)
+        .margin_bottom(MAP_MARGIN + footer)
+        .x_label_area_size(MAP_X_LABELS)
+        .y_label_area_size(MAP_Y_LABELS)
+        .build_cartesian_2d(x_range, y_range)
+}
+
+/// The x and y ranges that show `map`'s box with room around it on a plot of
+/// `plot` (width, height) px at equal scales: one y unit per so many pixels up,
+/// and `x_unit` of it per as many pixels across.
+fn equal_scales(map: MapBox, plot: (f64, f64)) -> (Range<f64>, Range<f64>) {
+    let ((x0, y0), (x1, y1)) = (map.low, map.high);
+    let x_unit = map.x_unit.max(f64::MIN_POSITIVE);
+    let span_x = ((x1 - x0) * MAP_ROOM).max(map.min_span);
+    let span_y = ((y1 - y0) * MAP_ROOM).max(map.min_span);
+    // y units a pixel holds, the same across (in x's length) and up.
+    let per_pixel = (span_y / plot.1).max(span_x * x_unit / plot.0);
+    let half_x = per_pixel * plot.0 / 2.0 / x_unit;
+    let half_y = per_pixel * plot.1 / 2.0;
+    let (cx, cy) = ((x0 + x1) / 2.0, (y0 + y1) / 2.0);
+    ((cx - half_x)..(cx + half_x), (cy - half_y)..(cy + half_y))
 }
 
 static FONT: &[u8] = include_bytes!("../data/fonts/DejaVuSans-subset.ttf");
@@ -614,7 +697,7 @@ fn place_labels(marks: &[(f64, f64)], right: f64) -> Vec<Option<usize>> {
 }
 
 fn draw<DB: DrawingBackend>(
-    root: &DrawingArea<DB, plotters::coord::Shift>,
+    root: &DrawingArea<DB, Shift>,
     trace: &Trace,
     options: &PlotOptions,
 ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
@@ -752,7 +835,7 @@ fn draw<DB: DrawingBackend>(
 
 /// The event track: every store a tick, labels where they fit.
 fn draw_events<DB: DrawingBackend>(
-    events: &DrawingArea<DB, plotters::coord::Shift>,
+    events: &DrawingArea<DB, Shift>,
     trace: &Trace,
     x_range: &std::ops::Range<f64>,
     scale: f64,
@@ -818,12 +901,12 @@ fn draw_events<DB: DrawingBackend>(
 /// The panels below the event track (battery, chosen sensors), one per series, on the
 /// depth plot's time axis; returns the area left below them.
 fn draw_panels<DB: DrawingBackend>(
-    battery: DrawingArea<DB, plotters::coord::Shift>,
+    battery: DrawingArea<DB, Shift>,
     trace: &Trace,
     options: &PlotOptions,
     (x_range, scale, unit): (&std::ops::Range<f64>, f64, &str),
     columns: usize,
-) -> Result<DrawingArea<DB, plotters::coord::Shift>, DrawingAreaErrorKind<DB::ErrorType>> {
+) -> Result<DrawingArea<DB, Shift>, DrawingAreaErrorKind<DB::ErrorType>> {
     let mut below = battery;
     for (name, values) in panels(trace, options) {
         let (area, rest) = below.split_vertically(BATTERY_HEIGHT);
@@ -874,41 +957,29 @@ fn draw_panels<DB: DrawingBackend>(
 /// crosses), surfacings (first fixes, black circles), the current (an arrow
 /// from the start, 1 h of drift long).
 fn draw_map<DB: DrawingBackend>(
-    area: &DrawingArea<DB, plotters::coord::Shift>,
+    area: &DrawingArea<DB, Shift>,
     trace: &Trace,
 ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
-    let ((x0, y0), (x1, y1)) = map_bounds(trace);
+    let (low, high) = map_bounds(trace);
     let drift = (
         trace.current.0 as f64 * 3600.0,
         trace.current.1 as f64 * 3600.0,
     );
-    let (x0, x1) = (x0.min(drift.0), x1.max(drift.0));
-    let (y0, y1) = (y0.min(drift.1), y1.max(drift.1));
-    // Equal scales: widen the shorter side to the panel's aspect.
-    let (width, height) = area.dim_in_pixel();
-    let plot_w = width.saturating_sub(16 + 16 + 70).max(1) as f64;
-    let plot_h = height.saturating_sub(30 + 40 + 16).max(1) as f64;
-    let span_x = (x1 - x0).max(1.0) * 1.1;
-    let span_y = (y1 - y0).max(1.0) * 1.1;
-    let metres_per_px = (span_x / plot_w).max(span_y / plot_h);
-    let (cx, cy) = ((x0 + x1) / 2.0, (y0 + y1) / 2.0);
-    let half_x = metres_per_px * plot_w / 2.0 / 1000.0;
-    let half_y = metres_per_px * plot_h / 2.0 / 1000.0;
-    let (cx, cy) = (cx / 1000.0, cy / 1000.0);
+    let in_km = |(x, y): (f64, f64)| (x / 1000.0, y / 1000.0);
+    let (low, high) = bounds([low, high, drift].map(in_km));
     let speed = (trace.current.0 as f64).hypot(trace.current.1 as f64);
     let caption = trace.map_caption.clone().unwrap_or_else(|| {
         format!(
             "map (km east and north of the start): true track blue, dead reckoning grey, waypoints red, first fixes black; current {speed:.2} m/s (arrow: 1 h of drift)"
         )
     });
-    let mut map = ChartBuilder::on(area)
-        .caption(caption, ("sans-serif", 14))
-        .margin_left(16)
-        .margin_right(16)
-        .margin_bottom(16)
-        .x_label_area_size(40)
-        .y_label_area_size(70)
-        .build_cartesian_2d((cx - half_x)..(cx + half_x), (cy - half_y)..(cy + half_y))?;
+    let map_box = MapBox {
+        low,
+        high,
+        x_unit: 1.0,
+        min_span: 0.001,
+    };
+    let mut map = map_chart(area, (&caption, 14), 0, map_box)?;
     map.configure_mesh()
         .x_desc("east (km)")
         .y_desc("north (km)")
@@ -975,6 +1046,60 @@ fn draw_map<DB: DrawingBackend>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Worked by hand: a 10 × 5 km box on a 200 × 100 px plot fills it both ways
+    /// (11.5 × 5.75 km with the room, 0.0575 km a pixel), centred on (5, 2.5).
+    #[test]
+    fn a_box_of_the_plots_aspect_fills_it() {
+        let map = MapBox {
+            low: (0.0, 0.0),
+            high: (10.0, 5.0),
+            x_unit: 1.0,
+            min_span: 0.001,
+        };
+        let (x, y) = equal_scales(map, (200.0, 100.0));
+        for (got, want) in [
+            (x.start, -0.75),
+            (x.end, 10.75),
+            (y.start, -0.375),
+            (y.end, 5.375),
+        ] {
+            assert!((got - want).abs() < 1e-12, "{got} against {want}");
+        }
+    }
+
+    /// At 60° N a degree of longitude is half one of latitude: a box one degree
+    /// square on a square plot shows twice as many degrees across as up (2.3 and
+    /// 1.15), so a kilometre is as long either way.
+    #[test]
+    fn degrees_of_longitude_are_shortened_by_the_latitude() {
+        let map = MapBox {
+            low: (10.0, 59.5),
+            high: (11.0, 60.5),
+            x_unit: 60f64.to_radians().cos(),
+            min_span: 0.01,
+        };
+        let (x, y) = equal_scales(map, (100.0, 100.0));
+        assert!((x.end - x.start - 2.3).abs() < 1e-9, "{x:?}");
+        assert!((y.end - y.start - 1.15).abs() < 1e-9, "{y:?}");
+        assert!((x.start + x.end - 21.0).abs() < 1e-9 && (y.start + y.end - 120.0).abs() < 1e-9);
+    }
+
+    /// One point is still a map: the least span about it, on either axis.
+    #[test]
+    fn a_single_point_gets_the_least_span() {
+        let (low, high) = bounds([(3.0, 4.0), (f64::NAN, 1.0)]);
+        assert_eq!((low, high), ((3.0, 4.0), (3.0, 4.0)));
+        let map = MapBox {
+            low,
+            high,
+            x_unit: 1.0,
+            min_span: 0.5,
+        };
+        let (x, y) = equal_scales(map, (100.0, 50.0));
+        assert!((y.end - y.start - 0.5).abs() < 1e-12 && (x.end - x.start - 1.0).abs() < 1e-12);
+        assert_eq!(bounds([(f64::NAN, 0.0)]), ((0.0, 0.0), (0.0, 0.0)));
+    }
 
     /// A yo between 10 m and 23 m with a 240 s period, sampled every 4.4 s
     /// for `hours`: comet's cycle, the thermocline example's yo.

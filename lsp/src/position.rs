@@ -213,54 +213,58 @@ mod tests {
         }
     }
 
+    /// Byte offsets and the LSP positions they are at, worked by hand ('é' is 2
+    /// bytes and 1 UTF-16 unit, '𝄞' 4 bytes and 2 units), checked both ways.
     #[test]
-    fn ascii_offsets_and_positions_agree() {
-        let rope = Rope::from_str("ab\ncd\n");
-        assert_eq!(position_of(&rope, 0), pos(0, 0));
-        assert_eq!(position_of(&rope, 4), pos(1, 1));
-        assert_eq!(position_of(&rope, 6), pos(2, 0));
-        assert_eq!(offset_of(&rope, pos(1, 1)), 4);
+    fn offsets_and_positions_agree() {
+        for (text, offset, (line, character)) in [
+            ("ab\ncd\n", 0, (0, 0)),
+            ("ab\ncd\n", 4, (1, 1)),
+            ("ab\ncd\n", 6, (2, 0)),
+            ("é𝄞x\n", 2, (0, 1)),
+            ("é𝄞x\n", 6, (0, 3)),
+            // A carriage return alone breaks a line.
+            ("a\rb", 2, (1, 0)),
+            ("a\rb", 3, (1, 1)),
+            // U+2028 (3 bytes) is a line break for some tools but not for LSP.
+            ("a\u{2028}b\nc", 5, (0, 3)),
+        ] {
+            let rope = Rope::from_str(text);
+            let position = pos(line, character);
+            assert_eq!(position_of(&rope, offset), position, "{text:?} at {offset}");
+            assert_eq!(
+                offset_of(&rope, position),
+                offset,
+                "{text:?} at {position:?}"
+            );
+        }
+        assert_eq!(Rope::from_str("a\u{2028}b\nc").len_lines(), 2);
     }
 
+    /// An offset or a position inside a character rounds down to its start; one
+    /// past the end of its line or of the text is clamped.
     #[test]
-    fn non_ascii_counts_utf16_code_units() {
-        // 'é' is 2 bytes / 1 UTF-16 unit; '𝄞' is 4 bytes / 2 UTF-16 units.
-        let text = "é𝄞x\n";
-        let rope = Rope::from_str(text);
-        let x = text.find('x').expect("x");
-        assert_eq!(x, 6);
-        assert_eq!(position_of(&rope, x), pos(0, 3));
-        assert_eq!(offset_of(&rope, pos(0, 3)), 6);
-        assert_eq!(offset_of(&rope, pos(0, 1)), 2);
-        // Inside the surrogate pair: rounds down to the start of '𝄞'.
-        assert_eq!(offset_of(&rope, pos(0, 2)), 2);
-        // A byte offset inside 'é' rounds down too.
-        assert_eq!(position_of(&rope, 1), pos(0, 0));
-    }
-
-    #[test]
-    fn positions_past_the_end_are_clamped() {
-        let rope = Rope::from_str("ab\r\ncd");
-        // Past the end of line 0 stops before "\r\n".
-        assert_eq!(offset_of(&rope, pos(0, 99)), 2);
-        assert_eq!(offset_of(&rope, pos(1, 99)), 6);
-        assert_eq!(offset_of(&rope, pos(7, 0)), 6);
-        assert_eq!(position_of(&rope, 999), pos(1, 2));
-    }
-
-    #[test]
-    fn carriage_return_alone_is_a_line_break() {
-        let rope = Rope::from_str("a\rb");
-        assert_eq!(position_of(&rope, 2), pos(1, 0));
-        assert_eq!(offset_of(&rope, pos(1, 1)), 3);
-    }
-
-    #[test]
-    fn unicode_line_separators_are_not_line_breaks() {
-        // U+2028 is a line break for some tools but not for LSP.
-        let rope = Rope::from_str("a\u{2028}b\nc");
-        assert_eq!(position_of(&rope, "a\u{2028}b".len()), pos(0, 3));
-        assert_eq!(rope.len_lines(), 2);
+    fn places_inside_a_character_or_past_the_end_are_moved_back() {
+        for (text, (line, character), offset) in [
+            // Inside the surrogate pair: the start of '𝄞'.
+            ("é𝄞x\n", (0, 2), 2),
+            // Past the end of line 0 stops before "\r\n".
+            ("ab\r\ncd", (0, 99), 2),
+            ("ab\r\ncd", (1, 99), 6),
+            ("ab\r\ncd", (7, 0), 6),
+        ] {
+            let rope = Rope::from_str(text);
+            assert_eq!(offset_of(&rope, pos(line, character)), offset, "{text:?}");
+        }
+        // Inside 'é'; past the end of the text.
+        for (text, offset, position) in [("é𝄞x\n", 1, pos(0, 0)), ("ab\r\ncd", 999, pos(1, 2))]
+        {
+            assert_eq!(
+                position_of(&Rope::from_str(text), offset),
+                position,
+                "{text:?}"
+            );
+        }
     }
 
     #[test]

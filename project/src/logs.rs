@@ -2,12 +2,12 @@
 //! (`gloc-dbd`) meet the simulator's [`Track`] here, so neither crate depends on the other.
 
 use gloc_dbd::{CycleSource, DbdError};
-use gloc_sim::calibrate::{Track, MAX_TRACK_ROWS, TRACK_SENSORS};
+use gloc_sim::calibrate::{track_sensors, Track, MAX_TRACK_ROWS};
 
 /// Reads a log (a `.dbd`, a merge, a deployment) to its end into a [`Track`], at most
 /// [`MAX_TRACK_ROWS`] timed cycles (refused at the byte where the limit is passed).
 pub fn read_track(source: &mut dyn CycleSource) -> Result<Track, DbdError> {
-    let columns = gloc_dbd::columns_of(source.sensors(), &TRACK_SENSORS);
+    let columns = gloc_dbd::columns_of(source.sensors(), &track_sensors());
     let mut track = Track::default();
     while let Some(cycle) = source.next_cycle()? {
         track.push(|field| columns[field].and_then(|column| cycle.value(column)));

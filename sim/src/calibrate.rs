@@ -14,22 +14,34 @@
 use crate::flight::{FlightParams, GRAVITY, METRES_PER_INCH};
 use crate::simulation::{SimConfig, Simulation};
 
-/// The sensors a track reads, in [`Row`] field order.
-pub const TRACK_SENSORS: [&str; 13] = [
-    "m_present_time",
-    "m_depth",
-    "m_pitch",
-    "m_ballast_pumped",
-    "c_ballast_pumped",
-    "m_battpos",
-    "m_coulomb_current",
-    "m_coulomb_amphr_total",
-    "m_battery",
-    "u_cycle_time",
-    "m_altitude",
-    "m_heading",
-    "c_heading",
+/// Where a track keeps a sensor's value: the [`Row`] field it fills.
+type Field = fn(&mut Row) -> &mut f64;
+
+/// The sensors a track reads, each with the [`Row`] field it fills.
+pub const TRACK_FIELDS: [(&str, Field); 13] = [
+    ("m_present_time", |row| &mut row.time),
+    ("m_depth", |row| &mut row.depth),
+    ("m_pitch", |row| &mut row.pitch),
+    ("m_ballast_pumped", |row| &mut row.ballast),
+    ("c_ballast_pumped", |row| &mut row.c_ballast),
+    ("m_battpos", |row| &mut row.battpos),
+    ("m_coulomb_current", |row| &mut row.current),
+    ("m_coulomb_amphr_total", |row| &mut row.amp_hours),
+    ("m_battery", |row| &mut row.volts),
+    ("u_cycle_time", |row| &mut row.cycle_time),
+    // A row that updates the altitude is one of the altimeter's fixes.
+    ("m_altitude", |row| {
+        row.altitude_fix = true;
+        &mut row.altitude
+    }),
+    ("m_heading", |row| &mut row.heading),
+    ("c_heading", |row| &mut row.c_heading),
 ];
+
+/// The names of [`TRACK_FIELDS`], in its order (the columns to read from a log).
+pub fn track_sensors() -> [&'static str; 13] {
+    TRACK_FIELDS.map(|(name, _)| name)
+}
 
 /// One control cycle: each value as last updated (NaN before the first update).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -56,30 +68,6 @@ pub struct Row {
     /// Heading and commanded heading (rad).
     pub heading: f64,
     pub c_heading: f64,
-}
-
-impl Row {
-    fn set(&mut self, field: usize, value: f64) {
-        let slot = match field {
-            0 => &mut self.time,
-            1 => &mut self.depth,
-            2 => &mut self.pitch,
-            3 => &mut self.ballast,
-            4 => &mut self.c_ballast,
-            5 => &mut self.battpos,
-            6 => &mut self.current,
-            7 => &mut self.amp_hours,
-            8 => &mut self.volts,
-            9 => &mut self.cycle_time,
-            11 => &mut self.heading,
-            12 => &mut self.c_heading,
-            _ => {
-                self.altitude_fix = true;
-                &mut self.altitude
-            }
-        };
-        *slot = value;
-    }
 }
 
 const EMPTY: Row = Row {
@@ -111,16 +99,16 @@ pub struct Track {
 }
 
 impl Track {
-    /// Adds a cycle: `update(i)` is the new value of `TRACK_SENSORS[i]` if the
+    /// Adds a cycle: `update(i)` is the new value of `TRACK_FIELDS[i]`'s sensor if the
     /// cycle updated it. Values not updated keep their last value; a cycle
     /// without a time is merged into the next one.
     pub fn push(&mut self, update: impl Fn(usize) -> Option<f64>) {
         let mut row = self.last.unwrap_or(EMPTY);
         row.time = f64::NAN;
         row.altitude_fix = false;
-        for field in 0..TRACK_SENSORS.len() {
-            if let Some(value) = update(field).filter(|value| value.is_finite()) {
-                row.set(field, value);
+        for (index, (_, field)) in TRACK_FIELDS.iter().enumerate() {
+            if let Some(value) = update(index).filter(|value| value.is_finite()) {
+                *field(&mut row) = value;
             }
         }
         self.last = Some(row);
@@ -144,8 +132,8 @@ impl Track {
     /// Adds the simulation's current sensor values as a row (call after each cycle).
     pub fn record(&mut self, sim: &Simulation) {
         let list = sim.sensor_list();
-        self.push(|field| {
-            list.lookup(TRACK_SENSORS[field])
+        self.push(|index| {
+            list.lookup(TRACK_FIELDS[index].0)
                 .and_then(|id| sim.sensor(id))
         });
     }

@@ -77,13 +77,8 @@ pub struct ForecastArgs {
 }
 
 pub fn main(args: ForecastArgs) -> anyhow::Result<ExitCode> {
-    if !(args.hours > 0.0 && args.hours <= gloc_forecast::MAX_HOURS) {
-        bail!(
-            "--hours {}: give a horizon above 0 and up to {} hours",
-            args.hours,
-            gloc_forecast::MAX_HOURS
-        );
-    }
+    gloc_forecast::check_hours(args.hours)
+        .map_err(|why| anyhow::anyhow!("--hours {}: {why}", args.hours))?;
     let formats = args
         .outputs
         .iter()
@@ -104,12 +99,11 @@ pub fn main(args: ForecastArgs) -> anyhow::Result<ExitCode> {
         .map(|path| crate::output::Output { flag: "-o", path })
         .collect();
     crate::output::check_outputs(&inputs, &outputs)?;
-    let members = match args.members {
-        Some(count) if count == 0 || count > ensemble::MAX_MEMBERS => {
-            bail!("--members {count}: give 1 to {}", ensemble::MAX_MEMBERS)
-        }
-        other => other,
-    };
+    if let Some(count) = args.members {
+        ensemble::check_members(count)
+            .map_err(|why| anyhow::anyhow!("--members {count}: {why}"))?;
+    }
+    let members = args.members;
 
     let Some((sensors, mission, config)) = set_up(&args)? else {
         return Ok(crate::exit::code(crate::exit::ERRORS));

@@ -114,6 +114,38 @@ fn an_output_that_is_an_input_is_refused() {
     );
 }
 
+/// The horizon and the ensemble's size have limits (0 < hours ≤ 720, 1 to 100,000
+/// members), said with the flag and what to give.
+#[test]
+fn a_horizon_or_an_ensemble_out_of_bounds_is_refused() {
+    for (flag, value, message) in [
+        (
+            "--hours",
+            "0",
+            "--hours 0: give a horizon above 0 and up to 720 hours",
+        ),
+        (
+            "--hours",
+            "721",
+            "--hours 721: give a horizon above 0 and up to 720 hours",
+        ),
+        ("--members", "0", "--members 0: give 1 to 100000 members"),
+        (
+            "--members",
+            "100001",
+            "--members 100001: give 1 to 100000 members",
+        ),
+    ] {
+        let output = forecast(&[flag, value]);
+        assert_eq!(output.status.code(), Some(2), "{flag} {value}");
+        assert!(
+            text(&output.stderr).contains(message),
+            "{}",
+            text(&output.stderr)
+        );
+    }
+}
+
 fn run_with(logs: &[&str], extra: &[&str]) -> std::process::Output {
     let mission = real_file("comet/missions/nsb3.mi");
     let cache = real_file("cac");

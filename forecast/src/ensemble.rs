@@ -25,6 +25,16 @@ pub const MIN_SPREAD: f64 = 0.02;
 /// The most members.
 pub const MAX_MEMBERS: usize = 100_000;
 
+/// What is wrong with an ensemble of `members`, if anything: 1 to [`MAX_MEMBERS`].
+/// Every surface asks here and names its own input in the error.
+pub fn check_members(members: usize) -> Result<(), String> {
+    if (1..=MAX_MEMBERS).contains(&members) {
+        Ok(())
+    } else {
+        Err(format!("give 1 to {MAX_MEMBERS} members"))
+    }
+}
+
 /// What an ensemble flies.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EnsembleOptions {
@@ -348,6 +358,17 @@ pub fn convex_hull(points: &[Xy]) -> Vec<Xy> {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn horizons_and_member_counts_have_limits() {
+        for (hours, allowed) in [(0.0, false), (0.1, true), (720.0, true), (720.5, false)] {
+            assert_eq!(crate::check_hours(hours).is_ok(), allowed, "{hours} h");
+        }
+        assert!(crate::check_hours(f64::NAN).is_err());
+        for (members, allowed) in [(0, false), (1, true), (100_000, true), (100_001, false)] {
+            assert_eq!(super::check_members(members).is_ok(), allowed, "{members}");
+        }
+    }
+
     use super::*;
 
     #[test]

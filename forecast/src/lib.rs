@@ -100,6 +100,19 @@ pub struct Request {
 /// The largest horizon (h).
 pub const MAX_HOURS: f64 = 24.0 * 30.0;
 
+/// What is wrong with a horizon of `hours`, if anything: a forecast flies above 0
+/// and up to [`MAX_HOURS`] hours. Every surface (the CLI's `--hours`, the Python
+/// package's `hours=`) asks here and names its own input in the error.
+pub fn check_hours(hours: f64) -> Result<(), String> {
+    if hours > 0.0 && hours <= MAX_HOURS {
+        Ok(())
+    } else {
+        Err(format!(
+            "give a horizon above 0 and up to {MAX_HOURS} hours"
+        ))
+    }
+}
+
 /// The true current every track of the forecast flies in, and what it is in
 /// words: the request's field, else the glider's own estimate at `start`.
 pub fn truth(request: &Request, start: &Start) -> (Truth, String) {

@@ -86,19 +86,15 @@ struct Setup {
 
 impl Setup {
     fn new(asked: &Asked, threads: usize) -> PyResult<Setup> {
-        if !(asked.hours > 0.0 && asked.hours <= gloc_forecast::MAX_HOURS) {
-            return Err(PyValueError::new_err(format!(
-                "hours={}: give a horizon above 0 and up to {} hours",
-                asked.hours,
-                gloc_forecast::MAX_HOURS
-            )));
-        }
-        if asked.members > ensemble::MAX_MEMBERS {
-            return Err(PyValueError::new_err(format!(
-                "members={}: give 0 (no ensemble) to {}",
-                asked.members,
-                ensemble::MAX_MEMBERS
-            )));
+        gloc_forecast::check_hours(asked.hours)
+            .map_err(|why| PyValueError::new_err(format!("hours={}: {why}", asked.hours)))?;
+        if asked.members > 0 {
+            ensemble::check_members(asked.members).map_err(|why| {
+                PyValueError::new_err(format!(
+                    "members={}: {why} (or 0: no ensemble)",
+                    asked.members
+                ))
+            })?;
         }
         let (settings, sensors) = project(
             Some(&asked.mission),

@@ -131,6 +131,10 @@ def test_bad_requests_are_clear_errors(tmp_path):
         gloc.forecast(LOGS, MISSION, hours=0, sensor_cache=CACHE)
     with pytest.raises(ValueError, match="members=-1"):
         gloc.forecast(LOGS, MISSION, members=-1, sensor_cache=CACHE)
+    with pytest.raises(ValueError, match=r"members=100001: give 1 to 100000 members \(or 0"):
+        gloc.forecast(LOGS, MISSION, members=100001, sensor_cache=CACHE)
+    with pytest.raises(ValueError, match="hours=721: give a horizon above 0 and up to 720 hours"):
+        gloc.forecast(LOGS, MISSION, hours=721, sensor_cache=CACHE)
     missing = str(tmp_path / "nothing.dbd")
     with pytest.raises(gloc.LogError) as raised:
         gloc.forecast([missing], MISSION, sensor_cache=CACHE)

@@ -16,10 +16,9 @@ use gloc_project::settings::{Origin, Settings};
 use gloc_sim::faults::{step_cycle_with_faults, Fault, FaultPlan};
 use gloc_sim::{EndReason, TemperatureProfile};
 
+use crate::flags::{Limit, DEFAULT_LIMIT_SECONDS};
 use crate::render::Tally;
-use crate::simulate::{
-    load_mission, load_program, parse_duration, script_state, Script, DEFAULT_LIMIT_SECONDS,
-};
+use crate::simulate::{load_mission, load_program, script_state, Script};
 
 /// One mission of the sweep: its seed and its value on each other axis, shared with the
 /// other missions that have it (a sweep's memory grows by a few words per mission).
@@ -63,12 +62,6 @@ struct Shared<'a> {
     plan: gloc_project::simulation::Plan<'a>,
     script_name: &'a str,
     limit: Limit,
-}
-
-#[derive(Clone, Copy)]
-enum Limit {
-    Seconds(f64),
-    Cycles(u64),
 }
 
 pub fn main(args: crate::BatchArgs) -> anyhow::Result<ExitCode> {
@@ -200,25 +193,12 @@ fn parse_axes(args: &crate::BatchArgs, sensor_list: &SensorList) -> anyhow::Resu
     for given in &args.simulator {
         axes.push(parse_sweep_setting(given).map_err(|error| anyhow::anyhow!("--sim {error}"))?);
     }
-    let limit = match (&args.duration, args.cycles) {
-        (Some(text), _) => Limit::Seconds(parse_duration(text)?),
-        (None, Some(cycles)) => Limit::Cycles(cycles),
-        (None, None) => Limit::Seconds(DEFAULT_LIMIT_SECONDS),
-    };
-    // The same bound as `gloc run`: every mission of a sweep must be able to finish.
-    match limit {
-        Limit::Cycles(cycles) if cycles > crate::simulate::MAX_RUN_CYCLES => bail!(
-            "--cycles {cycles} is more than {}, the most one run may take",
-            crate::simulate::MAX_RUN_CYCLES
-        ),
-        Limit::Seconds(seconds) if seconds > crate::simulate::MAX_RUN_CYCLES as f64 * 4.0 => {
-            bail!(
-                "--duration is more than {} control cycles of 4 s, the most one run may take",
-                crate::simulate::MAX_RUN_CYCLES
-            )
-        }
-        _ => {}
-    }
+    // The same bound as `gloc run`, in the standard 4 s cycles: every mission of a sweep
+    // must be able to finish.
+    let limit = args
+        .length
+        .limit(4.0)?
+        .unwrap_or(Limit::Seconds(DEFAULT_LIMIT_SECONDS));
     // The sweep's size is known from the arguments: checked before any profile is read
     // (60 copies of a 16 MB profile were all read, 1 GB, before a sweep too wide).
     let missions = [profile_names.len(), fault_sets.len()]
@@ -400,10 +380,7 @@ fn fly(shared: &Shared<'_>, variant: &Variant) -> Result<Row, String> {
     )
     .map_err(|error| error.to_string())?
     .simulation;
-    let max_cycles = match shared.limit {
-        Limit::Seconds(seconds) => crate::simulate::cycles_for(seconds, &sim),
-        Limit::Cycles(cycles) => cycles,
-    };
+    let max_cycles = shared.limit.cycles(&sim);
     let mut plan = FaultPlan::new(variant.faults.faults.clone());
     let mut cycles = 0;
     let mut printed = 0;

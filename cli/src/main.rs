@@ -143,13 +143,8 @@ pub struct RunArgs {
     /// Temperature profile CSV (`depth_m,temp_degC`); default: the built-in summer shelf profile.
     #[arg(long, value_name = "T.csv")]
     pub profile: Option<PathBuf>,
-    /// Simulated duration, e.g. `90m`, `6h`, `30d`; default: until the mission ends, at
-    /// most 24 h.
-    #[arg(long, conflicts_with = "cycles")]
-    pub duration: Option<String>,
-    /// Number of control cycles to simulate (at most 100,000,000); default: see --duration.
-    #[arg(long)]
-    pub cycles: Option<u64>,
+    #[command(flatten)]
+    pub length: flags::LengthArgs,
     /// Seed for sensor noise; default 1.
     #[arg(long)]
     pub seed: Option<u64>,
@@ -229,13 +224,8 @@ pub struct BatchArgs {
     pub script: Option<PathBuf>,
     #[command(flatten)]
     pub flight: flags::FlightArgs,
-    /// Simulated duration of each mission, e.g. `6h`, `30d`; default: until the mission
-    /// ends, at most 24 h.
-    #[arg(long, conflicts_with = "cycles")]
-    pub duration: Option<String>,
-    /// Control cycles of each mission; default: see --duration.
-    #[arg(long)]
-    pub cycles: Option<u64>,
+    #[command(flatten)]
+    pub length: flags::LengthArgs,
     /// Seeds to fly: numbers and inclusive ranges, e.g. `1-100` or `1,5,9-12` (default 1).
     #[arg(long, value_name = "LIST")]
     pub seeds: Option<String>,
@@ -384,7 +374,7 @@ mod tests {
         // the seed (SimConfig), the run's length (DEFAULT_LIMIT_SECONDS = 24 h).
         assert_eq!(gloc_project::CycleBudget::DEFAULT.get(), 10_000);
         assert_eq!(gloc_sim::SimConfig::default().seed, 1);
-        assert_eq!(simulate::DEFAULT_LIMIT_SECONDS, 24.0 * 3600.0);
+        assert_eq!(flags::DEFAULT_LIMIT_SECONDS, 24.0 * 3600.0);
         let mut root = Cli::command();
         let help = |root: &mut clap::Command, name: &str| {
             root.find_subcommand_mut(name)

@@ -33,8 +33,7 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
     for (given, flag) in [
         (args.flight.mission.is_some(), "--mission"),
         (args.profile.is_some(), "--profile"),
-        (args.duration.is_some(), "--duration"),
-        (args.cycles.is_some(), "--cycles"),
+        (args.length.given(), "--duration/--cycles"),
         (args.seed.is_some(), "--seed"),
         (args.log.is_some(), "--log"),
         (args.plot.is_some(), "--plot"),

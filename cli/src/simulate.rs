@@ -23,16 +23,9 @@ use gloc_sim::log::{default_columns, parse_columns, DbaHeader, LogFormat, LogWri
 use gloc_sim::plot::{write_plot, PlotFormat, PlotOptions, Trace};
 use gloc_sim::{EndReason, Mission, Simulation};
 
+use crate::flags::{Limit, DEFAULT_LIMIT_SECONDS};
 use crate::output::{AtomicFile, Output};
 use crate::render::{SourceFile, Tally};
-
-/// Simulated time a run may take when neither `--duration` nor `--cycles`
-/// is given and the mission does not end by itself.
-pub(crate) const DEFAULT_LIMIT_SECONDS: f64 = 24.0 * 3600.0;
-
-/// The most control cycles one run may take (`--cycles`, `--duration`): about 12 years
-/// of 4 s cycles, minutes of computing for a plain script.
-pub(crate) const MAX_RUN_CYCLES: u64 = 100_000_000;
 
 /// Runs shorter than this many cycles get no progress bar.
 const PROGRESS_MIN_CYCLES: u64 = 50_000;
@@ -149,19 +142,11 @@ fn prepare_run(args: &crate::RunArgs) -> anyhow::Result<Option<Run>> {
     print_warnings(&prepared.warnings, &mission, &script.name, &script.text);
     let sim = prepared.simulation;
 
-    let (max_cycles, limit_given) = match (&args.duration, args.cycles) {
-        (Some(text), _) if parse_duration(text)? / sim.cycle_time() > MAX_RUN_CYCLES as f64 => {
-            bail!(
-                "--duration {text} is more than {MAX_RUN_CYCLES} control cycles, the most one run may take"
-            )
-        }
-        (None, Some(cycles)) if cycles > MAX_RUN_CYCLES => {
-            bail!("--cycles {cycles} is more than {MAX_RUN_CYCLES}, the most one run may take")
-        }
-        (Some(text), _) => (cycles_for(parse_duration(text)?, &sim), true),
-        (None, Some(cycles)) => (cycles, true),
-        (None, None) => (cycles_for(DEFAULT_LIMIT_SECONDS, &sim), false),
-    };
+    let limit = args.length.limit(sim.cycle_time())?;
+    let limit_given = limit.is_some();
+    let max_cycles = limit
+        .unwrap_or(Limit::Seconds(DEFAULT_LIMIT_SECONDS))
+        .cycles(&sim);
 
     let inputs: Vec<&Path> = args
         .script
@@ -664,48 +649,6 @@ fn run_outputs(args: &crate::RunArgs) -> Vec<Output<'_>> {
         .collect()
 }
 
-/// The control cycles that fly `seconds` of simulated time: by the mean cycle period
-/// (`u_cycle_time` plus the mean overrun), for `gloc run` and `gloc batch` alike.
-pub(crate) fn cycles_for(seconds: f64, sim: &Simulation) -> u64 {
-    gloc_project::simulation::cycles_for(seconds, sim)
-}
-
-/// Parses `90s`, `45m`, `6h`, `30d`, or combinations such as `1h30m`.
-pub fn parse_duration(text: &str) -> anyhow::Result<f64> {
-    let trimmed = text.trim();
-    let mut total = 0.0;
-    let mut number = String::new();
-    let mut saw_unit = false;
-    for character in trimmed.chars() {
-        if character.is_ascii_digit() || character == '.' {
-            number.push(character);
-            continue;
-        }
-        let unit = match character {
-            's' => 1.0,
-            'm' => 60.0,
-            'h' => 3600.0,
-            'd' => 86400.0,
-            _ => bail!(
-                "`{text}` is not a duration: use a number with s, m, h or d, such as `90m`, `6h` or `30d`"
-            ),
-        };
-        let value: f64 = number.parse().map_err(|_| {
-            anyhow::anyhow!("`{text}` is not a duration: a number must come before `{character}`")
-        })?;
-        total += value * unit;
-        number.clear();
-        saw_unit = true;
-    }
-    if !number.is_empty() || !saw_unit {
-        bail!("`{text}` is not a duration: give the unit, such as `90m`, `6h` or `30d`");
-    }
-    if !(total > 0.0 && total.is_finite()) {
-        bail!("`{text}` is not a positive duration");
-    }
-    Ok(total)
-}
-
 /// `3h 05m 12s`.
 fn human_time(seconds: f64) -> String {
     let total = seconds.round() as u64;
@@ -997,24 +940,6 @@ mod tests {
             "0.50 s (about 43000× faster than real time)"
         );
         assert_eq!(wall_time(2.0, 6.0), "2.00 s (3.0× real time)");
-    }
-
-    #[test]
-    fn durations() {
-        // Worked by hand: 90 × 60, 6 × 3600, 30 × 86400, 3600 + 30 × 60, 3600 / 2.
-        for (text, seconds) in [
-            ("90m", 5400.0),
-            ("6h", 21600.0),
-            ("30d", 2_592_000.0),
-            ("1h30m", 5400.0),
-            ("0.5h", 1800.0),
-        ] {
-            assert_eq!(parse_duration(text).expect(text), seconds, "{text}");
-        }
-        // No unit, an unknown unit, no number, a zero length, nothing.
-        for bad in ["6", "6x", "h", "0s", ""] {
-            assert!(parse_duration(bad).is_err(), "`{bad}` was taken");
-        }
     }
 
     #[test]

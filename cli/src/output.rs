@@ -284,21 +284,6 @@ mod tests {
         gloc_testsupport::scratch_dir(&format!("output-{name}"))
     }
 
-    fn names(dir: &Path) -> Vec<String> {
-        let mut names: Vec<String> = std::fs::read_dir(dir)
-            .expect("list")
-            .map(|entry| {
-                entry
-                    .expect("entry")
-                    .file_name()
-                    .to_string_lossy()
-                    .into_owned()
-            })
-            .collect();
-        names.sort();
-        names
-    }
-
     #[test]
     fn an_uncommitted_file_leaves_the_target_and_no_temporary() {
         let dir = folder("drop");
@@ -309,7 +294,7 @@ mod tests {
             .expect("write");
         drop(file);
         assert_eq!(std::fs::read_to_string(&target).expect("read"), "old\n");
-        assert_eq!(names(&dir), ["out.csv"]);
+        assert_eq!(gloc_testsupport::file_names(&dir), ["out.csv"]);
         std::fs::remove_dir_all(dir).ok();
     }
 
@@ -328,7 +313,7 @@ mod tests {
             .permissions()
             .mode();
         assert_eq!(mode & 0o777, 0o640);
-        assert_eq!(names(&dir), ["out.csv"]);
+        assert_eq!(gloc_testsupport::file_names(&dir), ["out.csv"]);
         std::fs::remove_dir_all(dir).ok();
     }
 

@@ -475,21 +475,6 @@ fn an_output_that_is_an_input_is_refused_and_the_input_kept() {
 }
 
 /// The names in `dir`, sorted (a leftover temporary file would show here).
-fn names(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .expect("list")
-        .map(|entry| {
-            entry
-                .expect("entry")
-                .file_name()
-                .to_string_lossy()
-                .into_owned()
-        })
-        .collect();
-    names.sort();
-    names
-}
-
 #[test]
 fn a_failed_replay_leaves_the_old_out_file() {
     let dir = scratch("replay-fail");
@@ -508,7 +493,10 @@ fn a_failed_replay_leaves_the_old_out_file() {
         .arg(&out));
     assert_refused(&output, "is not a number");
     assert_eq!(std::fs::read_to_string(&out).expect("read"), "old\n");
-    assert_eq!(names(&dir), ["fig2.gloc", "in.csv", "out.csv"]);
+    assert_eq!(
+        gloc_testsupport::file_names(&dir),
+        ["fig2.gloc", "in.csv", "out.csv"]
+    );
     std::fs::remove_dir_all(dir).ok();
 }
 
@@ -573,7 +561,10 @@ fn a_full_disk_leaves_the_old_file_and_still_gives_the_summary() {
     let stderr = String::from_utf8_lossy(&simulate.stderr);
     assert!(stderr.contains("the log could not be written"), "{stderr}");
     assert!(stderr.contains("NOT written"), "{stderr}");
-    assert_eq!(names(&disk.0), ["log.csv", "out.gloc"]);
+    assert_eq!(
+        gloc_testsupport::file_names(&disk.0),
+        ["log.csv", "out.gloc"]
+    );
 }
 
 /// Waits until the output being written to `target` (or to its temporary file beside
@@ -1456,7 +1447,10 @@ fn a_failed_data_convert_leaves_the_previous_output() {
         assert_refused(&output, "expected a cycle tag");
         assert_eq!(std::fs::read_to_string(&target).expect("read"), "old\n");
     }
-    assert_eq!(names(&dir), ["corrupt.dbd", "out.csv", "out.dba"]);
+    assert_eq!(
+        gloc_testsupport::file_names(&dir),
+        ["corrupt.dbd", "out.csv", "out.dba"]
+    );
     std::fs::remove_dir_all(dir).ok();
 }
 
@@ -1488,7 +1482,10 @@ fn calibrate_on_a_full_disk_leaves_the_previous_table() {
     assert_refused(&output, "the disk is full");
     assert_eq!(output.status.code(), Some(4), "{}", text(&output));
     assert_eq!(std::fs::read_to_string(&table).expect("read"), "old\n");
-    assert_eq!(names(&disk.0), ["filler", "sim.toml"]);
+    assert_eq!(
+        gloc_testsupport::file_names(&disk.0),
+        ["filler", "sim.toml"]
+    );
 }
 
 #[test]

@@ -199,15 +199,8 @@ fn twelve_hours_on_the_built_in_profile_turn_at_the_true_bounds() {
 
 #[test]
 fn the_amadeus_profile_gives_bounds_of_about_3_and_13_m() {
-    let path = gloc_testsupport::data("amadeus_2014-07-24_temp_profile.csv");
-    // The shared folder sits next to the repository, here and in CI; a missing
-    // file is a broken checkout, not a reason to pass.
-    let text = std::fs::read_to_string(&path).unwrap_or_else(|error| {
-        panic!(
-            "cannot read the amadeus profile {} ({error}): a file of the repository's data/",
-            path.display()
-        )
-    });
+    // A missing file is a broken checkout, not a reason to pass.
+    let (path, text) = gloc_testsupport::data_text("amadeus_2014-07-24_temp_profile.csv");
     let profile = TemperatureProfile::from_csv(&path, &text).expect("the amadeus profile parses");
     // Three hours are plenty for the first profile and several turns.
     let flight = fly(Some(profile), 3 * 3600 / 4, false);

@@ -292,11 +292,19 @@ impl Mission {
     /// plain-text output and test messages.
     pub fn render_plain(&self) -> String {
         let mut out = String::new();
-        for entry in &self.diagnostics {
-            out.push_str(&self.render_one(entry));
+        for line in self.rendered() {
+            out.push_str(&line);
             out.push('\n');
         }
         out
+    }
+
+    /// Each diagnostic as [`Self::render_one`] writes it, in order.
+    pub fn rendered(&self) -> Vec<String> {
+        self.diagnostics
+            .iter()
+            .map(|entry| self.render_one(entry))
+            .collect()
     }
 
     /// One diagnostic as `path:line:col: severity[code]: message`.
@@ -1281,21 +1289,13 @@ impl Mission {
 mod tests {
     use super::*;
 
-    fn errors(mission: &Mission) -> Vec<String> {
-        mission
-            .diagnostics
-            .iter()
-            .map(|entry| mission.render_one(entry))
-            .collect()
-    }
-
     #[test]
     fn parses_sensors_behaviors_and_args() {
         let mission = Mission::parse(
             "m.mi",
             "# comment\nsensor: u_cycle_time(sec) 4.0 # four\nbehavior: abend\n  b_arg: overdepth(m) 30\nbehavior: yo\n\tb_arg: d_target_depth(m) 25\n",
         );
-        assert!(mission.diagnostics.is_empty(), "{:?}", errors(&mission));
+        assert!(mission.diagnostics.is_empty(), "{:?}", mission.rendered());
         assert_eq!(mission.name, "M.MI");
         assert_eq!(mission.sensor_settings[0].name, "u_cycle_time");
         assert_eq!(mission.sensor_settings[0].value, 4.0);
@@ -1308,7 +1308,7 @@ mod tests {
     /// Asserts that the mission's diagnostics, rendered, are as many as `starts` and
     /// begin with them in order; returns them for further checks.
     fn assert_messages(mission: &Mission, starts: &[&str]) -> Vec<String> {
-        let messages = errors(mission);
+        let messages = mission.rendered();
         assert_eq!(messages.len(), starts.len(), "{messages:?}");
         for (message, start) in messages.iter().zip(starts) {
             assert!(
@@ -1445,11 +1445,12 @@ mod tests {
         );
         let missing = Mission::parse_args_file("y.ma", "<start:b_arg>\n<end:b_arg>\n");
         assert!(
-            errors(&missing)
+            missing
+                .rendered()
                 .iter()
                 .any(|message| message.contains("warning[S0105]")),
             "{:?}",
-            errors(&missing)
+            missing.rendered()
         );
     }
 

@@ -20,14 +20,6 @@ fn tree(name: &str, files: &[(&str, &str)]) -> PathBuf {
     root
 }
 
-fn rendered(mission: &Mission) -> Vec<String> {
-    mission
-        .diagnostics
-        .iter()
-        .map(|entry| mission.render_one(entry))
-        .collect()
-}
-
 const SURFACE_MA: &str =
     "behavior_name=surface\n<start:b_arg>\n  b_arg: gps_wait_time(s) 123\n<end:b_arg>\n";
 
@@ -47,7 +39,7 @@ fn args_from_file_01_reads_surfac01() {
         ],
     );
     let mission = Mission::load(&root.join("missions/m.mi"));
-    assert_eq!(rendered(&mission), Vec::<String>::new());
+    assert_eq!(mission.rendered(), Vec::<String>::new());
     assert!(mission.sources[1].path.ends_with("mafiles/surfac01.ma"));
     assert_eq!(mission.behaviors[0].arg("gps_wait_time"), Some(123.0));
 }
@@ -65,7 +57,7 @@ fn mafiles_folder_and_file_names_ignore_case() {
         ],
     );
     let mission = Mission::load(&root.join("missions/m.mi"));
-    assert_eq!(rendered(&mission), Vec::<String>::new());
+    assert_eq!(mission.rendered(), Vec::<String>::new());
     assert!(mission.sources[1].path.ends_with("Mafiles/SURFAC10.MA"));
     assert_eq!(mission.behaviors[0].arg("gps_wait_time"), Some(123.0));
 }
@@ -83,7 +75,7 @@ fn a_ma_beside_the_mission_is_read_with_a_note() {
         ],
     );
     let mission = Mission::load(&root.join("missions/m.mi"));
-    let messages = rendered(&mission);
+    let messages = mission.rendered();
     assert_eq!(messages.len(), 1, "{messages:?}");
     // The note sits on `b_arg: args_from_file(enum) 10`: line 2, column 3.
     assert!(
@@ -120,7 +112,7 @@ fn mafiles_beats_the_mission_folder_and_a_named_folder_beats_both() {
         ],
     );
     let mission = Mission::load(&root.join("missions/m.mi"));
-    assert_eq!(rendered(&mission), Vec::<String>::new());
+    assert_eq!(mission.rendered(), Vec::<String>::new());
     assert_eq!(mission.behaviors[0].arg("gps_wait_time"), Some(123.0));
     let named = Mission::load_with_options(
         &root.join("missions/m.mi"),
@@ -130,7 +122,7 @@ fn mafiles_beats_the_mission_folder_and_a_named_folder_beats_both() {
         },
         &mut Disk,
     );
-    assert_eq!(rendered(&named), Vec::<String>::new());
+    assert_eq!(named.rendered(), Vec::<String>::new());
     assert_eq!(named.behaviors[0].arg("gps_wait_time"), Some(7.0));
 }
 
@@ -144,7 +136,7 @@ fn a_missing_ma_names_the_folders_searched() {
         )],
     );
     let mission = Mission::load(&root.join("missions/m.mi"));
-    let messages = rendered(&mission);
+    let messages = mission.rendered();
     assert_eq!(messages.len(), 1, "{messages:?}");
     assert!(
         messages[0].contains("m.mi:2:3: error[S0004]: cannot find mission argument file `yo04.ma`"),
@@ -169,7 +161,7 @@ fn a_link_out_of_the_tree_is_refused_unless_the_folder_was_named() {
     std::os::unix::fs::symlink(secret.join("private.txt"), root.join("mafiles/surfac10.ma"))
         .expect("symlink");
     let mission = Mission::load(&root.join("missions/m.mi"));
-    let messages = rendered(&mission).join("\n");
+    let messages = mission.rendered().join("\n");
     assert!(messages.contains("error[S0004]"), "{messages}");
     assert!(
         messages.contains("leads out of the mission's folders"),
@@ -242,7 +234,7 @@ fn each_ma_is_read_once_per_load() {
         &LoadOptions::default(),
         &mut files,
     );
-    assert_eq!(rendered(&mission), Vec::<String>::new());
+    assert_eq!(mission.rendered(), Vec::<String>::new());
     assert_eq!(mission.behaviors.len(), 3);
     assert!(mission
         .behaviors
@@ -271,7 +263,7 @@ fn a_ma_value_is_flown_over_the_mi_value_with_a_warning() {
         ],
     );
     let mission = Mission::load(&root.join("missions/m.mi"));
-    let messages = rendered(&mission);
+    let messages = mission.rendered();
     assert_eq!(messages.len(), 1, "{messages:?}");
     assert!(
         messages[0].contains("m.mi:3:3: warning[S0109]")

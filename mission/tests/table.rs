@@ -23,14 +23,6 @@ fn with_table(table: Arc<BehaviorTable>) -> LoadOptions {
     }
 }
 
-fn rendered(mission: &Mission) -> Vec<String> {
-    mission
-        .diagnostics
-        .iter()
-        .map(|entry| mission.render_one(entry))
-        .collect()
-}
-
 #[test]
 fn the_masterdata_sections_are_the_table() {
     let table = fixture_table();
@@ -68,7 +60,7 @@ fn checks_and_defaults_follow_the_active_masterdata() {
             Err(std::io::ErrorKind::NotFound.into())
         },
     );
-    let messages = rendered(&mission);
+    let messages = mission.rendered();
     assert_eq!(messages.len(), 3, "{messages:#?}");
     // Line 2: `behavior: drift_at_depth`, the name at column 11.
     assert!(
@@ -118,11 +110,12 @@ behavior: goto_list\n  b_arg: wpt_units_0(enum) 0\n  b_arg: wpt_units_3(enum) 0\
 behavior: sample\n  b_arg: tod_start(hhmm) -1\n  b_arg: tod_stop(hhmm) -1\n\
 behavior: nop_cmds\nbehavior: drift_at_depth\nbehavior: compass_cal\nbehavior: oob_abort\nbehavior: pinger_on\n";
     let mission = Mission::parse("m.mi", text);
-    let problems: Vec<String> = rendered(&mission)
+    let problems: Vec<String> = mission
+        .rendered()
         .into_iter()
         .filter(|message| !message.contains("note[S0111]"))
         .collect();
     assert_eq!(problems, Vec::<String>::new());
     // The five firmware behaviors gloc does not fly are each a note.
-    assert_eq!(rendered(&mission).len(), 5);
+    assert_eq!(mission.rendered().len(), 5);
 }

@@ -305,14 +305,7 @@ mod tests {
 
     #[test]
     fn reads_the_amadeus_csv_with_comments() {
-        // The shared data folder sits next to the repository, here and in CI.
-        let path = gloc_testsupport::data("amadeus_2014-07-24_temp_profile.csv");
-        let text = std::fs::read_to_string(&path).unwrap_or_else(|error| {
-            panic!(
-                "cannot read {} ({error}): a file of the repository's data/",
-                path.display()
-            )
-        });
+        let (path, text) = gloc_testsupport::data_text("amadeus_2014-07-24_temp_profile.csv");
         let profile = TemperatureProfile::from_csv(&path, &text).expect("amadeus profile loads");
         // The notes give 20.2 °C at the surface and 14.7 °C below 25 m.
         assert!(

@@ -253,11 +253,7 @@ fn hook_with_flags_clear_commands_nothing() {
 #[test]
 fn nsb3_loads_without_errors_and_flies() {
     let mission = Mission::load(&gloc_testsupport::data("comet/missions/nsb3.mi"));
-    let errors: Vec<String> = mission
-        .diagnostics
-        .iter()
-        .map(|entry| mission.render_one(entry))
-        .collect();
+    let errors = mission.rendered();
     assert!(errors.is_empty(), "{errors:#?}");
     // nsb3.mi plus the 8 .ma files it names.
     assert_eq!(mission.sources.len(), 9);

@@ -34,6 +34,34 @@ pub fn data(relative: &str) -> PathBuf {
     path
 }
 
+/// A text file of the repository's `data/` ([`data`]) and its path. Panics, naming the
+/// path, when it cannot be read.
+pub fn data_text(relative: &str) -> (PathBuf, String) {
+    let path = data(relative);
+    match std::fs::read_to_string(&path) {
+        Ok(text) => (path, text),
+        Err(error) => panic!(
+            "cannot read {} ({error}): a file of the repository's data/",
+            path.display()
+        ),
+    }
+}
+
+/// The names of the entries of `dir`, sorted: what a test that checks which files a
+/// command left behind compares.
+pub fn file_names(dir: &Path) -> Vec<String> {
+    let entries = std::fs::read_dir(dir)
+        .unwrap_or_else(|error| panic!("cannot list {} ({error})", dir.display()));
+    let mut names: Vec<String> = entries
+        .map(|entry| match entry {
+            Ok(entry) => entry.file_name().to_string_lossy().into_owned(),
+            Err(error) => panic!("cannot list {} ({error})", dir.display()),
+        })
+        .collect();
+    names.sort();
+    names
+}
+
 /// [`data`] as a display string, for command lines.
 pub fn data_arg(relative: &str) -> String {
     data(relative).display().to_string()

@@ -88,6 +88,32 @@ pub fn scratch_dir(name: &str) -> PathBuf {
     dir
 }
 
+/// The body of one message framed as the language server protocol frames it
+/// (`Content-Length: N`, other headers, a blank line, N bytes); `None` at the end of
+/// the stream. Panics on a read error or a message without its length: what a test
+/// client of a server reads.
+pub async fn read_frame<R: tokio::io::AsyncBufRead + Unpin>(reader: &mut R) -> Option<Vec<u8>> {
+    use tokio::io::{AsyncBufReadExt, AsyncReadExt};
+    let mut length = None;
+    loop {
+        let mut line = String::new();
+        let read = reader.read_line(&mut line).await.expect("read a header");
+        if read == 0 {
+            return None;
+        }
+        let line = line.trim_end();
+        if line.is_empty() {
+            break;
+        }
+        if let Some(value) = line.strip_prefix("Content-Length: ") {
+            length = Some(value.parse::<usize>().expect("a length"));
+        }
+    }
+    let mut body = vec![0; length.expect("a Content-Length header")];
+    reader.read_exact(&mut body).await.expect("read the body");
+    Some(body)
+}
+
 /// The one seeded generator (SplitMix64, `gloc_engine::rng`), for property tests.
 pub use gloc_engine::rng::Rng;
 

@@ -7,9 +7,7 @@ use std::collections::VecDeque;
 use std::time::Duration;
 
 use serde_json::{json, Value};
-use tokio::io::{
-    AsyncBufReadExt, AsyncReadExt, AsyncWriteExt, BufReader, DuplexStream, ReadHalf, WriteHalf,
-};
+use tokio::io::{AsyncWriteExt, BufReader, DuplexStream, ReadHalf, WriteHalf};
 use tokio::task::JoinHandle;
 
 pub struct TestClient {
@@ -128,21 +126,9 @@ impl TestClient {
     }
 
     async fn read_message(&mut self) -> Value {
-        let mut length = None;
-        loop {
-            let mut line = String::new();
-            let read = self.reader.read_line(&mut line).await.expect("read header");
-            assert!(read > 0, "the server closed its output");
-            let line = line.trim_end();
-            if line.is_empty() {
-                break;
-            }
-            if let Some(value) = line.strip_prefix("Content-Length: ") {
-                length = Some(value.parse::<usize>().expect("length"));
-            }
-        }
-        let mut body = vec![0; length.expect("Content-Length header")];
-        self.reader.read_exact(&mut body).await.expect("read body");
+        let body = gloc_testsupport::read_frame(&mut self.reader)
+            .await
+            .expect("the server keeps its output open");
         serde_json::from_slice(&body).expect("valid JSON from the server")
     }
 

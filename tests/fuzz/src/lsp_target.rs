@@ -4,7 +4,7 @@
 //! document opened with the final text.
 
 use serde_json::{json, Value};
-use tokio::io::{AsyncBufReadExt, AsyncReadExt, AsyncWriteExt, BufReader, DuplexStream};
+use tokio::io::{AsyncWriteExt, BufReader, DuplexStream};
 
 /// At most this many edits per input, so one execution stays fast.
 const MAX_EDITS: usize = 24;
@@ -332,22 +332,6 @@ async fn read_messages(
 
 /// One framed message; `None` at the end of the server's output.
 async fn read_message(reader: &mut BufReader<tokio::io::ReadHalf<DuplexStream>>) -> Option<Value> {
-    let mut length = None;
-    loop {
-        let mut line = String::new();
-        let read = reader.read_line(&mut line).await.expect("read a header");
-        if read == 0 {
-            return None;
-        }
-        let line = line.trim_end();
-        if line.is_empty() {
-            break;
-        }
-        if let Some(value) = line.strip_prefix("Content-Length: ") {
-            length = Some(value.parse::<usize>().expect("a length"));
-        }
-    }
-    let mut body = vec![0; length.expect("a Content-Length header")];
-    reader.read_exact(&mut body).await.expect("read the body");
+    let body = gloc_testsupport::read_frame(reader).await?;
     Some(serde_json::from_slice(&body).expect("valid JSON from the server"))
 }

@@ -70,7 +70,7 @@ impl ReplayWorld {
     ) -> DebugResult<(ReplayWorld, Vec<usize>)> {
         let input = Input::open(&config.replay, settings.sensor_cache.as_deref())
             .map_err(|error| DebugError::launch(error.to_string()))?;
-        let recording = Recording::read(input, &script.sensor_list)
+        let recording = Recording::read(input, &script.state.sensor_list)
             .map_err(|error| DebugError::launch(error.to_string()))?;
         if recording.is_empty() {
             return Err(DebugError::launch(format!(
@@ -93,7 +93,7 @@ impl ReplayWorld {
             recording.len(),
             recording.source
         )));
-        let mut touched = script.touched.clone();
+        let mut touched = script.state.touched.clone();
         for id in &recording.recorded {
             if !touched.contains(&id.index()) {
                 touched.push(id.index());
@@ -106,7 +106,7 @@ impl ReplayWorld {
             },
         );
         let mut world = ReplayWorld {
-            values: script.sensor_list.initial_values(),
+            values: script.state.sensor_list.initial_values(),
             recording: Arc::new(recording),
             machine,
             cycle: 0,

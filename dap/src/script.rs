@@ -79,25 +79,23 @@ pub(crate) struct VariableSlot {
     pub(crate) storage: Storage,
 }
 
-/// The script loaded for debugging: what both worlds start from.
+/// The script loaded for debugging: what both worlds start from, its source and
+/// the state the world it launches keeps (its `touched` are the script's own sensors,
+/// in first-use order, until a replay adds the recorded ones).
 pub(crate) struct DebugScript {
     pub path: PathBuf,
     pub text: String,
+    /// The loaded script's program (`state.loaded.program`, which a launch requires).
     pub program: Arc<Program>,
-    pub loaded: LoadedScript,
-    /// The source line of each pc.
-    pub lines: SourceLines,
-    pub variables: Vec<VariableSlot>,
-    /// The sensors the script loads or stores, in first-use order.
-    pub touched: Vec<usize>,
-    pub sensor_list: Arc<SensorList>,
+    pub state: ScriptState,
 }
 
 impl DebugScript {
     /// The script's warnings (W2302 over the budget, …), one line each, shown at
     /// launch as `gloc check` shows them.
     pub fn warnings(&self) -> impl Iterator<Item = String> + '_ {
-        self.loaded
+        self.state
+            .loaded
             .diagnostics
             .iter()
             .filter(|diagnostic| !diagnostic.is_error())
@@ -139,18 +137,6 @@ pub struct ScriptState {
 }
 
 impl ScriptState {
-    /// The state of `script` for a run of at most `max_cycles` cycles.
-    pub(crate) fn new(script: DebugScript, max_cycles: Option<u64>) -> ScriptState {
-        ScriptState {
-            variables: script.variables,
-            lines: script.lines,
-            loaded: script.loaded,
-            touched: script.touched,
-            sensor_list: script.sensor_list,
-            max_cycles,
-        }
-    }
-
     pub fn sensor_count(&self) -> usize {
         self.sensor_list.len()
     }

@@ -88,7 +88,7 @@ pub fn launch_with(config: &LaunchConfig, settings: &Settings) -> DebugResult<(W
     let script = load_debug_script(config, settings)?;
     let info = debug_info(&script).with_scope(expression_scope(&script));
     let (run, touched) = if config.replay.is_empty() {
-        let touched = script.touched.clone();
+        let touched = script.state.touched.clone();
         (Run::Sim(launch_sim(config, settings, &script)?), touched)
     } else {
         let (replay, touched) = ReplayWorld::launch(config, settings, &script)?;
@@ -96,7 +96,7 @@ pub fn launch_with(config: &LaunchConfig, settings: &Settings) -> DebugResult<(W
     };
     let script = ScriptState {
         touched,
-        ..ScriptState::new(script, config.max_cycles)
+        ..script.state
     };
     let mut world = World {
         script: Arc::new(script),
@@ -112,9 +112,9 @@ pub fn launch_with(config: &LaunchConfig, settings: &Settings) -> DebugResult<(W
 /// The names a GBASIC script's expressions use: its symbols (from the source map) and
 /// the sensor list; a GLOC script has only the sensors (and, in the debugger, registers).
 fn expression_scope(script: &DebugScript) -> ExpressionScope {
-    match script.loaded.source_map() {
-        Some(map) => scope_of_source_map(map, script.sensor_list.clone()),
-        None => ExpressionScope::new(script.sensor_list.clone()),
+    match script.state.loaded.source_map() {
+        Some(map) => scope_of_source_map(map, script.state.sensor_list.clone()),
+        None => ExpressionScope::new(script.state.sensor_list.clone()),
     }
 }
 
@@ -169,18 +169,21 @@ fn load_debug_script(config: &LaunchConfig, settings: &Settings) -> DebugResult<
         path: path.clone(),
         text,
         program,
-        lines: SourceLines::of(&loaded),
-        loaded,
-        variables,
-        touched,
-        sensor_list: Arc::new(sensor_list),
+        state: ScriptState {
+            variables,
+            lines: SourceLines::of(&loaded),
+            loaded,
+            touched,
+            sensor_list: Arc::new(sensor_list),
+            max_cycles: config.max_cycles,
+        },
     })
 }
 
 /// Lines (the loaded script's one pc → line map) and instruction texts per pc.
 fn debug_info(script: &DebugScript) -> DebugInfo {
     let program = &script.program;
-    let loaded = &script.loaded;
+    let loaded = &script.state.loaded;
     let gloc_text = loaded.gloc_text.clone().unwrap_or_default();
     let gloc_lines: Vec<&str> = gloc_text.lines().collect();
     let count = program.instrs.len();
@@ -198,9 +201,14 @@ fn debug_info(script: &DebugScript) -> DebugInfo {
         Some(_) => Language::Gbasic,
         None => Language::Gloc,
     };
-    DebugInfo::new(script.path.clone(), language, script.lines.clone(), texts)
-        .with_program(program)
-        .with_source_text(&script.text)
+    DebugInfo::new(
+        script.path.clone(),
+        language,
+        script.state.lines.clone(),
+        texts,
+    )
+    .with_program(program)
+    .with_source_text(&script.text)
 }
 
 /// The simulator world: the mission and the profile, cycle 0 opened; the simulation
@@ -211,7 +219,7 @@ fn launch_sim(
     script: &DebugScript,
 ) -> DebugResult<SimWorld> {
     let launch_error = |error: gloc_project::ProjectError| DebugError::launch(error.to_string());
-    let sensor_list = &script.sensor_list;
+    let sensor_list = &script.state.sensor_list;
     let mission =
         gloc_project::simulation::load_mission(settings, sensor_list).map_err(launch_error)?;
     let flight = gloc_project::simulation::Flight::read(
@@ -224,7 +232,7 @@ fn launch_sim(
         settings,
         sensors: sensor_list,
         mission: &mission,
-        script: &script.loaded,
+        script: &script.state.loaded,
         program: &script.program,
     };
     let prepared = gloc_project::simulation::prepare(&plan, flight).map_err(launch_error)?;

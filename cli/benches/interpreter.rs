@@ -22,7 +22,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::Arc;
 
-use gloc_compiler::{load_script, Language, LoadOptions};
+use gloc_compiler::{load_script, Language, LoadOptions, Optimization};
 use gloc_engine::program::Program;
 use gloc_engine::sensors::{SensorId, SensorList};
 use gloc_engine::vm::{CycleEnd, Dispatch, Host, Machine, MachineConfig};
@@ -66,17 +66,14 @@ fn programs_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/perf/programs")
 }
 
-fn compile(name: &str, optimize: bool) -> Arc<Program> {
+fn compile(name: &str, optimization: Optimization) -> Arc<Program> {
     let path = programs_dir().join(format!("{name}.gbas"));
     let text = std::fs::read_to_string(&path).expect("benchmark program is in the repo");
     let loaded = load_script(
         &text,
         Language::Gbasic,
         &SensorList::embedded(),
-        &LoadOptions {
-            optimize,
-            cycle_budget: None,
-        },
+        &LoadOptions::from(optimization),
     );
     for diagnostic in &loaded.diagnostics {
         eprintln!(
@@ -256,7 +253,8 @@ fn main() {
             }
         };
         for bench in benches {
-            let (seconds, instructions, _) = run_gloc(&compile(bench.name, true), dispatch);
+            let (seconds, instructions, _) =
+                run_gloc(&compile(bench.name, Optimization::Optimized), dispatch);
             println!(
                 "{} -O, {dispatch:?}: {instructions} GLOC instructions in {:.2} ms",
                 bench.name,
@@ -287,8 +285,8 @@ fn main() {
     let mut per_iteration_rows = Vec::new();
     for bench in benches {
         let name = bench.name;
-        let optimized = compile(name, true);
-        let plain = compile(name, false);
+        let optimized = compile(name, Optimization::Optimized);
+        let plain = compile(name, Optimization::Plain);
         let (mut optimized_times, mut loop_times, mut plain_times) =
             (Vec::new(), Vec::new(), Vec::new());
         let (mut lua_times, mut luajit_times, mut native_times) =

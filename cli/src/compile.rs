@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use gloc_compiler::{compile, CompileOptions, Language};
+use gloc_compiler::{compile, CompileOptions, Language, Optimization};
 use gloc_project::settings::Settings;
 use gloc_project::{Overrides, Surface};
 
@@ -85,10 +85,16 @@ pub fn main(args: crate::CompileArgs) -> anyhow::Result<ExitCode> {
             String::new()
         }
     );
-    if args.optimize {
+    if args.optimization().enabled() {
         // What -O bought: the same program built without the optimizer. Its
         // errors, if any, were already reported by the optimized build.
-        let unoptimized = compile(&script.text, &sensors, &CompileOptions { optimize: false });
+        let unoptimized = compile(
+            &script.text,
+            &sensors,
+            &CompileOptions {
+                optimization: Optimization::Plain,
+            },
+        );
         if let Some(before) = unoptimized.code.map(|code| code.build.stats) {
             eprintln!(
                 "{display}: -O: {} → {} instructions, {} → {} registers (unoptimized → optimized)",

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::Arc;
 
-use gloc_compiler::{load_script, Language, LoadOptions};
+use gloc_compiler::{load_script, Language, LoadOptions, Optimization};
 use gloc_engine::sensors::{SensorId, SensorList};
 use gloc_engine::vm::{CycleEnd, Host, Machine, MachineConfig};
 
@@ -45,13 +45,13 @@ impl Host for Quiet {
 
 /// Instructions the script's second cycle executes (after its first `yield`), compiled
 /// with or without the optimizer, counted by the library's machine.
-fn instructions_per_cycle(text: &str, optimize: bool) -> u64 {
+fn instructions_per_cycle(text: &str, optimization: Optimization) -> u64 {
     let loaded = load_script(
         text,
         Language::Gbasic,
         &SensorList::embedded(),
         &LoadOptions {
-            optimize,
+            optimization,
             cycle_budget: Some(1_000_000),
         },
     );
@@ -73,8 +73,8 @@ fn gloc_run_optimizes_gbasic_unless_told_not_to() {
                 label: top\ns = 0\nfor i = 1 to 200\n  s = s + i * 2\nnext\nyield\ngoto top\n";
     let path = std::env::temp_dir().join(format!("gloc-sum-{}.gbas", std::process::id()));
     std::fs::write(&path, text).expect("write the script");
-    let optimized = instructions_per_cycle(text, true);
-    let plain = instructions_per_cycle(text, false);
+    let optimized = instructions_per_cycle(text, Optimization::Optimized);
+    let plain = instructions_per_cycle(text, Optimization::Plain);
     assert!(optimized < plain, "{optimized} vs {plain}");
     // A budget between the two: only the unoptimized code overruns it.
     let budget = ((optimized + plain) / 2).to_string();

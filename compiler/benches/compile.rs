@@ -4,12 +4,12 @@
 
 use std::time::Instant;
 
-use gloc_compiler::{compile, CompileOptions};
+use gloc_compiler::{compile, CompileOptions, Optimization};
 use gloc_engine::sensors::SensorList;
 
 fn measure(name: &str, text: &str, sensors: &SensorList) {
-    for optimize in [false, true] {
-        let options = CompileOptions { optimize };
+    for optimization in [Optimization::Plain, Optimization::Optimized] {
+        let options = CompileOptions { optimization };
         let runs = 20;
         let start = Instant::now();
         let mut stats = None;
@@ -22,7 +22,7 @@ fn measure(name: &str, text: &str, sensors: &SensorList) {
         let stats = stats.unwrap_or_default();
         println!(
             "{name:<28} {:<4} {:>9.3} ms   {:>6} GLOC lines {:>6} instructions {:>5} registers {:>5} labels",
-            if optimize { "-O" } else { "" },
+            if optimization.enabled() { "-O" } else { "" },
             each.as_secs_f64() * 1000.0,
             stats.lines,
             stats.instructions,

@@ -107,7 +107,7 @@ pub fn analyze_and_load(
         text,
         sensors,
         &CompileOptions {
-            optimize: options.optimize,
+            optimization: options.optimization,
         },
     );
     let loaded = crate::loader::load_compiled(text, compiled, sensors, options);

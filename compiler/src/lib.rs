@@ -36,16 +36,17 @@ pub use source_map::{ConstantValue, Origin, SourceMap};
 
 /// Whether GBASIC is compiled with the optimizer (`-O`): the argument of every
 /// function that loads a script for a front end (a named choice, not a bare `bool`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Optimization {
     /// As written: what the debugger and the checker load, so lines map one to one.
+    #[default]
     Plain,
     /// `-O`: what `gloc run` and `gloc batch` fly by default.
     Optimized,
 }
 
 impl Optimization {
-    /// `true` for [`Optimization::Optimized`] (the options structs' field).
+    /// `true` for [`Optimization::Optimized`].
     pub fn enabled(self) -> bool {
         self == Optimization::Optimized
     }
@@ -95,8 +96,8 @@ impl Suppressed {
 /// How to compile.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct CompileOptions {
-    /// Run the optimizer (`-O`).
-    pub optimize: bool,
+    /// Whether the optimizer runs (`-O`).
+    pub optimization: Optimization,
 }
 
 /// Register, label and instruction counts of one build (for `-O` figures).
@@ -203,7 +204,7 @@ pub(crate) fn compile_checked(
         }
     }
     let mut label_renumbering = None;
-    if options.optimize {
+    if options.optimization.enabled() {
         match optimize::optimize(&mut code, &for_bounds) {
             Some(optimized) => {
                 for_bounds = optimized.for_bounds;
@@ -233,7 +234,7 @@ pub(crate) fn compile_checked(
         };
     }
     let mut source_map = SourceMap::build(&code, &generated.storage, symbols, text);
-    if options.optimize {
+    if options.optimization.enabled() {
         // Register reuse gives a scalar's register to other values wherever the
         // variable is dead, so no register can be named for it; arrays keep their
         // memory cells.

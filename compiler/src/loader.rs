@@ -13,7 +13,9 @@ use gloc_engine::sensors::{SensorId, SensorList};
 use gloc_engine::vm::TrapKind;
 use gloc_engine::{Diagnostic, LineIndex, Span};
 
-use crate::{compile, CompileOptions, Compiled, CompiledCode, GbasicBuild, SourceMap};
+use crate::{
+    compile, CompileOptions, Compiled, CompiledCode, GbasicBuild, Optimization, SourceMap,
+};
 
 /// Which of the two languages a script is in. The one such type: the CLI, the
 /// debugger and the loader use it as it is, and the editor's document kind
@@ -64,11 +66,21 @@ pub fn source_too_large(text: &str, language: Language) -> Option<Diagnostic> {
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct LoadOptions {
-    /// Compile GBASIC with `-O`.
-    pub optimize: bool,
+    /// Whether GBASIC is compiled with `-O`.
+    pub optimization: Optimization,
     /// The per-cycle instruction budget the script will run under: a worst case per
     /// cycle above it is reported as a warning. `None`: the machine's default.
     pub cycle_budget: Option<u64>,
+}
+
+impl From<Optimization> for LoadOptions {
+    /// A load with `optimization` under the machine's default budget.
+    fn from(optimization: Optimization) -> LoadOptions {
+        LoadOptions {
+            optimization,
+            cycle_budget: None,
+        }
+    }
 }
 
 #[derive(Clone, Debug, Default)]
@@ -195,16 +207,16 @@ pub fn load_script_written_for(
 }
 
 fn load_gbasic(text: &str, sensors: &SensorList, options: &LoadOptions) -> LoadedScript {
-    let load = |optimize| {
+    let load = |optimization| {
         load_compiled(
             text,
-            compile(text, sensors, &CompileOptions { optimize }),
+            compile(text, sensors, &CompileOptions { optimization }),
             sensors,
             options,
         )
     };
-    let loaded = load(options.optimize);
-    if !options.optimize {
+    let loaded = load(options.optimization);
+    if !options.optimization.enabled() {
         return loaded;
     }
     // Constant folding can turn a loop's exit test into a jump: `n = 10` then `loop
@@ -221,7 +233,7 @@ fn load_gbasic(text: &str, sensors: &SensorList, options: &LoadOptions) -> Loade
     if endless.is_empty() {
         return loaded;
     }
-    let mut plain = load(false);
+    let mut plain = load(Optimization::Plain);
     if plain.has_errors() {
         return loaded;
     }

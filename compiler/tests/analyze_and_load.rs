@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use gloc_compiler::analysis::analyze_and_load;
-use gloc_compiler::{analyze, load_script, CompileOptions, Language, LoadOptions};
+use gloc_compiler::{analyze, load_script, CompileOptions, Language, LoadOptions, Optimization};
 use gloc_engine::sensors::SensorList;
 
 fn gbasic_files() -> Vec<std::path::PathBuf> {
@@ -35,7 +35,7 @@ fn one_compile_answers_what_the_two_calls_answer() {
     let files = gbasic_files();
     assert!(files.len() >= 10, "found only {} GBASIC files", files.len());
     let options = LoadOptions {
-        optimize: false,
+        optimization: Optimization::Plain,
         cycle_budget: Some(500),
     };
     for path in files {

@@ -3,20 +3,17 @@
 //! million-term line gets one located diagnostic, not a stack overflow; at the cap the
 //! program compiles, with and without `-O`, and computes the right value.
 
-use gloc_compiler::{load_script, Language, LoadOptions, LoadedScript};
+use gloc_compiler::{load_script, Language, LoadOptions, LoadedScript, Optimization};
 use gloc_engine::sensors::SensorId;
 use gloc_engine::sensors::SensorList;
 use gloc_engine::vm::{CycleEnd, Host, Machine, MachineConfig};
 
-fn load(text: &str, optimize: bool) -> LoadedScript {
+fn load(text: &str, optimization: Optimization) -> LoadedScript {
     load_script(
         text,
         Language::Gbasic,
         &SensorList::embedded(),
-        &LoadOptions {
-            optimize,
-            cycle_budget: None,
-        },
+        &LoadOptions::from(optimization),
     )
 }
 
@@ -58,7 +55,7 @@ fn a_long_chain_is_one_located_error_for_every_operator() {
     // GBASIC's 1 MB even with `and` and `mod` (6 bytes a term).
     for operator in ["+", "-", "*", "/", "\\", "or", "and", "mod", "=", "<"] {
         let text = chain(operator, 150_000);
-        let loaded = load(&text, false);
+        let loaded = load(&text, Optimization::Plain);
         let errors: Vec<_> = loaded
             .diagnostics
             .iter()
@@ -76,8 +73,8 @@ fn a_long_chain_is_one_located_error_for_every_operator() {
 
 #[test]
 fn a_chain_of_256_operators_compiles_and_adds_up() {
-    for optimize in [false, true] {
-        let loaded = load(&chain("+", 257), optimize);
+    for optimization in [Optimization::Plain, Optimization::Optimized] {
+        let loaded = load(&chain("+", 257), optimization);
         assert!(!loaded.has_errors(), "{:?}", loaded.diagnostics);
         assert_eq!(first_line_printed(&loaded), "257");
     }
@@ -95,8 +92,8 @@ fn a_mixed_chain_at_the_cap_with_conversions_runs_in_a_small_stack() {
         .stack_size(1 << 20)
         .spawn(move || {
             let mut printed = Vec::new();
-            for optimize in [false, true] {
-                let loaded = load(&text, optimize);
+            for optimization in [Optimization::Plain, Optimization::Optimized] {
+                let loaded = load(&text, optimization);
                 assert!(!loaded.has_errors(), "{:?}", loaded.diagnostics);
                 printed.push(first_line_printed(&loaded));
             }
@@ -115,7 +112,7 @@ fn deep_parentheses_and_prefix_operators_are_refused_with_e2008() {
             open.repeat(200_000),
             close.repeat(200_000)
         );
-        let loaded = load(&text, false);
+        let loaded = load(&text, Optimization::Plain);
         let codes: Vec<&str> = loaded.diagnostics.iter().map(|d| d.code).collect();
         assert!(codes.contains(&"E2008"), "{open}: {codes:?}");
         assert!(loaded.program.is_none());

@@ -8,7 +8,7 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use gloc_compiler::{load_script, Language, LoadOptions, LoadedScript};
+use gloc_compiler::{load_script, Language, LoadOptions, LoadedScript, Optimization};
 use gloc_engine::program::Program;
 use gloc_engine::sensors::{SensorId, SensorList};
 use gloc_engine::vm::{CycleEnd, Host, Machine, MachineConfig};
@@ -149,15 +149,12 @@ fn programs() -> Vec<PathBuf> {
     files
 }
 
-fn load(text: &str, sensors: &SensorList, optimize: bool) -> LoadedScript {
+fn load(text: &str, sensors: &SensorList, optimization: Optimization) -> LoadedScript {
     load_script(
         text,
         Language::Gbasic,
         sensors,
-        &LoadOptions {
-            optimize,
-            cycle_budget: None,
-        },
+        &LoadOptions::from(optimization),
     )
 }
 
@@ -172,8 +169,8 @@ fn optimized_and_unoptimized_builds_behave_identically() {
     let mut report = String::new();
     for path in files {
         let text = std::fs::read_to_string(&path).expect("readable program");
-        let plain = load(&text, &sensors, false);
-        let optimized = load(&text, &sensors, true);
+        let plain = load(&text, &sensors, Optimization::Plain);
+        let optimized = load(&text, &sensors, Optimization::Optimized);
         assert!(
             plain.program.is_some(),
             "{}: {:?}",
@@ -236,8 +233,8 @@ fn run_programs_print_what_was_worked_out_by_hand() {
         let text = std::fs::read_to_string(&path).expect("readable");
         let expected =
             std::fs::read_to_string(path.with_extension("out")).expect(".out beside the program");
-        for optimize in [false, true] {
-            let loaded = load(&text, &sensors, optimize);
+        for optimization in [Optimization::Plain, Optimization::Optimized] {
+            let loaded = load(&text, &sensors, optimization);
             assert!(
                 loaded.program.is_some(),
                 "{}: {:?}",
@@ -254,7 +251,7 @@ fn run_programs_print_what_was_worked_out_by_hand() {
             assert_eq!(
                 printed,
                 expected,
-                "{} (optimize {optimize})",
+                "{} (optimization {optimization:?})",
                 path.display()
             );
         }

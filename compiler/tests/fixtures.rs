@@ -6,7 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
-use gloc_compiler::{compile, load_script, CompileOptions, Language, LoadOptions};
+use gloc_compiler::{compile, load_script, CompileOptions, Language, LoadOptions, Optimization};
 use gloc_engine::sensors::SensorList;
 use gloc_engine::LineIndex;
 
@@ -66,19 +66,16 @@ fn ok_fixtures_compile_to_their_gloc_and_pass_the_gloc_checker() {
         let expected = std::fs::read_to_string(path.with_extension("gloc"))
             .expect("expected .gloc beside the fixture");
         assert_eq!(gloc, expected, "{}", path.display());
-        for optimize in [false, true] {
+        for optimization in [Optimization::Plain, Optimization::Optimized] {
             let loaded = load_script(
                 &text,
                 Language::Gbasic,
                 &sensors,
-                &LoadOptions {
-                    optimize,
-                    cycle_budget: None,
-                },
+                &LoadOptions::from(optimization),
             );
             assert!(
                 loaded.program.is_some(),
-                "{} (optimize {optimize}): {}",
+                "{} (optimization {optimization:?}): {}",
                 path.display(),
                 render(&text, &loaded.diagnostics)
             );
@@ -149,7 +146,13 @@ fn gloc_checker_findings_on_compiled_code_point_at_the_gbasic_statement() {
 fn the_optimized_source_map_follows_the_renumbered_labels() {
     let sensors = SensorList::embedded();
     let text = std::fs::read_to_string(fixture_dir("ok").join("fig3.gbas")).expect("fig3");
-    let compiled = compile(&text, &sensors, &CompileOptions { optimize: true });
+    let compiled = compile(
+        &text,
+        &sensors,
+        &CompileOptions {
+            optimization: Optimization::Optimized,
+        },
+    );
     let code = compiled.code.expect("compiles");
     let map = code.build.source_map;
     let labels: Vec<(&str, u32)> = map

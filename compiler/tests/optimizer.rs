@@ -6,46 +6,45 @@
 //! Sensor indices come from `engine/data/sensors-2008.txt`: `c_pitch` 96,
 //! `m_pitch` 437, `m_depth` 444.
 
-use gloc_compiler::{compile, load_script, CompileOptions, Language, LoadOptions, LoadedScript};
+use gloc_compiler::{
+    compile, load_script, CompileOptions, Language, LoadOptions, LoadedScript, Optimization,
+};
 use gloc_engine::sensors::SensorList;
 
 /// `source` loaded as `gloc check` and `gloc run` load it (compiled, checked as GLOC).
-fn load(source: &str, optimize: bool) -> LoadedScript {
+fn load(source: &str, optimization: Optimization) -> LoadedScript {
     load_script(
         source,
         Language::Gbasic,
         &SensorList::embedded(),
-        &LoadOptions {
-            optimize,
-            cycle_budget: None,
-        },
+        &LoadOptions::from(optimization),
     )
 }
 
-fn build(source: &str, optimize: bool) -> String {
+fn build(source: &str, optimization: Optimization) -> String {
     let sensors = SensorList::embedded();
-    let compiled = compile(source, &sensors, &CompileOptions { optimize });
+    let compiled = compile(source, &sensors, &CompileOptions { optimization });
     assert!(
         !compiled.has_errors(),
         "{source}: {:?}",
         compiled.diagnostics
     );
     // The result must also pass the GLOC checker and load.
-    let loaded = load(source, optimize);
+    let loaded = load(source, optimization);
     assert!(
         loaded.program.is_some(),
-        "{source} (optimize {optimize}): {:?}",
+        "{source} (optimization {optimization:?}): {:?}",
         loaded.diagnostics
     );
     compiled.code.expect("no errors, so GLOC").gloc_text
 }
 
 fn plain(source: &str) -> String {
-    build(source, false)
+    build(source, Optimization::Plain)
 }
 
 fn optimized(source: &str) -> String {
-    build(source, true)
+    build(source, Optimization::Optimized)
 }
 
 #[test]
@@ -213,7 +212,10 @@ fn a_branch_on_a_known_condition_folds_away_and_the_last_label_becomes_0() {
 #[test]
 fn a_loop_folding_proves_endless_keeps_the_plain_code_with_a_warning() {
     let source = "dim n as integer\ndo\n  n = 10\nloop while n < 25\nprint n\nend\n";
-    let (plain, optimized) = (load(source, false), load(source, true));
+    let (plain, optimized) = (
+        load(source, Optimization::Plain),
+        load(source, Optimization::Optimized),
+    );
     assert!(plain.program.is_some(), "{:?}", plain.diagnostics);
     assert!(optimized.program.is_some(), "{:?}", optimized.diagnostics);
     assert_eq!(
@@ -236,7 +238,7 @@ fn a_loop_folding_proves_endless_keeps_the_plain_code_with_a_warning() {
     // A loop -O cannot prove endless is still optimized.
     let bounded = "dim n as integer\ndo\n  n = n + 10\nloop while n < 25\nprint n\nend\n";
     assert_ne!(
-        load(bounded, true).gloc_text,
-        load(bounded, false).gloc_text
+        load(bounded, Optimization::Optimized).gloc_text,
+        load(bounded, Optimization::Plain).gloc_text
     );
 }

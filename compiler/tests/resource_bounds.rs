@@ -2,7 +2,7 @@
 //! (each label is one GLOC label; GLOC allows 2^20), and a source over the
 //! 1 MB GBASIC limit is refused with one clear error; diagnostics are capped per pass.
 
-use gloc_compiler::{load_script, Language, LoadOptions};
+use gloc_compiler::{load_script, Language, LoadOptions, Optimization};
 use gloc_engine::sensors::SensorList;
 
 fn load(text: &str) -> gloc_compiler::LoadedScript {
@@ -10,10 +10,7 @@ fn load(text: &str) -> gloc_compiler::LoadedScript {
         text,
         Language::Gbasic,
         &SensorList::embedded(),
-        &LoadOptions {
-            optimize: false,
-            cycle_budget: None,
-        },
+        &LoadOptions::from(Optimization::Plain),
     )
 }
 
@@ -83,7 +80,9 @@ fn dash_o_on_a_program_beyond_the_liveness_limit_compiles_without_it() {
     let compiled = gloc_compiler::compile(
         &text,
         &gloc_engine::sensors::SensorList::embedded(),
-        &gloc_compiler::CompileOptions { optimize: true },
+        &gloc_compiler::CompileOptions {
+            optimization: Optimization::Optimized,
+        },
     );
     let codes: Vec<&str> = compiled.diagnostics.iter().map(|d| d.code).collect();
     assert_eq!(codes, ["W2303"], "{:?}", compiled.diagnostics);

@@ -4,13 +4,15 @@
 
 use std::path::Path;
 
-use gloc_compiler::{analyze, compile, load_script, CompileOptions, Language, LoadOptions};
+use gloc_compiler::{
+    analyze, compile, load_script, CompileOptions, Language, LoadOptions, Optimization,
+};
 use gloc_engine::sensors::SensorList;
 use gloc_testsupport::Rng;
 
 fn exercise(text: &str, sensors: &SensorList) {
-    for optimize in [false, true] {
-        let compiled = compile(text, sensors, &CompileOptions { optimize });
+    for optimization in [Optimization::Plain, Optimization::Optimized] {
+        let compiled = compile(text, sensors, &CompileOptions { optimization });
         for diagnostic in &compiled.diagnostics {
             assert!(
                 diagnostic.span.start <= diagnostic.span.end
@@ -28,7 +30,7 @@ fn exercise(text: &str, sensors: &SensorList) {
             Language::Gbasic,
             sensors,
             &LoadOptions {
-                optimize,
+                optimization,
                 cycle_budget: Some(10_000),
             },
         );
@@ -187,15 +189,12 @@ fn deep_nesting_is_an_error_not_a_stack_overflow() {
     );
     assert!(!compile(&fine, &sensors, &CompileOptions::default()).has_errors());
     let nested = format!("{}yield\n{}", "while 1\n".repeat(90), "wend\n".repeat(90));
-    for optimize in [false, true] {
+    for optimization in [Optimization::Plain, Optimization::Optimized] {
         let loaded = load_script(
             &nested,
             Language::Gbasic,
             &sensors,
-            &LoadOptions {
-                optimize,
-                cycle_budget: None,
-            },
+            &LoadOptions::from(optimization),
         );
         assert!(loaded.program.is_some(), "{:?}", loaded.diagnostics);
     }

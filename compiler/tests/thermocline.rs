@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use gloc_compiler::{load_script, Language, LoadOptions};
+use gloc_compiler::{load_script, Language, LoadOptions, Optimization};
 use gloc_engine::sensors::SensorList;
 use gloc_sim::{Mission, SimConfig, Simulation, TemperatureProfile};
 
@@ -26,7 +26,7 @@ struct Flight {
     ended: bool,
 }
 
-fn fly(profile: Option<TemperatureProfile>, cycles: usize, optimize: bool) -> Flight {
+fn fly(profile: Option<TemperatureProfile>, cycles: usize, optimization: Optimization) -> Flight {
     let sensors = Arc::new(SensorList::embedded());
     let text =
         std::fs::read_to_string(root().join("examples/thermocline.gbas")).expect("the tracker");
@@ -34,10 +34,7 @@ fn fly(profile: Option<TemperatureProfile>, cycles: usize, optimize: bool) -> Fl
         &text,
         Language::Gbasic,
         &sensors,
-        &LoadOptions {
-            optimize,
-            cycle_budget: None,
-        },
+        &LoadOptions::from(optimization),
     );
     assert!(loaded.program.is_some(), "{:?}", loaded.diagnostics);
     let mission = Mission::load(&root().join("examples/thermocline.mi"));
@@ -139,7 +136,7 @@ fn true_bounds(profile: &TemperatureProfile, deepest_bin: usize) -> (f64, f64) {
 #[test]
 fn twelve_hours_on_the_built_in_profile_turn_at_the_true_bounds() {
     // 12 hours of cycles of 4.51 s on average (u_cycle_time 4 s plus comet's overrun).
-    let flight = fly(None, (12.0 * 3600.0 / 4.51) as usize, false);
+    let flight = fly(None, (12.0 * 3600.0 / 4.51) as usize, Optimization::Plain);
     assert!(
         !flight.ended,
         "the mission ended early: {:?}",
@@ -203,7 +200,7 @@ fn the_amadeus_profile_gives_bounds_of_about_3_and_13_m() {
     let (path, text) = gloc_testsupport::data_text("amadeus_2014-07-24_temp_profile.csv");
     let profile = TemperatureProfile::from_csv(&path, &text).expect("the amadeus profile parses");
     // Three hours are plenty for the first profile and several turns.
-    let flight = fly(Some(profile), 3 * 3600 / 4, false);
+    let flight = fly(Some(profile), 3 * 3600 / 4, Optimization::Plain);
     let turns = turns(&flight.samples);
     assert!(turns.len() > 4, "{turns:?}");
     // The bounds the script settles on once a few legs have filled its bins.
@@ -237,7 +234,7 @@ fn well_mixed_water_has_no_thermocline() {
     // range, from SHALLOWEST (2 m) to the full-depth dive's 40 m
     // (thermocline.mi's 44 m of water less MARGIN).
     let profile = TemperatureProfile::Table(vec![(0.0, 18.4), (42.0, 17.9)]);
-    let flight = fly(Some(profile), 3 * 3600 / 4, false);
+    let flight = fly(Some(profile), 3 * 3600 / 4, Optimization::Plain);
     assert!(turns(&flight.samples).len() > 4);
     let last = flight.samples.last().expect("samples");
     assert_eq!(
@@ -259,8 +256,8 @@ fn well_mixed_water_has_no_thermocline() {
 #[test]
 fn the_tracker_flies_the_same_with_and_without_optimization() {
     let cycles = 2 * 3600 / 4;
-    let plain = fly(None, cycles, false);
-    let optimized = fly(None, cycles, true);
+    let plain = fly(None, cycles, Optimization::Plain);
+    let optimized = fly(None, cycles, Optimization::Optimized);
     assert_eq!(plain.printed, optimized.printed);
     let depths = |flight: &Flight| {
         flight

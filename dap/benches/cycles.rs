@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
 
-use gloc_compiler::{load_script, Language, LoadOptions};
+use gloc_compiler::{load_script, Language, LoadOptions, Optimization};
 use gloc_dap::debugger::{
     CycleBreakpoint, CycleBreakpointKind, Debugger, HistoryConfig, LineBreakpoint, Progress,
     RunMode, Slice, StopReason,
@@ -56,11 +56,11 @@ fn main() {
         ),
     ] {
         println!("{name}:");
-        for optimize in [false, true] {
-            let seconds = simulate(&program, &mission, optimize);
+        for optimization in [Optimization::Plain, Optimization::Optimized] {
+            let seconds = simulate(&program, &mission, optimization);
             println!(
                 "  gloc run{} for {TARGET_CYCLE} cycles: {seconds:.3} s ({:.2} µs per cycle)",
-                if optimize { " -O" } else { "" },
+                if optimization.enabled() { " -O" } else { "" },
                 seconds * 1e6 / TARGET_CYCLE as f64
             );
         }
@@ -75,17 +75,14 @@ fn main() {
 }
 
 /// The cycles as `gloc run` flies them: no debugger, one `step_cycle` each.
-fn simulate(program: &Path, mission: &Path, optimize: bool) -> f64 {
+fn simulate(program: &Path, mission: &Path, optimization: Optimization) -> f64 {
     let text = std::fs::read_to_string(program).expect("the program");
     let sensor_list = SensorList::embedded();
     let loaded = load_script(
         &text,
         Language::of_path(program),
         &sensor_list,
-        &LoadOptions {
-            optimize,
-            cycle_budget: None,
-        },
+        &LoadOptions::from(optimization),
     );
     let script = loaded.program.expect("a program without errors");
     let mission = Mission::load(mission);

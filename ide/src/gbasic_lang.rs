@@ -6,7 +6,7 @@ use gloc_compiler::builtins::{Builtin, BuiltinInfo, BUILTINS};
 use gloc_compiler::lexer::{self, TokenKind as Lexed};
 use gloc_compiler::loader::LoadOptions;
 use gloc_compiler::typed::Ty;
-use gloc_compiler::SymbolKind as CompilerKind;
+use gloc_compiler::{Optimization, SymbolKind as CompilerKind};
 use gloc_engine::diagnostic::Fix;
 use gloc_engine::gloc::Bound;
 use gloc_engine::sensors::SensorId;
@@ -29,7 +29,7 @@ pub fn analyze(text: &str, context: &Context) -> Analysis {
         text,
         &context.sensors,
         &LoadOptions {
-            optimize: false,
+            optimization: Optimization::Plain,
             cycle_budget: context.cycle_budget,
         },
     );

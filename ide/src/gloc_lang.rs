@@ -4,6 +4,7 @@
 use std::collections::BTreeMap;
 
 use gloc_compiler::loader::{load_script_written_for, Language, LoadOptions};
+use gloc_compiler::Optimization;
 use gloc_engine::gloc::ast::{
     DirectiveKind, File, Line, LineKind, Opcode, OperandKind, OperandShape, Origin,
 };
@@ -26,7 +27,7 @@ pub fn analyze(text: &str, context: &Context) -> Analysis {
         Language::Gloc,
         &context.sensors,
         &LoadOptions {
-            optimize: false,
+            optimization: Optimization::Plain,
             cycle_budget: context.cycle_budget,
         },
         written_for(text, context),

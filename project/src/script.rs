@@ -159,7 +159,7 @@ pub fn load_text(
 /// one too), so `W2302` is decided the same way everywhere.
 pub fn load_options(settings: &Settings, optimization: Optimization) -> LoadOptions {
     LoadOptions {
-        optimize: optimization.enabled(),
+        optimization,
         cycle_budget: Some(settings.cycle_budget.value.get()),
     }
 }

@@ -2,7 +2,7 @@
 //! GLOC checker, and `-O` does not change what a program does: the same
 //! sensor writes and printed lines, cycle by cycle, for a bounded run.
 
-use gloc_compiler::{load_script, Language, LoadOptions};
+use gloc_compiler::{load_script, Language, LoadOptions, Optimization};
 
 use crate::gloc_target::{run_with, Event, Recording};
 
@@ -11,19 +11,11 @@ const BUDGET: u64 = 10_000;
 
 pub fn check_gbasic(text: &str) {
     let sensors = crate::embedded_sensors();
-    let load = |optimize| {
-        load_script(
-            text,
-            Language::Gbasic,
-            sensors,
-            &LoadOptions {
-                optimize,
-                cycle_budget: None,
-            },
-        )
+    let load = |optimization| {
+        load_script(text, Language::Gbasic, sensors, &LoadOptions::from(optimization))
     };
-    let plain = load(false);
-    let optimized = load(true);
+    let plain = load(Optimization::Plain);
+    let optimized = load(Optimization::Optimized);
     crate::gloc_target::assert_spans_in_bounds(text, &plain.diagnostics, "gbasic");
     crate::gloc_target::assert_spans_in_bounds(text, &optimized.diagnostics, "gbasic -O");
     assert_eq!(

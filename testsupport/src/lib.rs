@@ -1,7 +1,8 @@
 //! What the tests of every crate share: the real glider files kept in the repository's
-//! `data/` folder (found by one locator that fails loudly), paths in the repository, and
-//! the one seeded random-number generator (re-exported from the engine), and the one format
-//! for expected diagnostics ([`annotate`]).
+//! `data/` folder (found by one locator that fails loudly), paths in the repository,
+//! scratch folders, the one seeded random-number generator (re-exported from the
+//! engine), the one format for expected diagnostics ([`annotate`]), and the reader of a
+//! language server's framed messages ([`read_frame`]).
 //!
 //! A test that needs a real file calls [`data`]; a missing file is a failure that names
 //! the path, never a silent skip.

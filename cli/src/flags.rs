@@ -90,11 +90,6 @@ impl LengthArgs {
         };
         Ok(Some(limit))
     }
-
-    /// Whether either flag was given.
-    pub fn given(&self) -> bool {
-        self.duration.is_some() || self.cycles.is_some()
-    }
 }
 
 impl Limit {
@@ -108,7 +103,7 @@ impl Limit {
 }
 
 /// Parses `90s`, `45m`, `6h`, `30d`, or combinations such as `1h30m`.
-pub fn parse_duration(text: &str) -> anyhow::Result<f64> {
+fn parse_duration(text: &str) -> anyhow::Result<f64> {
     let trimmed = text.trim();
     let mut total = 0.0;
     let mut number = String::new();

@@ -33,7 +33,8 @@ pub fn main(args: crate::RunArgs) -> anyhow::Result<ExitCode> {
     for (given, flag) in [
         (args.flight.mission.is_some(), "--mission"),
         (args.profile.is_some(), "--profile"),
-        (args.length.given(), "--duration/--cycles"),
+        (args.length.duration.is_some(), "--duration"),
+        (args.length.cycles.is_some(), "--cycles"),
         (args.seed.is_some(), "--seed"),
         (args.log.is_some(), "--log"),
         (args.plot.is_some(), "--plot"),

@@ -158,6 +158,23 @@ fn replay_of_a_depth_ramp_through_fig2() {
     assert!(stderr(&output).contains("replayed 41 cycles"));
 }
 
+/// A simulator flag with --replay is refused by its own name.
+#[test]
+fn replay_refuses_each_simulator_length_flag_by_name() {
+    let input = ramp_csv().display().to_string();
+    for (flag, value) in [("--duration", "1h"), ("--cycles", "10")] {
+        let output = gloc(&["run", "--replay", &input, flag, value]);
+        assert_eq!(output.status.code(), Some(2), "{flag}: {}", stderr(&output));
+        assert!(
+            stderr(&output).contains(&format!(
+                "{flag} belongs to the simulator and cannot be used with --replay"
+            )),
+            "{}",
+            stderr(&output)
+        );
+    }
+}
+
 #[test]
 fn replay_prints_as_it_goes_and_reports_traps() {
     let script = temp("print.gloc");

@@ -103,7 +103,6 @@ pub fn main(args: ForecastArgs) -> anyhow::Result<ExitCode> {
         ensemble::check_members(count)
             .map_err(|why| anyhow::anyhow!("--members {count}: {why}"))?;
     }
-    let members = args.members;
 
     let Some((sensors, mission, config)) = set_up(&args)? else {
         return Ok(crate::exit::code(crate::exit::ERRORS));
@@ -148,7 +147,7 @@ pub fn main(args: ForecastArgs) -> anyhow::Result<ExitCode> {
         }
         None => None,
     };
-    let ensemble = match members {
+    let ensemble = match args.members {
         Some(members) => Some(EnsembleOptions {
             members,
             seed: args.seed,

@@ -189,3 +189,14 @@ pub fn forecast(
         battery,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn a_horizon_is_above_0_and_up_to_720_hours() {
+        for (hours, allowed) in [(0.0, false), (0.1, true), (720.0, true), (720.5, false)] {
+            assert_eq!(super::check_hours(hours).is_ok(), allowed, "{hours} h");
+        }
+        assert!(super::check_hours(f64::NAN).is_err());
+    }
+}
